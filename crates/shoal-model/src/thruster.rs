@@ -1,0 +1,309 @@
+//! Thrusters and tilt drives: thrust curves, tilting directions with rate limits, an optional
+//! first-order thrust lag, and the generalised force τ they produce on the hull.
+
+use crate::math::{Quat, Vec3, Vec6, join6};
+use nalgebra::Unit;
+
+/// Static thrust as a function of the command.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ThrustCurve {
+    /// `f = C⁺ n²` for n ≥ 0 and `f = −C⁻ n²` for n < 0, with n the command in percent of full
+    /// scale (the μAUV² paper's eq. 3 with the propeller speed replaced by the command).
+    Quadratic {
+        /// C_t⁺ [N/%²], ≥ 0.
+        ct_pos: f64,
+        /// C_t⁻ magnitude [N/%²], ≥ 0 (reverse thrust is `−ct_neg n²`).
+        ct_neg: f64,
+    },
+    /// Piecewise-linear table of (command [%], thrust [N]) points, strictly increasing in the
+    /// command and non-decreasing in thrust; clamped at both ends.
+    Table {
+        /// The points, sorted by command.
+        points: Vec<(f64, f64)>,
+    },
+}
+
+impl ThrustCurve {
+    /// Thrust [N] for command `n` [%].
+    #[inline]
+    pub fn thrust(&self, n: f64) -> f64 {
+        match self {
+            ThrustCurve::Quadratic { ct_pos, ct_neg } => {
+                if n >= 0.0 {
+                    ct_pos * n * n
+                } else {
+                    -ct_neg * n * n
+                }
+            }
+            ThrustCurve::Table { points } => interp(points.iter().map(|&(c, f)| (c, f)), n),
+        }
+    }
+
+    /// The command [%] that produces thrust `f` [N] (clamped to what the curve can give within
+    /// ±`max_command`).
+    pub fn command_for(&self, f: f64, max_command: f64) -> f64 {
+        let n = match self {
+            ThrustCurve::Quadratic { ct_pos, ct_neg } => {
+                if f >= 0.0 {
+                    if *ct_pos > 0.0 {
+                        (f / ct_pos).sqrt()
+                    } else {
+                        0.0
+                    }
+                } else if *ct_neg > 0.0 {
+                    -(-f / ct_neg).sqrt()
+                } else {
+                    0.0
+                }
+            }
+            ThrustCurve::Table { points } => {
+                // Inverse of a monotone table: interpolate command over thrust, taking the
+                // middle of any flat (dead-band) segment at zero thrust.
+                if f == 0.0 {
+                    let zeros: Vec<f64> =
+                        points.iter().filter(|p| p.1 == 0.0).map(|p| p.0).collect();
+                    if let (Some(a), Some(b)) = (zeros.first(), zeros.last()) {
+                        return (0.5 * (a + b)).clamp(-max_command, max_command);
+                    }
+                }
+                interp(points.iter().map(|&(c, f)| (f, c)), f)
+            }
+        };
+        n.clamp(-max_command, max_command)
+    }
+
+    /// Largest forward and largest reverse thrust magnitude [N] within ±`max_command`.
+    pub fn limits(&self, max_command: f64) -> (f64, f64) {
+        (
+            self.thrust(max_command).max(0.0),
+            (-self.thrust(-max_command)).max(0.0),
+        )
+    }
+}
+
+/// Linear interpolation in a table sorted by x, clamped at both ends.
+fn interp(points: impl Iterator<Item = (f64, f64)> + Clone, x: f64) -> f64 {
+    let mut prev: Option<(f64, f64)> = None;
+    for (px, py) in points.clone() {
+        match prev {
+            None if x <= px => return py,
+            Some((ax, ay)) if x <= px => {
+                let t = if px > ax { (x - ax) / (px - ax) } else { 1.0 };
+                return ay + t * (py - ay);
+            }
+            _ => {}
+        }
+        prev = Some((px, py));
+    }
+    prev.map_or(0.0, |p| p.1)
+}
+
+/// A tilt drive that turns one or more thrusters about a body axis.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TiltParams {
+    /// Name (e.g. `alpha`, `beta`).
+    pub name: String,
+    /// Rotation axis in the body frame (unit vector).
+    pub axis: Unit<Vec3>,
+    /// Lower angle limit [rad].
+    pub min: f64,
+    /// Upper angle limit [rad].
+    pub max: f64,
+    /// Maximum angular rate [rad/s] (> 0).
+    pub rate_max: f64,
+}
+
+impl TiltParams {
+    /// Moves `angle` [rad] towards `target` [rad] for `dt` [s] within the rate and range limits.
+    #[inline]
+    pub fn advance(&self, angle: f64, target: f64, dt: f64) -> f64 {
+        let target = target.clamp(self.min, self.max);
+        let step = self.rate_max * dt;
+        (angle + (target - angle).clamp(-step, step)).clamp(self.min, self.max)
+    }
+}
+
+/// One thruster.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ThrusterParams {
+    /// Name (e.g. `top`, `port`, `stbd`).
+    pub name: String,
+    /// Position of the propeller in the body frame [m].
+    pub position: Vec3,
+    /// Thrust direction at tilt angle 0, body frame (unit vector): positive thrust pushes the
+    /// hull along this direction.
+    pub direction: Unit<Vec3>,
+    /// Index of the tilt drive that turns this thruster, if any.
+    pub tilt: Option<usize>,
+    /// Static thrust curve.
+    pub curve: ThrustCurve,
+    /// Largest command magnitude [%] (commands are clamped to ±this).
+    pub max_command: f64,
+    /// Time constant of a first-order lag between static and actual thrust [s]; 0 = none.
+    pub lag: f64,
+}
+
+impl ThrusterParams {
+    /// Thrust direction [unit, body frame] when the thruster's tilt drive stands at `angle` [rad].
+    #[inline]
+    pub fn direction_at(&self, axis: Option<&Unit<Vec3>>, angle: f64) -> Vec3 {
+        match axis {
+            Some(a) if angle != 0.0 => {
+                Quat::from_axis_angle(a, angle) * self.direction.into_inner()
+            }
+            _ => self.direction.into_inner(),
+        }
+    }
+}
+
+/// Per-vehicle actuator state: tilt angles and actual thrust of each thruster.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct ActuatorState {
+    /// Current tilt angle of each tilt drive [rad].
+    pub tilt: Vec<f64>,
+    /// Actual thrust of each thruster after the lag [N].
+    pub thrust: Vec<f64>,
+}
+
+/// Advances tilt drives and thrust lags by `dt` [s] and returns the generalised force τ
+/// (body frame) [N, N·m]. `submerged[i]` is false for a thruster above the water surface
+/// (it then produces no thrust).
+pub fn actuate(
+    thrusters: &[ThrusterParams],
+    tilts: &[TiltParams],
+    state: &mut ActuatorState,
+    commands: &[f64],
+    tilt_targets: &[f64],
+    submerged: impl Fn(&Vec3) -> bool,
+    dt: f64,
+) -> Vec6 {
+    for (i, tp) in tilts.iter().enumerate() {
+        let target = tilt_targets.get(i).copied().unwrap_or(0.0);
+        state.tilt[i] = tp.advance(state.tilt[i], target, dt);
+    }
+    let mut force = Vec3::zeros();
+    let mut moment = Vec3::zeros();
+    for (i, th) in thrusters.iter().enumerate() {
+        let n = commands
+            .get(i)
+            .copied()
+            .unwrap_or(0.0)
+            .clamp(-th.max_command, th.max_command);
+        let f_static = if submerged(&th.position) {
+            th.curve.thrust(n)
+        } else {
+            0.0
+        };
+        let f = if th.lag > 0.0 {
+            let a = 1.0 - (-dt / th.lag).exp();
+            state.thrust[i] + a * (f_static - state.thrust[i])
+        } else {
+            f_static
+        };
+        state.thrust[i] = f;
+        let (axis, angle) = match th.tilt {
+            Some(k) => (Some(&tilts[k].axis), state.tilt[k]),
+            None => (None, 0.0),
+        };
+        let d = th.direction_at(axis, angle) * f;
+        force += d;
+        moment += th.position.cross(&d);
+    }
+    join6(&force, &moment)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quadratic_curve_matches_paper_table() {
+        // The paper's heave forces Z = 2·C⁺·n² for n = 30…70 % (Sec. 4.3).
+        let c = ThrustCurve::Quadratic {
+            ct_pos: 13.2e-6,
+            ct_neg: 8.32e-6,
+        };
+        let paper = [
+            0.0238, 0.0324, 0.0423, 0.0535, 0.0661, 0.08, 0.0952, 0.1117, 0.1295,
+        ];
+        for (k, z) in paper.iter().enumerate() {
+            let n = 30.0 + 5.0 * k as f64;
+            assert!(
+                (2.0 * c.thrust(n) - z).abs() < 6e-4,
+                "n={n}: {} vs {z}",
+                2.0 * c.thrust(n)
+            );
+        }
+        assert!((c.thrust(-100.0) + 0.0832).abs() < 1e-12);
+        assert!((c.command_for(c.thrust(-37.0), 100.0) + 37.0).abs() < 1e-9);
+        assert!((c.command_for(c.thrust(81.0), 100.0) - 81.0).abs() < 1e-9);
+        assert_eq!(c.command_for(1.0, 100.0), 100.0);
+    }
+
+    #[test]
+    fn table_curve_interpolates_and_inverts() {
+        let c = ThrustCurve::Table {
+            points: vec![(-100.0, -2.0), (-10.0, 0.0), (10.0, 0.0), (100.0, 4.0)],
+        };
+        assert_eq!(c.thrust(0.0), 0.0);
+        assert!((c.thrust(55.0) - 2.0).abs() < 1e-12);
+        assert_eq!(c.thrust(150.0), 4.0);
+        assert!((c.command_for(2.0, 100.0) - 55.0).abs() < 1e-12);
+        assert_eq!(c.command_for(0.0, 100.0), 0.0);
+        assert_eq!(c.limits(100.0), (4.0, 2.0));
+    }
+
+    #[test]
+    fn tilt_respects_rate_and_range() {
+        let t = TiltParams {
+            name: "beta".into(),
+            axis: Vec3::y_axis(),
+            min: -1.5,
+            max: 1.5,
+            rate_max: 1.0,
+        };
+        assert!((t.advance(0.0, -3.0, 0.1) + 0.1).abs() < 1e-15);
+        assert_eq!(t.advance(-1.45, -3.0, 0.1), -1.5);
+        assert_eq!(t.advance(0.2, 0.25, 0.1), 0.25);
+    }
+
+    #[test]
+    fn lag_is_first_order() {
+        let th = ThrusterParams {
+            name: "a".into(),
+            position: Vec3::zeros(),
+            direction: Vec3::x_axis(),
+            tilt: None,
+            curve: ThrustCurve::Quadratic {
+                ct_pos: 1e-4,
+                ct_neg: 1e-4,
+            },
+            max_command: 100.0,
+            lag: 0.5,
+        };
+        let mut st = ActuatorState {
+            tilt: vec![],
+            thrust: vec![0.0],
+        };
+        let dt = 0.001;
+        let mut t = 0.0;
+        while t < 0.5 - 1e-12 {
+            actuate(
+                std::slice::from_ref(&th),
+                &[],
+                &mut st,
+                &[100.0],
+                &[],
+                |_| true,
+                dt,
+            );
+            t += dt;
+        }
+        // After one time constant: 1 − e⁻¹ of the static thrust (1 N).
+        assert!(
+            (st.thrust[0] - (1.0 - (-1.0f64).exp())).abs() < 1e-9,
+            "{}",
+            st.thrust[0]
+        );
+    }
+}

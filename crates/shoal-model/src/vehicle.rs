@@ -1,0 +1,217 @@
+//! A whole vehicle: its parameters ([`VehicleParams`]), the derived constants shared by all
+//! vehicles of one kind ([`VehicleModel`]), the per-vehicle state ([`VehicleState`]), one
+//! physics step ([`step`]) and one sensor sample ([`sense`]).
+
+use crate::ballast::BallastParams;
+use crate::control::{
+    ActuatorCommands, ControlParams, ControllerState, SensorReadings, Uauv2Control, Uauv2Layout,
+};
+use crate::dynamics::{Integrator, RigidState, integrate};
+use crate::math::{Vec3, Vec6, split6};
+use crate::rigid_body::{BodyParams, Environment, MassProperties};
+use crate::sensors::{ImuParams, PressureSensorParams};
+use crate::thruster::{ActuatorState, ThrusterParams, TiltParams, actuate};
+use rand::Rng;
+
+/// Everything that describes one kind of vehicle.
+#[derive(Clone, Debug, PartialEq)]
+pub struct VehicleParams {
+    /// Name of the vehicle kind (e.g. `uauv2`).
+    pub name: String,
+    /// Hull: rigid body, added mass, damping.
+    pub body: BodyParams,
+    /// Thrusters.
+    pub thrusters: Vec<ThrusterParams>,
+    /// Tilt drives (thrusters refer to them by index).
+    pub tilts: Vec<TiltParams>,
+    /// Buoyancy tank, if fitted.
+    pub ballast: Option<BallastParams>,
+    /// Pressure (depth) sensor.
+    pub pressure: PressureSensorParams,
+    /// Inertial measurement unit.
+    pub imu: ImuParams,
+    /// Built-in controller.
+    pub control: ControlParams,
+}
+
+impl VehicleParams {
+    /// Mass properties with `ballast_volume` [m³] of water of `density` [kg/m³] in the tank.
+    pub fn mass_properties(&self, ballast_volume: f64, density: f64) -> MassProperties {
+        let pos = self.ballast.as_ref().map_or(Vec3::zeros(), |b| b.position);
+        MassProperties::new(&self.body, ballast_volume, &pos, density)
+    }
+
+    /// Initial ballast water volume [m³].
+    pub fn initial_ballast(&self) -> f64 {
+        self.ballast.as_ref().map_or(0.0, |b| b.initial_volume)
+    }
+
+    /// Net downward force at rest, fully submerged, with the initial ballast [N]
+    /// (positive: the vehicle sinks; negative: it rises).
+    pub fn net_weight(&self, env: &Environment) -> f64 {
+        let m = self.body.mass + self.initial_ballast() * env.density;
+        (m - self.body.volume * env.density) * env.gravity
+    }
+}
+
+/// Immutable, shareable description of a vehicle kind with derived constants.
+#[derive(Clone, Debug, PartialEq)]
+pub struct VehicleModel {
+    /// The parameters.
+    pub params: VehicleParams,
+    /// Gains and limits of the paper's modes, if the vehicle has the μAUV² layout.
+    pub uauv2: Option<Uauv2Control>,
+    /// Effective heave mass m + A₃₃ at the initial ballast [kg].
+    pub heave_mass: f64,
+    /// Effective yaw inertia I_zz + A₆₆ at the initial ballast [kg·m²].
+    pub yaw_inertia: f64,
+}
+
+impl VehicleModel {
+    /// Derives the constants for water of `density` [kg/m³].
+    pub fn new(params: VehicleParams, density: f64) -> Self {
+        let mp = params.mass_properties(params.initial_ballast(), density);
+        let heave_mass = mp.m_total[(2, 2)];
+        let yaw_inertia = mp.m_total[(5, 5)];
+        let uauv2 = Uauv2Layout::find(&params.thrusters, &params.tilts).map(|l| {
+            Uauv2Control::new(
+                l,
+                &params.control,
+                &params.thrusters,
+                heave_mass,
+                yaw_inertia,
+            )
+        });
+        Self {
+            params,
+            uauv2,
+            heave_mass,
+            yaw_inertia,
+        }
+    }
+
+    /// A fresh controller state for this vehicle.
+    pub fn controller(&self) -> ControllerState {
+        ControllerState::new(
+            &self.params.control,
+            self.params.thrusters.len(),
+            self.params.tilts.len(),
+        )
+    }
+
+    /// All-zero actuator commands for this vehicle.
+    pub fn zero_commands(&self) -> ActuatorCommands {
+        ActuatorCommands::zeros(self.params.thrusters.len(), self.params.tilts.len())
+    }
+}
+
+/// Dynamic state of one vehicle.
+#[derive(Clone, Debug, PartialEq)]
+pub struct VehicleState {
+    /// Pose and velocity.
+    pub rigid: RigidState,
+    /// Tilt angles and actual thrusts.
+    pub actuators: ActuatorState,
+    /// Water in the buoyancy tank [m³].
+    pub ballast_volume: f64,
+    /// Mass properties for the current ballast (cache).
+    pub mass: MassProperties,
+    /// Mean body acceleration over the last step, ν̇ [m/s², rad/s²].
+    pub accel: Vec6,
+    /// Thruster force applied during the last step, body frame [N, N·m].
+    pub tau: Vec6,
+}
+
+impl VehicleState {
+    /// A vehicle at rest in the given pose with its initial ballast.
+    pub fn new(model: &VehicleModel, rigid: RigidState, env: &Environment) -> Self {
+        let p = &model.params;
+        let vol = p.initial_ballast();
+        Self {
+            rigid,
+            actuators: ActuatorState {
+                tilt: vec![0.0; p.tilts.len()],
+                thrust: vec![0.0; p.thrusters.len()],
+            },
+            ballast_volume: vol,
+            mass: p.mass_properties(vol, env.density),
+            accel: Vec6::zeros(),
+            tau: Vec6::zeros(),
+        }
+    }
+
+    /// Depth of a body-frame point [m].
+    #[inline]
+    pub fn depth_of(&self, body_point: &Vec3) -> f64 {
+        self.rigid.position.z + self.rigid.attitude.transform_vector(body_point).z
+    }
+}
+
+/// Advances one vehicle by `dt` [s]: pump, tilt drives and thrusters (→ τ), then the rigid
+/// body with τ held over the step.
+pub fn step(
+    model: &VehicleModel,
+    state: &mut VehicleState,
+    cmd: &ActuatorCommands,
+    env: &Environment,
+    integrator: Integrator,
+    dt: f64,
+) {
+    let p = &model.params;
+    if let Some(b) = &p.ballast {
+        let v = b.advance(state.ballast_volume, cmd.pump, dt);
+        if v != state.ballast_volume {
+            state.ballast_volume = v;
+            state.mass = p.mass_properties(v, env.density);
+        }
+    }
+    let rigid = &state.rigid;
+    let tau = actuate(
+        &p.thrusters,
+        &p.tilts,
+        &mut state.actuators,
+        &cmd.thrusters,
+        &cmd.tilts,
+        |r| rigid.position.z + rigid.attitude.transform_vector(r).z > 0.0,
+        dt,
+    );
+    let nu0 = state.rigid.nu;
+    integrate(
+        integrator,
+        &p.body,
+        &state.mass,
+        env,
+        &mut state.rigid,
+        &tau,
+        dt,
+    );
+    state.accel = (state.rigid.nu - nu0) / dt;
+    state.tau = tau;
+}
+
+/// Samples the sensors into `out`, drawing noise from `rng`.
+pub fn sense<R: Rng + ?Sized>(
+    model: &VehicleModel,
+    state: &VehicleState,
+    env: &Environment,
+    rng: &mut R,
+    out: &mut SensorReadings,
+) {
+    let p = &model.params;
+    out.depth = p.pressure.read(state.depth_of(&p.pressure.position), rng);
+    let (v, w) = split6(&state.rigid.nu);
+    let (a_lin, _) = split6(&state.accel);
+    let accel_body = a_lin + w.cross(&v);
+    let imu = p
+        .imu
+        .read(&state.rigid.attitude, &w, &accel_body, env.gravity, rng);
+    out.attitude = imu.attitude;
+    out.gyro = imu.gyro;
+    out.accel = imu.accel;
+    out.tilts.clear();
+    out.tilts.extend_from_slice(&state.actuators.tilt);
+    out.tank_full = p
+        .ballast
+        .as_ref()
+        .is_some_and(|b| b.is_full(state.ballast_volume));
+}
