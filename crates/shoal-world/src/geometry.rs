@@ -1,0 +1,299 @@
+//! Static geometry of a world with parry3d: the pool (walls and floor as half-spaces; the
+//! surface is open), obstacles, hull contacts with a swept test so that no hull tunnels
+//! through thin obstacles, overlap tests for placement, and line-of-sight rays.
+//!
+//! parry ≥ 0.2x uses glam types; this module converts at its boundary so the rest of shoal
+//! speaks nalgebra only.
+
+use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
+use parry3d_f64::math::{Pose, Rotation, Vector};
+use parry3d_f64::query::{self, Ray, ShapeCastOptions};
+use parry3d_f64::shape::{Cuboid, HalfSpace, Shape, SharedShape};
+use shoal_model::math::{Quat, Vec3};
+
+/// nalgebra → parry vector.
+#[inline]
+pub fn to_vector(v: &Vec3) -> Vector {
+    Vector::new(v.x, v.y, v.z)
+}
+
+/// parry → nalgebra vector.
+#[inline]
+pub fn from_vector(v: Vector) -> Vec3 {
+    Vec3::new(v.x, v.y, v.z)
+}
+
+/// nalgebra position + attitude → parry pose.
+#[inline]
+pub fn to_pose(p: &Vec3, q: &Quat) -> Pose {
+    let c = q.quaternion().coords; // (i, j, k, w)
+    Pose::from_parts(to_vector(p), Rotation::from_xyzw(c.x, c.y, c.z, c.w))
+}
+
+/// A static obstacle.
+#[derive(Clone)]
+pub struct Obstacle {
+    /// Name (for statistics and messages).
+    pub name: String,
+    /// Shape in its local frame.
+    pub shape: SharedShape,
+    /// Pose in the world.
+    pub pose: Pose,
+    /// World-space bounding box.
+    pub aabb: Aabb,
+}
+
+impl std::fmt::Debug for Obstacle {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Obstacle")
+            .field("name", &self.name)
+            .field("aabb", &self.aabb)
+            .finish()
+    }
+}
+
+/// A contact of a hull with the static world.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HullContact {
+    /// Unit normal in the world frame pointing out of the obstacle, into the hull: moving the
+    /// hull along it by `depth` separates them.
+    pub normal: Vec3,
+    /// Penetration depth [m] (> 0 when overlapping).
+    pub depth: f64,
+    /// Index of the obstacle, or `None` for a pool wall or the floor.
+    pub obstacle: Option<usize>,
+}
+
+/// The pool and its obstacles.
+#[derive(Clone, Debug)]
+pub struct Geometry {
+    /// Pool length, width, depth [m] (corner at the origin, surface at z = 0).
+    pub pool: Vec3,
+    walls: Vec<(Pose, HalfSpace)>,
+    /// Obstacles.
+    pub obstacles: Vec<Obstacle>,
+}
+
+/// The hull collision shape: a box of the hull's outer extents [m].
+pub fn hull_shape(hull_size: &Vec3) -> Cuboid {
+    Cuboid::new(to_vector(&(hull_size * 0.5)))
+}
+
+impl Geometry {
+    /// A pool of `size` [m] with `obstacles`.
+    pub fn new(size: Vec3, obstacles: Vec<Obstacle>) -> Self {
+        let wall = |p: Vector, n: Vector| (Pose::from_translation(p), HalfSpace::new(n));
+        // A half-space is solid where `x·n ≤ 0`: the normals point out of the walls, into
+        // the pool.
+        let walls = vec![
+            wall(Vector::ZERO, Vector::new(1.0, 0.0, 0.0)),
+            wall(Vector::new(size.x, 0.0, 0.0), Vector::new(-1.0, 0.0, 0.0)),
+            wall(Vector::ZERO, Vector::new(0.0, 1.0, 0.0)),
+            wall(Vector::new(0.0, size.y, 0.0), Vector::new(0.0, -1.0, 0.0)),
+            wall(Vector::new(0.0, 0.0, size.z), Vector::new(0.0, 0.0, -1.0)),
+        ];
+        Self {
+            pool: size,
+            walls,
+            obstacles,
+        }
+    }
+
+    /// An obstacle of `shape` at world `position` [m] with attitude `attitude`.
+    pub fn obstacle(name: &str, shape: SharedShape, position: &Vec3, attitude: &Quat) -> Obstacle {
+        let pose = to_pose(position, attitude);
+        let aabb = shape.compute_aabb(&pose);
+        Obstacle {
+            name: name.into(),
+            shape,
+            pose,
+            aabb,
+        }
+    }
+
+    fn pool_interior(&self) -> Aabb {
+        Aabb::new(
+            Vector::new(0.0, 0.0, f64::NEG_INFINITY),
+            to_vector(&self.pool),
+        )
+    }
+
+    /// Every contact of `hull` at `pose` with walls, floor and obstacles, appended to `out`.
+    pub fn contacts(&self, hull: &Cuboid, pose: &Pose, out: &mut Vec<HullContact>) {
+        let aabb = hull.compute_aabb(pose);
+        let interior = self.pool_interior();
+        if !interior.contains(&aabb) {
+            for (wp, hs) in &self.walls {
+                push_contact(pose, hull, wp, hs, None, out);
+            }
+        }
+        for (i, ob) in self.obstacles.iter().enumerate() {
+            if ob.aabb.intersects(&aabb) {
+                push_contact(pose, hull, &ob.pose, &*ob.shape, Some(i), out);
+            }
+        }
+    }
+
+    /// Earliest fraction `t ∈ [0, 1)` of the straight move `from → from + delta` [m] at which
+    /// `hull` touches walls, floor or an obstacle, with the surface normal there. Impacts at
+    /// t = 0 with separating motion are ignored.
+    pub fn first_hit(&self, hull: &Cuboid, from: &Pose, delta: &Vec3) -> Option<(f64, Vec3)> {
+        let vel = to_vector(delta);
+        let opts = ShapeCastOptions {
+            max_time_of_impact: 1.0,
+            target_distance: 0.0,
+            stop_at_penetration: false,
+            compute_impact_geometry_on_penetration: true,
+        };
+        let swept = hull
+            .compute_aabb(from)
+            .merged(&hull.compute_aabb(&from.append_translation(vel)));
+        let mut best: Option<(f64, Vec3)> = None;
+        // The static shape goes first: parry 0.31 mishandles (support map, half-space) pairs
+        // in the other order. normal1 is then in the static shape's frame, pointing out of it.
+        let mut consider = |pose: &Pose, shape: &dyn Shape| {
+            let hit = query::cast_shapes(pose, Vector::ZERO, shape, from, vel, hull, opts);
+            if let Ok(Some(h)) = hit
+                && h.time_of_impact < 1.0
+                && best.is_none_or(|b| h.time_of_impact < b.0)
+            {
+                best = Some((h.time_of_impact, from_vector(pose.rotation * h.normal1)));
+            }
+        };
+        if !self.pool_interior().contains(&swept) {
+            for (wp, hs) in &self.walls {
+                consider(wp, hs);
+            }
+        }
+        for ob in &self.obstacles {
+            if ob.aabb.intersects(&swept) {
+                consider(&ob.pose, &*ob.shape);
+            }
+        }
+        best
+    }
+
+    /// Whether `hull` at `pose` lies inside the pool walls and above the floor (it may stick
+    /// out of the surface).
+    pub fn inside_pool(&self, hull: &Cuboid, pose: &Pose) -> bool {
+        self.pool_interior().contains(&hull.compute_aabb(pose))
+    }
+
+    /// Index of the first obstacle that `hull` at `pose` intersects.
+    pub fn overlapping_obstacle(&self, hull: &Cuboid, pose: &Pose) -> Option<usize> {
+        let aabb = hull.compute_aabb(pose);
+        self.obstacles.iter().position(|ob| {
+            ob.aabb.intersects(&aabb)
+                && query::intersection_test(pose, hull, &ob.pose, &*ob.shape)
+                    .is_ok_and(|i| i.intersecting)
+        })
+    }
+
+    /// Whether the segment `a → b` [m] crosses no wall, floor or obstacle.
+    pub fn line_of_sight(&self, a: &Vec3, b: &Vec3) -> bool {
+        let d = b - a;
+        let len = d.norm();
+        if len == 0.0 {
+            return true;
+        }
+        let ray = Ray::new(to_vector(a), to_vector(&(d / len)));
+        let inside = |p: &Vec3| {
+            p.x >= 0.0
+                && p.y >= 0.0
+                && p.x <= self.pool.x
+                && p.y <= self.pool.y
+                && p.z <= self.pool.z
+        };
+        if !inside(a) || !inside(b) {
+            return false;
+        }
+        !self
+            .obstacles
+            .iter()
+            .any(|ob| ob.shape.intersects_ray(&ob.pose, &ray, len))
+    }
+}
+
+/// Whether two hulls at their poses intersect.
+pub fn hulls_intersect(h1: &Cuboid, p1: &Pose, h2: &Cuboid, p2: &Pose) -> bool {
+    query::intersection_test(p1, h1, p2, h2).is_ok_and(|i| i.intersecting)
+}
+
+fn push_contact(
+    pose: &Pose,
+    hull: &Cuboid,
+    other_pose: &Pose,
+    other: &dyn Shape,
+    obstacle: Option<usize>,
+    out: &mut Vec<HullContact>,
+) {
+    // Static shape first (see `first_hit`): normal1 points out of it, towards the hull.
+    if let Ok(Some(c)) = query::contact(other_pose, other, pose, hull, 0.0)
+        && c.dist < 0.0
+    {
+        out.push(HullContact {
+            normal: from_vector(c.normal1),
+            depth: -c.dist,
+            obstacle,
+        });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn pool() -> Geometry {
+        let plate = Geometry::obstacle(
+            "plate",
+            SharedShape::cuboid(0.0005, 1.0, 1.0),
+            &Vec3::new(5.0, 2.0, 1.0),
+            &Quat::identity(),
+        );
+        Geometry::new(Vec3::new(10.0, 4.0, 2.0), vec![plate])
+    }
+
+    #[test]
+    fn floor_contact_pushes_up() {
+        let g = pool();
+        let hull = hull_shape(&Vec3::new(0.27, 0.156, 0.182));
+        let pose = to_pose(&Vec3::new(2.0, 2.0, 1.95), &Quat::identity());
+        let mut c = Vec::new();
+        g.contacts(&hull, &pose, &mut c);
+        assert_eq!(c.len(), 1, "{c:?}");
+        assert!(
+            (c[0].normal - Vec3::new(0.0, 0.0, -1.0)).norm() < 1e-9,
+            "{c:?}"
+        );
+        assert!((c[0].depth - (1.95 + 0.091 - 2.0)).abs() < 1e-9);
+    }
+
+    #[test]
+    fn swept_test_catches_a_thin_plate() {
+        let g = pool();
+        let hull = hull_shape(&Vec3::new(0.27, 0.156, 0.182));
+        let from = to_pose(&Vec3::new(4.5, 2.0, 1.0), &Quat::identity());
+        // 1 m in one step would jump clean over a 1 mm plate.
+        let hit = g
+            .first_hit(&hull, &from, &Vec3::new(1.0, 0.0, 0.0))
+            .expect("hit");
+        let expected = (5.0 - 0.0005 - 0.135 - 4.5) / 1.0;
+        assert!((hit.0 - expected).abs() < 1e-6, "{hit:?}");
+        assert!((hit.1 - Vec3::new(-1.0, 0.0, 0.0)).norm() < 1e-6);
+        let mut c = Vec::new();
+        g.contacts(
+            &hull,
+            &to_pose(&Vec3::new(5.5, 2.0, 1.0), &Quat::identity()),
+            &mut c,
+        );
+        assert!(c.is_empty(), "the end pose alone shows nothing");
+    }
+
+    #[test]
+    fn line_of_sight_blocked_by_obstacle() {
+        let g = pool();
+        assert!(!g.line_of_sight(&Vec3::new(4.0, 2.0, 1.0), &Vec3::new(6.0, 2.0, 1.0)));
+        assert!(g.line_of_sight(&Vec3::new(4.0, 3.5, 1.0), &Vec3::new(6.0, 3.5, 1.0)));
+        assert!(g.line_of_sight(&Vec3::new(1.0, 1.0, 1.0), &Vec3::new(2.0, 2.0, 1.5)));
+    }
+}

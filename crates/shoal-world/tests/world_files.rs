@@ -1,0 +1,220 @@
+//! World files: the documented errors for bad input (unknown field, wrong unit, out-of-range
+//! numbers, overlapping vehicles, vehicles outside the pool, broken references), and that good
+//! files — the embedded default and every file in `worlds/` — load.
+
+use shoal_world::error::ProblemKind;
+use shoal_world::load::{load_file, load_str, vehicle_world_toml};
+use shoal_world::prelude::*;
+use shoal_world::spec::VehicleSpec;
+use std::path::Path;
+
+fn err(text: &str) -> WorldError {
+    match load_str(text, Path::new("bad.toml")) {
+        Ok(_) => panic!("expected an error for:\n{text}"),
+        Err(e) => e,
+    }
+}
+
+const ONE: &str = "[pool]\nsize = [4.0, 4.0, 2.0]\n[[vehicles]]\nposition = [1.0, 1.0, 0.5]\n";
+
+#[test]
+fn default_world_loads() {
+    let w = default_world().expect("the embedded default world is valid");
+    assert_eq!(w.vehicles.len(), 12);
+    assert!(w.vehicles.iter().all(|v| v.model.uauv2.is_some()));
+    assert_eq!(w.steps(), 10_000);
+}
+
+#[test]
+fn every_shipped_world_loads() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../worlds");
+    let mut n = 0;
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let p = entry.unwrap().path();
+        if p.extension().is_some_and(|e| e == "toml") {
+            load_file(&p).unwrap_or_else(|e| panic!("{e}"));
+            n += 1;
+        }
+    }
+    assert!(n >= 1);
+}
+
+#[test]
+fn minimal_world_uses_defaults() {
+    let w = load_str(ONE, Path::new("one.toml")).unwrap();
+    assert_eq!(w.vehicles.len(), 1);
+    assert_eq!(w.dt, 0.01);
+    assert_eq!(w.duration, 60.0);
+    assert_eq!(w.vehicles[0].model.params.name, "uauv2");
+}
+
+#[test]
+fn unknown_field_is_named_with_line_and_suggestion() {
+    let e = err("seed = 1\ndurration = 5.0\n");
+    let p = e.first();
+    assert_eq!(p.kind, ProblemKind::UnknownField);
+    assert_eq!(p.line_col.map(|l| l.0), Some(2));
+    let msg = e.to_string();
+    assert!(msg.starts_with("bad.toml:2:"), "{msg}");
+    assert!(
+        msg.contains("`durration`") && msg.contains("did you mean `duration`"),
+        "{msg}"
+    );
+}
+
+#[test]
+fn unknown_field_deep_in_a_mission() {
+    let e = err(&format!(
+        "{ONE}mission = [{{ t = 0, mode = \"diving\", dept = 0.4 }}]\n"
+    ));
+    assert_eq!(e.first().kind, ProblemKind::UnknownField);
+    assert_eq!(e.first().line_col.map(|l| l.0), Some(5));
+    assert!(e.to_string().contains("did you mean `depth`"), "{e}");
+}
+
+#[test]
+fn wrong_unit_radians_field_suggests_degrees() {
+    // There is no `yaw` field: angles in files are in degrees and say so.
+    let e = err(&format!(
+        "{ONE}mission = [{{ t = 0, mode = \"turning\", yaw = 1.57 }}]\n"
+    ));
+    assert_eq!(e.first().kind, ProblemKind::UnknownField);
+    assert!(e.to_string().contains("did you mean `yaw_deg`"), "{e}");
+}
+
+#[test]
+fn wrong_unit_written_in_the_value() {
+    let e = err("duration = \"60 s\"\n");
+    let p = e.first();
+    assert_eq!(p.kind, ProblemKind::Type);
+    assert_eq!(p.line_col.map(|l| l.0), Some(1));
+    let msg = e.to_string();
+    assert!(
+        msg.contains("seconds") && msg.contains("units are implied"),
+        "{msg}"
+    );
+}
+
+#[test]
+fn negative_mass_is_out_of_range_with_the_allowed_range() {
+    let e = err(&format!("{ONE}[vehicles.model.body]\nmass = -1.2\n"));
+    let p = e.first();
+    assert_eq!(p.kind, ProblemKind::Range);
+    assert_eq!(
+        p.field.as_ref().unwrap().to_string(),
+        "vehicles[0].model.body.mass"
+    );
+    assert_eq!(p.line_col.map(|l| l.0), Some(6));
+    let msg = e.to_string();
+    assert!(
+        msg.contains("-1.2 is out of range") && msg.contains("0 < mass ≤ 100000 kg"),
+        "{msg}"
+    );
+}
+
+#[test]
+fn typo_in_model_override_is_an_unknown_field() {
+    let e = err(&format!("{ONE}[vehicles.model.body]\nmas = 1.2\n"));
+    assert_eq!(e.first().kind, ProblemKind::UnknownField);
+    assert_eq!(e.first().line_col.map(|l| l.0), Some(6));
+    assert!(e.to_string().contains("did you mean `mass`"), "{e}");
+}
+
+#[test]
+fn overlapping_vehicles_are_rejected() {
+    let text = "[pool]\nsize = [4.0, 4.0, 2.0]\n[[vehicles]]\nname = \"a\"\nposition = [1.0, 1.0, 0.5]\n[[vehicles]]\nname = \"b\"\nposition = [1.1, 1.0, 0.5]\n";
+    let e = err(text);
+    assert_eq!(e.first().kind, ProblemKind::Overlap);
+    let msg = e.to_string();
+    assert!(
+        msg.contains("`b`") && msg.contains("overlaps vehicle `a`"),
+        "{msg}"
+    );
+    assert_eq!(e.first().line_col.map(|l| l.0), Some(6));
+    // A grid with too little spacing overlaps too.
+    let e = err(
+        "[[vehicles]]\ncount = 3\ngrid = { origin = [1, 1, 1], spacing = [0.2, 0.0], columns = 3 }\n",
+    );
+    assert_eq!(e.first().kind, ProblemKind::Overlap);
+}
+
+#[test]
+fn vehicle_outside_the_pool_is_rejected() {
+    let e = err("[pool]\nsize = [4.0, 4.0, 2.0]\n[[vehicles]]\nposition = [5.0, 1.0, 0.5]\n");
+    assert_eq!(e.first().kind, ProblemKind::Outside);
+    assert_eq!(e.first().line_col.map(|l| l.0), Some(4));
+    assert!(e.to_string().contains("0 ≤ x ≤ 4"), "{e}");
+    // Through the floor.
+    let e = err("[pool]\nsize = [4.0, 4.0, 2.0]\n[[vehicles]]\nposition = [1.0, 1.0, 1.95]\n");
+    assert_eq!(e.first().kind, ProblemKind::Outside);
+}
+
+#[test]
+fn vehicle_inside_an_obstacle_is_rejected() {
+    let e = err(
+        "[[obstacles]]\nshape = \"sphere\"\nradius = 0.5\nposition = [2, 2, 1]\n[[vehicles]]\nposition = [2.2, 2.0, 1.0]\n",
+    );
+    assert_eq!(e.first().kind, ProblemKind::Overlap);
+    assert!(e.to_string().contains("obstacle `obstacle-0`"), "{e}");
+}
+
+#[test]
+fn broken_references_are_named() {
+    let e = err(&format!(
+        "{ONE}mission = [{{ t = 0, mode = \"raw\", thrusters = {{ left = 50 }} }}]\n"
+    ));
+    assert_eq!(e.first().kind, ProblemKind::Reference);
+    assert!(e.to_string().contains("top, port, stbd"), "{e}");
+    let e = err("[[vehicles]]\npreset = \"uav2\"\nposition = [1, 1, 1]\n");
+    assert_eq!(e.first().kind, ProblemKind::Reference);
+    assert!(e.to_string().contains("did you mean `uauv2`"), "{e}");
+    let e = err(&format!("{ONE}mission = [{{ t = 0, mode = \"hover\" }}]\n"));
+    assert_eq!(e.first().kind, ProblemKind::Reference);
+    assert!(e.to_string().contains("diving"), "{e}");
+    let e = err("[water]\nattenuation = \"harbour\"\n");
+    assert!(e.to_string().contains("turbid_harbour"), "{e}");
+}
+
+#[test]
+fn other_ranges_and_consistency() {
+    assert_eq!(err("dt = 0.0\n").first().kind, ProblemKind::Range);
+    assert_eq!(err("dt = nan\n").first().kind, ProblemKind::Range);
+    let e = err(&format!("{ONE}mission = [{{ t = 0, depth = 3.5 }}]\n"));
+    assert!(e.to_string().contains("pool depth"), "{e}");
+    let e = err(&format!("{ONE}mission = [{{ t = 5 }}, {{ t = 1 }}]\n"));
+    assert!(e.to_string().contains("time order"), "{e}");
+    let e = err(&format!("{ONE}[vehicles.model.control]\nperiod = 0.033\n"));
+    assert!(e.to_string().contains("whole multiple of dt"), "{e}");
+    let e = err(&format!(
+        "{ONE}[vehicles.model.ballast]\ninitial_volume = 1.0\n"
+    ));
+    assert_eq!(e.first().kind, ProblemKind::Range);
+    // Several problems are all reported.
+    let e = err("dt = -1\nduration = -5\n");
+    assert_eq!(e.problems.len(), 2);
+}
+
+#[test]
+fn syntax_errors_have_a_line() {
+    let e = err("seed = 1\n[pool\nsize = 3\n");
+    assert_eq!(e.first().kind, ProblemKind::Syntax);
+    assert_eq!(e.first().line_col.map(|l| l.0), Some(2));
+}
+
+#[test]
+fn a_vehicle_file_round_trips_through_the_world_format() {
+    let spec = VehicleSpec::from_params(&shoal_model::presets::uauv2());
+    let text = vehicle_world_toml(&spec, [2.0, 2.0, 1.0]).unwrap();
+    let w = load_str(&text, Path::new("vehicle.toml")).unwrap_or_else(|e| panic!("{e}\n{text}"));
+    assert_eq!(w.vehicles.len(), 1);
+    assert_eq!(w.vehicles[0].model.params, shoal_model::presets::uauv2());
+}
+
+#[test]
+fn custom_vehicle_must_be_complete() {
+    let e = err(
+        "[[vehicles]]\npreset = \"custom\"\nposition = [1, 1, 1]\n[vehicles.model]\nname = \"x\"\n",
+    );
+    assert_eq!(e.first().kind, ProblemKind::MissingField);
+    assert!(e.to_string().contains("whole model"), "{e}");
+}
