@@ -374,7 +374,7 @@ pub enum Mat6Spec {
     /// Diagonal.
     Diagonal([f64; 6]),
     /// Rows.
-    Full([[f64; 6]; 6]),
+    Full(Box<[[f64; 6]; 6]>),
 }
 
 /// A complete vehicle model.
@@ -613,7 +613,7 @@ impl Mat6Spec {
         if m.is_diagonal(0.0) {
             Mat6Spec::Diagonal(std::array::from_fn(|i| m[(i, i)]))
         } else {
-            Mat6Spec::Full(std::array::from_fn(|i| std::array::from_fn(|j| m[(i, j)])))
+            Mat6Spec::Full(Box::new(std::array::from_fn(|i| std::array::from_fn(|j| m[(i, j)]))))
         }
     }
 }
