@@ -32,5 +32,7 @@ pub mod prelude {
     pub use crate::rigid_body::{BodyParams, Environment, MassProperties};
     pub use crate::sensors::{ImuParams, PressureSensorParams};
     pub use crate::thruster::{ThrustCurve, ThrusterParams, TiltParams};
-    pub use crate::vehicle::{VehicleModel, VehicleParams, VehicleState, sense, step};
+    pub use crate::vehicle::{
+        VehicleModel, VehicleParams, VehicleState, actuate_vehicle, integrate_vehicle, sense, step,
+    };
 }

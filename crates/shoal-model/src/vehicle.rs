@@ -147,14 +147,13 @@ impl VehicleState {
     }
 }
 
-/// Advances one vehicle by `dt` [s]: pump, tilt drives and thrusters (→ τ), then the rigid
-/// body with τ held over the step.
-pub fn step(
+/// Actuation for one step of `dt` [s]: runs the pump, moves the tilt drives, updates the
+/// thrust lags and stores the resulting generalised force in `state.tau`.
+pub fn actuate_vehicle(
     model: &VehicleModel,
     state: &mut VehicleState,
     cmd: &ActuatorCommands,
     env: &Environment,
-    integrator: Integrator,
     dt: f64,
 ) {
     let p = &model.params;
@@ -166,7 +165,7 @@ pub fn step(
         }
     }
     let rigid = &state.rigid;
-    let tau = actuate(
+    state.tau = actuate(
         &p.thrusters,
         &p.tilts,
         &mut state.actuators,
@@ -175,18 +174,41 @@ pub fn step(
         |r| rigid.position.z + rigid.attitude.transform_vector(r).z > 0.0,
         dt,
     );
+}
+
+/// Rigid-body integration for one step of `dt` [s] with `state.tau` held constant.
+pub fn integrate_vehicle(
+    model: &VehicleModel,
+    state: &mut VehicleState,
+    env: &Environment,
+    integrator: Integrator,
+    dt: f64,
+) {
     let nu0 = state.rigid.nu;
     integrate(
         integrator,
-        &p.body,
+        &model.params.body,
         &state.mass,
         env,
         &mut state.rigid,
-        &tau,
+        &state.tau,
         dt,
     );
     state.accel = (state.rigid.nu - nu0) / dt;
-    state.tau = tau;
+}
+
+/// Advances one vehicle by `dt` [s]: pump, tilt drives and thrusters (→ τ), then the rigid
+/// body with τ held over the step.
+pub fn step(
+    model: &VehicleModel,
+    state: &mut VehicleState,
+    cmd: &ActuatorCommands,
+    env: &Environment,
+    integrator: Integrator,
+    dt: f64,
+) {
+    actuate_vehicle(model, state, cmd, env, dt);
+    integrate_vehicle(model, state, env, integrator, dt);
 }
 
 /// Samples the sensors into `out`, drawing noise from `rng`.

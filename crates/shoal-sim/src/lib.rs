@@ -1,1 +1,21 @@
-//! placeholder
+//! # shoal-sim
+//!
+//! The simulated world of shoal: one bevy_ecs entity per vehicle ([`components`]), a fixed-step
+//! schedule of chained system sets ([`systems`]) run by [`sim::Sim`], per-world parallel loops
+//! ([`parallel`]), a trajectory recorder ([`recorder`]) and run outputs ([`output`], [`plot`]).
+
+pub mod components;
+pub mod output;
+pub mod parallel;
+pub mod plot;
+pub mod recorder;
+pub mod sim;
+pub mod systems;
+
+/// The commonly used types.
+pub mod prelude {
+    pub use crate::components::*;
+
+    pub use crate::sim::{Sim, SimOptions, VehicleSnapshot};
+    pub use crate::systems::{StepSet, build_schedule};
+}

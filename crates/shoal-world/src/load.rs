@@ -814,7 +814,9 @@ fn validate_vehicle(s: &VehicleSpec, p: &FieldPath, v: &mut Validator<'_>) -> bo
                     );
                 }
                 for (k, w) in points.windows(2).enumerate() {
-                    if w[1][0].partial_cmp(&w[0][0]) != Some(std::cmp::Ordering::Greater) || w[1][1] < w[0][1] {
+                    if w[1][0].partial_cmp(&w[0][0]) != Some(std::cmp::Ordering::Greater)
+                        || w[1][1] < w[0][1]
+                    {
                         v.push(ProblemKind::Invalid, &cp.key("points").index(k + 1),
                             "thrust table points must increase in command and must not decrease in thrust".into());
                     }

@@ -613,7 +613,9 @@ impl Mat6Spec {
         if m.is_diagonal(0.0) {
             Mat6Spec::Diagonal(std::array::from_fn(|i| m[(i, i)]))
         } else {
-            Mat6Spec::Full(Box::new(std::array::from_fn(|i| std::array::from_fn(|j| m[(i, j)]))))
+            Mat6Spec::Full(Box::new(std::array::from_fn(|i| {
+                std::array::from_fn(|j| m[(i, j)])
+            })))
         }
     }
 }

@@ -1,0 +1,110 @@
+//! ECS components and resources of the simulated world. Components are thin wrappers around
+//! shoal-model types; resources hold the world-wide settings.
+
+use bevy_ecs::prelude::*;
+use rand_chacha::ChaCha8Rng;
+use shoal_model::prelude::*;
+use shoal_world::geometry::Geometry;
+use std::sync::Arc;
+
+/// Stable index of a vehicle (its position in the world file's expansion order).
+#[derive(Component, Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct VehicleId(pub u32);
+
+/// Unique name of a vehicle.
+#[derive(Component, Clone, Debug)]
+pub struct VehicleName(pub String);
+
+/// The vehicle's model (shared by all vehicles of a kind).
+#[derive(Component, Clone, Debug)]
+pub struct Kind(pub Arc<VehicleModel>);
+
+/// Dynamic state, plus the position before the last step (for swept collision tests).
+#[derive(Component, Clone, Debug)]
+pub struct Physics {
+    /// The state.
+    pub state: VehicleState,
+    /// Body-origin position before the last dynamics step, world frame [m].
+    pub prev_position: Vec3,
+}
+
+/// Actuator commands in force (written by the controller or an agent).
+#[derive(Component, Clone, Debug)]
+pub struct Actuation(pub ActuatorCommands);
+
+/// The built-in controller with its mission.
+#[derive(Component, Clone, Debug)]
+pub struct Control {
+    /// Controller internal state.
+    pub state: ControllerState,
+    /// Current setpoints.
+    pub setpoints: Setpoints,
+    /// The mission.
+    pub mission: Arc<Mission>,
+    /// Position in the mission.
+    pub cursor: MissionCursor,
+    /// Control period in physics steps.
+    pub every: u64,
+}
+
+/// The latest sensor readings.
+#[derive(Component, Clone, Debug)]
+pub struct Sensors(pub SensorReadings);
+
+/// The vehicle's own random stream for sensor noise (derived from the world seed and its id).
+#[derive(Component, Clone, Debug)]
+pub struct SensorRng(pub ChaCha8Rng);
+
+/// Hull contacts with the static world.
+#[derive(Component, Clone, Copy, Debug, Default, PartialEq)]
+pub struct ContactStats {
+    /// Steps spent in contact.
+    pub steps_in_contact: u64,
+    /// Number of separate impacts (contact after a free step).
+    pub impacts: u64,
+    /// Deepest penetration resolved [m].
+    pub max_depth: f64,
+    /// Whether the hull touched something in the last step.
+    pub touching: bool,
+}
+
+/// Recorded trajectory rows of one vehicle since the last drain (flat, `Recorder::stride`
+/// values per row).
+#[derive(Component, Clone, Debug, Default)]
+pub struct Track(pub Vec<f64>);
+
+/// Simulation clock.
+#[derive(Resource, Clone, Copy, Debug, PartialEq)]
+pub struct Clock {
+    /// Steps completed.
+    pub step: u64,
+    /// Physics step [s].
+    pub dt: f64,
+}
+
+impl Clock {
+    /// Simulated time at the start of the current step [s].
+    pub fn t(&self) -> f64 {
+        self.step as f64 * self.dt
+    }
+}
+
+/// Water and integrator settings.
+#[derive(Resource, Clone, Debug)]
+pub struct Physical {
+    /// Water and gravity.
+    pub env: Environment,
+    /// Integrator.
+    pub integrator: Integrator,
+}
+
+/// Pool and obstacles.
+#[derive(Resource, Clone, Debug)]
+pub struct StaticGeometry(pub Geometry);
+
+/// Trajectory recording settings.
+#[derive(Resource, Clone, Copy, Debug)]
+pub struct RecordConfig {
+    /// Record every this many steps (0 = never).
+    pub every: u64,
+}

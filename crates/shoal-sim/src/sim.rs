@@ -1,0 +1,284 @@
+//! The simulated world: a bevy_ecs [`World`] with one entity per vehicle, driven one fixed step
+//! at a time by the schedule of [`crate::systems`].
+
+use crate::components::*;
+use crate::parallel::Parallel;
+use crate::recorder::{self, RecordBatch};
+use crate::systems::build_schedule;
+use bevy_ecs::prelude::*;
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use shoal_model::prelude::*;
+use shoal_world::desc::WorldDesc;
+use std::sync::Arc;
+
+/// How a world runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SimOptions {
+    /// Working threads for per-vehicle loops (≥ 1).
+    pub threads: usize,
+    /// Record trajectories at the world's `record_hz`.
+    pub record: bool,
+}
+
+impl Default for SimOptions {
+    fn default() -> Self {
+        Self {
+            threads: 1,
+            record: true,
+        }
+    }
+}
+
+/// Random-stream purposes; each vehicle gets stream `id · 16 + purpose` of the world seed.
+pub mod stream {
+    /// Sensor noise.
+    pub const SENSORS: u64 = 0;
+}
+
+/// The RNG of vehicle `id` for `purpose`, derived from the world seed only.
+pub fn vehicle_rng(seed: u64, id: u32, purpose: u64) -> ChaCha8Rng {
+    let mut r = ChaCha8Rng::seed_from_u64(seed);
+    r.set_stream(u64::from(id) * 16 + purpose);
+    r
+}
+
+/// A read-only copy of one vehicle.
+#[derive(Clone, Debug)]
+pub struct VehicleSnapshot {
+    /// Id.
+    pub id: u32,
+    /// Name.
+    pub name: String,
+    /// Model.
+    pub model: Arc<VehicleModel>,
+    /// Dynamic state.
+    pub state: VehicleState,
+    /// Latest readings.
+    pub sensors: SensorReadings,
+    /// Current setpoints.
+    pub setpoints: Setpoints,
+    /// Commands in force.
+    pub commands: ActuatorCommands,
+    /// Contact statistics.
+    pub contacts: ContactStats,
+}
+
+/// A running world.
+pub struct Sim {
+    world: World,
+    schedule: Schedule,
+    entities: Vec<Entity>,
+}
+
+impl Sim {
+    /// Spawns every vehicle of `desc` and prepares the schedule.
+    pub fn new(desc: &WorldDesc, opts: SimOptions) -> Self {
+        let mut world = World::new();
+        world.insert_resource(Clock {
+            step: 0,
+            dt: desc.dt,
+        });
+        world.insert_resource(Physical {
+            env: desc.env,
+            integrator: desc.integrator,
+        });
+        world.insert_resource(StaticGeometry(desc.geometry.clone()));
+        world.insert_resource(Parallel::new(opts.threads));
+        let every = if opts.record {
+            (1.0 / (desc.output.record_hz * desc.dt)).round().max(1.0) as u64
+        } else {
+            0
+        };
+        world.insert_resource(RecordConfig { every });
+        let mut entities = Vec::with_capacity(desc.vehicles.len());
+        for (i, v) in desc.vehicles.iter().enumerate() {
+            let id = i as u32;
+            let m = &v.model;
+            let state =
+                VehicleState::new(m, RigidState::at_rest(v.position, v.attitude), &desc.env);
+            let mut rng = vehicle_rng(desc.seed, id, stream::SENSORS);
+            let mut readings = SensorReadings::zeros(m.params.tilts.len());
+            sense(m, &state, &desc.env, &mut rng, &mut readings);
+            let control = Control {
+                state: m.controller(),
+                setpoints: Setpoints {
+                    raw: m.zero_commands(),
+                    ..Default::default()
+                },
+                mission: v.mission.clone(),
+                cursor: MissionCursor::default(),
+                every: (m.params.control.period / desc.dt).round().max(1.0) as u64,
+            };
+            let cmd = m.zero_commands();
+            let mut track = Track(Vec::new());
+            if every > 0 {
+                track.0.reserve(recorder::stride(m) * 64);
+                recorder::push_row(
+                    &mut track.0,
+                    0.0,
+                    m,
+                    &state,
+                    &readings,
+                    &control,
+                    &cmd,
+                    &ContactStats::default(),
+                );
+            }
+            let e = world
+                .spawn((
+                    VehicleId(id),
+                    VehicleName(v.name.clone()),
+                    Kind(m.clone()),
+                    Physics {
+                        prev_position: v.position,
+                        state,
+                    },
+                    Actuation(cmd),
+                    control,
+                    (
+                        Sensors(readings),
+                        SensorRng(rng),
+                        ContactStats::default(),
+                        track,
+                    ),
+                ))
+                .id();
+            entities.push(e);
+        }
+        Self {
+            world,
+            schedule: build_schedule(false),
+            entities,
+        }
+    }
+
+    /// Advances one physics step.
+    pub fn step(&mut self) {
+        self.schedule.run(&mut self.world);
+        self.world.resource_mut::<Clock>().step += 1;
+    }
+
+    /// Advances `n` steps.
+    pub fn run(&mut self, n: u64) {
+        for _ in 0..n {
+            self.step();
+        }
+    }
+
+    /// Steps completed.
+    pub fn step_count(&self) -> u64 {
+        self.world.resource::<Clock>().step
+    }
+
+    /// Simulated time [s].
+    pub fn time(&self) -> f64 {
+        self.world.resource::<Clock>().t()
+    }
+
+    /// Number of vehicles.
+    pub fn len(&self) -> usize {
+        self.entities.len()
+    }
+
+    /// Whether the world has no vehicles.
+    pub fn is_empty(&self) -> bool {
+        self.entities.is_empty()
+    }
+
+    /// Working threads.
+    pub fn threads(&self) -> usize {
+        self.world.resource::<Parallel>().threads()
+    }
+
+    /// The ECS world (for tools that add systems or read components).
+    pub fn world(&self) -> &World {
+        &self.world
+    }
+
+    /// The ECS world, mutably.
+    pub fn world_mut(&mut self) -> &mut World {
+        &mut self.world
+    }
+
+    /// A copy of vehicle `id`.
+    pub fn vehicle(&self, id: usize) -> VehicleSnapshot {
+        let e = self.world.entity(self.entities[id]);
+        VehicleSnapshot {
+            id: e.get::<VehicleId>().map_or(0, |v| v.0),
+            name: e
+                .get::<VehicleName>()
+                .map(|n| n.0.clone())
+                .unwrap_or_default(),
+            model: e
+                .get::<Kind>()
+                .map(|k| k.0.clone())
+                .expect("every vehicle has a kind"),
+            state: e
+                .get::<Physics>()
+                .map(|p| p.state.clone())
+                .expect("every vehicle has physics"),
+            sensors: e
+                .get::<Sensors>()
+                .map(|s| s.0.clone())
+                .expect("every vehicle has sensors"),
+            setpoints: e
+                .get::<Control>()
+                .map(|c| c.setpoints.clone())
+                .unwrap_or_default(),
+            commands: e
+                .get::<Actuation>()
+                .map(|a| a.0.clone())
+                .unwrap_or_default(),
+            contacts: e.get::<ContactStats>().copied().unwrap_or_default(),
+        }
+    }
+
+    /// Copies of all vehicles in id order.
+    pub fn vehicles(&self) -> Vec<VehicleSnapshot> {
+        (0..self.entities.len()).map(|i| self.vehicle(i)).collect()
+    }
+
+    /// Takes the trajectory rows recorded since the last drain.
+    pub fn drain(&mut self) -> RecordBatch {
+        let rows = self
+            .entities
+            .iter()
+            .map(|e| {
+                self.world
+                    .get_mut::<Track>(*e)
+                    .map(|mut t| std::mem::take(&mut t.0))
+                    .unwrap_or_default()
+            })
+            .collect();
+        RecordBatch { rows }
+    }
+
+    /// A 64-bit FNV-1a digest of every vehicle's full state, in id order: equal digests mean
+    /// bit-identical runs.
+    pub fn digest(&self) -> u64 {
+        let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+        let mut eat = |x: f64| {
+            for b in x.to_bits().to_le_bytes() {
+                h ^= u64::from(b);
+                h = h.wrapping_mul(0x0000_0100_0000_01b3);
+            }
+        };
+        for e in &self.entities {
+            let Some(p) = self.world.get::<Physics>(*e) else {
+                continue;
+            };
+            let s = &p.state;
+            s.rigid.position.iter().for_each(|x| eat(*x));
+            s.rigid.attitude.coords.iter().for_each(|x| eat(*x));
+            s.rigid.nu.iter().for_each(|x| eat(*x));
+            eat(s.ballast_volume);
+            s.actuators.tilt.iter().for_each(|x| eat(*x));
+            s.actuators.thrust.iter().for_each(|x| eat(*x));
+            if let Some(sn) = self.world.get::<Sensors>(*e) {
+                eat(sn.0.depth);
+            }
+        }
+        h
+    }
+}

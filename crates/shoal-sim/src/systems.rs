@@ -1,0 +1,250 @@
+//! One step of the world as a chained sequence of system sets (see ARCHITECTURE.md):
+//! Ingest → Control → Actuate → Dynamics → Collide → Sense → Comm → Record.
+//! Systems are thin wrappers over shoal-model functions; per-vehicle work runs in parallel on
+//! the world's [`Parallel`] pool and never reads another vehicle's data, so the order of
+//! vehicles and the number of threads cannot change the result.
+
+use crate::components::*;
+use crate::parallel::Parallel;
+use crate::recorder;
+use bevy_ecs::prelude::*;
+use bevy_ecs::schedule::SingleThreadedExecutor;
+use bevy_ecs::schedule::{LogLevel, ScheduleBuildSettings};
+use shoal_model::prelude::*;
+use shoal_world::geometry::{hull_shape, to_pose};
+
+/// The phases of one step, run in this order.
+#[derive(SystemSet, Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum StepSet {
+    /// Commands from missions (and, later, external agents) become setpoints.
+    Ingest,
+    /// Built-in controllers turn setpoints and sensor readings into actuator commands.
+    Control,
+    /// Pumps, tilt drives and thrusters turn commands into forces.
+    Actuate,
+    /// Each vehicle's rigid body is integrated.
+    Dynamics,
+    /// Hulls are kept out of walls, floor and obstacles.
+    Collide,
+    /// Sensors are sampled.
+    Sense,
+    /// Optical communication (airtime, collisions, delivery).
+    Comm,
+    /// Trajectories are recorded.
+    Record,
+}
+
+/// Builds the schedule of one step. `detect_ambiguity` turns any pair of conflicting
+/// unordered systems into a build error.
+pub fn build_schedule(detect_ambiguity: bool) -> Schedule {
+    let mut s = Schedule::default();
+    s.set_executor(SingleThreadedExecutor::new());
+    if detect_ambiguity {
+        s.set_build_settings(ScheduleBuildSettings {
+            ambiguity_detection: LogLevel::Error,
+            ..Default::default()
+        });
+    }
+    s.configure_sets(
+        (
+            StepSet::Ingest,
+            StepSet::Control,
+            StepSet::Actuate,
+            StepSet::Dynamics,
+            StepSet::Collide,
+            StepSet::Sense,
+            StepSet::Comm,
+            StepSet::Record,
+        )
+            .chain(),
+    );
+    s.add_systems((
+        mission_system.in_set(StepSet::Ingest),
+        control_system.in_set(StepSet::Control),
+        actuate_system.in_set(StepSet::Actuate),
+        dynamics_system.in_set(StepSet::Dynamics),
+        collide_system.in_set(StepSet::Collide),
+        sense_system.in_set(StepSet::Sense),
+        record_system.in_set(StepSet::Record),
+    ));
+    s
+}
+
+/// Advances each vehicle's mission to the current time.
+pub fn mission_system(clock: Res<Clock>, mut q: Query<&mut Control>) {
+    let t = clock.t();
+    for mut c in &mut q {
+        let c = &mut *c;
+        c.cursor.advance(&c.mission, t, &mut c.setpoints);
+    }
+}
+
+/// Runs each vehicle's controller on its control period.
+pub fn control_system(
+    clock: Res<Clock>,
+    par: Res<Parallel>,
+    mut q: Query<(&Kind, &Sensors, &mut Control, &mut Actuation)>,
+) {
+    let step = clock.step;
+    let mut items: Vec<_> = q.iter_mut().collect();
+    par.for_each(&mut items, |(kind, sensors, control, act)| {
+        if step.is_multiple_of(control.every) {
+            let m = &kind.0;
+            let c = &mut **control;
+            c.state.update(
+                &m.params.control,
+                m.uauv2.as_ref(),
+                &m.params.thrusters,
+                &sensors.0,
+                &c.setpoints,
+                &mut act.0,
+            );
+        }
+    });
+}
+
+/// Pump, tilt drives and thrusters → generalised force.
+pub fn actuate_system(
+    clock: Res<Clock>,
+    par: Res<Parallel>,
+    phys: Res<Physical>,
+    mut q: Query<(&Kind, &Actuation, &mut Physics)>,
+) {
+    let dt = clock.dt;
+    let env = phys.env;
+    let mut items: Vec<_> = q.iter_mut().collect();
+    par.for_each(&mut items, |(kind, act, p)| {
+        actuate_vehicle(&kind.0, &mut p.state, &act.0, &env, dt);
+    });
+}
+
+/// Integrates every rigid body over one step.
+pub fn dynamics_system(
+    clock: Res<Clock>,
+    par: Res<Parallel>,
+    phys: Res<Physical>,
+    mut q: Query<(&Kind, &mut Physics)>,
+) {
+    let dt = clock.dt;
+    let (env, integ) = (phys.env, phys.integrator);
+    let mut items: Vec<_> = q.iter_mut().collect();
+    par.for_each(&mut items, |(kind, p)| {
+        p.prev_position = p.state.rigid.position;
+        integrate_vehicle(&kind.0, &mut p.state, &env, integ, dt);
+    });
+}
+
+/// Fraction of the way back from the first impact, so that a hull stopped by the swept test
+/// rests just short of the surface it hit.
+const BACKOFF: f64 = 1e-4;
+
+/// Keeps hulls out of walls, floor and obstacles: a swept test along the step's displacement
+/// (no tunnelling through thin obstacles at any speed), then penetration removal along the
+/// contact normals and removal of the velocity component into the surface (inelastic).
+pub fn collide_system(
+    par: Res<Parallel>,
+    geo: Res<StaticGeometry>,
+    phys: Res<Physical>,
+    mut q: Query<(&Kind, &mut Physics, &mut ContactStats)>,
+) {
+    let geo = &geo.0;
+    let current = phys.env.current;
+    let mut items: Vec<_> = q.iter_mut().collect();
+    par.for_each(&mut items, |(kind, p, stats)| {
+        let hull = hull_shape(&kind.0.params.body.hull_size);
+        let prev = p.prev_position;
+        let rigid = &mut p.state.rigid;
+        let mut touched = false;
+        let mut max_depth: f64 = 0.0;
+        let delta = rigid.position - prev;
+        let min_half = 0.5 * kind.0.params.body.hull_size.min();
+        if delta.norm() > 0.25 * min_half {
+            let from = to_pose(&prev, &rigid.attitude);
+            if let Some((toi, n)) = geo.first_hit(&hull, &from, &delta) {
+                rigid.position = prev + delta * (toi - BACKOFF).max(0.0);
+                remove_inward_velocity(rigid, &n, &current);
+                touched = true;
+            }
+        }
+        let mut contacts = Vec::new();
+        for _ in 0..4 {
+            contacts.clear();
+            geo.contacts(
+                &hull,
+                &to_pose(&rigid.position, &rigid.attitude),
+                &mut contacts,
+            );
+            if contacts.is_empty() {
+                break;
+            }
+            touched = true;
+            for c in &contacts {
+                rigid.position += c.normal * c.depth;
+                max_depth = max_depth.max(c.depth);
+                remove_inward_velocity(rigid, &c.normal, &current);
+            }
+        }
+        if touched {
+            stats.steps_in_contact += 1;
+            if !stats.touching {
+                stats.impacts += 1;
+            }
+            stats.max_depth = stats.max_depth.max(max_depth);
+        }
+        stats.touching = touched;
+    });
+}
+
+/// Removes the component of the ground velocity that points into a surface with outward
+/// normal `n` (world frame).
+fn remove_inward_velocity(rigid: &mut RigidState, n: &Vec3, current: &Vec3) {
+    let v_body = rigid.nu.fixed_rows::<3>(0).into_owned();
+    let v_ground = rigid.attitude * v_body + current;
+    let vn = v_ground.dot(n);
+    if vn < 0.0 {
+        let v_new = v_ground - n * vn;
+        let v_rel = rigid.attitude.inverse_transform_vector(&(v_new - current));
+        rigid.nu.fixed_rows_mut::<3>(0).copy_from(&v_rel);
+    }
+}
+
+/// Samples sensors just before each control tick.
+pub fn sense_system(
+    clock: Res<Clock>,
+    par: Res<Parallel>,
+    phys: Res<Physical>,
+    mut q: Query<(&Kind, &Physics, &Control, &mut SensorRng, &mut Sensors)>,
+) {
+    let next = clock.step + 1;
+    let env = phys.env;
+    let mut items: Vec<_> = q.iter_mut().collect();
+    par.for_each(&mut items, |(kind, p, control, rng, sensors)| {
+        if next.is_multiple_of(control.every) {
+            sense(&kind.0, &p.state, &env, &mut rng.0, &mut sensors.0);
+        }
+    });
+}
+
+/// Appends a trajectory row every `RecordConfig::every` steps.
+pub fn record_system(
+    clock: Res<Clock>,
+    cfg: Res<RecordConfig>,
+    mut q: Query<(
+        &Kind,
+        &Physics,
+        &Sensors,
+        &Control,
+        &Actuation,
+        &ContactStats,
+        &mut Track,
+    )>,
+) {
+    let next = clock.step + 1;
+    if cfg.every == 0 || !next.is_multiple_of(cfg.every) {
+        return;
+    }
+    let t = next as f64 * clock.dt;
+    for (kind, p, s, c, a, stats, mut track) in &mut q {
+        recorder::push_row(&mut track.0, t, &kind.0, &p.state, &s.0, c, &a.0, stats);
+    }
+}
