@@ -1,1 +1,12 @@
-//! shoal facade
+//! # shoal
+//!
+//! A swarm simulator for minuscule autonomous underwater vehicles (the DFKI μAUV²). This facade
+//! re-exports the workspace crates; the `shoal` binary lives in `crates/shoal-cli`.
+//!
+//! - [`model`]: pure vehicle physics, sensors, controllers, presets (no IO, no ECS);
+//! - [`world`]: world files, validation, pool and obstacle geometry;
+//! - [`sim`]: the bevy_ecs world, its step schedule, recorder and outputs.
+
+pub use shoal_model as model;
+pub use shoal_sim as sim;
+pub use shoal_world as world;

@@ -349,6 +349,7 @@ impl MovingAverage {
 pub struct ControllerState {
     prev_depth: Option<f64>,
     depth_rate: f64,
+    auto_tilt_down: bool,
     prev_mode: Mode,
     thruster_filters: Vec<MovingAverage>,
     tilt_filters: Vec<MovingAverage>,
@@ -410,6 +411,7 @@ impl ControllerState {
         Self {
             prev_depth: None,
             depth_rate: 0.0,
+            auto_tilt_down: true,
             prev_mode: Mode::Off,
             thruster_filters: vec![MovingAverage::new(params.filter_window, 0.0); n_thrusters],
             tilt_filters: vec![MovingAverage::new(params.filter_window, 0.0); n_tilts],
@@ -564,11 +566,23 @@ impl ControllerState {
             }
             Mode::Auto => {
                 let z_des = heave_force(u.heave_gains);
-                // Tilt down for a downward force and up for an upward one, with a soft
-                // transition so that β does not chatter around zero demand.
-                let z_soft = 0.1 * ff;
+                // β sits at ±β_max (down for a downward force, up for an upward one) and
+                // flips only when the demand clearly changes sign (hysteresis), so that noise
+                // on the depth reading does not make the slow tilt drive hunt (paper 5.7: β
+                // changes only at setpoint steps).
+                let z_switch = 0.1 * ff;
+                if z_des > z_switch {
+                    self.auto_tilt_down = true;
+                } else if z_des < -z_switch {
+                    self.auto_tilt_down = false;
+                }
+                let beta_t = if self.auto_tilt_down {
+                    -params.auto_tilt_max
+                } else {
+                    params.auto_tilt_max
+                };
                 out.tilts[l.alpha] = 0.0;
-                out.tilts[l.beta] = -params.auto_tilt_max * (z_des / z_soft).clamp(-1.0, 1.0);
+                out.tilts[l.beta] = beta_t;
                 let n = yaw_torque(u.yaw_gains);
                 if c > 0.5 {
                     // Yaw first: the differential part D is saturated alone.
@@ -578,7 +592,12 @@ impl ControllerState {
                     // ... and within what the top thruster can cancel in surge.
                     let (tf, tr) = u.top_limits;
                     let (clo, chi) = ((sp.surge - tf) / c, (sp.surge + tr) / c);
-                    let s_des = if s.abs() > 0.05 { z_des / s } else { 0.0 };
+                    // Heave only once the drive has tilted far enough the right way.
+                    let s_des = if s * z_des > 0.0 && s.abs() > 0.25 {
+                        z_des / s
+                    } else {
+                        0.0
+                    };
                     let (lo2, hi2) = (lo.max(clo), hi.min(chi));
                     let ssum = if lo2 <= hi2 {
                         s_des.clamp(lo2, hi2)

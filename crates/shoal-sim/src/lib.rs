@@ -4,6 +4,8 @@
 //! schedule of chained system sets ([`systems`]) run by [`sim::Sim`], per-world parallel loops
 //! ([`parallel`]), a trajectory recorder ([`recorder`]) and run outputs ([`output`], [`plot`]).
 
+pub mod analysis;
+pub mod bench;
 pub mod components;
 pub mod output;
 pub mod parallel;
@@ -15,6 +17,7 @@ pub mod systems;
 /// The commonly used types.
 pub mod prelude {
     pub use crate::components::*;
+    pub use crate::output::{RunOutput, Summary};
 
     pub use crate::sim::{Sim, SimOptions, VehicleSnapshot};
     pub use crate::systems::{StepSet, build_schedule};

@@ -100,7 +100,7 @@ impl Sim {
             let mut rng = vehicle_rng(desc.seed, id, stream::SENSORS);
             let mut readings = SensorReadings::zeros(m.params.tilts.len());
             sense(m, &state, &desc.env, &mut rng, &mut readings);
-            let control = Control {
+            let mut control = Control {
                 state: m.controller(),
                 setpoints: Setpoints {
                     raw: m.zero_commands(),
@@ -110,6 +110,10 @@ impl Sim {
                 cursor: MissionCursor::default(),
                 every: (m.params.control.period / desc.dt).round().max(1.0) as u64,
             };
+            // Steps at t = 0 are in force from the first recorded row on.
+            control
+                .cursor
+                .advance(&control.mission, 0.0, &mut control.setpoints);
             let cmd = m.zero_commands();
             let mut track = Track(Vec::new());
             if every > 0 {

@@ -55,6 +55,8 @@ pub struct WorldDesc {
     pub geometry: Geometry,
     /// Vehicles in spawn order.
     pub vehicles: Vec<VehicleDesc>,
+    /// Name of each vehicle group (indexed by [`VehicleDesc::group`]).
+    pub groups: Vec<String>,
     /// Output settings.
     pub output: OutputDesc,
 }

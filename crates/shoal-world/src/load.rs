@@ -421,13 +421,15 @@ fn build(wf: &WorldFile, file: &Path, v: &mut Validator<'_>) -> Option<WorldDesc
 
     // Vehicle groups.
     let mut vehicles = Vec::new();
+    let mut groups = Vec::new();
     for (gi, g) in wf.vehicles.iter().enumerate() {
-        group(g, gi, wf, &env, &geometry, v, &mut vehicles);
+        groups.push(group(g, gi, wf, &env, &geometry, v, &mut vehicles));
     }
     check_overlaps(&vehicles, v);
     if !v.problems.is_empty() {
         return None;
     }
+
     let name = wf.name.clone().unwrap_or_else(|| {
         file.file_stem()
             .map_or_else(|| "world".into(), |s| s.to_string_lossy().into_owned())
@@ -446,6 +448,7 @@ fn build(wf: &WorldFile, file: &Path, v: &mut Validator<'_>) -> Option<WorldDesc
         attenuation,
         geometry,
         vehicles,
+        groups,
         output: OutputDesc {
             record_hz: wf.output.record_hz,
             plots: wf.output.plots,
@@ -1047,6 +1050,28 @@ fn group(
     geometry: &Geometry,
     v: &mut Validator<'_>,
     out: &mut Vec<VehicleDesc>,
+) -> String {
+    let base = group_name(g, gi);
+    group_vehicles(g, gi, &base, wf, env, geometry, v, out);
+    base
+}
+
+/// The base name of a group: its `name`, or `<preset>-g<index>`.
+fn group_name(g: &VehicleGroupSpec, gi: usize) -> String {
+    g.name
+        .clone()
+        .unwrap_or_else(|| format!("{}-g{gi}", g.preset.as_deref().unwrap_or("uauv2")))
+}
+
+fn group_vehicles(
+    g: &VehicleGroupSpec,
+    gi: usize,
+    base: &str,
+    wf: &WorldFile,
+    env: &Environment,
+    geometry: &Geometry,
+    v: &mut Validator<'_>,
+    out: &mut Vec<VehicleDesc>,
 ) {
     let gp = FieldPath::root().key("vehicles").index(gi);
     let n0 = v.problems.len();
@@ -1087,13 +1112,10 @@ fn group(
         return;
     }
     // Placement.
-    let base = g
-        .name
-        .clone()
-        .unwrap_or_else(|| format!("{}-g{gi}", model.params.name));
+
     let names = |i: usize| {
         if g.count == 1 {
-            base.clone()
+            base.to_string()
         } else {
             format!("{base}-{i}")
         }

@@ -1,0 +1,73 @@
+//! `shoal`: run worlds of minuscule AUVs, check world files, benchmark scaling.
+//!
+//! Exit codes: 0 success, 1 failure (e.g. cannot write outputs), 2 invalid input (world file),
+//! 130 interrupted by Ctrl-C (outputs up to that moment are written).
+
+mod alloc;
+mod bench;
+mod run;
+
+use clap::{Parser, Subcommand};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[global_allocator]
+static ALLOC: alloc::Counting = alloc::Counting;
+
+/// Swarm simulator for minuscule AUVs (DFKI μAUV²) with optical modems.
+#[derive(Parser, Debug)]
+#[command(name = "shoal", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Run a world (the embedded default swarm when no file is given) and write trajectories,
+    /// a summary and plots.
+    Run(run::RunArgs),
+    /// Validate a world file and print what it contains.
+    Check {
+        /// The world file.
+        world: PathBuf,
+    },
+    /// Print a scaling table: vehicles × threads → vehicle-steps/s, real-time factor, memory.
+    Bench(bench::BenchArgs),
+}
+
+/// Why the program stops early.
+pub enum Failure {
+    /// Bad user input (exit 2); the message is complete.
+    Input(String),
+    /// Anything else (exit 1).
+    Other(anyhow::Error),
+}
+
+impl From<anyhow::Error> for Failure {
+    fn from(e: anyhow::Error) -> Self {
+        Failure::Other(e)
+    }
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Run(a) => run::run(&a),
+        Command::Check { world } => run::check(&world),
+        Command::Bench(a) => bench::bench(&a)
+            .map(|()| ExitCode::SUCCESS)
+            .map_err(Failure::Other),
+    };
+    match result {
+        Ok(code) => code,
+        Err(Failure::Input(msg)) => {
+            eprintln!("error: {msg}");
+            ExitCode::from(2)
+        }
+        Err(Failure::Other(e)) => {
+            eprintln!("error: {e:#}");
+            ExitCode::from(1)
+        }
+    }
+}
