@@ -300,9 +300,13 @@ impl RunOutput {
             filled: false,
         }];
         for ob in &desc.geometry.obstacles {
-            let (lo, hi) = (ob.aabb.mins, ob.aabb.maxs);
+            let points = ob
+                .top_outline(48)
+                .into_iter()
+                .map(|(x, y)| (y, x))
+                .collect();
             outlines.push(Outline {
-                points: vec![(lo.y, lo.x), (hi.y, lo.x), (hi.y, hi.x), (lo.y, hi.x)],
+                points,
                 filled: true,
             });
         }
@@ -326,7 +330,7 @@ impl RunOutput {
         let margin = 0.05 * pool.x.max(pool.y);
         let h = 700u32;
         let w = ((f64::from(h) - 60.0) * (pool.y + 2.0 * margin) / (pool.x + 2.0 * margin) + 80.0)
-            .clamp(300.0, 1800.0) as u32;
+            .clamp(560.0, 1800.0) as u32;
         let plot = Plot {
             title: format!("{}: tracks from above (dot = start)", desc.name),
             x_label: "east y [m]".into(),

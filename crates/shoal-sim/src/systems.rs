@@ -134,6 +134,9 @@ pub fn dynamics_system(
     });
 }
 
+/// A hull closer than this to a surface is in contact with it [m].
+const CONTACT_MARGIN: f64 = 1e-3;
+
 /// Fraction of the way back from the first impact, so that a hull stopped by the swept test
 /// rests just short of the surface it hit.
 const BACKOFF: f64 = 1e-4;
@@ -169,19 +172,22 @@ pub fn collide_system(
         let mut contacts = Vec::new();
         for _ in 0..4 {
             contacts.clear();
-            geo.contacts(
-                &hull,
-                &to_pose(&rigid.position, &rigid.attitude),
-                &mut contacts,
-            );
+            let pose = to_pose(&rigid.position, &rigid.attitude);
+            geo.contacts(&hull, &pose, CONTACT_MARGIN, &mut contacts);
             if contacts.is_empty() {
                 break;
             }
+            // Within the margin counts as touching; only penetration is corrected.
             touched = true;
-            for c in &contacts {
+            let mut moved = false;
+            for c in contacts.iter().filter(|c| c.depth > 0.0) {
                 rigid.position += c.normal * c.depth;
                 max_depth = max_depth.max(c.depth);
                 remove_inward_velocity(rigid, &c.normal, &current);
+                moved = true;
+            }
+            if !moved {
+                break;
             }
         }
         if touched {

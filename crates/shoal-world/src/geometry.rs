@@ -43,6 +43,27 @@ pub struct Obstacle {
     pub aabb: Aabb,
 }
 
+impl Obstacle {
+    /// The obstacle's outline seen from above: its projection on the horizontal plane as a
+    /// convex polygon of `n` support points, world (x, y) [m]. Falls back to the bounding box
+    /// for shapes without a support map.
+    pub fn top_outline(&self, n: usize) -> Vec<(f64, f64)> {
+        match self.shape.as_support_map() {
+            Some(sm) => (0..n.max(3))
+                .map(|k| {
+                    let a = std::f64::consts::TAU * k as f64 / n.max(3) as f64;
+                    let p = sm.support_point(&self.pose, Vector::new(a.cos(), a.sin(), 0.0));
+                    (p.x, p.y)
+                })
+                .collect(),
+            None => {
+                let (lo, hi) = (self.aabb.mins, self.aabb.maxs);
+                vec![(lo.x, lo.y), (hi.x, lo.y), (hi.x, hi.y), (lo.x, hi.y)]
+            }
+        }
+    }
+}
+
 impl std::fmt::Debug for Obstacle {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Obstacle")
@@ -118,18 +139,19 @@ impl Geometry {
         )
     }
 
-    /// Every contact of `hull` at `pose` with walls, floor and obstacles, appended to `out`.
-    pub fn contacts(&self, hull: &Cuboid, pose: &Pose, out: &mut Vec<HullContact>) {
-        let aabb = hull.compute_aabb(pose);
+    /// Every contact of `hull` at `pose` with walls, floor and obstacles closer than `margin`
+    /// [m], appended to `out` (`depth` < 0 for a gap smaller than the margin).
+    pub fn contacts(&self, hull: &Cuboid, pose: &Pose, margin: f64, out: &mut Vec<HullContact>) {
+        let aabb = hull.compute_aabb(pose).loosened(margin);
         let interior = self.pool_interior();
         if !interior.contains(&aabb) {
             for (wp, hs) in &self.walls {
-                push_contact(pose, hull, wp, hs, None, out);
+                push_contact(pose, hull, wp, hs, None, margin, out);
             }
         }
         for (i, ob) in self.obstacles.iter().enumerate() {
             if ob.aabb.intersects(&aabb) {
-                push_contact(pose, hull, &ob.pose, &*ob.shape, Some(i), out);
+                push_contact(pose, hull, &ob.pose, &*ob.shape, Some(i), margin, out);
             }
         }
     }
@@ -225,11 +247,12 @@ fn push_contact(
     other_pose: &Pose,
     other: &dyn Shape,
     obstacle: Option<usize>,
+    margin: f64,
     out: &mut Vec<HullContact>,
 ) {
     // Static shape first (see `first_hit`): normal1 points out of it, towards the hull.
-    if let Ok(Some(c)) = query::contact(other_pose, other, pose, hull, 0.0)
-        && c.dist < 0.0
+    if let Ok(Some(c)) = query::contact(other_pose, other, pose, hull, margin)
+        && c.dist < margin
     {
         out.push(HullContact {
             normal: from_vector(c.normal1),
@@ -259,7 +282,7 @@ mod tests {
         let hull = hull_shape(&Vec3::new(0.27, 0.156, 0.182));
         let pose = to_pose(&Vec3::new(2.0, 2.0, 1.95), &Quat::identity());
         let mut c = Vec::new();
-        g.contacts(&hull, &pose, &mut c);
+        g.contacts(&hull, &pose, 0.0, &mut c);
         assert_eq!(c.len(), 1, "{c:?}");
         assert!(
             (c[0].normal - Vec3::new(0.0, 0.0, -1.0)).norm() < 1e-9,
@@ -284,9 +307,23 @@ mod tests {
         g.contacts(
             &hull,
             &to_pose(&Vec3::new(5.5, 2.0, 1.0), &Quat::identity()),
+            0.0,
             &mut c,
         );
         assert!(c.is_empty(), "the end pose alone shows nothing");
+    }
+
+    #[test]
+    fn top_outline_of_a_vertical_cylinder_is_a_circle() {
+        let c = Geometry::obstacle(
+            "c",
+            SharedShape::cylinder(1.0, 0.3),
+            &Vec3::new(2.0, 1.0, 1.0),
+            &Quat::from_axis_angle(&Vec3::x_axis(), std::f64::consts::FRAC_PI_2),
+        );
+        for (x, y) in c.top_outline(32) {
+            assert!(((x - 2.0).hypot(y - 1.0) - 0.3).abs() < 1e-9);
+        }
     }
 
     #[test]
