@@ -34,6 +34,12 @@ enum Command {
     },
     /// Print a scaling table: vehicles × threads → vehicle-steps/s, real-time factor, memory.
     Bench(bench::BenchArgs),
+    /// Print a built-in vehicle model as a runnable world file (every number, to copy and edit).
+    Preset {
+        /// Preset name.
+        #[arg(default_value = "uauv2")]
+        name: String,
+    },
 }
 
 /// Why the program stops early.
@@ -55,6 +61,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Run(a) => run::run(&a),
         Command::Check { world } => run::check(&world),
+        Command::Preset { name } => run::preset(&name),
         Command::Bench(a) => bench::bench(&a)
             .map(|()| ExitCode::SUCCESS)
             .map_err(Failure::Other),

@@ -156,6 +156,27 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, Failure> {
     })
 }
 
+/// `shoal preset`.
+pub fn preset(name: &str) -> Result<ExitCode, Failure> {
+    let Some(p) = shoal_model::presets::by_name(name) else {
+        return Err(Failure::Input(format!(
+            "unknown preset `{name}` (available: {})",
+            shoal_model::presets::NAMES.join(", ")
+        )));
+    };
+    let spec = shoal_world::spec::VehicleSpec::from_params(&p);
+    let text = shoal_world::load::vehicle_world_toml(&spec, [5.0, 5.0, 1.0])
+        .context("cannot write the preset")?;
+    println!(
+        "# The `{name}` preset as a world file (shoal preset {name}). Numbers are marked paper /"
+    );
+    println!(
+        "# derived / assumed in crates/shoal-model/src/presets.rs. Units: SI; angles in `_deg` fields."
+    );
+    print!("{text}");
+    Ok(ExitCode::SUCCESS)
+}
+
 /// `shoal check`.
 pub fn check(world: &Path) -> Result<ExitCode, Failure> {
     let desc = load(Some(world))?;

@@ -6,17 +6,17 @@ use shoal_sim::prelude::*;
 use shoal_world::load::{default_world, load_str};
 use std::path::Path;
 
-/// 120 vehicles (well above the parallel threshold) on a grid, each group on its own mission.
+/// 600 vehicles (above the parallel threshold) on a grid, each group on its own mission.
 fn swarm() -> shoal_world::desc::WorldDesc {
-    let mut text = String::from("seed = 3\nduration = 30\n[pool]\nsize = [20.0, 20.0, 3.0]\n");
+    let mut text = String::from("seed = 3\nduration = 30\n[pool]\nsize = [20.0, 70.0, 3.0]\n");
     for (g, (mode, depth)) in [("auto", 0.8), ("diving", 1.5), ("turning", 1.0)]
         .iter()
         .enumerate()
     {
         text.push_str(&format!(
-            "[[vehicles]]\nname = \"g{g}\"\ncount = 40\ngrid = {{ origin = [1.0, {}, {depth}], spacing = [0.5, 0.5], columns = 10 }}\n\
+            "[[vehicles]]\nname = \"g{g}\"\ncount = 200\ngrid = {{ origin = [1.0, {}, {depth}], spacing = [0.5, 0.5], columns = 20 }}\n\
              mission = [{{ t = 0, mode = \"{mode}\", depth = {depth}, yaw_deg = 30 }}, {{ t = 3, surge = 0.02, yaw_deg = -120 }}]\n",
-            1.0 + 6.0 * g as f64
+            1.0 + 22.0 * g as f64
         ));
     }
     load_str(&text, Path::new("swarm.toml")).unwrap_or_else(|e| panic!("{e}"))
@@ -48,7 +48,8 @@ fn a_conflicting_unordered_system_is_detected() {
 #[test]
 fn one_and_two_threads_give_identical_results() {
     let desc = swarm();
-    assert_eq!(desc.vehicles.len(), 120);
+    assert_eq!(desc.vehicles.len(), 600);
+    assert!(desc.vehicles.len() >= shoal_sim::parallel::MIN_PARALLEL);
     let mut digests = Vec::new();
     for threads in [1, 2] {
         let mut sim = Sim::new(

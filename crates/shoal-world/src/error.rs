@@ -171,10 +171,16 @@ impl fmt::Display for WorldError {
                 write!(f, ":{l}:{c}")?;
             }
             f.write_str(": ")?;
-            if let Some(field) = &p.field
-                && !field.0.is_empty()
-            {
-                write!(f, "`{field}`: ")?;
+            if let Some(field) = &p.field {
+                if p.kind == ProblemKind::UnknownField {
+                    // The message names the unknown key; say where it is.
+                    let parent = FieldPath(field.0[..field.0.len().saturating_sub(1)].to_vec());
+                    if !parent.0.is_empty() {
+                        write!(f, "in `{parent}`: ")?;
+                    }
+                } else if !field.0.is_empty() {
+                    write!(f, "`{field}`: ")?;
+                }
             }
             f.write_str(&p.message)?;
         }

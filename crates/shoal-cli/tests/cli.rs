@@ -1,0 +1,262 @@
+//! The `shoal` binary end to end: outputs of a run, errors for bad input (exit 2, located
+//! messages, no panic), Ctrl-C writing what was computed, `check` on every shipped world, and
+//! the bench table's shape (no timing assertions: speed belongs in benches).
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+fn shoal() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_shoal"))
+}
+
+fn repo() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("shoal-cli-test-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn text(o: &Output) -> (String, String) {
+    (
+        String::from_utf8_lossy(&o.stdout).into_owned(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn default_run_writes_all_outputs() {
+    let out = tmp("default");
+    let o = shoal()
+        .args(["run", "--quiet", "--duration", "5", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let (stdout, stderr) = text(&o);
+    assert!(o.status.success(), "{stdout}\n{stderr}");
+    assert!(
+        stdout.contains("default swarm: 12 vehicles") && stdout.contains("digest"),
+        "{stdout}"
+    );
+    for f in [
+        "trajectories.csv",
+        "summary.json",
+        "depth.png",
+        "depth.svg",
+        "top.png",
+        "top.svg",
+    ] {
+        let p = out.join(f);
+        assert!(
+            p.metadata().map(|m| m.len() > 100).unwrap_or(false),
+            "missing or empty: {}",
+            p.display()
+        );
+    }
+    // 12 vehicles × (5 s · 10 Hz + the initial row), plus the header.
+    let csv = std::fs::read_to_string(out.join("trajectories.csv")).unwrap();
+    let lines: Vec<&str> = csv.lines().collect();
+    assert_eq!(lines.len(), 1 + 12 * 51);
+    let header: Vec<&str> = lines[0].split(',').collect();
+    for c in [
+        "t_s",
+        "vehicle",
+        "x_m",
+        "yaw_rad",
+        "w_m_s",
+        "depth_reading_m",
+        "cmd_port_pct",
+        "tilt_beta_rad",
+    ] {
+        assert!(header.contains(&c), "column {c} in {header:?}");
+    }
+    assert!(
+        lines
+            .iter()
+            .skip(1)
+            .all(|l| l.split(',').count() == header.len())
+    );
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["vehicles"], 12);
+    assert_eq!(summary["interrupted"], false);
+    assert_eq!(summary["steps"], 500);
+    assert_eq!(summary["trajectory_rows"], 12 * 51);
+}
+
+#[test]
+fn bad_world_file_exits_2_with_a_located_message() {
+    let dir = tmp("bad");
+    let cases = [
+        (
+            "typo.toml",
+            "duration = 10\ndurration = 5\n",
+            "typo.toml:2:1",
+            "did you mean `duration`",
+        ),
+        (
+            "unit.toml",
+            "duration = \"10 s\"\n",
+            "unit.toml:1:",
+            "seconds",
+        ),
+        (
+            "mass.toml",
+            "[[vehicles]]\nposition = [1, 1, 1]\n[vehicles.model.body]\nmass = -3\n",
+            "mass.toml:4:1",
+            "0 < mass",
+        ),
+        (
+            "overlap.toml",
+            "[[vehicles]]\nname = \"a\"\nposition = [1, 1, 1]\n[[vehicles]]\nname = \"b\"\nposition = [1.05, 1, 1]\n",
+            "overlap.toml:4:",
+            "overlaps vehicle `a`",
+        ),
+        ("syntax.toml", "[pool\n", "syntax.toml:1:", ""),
+    ];
+    for (name, body, location, hint) in cases {
+        let p = dir.join(name);
+        std::fs::write(&p, body).unwrap();
+        for cmd in ["run", "check"] {
+            let o = shoal().arg(cmd).arg(&p).output().unwrap();
+            let (_, stderr) = text(&o);
+            assert_eq!(o.status.code(), Some(2), "{cmd} {name}: {stderr}");
+            assert!(
+                stderr.contains(location) && stderr.contains(hint),
+                "{cmd} {name}: {stderr}"
+            );
+            assert!(!stderr.contains("panicked"), "{stderr}");
+        }
+    }
+    let o = shoal()
+        .args(["run", "no/such/world.toml"])
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    assert!(text(&o).1.contains("no/such/world.toml: cannot read"));
+}
+
+#[test]
+fn every_shipped_world_checks() {
+    for e in std::fs::read_dir(repo().join("worlds")).unwrap() {
+        let p = e.unwrap().path();
+        if p.extension().is_some_and(|x| x == "toml") {
+            let o = shoal().arg("check").arg(&p).output().unwrap();
+            assert!(o.status.success(), "{}: {}", p.display(), text(&o).1);
+        }
+    }
+}
+
+#[test]
+fn ctrl_c_ends_the_run_cleanly_with_outputs_written() {
+    let out = tmp("sigint");
+    let child = shoal()
+        .args(["run", "--quiet", "--duration", "100000", "--out"])
+        .arg(&out)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Wait until rows are being written, then interrupt.
+    let start = Instant::now();
+    let csv = out.join("trajectories.csv");
+    while csv.metadata().map(|m| m.len() < 200_000).unwrap_or(true) {
+        assert!(
+            start.elapsed() < Duration::from_secs(120),
+            "the run did not start writing"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    let status = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let o = child.wait_with_output().unwrap();
+    let (stdout, stderr) = text(&o);
+    assert_eq!(o.status.code(), Some(130), "{stdout}\n{stderr}");
+    assert!(stdout.contains("INTERRUPTED"), "{stdout}");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["interrupted"], true);
+    // Every row written so far is complete, and the summary counts them all.
+    let data = std::fs::read_to_string(&csv).unwrap();
+    let lines: Vec<&str> = data.lines().collect();
+    let width = lines[0].split(',').count();
+    assert!(lines.iter().all(|l| l.split(',').count() == width));
+    assert_eq!(
+        summary["trajectory_rows"].as_u64().unwrap() as usize,
+        lines.len() - 1
+    );
+    assert!(out.join("top.png").exists());
+}
+
+#[test]
+fn one_and_two_threads_give_the_same_digest() {
+    let digest = |threads: &str| {
+        let out = tmp(&format!("threads{threads}"));
+        let o = shoal()
+            .args([
+                "run",
+                "--quiet",
+                "--duration",
+                "20",
+                "--no-plots",
+                "--threads",
+                threads,
+                "--out",
+            ])
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert!(o.status.success());
+        let s: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap())
+                .unwrap();
+        (
+            s["digest"].as_str().unwrap().to_string(),
+            std::fs::read(out.join("trajectories.csv")).unwrap(),
+        )
+    };
+    let (d1, c1) = digest("1");
+    let (d2, c2) = digest("2");
+    assert_eq!(d1, d2);
+    assert!(c1 == c2, "trajectories differ between 1 and 2 threads");
+}
+
+#[test]
+fn bench_prints_a_row_per_cell() {
+    let o = shoal()
+        .args([
+            "bench",
+            "--vehicles",
+            "1,20",
+            "--threads",
+            "1,2",
+            "--seconds",
+            "0.05",
+            "--json",
+        ])
+        .output()
+        .unwrap();
+    let (stdout, stderr) = text(&o);
+    assert!(o.status.success(), "{stderr}");
+    assert!(
+        stdout.contains("vehicle-steps/s") && stdout.contains("bytes/vehicle"),
+        "{stdout}"
+    );
+    let json_start = stdout.find('[').expect("json table");
+    let rows: serde_json::Value = serde_json::from_str(&stdout[json_start..]).unwrap();
+    let rows = rows.as_array().unwrap();
+    assert_eq!(rows.len(), 4);
+    for r in rows {
+        assert!(r["vehicle_steps_per_s"].as_f64().unwrap() > 0.0);
+        assert!(r["bytes_per_vehicle"].as_f64().unwrap() > 0.0);
+    }
+    let o = shoal().args(["bench", "--vehicles", "0"]).output().unwrap();
+    assert!(!o.status.success());
+}
