@@ -7,10 +7,9 @@
 
 use shoal::model::control::heading_error;
 use shoal::model::math::wrap_pi;
-use shoal::sim::analysis::{Segment, segments};
+use shoal::sim::analysis::{Segment, point_depth, record_run, segments};
 use shoal::sim::plot::{Plot, Series};
-use shoal::sim::prelude::*;
-use shoal::sim::recorder::{self, col};
+use shoal::sim::recorder::col;
 use shoal::world::load::load_file;
 use std::path::{Path, PathBuf};
 
@@ -24,27 +23,8 @@ fn run(file: &str) -> Run {
         .join("worlds")
         .join(file);
     let desc = load_file(&path).unwrap_or_else(|e| panic!("{e}"));
-    let mut sim = Sim::new(
-        &desc,
-        SimOptions {
-            threads: 1,
-            record: true,
-        },
-    );
-    sim.run(desc.steps());
-    let batch = sim.drain();
-    let rows = batch
-        .rows
-        .iter()
-        .zip(&desc.vehicles)
-        .map(|(flat, v)| {
-            flat.chunks(recorder::stride(&v.model))
-                .map(<[f64]>::to_vec)
-                .collect()
-        })
-        .collect();
     Run {
-        rows,
+        rows: record_run(&desc),
         port_z: desc
             .vehicles
             .iter()
@@ -54,7 +34,7 @@ fn run(file: &str) -> Run {
 }
 
 fn depth(r: &[f64], pz: f64) -> f64 {
-    r[col::Z] + pz * r[col::ROLL].cos() * r[col::PITCH].cos()
+    point_depth(r, pz)
 }
 
 fn depth_series(run: &Run, v: usize) -> Vec<(f64, f64, f64)> {

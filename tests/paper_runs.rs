@@ -4,9 +4,8 @@
 
 use shoal::model::presets;
 use shoal::model::vehicle::VehicleModel;
-use shoal::sim::analysis::{Segment, segments};
-use shoal::sim::prelude::*;
-use shoal::sim::recorder::{self, col};
+use shoal::sim::analysis::{Segment, point_depth, record_run, segments};
+use shoal::sim::recorder::col;
 use shoal::world::load::load_file;
 use std::path::Path;
 use std::sync::Arc;
@@ -17,32 +16,14 @@ fn run(file: &str) -> (Vec<Vec<Vec<f64>>>, Vec<Arc<VehicleModel>>) {
         .join("worlds")
         .join(file);
     let desc = load_file(&path).unwrap_or_else(|e| panic!("{e}"));
-    let mut sim = Sim::new(
-        &desc,
-        SimOptions {
-            threads: 1,
-            record: true,
-        },
-    );
-    sim.run(desc.steps());
-    let batch = sim.drain();
-    let models: Vec<_> = desc.vehicles.iter().map(|v| v.model.clone()).collect();
-    let rows = batch
-        .rows
-        .iter()
-        .zip(&models)
-        .map(|(flat, m)| {
-            flat.chunks(recorder::stride(m))
-                .map(<[f64]>::to_vec)
-                .collect()
-        })
-        .collect();
-    (rows, models)
+    (
+        record_run(&desc),
+        desc.vehicles.iter().map(|v| v.model.clone()).collect(),
+    )
 }
 
-/// True (noise-free) depth of the pressure port, from the recorded pose.
 fn sensor_depth(row: &[f64], port_z: f64) -> f64 {
-    row[col::Z] + port_z * row[col::ROLL].cos() * row[col::PITCH].cos()
+    point_depth(row, port_z)
 }
 
 fn depth_segments(rows: &[Vec<f64>], port_z: f64, band: f64) -> Vec<Segment> {

@@ -2,7 +2,39 @@
 //! and measure each segment (overshoot, time to enter a band, 10–90 % rate, final error).
 //! Used by the paper-reproduction tests and the comparison in `docs/paper-comparison.md`.
 
+use crate::recorder::{self, col};
+use crate::sim::{Sim, SimOptions};
 use shoal_model::math::wrap_pi;
+use shoal_world::desc::WorldDesc;
+
+/// Every recorded row of a whole run, split per vehicle: `rows[vehicle][sample][column]`
+/// (columns as in [`recorder::FIXED`], then the vehicle's actuators).
+pub fn record_run(desc: &WorldDesc) -> Vec<Vec<Vec<f64>>> {
+    let mut sim = Sim::new(
+        desc,
+        SimOptions {
+            threads: 1,
+            record: true,
+        },
+    );
+    sim.run(desc.steps());
+    sim.drain()
+        .rows
+        .iter()
+        .zip(&desc.vehicles)
+        .map(|(flat, v)| {
+            flat.chunks(recorder::stride(&v.model))
+                .map(<[f64]>::to_vec)
+                .collect()
+        })
+        .collect()
+}
+
+/// True (noise-free) depth [m] of a point at body-frame height `port_z` [m] on the vehicle's
+/// vertical axis (e.g. the pressure port), from a recorded row.
+pub fn point_depth(row: &[f64], port_z: f64) -> f64 {
+    row[col::Z] + port_z * row[col::ROLL].cos() * row[col::PITCH].cos()
+}
 
 /// One setpoint segment of a step response.
 #[derive(Clone, Debug, PartialEq)]
@@ -135,11 +167,7 @@ mod tests {
         // −3.1 rad is 0.083 rad past +3.1 going up (through ±π).
         assert!((seg.overshoot - (2.0 * std::f64::consts::PI - 6.2)).abs() < 1e-9);
         // A large command taken the positive way from slightly below zero.
-        let s = vec![
-            (0.0, -0.01, 3.0),
-            (1.0, 1.5, 3.0),
-            (2.0, 3.0, 3.0),
-        ];
+        let s = vec![(0.0, -0.01, 3.0), (1.0, 1.5, 3.0), (2.0, 3.0, 3.0)];
         let seg = &segments(&s, 0.01, true)[0];
         assert_eq!(seg.overshoot, 0.0);
         assert!(seg.final_error.abs() < 1e-9);
