@@ -13,6 +13,7 @@ pub mod ballast;
 pub mod control;
 pub mod dynamics;
 pub mod math;
+pub mod optics;
 pub mod presets;
 pub mod rigid_body;
 pub mod sensors;

@@ -8,6 +8,7 @@ use crate::control::{
 };
 use crate::dynamics::{Integrator, RigidState, integrate};
 use crate::math::{Vec3, Vec6, split6};
+use crate::optics::ModemParams;
 use crate::rigid_body::{BodyParams, Environment, MassProperties};
 use crate::sensors::{ImuParams, PressureSensorParams};
 use crate::thruster::{ActuatorState, ThrusterParams, TiltParams, actuate};
@@ -32,6 +33,8 @@ pub struct VehicleParams {
     pub imu: ImuParams,
     /// Built-in controller.
     pub control: ControlParams,
+    /// Optical modems.
+    pub modems: Vec<ModemParams>,
 }
 
 impl VehicleParams {

@@ -5,7 +5,9 @@
 //! ([`parallel`]), a trajectory recorder ([`recorder`]) and run outputs ([`output`], [`plot`]).
 
 pub mod analysis;
+pub mod behaviour;
 pub mod bench;
+pub mod comm;
 pub mod components;
 pub mod output;
 pub mod parallel;

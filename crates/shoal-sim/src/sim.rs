@@ -1,9 +1,12 @@
 //! The simulated world: a bevy_ecs [`World`] with one entity per vehicle, driven one fixed step
 //! at a time by the schedule of [`crate::systems`].
 
+use crate::behaviour::{self, Behave};
+use crate::comm::{CommStats, Inbox, Medium, Modems, Outbox, comm_rng};
 use crate::components::*;
 use crate::parallel::Parallel;
 use crate::recorder::{self, RecordBatch};
+use crate::systems::Connectivity;
 use crate::systems::build_schedule;
 use bevy_ecs::prelude::*;
 use rand::SeedableRng;
@@ -34,6 +37,10 @@ impl Default for SimOptions {
 pub mod stream {
     /// Sensor noise.
     pub const SENSORS: u64 = 0;
+    /// The optical medium (back-offs, reception draws).
+    pub const COMM: u64 = 1;
+    /// Built-in behaviours.
+    pub const BEHAVIOUR: u64 = 2;
 }
 
 /// The RNG of vehicle `id` for `purpose`, derived from the world seed only.
@@ -85,6 +92,12 @@ impl Sim {
         });
         world.insert_resource(StaticGeometry(desc.geometry.clone()));
         world.insert_resource(Parallel::new(opts.threads));
+        world.insert_resource(Medium::new(
+            desc.vehicles.iter().map(|v| v.model.clone()).collect(),
+            desc.attenuation,
+            desc.ambient,
+        ));
+        world.insert_resource(Connectivity::new(desc.dt));
         let every = if opts.record {
             (1.0 / (desc.output.record_hz * desc.dt)).round().max(1.0) as u64
         } else {
@@ -146,8 +159,21 @@ impl Sim {
                         ContactStats::default(),
                         track,
                     ),
+                    (
+                        Modems::new(m.params.modems.len()),
+                        Outbox::default(),
+                        Inbox::default(),
+                        comm_rng(desc.seed, id),
+                        CommStats::default(),
+                    ),
                 ))
                 .id();
+            if let Some(b) = &v.behaviour {
+                world.entity_mut(e).insert(Behave {
+                    behaviour: behaviour::build(b),
+                    rng: vehicle_rng(desc.seed, id, stream::BEHAVIOUR),
+                });
+            }
             entities.push(e);
         }
         Self {
@@ -203,6 +229,11 @@ impl Sim {
     /// The ECS world, mutably.
     pub fn world_mut(&mut self) -> &mut World {
         &mut self.world
+    }
+
+    /// The entity of vehicle `id`.
+    pub fn vehicle_entity(&self, id: usize) -> Entity {
+        self.entities[id]
     }
 
     /// A copy of vehicle `id`.

@@ -4,6 +4,11 @@
 //! the world's [`Parallel`] pool and never reads another vehicle's data, so the order of
 //! vehicles and the number of threads cannot change the result.
 
+use crate::behaviour::{Behave, BehaviourIo};
+use crate::comm::{
+    CommStats, Inbox, Medium, Outbox, comm_deliver_system, comm_snapshot_system,
+    comm_transmit_system,
+};
 use crate::components::*;
 use crate::parallel::Parallel;
 use crate::recorder;
@@ -59,13 +64,24 @@ pub fn build_schedule(detect_ambiguity: bool) -> Schedule {
             .chain(),
     );
     s.add_systems((
-        mission_system.in_set(StepSet::Ingest),
+        (mission_system, behaviour_system, inbox_clear_system)
+            .chain()
+            .in_set(StepSet::Ingest),
         control_system.in_set(StepSet::Control),
         actuate_system.in_set(StepSet::Actuate),
         dynamics_system.in_set(StepSet::Dynamics),
         collide_system.in_set(StepSet::Collide),
         sense_system.in_set(StepSet::Sense),
-        record_system.in_set(StepSet::Record),
+        (
+            comm_snapshot_system,
+            comm_transmit_system,
+            comm_deliver_system,
+        )
+            .chain()
+            .in_set(StepSet::Comm),
+        (record_system, connectivity_system)
+            .chain()
+            .in_set(StepSet::Record),
     ));
     s
 }
@@ -77,6 +93,156 @@ pub fn mission_system(clock: Res<Clock>, mut q: Query<&mut Control>) {
         let c = &mut *c;
         c.cursor.advance(&c.mission, t, &mut c.setpoints);
     }
+}
+
+/// Runs each vehicle's behaviour on its control tick: it reads the frames received since the
+/// last tick and may change setpoints and send frames.
+pub fn behaviour_system(
+    clock: Res<Clock>,
+    par: Res<Parallel>,
+    mut q: Query<(
+        &VehicleId,
+        &Kind,
+        &Sensors,
+        &mut Control,
+        &mut Behave,
+        &mut Inbox,
+        &mut Outbox,
+    )>,
+) {
+    let step = clock.step;
+    let t = clock.t();
+    let dt = clock.dt;
+    let mut items: Vec<_> = q.iter_mut().collect();
+    par.for_each(
+        &mut items,
+        |(id, kind, sensors, control, behave, inbox, outbox)| {
+            if !step.is_multiple_of(control.every) {
+                return;
+            }
+            let b = &mut **behave;
+            let mut io = BehaviourIo {
+                t,
+                id: id.0,
+                period: control.every as f64 * dt,
+                sensors: &sensors.0,
+                inbox: &inbox.0,
+                setpoints: &mut control.setpoints,
+                modems: &kind.0.params.modems,
+                rng: &mut b.rng,
+                outbox: &mut outbox.0,
+            };
+            b.behaviour.tick(&mut io);
+            inbox.0.clear();
+        },
+    );
+}
+
+/// Vehicles without a behaviour (or agent) drop what they receive each step.
+pub fn inbox_clear_system(mut q: Query<&mut Inbox, Without<Behave>>) {
+    for mut i in &mut q {
+        if !i.0.is_empty() {
+            i.0.clear();
+        }
+    }
+}
+
+/// One sample of the communication graph.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct ConnSample {
+    /// Time [s].
+    pub t: f64,
+    /// Vehicles in the largest connected component.
+    pub largest: usize,
+    /// Connected components (isolated vehicles count as components).
+    pub components: usize,
+    /// Undirected edges (a frame delivered either way within the window).
+    pub edges: usize,
+}
+
+/// The communication graph over time: an edge joins two vehicles if a frame was delivered
+/// between them (either way) within the last `window` seconds; sampled every `every` seconds.
+#[derive(Resource, Clone, Debug)]
+pub struct Connectivity {
+    /// Sample interval [s].
+    pub every: f64,
+    /// Window [s].
+    pub window: f64,
+    /// Samples.
+    pub samples: Vec<ConnSample>,
+    /// Edges of the last sample.
+    pub last_edges: Vec<(u32, u32)>,
+    dt: f64,
+}
+
+impl Connectivity {
+    /// Samples every second over a 2 s window.
+    pub fn new(dt: f64) -> Self {
+        Self {
+            every: 1.0,
+            window: 2.0,
+            samples: Vec::new(),
+            last_edges: Vec::new(),
+            dt,
+        }
+    }
+}
+
+/// Samples the communication graph.
+pub fn connectivity_system(
+    clock: Res<Clock>,
+    medium: Res<Medium>,
+    mut conn: ResMut<Connectivity>,
+    q: Query<(&VehicleId, &CommStats)>,
+) {
+    if !medium.active() {
+        return;
+    }
+    let every = (conn.every / conn.dt).round().max(1.0) as u64;
+    let next = clock.step + 1;
+    if !next.is_multiple_of(every) {
+        return;
+    }
+    let t = next as f64 * clock.dt;
+    let n = medium.kinds.len();
+    let mut edges: Vec<(u32, u32)> = Vec::new();
+    for (id, s) in &q {
+        for (from, l) in &s.links {
+            if t - l.last_delivery <= conn.window {
+                edges.push(((*from).min(id.0), (*from).max(id.0)));
+            }
+        }
+    }
+    edges.sort_unstable();
+    edges.dedup();
+    let mut parent: Vec<u32> = (0..n as u32).collect();
+    fn find(p: &mut [u32], mut x: u32) -> u32 {
+        while p[x as usize] != x {
+            p[x as usize] = p[p[x as usize] as usize];
+            x = p[x as usize];
+        }
+        x
+    }
+    for &(a, b) in &edges {
+        let (ra, rb) = (find(&mut parent, a), find(&mut parent, b));
+        if ra != rb {
+            parent[ra.max(rb) as usize] = ra.min(rb);
+        }
+    }
+    let mut size = vec![0usize; n];
+    for i in 0..n as u32 {
+        let r = find(&mut parent, i);
+        size[r as usize] += 1;
+    }
+    let largest = size.iter().copied().max().unwrap_or(0);
+    let components = size.iter().filter(|s| **s > 0).count();
+    conn.samples.push(ConnSample {
+        t,
+        largest,
+        components,
+        edges: edges.len(),
+    });
+    conn.last_edges = edges;
 }
 
 /// Runs each vehicle's controller on its control period.

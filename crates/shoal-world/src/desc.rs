@@ -2,6 +2,8 @@
 //! groups, models derived and shared, geometry built. Produced only by [`crate::load`].
 
 use crate::geometry::Geometry;
+use crate::spec::BehaviourSpec;
+use shoal_model::optics::Ambient;
 use shoal_model::prelude::*;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -21,6 +23,8 @@ pub struct VehicleDesc {
     pub position: Vec3,
     /// Initial attitude.
     pub attitude: Quat,
+    /// Built-in behaviour, if any.
+    pub behaviour: Option<BehaviourSpec>,
 }
 
 /// What a run writes.
@@ -51,6 +55,8 @@ pub struct WorldDesc {
     pub env: Environment,
     /// Beam attenuation coefficient of the water [1/m].
     pub attenuation: f64,
+    /// Ambient light for the optical receivers.
+    pub ambient: Ambient,
     /// Pool and obstacles.
     pub geometry: Geometry,
     /// Vehicles in spawn order.

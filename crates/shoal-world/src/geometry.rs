@@ -7,7 +7,7 @@
 
 use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
 use parry3d_f64::math::{Pose, Rotation, Vector};
-use parry3d_f64::query::{self, Ray, ShapeCastOptions};
+use parry3d_f64::query::{self, Ray, RayCast, ShapeCastOptions};
 use parry3d_f64::shape::{Cuboid, HalfSpace, Shape, SharedShape};
 use shoal_model::math::{Quat, Vec3};
 
@@ -229,11 +229,36 @@ impl Geometry {
         if !inside(a) || !inside(b) {
             return false;
         }
+        let seg = Aabb::new(to_vector(&a.inf(b)), to_vector(&a.sup(b)));
         !self
             .obstacles
             .iter()
-            .any(|ob| ob.shape.intersects_ray(&ob.pose, &ray, len))
+            .any(|ob| ob.aabb.intersects(&seg) && ob.shape.intersects_ray(&ob.pose, &ray, len))
     }
+}
+
+/// Whether the segment `a → b` [m] passes through a hull box of `hull_size` [m] at `position`
+/// with `attitude`.
+pub fn segment_hits_hull(
+    a: &Vec3,
+    b: &Vec3,
+    hull_size: &Vec3,
+    position: &Vec3,
+    attitude: &Quat,
+) -> bool {
+    let d = b - a;
+    let len = d.norm();
+    if len == 0.0 {
+        return false;
+    }
+    // Cheap reject: the hull's bounding sphere against the segment.
+    let r = 0.5 * hull_size.norm();
+    let s = ((position - a).dot(&d) / (len * len)).clamp(0.0, 1.0);
+    if (a + d * s - position).norm() > r {
+        return false;
+    }
+    let ray = Ray::new(to_vector(a), to_vector(&(d / len)));
+    hull_shape(hull_size).intersects_ray(&to_pose(position, attitude), &ray, len)
 }
 
 /// Whether two hulls at their poses intersect.
@@ -324,6 +349,34 @@ mod tests {
         for (x, y) in c.top_outline(32) {
             assert!(((x - 2.0).hypot(y - 1.0) - 0.3).abs() < 1e-9);
         }
+    }
+
+    #[test]
+    fn segment_through_a_hull() {
+        let size = Vec3::new(0.27, 0.156, 0.182);
+        let c = Vec3::new(1.0, 0.0, 0.0);
+        let q = Quat::identity();
+        assert!(segment_hits_hull(
+            &Vec3::zeros(),
+            &Vec3::new(2.0, 0.0, 0.0),
+            &size,
+            &c,
+            &q
+        ));
+        assert!(!segment_hits_hull(
+            &Vec3::new(0.0, 0.2, 0.0),
+            &Vec3::new(2.0, 0.2, 0.0),
+            &size,
+            &c,
+            &q
+        ));
+        assert!(!segment_hits_hull(
+            &Vec3::zeros(),
+            &Vec3::new(0.8, 0.0, 0.0),
+            &size,
+            &c,
+            &q
+        ));
     }
 
     #[test]

@@ -10,6 +10,7 @@ use crate::spec::*;
 use parry3d_f64::shape::SharedShape;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use shoal_model::optics::Ambient;
 use shoal_model::prelude::*;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -344,6 +345,20 @@ fn build(wf: &WorldFile, file: &Path, v: &mut Validator<'_>) -> Option<WorldDesc
         End::Closed(5.0),
         "m/s",
     );
+    v.num(
+        &water.key("ambient_irradiance"),
+        wf.water.ambient_irradiance,
+        End::Closed(0.0),
+        End::Closed(2000.0),
+        "W/m²",
+    );
+    v.num(
+        &water.key("diffuse_attenuation"),
+        wf.water.diffuse_attenuation,
+        End::Closed(0.0),
+        End::Closed(100.0),
+        "1/m",
+    );
     let attenuation = match &wf.water.attenuation {
         AttenuationSpec::Coefficient(c) => {
             v.num(
@@ -446,6 +461,10 @@ fn build(wf: &WorldFile, file: &Path, v: &mut Validator<'_>) -> Option<WorldDesc
         },
         env,
         attenuation,
+        ambient: Ambient {
+            surface_irradiance: wf.water.ambient_irradiance,
+            diffuse_attenuation: wf.water.diffuse_attenuation,
+        },
         geometry,
         vehicles,
         groups,
@@ -1014,6 +1033,18 @@ fn validate_vehicle(s: &VehicleSpec, p: &FieldPath, v: &mut Validator<'_>) -> bo
         End::Closed(100.0),
         "s",
     );
+    let mut modem_names: Vec<&str> = Vec::new();
+    for (i, m) in s.modems.iter().enumerate() {
+        validate_modem(m, &p.key("modems").index(i), v);
+        if modem_names.contains(&m.name.as_str()) {
+            v.push(
+                ProblemKind::Invalid,
+                &p.key("modems").index(i).key("name"),
+                format!("modem name `{}` is used twice", m.name),
+            );
+        }
+        modem_names.push(&m.name);
+    }
     if v.problems.len() > n0 {
         return false;
     }
@@ -1028,6 +1059,272 @@ fn validate_vehicle(s: &VehicleSpec, p: &FieldPath, v: &mut Validator<'_>) -> bo
         return false;
     }
     true
+}
+
+fn validate_modem(m: &ModemSpec, p: &FieldPath, v: &mut Validator<'_>) {
+    v.vec(
+        &p.key("position"),
+        &m.position,
+        End::Closed(-100.0),
+        End::Closed(100.0),
+        "m",
+    );
+    axis(v, &p.key("direction"), &m.direction);
+    v.num(
+        &p.key("led_power"),
+        m.led_power,
+        End::Open(0.0),
+        End::Closed(1e3),
+        "W",
+    );
+    v.num(
+        &p.key("led_half_angle_deg"),
+        m.led_half_angle_deg,
+        End::Open(0.0),
+        End::Open(90.0),
+        "deg",
+    );
+    v.num(
+        &p.key("rx_area"),
+        m.rx_area,
+        End::Open(0.0),
+        End::Closed(1.0),
+        "m²",
+    );
+    v.num(
+        &p.key("rx_fov_deg"),
+        m.rx_fov_deg,
+        End::Open(0.0),
+        End::Closed(90.0),
+        "deg",
+    );
+    v.num(
+        &p.key("responsivity"),
+        m.responsivity,
+        End::Open(0.0),
+        End::Closed(10.0),
+        "A/W",
+    );
+    v.num(
+        &p.key("noise_density"),
+        m.noise_density,
+        End::Closed(0.0),
+        End::Closed(1e-6),
+        "A/√Hz",
+    );
+    v.num(
+        &p.key("bandwidth"),
+        m.bandwidth,
+        End::Open(0.0),
+        End::Closed(1e10),
+        "Hz",
+    );
+    v.num(
+        &p.key("dark_current"),
+        m.dark_current,
+        End::Closed(0.0),
+        End::Closed(1e-3),
+        "A",
+    );
+    v.num(
+        &p.key("bit_rate"),
+        m.bit_rate,
+        End::Open(0.0),
+        End::Closed(1e10),
+        "bit/s",
+    );
+    v.num(
+        &p.key("bits_per_byte"),
+        f64::from(m.bits_per_byte),
+        End::Closed(8.0),
+        End::Closed(16.0),
+        "bits",
+    );
+    v.num(
+        &p.key("header_bytes"),
+        m.header_bytes as f64,
+        End::Closed(0.0),
+        End::Closed(64.0),
+        "bytes",
+    );
+    v.num(
+        &p.key("max_payload"),
+        m.max_payload as f64,
+        End::Closed(1.0),
+        End::Closed(65536.0),
+        "bytes",
+    );
+    v.num(
+        &p.key("queue_frames"),
+        m.queue_frames as f64,
+        End::Closed(1.0),
+        End::Closed(1e5),
+        "frames",
+    );
+    v.num(
+        &p.key("capture_ratio"),
+        m.capture_ratio,
+        End::Closed(1.0),
+        End::Closed(1e6),
+        "(power ratio)",
+    );
+    v.num(
+        &p.key("cs_threshold"),
+        m.cs_threshold,
+        End::Open(0.0),
+        End::Closed(1.0),
+        "W",
+    );
+    v.num(
+        &p.key("backoff_max"),
+        m.backoff_max,
+        End::Open(0.0),
+        End::Closed(100.0),
+        "s",
+    );
+}
+
+/// Validates a behaviour against the vehicle it runs on.
+fn validate_behaviour(
+    b: &BehaviourSpec,
+    model: &VehicleModel,
+    p: &FieldPath,
+    duration: f64,
+    v: &mut Validator<'_>,
+) {
+    if model.params.modems.is_empty() {
+        v.push(ProblemKind::Invalid, p, "a behaviour talks through optical modems, but this vehicle has none (add [[vehicles.model.modems]])".into());
+        return;
+    }
+    let max_payload = model
+        .params
+        .modems
+        .iter()
+        .map(|m| m.max_payload)
+        .min()
+        .unwrap_or(0);
+    match b {
+        BehaviourSpec::Beacon {
+            period,
+            payload_bytes,
+            jitter,
+        } => {
+            v.num(
+                &p.key("period"),
+                *period,
+                End::Open(0.0),
+                End::Closed(1e6),
+                "s",
+            );
+            v.num(
+                &p.key("payload_bytes"),
+                *payload_bytes as f64,
+                End::Closed(1.0),
+                End::Closed(max_payload as f64),
+                "bytes (the modems' max_payload)",
+            );
+            v.num(
+                &p.key("jitter"),
+                *jitter,
+                End::Closed(0.0),
+                End::Closed(1e6),
+                "s",
+            );
+        }
+        BehaviourSpec::Gossip {
+            start,
+            repeats,
+            interval,
+            jitter,
+            ..
+        } => {
+            v.num(
+                &p.key("start"),
+                *start,
+                End::Closed(0.0),
+                End::Closed(duration),
+                "s (0 … duration)",
+            );
+            v.num(
+                &p.key("repeats"),
+                f64::from(*repeats),
+                End::Closed(1.0),
+                End::Closed(1e4),
+                "",
+            );
+            v.num(
+                &p.key("interval"),
+                *interval,
+                End::Open(0.0),
+                End::Closed(1e6),
+                "s",
+            );
+            v.num(
+                &p.key("jitter"),
+                *jitter,
+                End::Closed(0.0),
+                End::Closed(1e6),
+                "s",
+            );
+            if max_payload < 8 {
+                v.push(
+                    ProblemKind::Invalid,
+                    p,
+                    "gossip frames need 8 bytes of payload".into(),
+                );
+            }
+        }
+        BehaviourSpec::Flock {
+            surge,
+            period,
+            too_close,
+            too_far,
+            cohesion,
+        } => {
+            v.num(
+                &p.key("surge"),
+                *surge,
+                End::Closed(-1.0),
+                End::Closed(1.0),
+                "N",
+            );
+            v.num(
+                &p.key("period"),
+                *period,
+                End::Open(0.0),
+                End::Closed(1e6),
+                "s",
+            );
+            v.num(
+                &p.key("too_close"),
+                *too_close,
+                End::Open(0.0),
+                End::Closed(1.0),
+                "W",
+            );
+            v.num(
+                &p.key("too_far"),
+                *too_far,
+                End::Open(0.0),
+                End::Open(*too_close),
+                "W (below too_close)",
+            );
+            v.num(
+                &p.key("cohesion"),
+                *cohesion,
+                End::Closed(0.0),
+                End::Closed(100.0),
+                "",
+            );
+            if model.uauv2.is_none() {
+                v.push(
+                    ProblemKind::Invalid,
+                    p,
+                    "flocking steers in auto mode and needs the μAUV² layout".into(),
+                );
+            }
+        }
+    }
 }
 
 fn axis(v: &mut Validator<'_>, path: &FieldPath, a: &[f64; 3]) {
@@ -1108,6 +1405,9 @@ fn group_vehicles(
     }
     let model = Arc::new(VehicleModel::new(params, env.density));
     let mission = Arc::new(mission(g, &gp, wf, &model, v));
+    if let Some(b) = &g.behaviour {
+        validate_behaviour(b, &model, &gp.key("behaviour"), wf.duration, v);
+    }
     if v.problems.len() > n0 {
         return;
     }
@@ -1165,6 +1465,7 @@ fn group_vehicles(
             group: gi,
             model: model.clone(),
             mission: mission.clone(),
+            behaviour: g.behaviour.clone(),
             position: pos,
             attitude: att,
         });
@@ -1298,6 +1599,7 @@ fn group_vehicles(
                     group: gi,
                     model: model.clone(),
                     mission: mission.clone(),
+                    behaviour: g.behaviour.clone(),
                     position: pos,
                     attitude: att,
                 });
@@ -1531,6 +1833,7 @@ pub fn vehicle_world_toml(
             heading_deg: 0.0,
             mission: Vec::new(),
             model: Some(model),
+            behaviour: None,
         }],
         output: OutputSpec::default(),
     };

@@ -6,6 +6,7 @@
 
 use serde::{Deserialize, Serialize};
 use shoal_model::ballast::BallastParams;
+use shoal_model::optics::{Access, Led, ModemParams, Receiver};
 use shoal_model::prelude::*;
 use std::collections::BTreeMap;
 
@@ -135,6 +136,20 @@ pub struct WaterSpec {
     /// Constant current in the world frame (north, east, down) [m/s].
     #[serde(default)]
     pub current: [f64; 3],
+    /// Ambient light just below the surface within the modems' optical band [W/m²]
+    /// (0.5: an indoor pool; ≈50: daylight outdoors).
+    #[serde(default = "d_ambient")]
+    pub ambient_irradiance: f64,
+    /// Diffuse attenuation of the ambient light with depth [1/m].
+    #[serde(default = "d_kd")]
+    pub diffuse_attenuation: f64,
+}
+
+fn d_ambient() -> f64 {
+    0.5
+}
+fn d_kd() -> f64 {
+    0.1
 }
 
 impl Default for WaterSpec {
@@ -143,6 +158,8 @@ impl Default for WaterSpec {
             density: d_density(),
             attenuation: AttenuationSpec::default(),
             current: [0.0; 3],
+            ambient_irradiance: d_ambient(),
+            diffuse_attenuation: d_kd(),
         }
     }
 }
@@ -330,6 +347,92 @@ pub struct VehicleGroupSpec {
     /// Model overrides merged over the preset (tables merge; values and arrays replace).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub model: Option<toml::Table>,
+    /// A built-in swarm behaviour run on every control tick.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub behaviour: Option<BehaviourSpec>,
+}
+
+/// Built-in swarm behaviours (in-process; they see only sensors and received frames).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum BehaviourSpec {
+    /// Broadcast a frame of `payload_bytes` every `period` seconds (± `jitter`).
+    Beacon {
+        /// Interval [s].
+        period: f64,
+        /// Payload size [bytes].
+        #[serde(default = "d_payload")]
+        payload_bytes: usize,
+        /// Random offset of each send, uniform in [0, jitter] [s].
+        #[serde(default)]
+        jitter: f64,
+    },
+    /// Flooding of a value: the origin learns it at `start`; every vehicle that knows it
+    /// rebroadcasts it `repeats` times, `interval` apart, after a random delay in [0, jitter].
+    Gossip {
+        /// This group holds the origin.
+        #[serde(default)]
+        origin: bool,
+        /// Time the value appears at the origin [s].
+        #[serde(default = "d_gossip_start")]
+        start: f64,
+        /// Rebroadcasts per vehicle.
+        #[serde(default = "d_repeats")]
+        repeats: u32,
+        /// Time between rebroadcasts [s].
+        #[serde(default = "d_interval")]
+        interval: f64,
+        /// Random delay before each rebroadcast, uniform in [0, jitter] [s].
+        #[serde(default = "d_jitter")]
+        jitter: f64,
+    },
+    /// Flocking that keeps optical contact: every vehicle beacons its heading; it aligns with
+    /// the headings it hears, turns towards the modem that hears the weakest neighbours
+    /// (cohesion) and away from the strongest (separation), and pushes forward with `surge`.
+    Flock {
+        /// Forward force [N].
+        surge: f64,
+        /// Beacon interval [s].
+        #[serde(default = "d_flock_period")]
+        period: f64,
+        /// Received power above which a neighbour is too close [W].
+        #[serde(default = "d_too_close")]
+        too_close: f64,
+        /// Received power below which a neighbour is drifting away [W].
+        #[serde(default = "d_too_far")]
+        too_far: f64,
+        /// Weight of cohesion and separation against alignment [-].
+        #[serde(default = "d_cohesion")]
+        cohesion: f64,
+    },
+}
+
+fn d_payload() -> usize {
+    26
+}
+fn d_gossip_start() -> f64 {
+    1.0
+}
+fn d_repeats() -> u32 {
+    3
+}
+fn d_interval() -> f64 {
+    0.3
+}
+fn d_jitter() -> f64 {
+    0.1
+}
+fn d_flock_period() -> f64 {
+    0.5
+}
+fn d_too_close() -> f64 {
+    2e-7
+}
+fn d_too_far() -> f64 {
+    3e-8
+}
+fn d_cohesion() -> f64 {
+    0.5
 }
 
 /// What a run writes.
@@ -400,6 +503,189 @@ pub struct VehicleSpec {
     pub imu: ImuSpec,
     /// Controller.
     pub control: ControlSpec,
+    /// Optical modems.
+    #[serde(default)]
+    pub modems: Vec<ModemSpec>,
+}
+
+/// Medium access as written in files.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum AccessSpec {
+    /// Unslotted ALOHA.
+    Aloha,
+    /// Listen before talk.
+    CarrierSense,
+}
+
+fn m0() -> ModemParams {
+    presets::uauv2_modem()
+}
+macro_rules! modem_default {
+    ($($f:ident: $t:ty = |$m:ident| $e:expr;)*) => { $( fn $f() -> $t { let $m = m0(); $e } )* };
+}
+modem_default! {
+    dm_name: String = |m| m.name;
+    dm_position: [f64; 3] = |m| a3(&m.position);
+    dm_direction: [f64; 3] = |m| a3(&m.direction);
+    dm_led_power: f64 = |m| m.led.power;
+    dm_led_half_angle_deg: f64 = |m| m.led.half_angle.to_degrees();
+    dm_rx_area: f64 = |m| m.rx.area;
+    dm_rx_fov_deg: f64 = |m| m.rx.fov.to_degrees();
+    dm_responsivity: f64 = |m| m.rx.responsivity;
+    dm_noise_density: f64 = |m| m.rx.noise_density;
+    dm_bandwidth: f64 = |m| m.rx.bandwidth;
+    dm_dark_current: f64 = |m| m.rx.dark_current;
+    dm_bit_rate: f64 = |m| m.bit_rate;
+    dm_bits_per_byte: u32 = |m| m.bits_per_byte;
+    dm_header_bytes: usize = |m| m.header_bytes;
+    dm_max_payload: usize = |m| m.max_payload;
+    dm_queue_frames: usize = |m| m.queue_frames;
+    dm_capture_ratio: f64 = |m| m.capture_ratio;
+}
+fn dm_access() -> AccessSpec {
+    AccessSpec::Aloha
+}
+fn dm_cs_threshold() -> f64 {
+    1e-9
+}
+fn dm_backoff_max() -> f64 {
+    0.05
+}
+
+/// An optical modem (see [`ModemParams`]); every field defaults to the μAUV²'s modem.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ModemSpec {
+    /// Name.
+    #[serde(default = "dm_name")]
+    pub name: String,
+    /// Position on the hull, body frame [m].
+    #[serde(default = "dm_position")]
+    pub position: [f64; 3],
+    /// LED axis and photodiode normal, body frame (normalised on load).
+    #[serde(default = "dm_direction")]
+    pub direction: [f64; 3],
+    /// LED optical power [W].
+    #[serde(default = "dm_led_power")]
+    pub led_power: f64,
+    /// LED half-power half-angle [deg].
+    #[serde(default = "dm_led_half_angle_deg")]
+    pub led_half_angle_deg: f64,
+    /// Photodiode area [m²].
+    #[serde(default = "dm_rx_area")]
+    pub rx_area: f64,
+    /// Receiver field of view, half-angle [deg].
+    #[serde(default = "dm_rx_fov_deg")]
+    pub rx_fov_deg: f64,
+    /// Responsivity [A/W].
+    #[serde(default = "dm_responsivity")]
+    pub responsivity: f64,
+    /// Amplifier noise density [A/√Hz].
+    #[serde(default = "dm_noise_density")]
+    pub noise_density: f64,
+    /// Noise bandwidth [Hz].
+    #[serde(default = "dm_bandwidth")]
+    pub bandwidth: f64,
+    /// Dark current [A].
+    #[serde(default = "dm_dark_current")]
+    pub dark_current: f64,
+    /// Line rate [bit/s].
+    #[serde(default = "dm_bit_rate")]
+    pub bit_rate: f64,
+    /// Line bits per byte.
+    #[serde(default = "dm_bits_per_byte")]
+    pub bits_per_byte: u32,
+    /// Header per frame [bytes].
+    #[serde(default = "dm_header_bytes")]
+    pub header_bytes: usize,
+    /// Largest payload [bytes].
+    #[serde(default = "dm_max_payload")]
+    pub max_payload: usize,
+    /// Transmit queue [frames].
+    #[serde(default = "dm_queue_frames")]
+    pub queue_frames: usize,
+    /// Capture ratio (optical power ratio ≥ 1).
+    #[serde(default = "dm_capture_ratio")]
+    pub capture_ratio: f64,
+    /// Medium access.
+    #[serde(default = "dm_access")]
+    pub access: AccessSpec,
+    /// Carrier-sense busy threshold [W] (carrier_sense only).
+    #[serde(default = "dm_cs_threshold")]
+    pub cs_threshold: f64,
+    /// Longest carrier-sense back-off [s] (carrier_sense only).
+    #[serde(default = "dm_backoff_max")]
+    pub backoff_max: f64,
+}
+
+impl ModemSpec {
+    /// Model parameters (degrees → radians, axis normalised).
+    pub fn to_params(&self) -> ModemParams {
+        ModemParams {
+            name: self.name.clone(),
+            position: v3(self.position),
+            direction: unit_or_x(self.direction),
+            led: Led {
+                power: self.led_power,
+                half_angle: self.led_half_angle_deg.to_radians(),
+            },
+            rx: Receiver {
+                area: self.rx_area,
+                fov: self.rx_fov_deg.to_radians(),
+                responsivity: self.responsivity,
+                noise_density: self.noise_density,
+                bandwidth: self.bandwidth,
+                dark_current: self.dark_current,
+            },
+            bit_rate: self.bit_rate,
+            bits_per_byte: self.bits_per_byte,
+            header_bytes: self.header_bytes,
+            max_payload: self.max_payload,
+            queue_frames: self.queue_frames,
+            capture_ratio: self.capture_ratio,
+            access: match self.access {
+                AccessSpec::Aloha => Access::Aloha,
+                AccessSpec::CarrierSense => Access::CarrierSense {
+                    threshold: self.cs_threshold,
+                    backoff_max: self.backoff_max,
+                },
+            },
+        }
+    }
+
+    /// File form of model parameters.
+    pub fn from_params(m: &ModemParams) -> Self {
+        let (access, cs_threshold, backoff_max) = match m.access {
+            Access::Aloha => (AccessSpec::Aloha, dm_cs_threshold(), dm_backoff_max()),
+            Access::CarrierSense {
+                threshold,
+                backoff_max,
+            } => (AccessSpec::CarrierSense, threshold, backoff_max),
+        };
+        Self {
+            name: m.name.clone(),
+            position: a3(&m.position),
+            direction: a3(&m.direction),
+            led_power: m.led.power,
+            led_half_angle_deg: m.led.half_angle.to_degrees(),
+            rx_area: m.rx.area,
+            rx_fov_deg: m.rx.fov.to_degrees(),
+            responsivity: m.rx.responsivity,
+            noise_density: m.rx.noise_density,
+            bandwidth: m.rx.bandwidth,
+            dark_current: m.rx.dark_current,
+            bit_rate: m.bit_rate,
+            bits_per_byte: m.bits_per_byte,
+            header_bytes: m.header_bytes,
+            max_payload: m.max_payload,
+            queue_frames: m.queue_frames,
+            capture_ratio: m.capture_ratio,
+            access,
+            cs_threshold,
+            backoff_max,
+        }
+    }
 }
 
 /// Hull parameters (see [`BodyParams`]).
@@ -725,6 +1011,7 @@ impl VehicleSpec {
                 auto_tilt_max: self.control.auto_tilt_max_deg.to_radians(),
                 rate_filter: self.control.rate_filter,
             },
+            modems: self.modems.iter().map(ModemSpec::to_params).collect(),
         }
     }
 
@@ -806,6 +1093,7 @@ impl VehicleSpec {
                 auto_tilt_max_deg: p.control.auto_tilt_max.to_degrees(),
                 rate_filter: p.control.rate_filter,
             },
+            modems: p.modems.iter().map(ModemSpec::from_params).collect(),
         }
     }
 }

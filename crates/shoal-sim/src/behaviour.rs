@@ -1,0 +1,331 @@
+//! In-process swarm behaviours. A behaviour runs on its vehicle's control tick and sees what
+//! the vehicle could know: its sensor readings, the frames its modems received since the last
+//! tick, its own modems' mounting. It answers with setpoints for the built-in controller and
+//! frames to send. Nothing else of the world is visible.
+//!
+//! Built in: [`Beacon`] (periodic broadcast, a traffic source), [`Gossip`] (flooding of a value
+//! across the swarm) and [`Flock`] (alignment, cohesion and separation from received headings
+//! and signal strengths: a flock that keeps optical contact).
+
+use crate::comm::{OutFrame, Received};
+use bevy_ecs::prelude::*;
+use rand::RngExt;
+use rand_chacha::ChaCha8Rng;
+use shoal_model::control::{SensorReadings, Setpoints};
+use shoal_model::math::{euler_rpy, wrap_pi};
+use shoal_model::optics::ModemParams;
+use shoal_world::spec::BehaviourSpec;
+use std::collections::BTreeMap;
+
+/// What a behaviour sees and does on one tick.
+pub struct BehaviourIo<'a> {
+    /// Time [s].
+    pub t: f64,
+    /// This vehicle's id (as written in the link-layer header of its frames).
+    pub id: u32,
+    /// Control period: time to the next tick [s].
+    pub period: f64,
+    /// Sensor readings.
+    pub sensors: &'a SensorReadings,
+    /// Frames received since the last tick, in order of arrival.
+    pub inbox: &'a [Received],
+    /// Setpoints of the built-in controller (mode, depth, heading, forces).
+    pub setpoints: &'a mut Setpoints,
+    /// This vehicle's modems (mounting and limits).
+    pub modems: &'a [ModemParams],
+    /// The behaviour's own random stream.
+    pub rng: &'a mut ChaCha8Rng,
+    /// Frames to send.
+    pub outbox: &'a mut Vec<OutFrame>,
+}
+
+impl BehaviourIo<'_> {
+    /// Hands `payload` to one modem (`Some(index)`) or to all of them in sync (`None`),
+    /// `delay` [s] after now.
+    pub fn send(&mut self, modem: Option<usize>, payload: &[u8], delay: f64) {
+        self.outbox.push(OutFrame {
+            modem,
+            payload: payload.to_vec(),
+            ready: self.t + delay.max(0.0),
+        });
+    }
+
+    /// Heading from the IMU [rad].
+    pub fn heading(&self) -> f64 {
+        euler_rpy(&self.sensors.attitude).2
+    }
+}
+
+/// A swarm behaviour.
+pub trait Behaviour: Send + Sync + 'static {
+    /// Called on every control tick.
+    fn tick(&mut self, io: &mut BehaviourIo<'_>);
+    /// Per-vehicle results for the run summary (name, value).
+    fn report(&self) -> Vec<(&'static str, f64)> {
+        Vec::new()
+    }
+}
+
+/// The behaviour of a vehicle, with its random stream.
+#[derive(Component)]
+pub struct Behave {
+    /// The behaviour.
+    pub behaviour: Box<dyn Behaviour>,
+    /// Its random stream.
+    pub rng: ChaCha8Rng,
+}
+
+/// Builds a built-in behaviour from its file description.
+pub fn build(spec: &BehaviourSpec) -> Box<dyn Behaviour> {
+    match *spec {
+        BehaviourSpec::Beacon {
+            period,
+            payload_bytes,
+            jitter,
+        } => Box::new(Beacon {
+            period,
+            payload_bytes,
+            jitter,
+            next: None,
+            sent: 0,
+        }),
+        BehaviourSpec::Gossip {
+            origin,
+            start,
+            repeats,
+            interval,
+            jitter,
+        } => Box::new(Gossip {
+            origin,
+            start,
+            repeats,
+            interval,
+            jitter,
+            known: None,
+            left: 0,
+            next: 0.0,
+        }),
+        BehaviourSpec::Flock {
+            surge,
+            period,
+            too_close,
+            too_far,
+            cohesion,
+        } => Box::new(Flock {
+            surge,
+            period,
+            too_close,
+            too_far,
+            cohesion,
+            next: None,
+            neighbours: BTreeMap::new(),
+            alone_since: 0.0,
+        }),
+    }
+}
+
+/// Broadcasts a frame every `period` seconds, each offset by a random delay in [0, jitter].
+pub struct Beacon {
+    period: f64,
+    payload_bytes: usize,
+    jitter: f64,
+    next: Option<f64>,
+    sent: u64,
+}
+
+impl Behaviour for Beacon {
+    fn tick(&mut self, io: &mut BehaviourIo<'_>) {
+        let next = *self
+            .next
+            .get_or_insert_with(|| io.rng.random::<f64>() * self.period);
+        if io.t + 1e-12 >= next {
+            let mut payload = vec![0u8; self.payload_bytes];
+            let n = self.sent.to_le_bytes();
+            let k = payload.len().min(8);
+            payload[..k].copy_from_slice(&n[..k]);
+            let delay = io.rng.random::<f64>() * self.jitter;
+            io.send(None, &payload, delay);
+            self.sent += 1;
+            self.next = Some(next + self.period);
+        }
+    }
+
+    fn report(&self) -> Vec<(&'static str, f64)> {
+        vec![("beacons", self.sent as f64)]
+    }
+}
+
+/// Gossip frame tag.
+const GOSSIP: u8 = b'G';
+
+/// Flooding of one value: whoever learns it rebroadcasts it `repeats` times.
+pub struct Gossip {
+    origin: bool,
+    start: f64,
+    repeats: u32,
+    interval: f64,
+    jitter: f64,
+    /// (value, hops, time learned).
+    known: Option<(u32, u8, f64)>,
+    left: u32,
+    next: f64,
+}
+
+impl Gossip {
+    fn learn(&mut self, value: u32, hops: u8, t: f64, rng: &mut ChaCha8Rng) {
+        self.known = Some((value, hops, t));
+        self.left = self.repeats;
+        self.next = t + rng.random::<f64>() * self.jitter;
+    }
+}
+
+impl Behaviour for Gossip {
+    fn tick(&mut self, io: &mut BehaviourIo<'_>) {
+        if self.known.is_none() {
+            if self.origin && io.t + 1e-12 >= self.start {
+                self.learn(0xC0FFEE, 0, self.start, io.rng);
+            } else if let Some(r) = io
+                .inbox
+                .iter()
+                .find(|r| r.payload.len() >= 8 && r.payload[0] == GOSSIP)
+            {
+                let value =
+                    u32::from_le_bytes([r.payload[1], r.payload[2], r.payload[3], r.payload[4]]);
+                self.learn(value, r.payload[5].saturating_add(1), r.t, io.rng);
+            }
+        }
+        if let Some((value, hops, _)) = self.known {
+            while self.left > 0 && self.next <= io.t + io.period {
+                let v = value.to_le_bytes();
+                let id = (io.id as u16).to_le_bytes();
+                let payload = [GOSSIP, v[0], v[1], v[2], v[3], hops, id[0], id[1]];
+                let delay = self.next - io.t;
+                io.send(None, &payload, delay);
+                self.left -= 1;
+                self.next += self.interval + io.rng.random::<f64>() * self.jitter;
+            }
+        }
+    }
+
+    fn report(&self) -> Vec<(&'static str, f64)> {
+        match self.known {
+            Some((_, hops, t)) => vec![
+                ("learned_at", t),
+                ("hops", f64::from(hops)),
+                ("origin_start", self.start),
+            ],
+            None => vec![
+                ("learned_at", f64::NAN),
+                ("hops", f64::NAN),
+                ("origin_start", self.start),
+            ],
+        }
+    }
+}
+
+/// Flock frame tag.
+const FLOCK: u8 = b'F';
+
+#[derive(Clone, Copy, Debug)]
+struct Neighbour {
+    heading: f64,
+    power: f64,
+    /// Bearing of the receiving modem in the body frame [rad].
+    bearing: f64,
+    heard: f64,
+}
+
+/// Flocking from what the modems hear: headings for alignment, signal strength and the
+/// direction of the receiving modem for cohesion and separation.
+pub struct Flock {
+    surge: f64,
+    period: f64,
+    too_close: f64,
+    too_far: f64,
+    cohesion: f64,
+    next: Option<f64>,
+    neighbours: BTreeMap<u32, Neighbour>,
+    alone_since: f64,
+}
+
+impl Behaviour for Flock {
+    fn tick(&mut self, io: &mut BehaviourIo<'_>) {
+        let heading = io.heading();
+        for r in io
+            .inbox
+            .iter()
+            .filter(|r| r.payload.len() >= 5 && r.payload[0] == FLOCK)
+        {
+            let h =
+                f32::from_le_bytes([r.payload[1], r.payload[2], r.payload[3], r.payload[4]]) as f64;
+            let d = io.modems[r.modem].direction;
+            self.neighbours.insert(
+                r.from,
+                Neighbour {
+                    heading: h,
+                    power: r.power,
+                    bearing: d.y.atan2(d.x),
+                    heard: r.t,
+                },
+            );
+        }
+        let t = io.t;
+        let memory = 3.0 * self.period;
+        self.neighbours.retain(|_, n| t - n.heard < memory);
+        // Beacon own heading.
+        let next = *self
+            .next
+            .get_or_insert_with(|| io.rng.random::<f64>() * self.period);
+        if t + 1e-12 >= next {
+            let h = (heading as f32).to_le_bytes();
+            let delay = io.rng.random::<f64>() * io.period;
+            io.send(None, &[FLOCK, h[0], h[1], h[2], h[3]], delay);
+            self.next = Some(next + self.period * (0.9 + 0.2 * io.rng.random::<f64>()));
+        }
+        if self.neighbours.is_empty() {
+            // Lost contact: stop and turn slowly on the spot to find the others again.
+            if self.alone_since == 0.0 {
+                self.alone_since = t;
+            }
+            io.setpoints.surge = 0.0;
+            io.setpoints.yaw = wrap_pi(heading + 0.6);
+            return;
+        }
+        self.alone_since = 0.0;
+        // Alignment: mean of own and neighbours' headings (as unit vectors).
+        let (mut x, mut y) = (heading.cos(), heading.sin());
+        for n in self.neighbours.values() {
+            x += n.heading.cos();
+            y += n.heading.sin();
+        }
+        let norm = (x * x + y * y).sqrt().max(1e-9);
+        let (mut ax, mut ay) = (x / norm, y / norm);
+        // Cohesion and separation towards / away from the modem that hears each neighbour.
+        let (mut cx, mut cy) = (0.0, 0.0);
+        for n in self.neighbours.values() {
+            let w = if n.power < self.too_far {
+                1.0
+            } else if n.power > self.too_close {
+                -1.0
+            } else {
+                0.0
+            };
+            let b = heading + n.bearing;
+            cx += w * b.cos();
+            cy += w * b.sin();
+        }
+        ax += self.cohesion * cx;
+        ay += self.cohesion * cy;
+        io.setpoints.yaw = ay.atan2(ax);
+        // Slow down when the flock is behind (someone is weak at the rear modem).
+        let behind = self
+            .neighbours
+            .values()
+            .any(|n| n.power < self.too_far && n.bearing.cos() < -0.5);
+        io.setpoints.surge = if behind { 0.3 * self.surge } else { self.surge };
+    }
+
+    fn report(&self) -> Vec<(&'static str, f64)> {
+        vec![("neighbours", self.neighbours.len() as f64)]
+    }
+}
