@@ -246,17 +246,40 @@ fn bench_prints_a_row_per_cell() {
     let (stdout, stderr) = text(&o);
     assert!(o.status.success(), "{stderr}");
     assert!(
-        stdout.contains("vehicle-steps/s") && stdout.contains("bytes/vehicle"),
+        stdout.contains("vehicle-steps/s")
+            && stdout.contains("bytes/vehicle")
+            && stdout.contains("medium share"),
         "{stdout}"
     );
-    let json_start = stdout.find('[').expect("json table");
+    let json_start = stdout.find("\n[").expect("json table") + 1;
     let rows: serde_json::Value = serde_json::from_str(&stdout[json_start..]).unwrap();
     let rows = rows.as_array().unwrap();
-    assert_eq!(rows.len(), 4);
+    let table = |name: &str| rows.iter().filter(|r| r["table"] == name).count();
+    assert_eq!((table("quiet"), table("traffic")), (4, 4));
     for r in rows {
         assert!(r["vehicle_steps_per_s"].as_f64().unwrap() > 0.0);
         assert!(r["bytes_per_vehicle"].as_f64().unwrap() > 0.0);
     }
+    // Twenty beaconing vehicles on a 1.5 m grid hear each other.
+    assert!(
+        rows.iter()
+            .filter(|r| r["table"] == "traffic" && r["vehicles"] == 20)
+            .all(|r| r["deliveries_per_s"].as_f64().unwrap() > 0.0)
+    );
+    let o = shoal()
+        .args([
+            "bench",
+            "--vehicles",
+            "1",
+            "--threads",
+            "1",
+            "--seconds",
+            "0.02",
+            "--no-comm",
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success() && !text(&o).0.contains("medium share"));
     let o = shoal().args(["bench", "--vehicles", "0"]).output().unwrap();
     assert!(!o.status.success());
 }

@@ -6,27 +6,67 @@ use shoal_world::desc::WorldDesc;
 use shoal_world::load::load_str;
 use std::path::Path;
 
-/// Grid spacing of the benchmark swarm [m].
+/// Grid spacing of the quiet benchmark swarm [m]: a dense swarm, all dynamics.
 pub const SPACING: f64 = 0.6;
+/// Grid spacing of the benchmark swarm with optical traffic [m]: neighbours well inside the
+/// reliable range (≈2 m), about 25 vehicles within the cut-off range of each.
+pub const TRAFFIC_SPACING: f64 = 1.5;
 
-/// The world-file text of an `n`-vehicle benchmark swarm.
-pub fn swarm_text(n: usize, seed: u64) -> String {
+/// The world-file text of an `n`-vehicle benchmark swarm. With `traffic`, every vehicle
+/// carries a ring of four modems and beacons a 26-byte payload (a 32-byte frame) once a second.
+pub fn swarm_text(n: usize, seed: u64, spacing: f64, traffic: bool) -> String {
     let columns = (n as f64).sqrt().ceil().max(1.0) as usize;
     let rows = n.div_ceil(columns);
-    let (lx, ly) = (columns as f64 * SPACING + 2.0, rows as f64 * SPACING + 2.0);
-    format!(
+    let (lx, ly) = (columns as f64 * spacing + 2.0, rows as f64 * spacing + 2.0);
+    let mut t = format!(
         "name = \"bench swarm of {n}\"\nseed = {seed}\nduration = 3600\ndt = 0.01\n\
          [pool]\nsize = [{lx}, {ly}, 3.0]\n\
          [[vehicles]]\nname = \"b\"\ncount = {n}\n\
-         grid = {{ origin = [1.0, 1.0, 1.0], spacing = [{SPACING}, {SPACING}], columns = {columns} }}\n\
-         mission = [{{ t = 0, mode = \"auto\", depth = 1.3, yaw_deg = 45 }}, {{ t = 2, surge = 0.02, yaw_deg = -60 }}]\n\
-         [output]\nplots = false\n"
-    )
+         grid = {{ origin = [1.0, 1.0, 1.0], spacing = [{spacing}, {spacing}], columns = {columns} }}\n\
+         mission = [{{ t = 0, mode = \"auto\", depth = 1.3, yaw_deg = 45 }}, {{ t = 2, surge = 0.02, yaw_deg = -60 }}]\n"
+    );
+    if traffic {
+        t.push_str(
+            "behaviour = { kind = \"beacon\", period = 1.0, payload_bytes = 26, jitter = 0.05 }\n",
+        );
+        for (name, pos, dir) in RING {
+            t.push_str(&format!("[[vehicles.model.modems]]\nname = \"{name}\"\nposition = {pos}\ndirection = {dir}\n"));
+        }
+    }
+    t.push_str("[output]\nplots = false\n");
+    t
 }
+
+/// A ring of four modems: front, right, back, left (name, position, direction).
+pub const RING: [(&str, &str, &str); 4] = [
+    ("front", "[0.125, 0.0, 0.0]", "[1.0, 0.0, 0.0]"),
+    ("right", "[0.0, 0.078, 0.0]", "[0.0, 1.0, 0.0]"),
+    ("back", "[-0.125, 0.0, 0.0]", "[-1.0, 0.0, 0.0]"),
+    ("left", "[0.0, -0.078, 0.0]", "[0.0, -1.0, 0.0]"),
+];
 
 /// The validated `n`-vehicle benchmark swarm.
 pub fn swarm(n: usize, seed: u64) -> WorldDesc {
-    match load_str(&swarm_text(n, seed), Path::new("<bench swarm>")) {
+    swarm_with(n, seed, false)
+}
+
+/// The benchmark swarm, with or without optical traffic, at its standard spacing
+/// ([`SPACING`] quiet, [`TRAFFIC_SPACING`] with traffic).
+pub fn swarm_with(n: usize, seed: u64, traffic: bool) -> WorldDesc {
+    swarm_spaced(
+        n,
+        seed,
+        if traffic { TRAFFIC_SPACING } else { SPACING },
+        traffic,
+    )
+}
+
+/// The benchmark swarm at any grid spacing [m].
+pub fn swarm_spaced(n: usize, seed: u64, spacing: f64, traffic: bool) -> WorldDesc {
+    match load_str(
+        &swarm_text(n, seed, spacing, traffic),
+        Path::new("<bench swarm>"),
+    ) {
         Ok(w) => w,
         Err(e) => unreachable!("the generated bench world is valid: {e}"),
     }
@@ -38,6 +78,14 @@ mod tests {
     fn swarm_sizes_load() {
         for n in [1, 10, 100, 1000] {
             assert_eq!(super::swarm(n, 1).vehicles.len(), n);
+            assert_eq!(
+                super::swarm_with(n, 1, true).vehicles[0]
+                    .model
+                    .params
+                    .modems
+                    .len(),
+                4
+            );
         }
     }
 }

@@ -8,6 +8,7 @@ pub mod analysis;
 pub mod behaviour;
 pub mod bench;
 pub mod comm;
+pub mod comm_report;
 pub mod components;
 pub mod output;
 pub mod parallel;

@@ -5,7 +5,7 @@
 
 use crate::plot::{Outline, Plot, PlotError, Series};
 use crate::recorder::{self, RecordBatch, col, mode_of_code};
-use crate::sim::Sim;
+use crate::sim::{Sim, VehicleSnapshot};
 use serde::Serialize;
 use shoal_model::math::wrap_pi;
 use shoal_model::prelude::*;
@@ -220,13 +220,29 @@ impl RunOutput {
             source,
         })?;
         let mut files = vec![self.csv_path.clone()];
+        let snaps = sim.vehicles();
+        let comm = crate::comm_report::summarize(desc, sim, &snaps);
+        if let Some(c) = &comm {
+            let links = self.dir.join("links.csv");
+            crate::comm_report::write_links_csv(&links, &snaps).map_err(|source| {
+                OutputError::Csv {
+                    path: links.clone(),
+                    source,
+                }
+            })?;
+            files.push(links);
+            if self.plots {
+                files.extend(crate::comm_report::plots(&self.dir, desc, sim, &snaps, c)?);
+            }
+        }
         if self.plots {
             files.extend(self.depth_plot(desc)?);
             files.extend(self.top_plot(desc)?);
         }
         let json_path = self.dir.join("summary.json");
         files.push(json_path.clone());
-        let mut summary = Summary::new(desc, sim, &self.acc, wall_s, interrupted);
+        let mut summary = Summary::new(desc, sim, &snaps, &self.acc, wall_s, interrupted);
+        summary.comm = comm;
         summary.trajectory_rows = self.csv_rows;
         summary.files = files.iter().map(|p| p.display().to_string()).collect();
         let text = serde_json::to_string_pretty(&summary).unwrap_or_default();
@@ -447,17 +463,20 @@ pub struct Summary {
     pub vehicle_details: Vec<VehicleSummary>,
     /// Files written.
     pub files: Vec<String>,
+    /// Optical communication (absent when no frame was sent).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub comm: Option<crate::comm_report::CommSummary>,
 }
 
 impl Summary {
     fn new(
         desc: &WorldDesc,
         sim: &Sim,
+        snaps: &[VehicleSnapshot],
         acc: &[VehicleAcc],
         wall_s: f64,
         interrupted: bool,
     ) -> Self {
-        let snaps = sim.vehicles();
         let details: Vec<VehicleSummary> = snaps
             .iter()
             .enumerate()
@@ -553,6 +572,7 @@ impl Summary {
             groups,
             vehicle_details: details,
             files: Vec::new(),
+            comm: None,
         }
     }
 
@@ -597,6 +617,53 @@ impl Summary {
                 opt(g.mean_distance_m, 2),
                 g.impacts
             ));
+        }
+        if let Some(c) = &self.comm {
+            let r = &c.receptions;
+            let pct = |x: u64| {
+                if r.attempts > 0 {
+                    100.0 * x as f64 / r.attempts as f64
+                } else {
+                    0.0
+                }
+            };
+            s.push_str(&format!(
+                "\noptical link: {} frames sent; {} of {} receptions in range delivered ({:.1} %)\n  lost: {:.1} % range/angle/bit errors, {:.1} % occlusion, {:.1} % collision, {:.1} % half-duplex; {} queue overflows\n",
+                c.frames_sent,
+                r.delivered,
+                r.attempts,
+                pct(r.delivered),
+                pct(r.lost_range),
+                pct(r.lost_occlusion),
+                pct(r.lost_collision),
+                pct(r.lost_half_duplex),
+                c.queue_overflow
+            ));
+            if let (Some(m), Some(p)) = (c.latency_median_s, c.latency_p95_s) {
+                s.push_str(&format!(
+                    "  latency: median ≈ {:.0} ms, 95 % ≈ {:.0} ms (hand-over to delivery)\n",
+                    m * 1e3,
+                    p * 1e3
+                ));
+            }
+            if let (Some(last), Some(max)) = (
+                c.connectivity.last(),
+                c.connectivity.iter().map(|s| s.largest).max(),
+            ) {
+                s.push_str(&format!(
+                    "  largest group in optical contact (a frame either way within 2 s): {} of {} at most, {} at the end\n",
+                    max, self.vehicles, last.largest
+                ));
+            }
+            if let Some(g) = &c.gossip {
+                match g.time_to_all_s {
+                    Some(t) => s.push_str(&format!(
+                        "  gossip: the value reached all {} vehicles {:.2} s after it appeared (half after {:.2} s; up to {} hops, mean {:.1}; {:.0} ms per hop)\n",
+                        g.vehicles, t, g.time_to_half_s.unwrap_or(f64::NAN), g.max_hops, g.mean_hops, g.mean_time_per_hop_s * 1e3
+                    )),
+                    None => s.push_str(&format!("  gossip: the value reached {} of {} vehicles\n", g.informed, g.vehicles)),
+                }
+            }
         }
         s.push_str(&format!(
             "\ndigest {}  ·  {} trajectory rows\n",

@@ -69,6 +69,10 @@ pub struct VehicleSnapshot {
     pub commands: ActuatorCommands,
     /// Contact statistics.
     pub contacts: ContactStats,
+    /// Optical communication counters.
+    pub comm: CommStats,
+    /// Results reported by the vehicle's behaviour (name, value).
+    pub behaviour: Vec<(&'static str, f64)>,
 }
 
 /// A running world.
@@ -266,7 +270,29 @@ impl Sim {
                 .map(|a| a.0.clone())
                 .unwrap_or_default(),
             contacts: e.get::<ContactStats>().copied().unwrap_or_default(),
+            comm: e
+                .get::<CommStats>()
+                .cloned()
+                .map(|mut c| {
+                    c.fold();
+                    c
+                })
+                .unwrap_or_default(),
+            behaviour: e
+                .get::<Behave>()
+                .map(|b| b.behaviour.report())
+                .unwrap_or_default(),
         }
+    }
+
+    /// The communication graph over time.
+    pub fn connectivity(&self) -> &Connectivity {
+        self.world.resource::<Connectivity>()
+    }
+
+    /// The optical medium.
+    pub fn medium(&self) -> &Medium {
+        self.world.resource::<Medium>()
     }
 
     /// Copies of all vehicles in id order.

@@ -113,13 +113,13 @@ pub fn behaviour_system(
     let step = clock.step;
     let t = clock.t();
     let dt = clock.dt;
-    let mut items: Vec<_> = q.iter_mut().collect();
+    let mut items: Vec<_> = q
+        .iter_mut()
+        .filter(|it| step.is_multiple_of(it.3.every))
+        .collect();
     par.for_each(
         &mut items,
         |(id, kind, sensors, control, behave, inbox, outbox)| {
-            if !step.is_multiple_of(control.every) {
-                return;
-            }
             let b = &mut **behave;
             let mut io = BehaviourIo {
                 t,
@@ -193,7 +193,7 @@ pub fn connectivity_system(
     clock: Res<Clock>,
     medium: Res<Medium>,
     mut conn: ResMut<Connectivity>,
-    q: Query<(&VehicleId, &CommStats)>,
+    mut q: Query<(&VehicleId, &mut CommStats)>,
 ) {
     if !medium.active() {
         return;
@@ -206,8 +206,9 @@ pub fn connectivity_system(
     let t = next as f64 * clock.dt;
     let n = medium.kinds.len();
     let mut edges: Vec<(u32, u32)> = Vec::new();
-    for (id, s) in &q {
-        for (from, l) in &s.links {
+    for (id, mut s) in &mut q {
+        s.fold();
+        for (from, l) in s.links() {
             if t - l.last_delivery <= conn.window {
                 edges.push(((*from).min(id.0), (*from).max(id.0)));
             }
@@ -252,20 +253,22 @@ pub fn control_system(
     mut q: Query<(&Kind, &Sensors, &mut Control, &mut Actuation)>,
 ) {
     let step = clock.step;
-    let mut items: Vec<_> = q.iter_mut().collect();
+    // Only the vehicles whose control tick is now (usually all or none of them).
+    let mut items: Vec<_> = q
+        .iter_mut()
+        .filter(|it| step.is_multiple_of(it.2.every))
+        .collect();
     par.for_each(&mut items, |(kind, sensors, control, act)| {
-        if step.is_multiple_of(control.every) {
-            let m = &kind.0;
-            let c = &mut **control;
-            c.state.update(
-                &m.params.control,
-                m.uauv2.as_ref(),
-                &m.params.thrusters,
-                &sensors.0,
-                &c.setpoints,
-                &mut act.0,
-            );
-        }
+        let m = &kind.0;
+        let c = &mut **control;
+        c.state.update(
+            &m.params.control,
+            m.uauv2.as_ref(),
+            &m.params.thrusters,
+            &sensors.0,
+            &c.setpoints,
+            &mut act.0,
+        );
     });
 }
 
@@ -389,11 +392,12 @@ pub fn sense_system(
 ) {
     let next = clock.step + 1;
     let env = phys.env;
-    let mut items: Vec<_> = q.iter_mut().collect();
-    par.for_each(&mut items, |(kind, p, control, rng, sensors)| {
-        if next.is_multiple_of(control.every) {
-            sense(&kind.0, &p.state, &env, &mut rng.0, &mut sensors.0);
-        }
+    let mut items: Vec<_> = q
+        .iter_mut()
+        .filter(|it| next.is_multiple_of(it.2.every))
+        .collect();
+    par.for_each(&mut items, |(kind, p, _, rng, sensors)| {
+        sense(&kind.0, &p.state, &env, &mut rng.0, &mut sensors.0);
     });
 }
 

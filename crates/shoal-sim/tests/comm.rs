@@ -24,10 +24,7 @@ fn world(text: &str) -> Sim {
 }
 
 fn stats(sim: &Sim, id: usize) -> CommStats {
-    sim.world()
-        .get::<CommStats>(sim.vehicle_entity(id))
-        .unwrap()
-        .clone()
+    sim.vehicle(id).comm
 }
 
 /// Records every frame its vehicle receives.
@@ -257,8 +254,8 @@ fn equal_overlapping_frames_collide_and_a_much_stronger_one_is_captured() {
     sim.run(100);
     let s = stats(&sim, 0);
     assert_eq!((s.rx.delivered, s.rx.lost_collision), (1, 1), "{:?}", s.rx);
-    assert_eq!(s.links[&1].delivered, 1);
-    assert_eq!(s.links[&2].lost_collision, 1);
+    assert_eq!(s.links()[&1].delivered, 1);
+    assert_eq!(s.links()[&2].lost_collision, 1);
     // Not overlapping in time: both arrive.
     let mut sim = world(&collision_world(1.5, 1.5));
     send(&mut sim, 1, 26, 0.1);
@@ -459,14 +456,15 @@ fn medium_statistics_are_identical_on_one_and_two_threads() {
         let s: Vec<_> = (0..300)
             .map(|i| {
                 let c = stats(&sim, i);
-                (
-                    c.sent,
-                    c.rx,
-                    c.links
-                        .into_iter()
-                        .map(|(k, v)| (k, v.delivered, v.lost_collision))
-                        .collect::<Vec<_>>(),
-                )
+                (c.sent, c.rx, {
+                    let mut l: Vec<_> = c
+                        .links()
+                        .iter()
+                        .map(|(k, v)| (*k, v.delivered, v.lost_collision))
+                        .collect();
+                    l.sort_unstable();
+                    l
+                })
             })
             .collect();
         let delivered: u64 = s.iter().map(|x| x.1.delivered).sum();
@@ -477,5 +475,45 @@ fn medium_statistics_are_identical_on_one_and_two_threads() {
     assert!(
         out[0].1 == out[1].1,
         "medium statistics differ between 1 and 2 threads"
+    );
+}
+
+#[test]
+fn gossip_floods_the_swarm_hop_by_hop_at_the_pace_of_ticks_and_airtime() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../worlds/gossip.toml");
+    let desc = shoal_world::load::load_file(&path).unwrap();
+    assert!(desc.vehicles.len() >= 50);
+    let mut sim = Sim::new(
+        &desc,
+        SimOptions {
+            threads: 1,
+            record: false,
+        },
+    );
+    sim.run(desc.steps());
+    let snaps = sim.vehicles();
+    let c = shoal_sim::comm_report::summarize(&desc, &sim, &snaps).unwrap();
+    let g = c.gossip.unwrap();
+    assert_eq!(g.informed, g.vehicles, "everyone learns the value");
+    let t = g.time_to_all_s.unwrap();
+    // 8-byte payload + 6-byte header at 19.2 kbit/s.
+    let airtime = 14.0 * 10.0 / 19_200.0;
+    let (period, jitter, interval) = (0.05, 0.1, 0.3);
+    let hops = f64::from(g.max_hops);
+    // A hop costs at least one airtime; at most a wait for the next control tick, the random
+    // delay and the airtime, plus one repeat interval when a first try is lost somewhere.
+    assert!(t >= hops * airtime, "{t} s for {hops} hops");
+    assert!(
+        t <= hops * (period + jitter + airtime) + interval,
+        "{t} s for {hops} hops"
+    );
+    // The far corner is ≈ 15 m away and a hop reaches at most ≈ 3.2 m (a diagonal at the edge
+    // of the range): at least 5 hops; on a 1.6 m grid, at most 15.
+    assert!((5..=15).contains(&g.max_hops), "{} hops", g.max_hops);
+    // Informed vehicles learned it in hop order: a vehicle's hop count is its number of
+    // relays, so time per hop is bounded the same way.
+    assert!(
+        g.mean_time_per_hop_s >= airtime
+            && g.mean_time_per_hop_s <= period + jitter + airtime + interval
     );
 }

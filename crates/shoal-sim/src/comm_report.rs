@@ -1,0 +1,445 @@
+//! Run outputs of the optical medium: the communication section of `summary.json`,
+//! `links.csv` (one row per sender → receiver pair), and plots: delivery ratio against
+//! distance with the link-budget curve, the communication graph at the end, and — when the
+//! world floods a value — how many vehicles knew it over time.
+
+use crate::comm::{DIST_BIN, LinkStats, latency_bin_centre};
+use crate::plot::{Outline, Plot, PlotError, Series};
+use crate::sim::{Sim, VehicleSnapshot};
+use crate::systems::ConnSample;
+use serde::Serialize;
+use shoal_model::optics::{LinkGeometry, budget};
+use shoal_world::desc::WorldDesc;
+use shoal_world::spec::BehaviourSpec;
+use std::path::{Path, PathBuf};
+
+/// Deliveries within one distance bin.
+#[derive(Clone, Debug, Serialize)]
+pub struct DistanceBin {
+    /// Bin start [m].
+    pub from_m: f64,
+    /// Bin end [m].
+    pub to_m: f64,
+    /// Frames sent by vehicles this far away.
+    pub attempts: u64,
+    /// Of those, delivered.
+    pub delivered: u64,
+    /// delivered / attempts.
+    pub ratio: f64,
+}
+
+/// Result of flooding a value (the `gossip` behaviour).
+#[derive(Clone, Debug, Serialize)]
+pub struct GossipSummary {
+    /// Vehicles running gossip.
+    pub vehicles: usize,
+    /// Vehicles that learned the value.
+    pub informed: usize,
+    /// Time the value appeared at the origin [s].
+    pub start_s: f64,
+    /// Time from the start until every vehicle knew it [s] (`null` if some never did).
+    pub time_to_all_s: Option<f64>,
+    /// Time from the start until half the vehicles knew it [s].
+    pub time_to_half_s: Option<f64>,
+    /// Most hops from the origin.
+    pub max_hops: u32,
+    /// Mean hops from the origin over informed vehicles.
+    pub mean_hops: f64,
+    /// Mean over informed vehicles of (time learned − start) / hops [s].
+    pub mean_time_per_hop_s: f64,
+    /// (time [s], vehicles informed) at every new informed vehicle.
+    pub informed_over_time: Vec<(f64, usize)>,
+}
+
+/// Communication counters of one vehicle.
+#[derive(Clone, Debug, Serialize)]
+pub struct VehicleComm {
+    /// Name.
+    pub name: String,
+    /// Frames it put on the air.
+    pub sent: u64,
+    /// Frames dropped at its full transmit queues.
+    pub queue_overflow: u64,
+    /// Its receptions by outcome.
+    #[serde(flatten)]
+    pub rx: LinkStats,
+}
+
+/// The communication section of `summary.json`.
+#[derive(Clone, Debug, Serialize)]
+pub struct CommSummary {
+    /// Beam attenuation of the water [1/m].
+    pub attenuation_per_m: f64,
+    /// Distance beyond which no frame is decodable [m].
+    pub cutoff_range_m: f64,
+    /// Frames put on the air.
+    pub frames_sent: u64,
+    /// Frames dropped at full transmit queues.
+    pub queue_overflow: u64,
+    /// Frames longer than a modem allows (dropped).
+    pub oversize: u64,
+    /// Carrier-sense deferrals.
+    pub cs_deferrals: u64,
+    /// All receptions by outcome (a frame counts once per vehicle within the cut-off range).
+    pub receptions: LinkStats,
+    /// receptions.delivered / receptions.attempts.
+    pub delivery_ratio: f64,
+    /// Mean hand-over-to-delivery latency [s].
+    pub latency_mean_s: Option<f64>,
+    /// Median latency [s] (centre of its histogram bin: ±6 %).
+    pub latency_median_s: Option<f64>,
+    /// 95th percentile latency [s] (centre of its histogram bin: ±6 %).
+    pub latency_p95_s: Option<f64>,
+    /// Mean frame length on the line [bits].
+    pub mean_frame_bits: f64,
+    /// Delivery ratio against distance.
+    pub by_distance: Vec<DistanceBin>,
+    /// The communication graph over time (edge: a frame delivered either way in the last 2 s).
+    pub connectivity: Vec<ConnSample>,
+    /// Flooding result, if the world runs the gossip behaviour.
+    pub gossip: Option<GossipSummary>,
+    /// Per vehicle.
+    pub vehicles: Vec<VehicleComm>,
+}
+
+fn percentile(hist: &[u64], q: f64) -> Option<f64> {
+    let total: u64 = hist.iter().sum();
+    if total == 0 {
+        return None;
+    }
+    let target = (q * total as f64).ceil().max(1.0) as u64;
+    let mut acc = 0;
+    for (k, n) in hist.iter().enumerate() {
+        acc += n;
+        if acc >= target {
+            return Some(latency_bin_centre(k));
+        }
+    }
+    None
+}
+
+/// The communication section, or `None` when no vehicle sent a frame.
+pub fn summarize(desc: &WorldDesc, sim: &Sim, snaps: &[VehicleSnapshot]) -> Option<CommSummary> {
+    let sent: u64 = snaps.iter().map(|s| s.comm.sent).sum();
+    if sent == 0 {
+        return None;
+    }
+    let mut rx = LinkStats::default();
+    for s in snaps {
+        rx.add(&s.comm.rx);
+    }
+    let by_distance = sim.medium().delivery_by_distance();
+    let hist = sim.medium().latency_histogram();
+    let gossip = gossip_summary(desc, snaps);
+    Some(CommSummary {
+        attenuation_per_m: desc.attenuation,
+        cutoff_range_m: sim.medium().r_cut,
+        frames_sent: sent,
+        queue_overflow: snaps.iter().map(|s| s.comm.queue_overflow).sum(),
+        oversize: snaps.iter().map(|s| s.comm.oversize).sum(),
+        cs_deferrals: snaps.iter().map(|s| s.comm.cs_deferrals).sum(),
+        delivery_ratio: if rx.attempts > 0 {
+            rx.delivered as f64 / rx.attempts as f64
+        } else {
+            0.0
+        },
+        latency_mean_s: (rx.delivered > 0).then(|| rx.latency_sum_s / rx.delivered as f64),
+        latency_median_s: percentile(&hist, 0.5),
+        latency_p95_s: percentile(&hist, 0.95),
+        mean_frame_bits: sim.medium().started.1 as f64 / sim.medium().started.0.max(1) as f64,
+        receptions: rx,
+        by_distance: by_distance
+            .iter()
+            .enumerate()
+            .filter(|(_, b)| b.0 > 0)
+            .map(|(k, b)| DistanceBin {
+                from_m: k as f64 * DIST_BIN,
+                to_m: (k + 1) as f64 * DIST_BIN,
+                attempts: b.0,
+                delivered: b.1,
+                ratio: b.1 as f64 / b.0 as f64,
+            })
+            .collect(),
+        connectivity: sim.connectivity().samples.clone(),
+        gossip,
+        vehicles: snaps
+            .iter()
+            .map(|s| VehicleComm {
+                name: s.name.clone(),
+                sent: s.comm.sent,
+                queue_overflow: s.comm.queue_overflow,
+                rx: s.comm.rx,
+            })
+            .collect(),
+    })
+}
+
+fn gossip_summary(desc: &WorldDesc, snaps: &[VehicleSnapshot]) -> Option<GossipSummary> {
+    let members: Vec<&VehicleSnapshot> = snaps
+        .iter()
+        .zip(&desc.vehicles)
+        .filter(|(_, d)| matches!(d.behaviour, Some(BehaviourSpec::Gossip { .. })))
+        .map(|(s, _)| s)
+        .collect();
+    if members.is_empty() {
+        return None;
+    }
+    let get = |s: &VehicleSnapshot, k: &str| {
+        s.behaviour
+            .iter()
+            .find(|(n, _)| *n == k)
+            .map_or(f64::NAN, |(_, v)| *v)
+    };
+    let start = desc
+        .vehicles
+        .iter()
+        .find_map(|d| match d.behaviour {
+            Some(BehaviourSpec::Gossip {
+                origin: true,
+                start,
+                ..
+            }) => Some(start),
+            _ => None,
+        })
+        .unwrap_or(f64::NAN);
+    let mut learned: Vec<(f64, f64)> = members
+        .iter()
+        .map(|s| (get(s, "learned_at"), get(s, "hops")))
+        .filter(|(t, _)| t.is_finite())
+        .collect();
+    learned.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let n = members.len();
+    let informed = learned.len();
+    Some(GossipSummary {
+        vehicles: n,
+        informed,
+        start_s: start,
+        time_to_all_s: (informed == n).then(|| learned.last().map_or(0.0, |l| l.0) - start),
+        time_to_half_s: learned
+            .get(n.div_ceil(2).saturating_sub(1))
+            .filter(|_| 2 * informed >= n)
+            .map(|l| l.0 - start),
+        max_hops: learned.iter().map(|l| l.1 as u32).max().unwrap_or(0),
+        mean_hops: if informed > 0 {
+            learned.iter().map(|l| l.1).sum::<f64>() / informed as f64
+        } else {
+            f64::NAN
+        },
+        mean_time_per_hop_s: {
+            let per: Vec<f64> = learned
+                .iter()
+                .filter(|l| l.1 > 0.0)
+                .map(|l| (l.0 - start) / l.1)
+                .collect();
+            if per.is_empty() {
+                f64::NAN
+            } else {
+                per.iter().sum::<f64>() / per.len() as f64
+            }
+        },
+        informed_over_time: learned
+            .iter()
+            .enumerate()
+            .map(|(i, l)| (l.0, i + 1))
+            .collect(),
+    })
+}
+
+/// Writes `links.csv`: one row per (sender, receiver) with at least one attempt.
+pub fn write_links_csv(path: &Path, snaps: &[VehicleSnapshot]) -> Result<(), csv::Error> {
+    let mut w = csv::Writer::from_path(path)?;
+    w.write_record([
+        "sender",
+        "receiver",
+        "attempts",
+        "delivered",
+        "lost_range",
+        "lost_occlusion",
+        "lost_collision",
+        "lost_half_duplex",
+        "mean_latency_s",
+    ])?;
+    for rx in snaps {
+        let mut links: Vec<_> = rx.comm.links().iter().collect();
+        links.sort_by_key(|(from, _)| **from);
+        for (from, l) in links {
+            let lat = if l.delivered > 0 {
+                format!("{:.6}", l.latency_sum_s / l.delivered as f64)
+            } else {
+                String::new()
+            };
+            w.write_record([
+                snaps[*from as usize].name.as_str(),
+                rx.name.as_str(),
+                &l.attempts.to_string(),
+                &l.delivered.to_string(),
+                &l.lost_range.to_string(),
+                &l.lost_occlusion.to_string(),
+                &l.lost_collision.to_string(),
+                &l.lost_half_duplex.to_string(),
+                &lat,
+            ])?;
+        }
+    }
+    w.flush()?;
+    Ok(())
+}
+
+/// Writes the communication plots; returns their paths.
+pub fn plots(
+    dir: &Path,
+    desc: &WorldDesc,
+    sim: &Sim,
+    snaps: &[VehicleSnapshot],
+    c: &CommSummary,
+) -> Result<Vec<PathBuf>, PlotError> {
+    let mut files = Vec::new();
+    // 1. Delivery against distance, with the on-axis link budget of the first modem for the
+    //    run's mean frame length.
+    let bits = c.mean_frame_bits.round().max(1.0) as u64;
+    let mut series = vec![Series {
+        label: Some("observed (all angles)".into()),
+        points: c
+            .by_distance
+            .iter()
+            .filter(|b| b.attempts >= 5)
+            .map(|b| (0.5 * (b.from_m + b.to_m), b.ratio))
+            .collect(),
+        color: 0,
+        mark_start: false,
+        dashed: false,
+    }];
+    if let Some(m) = snaps.iter().find_map(|s| s.model.params.modems.first()) {
+        let pts = (1..=120)
+            .map(|k| {
+                let d = k as f64 * c.cutoff_range_m / 120.0;
+                let b = budget(
+                    &m.led,
+                    &m.rx,
+                    &LinkGeometry::on_axis(d),
+                    desc.attenuation,
+                    &desc.ambient,
+                    1.0,
+                    0.0,
+                    bits,
+                );
+                (d, 1.0 - b.fer)
+            })
+            .collect();
+        series.push(Series {
+            label: Some(format!(
+                "link budget: one LED on axis, {:.0}-byte frames (run mean)",
+                bits as f64 / f64::from(m.bits_per_byte)
+            )),
+            points: pts,
+            color: 7,
+            dashed: true,
+            mark_start: false,
+        });
+    }
+    files.extend(
+        Plot {
+            title: format!("{}: delivery ratio against distance", desc.name),
+            x_label: "distance between vehicles [m]".into(),
+            y_label: "frames delivered / sent within range".into(),
+            series,
+            x_range: Some((0.0, c.cutoff_range_m)),
+            y_range: Some((0.0, 1.05)),
+            ..Default::default()
+        }
+        .write(&dir.join("delivery_vs_distance"))?,
+    );
+    // 2. The communication graph at the end, seen from above.
+    let pool = desc.geometry.pool;
+    let conn = sim.connectivity();
+    let mut outlines = vec![Outline {
+        points: vec![(0.0, 0.0), (pool.y, 0.0), (pool.y, pool.x), (0.0, pool.x)],
+        filled: false,
+    }];
+    for ob in &desc.geometry.obstacles {
+        outlines.push(Outline {
+            points: ob
+                .top_outline(48)
+                .into_iter()
+                .map(|(x, y)| (y, x))
+                .collect(),
+            filled: true,
+        });
+    }
+    let pos = |i: u32| {
+        let p = snaps[i as usize].state.rigid.position;
+        (p.y, p.x)
+    };
+    let mut series: Vec<Series> = conn
+        .last_edges
+        .iter()
+        .map(|&(a, b)| Series {
+            points: vec![pos(a), pos(b)],
+            color: 7,
+            ..Default::default()
+        })
+        .collect();
+    for s in snaps {
+        // Each vehicle as a short heading mark with a dot at its position.
+        let p = s.state.rigid.position;
+        let yaw = s.state.rigid.attitude.euler_angles().2;
+        let l = 0.2;
+        series.push(Series {
+            points: vec![(p.y, p.x), (p.y + l * yaw.sin(), p.x + l * yaw.cos())],
+            color: desc.vehicles[s.id as usize].group,
+            mark_start: true,
+            ..Default::default()
+        });
+    }
+    let last = conn.samples.last();
+    let margin = 0.05 * pool.x.max(pool.y);
+    files.extend(
+        Plot {
+            title: format!(
+                "{}: links at t = {:.0} s ({} edges, largest group {} of {})",
+                desc.name,
+                last.map_or(0.0, |s| s.t),
+                conn.last_edges.len(),
+                last.map_or(0, |s| s.largest),
+                snaps.len()
+            ),
+            x_label: "east y [m]".into(),
+            y_label: "north x [m]".into(),
+            series,
+            outlines,
+            x_range: Some((-margin, pool.y + margin)),
+            y_range: Some((-margin, pool.x + margin)),
+            size: (800, 800),
+            ..Default::default()
+        }
+        .write(&dir.join("connectivity"))?,
+    );
+    // 3. Flooding progress.
+    if let Some(g) = &c.gossip {
+        let mut pts = vec![(g.start_s, 0.0)];
+        pts.extend(g.informed_over_time.iter().map(|(t, n)| (*t, *n as f64)));
+        files.extend(
+            Plot {
+                title: format!(
+                    "{}: vehicles that know the value ({} of {}{})",
+                    desc.name,
+                    g.informed,
+                    g.vehicles,
+                    g.time_to_all_s
+                        .map_or(String::new(), |t| format!(", all after {t:.2} s"))
+                ),
+                x_label: "time [s]".into(),
+                y_label: "vehicles informed".into(),
+                series: vec![Series {
+                    points: pts,
+                    color: 0,
+                    ..Default::default()
+                }],
+                y_range: Some((0.0, g.vehicles as f64 * 1.05)),
+                ..Default::default()
+            }
+            .write(&dir.join("gossip"))?,
+        );
+    }
+    Ok(files)
+}
