@@ -283,3 +283,56 @@ fn bench_prints_a_row_per_cell() {
     let o = shoal().args(["bench", "--vehicles", "0"]).output().unwrap();
     assert!(!o.status.success());
 }
+
+#[test]
+fn a_world_with_traffic_writes_link_statistics_and_plots() {
+    let out = tmp("gossip");
+    let world = repo().join("worlds/gossip.toml");
+    let o = shoal()
+        .args(["run", "--quiet", "--out"])
+        .arg(&out)
+        .arg(&world)
+        .output()
+        .unwrap();
+    let (stdout, stderr) = text(&o);
+    assert!(o.status.success(), "{stderr}");
+    assert!(
+        stdout.contains("optical link:")
+            && stdout.contains("gossip: the value reached all 65 vehicles"),
+        "{stdout}"
+    );
+    for f in [
+        "links.csv",
+        "delivery_vs_distance.png",
+        "connectivity.png",
+        "gossip.png",
+        "gossip.svg",
+    ] {
+        assert!(
+            out.join(f)
+                .metadata()
+                .map(|m| m.len() > 100)
+                .unwrap_or(false),
+            "missing {f}"
+        );
+    }
+    let links = std::fs::read_to_string(out.join("links.csv")).unwrap();
+    let header = links.lines().next().unwrap();
+    assert_eq!(
+        header,
+        "sender,receiver,attempts,delivered,lost_range,lost_occlusion,lost_collision,lost_half_duplex,mean_latency_s"
+    );
+    // Every row adds up: attempts = delivered + losses.
+    for row in links.lines().skip(1) {
+        let v: Vec<&str> = row.split(',').collect();
+        let n = |i: usize| v[i].parse::<u64>().unwrap();
+        assert_eq!(n(2), n(3) + n(4) + n(5) + n(6) + n(7), "{row}");
+    }
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let c = &s["comm"];
+    assert!(c["frames_sent"].as_u64().unwrap() > 65);
+    assert_eq!(c["gossip"]["informed"], 65);
+    assert!(c["gossip"]["time_to_all_s"].as_f64().unwrap() > 0.0);
+    assert!(c["by_distance"].as_array().unwrap().len() > 10);
+}

@@ -23,7 +23,7 @@ pub struct BehaviourIo<'a> {
     pub t: f64,
     /// This vehicle's id (as written in the link-layer header of its frames).
     pub id: u32,
-    /// Control period: time to the next tick [s].
+    /// Time to the next tick [s] (the control period, or the physics step).
     pub period: f64,
     /// Sensor readings.
     pub sensors: &'a SensorReadings,
@@ -58,8 +58,13 @@ impl BehaviourIo<'_> {
 
 /// A swarm behaviour.
 pub trait Behaviour: Send + Sync + 'static {
-    /// Called on every control tick.
+    /// Called on every control tick (every physics step if [`Behaviour::every_step`]).
     fn tick(&mut self, io: &mut BehaviourIo<'_>);
+    /// Run on every physics step instead of every control tick: for link-layer logic that
+    /// must react to a received frame at once (a relay), as a modem's receive interrupt would.
+    fn every_step(&self) -> bool {
+        false
+    }
     /// Per-vehicle results for the run summary (name, value).
     fn report(&self) -> Vec<(&'static str, f64)> {
         Vec::new()
@@ -180,6 +185,10 @@ impl Gossip {
 }
 
 impl Behaviour for Gossip {
+    fn every_step(&self) -> bool {
+        true
+    }
+
     fn tick(&mut self, io: &mut BehaviourIo<'_>) {
         if self.known.is_none() {
             if self.origin && io.t + 1e-12 >= self.start {

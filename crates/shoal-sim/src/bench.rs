@@ -12,9 +12,18 @@ pub const SPACING: f64 = 0.6;
 /// reliable range (≈2 m), about 25 vehicles within the cut-off range of each.
 pub const TRAFFIC_SPACING: f64 = 1.5;
 
-/// The world-file text of an `n`-vehicle benchmark swarm. With `traffic`, every vehicle
-/// carries a ring of four modems and beacons a 26-byte payload (a 32-byte frame) once a second.
+/// The world-file text of an `n`-vehicle benchmark swarm on a grid of `spacing` [m]. With
+/// `traffic`, every vehicle carries a ring of four modems and beacons a 26-byte payload (a
+/// 32-byte frame) once a second. At [`TRAFFIC_SPACING`] the vehicles turn on the spot (with or
+/// without traffic, so the two can be compared); otherwise they also drive forward.
 pub fn swarm_text(n: usize, seed: u64, spacing: f64, traffic: bool) -> String {
+    // With traffic the vehicles turn on the spot, so that the grid (and the load on the
+    // medium) stays the same however long a cell runs; the quiet swarm also drives forward.
+    let surge = if spacing == TRAFFIC_SPACING {
+        0.0
+    } else {
+        0.02
+    };
     let columns = (n as f64).sqrt().ceil().max(1.0) as usize;
     let rows = n.div_ceil(columns);
     let (lx, ly) = (columns as f64 * spacing + 2.0, rows as f64 * spacing + 2.0);
@@ -23,7 +32,7 @@ pub fn swarm_text(n: usize, seed: u64, spacing: f64, traffic: bool) -> String {
          [pool]\nsize = [{lx}, {ly}, 3.0]\n\
          [[vehicles]]\nname = \"b\"\ncount = {n}\n\
          grid = {{ origin = [1.0, 1.0, 1.0], spacing = [{spacing}, {spacing}], columns = {columns} }}\n\
-         mission = [{{ t = 0, mode = \"auto\", depth = 1.3, yaw_deg = 45 }}, {{ t = 2, surge = 0.02, yaw_deg = -60 }}]\n"
+         mission = [{{ t = 0, mode = \"auto\", depth = 1.3, yaw_deg = 45 }}, {{ t = 2, surge = {surge}, yaw_deg = -60 }}]\n"
     );
     if traffic {
         t.push_str(

@@ -115,7 +115,7 @@ pub fn behaviour_system(
     let dt = clock.dt;
     let mut items: Vec<_> = q
         .iter_mut()
-        .filter(|it| step.is_multiple_of(it.3.every))
+        .filter(|it| it.4.behaviour.every_step() || step.is_multiple_of(it.3.every))
         .collect();
     par.for_each(
         &mut items,
@@ -124,7 +124,11 @@ pub fn behaviour_system(
             let mut io = BehaviourIo {
                 t,
                 id: id.0,
-                period: control.every as f64 * dt,
+                period: if b.behaviour.every_step() {
+                    dt
+                } else {
+                    control.every as f64 * dt
+                },
                 sensors: &sensors.0,
                 inbox: &inbox.0,
                 setpoints: &mut control.setpoints,

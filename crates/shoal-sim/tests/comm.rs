@@ -498,10 +498,11 @@ fn gossip_floods_the_swarm_hop_by_hop_at_the_pace_of_ticks_and_airtime() {
     let t = g.time_to_all_s.unwrap();
     // 8-byte payload + 6-byte header at 19.2 kbit/s.
     let airtime = 14.0 * 10.0 / 19_200.0;
-    let (period, jitter, interval) = (0.05, 0.1, 0.3);
+    // Gossip reacts every physics step (0.01 s); random delay up to 0.02 s; repeats 0.1 s apart.
+    let (period, jitter, interval) = (0.01, 0.02, 0.1);
     let hops = f64::from(g.max_hops);
-    // A hop costs at least one airtime; at most a wait for the next control tick, the random
-    // delay and the airtime, plus one repeat interval when a first try is lost somewhere.
+    // A hop costs at least one airtime; at most a wait for the next step, the random delay and
+    // the airtime, plus one repeat interval when a first try is lost somewhere.
     assert!(t >= hops * airtime, "{t} s for {hops} hops");
     assert!(
         t <= hops * (period + jitter + airtime) + interval,
