@@ -124,7 +124,7 @@ pub fn build(spec: &BehaviourSpec) -> Box<dyn Behaviour> {
             cohesion,
             next: None,
             neighbours: BTreeMap::new(),
-            alone_since: 0.0,
+            last_bearing: None,
         }),
     }
 }
@@ -254,7 +254,8 @@ pub struct Flock {
     cohesion: f64,
     next: Option<f64>,
     neighbours: BTreeMap<u32, Neighbour>,
-    alone_since: f64,
+    /// World bearing [rad] towards the neighbours when they were last heard, and when.
+    last_bearing: Option<(f64, f64)>,
 }
 
 impl Behaviour for Flock {
@@ -292,15 +293,30 @@ impl Behaviour for Flock {
             self.next = Some(next + self.period * (0.9 + 0.2 * io.rng.random::<f64>()));
         }
         if self.neighbours.is_empty() {
-            // Lost contact: stop and turn slowly on the spot to find the others again.
-            if self.alone_since == 0.0 {
-                self.alone_since = t;
+            match self.last_bearing {
+                // Lost contact: go after the others where they were last heard ...
+                Some((bearing, when)) if t - when < 20.0 => {
+                    io.setpoints.yaw = bearing;
+                    io.setpoints.surge = self.surge;
+                }
+                // ... or, after a while, stop and turn on the spot to find anyone.
+                _ => {
+                    io.setpoints.surge = 0.0;
+                    io.setpoints.yaw = wrap_pi(heading + 0.6);
+                }
             }
-            io.setpoints.surge = 0.0;
-            io.setpoints.yaw = wrap_pi(heading + 0.6);
             return;
         }
-        self.alone_since = 0.0;
+        // Where the others are: the mean direction of the modems that hear them.
+        let (bx, by) = self.neighbours.values().fold((0.0, 0.0), |(x, y), n| {
+            (
+                x + (heading + n.bearing).cos(),
+                y + (heading + n.bearing).sin(),
+            )
+        });
+        if bx * bx + by * by > 1e-12 {
+            self.last_bearing = Some((by.atan2(bx), t));
+        }
         // Alignment: mean of own and neighbours' headings (as unit vectors).
         let (mut x, mut y) = (heading.cos(), heading.sin());
         for n in self.neighbours.values() {

@@ -518,3 +518,53 @@ fn gossip_floods_the_swarm_hop_by_hop_at_the_pace_of_ticks_and_airtime() {
             && g.mean_time_per_hop_s <= period + jitter + airtime + interval
     );
 }
+
+#[test]
+fn the_flock_keeps_optical_contact_while_it_travels() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../worlds/flock.toml");
+    let mut desc = shoal_world::load::load_file(&path).unwrap();
+    desc.duration = 90.0;
+    let mut sim = Sim::new(
+        &desc,
+        SimOptions {
+            threads: 1,
+            record: false,
+        },
+    );
+    let start: Vec<_> = sim
+        .vehicles()
+        .iter()
+        .map(|v| v.state.rigid.position)
+        .collect();
+    sim.run(desc.steps());
+    let conn = sim.connectivity();
+    let n = desc.vehicles.len();
+    // After the first seconds of sorting out, the largest group in contact holds nearly all.
+    let late: Vec<usize> = conn
+        .samples
+        .iter()
+        .filter(|s| s.t >= 30.0)
+        .map(|s| s.largest)
+        .collect();
+    assert!(!late.is_empty());
+    let mean = late.iter().sum::<usize>() as f64 / late.len() as f64;
+    assert!(mean >= 0.9 * n as f64, "mean largest group {mean} of {n}");
+    // And it moved as a group: everyone travelled, and the spread stayed bounded.
+    let end: Vec<_> = sim
+        .vehicles()
+        .iter()
+        .map(|v| v.state.rigid.position)
+        .collect();
+    let moved = start
+        .iter()
+        .zip(&end)
+        .map(|(a, b)| (b - a).xy().norm())
+        .fold(f64::INFINITY, f64::min);
+    assert!(moved > 2.0, "least distance travelled {moved} m");
+    let centre = end.iter().fold(nalgebra::Vector3::zeros(), |a, p| a + p) / n as f64;
+    let spread = end
+        .iter()
+        .map(|p| (p - centre).xy().norm())
+        .fold(0.0, f64::max);
+    assert!(spread < 5.0, "group radius {spread} m");
+}

@@ -389,6 +389,7 @@ pub enum BehaviourSpec {
     /// Flocking that keeps optical contact: every vehicle beacons its heading; it aligns with
     /// the headings it hears, turns towards the modem that hears the weakest neighbours
     /// (cohesion) and away from the strongest (separation), and pushes forward with `surge`.
+    /// Alone, it heads for where it last heard the others; after 20 s it searches on the spot.
     Flock {
         /// Forward force [N].
         surge: f64,
