@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 fn shoal() -> Command {
     Command::new(env!("CARGO_BIN_EXE_shoal"))
@@ -162,13 +162,12 @@ fn ctrl_c_ends_the_run_cleanly_with_outputs_written() {
         .spawn()
         .unwrap();
     // Wait until rows are being written, then interrupt.
-    let start = Instant::now();
+    // Poll until rows are being written (bounded, so a broken run cannot hang the suite).
     let csv = out.join("trajectories.csv");
+    let mut polls = 0;
     while csv.metadata().map(|m| m.len() < 200_000).unwrap_or(true) {
-        assert!(
-            start.elapsed() < Duration::from_secs(120),
-            "the run did not start writing"
-        );
+        polls += 1;
+        assert!(polls < 2400, "the run did not start writing");
         std::thread::sleep(Duration::from_millis(50));
     }
     let status = Command::new("kill")

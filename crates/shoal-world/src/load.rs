@@ -288,6 +288,34 @@ impl Validator<'_> {
         false
     }
 
+    /// `0 < x ≤ max` for the field `key` of `p`.
+    fn pos(&mut self, p: &FieldPath, key: &str, x: f64, max: f64, unit: &str) -> bool {
+        self.num(&p.key(key), x, End::Open(0.0), End::Closed(max), unit)
+    }
+
+    /// `0 ≤ x ≤ max` for the field `key` of `p`.
+    fn nonneg(&mut self, p: &FieldPath, key: &str, x: f64, max: f64, unit: &str) -> bool {
+        self.num(&p.key(key), x, End::Closed(0.0), End::Closed(max), unit)
+    }
+
+    /// `lo ≤ x ≤ hi` for the field `key` of `p`.
+    fn within(&mut self, p: &FieldPath, key: &str, x: f64, lo: f64, hi: f64, unit: &str) -> bool {
+        self.num(&p.key(key), x, End::Closed(lo), End::Closed(hi), unit)
+    }
+
+    /// `lo ≤ xᵢ ≤ hi` for every element of the field `key` of `p`.
+    fn within_all(
+        &mut self,
+        p: &FieldPath,
+        key: &str,
+        xs: &[f64],
+        lo: f64,
+        hi: f64,
+        unit: &str,
+    ) -> bool {
+        self.vec(&p.key(key), xs, End::Closed(lo), End::Closed(hi), unit)
+    }
+
     fn vec(&mut self, path: &FieldPath, xs: &[f64], lo: End, hi: End, unit: &str) -> bool {
         let mut ok = true;
         for (i, x) in xs.iter().enumerate() {
@@ -632,13 +660,7 @@ fn validate_vehicle(s: &VehicleSpec, p: &FieldPath, v: &mut Validator<'_>) -> bo
     let n0 = v.problems.len();
     let b = p.key("body");
     let sb = &s.body;
-    v.num(
-        &b.key("mass"),
-        sb.mass,
-        End::Open(0.0),
-        End::Closed(1e5),
-        "kg",
-    );
+    v.pos(&b, "mass", sb.mass, 1e5, "kg");
     match &sb.inertia {
         Mat3Spec::Diagonal(d) => {
             v.vec(
@@ -661,36 +683,12 @@ fn validate_vehicle(s: &VehicleSpec, p: &FieldPath, v: &mut Validator<'_>) -> bo
             }
         }
     }
-    v.vec(
-        &b.key("cog"),
-        &sb.cog,
-        End::Closed(-100.0),
-        End::Closed(100.0),
-        "m",
-    );
-    v.vec(
-        &b.key("cob"),
-        &sb.cob,
-        End::Closed(-100.0),
-        End::Closed(100.0),
-        "m",
-    );
-    v.num(
-        &b.key("volume"),
-        sb.volume,
-        End::Open(0.0),
-        End::Closed(1e3),
-        "m³",
-    );
+    v.within_all(&b, "cog", &sb.cog, -100.0, 100.0, "m");
+    v.within_all(&b, "cob", &sb.cob, -100.0, 100.0, "m");
+    v.pos(&b, "volume", sb.volume, 1e3, "m³");
     match &sb.added_mass {
         Mat6Spec::Diagonal(d) => {
-            v.vec(
-                &b.key("added_mass"),
-                d,
-                End::Closed(0.0),
-                End::Closed(1e5),
-                "kg or kg·m²",
-            );
+            v.within_all(&b, "added_mass", d, 0.0, 1e5, "kg or kg·m²");
         }
         Mat6Spec::Full(r) => {
             for (i, row) in r.iter().enumerate() {
@@ -704,18 +702,20 @@ fn validate_vehicle(s: &VehicleSpec, p: &FieldPath, v: &mut Validator<'_>) -> bo
             }
         }
     }
-    v.vec(
-        &b.key("damping_linear"),
+    v.within_all(
+        &b,
+        "damping_linear",
         &sb.damping_linear,
-        End::Closed(0.0),
-        End::Closed(1e5),
+        0.0,
+        1e5,
         "N·s/m or N·m·s",
     );
-    v.vec(
-        &b.key("damping_quadratic"),
+    v.within_all(
+        &b,
+        "damping_quadratic",
         &sb.damping_quadratic,
-        End::Closed(0.0),
-        End::Closed(1e5),
+        0.0,
+        1e5,
         "N·s²/m² or N·m·s²",
     );
     v.vec(
@@ -738,27 +738,16 @@ fn validate_vehicle(s: &VehicleSpec, p: &FieldPath, v: &mut Validator<'_>) -> bo
         }
         tilt_names.push(&t.name);
         axis(v, &tp.key("axis"), &t.axis);
-        v.num(
-            &tp.key("min_deg"),
-            t.min_deg,
-            End::Closed(-360.0),
-            End::Closed(360.0),
-            "deg",
-        );
-        v.num(
-            &tp.key("max_deg"),
+        v.within(&tp, "min_deg", t.min_deg, -360.0, 360.0, "deg");
+        v.within(
+            &tp,
+            "max_deg",
             t.max_deg,
-            End::Closed(t.min_deg.max(-360.0)),
-            End::Closed(360.0),
+            t.min_deg.max(-360.0),
+            360.0,
             "deg",
         );
-        v.num(
-            &tp.key("rate_deg_s"),
-            t.rate_deg_s,
-            End::Open(0.0),
-            End::Closed(1e4),
-            "deg/s",
-        );
+        v.pos(&tp, "rate_deg_s", t.rate_deg_s, 1e4, "deg/s");
     }
     let mut thruster_names: Vec<&str> = Vec::new();
     for (i, t) in s.thrusters.iter().enumerate() {
@@ -771,61 +760,29 @@ fn validate_vehicle(s: &VehicleSpec, p: &FieldPath, v: &mut Validator<'_>) -> bo
             );
         }
         thruster_names.push(&t.name);
-        v.vec(
-            &tp.key("position"),
-            &t.position,
-            End::Closed(-100.0),
-            End::Closed(100.0),
-            "m",
-        );
+        v.within_all(&tp, "position", &t.position, -100.0, 100.0, "m");
         axis(v, &tp.key("direction"), &t.direction);
         if let Some(n) = &t.tilt
             && !tilt_names.contains(&n.as_str())
         {
+            let defined = if tilt_names.is_empty() {
+                "none".into()
+            } else {
+                tilt_names.join(", ")
+            };
             v.push(
                 ProblemKind::Reference,
                 &tp.key("tilt"),
-                format!(
-                    "no tilt drive named `{n}` (defined: {})",
-                    if tilt_names.is_empty() {
-                        "none".into()
-                    } else {
-                        tilt_names.join(", ")
-                    }
-                ),
+                format!("no tilt drive named `{n}` (defined: {defined})"),
             );
         }
-        v.num(
-            &tp.key("max_command"),
-            t.max_command,
-            End::Open(0.0),
-            End::Closed(1e4),
-            "%",
-        );
-        v.num(
-            &tp.key("lag"),
-            t.lag,
-            End::Closed(0.0),
-            End::Closed(100.0),
-            "s",
-        );
+        v.pos(&tp, "max_command", t.max_command, 1e4, "%");
+        v.nonneg(&tp, "lag", t.lag, 100.0, "s");
         let cp = tp.key("curve");
         match &t.curve {
             CurveSpec::Quadratic { ct_pos, ct_neg } => {
-                v.num(
-                    &cp.key("ct_pos"),
-                    *ct_pos,
-                    End::Closed(0.0),
-                    End::Closed(1e3),
-                    "N/%²",
-                );
-                v.num(
-                    &cp.key("ct_neg"),
-                    *ct_neg,
-                    End::Closed(0.0),
-                    End::Closed(1e3),
-                    "N/%²",
-                );
+                v.nonneg(&cp, "ct_pos", *ct_pos, 1e3, "N/%²");
+                v.nonneg(&cp, "ct_neg", *ct_neg, 1e3, "N/%²");
             }
             CurveSpec::Table { points } => {
                 if points.len() < 2 {
@@ -839,8 +796,11 @@ fn validate_vehicle(s: &VehicleSpec, p: &FieldPath, v: &mut Validator<'_>) -> bo
                     if w[1][0].partial_cmp(&w[0][0]) != Some(std::cmp::Ordering::Greater)
                         || w[1][1] < w[0][1]
                     {
-                        v.push(ProblemKind::Invalid, &cp.key("points").index(k + 1),
-                            "thrust table points must increase in command and must not decrease in thrust".into());
+                        v.push(
+                            ProblemKind::Invalid,
+                            &cp.key("points").index(k + 1),
+                            "thrust table points must increase in command and must not decrease in thrust".into(),
+                        );
                     }
                 }
                 for (k, pt) in points.iter().enumerate() {
@@ -857,189 +817,73 @@ fn validate_vehicle(s: &VehicleSpec, p: &FieldPath, v: &mut Validator<'_>) -> bo
     }
     if let Some(bl) = &s.ballast {
         let bp = p.key("ballast");
-        v.num(
-            &bp.key("capacity"),
-            bl.capacity,
-            End::Open(0.0),
-            End::Closed(10.0),
-            "m³",
-        );
-        v.num(
-            &bp.key("flow"),
-            bl.flow,
-            End::Closed(0.0),
-            End::Closed(1.0),
-            "m³/s",
-        );
-        v.vec(
-            &bp.key("position"),
-            &bl.position,
-            End::Closed(-100.0),
-            End::Closed(100.0),
-            "m",
-        );
-        v.num(
-            &bp.key("initial_volume"),
+        v.pos(&bp, "capacity", bl.capacity, 10.0, "m³");
+        v.nonneg(&bp, "flow", bl.flow, 1.0, "m³/s");
+        v.within_all(&bp, "position", &bl.position, -100.0, 100.0, "m");
+        v.nonneg(
+            &bp,
+            "initial_volume",
             bl.initial_volume,
-            End::Closed(0.0),
-            End::Closed(bl.capacity.max(0.0)),
+            bl.capacity.max(0.0),
             "m³ (the tank capacity)",
         );
     }
     let pp = p.key("pressure");
-    v.num(
-        &pp.key("c1"),
-        s.pressure.c1,
-        End::Open(0.0),
-        End::Closed(1e4),
-        "m/V",
-    );
-    v.num(
-        &pp.key("c2"),
-        s.pressure.c2,
-        End::Closed(-1e4),
-        End::Closed(1e4),
-        "m",
-    );
-    v.num(
-        &pp.key("depth_step"),
-        s.pressure.depth_step,
-        End::Open(0.0),
-        End::Closed(10.0),
-        "m",
-    );
-    v.num(
-        &pp.key("bits"),
-        f64::from(s.pressure.bits),
-        End::Closed(1.0),
-        End::Closed(32.0),
-        "bits",
-    );
-    v.num(
-        &pp.key("noise_std"),
-        s.pressure.noise_std,
-        End::Closed(0.0),
-        End::Closed(10.0),
-        "m",
-    );
-    v.vec(
-        &pp.key("position"),
-        &s.pressure.position,
-        End::Closed(-100.0),
-        End::Closed(100.0),
-        "m",
-    );
+    let ps = &s.pressure;
+    v.pos(&pp, "c1", ps.c1, 1e4, "m/V");
+    v.within(&pp, "c2", ps.c2, -1e4, 1e4, "m");
+    v.pos(&pp, "depth_step", ps.depth_step, 10.0, "m");
+    v.within(&pp, "bits", f64::from(ps.bits), 1.0, 32.0, "bits");
+    v.nonneg(&pp, "noise_std", ps.noise_std, 10.0, "m");
+    v.within_all(&pp, "position", &ps.position, -100.0, 100.0, "m");
     let ip = p.key("imu");
-    v.num(
-        &ip.key("attitude_noise_deg"),
+    v.nonneg(
+        &ip,
+        "attitude_noise_deg",
         s.imu.attitude_noise_deg,
-        End::Closed(0.0),
-        End::Closed(90.0),
+        90.0,
         "deg",
     );
-    v.num(
-        &ip.key("gyro_noise"),
-        s.imu.gyro_noise,
-        End::Closed(0.0),
-        End::Closed(10.0),
-        "rad/s",
-    );
-    v.vec(
-        &ip.key("gyro_bias"),
-        &s.imu.gyro_bias,
-        End::Closed(-10.0),
-        End::Closed(10.0),
-        "rad/s",
-    );
-    v.num(
-        &ip.key("accel_noise"),
-        s.imu.accel_noise,
-        End::Closed(0.0),
-        End::Closed(100.0),
-        "m/s²",
-    );
+    v.nonneg(&ip, "gyro_noise", s.imu.gyro_noise, 10.0, "rad/s");
+    v.within_all(&ip, "gyro_bias", &s.imu.gyro_bias, -10.0, 10.0, "rad/s");
+    v.nonneg(&ip, "accel_noise", s.imu.accel_noise, 100.0, "m/s²");
     let c = p.key("control");
     let sc = &s.control;
-    v.num(
-        &c.key("period"),
-        sc.period,
-        End::Open(0.0),
-        End::Closed(10.0),
-        "s",
-    );
+    v.pos(&c, "period", sc.period, 10.0, "s");
     for (k, pd) in [
         ("heave", &sc.heave),
         ("heave_buoyancy", &sc.heave_buoyancy),
         ("yaw", &sc.yaw),
     ] {
-        v.num(
-            &c.key(k).key("omega"),
-            pd.omega,
-            End::Open(0.0),
-            End::Closed(100.0),
-            "rad/s",
-        );
-        v.num(
-            &c.key(k).key("zeta"),
-            pd.zeta,
-            End::Open(0.0),
-            End::Closed(100.0),
-            "",
-        );
-        if let Some(kp) = pd.kp {
-            v.num(
-                &c.key(k).key("kp"),
-                kp,
-                End::Closed(0.0),
-                End::Closed(1e6),
-                "",
-            );
+        let kp = c.key(k);
+        v.pos(&kp, "omega", pd.omega, 100.0, "rad/s");
+        v.pos(&kp, "zeta", pd.zeta, 100.0, "");
+        if let Some(x) = pd.kp {
+            v.nonneg(&kp, "kp", x, 1e6, "");
         }
-        if let Some(kd) = pd.kd {
-            v.num(
-                &c.key(k).key("kd"),
-                kd,
-                End::Closed(0.0),
-                End::Closed(1e6),
-                "",
-            );
+        if let Some(x) = pd.kd {
+            v.nonneg(&kp, "kd", x, 1e6, "");
         }
     }
-    v.num(
-        &c.key("dead_zone"),
-        sc.dead_zone,
-        End::Closed(0.0),
-        End::Closed(10.0),
-        "m",
-    );
-    v.num(
-        &c.key("filter_window"),
+    v.nonneg(&c, "dead_zone", sc.dead_zone, 10.0, "m");
+    v.within(
+        &c,
+        "filter_window",
         sc.filter_window as f64,
-        End::Closed(1.0),
-        End::Closed(1000.0),
+        1.0,
+        1000.0,
         "samples",
     );
-    v.num(
-        &c.key("auto_tilt_max_deg"),
-        sc.auto_tilt_max_deg,
-        End::Closed(0.0),
-        End::Closed(90.0),
-        "deg",
-    );
-    v.num(
-        &c.key("rate_filter"),
-        sc.rate_filter,
-        End::Closed(0.0),
-        End::Closed(100.0),
-        "s",
-    );
+    v.nonneg(&c, "auto_tilt_max_deg", sc.auto_tilt_max_deg, 90.0, "deg");
+    v.nonneg(&c, "rate_filter", sc.rate_filter, 100.0, "s");
     let mut modem_names: Vec<&str> = Vec::new();
     for (i, m) in s.modems.iter().enumerate() {
-        validate_modem(m, &p.key("modems").index(i), v);
+        let mp = p.key("modems").index(i);
+        validate_modem(m, &mp, v);
         if modem_names.contains(&m.name.as_str()) {
             v.push(
                 ProblemKind::Invalid,
-                &p.key("modems").index(i).key("name"),
+                &mp.key("name"),
                 format!("modem name `{}` is used twice", m.name),
             );
         }
@@ -1062,21 +906,9 @@ fn validate_vehicle(s: &VehicleSpec, p: &FieldPath, v: &mut Validator<'_>) -> bo
 }
 
 fn validate_modem(m: &ModemSpec, p: &FieldPath, v: &mut Validator<'_>) {
-    v.vec(
-        &p.key("position"),
-        &m.position,
-        End::Closed(-100.0),
-        End::Closed(100.0),
-        "m",
-    );
+    v.within_all(p, "position", &m.position, -100.0, 100.0, "m");
     axis(v, &p.key("direction"), &m.direction);
-    v.num(
-        &p.key("led_power"),
-        m.led_power,
-        End::Open(0.0),
-        End::Closed(1e3),
-        "W",
-    );
+    v.pos(p, "led_power", m.led_power, 1e3, "W");
     v.num(
         &p.key("led_half_angle_deg"),
         m.led_half_angle_deg,
@@ -1084,104 +916,41 @@ fn validate_modem(m: &ModemSpec, p: &FieldPath, v: &mut Validator<'_>) {
         End::Open(90.0),
         "deg",
     );
-    v.num(
-        &p.key("rx_area"),
-        m.rx_area,
-        End::Open(0.0),
-        End::Closed(1.0),
-        "m²",
-    );
-    v.num(
-        &p.key("rx_fov_deg"),
-        m.rx_fov_deg,
-        End::Open(0.0),
-        End::Closed(90.0),
-        "deg",
-    );
-    v.num(
-        &p.key("responsivity"),
-        m.responsivity,
-        End::Open(0.0),
-        End::Closed(10.0),
-        "A/W",
-    );
-    v.num(
-        &p.key("noise_density"),
-        m.noise_density,
-        End::Closed(0.0),
-        End::Closed(1e-6),
-        "A/√Hz",
-    );
-    v.num(
-        &p.key("bandwidth"),
-        m.bandwidth,
-        End::Open(0.0),
-        End::Closed(1e10),
-        "Hz",
-    );
-    v.num(
-        &p.key("dark_current"),
-        m.dark_current,
-        End::Closed(0.0),
-        End::Closed(1e-3),
-        "A",
-    );
-    v.num(
-        &p.key("bit_rate"),
-        m.bit_rate,
-        End::Open(0.0),
-        End::Closed(1e10),
-        "bit/s",
-    );
-    v.num(
-        &p.key("bits_per_byte"),
+    v.pos(p, "rx_area", m.rx_area, 1.0, "m²");
+    v.pos(p, "rx_fov_deg", m.rx_fov_deg, 90.0, "deg");
+    v.pos(p, "responsivity", m.responsivity, 10.0, "A/W");
+    v.nonneg(p, "noise_density", m.noise_density, 1e-6, "A/√Hz");
+    v.pos(p, "bandwidth", m.bandwidth, 1e10, "Hz");
+    v.nonneg(p, "dark_current", m.dark_current, 1e-3, "A");
+    v.pos(p, "bit_rate", m.bit_rate, 1e10, "bit/s");
+    v.within(
+        p,
+        "bits_per_byte",
         f64::from(m.bits_per_byte),
-        End::Closed(8.0),
-        End::Closed(16.0),
+        8.0,
+        16.0,
         "bits",
     );
-    v.num(
-        &p.key("header_bytes"),
-        m.header_bytes as f64,
-        End::Closed(0.0),
-        End::Closed(64.0),
-        "bytes",
-    );
-    v.num(
-        &p.key("max_payload"),
+    v.nonneg(p, "header_bytes", m.header_bytes as f64, 64.0, "bytes");
+    v.within(
+        p,
+        "max_payload",
         m.max_payload as f64,
-        End::Closed(1.0),
-        End::Closed(65536.0),
+        1.0,
+        65536.0,
         "bytes",
     );
-    v.num(
-        &p.key("queue_frames"),
-        m.queue_frames as f64,
-        End::Closed(1.0),
-        End::Closed(1e5),
-        "frames",
-    );
-    v.num(
-        &p.key("capture_ratio"),
+    v.within(p, "queue_frames", m.queue_frames as f64, 1.0, 1e5, "frames");
+    v.within(
+        p,
+        "capture_ratio",
         m.capture_ratio,
-        End::Closed(1.0),
-        End::Closed(1e6),
+        1.0,
+        1e6,
         "(power ratio)",
     );
-    v.num(
-        &p.key("cs_threshold"),
-        m.cs_threshold,
-        End::Open(0.0),
-        End::Closed(1.0),
-        "W",
-    );
-    v.num(
-        &p.key("backoff_max"),
-        m.backoff_max,
-        End::Open(0.0),
-        End::Closed(100.0),
-        "s",
-    );
+    v.pos(p, "cs_threshold", m.cs_threshold, 1.0, "W");
+    v.pos(p, "backoff_max", m.backoff_max, 100.0, "s");
 }
 
 /// Validates a behaviour against the vehicle it runs on.
@@ -1209,27 +978,16 @@ fn validate_behaviour(
             payload_bytes,
             jitter,
         } => {
-            v.num(
-                &p.key("period"),
-                *period,
-                End::Open(0.0),
-                End::Closed(1e6),
-                "s",
-            );
-            v.num(
-                &p.key("payload_bytes"),
+            v.pos(p, "period", *period, 1e6, "s");
+            v.within(
+                p,
+                "payload_bytes",
                 *payload_bytes as f64,
-                End::Closed(1.0),
-                End::Closed(max_payload as f64),
+                1.0,
+                max_payload as f64,
                 "bytes (the modems' max_payload)",
             );
-            v.num(
-                &p.key("jitter"),
-                *jitter,
-                End::Closed(0.0),
-                End::Closed(1e6),
-                "s",
-            );
+            v.nonneg(p, "jitter", *jitter, 1e6, "s");
         }
         BehaviourSpec::Gossip {
             start,
@@ -1238,34 +996,10 @@ fn validate_behaviour(
             jitter,
             ..
         } => {
-            v.num(
-                &p.key("start"),
-                *start,
-                End::Closed(0.0),
-                End::Closed(duration),
-                "s (0 … duration)",
-            );
-            v.num(
-                &p.key("repeats"),
-                f64::from(*repeats),
-                End::Closed(1.0),
-                End::Closed(1e4),
-                "",
-            );
-            v.num(
-                &p.key("interval"),
-                *interval,
-                End::Open(0.0),
-                End::Closed(1e6),
-                "s",
-            );
-            v.num(
-                &p.key("jitter"),
-                *jitter,
-                End::Closed(0.0),
-                End::Closed(1e6),
-                "s",
-            );
+            v.nonneg(p, "start", *start, duration, "s (0 … duration)");
+            v.within(p, "repeats", f64::from(*repeats), 1.0, 1e4, "");
+            v.pos(p, "interval", *interval, 1e6, "s");
+            v.nonneg(p, "jitter", *jitter, 1e6, "s");
             if max_payload < 8 {
                 v.push(
                     ProblemKind::Invalid,
@@ -1281,27 +1015,9 @@ fn validate_behaviour(
             too_far,
             cohesion,
         } => {
-            v.num(
-                &p.key("surge"),
-                *surge,
-                End::Closed(-1.0),
-                End::Closed(1.0),
-                "N",
-            );
-            v.num(
-                &p.key("period"),
-                *period,
-                End::Open(0.0),
-                End::Closed(1e6),
-                "s",
-            );
-            v.num(
-                &p.key("too_close"),
-                *too_close,
-                End::Open(0.0),
-                End::Closed(1.0),
-                "W",
-            );
+            v.within(p, "surge", *surge, -1.0, 1.0, "N");
+            v.pos(p, "period", *period, 1e6, "s");
+            v.pos(p, "too_close", *too_close, 1.0, "W");
             v.num(
                 &p.key("too_far"),
                 *too_far,
@@ -1309,13 +1025,7 @@ fn validate_behaviour(
                 End::Open(*too_close),
                 "W (below too_close)",
             );
-            v.num(
-                &p.key("cohesion"),
-                *cohesion,
-                End::Closed(0.0),
-                End::Closed(100.0),
-                "",
-            );
+            v.nonneg(p, "cohesion", *cohesion, 100.0, "");
             if model.uauv2.is_none() {
                 v.push(
                     ProblemKind::Invalid,
