@@ -12,6 +12,7 @@
 pub mod ballast;
 pub mod control;
 pub mod dynamics;
+pub mod effects;
 pub mod math;
 pub mod optics;
 pub mod presets;

@@ -161,13 +161,13 @@ impl ThrusterParams {
 pub struct ActuatorState {
     /// Current tilt angle of each tilt drive [rad].
     pub tilt: Vec<f64>,
-    /// Actual thrust of each thruster after the lag [N].
+    /// Actual thrust of each thruster after the lag, at the end of the last step [N].
     pub thrust: Vec<f64>,
 }
 
 /// Advances tilt drives and thrust lags by `dt` [s] and returns the generalised force τ
 /// (body frame) [N, N·m]. `submerged[i]` is false for a thruster above the water surface
-/// (it then produces no thrust).
+/// (it then produces no thrust). The static thrust of each thruster comes from its curve.
 pub fn actuate(
     thrusters: &[ThrusterParams],
     tilts: &[TiltParams],
@@ -175,6 +175,30 @@ pub fn actuate(
     commands: &[f64],
     tilt_targets: &[f64],
     submerged: impl Fn(&Vec3) -> bool,
+    dt: f64,
+) -> Vec6 {
+    actuate_with(
+        thrusters,
+        tilts,
+        state,
+        commands,
+        tilt_targets,
+        submerged,
+        |th, n, _| th.curve.thrust(n),
+        dt,
+    )
+}
+
+/// [`actuate`] with a custom static-thrust model: `static_thrust(thruster, command [%],
+/// thrust direction (unit, body frame))` returns the thrust [N] before the lag.
+pub fn actuate_with(
+    thrusters: &[ThrusterParams],
+    tilts: &[TiltParams],
+    state: &mut ActuatorState,
+    commands: &[f64],
+    tilt_targets: &[f64],
+    submerged: impl Fn(&Vec3) -> bool,
+    static_thrust: impl Fn(&ThrusterParams, f64, &Vec3) -> f64,
     dt: f64,
 ) -> Vec6 {
     for (i, tp) in tilts.iter().enumerate() {
@@ -189,23 +213,28 @@ pub fn actuate(
             .copied()
             .unwrap_or(0.0)
             .clamp(-th.max_command, th.max_command);
-        let f_static = if submerged(&th.position) {
-            th.curve.thrust(n)
-        } else {
-            0.0
-        };
-        let f = if th.lag > 0.0 {
-            let a = 1.0 - (-dt / th.lag).exp();
-            state.thrust[i] + a * (f_static - state.thrust[i])
-        } else {
-            f_static
-        };
-        state.thrust[i] = f;
         let (axis, angle) = match th.tilt {
             Some(k) => (Some(&tilts[k].axis), state.tilt[k]),
             None => (None, 0.0),
         };
-        let d = th.direction_at(axis, angle) * f;
+        let dir = th.direction_at(axis, angle);
+        let f_static = if submerged(&th.position) {
+            static_thrust(th, n, &dir)
+        } else {
+            0.0
+        };
+        // Exact first-order response over the step: the thrust at its end is kept as state,
+        // its mean over the step is what the hull receives (the exact impulse).
+        let f = if th.lag > 0.0 {
+            let e = (-dt / th.lag).exp();
+            let f0 = state.thrust[i];
+            state.thrust[i] = f_static + (f0 - f_static) * e;
+            f_static + (f0 - f_static) * (1.0 - e) * th.lag / dt
+        } else {
+            state.thrust[i] = f_static;
+            f_static
+        };
+        let d = dir * f;
         force += d;
         moment += th.position.cross(&d);
     }

@@ -1,18 +1,21 @@
 //! A whole vehicle: its parameters ([`VehicleParams`]), the derived constants shared by all
-//! vehicles of one kind ([`VehicleModel`]), the per-vehicle state ([`VehicleState`]), one
-//! physics step ([`step`]) and one sensor sample ([`sense`]).
+//! vehicles of one kind ([`VehicleModel`], including any model extensions from
+//! [`crate::effects`]), the per-vehicle state ([`VehicleState`]), one physics step ([`step`])
+//! and one sensor sample ([`sense`]).
 
 use crate::ballast::BallastParams;
 use crate::control::{
     ActuatorCommands, ControlParams, ControllerState, SensorReadings, Uauv2Control, Uauv2Layout,
 };
 use crate::dynamics::{Integrator, RigidState, integrate};
+use crate::effects::{Effects, ForceContext};
 use crate::math::{Vec3, Vec6, split6};
 use crate::optics::ModemParams;
 use crate::rigid_body::{BodyParams, Environment, MassProperties};
 use crate::sensors::{ImuParams, PressureSensorParams};
-use crate::thruster::{ActuatorState, ThrusterParams, TiltParams, actuate};
+use crate::thruster::{ActuatorState, ThrusterParams, TiltParams, actuate, actuate_with};
 use rand::Rng;
+use std::collections::VecDeque;
 
 /// Everything that describes one kind of vehicle.
 #[derive(Clone, Debug, PartialEq)]
@@ -60,19 +63,31 @@ impl VehicleParams {
 /// Immutable, shareable description of a vehicle kind with derived constants.
 #[derive(Clone, Debug, PartialEq)]
 pub struct VehicleModel {
-    /// The parameters.
+    /// The parameters in effect: the given ones with the effects' [`configure`] hooks
+    /// applied.
+    ///
+    /// [`configure`]: crate::effects::Effect::configure
     pub params: VehicleParams,
-    /// Gains and limits of the paper's modes, if the vehicle has the μAUV² layout.
+    /// Model extensions (empty for a plain model).
+    pub effects: Effects,
+    /// Gains and limits of the paper's modes, if the vehicle has the μAUV² layout. Designed
+    /// on the parameters as given, before effects: the controller is built for the model its
+    /// designer believes in.
     pub uauv2: Option<Uauv2Control>,
-    /// Effective heave mass m + A₃₃ at the initial ballast [kg].
+    /// Effective heave mass m + A₃₃ at the initial ballast, before effects [kg].
     pub heave_mass: f64,
-    /// Effective yaw inertia I_zz + A₆₆ at the initial ballast [kg·m²].
+    /// Effective yaw inertia I_zz + A₆₆ at the initial ballast, before effects [kg·m²].
     pub yaw_inertia: f64,
 }
 
 impl VehicleModel {
     /// Derives the constants for water of `density` [kg/m³].
     pub fn new(params: VehicleParams, density: f64) -> Self {
+        Self::with_effects(params, Effects::default(), density)
+    }
+
+    /// A model with extensions: `params` is the baseline, `effects` what is added to it.
+    pub fn with_effects(params: VehicleParams, effects: Effects, density: f64) -> Self {
         let mp = params.mass_properties(params.initial_ballast(), density);
         let heave_mass = mp.m_total[(2, 2)];
         let yaw_inertia = mp.m_total[(5, 5)];
@@ -85,11 +100,28 @@ impl VehicleModel {
                 yaw_inertia,
             )
         });
+        let mut params = params;
+        effects.configure(&mut params);
         Self {
             params,
+            effects,
             uauv2,
             heave_mass,
             yaw_inertia,
+        }
+    }
+
+    /// The water as this vehicle's dynamics see it (the world's plus any current from the
+    /// effects).
+    #[inline]
+    pub fn environment(&self, env: &Environment) -> Environment {
+        if self.effects.is_empty() {
+            *env
+        } else {
+            Environment {
+                current: env.current + self.effects.current(),
+                ..*env
+            }
         }
     }
 
@@ -121,8 +153,14 @@ pub struct VehicleState {
     pub mass: MassProperties,
     /// Mean body acceleration over the last step, ν̇ [m/s², rad/s²].
     pub accel: Vec6,
-    /// Thruster force applied during the last step, body frame [N, N·m].
+    /// Thruster force applied during the last step, body frame [N, N·m] (including the
+    /// effects' forces).
     pub tau: Vec6,
+    /// Time since the vehicle started [s].
+    pub time: f64,
+    /// Readings waiting to be released by a sensor delay, oldest first, with the time each
+    /// was taken [s].
+    pub delayed: VecDeque<(f64, SensorReadings)>,
 }
 
 impl VehicleState {
@@ -140,6 +178,8 @@ impl VehicleState {
             mass: p.mass_properties(vol, env.density),
             accel: Vec6::zeros(),
             tau: Vec6::zeros(),
+            time: 0.0,
+            delayed: VecDeque::new(),
         }
     }
 
@@ -168,15 +208,45 @@ pub fn actuate_vehicle(
         }
     }
     let rigid = &state.rigid;
-    state.tau = actuate(
+    let submerged = |r: &Vec3| rigid.position.z + rigid.attitude.transform_vector(r).z > 0.0;
+    if model.effects.is_empty() {
+        state.tau = actuate(
+            &p.thrusters,
+            &p.tilts,
+            &mut state.actuators,
+            &cmd.thrusters,
+            &cmd.tilts,
+            submerged,
+            dt,
+        );
+        return;
+    }
+    let fx = &model.effects;
+    let t = state.time;
+    let (v, w) = split6(&rigid.nu);
+    let tau = actuate_with(
         &p.thrusters,
         &p.tilts,
         &mut state.actuators,
         &cmd.thrusters,
         &cmd.tilts,
-        |r| rigid.position.z + rigid.attitude.transform_vector(r).z > 0.0,
+        submerged,
+        |th, n, dir| {
+            let inflow = (v + w.cross(&th.position)).dot(dir);
+            fx.thrust(th, n, t, inflow)
+        },
         dt,
     );
+    let (thrust_force, thrust_moment) = split6(&tau);
+    let extra = fx.force(&ForceContext {
+        t,
+        rigid,
+        thrust_force,
+        thrust_moment,
+        vehicle: p,
+        gravity: env.gravity,
+    });
+    state.tau = tau + extra;
 }
 
 /// Rigid-body integration for one step of `dt` [s] with `state.tau` held constant.
@@ -192,12 +262,13 @@ pub fn integrate_vehicle(
         integrator,
         &model.params.body,
         &state.mass,
-        env,
+        &model.environment(env),
         &mut state.rigid,
         &state.tau,
         dt,
     );
     state.accel = (state.rigid.nu - nu0) / dt;
+    state.time += dt;
 }
 
 /// Advances one vehicle by `dt` [s]: pump, tilt drives and thrusters (→ τ), then the rigid
@@ -214,8 +285,35 @@ pub fn step(
     integrate_vehicle(model, state, env, integrator, dt);
 }
 
-/// Samples the sensors into `out`, drawing noise from `rng`.
+/// Samples the sensors into `out`, drawing noise from `rng`. With a sensor delay among the
+/// model's effects, `out` receives the newest sample at least that old (a fresh sample while
+/// no sample is that old yet: the vehicle is taken to have been as it is now before it
+/// started), and `state` keeps the samples still in flight.
 pub fn sense<R: Rng + ?Sized>(
+    model: &VehicleModel,
+    state: &mut VehicleState,
+    env: &Environment,
+    rng: &mut R,
+    out: &mut SensorReadings,
+) {
+    sample(model, state, env, rng, out);
+    let delay = model.effects.delay();
+    if delay > 0.0 {
+        let now = state.time;
+        state.delayed.push_back((now, out.clone()));
+        // Release the newest reading taken at or before now − delay; keep it at the front.
+        while state.delayed.len() > 1 && state.delayed[1].0 <= now - delay + 1e-9 {
+            state.delayed.pop_front();
+        }
+        if let Some((t, r)) = state.delayed.front()
+            && *t <= now - delay + 1e-9
+        {
+            out.clone_from(r);
+        }
+    }
+}
+
+fn sample<R: Rng + ?Sized>(
     model: &VehicleModel,
     state: &VehicleState,
     env: &Environment,
@@ -223,7 +321,11 @@ pub fn sense<R: Rng + ?Sized>(
     out: &mut SensorReadings,
 ) {
     let p = &model.params;
-    out.depth = p.pressure.read(state.depth_of(&p.pressure.position), rng);
+    let mut depth = state.depth_of(&p.pressure.position);
+    if !model.effects.is_empty() {
+        depth = depth.max(0.0) + model.effects.depth_offset(state.time);
+    }
+    out.depth = p.pressure.read(depth, rng);
     let (v, w) = split6(&state.rigid.nu);
     let (a_lin, _) = split6(&state.accel);
     let accel_body = a_lin + w.cross(&v);

@@ -112,11 +112,11 @@ impl Sim {
         for (i, v) in desc.vehicles.iter().enumerate() {
             let id = i as u32;
             let m = &v.model;
-            let state =
+            let mut state =
                 VehicleState::new(m, RigidState::at_rest(v.position, v.attitude), &desc.env);
             let mut rng = vehicle_rng(desc.seed, id, stream::SENSORS);
             let mut readings = SensorReadings::zeros(m.params.tilts.len());
-            sense(m, &state, &desc.env, &mut rng, &mut readings);
+            sense(m, &mut state, &desc.env, &mut rng, &mut readings);
             let mut control = Control {
                 state: m.controller(),
                 setpoints: Setpoints {

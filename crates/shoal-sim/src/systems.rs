@@ -324,9 +324,9 @@ pub fn collide_system(
     mut q: Query<(&Kind, &mut Physics, &mut ContactStats)>,
 ) {
     let geo = &geo.0;
-    let current = phys.env.current;
     let mut items: Vec<_> = q.iter_mut().collect();
     par.for_each(&mut items, |(kind, p, stats)| {
+        let current = kind.0.environment(&phys.env).current;
         let hull = hull_shape(&kind.0.params.body.hull_size);
         let prev = p.prev_position;
         let rigid = &mut p.state.rigid;
@@ -392,7 +392,7 @@ pub fn sense_system(
     clock: Res<Clock>,
     par: Res<Parallel>,
     phys: Res<Physical>,
-    mut q: Query<(&Kind, &Physics, &Control, &mut SensorRng, &mut Sensors)>,
+    mut q: Query<(&Kind, &mut Physics, &Control, &mut SensorRng, &mut Sensors)>,
 ) {
     let next = clock.step + 1;
     let env = phys.env;
@@ -401,7 +401,7 @@ pub fn sense_system(
         .filter(|it| next.is_multiple_of(it.2.every))
         .collect();
     par.for_each(&mut items, |(kind, p, _, rng, sensors)| {
-        sense(&kind.0, &p.state, &env, &mut rng.0, &mut sensors.0);
+        sense(&kind.0, &mut p.state, &env, &mut rng.0, &mut sensors.0);
     });
 }
 

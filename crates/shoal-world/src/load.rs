@@ -902,7 +902,73 @@ fn validate_vehicle(s: &VehicleSpec, p: &FieldPath, v: &mut Validator<'_>) -> bo
             "mass matrix M_RB + M_A is not symmetric positive definite (check inertia and added_mass)".into());
         return false;
     }
-    true
+    for (i, e) in s.effects.iter().enumerate() {
+        validate_effect(e, &params, &p.key("effects").index(i), v);
+    }
+    v.problems.len() == n0
+}
+
+fn validate_effect(e: &EffectSpec, vehicle: &VehicleParams, p: &FieldPath, v: &mut Validator<'_>) {
+    let Some(effect) = shoal_model::effects::by_name(&e.name) else {
+        let names = shoal_model::effects::names();
+        let hint = suggest(&e.name, &names)
+            .map(|s| format!(" — did you mean `{s}`?"))
+            .unwrap_or_default();
+        v.push(
+            ProblemKind::Reference,
+            &p.key("name"),
+            format!(
+                "unknown effect `{}`{hint} (allowed: {})",
+                e.name,
+                names.join(", ")
+            ),
+        );
+        return;
+    };
+    if let Some(why) = effect.not_applicable(vehicle) {
+        v.push(
+            ProblemKind::Invalid,
+            &p.key("name"),
+            format!("effect `{}` does not apply: {why}", e.name),
+        );
+        return;
+    }
+    let infos = effect.params(vehicle);
+    let names: Vec<&str> = infos.iter().map(|i| i.name).collect();
+    let pp = p.key("params");
+    for (k, &x) in &e.params {
+        match infos.iter().find(|i| i.name == k) {
+            Some(i) => {
+                v.within(&pp, k, x, i.lo, i.hi, i.unit);
+            }
+            None => {
+                let hint = suggest(k, &names)
+                    .map(|s| format!(" — did you mean `{s}`?"))
+                    .unwrap_or_default();
+                v.push(
+                    ProblemKind::UnknownField,
+                    &pp.key(k),
+                    format!(
+                        "unknown parameter `{k}` of effect `{}`{hint} (allowed: {})",
+                        e.name,
+                        names.join(", ")
+                    ),
+                );
+            }
+        }
+    }
+    for i in &infos {
+        if !e.params.contains_key(i.name) {
+            v.push(
+                ProblemKind::MissingField,
+                &pp,
+                format!(
+                    "effect `{}` needs parameter `{}` [{}] ({}; {} … {}, {} = no effect)",
+                    e.name, i.name, i.unit, i.doc, i.lo, i.hi, i.null
+                ),
+            );
+        }
+    }
 }
 
 fn validate_modem(m: &ModemSpec, p: &FieldPath, v: &mut Validator<'_>) {
@@ -1113,7 +1179,8 @@ fn group_vehicles(
             ),
         );
     }
-    let model = Arc::new(VehicleModel::new(params, env.density));
+    let effects = spec.effects(&params);
+    let model = Arc::new(VehicleModel::with_effects(params, effects, env.density));
     let mission = Arc::new(mission(g, &gp, wf, &model, v));
     if let Some(b) = &g.behaviour {
         validate_behaviour(b, &model, &gp.key("behaviour"), wf.duration, v);

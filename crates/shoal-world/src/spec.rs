@@ -507,6 +507,22 @@ pub struct VehicleSpec {
     /// Optical modems.
     #[serde(default)]
     pub modems: Vec<ModemSpec>,
+    /// Model extensions switched on (catalogue in `shoal_model::effects`), e.g. as found and
+    /// fitted by `shoal validate`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub effects: Vec<EffectSpec>,
+}
+
+/// A model extension with its parameters.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EffectSpec {
+    /// Catalogue name (e.g. `thruster_lag`).
+    pub name: String,
+    /// Every parameter of the effect by name, each in the unit its name ends with (e.g.
+    /// `tau_s` in seconds); `shoal validate` writes them, `shoal check` lists the bounds.
+    #[serde(default)]
+    pub params: BTreeMap<String, f64>,
 }
 
 /// Medium access as written in files.
@@ -1095,6 +1111,50 @@ impl VehicleSpec {
                 rate_filter: p.control.rate_filter,
             },
             modems: p.modems.iter().map(ModemSpec::from_params).collect(),
+            effects: Vec::new(),
         }
+    }
+
+    /// The effects for a vehicle with parameters `params` (from [`VehicleSpec::to_params`]).
+    /// Call only after validation: unknown effects are skipped and missing parameters take
+    /// their null values.
+    pub fn effects(&self, params: &VehicleParams) -> shoal_model::effects::Effects {
+        use shoal_model::effects::{EffectInstance, Effects, by_name};
+        Effects::new(
+            self.effects
+                .iter()
+                .filter_map(|e| {
+                    let effect = by_name(&e.name)?;
+                    let values = effect
+                        .params(params)
+                        .iter()
+                        .map(|p| e.params.get(p.name).copied().unwrap_or(p.null))
+                        .collect();
+                    Some(EffectInstance {
+                        effect,
+                        params: values,
+                    })
+                })
+                .collect(),
+        )
+    }
+
+    /// The file form of a list of effects.
+    pub fn effect_specs(
+        list: &[shoal_model::effects::EffectInstance],
+        params: &VehicleParams,
+    ) -> Vec<EffectSpec> {
+        list.iter()
+            .map(|e| EffectSpec {
+                name: e.effect.name().to_string(),
+                params: e
+                    .effect
+                    .params(params)
+                    .iter()
+                    .zip(&e.params)
+                    .map(|(p, &x)| (p.name.to_string(), x))
+                    .collect(),
+            })
+            .collect()
     }
 }

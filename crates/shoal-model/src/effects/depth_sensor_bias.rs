@@ -1,0 +1,54 @@
+//! `depth_sensor_bias`: the depth reading has an offset and a linear drift.
+//!
+//! Pressure sensors drift with temperature and need a zero at the surface that is easily
+//! off (atmospheric pressure changes, a zero taken with the port out of the water). The
+//! reading is `depth + b₀ + b₁·t`: the motion is unchanged, only what the sensor says about
+//! it. In a log the drift looks like a slow sinking or rising that no force explains.
+//!
+//! Note: with the initial depth taken from the first reading, b₀ is observable only where the
+//! physics depends on absolute depth (at the surface).
+
+use super::{Effect, ParamInfo};
+use crate::vehicle::VehicleParams;
+
+/// See the module documentation.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct DepthSensorBias;
+
+impl Effect for DepthSensorBias {
+    fn name(&self) -> &'static str {
+        "depth_sensor_bias"
+    }
+    fn summary(&self) -> &'static str {
+        "depth reading offset b₀ plus linear drift b₁·t"
+    }
+    fn explanation(&self) -> &'static str {
+        "Pressure-sensor zero and temperature drift: the reading is depth + b₀ + b₁·t while \
+         the vehicle's motion is unchanged."
+    }
+    fn params(&self, _vehicle: &VehicleParams) -> Vec<ParamInfo> {
+        vec![
+            ParamInfo {
+                name: "b0_m",
+                unit: "m",
+                lo: -0.5,
+                hi: 0.5,
+                null: 0.0,
+                typical: 0.02,
+                doc: "constant offset of the depth reading",
+            },
+            ParamInfo {
+                name: "b1_m_s",
+                unit: "m/s",
+                lo: -0.02,
+                hi: 0.02,
+                null: 0.0,
+                typical: 5e-4,
+                doc: "drift of the depth reading per second",
+            },
+        ]
+    }
+    fn depth_offset(&self, p: &[f64], t: f64) -> f64 {
+        p[0] + p[1] * t
+    }
+}

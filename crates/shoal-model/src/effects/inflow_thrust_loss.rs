@@ -1,0 +1,49 @@
+//! `inflow_thrust_loss`: thrust falls with the axial inflow speed (dynamic ≠ static thrust).
+//!
+//! A thrust curve measured on a bench is *static*: the propeller works in still water. When
+//! the vehicle moves along the thrust direction, the water enters the propeller at the
+//! advance speed u_a, the advance ratio J = u_a/(nD) grows and the thrust coefficient falls,
+//! K_T ≈ K_T0 (1 − J/J₀) — the μAUV² paper suspects exactly this (static ≠ dynamic thrust).
+//! With the propeller speed n ∝ √|f_static| this gives
+//!
+//! ```text
+//! f = f_static − κ · √|f_static| · u_a
+//! ```
+//!
+//! (and the thrust never changes sign by it). The loss grows with speed and vanishes at rest,
+//! so it looks like extra damping that only acts while the thruster runs.
+
+use super::{Effect, ParamInfo, ThrustContext};
+use crate::vehicle::VehicleParams;
+
+/// See the module documentation.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct InflowThrustLoss;
+
+impl Effect for InflowThrustLoss {
+    fn name(&self) -> &'static str {
+        "inflow_thrust_loss"
+    }
+    fn summary(&self) -> &'static str {
+        "thrust falls with the axial inflow speed (dynamic ≠ static thrust)"
+    }
+    fn explanation(&self) -> &'static str {
+        "Propeller advance ratio: moving along the thrust direction lowers the thrust \
+         coefficient, f = f_static − κ·√|f_static|·u_a with u_a the axial inflow speed."
+    }
+    fn params(&self, _vehicle: &VehicleParams) -> Vec<ParamInfo> {
+        vec![ParamInfo {
+            name: "kappa",
+            unit: "√N·s/m",
+            lo: 0.0,
+            hi: 5.0,
+            null: 0.0,
+            typical: 0.5,
+            doc: "thrust loss per √N of static thrust and m/s of inflow",
+        }]
+    }
+    fn thrust(&self, p: &[f64], ctx: &ThrustContext<'_>, f: f64) -> f64 {
+        let g = f - p[0] * f.abs().sqrt() * ctx.inflow;
+        if g * f < 0.0 { 0.0 } else { g }
+    }
+}

@@ -1,0 +1,313 @@
+//! Model extensions ("effects"): parametric additions to a vehicle model that explain where a
+//! baseline model disagrees with the real vehicle — a thrust lag, a sagging battery, a trim that
+//! is not neutral, a delayed sensor, …
+//!
+//! Every effect is one type implementing [`Effect`], in its own file of this module, listed
+//! once in [`catalogue`]. An effect declares its parameters ([`ParamInfo`]: unit, bounds, the
+//! *null* value at which it vanishes) and overrides only the hooks it needs:
+//!
+//! | hook | when | used by |
+//! |---|---|---|
+//! | [`Effect::configure`] | once, when the model is built | lag, damping, added mass, pump flow |
+//! | [`Effect::current`] | kinematics | water current |
+//! | [`Effect::command`] | each thruster, before the thrust curve | dead band |
+//! | [`Effect::thrust`] | each thruster, after the thrust curve | gain, asymmetry, sag, inflow, saturation |
+//! | [`Effect::force`] | each step, added to the thrusters' force | buoyancy offset, thrust coupling |
+//! | [`Effect::depth_offset`] | each depth reading | depth-sensor bias |
+//! | [`Effect::delay`] | each sensor sample | sensor delay |
+//!
+//! The same effects drive `shoal run` (through [`crate::vehicle::VehicleModel::with_effects`]) and
+//! the model search of `shoal validate`, so a fitted extension runs unchanged in a world. Adding
+//! an effect means adding a file here and a line to [`catalogue`]; nothing in the search changes.
+
+mod added_mass_error;
+mod ballast_mass;
+mod battery_sag;
+mod buoyancy_offset;
+mod damping_error;
+mod depth_sensor_bias;
+mod inflow_thrust_loss;
+mod sensor_delay;
+mod thrust_asymmetry;
+mod thrust_coupling;
+mod thrust_gain;
+mod thrust_saturation;
+mod thruster_deadband;
+mod thruster_lag;
+mod water_current;
+
+pub use added_mass_error::AddedMassError;
+pub use ballast_mass::BallastMass;
+pub use battery_sag::BatterySag;
+pub use buoyancy_offset::BuoyancyOffset;
+pub use damping_error::DampingError;
+pub use depth_sensor_bias::DepthSensorBias;
+pub use inflow_thrust_loss::InflowThrustLoss;
+pub use sensor_delay::SensorDelay;
+pub use thrust_asymmetry::ThrustAsymmetry;
+pub use thrust_coupling::ThrustCoupling;
+pub use thrust_gain::ThrustGain;
+pub use thrust_saturation::ThrustSaturation;
+pub use thruster_deadband::ThrusterDeadband;
+pub use thruster_lag::ThrusterLag;
+pub use water_current::WaterCurrent;
+
+use crate::dynamics::RigidState;
+use crate::math::{Vec3, Vec6};
+use crate::thruster::ThrusterParams;
+use crate::vehicle::VehicleParams;
+use std::fmt;
+use std::sync::Arc;
+
+/// One parameter of an effect.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ParamInfo {
+    /// Name, unique within the effect, with its unit as a suffix where it has one
+    /// (e.g. `tau_s`, `delta_f_n`).
+    pub name: &'static str,
+    /// Unit in words (e.g. `s`, `N`, `-`).
+    pub unit: &'static str,
+    /// Smallest allowed value (in [`ParamInfo::unit`]).
+    pub lo: f64,
+    /// Largest allowed value (in [`ParamInfo::unit`]).
+    pub hi: f64,
+    /// The value at which the effect has no influence (in [`ParamInfo::unit`]).
+    pub null: f64,
+    /// A typical non-null value, used as a second starting point by fits (in
+    /// [`ParamInfo::unit`]).
+    pub typical: f64,
+    /// What the parameter means.
+    pub doc: &'static str,
+}
+
+/// In which order thrust hooks run: every `Command` hook, then the thrust curve, then every
+/// `Scale` hook, then every `Limit` hook (each group in the order the effects were given).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Stage {
+    /// Changes the command or scales the thrust.
+    Scale,
+    /// Limits the thrust (applied last).
+    Limit,
+}
+
+/// What a thrust hook may look at.
+#[derive(Clone, Copy, Debug)]
+pub struct ThrustContext<'a> {
+    /// Time since the start of the run [s].
+    pub t: f64,
+    /// The thruster.
+    pub thruster: &'a ThrusterParams,
+    /// The command after clamping to ±`max_command` [%].
+    pub command: f64,
+    /// Axial inflow: the water's speed into the propeller along its thrust direction, i.e.
+    /// the thruster's velocity through the water projected on its thrust direction [m/s].
+    pub inflow: f64,
+}
+
+/// What a force hook may look at.
+#[derive(Clone, Copy, Debug)]
+pub struct ForceContext<'a> {
+    /// Time since the start of the run [s].
+    pub t: f64,
+    /// The hull's pose and velocity.
+    pub rigid: &'a RigidState,
+    /// Force of all thrusters together, body frame [N].
+    pub thrust_force: Vec3,
+    /// Moment of all thrusters together about the body origin, body frame [N·m].
+    pub thrust_moment: Vec3,
+    /// The vehicle.
+    pub vehicle: &'a VehicleParams,
+    /// Gravitational acceleration [m/s²].
+    pub gravity: f64,
+}
+
+/// A parametric model extension. Parameters arrive as a slice in the order of
+/// [`Effect::params`], already checked against their bounds.
+pub trait Effect: Send + Sync + fmt::Debug {
+    /// Stable name (snake case), as used in files and reports.
+    fn name(&self) -> &'static str;
+    /// What the effect is, in one sentence.
+    fn summary(&self) -> &'static str;
+    /// The physical cause it stands for and how it is modelled (shown in reports).
+    fn explanation(&self) -> &'static str;
+    /// The parameters, with bounds that may depend on the vehicle (e.g. a force bound scaled
+    /// by its weight).
+    fn params(&self, vehicle: &VehicleParams) -> Vec<ParamInfo>;
+    /// Why the effect cannot apply to this vehicle, if it cannot (e.g. no buoyancy tank).
+    fn not_applicable(&self, _vehicle: &VehicleParams) -> Option<String> {
+        None
+    }
+    /// Which group of thrust hooks this effect's [`Effect::thrust`] belongs to.
+    fn stage(&self) -> Stage {
+        Stage::Scale
+    }
+    /// Changes the vehicle's parameters once, when the model is built.
+    fn configure(&self, _p: &[f64], _vehicle: &mut VehicleParams) {}
+    /// A constant water current added to the world's, world frame [m/s].
+    fn current(&self, _p: &[f64]) -> Vec3 {
+        Vec3::zeros()
+    }
+    /// The command [%] that reaches the thrust curve, given the clamped command `n` [%].
+    fn command(&self, _p: &[f64], _thruster: &ThrusterParams, n: f64) -> f64 {
+        n
+    }
+    /// The thrust [N] after this effect, given the thrust `f` [N] so far.
+    fn thrust(&self, _p: &[f64], _ctx: &ThrustContext<'_>, f: f64) -> f64 {
+        f
+    }
+    /// An additional generalised force on the hull, body frame [N, N·m], held over a step.
+    fn force(&self, _p: &[f64], _ctx: &ForceContext<'_>) -> Vec6 {
+        Vec6::zeros()
+    }
+    /// An offset added to the true depth before the pressure sensor reads it [m], at time
+    /// `t` [s] since the start.
+    fn depth_offset(&self, _p: &[f64], _t: f64) -> f64 {
+        0.0
+    }
+    /// How much every measurement lags the truth [s].
+    fn delay(&self, _p: &[f64]) -> f64 {
+        0.0
+    }
+}
+
+/// The built-in effects in catalogue order (see `../shared/spec/validation.md`).
+pub fn catalogue() -> Vec<Arc<dyn Effect>> {
+    vec![
+        Arc::new(ThrusterLag),
+        Arc::new(ThrustGain),
+        Arc::new(ThrustAsymmetry),
+        Arc::new(ThrusterDeadband),
+        Arc::new(BatterySag),
+        Arc::new(InflowThrustLoss),
+        Arc::new(BuoyancyOffset),
+        Arc::new(BallastMass),
+        Arc::new(DampingError),
+        Arc::new(AddedMassError),
+        Arc::new(WaterCurrent),
+        Arc::new(DepthSensorBias),
+        Arc::new(SensorDelay),
+        Arc::new(ThrustCoupling),
+        Arc::new(ThrustSaturation),
+    ]
+}
+
+/// The built-in effect of that name.
+pub fn by_name(name: &str) -> Option<Arc<dyn Effect>> {
+    catalogue().into_iter().find(|e| e.name() == name)
+}
+
+/// Names of the built-in effects in catalogue order.
+pub fn names() -> Vec<&'static str> {
+    catalogue().iter().map(|e| e.name()).collect()
+}
+
+/// One effect with its parameter values.
+#[derive(Clone, Debug)]
+pub struct EffectInstance {
+    /// The effect.
+    pub effect: Arc<dyn Effect>,
+    /// Parameter values in the order of [`Effect::params`] (units as declared there).
+    pub params: Vec<f64>,
+}
+
+impl PartialEq for EffectInstance {
+    fn eq(&self, other: &Self) -> bool {
+        self.effect.name() == other.effect.name() && self.params == other.params
+    }
+}
+
+impl EffectInstance {
+    /// The effect at its null parameters (no influence) for `vehicle`.
+    pub fn null(effect: Arc<dyn Effect>, vehicle: &VehicleParams) -> Self {
+        let params = effect.params(vehicle).iter().map(|p| p.null).collect();
+        Self { effect, params }
+    }
+}
+
+/// The effects active on one vehicle kind, with the hooks combined.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Effects {
+    list: Vec<EffectInstance>,
+    current: Vec3,
+    delay: f64,
+}
+
+impl Effects {
+    /// Combines `list` (thrust hooks run in [`Stage`] order, stable within a stage).
+    pub fn new(mut list: Vec<EffectInstance>) -> Self {
+        let current = list
+            .iter()
+            .map(|e| e.effect.current(&e.params))
+            .fold(Vec3::zeros(), |a, b| a + b);
+        let delay = list.iter().map(|e| e.effect.delay(&e.params)).sum();
+        list.sort_by_key(|e| e.effect.stage());
+        Self {
+            list,
+            current,
+            delay,
+        }
+    }
+
+    /// No effects.
+    pub fn is_empty(&self) -> bool {
+        self.list.is_empty()
+    }
+
+    /// The effects (thrust-hook order).
+    pub fn list(&self) -> &[EffectInstance] {
+        &self.list
+    }
+
+    /// Applies every [`Effect::configure`] hook to `vehicle`.
+    pub fn configure(&self, vehicle: &mut VehicleParams) {
+        for e in &self.list {
+            e.effect.configure(&e.params, vehicle);
+        }
+    }
+
+    /// Extra water current, world frame [m/s].
+    pub fn current(&self) -> Vec3 {
+        self.current
+    }
+
+    /// Total measurement delay [s].
+    pub fn delay(&self) -> f64 {
+        self.delay
+    }
+
+    /// Static thrust [N] of `thruster` for the clamped command `n` [%] with the effects.
+    pub fn thrust(&self, thruster: &ThrusterParams, n: f64, t: f64, inflow: f64) -> f64 {
+        let mut cmd = n;
+        for e in &self.list {
+            cmd = e.effect.command(&e.params, thruster, cmd);
+        }
+        let mut f = thruster.curve.thrust(cmd);
+        let ctx = ThrustContext {
+            t,
+            thruster,
+            command: n,
+            inflow,
+        };
+        for e in &self.list {
+            f = e.effect.thrust(&e.params, &ctx, f);
+        }
+        f
+    }
+
+    /// Sum of the effects' additional forces, body frame [N, N·m].
+    pub fn force(&self, ctx: &ForceContext<'_>) -> Vec6 {
+        let mut f = Vec6::zeros();
+        for e in &self.list {
+            f += e.effect.force(&e.params, ctx);
+        }
+        f
+    }
+
+    /// Sum of the depth-reading offsets at time `t` [s] [m].
+    pub fn depth_offset(&self, t: f64) -> f64 {
+        self.list
+            .iter()
+            .map(|e| e.effect.depth_offset(&e.params, t))
+            .sum()
+    }
+}

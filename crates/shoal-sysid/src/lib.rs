@@ -1,0 +1,26 @@
+//! # shoal-sysid
+//!
+//! `shoal validate`: given logs of a real vehicle, show what the simulation gets wrong, name
+//! the cause, extend the model and measure the gain (`../shared/spec/validation.md`).
+//!
+//! * [`run`] — the measured-run CSV format, parsed with errors that name line and column;
+//! * [`replay`] — the vehicle model driven open-loop by the measured inputs;
+//! * [`data`] — runs split into estimation and validation data, models evaluated on them;
+//! * [`lm`], [`stats`] — bounded Levenberg–Marquardt, whiteness tests and friends;
+//! * [`search`] — per-effect fits, BIC and validation scoring, greedy forward selection with a
+//!   significance rule;
+//! * [`report`] — `report.json`, `report.md` with plots, and the extended `vehicle.toml`;
+//! * [`synth`], [`design`] — synthetic runs with hidden effects and the μAUV² experiments
+//!   that excite every effect.
+//!
+//! The effects themselves live in `shoal_model::effects`, so that `shoal run` uses a fitted
+//! model unchanged.
+
+pub mod data;
+pub mod design;
+pub mod lm;
+pub mod replay;
+pub mod run;
+pub mod search;
+pub mod stats;
+pub mod synth;

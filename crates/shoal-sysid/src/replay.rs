@@ -1,0 +1,369 @@
+//! Replay: the vehicle model driven open-loop by a run's measured inputs.
+//!
+//! The inputs are held between their samples (zero-order hold). Thruster commands go through
+//! the thrust model (curve, lag, effects); tilt angles are the measured angles and are set
+//! directly (a log records where the drives stood, not where they were asked to go); the pump
+//! command is −1/0/+1. The replay starts from the measured initial state (attitude, position
+//! and rates from the first samples; a vehicle whose velocity is not measured starts at rest
+//! relative to the water, as the experiments start at rest) and is sampled at the measurement times through the
+//! deterministic part of the sensor models: the pressure port's depth (clamped at the
+//! surface) plus any depth-sensor effect, attitude, gyro rates plus the gyro bias, tracked
+//! position, velocity over ground, all delayed by any sensor delay.
+//!
+//! Quantisation and noise are not simulated: they are what the residual of a perfect model
+//! consists of.
+
+use crate::run::{ChannelKind, MeasuredRun, RunError};
+use shoal_model::ballast::Pump;
+use shoal_model::control::ActuatorCommands;
+use shoal_model::dynamics::{Integrator, RigidState};
+use shoal_model::math::{Vec3, quat_from_rpy, split6, wrap_pi};
+use shoal_model::rigid_body::Environment;
+use shoal_model::vehicle::{
+    VehicleModel, VehicleParams, VehicleState, actuate_vehicle, integrate_vehicle,
+};
+
+/// Which input column drives which actuator.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct InputMap {
+    /// (thruster index, input column index) [command %].
+    pub thrusters: Vec<(usize, usize)>,
+    /// (tilt index, input column index) [rad].
+    pub tilts: Vec<(usize, usize)>,
+    /// Input column of the pump (−1 empty, 0 off, +1 fill).
+    pub pump: Option<usize>,
+}
+
+impl InputMap {
+    /// Maps the run's `u.` columns onto the vehicle's actuators by name: `u.<thruster>`
+    /// [%], `u.<tilt drive>` [rad], `u.pump`. Actuators without a column stay at zero.
+    pub fn new(params: &VehicleParams, run: &MeasuredRun) -> Result<InputMap, RunError> {
+        let mut map = InputMap::default();
+        for (k, inp) in run.inputs.iter().enumerate() {
+            if let Some(i) = params.thrusters.iter().position(|t| t.name == inp.name) {
+                let max = params.thrusters[i].max_command;
+                if let Some((row, v)) = inp
+                    .values
+                    .iter()
+                    .enumerate()
+                    .find(|(_, v)| v.abs() > max * 1.000_001)
+                {
+                    return Err(input_error(
+                        run,
+                        row,
+                        inp.column,
+                        &inp.name,
+                        format!(
+                            "thruster command {v} % is out of range; allowed: −{max} … {max} %"
+                        ),
+                    ));
+                }
+                map.thrusters.push((i, k));
+            } else if let Some(i) = params.tilts.iter().position(|t| t.name == inp.name) {
+                let (lo, hi) = (params.tilts[i].min, params.tilts[i].max);
+                if let Some((row, v)) = inp
+                    .values
+                    .iter()
+                    .enumerate()
+                    .find(|(_, v)| **v < lo - 1e-6 || **v > hi + 1e-6)
+                {
+                    return Err(input_error(
+                        run,
+                        row,
+                        inp.column,
+                        &inp.name,
+                        format!(
+                            "tilt angle {v} rad is out of range; allowed: {lo:.4} … {hi:.4} rad"
+                        ),
+                    ));
+                }
+                map.tilts.push((i, k));
+            } else if inp.name == "pump" && params.ballast.is_some() {
+                map.pump = Some(k);
+            } else {
+                let mut names: Vec<String> = params
+                    .thrusters
+                    .iter()
+                    .map(|t| format!("u.{}", t.name))
+                    .chain(params.tilts.iter().map(|t| format!("u.{}", t.name)))
+                    .collect();
+                if params.ballast.is_some() {
+                    names.push("u.pump".into());
+                }
+                return Err(RunError {
+                    file: run.path.clone(),
+                    line: 1,
+                    column: Some((inp.column, format!("u.{}", inp.name))),
+                    message: format!(
+                        "vehicle `{}` has no actuator `{}` (its inputs: {})",
+                        params.name,
+                        inp.name,
+                        names.join(", ")
+                    ),
+                });
+            }
+        }
+        Ok(map)
+    }
+}
+
+fn input_error(run: &MeasuredRun, row: usize, column: usize, name: &str, msg: String) -> RunError {
+    RunError {
+        file: run.path.clone(),
+        // Header on line 1, data from line 2 (comments aside: close enough to find it).
+        line: row + 2,
+        column: Some((column, format!("u.{name}"))),
+        message: msg,
+    }
+}
+
+/// Settings of a replay.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ReplayOptions {
+    /// Physics step [s].
+    pub dt: f64,
+    /// Integrator.
+    pub integrator: Integrator,
+}
+
+impl Default for ReplayOptions {
+    fn default() -> Self {
+        Self {
+            dt: 0.01,
+            integrator: Integrator::Rk4,
+        }
+    }
+}
+
+/// The state a replay starts from.
+#[derive(Clone, Debug, PartialEq)]
+pub struct InitialState {
+    /// Roll, pitch, yaw [rad].
+    pub rpy: Vec3,
+    /// World position of the body origin [m] (depth from the first depth reading).
+    pub position: Vec3,
+    /// Body velocity over ground (u, v, w) [m/s], if measured; otherwise the vehicle starts
+    /// at rest relative to the water.
+    pub velocity: Option<Vec3>,
+    /// Body rates (p, q, r) [rad/s].
+    pub rates: Vec3,
+}
+
+impl InitialState {
+    /// The state the run's first samples show: angles, positions and depth from the first
+    /// sample of each channel; rates and velocities from the mean of the samples in the first
+    /// `window` seconds where that mean differs from zero by more than three standard errors
+    /// (a slowly damped yaw would otherwise integrate the gyro noise of the first samples
+    /// into a heading drift); zero where nothing is measured.
+    pub fn from_run(params: &VehicleParams, run: &MeasuredRun, window: f64) -> InitialState {
+        let t0 = run.t[0];
+        let first = |k: ChannelKind| run.channel(k).map(|c| c.values[0]);
+        let mean = |k: ChannelKind| {
+            run.channel(k).map_or(0.0, |c| {
+                let v: Vec<f64> = c
+                    .rows
+                    .iter()
+                    .zip(&c.values)
+                    .filter(|(r, _)| run.t[**r] <= t0 + window)
+                    .map(|(_, v)| *v)
+                    .collect();
+                let n = v.len() as f64;
+                if v.len() < 3 {
+                    return c.values[0];
+                }
+                let m = v.iter().sum::<f64>() / n;
+                let sd = (v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (n - 1.0)).sqrt();
+                if m.abs() > 3.0 * sd / n.sqrt() {
+                    m
+                } else {
+                    0.0
+                }
+            })
+        };
+        let rpy = Vec3::new(
+            first(ChannelKind::Roll).unwrap_or(0.0),
+            first(ChannelKind::Pitch).unwrap_or(0.0),
+            first(ChannelKind::Yaw).unwrap_or(0.0),
+        );
+        let att = quat_from_rpy(rpy.x, rpy.y, rpy.z);
+        let port = att.transform_vector(&params.pressure.position).z;
+        let depth = first(ChannelKind::Depth).map_or(1.0, |d| d - port);
+        InitialState {
+            rpy,
+            position: Vec3::new(
+                first(ChannelKind::X).unwrap_or(0.0),
+                first(ChannelKind::Y).unwrap_or(0.0),
+                depth,
+            ),
+            velocity: [ChannelKind::U, ChannelKind::V, ChannelKind::W]
+                .iter()
+                .any(|k| run.channel(*k).is_some())
+                .then(|| {
+                    Vec3::new(
+                        mean(ChannelKind::U),
+                        mean(ChannelKind::V),
+                        mean(ChannelKind::W),
+                    )
+                }),
+            rates: Vec3::new(
+                mean(ChannelKind::P),
+                mean(ChannelKind::Q),
+                mean(ChannelKind::R),
+            ),
+        }
+    }
+}
+
+/// A replayed run: the model's outputs on a uniform time grid.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Trace {
+    /// Time of the first grid point (the run's first time) [s].
+    pub t0: f64,
+    /// Grid step [s].
+    pub dt: f64,
+    /// The recorded kinds, in column order of `values`.
+    pub kinds: Vec<ChannelKind>,
+    /// Row-major: grid point × kind (units of [`ChannelKind::unit`]).
+    pub values: Vec<f64>,
+}
+
+impl Trace {
+    /// Number of grid points.
+    pub fn len(&self) -> usize {
+        self.values.len() / self.kinds.len().max(1)
+    }
+
+    /// Whether the trace is empty.
+    pub fn is_empty(&self) -> bool {
+        self.values.is_empty()
+    }
+
+    /// The value of column `col` at time `t` [s] (linear interpolation, angles along the
+    /// shorter arc; held constant outside the grid).
+    pub fn at(&self, col: usize, t: f64) -> f64 {
+        let n = self.len();
+        let stride = self.kinds.len();
+        let x = ((t - self.t0) / self.dt).max(0.0);
+        let k = (x.floor() as usize).min(n - 1);
+        let a = self.values[k * stride + col];
+        if k + 1 >= n {
+            return a;
+        }
+        let b = self.values[(k + 1) * stride + col];
+        let f = x - k as f64;
+        if self.kinds[col].is_angle() {
+            wrap_pi(a + wrap_pi(b - a) * f)
+        } else {
+            a + (b - a) * f
+        }
+    }
+}
+
+/// Replays `run` on `model` in water `env` from `init` and records the `kinds`.
+pub fn simulate(
+    model: &VehicleModel,
+    env: &Environment,
+    run: &MeasuredRun,
+    map: &InputMap,
+    init: &InitialState,
+    kinds: &[ChannelKind],
+    opts: &ReplayOptions,
+) -> Trace {
+    let p = &model.params;
+    let dt = opts.dt;
+    let t0 = run.t[0];
+    let t_end = *run.t.last().unwrap_or(&t0);
+    let steps = ((t_end - t0) / dt).ceil().max(0.0) as usize;
+    let env_vehicle = model.environment(env);
+    let mut rigid = RigidState::at_rest(
+        init.position,
+        quat_from_rpy(init.rpy.x, init.rpy.y, init.rpy.z),
+    );
+    rigid.nu.fixed_rows_mut::<3>(3).copy_from(&init.rates);
+    // A measured velocity is over ground; without one, the vehicle drifts with the water.
+    if let Some(v) = init.velocity {
+        let v_rel = v - rigid
+            .attitude
+            .inverse_transform_vector(&env_vehicle.current);
+        rigid.nu.fixed_rows_mut::<3>(0).copy_from(&v_rel);
+    }
+    let mut state = VehicleState::new(model, rigid, env);
+    let mut cmd = ActuatorCommands::zeros(p.thrusters.len(), p.tilts.len());
+    let stride = kinds.len();
+    let mut values = Vec::with_capacity((steps + 1) * stride);
+    let mut row = 0usize;
+    let n_rows = run.t.len();
+    let set_inputs = |row: usize, cmd: &mut ActuatorCommands, state: &mut VehicleState| {
+        for &(i, k) in &map.thrusters {
+            cmd.thrusters[i] = run.inputs[k].values[row];
+        }
+        for &(i, k) in &map.tilts {
+            let a = run.inputs[k].values[row];
+            cmd.tilts[i] = a;
+            state.actuators.tilt[i] = a;
+        }
+        if let Some(k) = map.pump {
+            cmd.pump = Pump::from_sign(run.inputs[k].values[row]);
+        }
+    };
+    set_inputs(0, &mut cmd, &mut state);
+    record(model, &state, &env_vehicle, kinds, &mut values);
+    for s in 0..steps {
+        let t = t0 + s as f64 * dt;
+        while row + 1 < n_rows && run.t[row + 1] <= t + 1e-9 {
+            row += 1;
+        }
+        set_inputs(row, &mut cmd, &mut state);
+        actuate_vehicle(model, &mut state, &cmd, env, dt);
+        integrate_vehicle(model, &mut state, env, opts.integrator, dt);
+        record(model, &state, &env_vehicle, kinds, &mut values);
+    }
+    Trace {
+        t0,
+        dt,
+        kinds: kinds.to_vec(),
+        values,
+    }
+}
+
+fn record(
+    model: &VehicleModel,
+    state: &VehicleState,
+    env: &Environment,
+    kinds: &[ChannelKind],
+    out: &mut Vec<f64>,
+) {
+    let p = &model.params;
+    let rigid = &state.rigid;
+    let (v, w) = split6(&rigid.nu);
+    for k in kinds {
+        let x = match k {
+            ChannelKind::Depth => {
+                state.depth_of(&p.pressure.position).max(0.0)
+                    + model.effects.depth_offset(state.time)
+            }
+            ChannelKind::Roll | ChannelKind::Pitch | ChannelKind::Yaw => {
+                let (r, pi, y) = rigid.attitude.euler_angles();
+                match k {
+                    ChannelKind::Roll => r,
+                    ChannelKind::Pitch => pi,
+                    _ => y,
+                }
+            }
+            ChannelKind::P => w.x + p.imu.gyro_bias.x,
+            ChannelKind::Q => w.y + p.imu.gyro_bias.y,
+            ChannelKind::R => w.z + p.imu.gyro_bias.z,
+            ChannelKind::X => rigid.position.x,
+            ChannelKind::Y => rigid.position.y,
+            ChannelKind::U | ChannelKind::V | ChannelKind::W => {
+                let vg = v + rigid.attitude.inverse_transform_vector(&env.current);
+                match k {
+                    ChannelKind::U => vg.x,
+                    ChannelKind::V => vg.y,
+                    _ => vg.z,
+                }
+            }
+        };
+        out.push(x);
+    }
+}
