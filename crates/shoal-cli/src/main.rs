@@ -1,11 +1,14 @@
-//! `shoal`: run worlds of minuscule AUVs, check world files, benchmark scaling.
+//! `shoal`: run worlds of minuscule AUVs, check world files, validate the model against
+//! measured runs, benchmark scaling.
 //!
-//! Exit codes: 0 success, 1 failure (e.g. cannot write outputs), 2 invalid input (world file),
-//! 130 interrupted by Ctrl-C (outputs up to that moment are written).
+//! Exit codes: 0 success, 1 failure (e.g. cannot write outputs), 2 invalid input (world file,
+//! measured run, vehicle file), 130 interrupted by Ctrl-C (outputs up to that moment are
+//! written).
 
 mod alloc;
 mod bench;
 mod run;
+mod validate;
 
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
@@ -34,6 +37,9 @@ enum Command {
     },
     /// Print a scaling table: vehicles × threads → vehicle-steps/s, real-time factor, memory.
     Bench(bench::BenchArgs),
+    /// Compare measured runs with the vehicle model: what it gets wrong, which catalogue
+    /// effects explain it, the fitted extension (vehicle.toml) and its validation gain.
+    Validate(validate::ValidateArgs),
     /// Print a built-in vehicle model as a runnable world file (every number, to copy and edit).
     Preset {
         /// Preset name.
@@ -62,6 +68,7 @@ fn main() -> ExitCode {
         Command::Run(a) => run::run(&a),
         Command::Check { world } => run::check(&world),
         Command::Preset { name } => run::preset(&name),
+        Command::Validate(a) => validate::validate(&a),
         Command::Bench(a) => bench::bench(&a)
             .map(|()| ExitCode::SUCCESS)
             .map_err(Failure::Other),

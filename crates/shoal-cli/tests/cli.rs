@@ -335,3 +335,148 @@ fn a_world_with_traffic_writes_link_statistics_and_plots() {
     assert!(c["gossip"]["time_to_all_s"].as_f64().unwrap() > 0.0);
     assert!(c["by_distance"].as_array().unwrap().len() > 10);
 }
+
+/// A synthetic diving-mode run of the μAUV² with `effect` hidden in it, as a CSV file.
+fn hidden_run(dir: &Path, name: &str, effect: Option<(&str, Vec<f64>)>, seed: u64) -> PathBuf {
+    use shoal_model::effects::{EffectInstance, Effects, by_name};
+    let effects = Effects::new(
+        effect
+            .into_iter()
+            .map(|(n, p)| EffectInstance {
+                effect: by_name(n).unwrap(),
+                params: p,
+            })
+            .collect(),
+    );
+    let truth = shoal_model::vehicle::VehicleModel::with_effects(
+        shoal_model::presets::uauv2(),
+        effects,
+        1000.0,
+    );
+    let exp = shoal_sysid::design::uauv2_heave(seed, 120.0);
+    let run = shoal_sysid::synth::synthesize(
+        &truth,
+        &shoal_model::rigid_body::Environment::default(),
+        &exp,
+        0.005,
+        seed,
+    );
+    let p = dir.join(format!("{name}.csv"));
+    std::fs::write(&p, run.to_csv()).unwrap();
+    p
+}
+
+#[test]
+fn validate_names_a_hidden_lag_and_writes_a_runnable_model() {
+    let dir = tmp("validate");
+    let est = hidden_run(&dir, "dive_a", Some(("thruster_lag", vec![0.4])), 1);
+    let hold = hidden_run(&dir, "dive_b", Some(("thruster_lag", vec![0.4])), 2);
+    let out = dir.join("report");
+    let o = shoal()
+        .args(["validate", "--quiet", "--dt", "0.02"])
+        .arg(&est)
+        .arg("--holdout")
+        .arg(&hold)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    let (stdout, stderr) = text(&o);
+    assert!(o.status.success(), "{stdout}\n{stderr}");
+    assert!(stdout.contains("Found thruster_lag"), "{stdout}");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    assert_eq!(
+        report["verdict"]["effects"],
+        serde_json::json!(["thruster_lag"])
+    );
+    let tau = report["verdict"]["params"]["thruster_lag.tau_s"]
+        .as_f64()
+        .unwrap();
+    assert!((tau - 0.4).abs() < 0.04, "{tau}");
+    assert!(report["verdict"]["validation_gain_pct"].as_f64().unwrap() > 15.0);
+    assert_eq!(report["verdict"]["residuals_white_after"], true);
+    assert!(report["baseline"]["channels"]["y.depth"]["fit_pct"].is_number());
+    let cands = report["candidates"].as_array().unwrap();
+    assert!(cands.len() >= 15, "every catalogue effect is a candidate");
+    assert_eq!(report["runs"][1]["role"], "holdout");
+    let md = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(md.contains("thruster_lag") && md.contains("![")); // plots embedded
+    assert!(out.join("plots/dive_b_depth.png").exists());
+    assert!(out.join("plots/acf_depth.svg").exists());
+    // The extended model runs.
+    let vehicle = out.join("vehicle.toml");
+    let o = shoal().arg("check").arg(&vehicle).output().unwrap();
+    assert!(o.status.success(), "{:?}", text(&o));
+    let o = shoal()
+        .args(["run", "--quiet", "--no-plots", "--duration", "2", "--out"])
+        .arg(dir.join("run"))
+        .arg(&vehicle)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{:?}", text(&o));
+}
+
+#[test]
+fn malformed_measured_runs_are_rejected_with_line_and_column() {
+    let dir = tmp("badruns");
+    let cases = [
+        (
+            "t,u.port,y.depth\n0,10,1.0\n0.1,10,1.0\n0.1,10,1.0\n",
+            "time.csv:4: column 1 `t`: time 0.1 s does not increase",
+        ),
+        (
+            "t,u.port,y.depth\n0,10,1.0\n0.1,ten,1.0\n",
+            "text.csv:3: column 2 `u.port`: `ten` is not a number",
+        ),
+        (
+            "t,u.port,y.depth,speed\n0,10,1.0,2\n",
+            "column.csv:1: column 4 `speed`: unknown column `speed`",
+        ),
+        (
+            "t,u.port,x.note\n0,10,a\n0.1,10,b\n",
+            "noy.csv:1: no measurement column",
+        ),
+        (
+            "t,u.prot,y.depth\n0,10,1.0\n0.1,10,1.0\n",
+            "actuator.csv:1: column 2 `u.prot`: vehicle `uauv2` has no actuator `prot`",
+        ),
+    ];
+    for (body, want) in cases {
+        let name = want.split(':').next().unwrap();
+        let p = dir.join(name);
+        std::fs::write(&p, body).unwrap();
+        let o = shoal()
+            .args(["validate", "--quiet", "--out"])
+            .arg(dir.join("out"))
+            .arg(&p)
+            .output()
+            .unwrap();
+        let (_, stderr) = text(&o);
+        assert_eq!(o.status.code(), Some(2), "{name}: {stderr}");
+        assert!(stderr.contains(want), "{name}: {stderr}");
+        assert!(!stderr.contains("panicked"));
+    }
+    // A vehicle file with a typo is located too.
+    let v = dir.join("vehicle.toml");
+    std::fs::write(
+        &v,
+        "[[vehicles]]\nposition = [1.0, 1.0, 1.0]\nheadin_deg = 3.0\n",
+    )
+    .unwrap();
+    let run = hidden_run(&dir, "ok", None, 3);
+    let o = shoal()
+        .args(["validate", "--quiet", "--vehicle"])
+        .arg(&v)
+        .arg("--out")
+        .arg(dir.join("out"))
+        .arg(&run)
+        .output()
+        .unwrap();
+    let (_, stderr) = text(&o);
+    assert_eq!(o.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("vehicle.toml:3") && stderr.contains("heading_deg"),
+        "{stderr}"
+    );
+}

@@ -20,6 +20,7 @@ pub mod data;
 pub mod design;
 pub mod lm;
 pub mod replay;
+pub mod report;
 pub mod run;
 pub mod search;
 pub mod stats;

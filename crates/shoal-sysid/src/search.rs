@@ -66,6 +66,8 @@ pub struct SearchOptions {
     pub threads: usize,
     /// Levenberg–Marquardt settings.
     pub lm: LmOptions,
+    /// Effects that are part of the baseline itself (from the vehicle file), fixed.
+    pub base_effects: Vec<EffectInstance>,
 }
 
 impl Default for SearchOptions {
@@ -79,6 +81,7 @@ impl Default for SearchOptions {
             candidates_per_round: 6,
             threads: 1,
             lm: LmOptions::default(),
+            base_effects: Vec::new(),
         }
     }
 }
@@ -144,13 +147,16 @@ impl Fit {
             .collect()
     }
 
-    /// The model.
-    pub fn model(&self, base: &VehicleParams, density: f64) -> VehicleModel {
-        VehicleModel::with_effects(
-            base.clone(),
-            Effects::new(self.effects.iter().map(FittedEffect::instance).collect()),
-            density,
-        )
+    /// The model: `base` with `base_effects` and this fit's effects.
+    pub fn model(
+        &self,
+        base: &VehicleParams,
+        base_effects: &[EffectInstance],
+        density: f64,
+    ) -> VehicleModel {
+        let mut list = base_effects.to_vec();
+        list.extend(self.effects.iter().map(FittedEffect::instance));
+        VehicleModel::with_effects(base.clone(), Effects::new(list), density)
     }
 }
 
@@ -243,7 +249,7 @@ struct Ctx<'a> {
 
 impl Ctx<'_> {
     fn model(&self, effects: &[Arc<dyn Effect>], values: &[f64]) -> VehicleModel {
-        let mut list = Vec::new();
+        let mut list = self.opts.base_effects.clone();
         let mut i = 0;
         for e in effects {
             let n = e.params(self.base).len();
@@ -665,7 +671,11 @@ pub fn search(
     opts: &SearchOptions,
     progress: &(dyn Fn(&str) + Sync),
 ) -> Outcome {
-    let base_model = VehicleModel::new(base.clone(), ds.env.density);
+    let base_model = VehicleModel::with_effects(
+        base.clone(),
+        Effects::new(opts.base_effects.clone()),
+        ds.env.density,
+    );
     let base_eval = ds.evaluate(&base_model);
     let factors = base_eval.ml_factors();
     let baseline = Fit {
@@ -924,7 +934,7 @@ fn judge(
     }
     if !ok_gain {
         why.push(format!(
-            "validation gain {:.1} % < {:.1} %",
+            "validation gain {:.2} % < {:.1} %",
             100.0 * g,
             100.0 * opts.min_gain
         ));

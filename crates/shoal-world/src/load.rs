@@ -42,6 +42,52 @@ pub fn default_world() -> Result<WorldDesc, WorldError> {
     load_str(DEFAULT_WORLD, Path::new(EMBEDDED_NAME))
 }
 
+/// A vehicle model taken from a world file: the merged model of its first vehicle group and
+/// the world's water.
+#[derive(Clone, Debug)]
+pub struct VehicleFile {
+    /// The model in file form (preset and overrides merged).
+    pub spec: VehicleSpec,
+    /// The world's water (density, gravity, current).
+    pub env: Environment,
+}
+
+/// Loads a vehicle model "in the world-file format": a world file whose first vehicle group
+/// describes the vehicle (as `shoal preset` prints it and `shoal validate` writes it). The
+/// whole world is validated.
+pub fn load_vehicle(path: &Path) -> Result<VehicleFile, WorldError> {
+    let desc = load_file(path)?;
+    let text = std::fs::read_to_string(path).unwrap_or_default();
+    let sm = SourceMap::new(&text);
+    let wf = parse_world_file(&text, path, &sm)?;
+    let mut v = Validator {
+        sm: &sm,
+        problems: Vec::new(),
+    };
+    let Some(g) = wf.vehicles.first() else {
+        return Err(WorldError::single(
+            path,
+            Problem {
+                kind: ProblemKind::MissingField,
+                field: Some(FieldPath::root().key("vehicles")),
+                line_col: None,
+                message: "no vehicle group: a vehicle file needs one [[vehicles]] entry".into(),
+            },
+        ));
+    };
+    let gp = FieldPath::root().key("vehicles").index(0);
+    match vehicle_spec(g.preset.as_deref(), g.model.as_ref(), &gp, &mut v) {
+        Some(spec) => Ok(VehicleFile {
+            spec,
+            env: desc.env,
+        }),
+        None => Err(WorldError {
+            file: path.to_path_buf(),
+            problems: v.problems,
+        }),
+    }
+}
+
 /// Parses `text` as the world file `file` (only used in messages) and validates it.
 pub fn load_str(text: &str, file: &Path) -> Result<WorldDesc, WorldError> {
     let sm = SourceMap::new(text);

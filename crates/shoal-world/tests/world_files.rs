@@ -218,3 +218,64 @@ fn custom_vehicle_must_be_complete() {
     assert_eq!(e.first().kind, ProblemKind::MissingField);
     assert!(e.to_string().contains("whole model"), "{e}");
 }
+
+const WITH_EFFECTS: &str = "[pool]\nsize = [4.0, 4.0, 2.0]\n[[vehicles]]\nposition = [1.0, 1.0, 0.5]\n\
+[[vehicles.model.effects]]\nname = \"thruster_lag\"\nparams = { tau_s = 0.3 }\n\
+[[vehicles.model.effects]]\nname = \"water_current\"\nparams = { vx_m_s = 0.02, vy_m_s = 0.0 }\n";
+
+#[test]
+fn effects_in_a_world_file_reach_the_model() {
+    let w = load_str(WITH_EFFECTS, Path::new("fx.toml")).unwrap();
+    let m = &w.vehicles[0].model;
+    let names: Vec<&str> = m.effects.list().iter().map(|e| e.effect.name()).collect();
+    assert_eq!(names, ["thruster_lag", "water_current"]);
+    // Configure hooks applied: the lag is in the thrusters; the current in the vehicle's water.
+    assert!(
+        m.params
+            .thrusters
+            .iter()
+            .all(|t| (t.lag - 0.3).abs() < 1e-15)
+    );
+    assert_eq!(m.environment(&w.env).current.x, 0.02);
+    // The controller is designed on the model as given.
+    let plain = load_str(ONE, Path::new("one.toml")).unwrap();
+    assert_eq!(m.uauv2, plain.vehicles[0].model.uauv2);
+}
+
+#[test]
+fn bad_effects_are_located_with_allowed_values() {
+    let e = err(&WITH_EFFECTS.replace("thruster_lag", "thruster_lagg"));
+    let msg = e.to_string();
+    assert!(
+        msg.contains("unknown effect `thruster_lagg`")
+            && msg.contains("did you mean `thruster_lag`"),
+        "{msg}"
+    );
+    assert!(msg.starts_with("bad.toml:6:"), "{msg}");
+    let e = err(&WITH_EFFECTS.replace("tau_s = 0.3", "tau_s = 7.0"));
+    let msg = e.to_string();
+    assert!(
+        msg.contains("tau_s") && msg.contains("7 is out of range") && msg.contains("≤ 2 s"),
+        "{msg}"
+    );
+    let e = err(&WITH_EFFECTS.replace("tau_s = 0.3", "tau = 0.3"));
+    let msg = e.to_string();
+    assert!(
+        msg.contains("unknown parameter `tau`") && msg.contains("did you mean `tau_s`"),
+        "{msg}"
+    );
+    let e = err(&WITH_EFFECTS.replace(", vy_m_s = 0.0", ""));
+    assert!(e.to_string().contains("needs parameter `vy_m_s`"), "{e}");
+}
+
+#[test]
+fn a_model_with_effects_round_trips_through_vehicle_world_toml() {
+    let w = load_str(WITH_EFFECTS, Path::new("fx.toml")).unwrap();
+    let m = &w.vehicles[0].model;
+    let mut spec = VehicleSpec::from_params(&shoal_model::presets::uauv2());
+    spec.effects = VehicleSpec::effect_specs(m.effects.list(), &spec.to_params());
+    let text = vehicle_world_toml(&spec, [2.0, 2.0, 1.0]).unwrap();
+    let again = load_str(&text, Path::new("again.toml")).unwrap();
+    assert_eq!(again.vehicles[0].model.effects, m.effects);
+    assert_eq!(again.vehicles[0].model.params, m.params);
+}

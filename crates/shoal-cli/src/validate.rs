@@ -1,0 +1,260 @@
+//! `shoal validate`: measured runs → what the model gets wrong, the effects that explain it,
+//! the fitted extension and its gain on data it did not fit.
+
+use crate::Failure;
+use anyhow::Context;
+use indicatif::{ProgressBar, ProgressStyle};
+use shoal_model::effects;
+use shoal_model::presets;
+use shoal_model::rigid_body::Environment;
+use shoal_sysid::data::{DataOptions, Dataset};
+use shoal_sysid::replay::ReplayOptions;
+use shoal_sysid::report::{ReportInput, verdict_sentence, write_report};
+use shoal_sysid::run::{ChannelKind, MeasuredRun};
+use shoal_sysid::search::{SearchOptions, search};
+use shoal_world::load::load_vehicle;
+use shoal_world::spec::VehicleSpec;
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+/// Arguments of `shoal validate`.
+#[derive(clap::Args, Debug)]
+pub struct ValidateArgs {
+    /// Measured runs (CSV, see docs/validation.md) to fit on; without --holdout each is split
+    /// into an estimation part and a later validation part.
+    #[arg(required = true, value_name = "RUN.csv")]
+    pub runs: Vec<PathBuf>,
+    /// Runs used only for scoring, never for fitting.
+    #[arg(long, num_args = 1.., value_name = "RUN.csv")]
+    pub holdout: Vec<PathBuf>,
+    /// Vehicle model in the world-file format (its first vehicle group) [default: the μAUV²
+    /// preset].
+    #[arg(long, value_name = "FILE")]
+    pub vehicle: Option<PathBuf>,
+    /// Output folder for report.json, report.md, plots and vehicle.toml.
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+    /// Fraction of each run used for estimation when no hold-out runs are given (0…1).
+    #[arg(long, default_value_t = 0.6)]
+    pub split: f64,
+    /// Replay time step [s].
+    #[arg(long, default_value_t = 0.01)]
+    pub dt: f64,
+    /// Use only these measurements (comma separated, e.g. y.r,y.depth).
+    #[arg(long, value_delimiter = ',', value_name = "y.NAME")]
+    pub channels: Vec<String>,
+    /// Consider only these effects (comma separated) [default: the whole catalogue].
+    #[arg(long, value_delimiter = ',', value_name = "EFFECT")]
+    pub effects: Vec<String>,
+    /// Worker threads for candidate fits (results do not depend on it) [default: all cores].
+    #[arg(long, value_parser = clap::value_parser!(u16).range(1..=256))]
+    pub threads: Option<u16>,
+    /// Skip plots.
+    #[arg(long)]
+    pub no_plots: bool,
+    /// Print only the summary.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+/// `shoal validate`.
+pub fn validate(args: &ValidateArgs) -> Result<ExitCode, Failure> {
+    if !(args.dt > 0.0 && args.dt <= 0.1) {
+        return Err(Failure::Input(format!(
+            "--dt {}: allowed 0 < dt ≤ 0.1 s",
+            args.dt
+        )));
+    }
+    if args.holdout.is_empty() && !(args.split > 0.0 && args.split < 1.0) {
+        return Err(Failure::Input(format!(
+            "--split {}: allowed 0 < split < 1",
+            args.split
+        )));
+    }
+    let channels = if args.channels.is_empty() {
+        None
+    } else {
+        let mut v = Vec::new();
+        for c in &args.channels {
+            let name = c.strip_prefix("y.").unwrap_or(c);
+            match ChannelKind::from_name(name) {
+                Some(k) => v.push(k),
+                None => {
+                    let all: Vec<String> = ChannelKind::ALL
+                        .iter()
+                        .map(|(_, n)| format!("y.{n}"))
+                        .collect();
+                    return Err(Failure::Input(format!(
+                        "--channels: unknown measurement `{c}` (allowed: {})",
+                        all.join(", ")
+                    )));
+                }
+            }
+        }
+        Some(v)
+    };
+    let mut catalogue = effects::catalogue();
+    if !args.effects.is_empty() {
+        for e in &args.effects {
+            if effects::by_name(e).is_none() {
+                return Err(Failure::Input(format!(
+                    "--effects: unknown effect `{e}` (allowed: {})",
+                    effects::names().join(", ")
+                )));
+            }
+        }
+        catalogue.retain(|e| args.effects.iter().any(|n| n == e.name()));
+    }
+    let (spec, env, source) = match &args.vehicle {
+        Some(p) => {
+            let vf = load_vehicle(p).map_err(|e| Failure::Input(e.to_string()))?;
+            (vf.spec, vf.env, format!("`{}`", p.display()))
+        }
+        None => (
+            VehicleSpec::from_params(&presets::uauv2()),
+            Environment::default(),
+            "the built-in `uauv2` preset (`shoal preset uauv2`)".to_string(),
+        ),
+    };
+    let params = spec.to_params();
+    let base_effects = spec.effects(&params).list().to_vec();
+    let read = |paths: &[PathBuf]| -> Result<Vec<MeasuredRun>, Failure> {
+        paths
+            .iter()
+            .map(|p| MeasuredRun::read(p).map_err(|e| Failure::Input(e.to_string())))
+            .collect()
+    };
+    let est = read(&args.runs)?;
+    let hold = read(&args.holdout)?;
+    let ds = Dataset::new(
+        &params,
+        env,
+        est,
+        hold,
+        &DataOptions {
+            split: args.split,
+            channels,
+            replay: ReplayOptions {
+                dt: args.dt,
+                ..Default::default()
+            },
+        },
+    )
+    .map_err(|e| Failure::Input(e.to_string()))?;
+    let threads = args.threads.map_or_else(
+        || std::thread::available_parallelism().map_or(1, |n| n.get().min(8)),
+        usize::from,
+    );
+    let opts = SearchOptions {
+        effects: catalogue,
+        threads,
+        base_effects,
+        ..Default::default()
+    };
+    if !args.quiet {
+        eprintln!(
+            "shoal: validating `{}` on {} run(s){} — {} effects, {} thread(s) → {}",
+            spec.name,
+            args.runs.len(),
+            if args.holdout.is_empty() {
+                format!(
+                    " (split {:.0} % / {:.0} %)",
+                    100.0 * args.split,
+                    100.0 * (1.0 - args.split)
+                )
+            } else {
+                format!(" + {} hold-out run(s)", args.holdout.len())
+            },
+            opts.effects.len(),
+            threads,
+            args.out.display()
+        );
+    }
+    let pb = if args.quiet {
+        ProgressBar::hidden()
+    } else {
+        ProgressBar::new_spinner()
+    };
+    pb.set_style(
+        ProgressStyle::with_template("{spinner} [{elapsed_precise}] {pos} fits  {msg}")
+            .unwrap_or_else(|_| ProgressStyle::default_spinner()),
+    );
+    let start = Instant::now();
+    let outcome = search(&ds, &params, &opts, &|name| {
+        pb.inc(1);
+        pb.set_message(format!("last: {name}"));
+    });
+    pb.finish_and_clear();
+    let written = write_report(
+        &args.out,
+        &ReportInput {
+            ds: &ds,
+            vehicle: &spec,
+            vehicle_source: source,
+            opts: &opts,
+            outcome: &outcome,
+            plots: !args.no_plots,
+        },
+    )
+    .with_context(|| format!("cannot write the report into {}", args.out.display()))?;
+    let wall = start.elapsed().as_secs_f64();
+    println!("{}", verdict_sentence(&outcome));
+    println!();
+    println!(
+        "{:<10} {:>14} {:>14} {:>8} {:>10} {:>10}",
+        "channel", "RMSE before", "RMSE after", "gain", "fit% bef.", "fit% aft."
+    );
+    for (k, mb) in &outcome.baseline.eval.metrics {
+        let mf = &outcome.chosen.eval.metrics[k];
+        let gain = if mb.rmse > 0.0 {
+            100.0 * (1.0 - mf.rmse / mb.rmse)
+        } else {
+            0.0
+        };
+        println!(
+            "{:<10} {:>10.4} {:<3} {:>10.4} {:<3} {:>7.1}% {:>10.1} {:>10.1}",
+            format!("y.{}", k.name()),
+            mb.rmse,
+            k.unit(),
+            mf.rmse,
+            k.unit(),
+            gain,
+            mb.fit_pct,
+            mf.fit_pct
+        );
+    }
+    let white = |e: &shoal_sysid::data::Evaluation| e.metrics.values().all(|m| m.ljung_box.white());
+    println!(
+        "\nresiduals white (Ljung–Box 5 %): before {}, after {}",
+        if white(&outcome.baseline.eval) {
+            "yes"
+        } else {
+            "no"
+        },
+        if white(&outcome.chosen.eval) {
+            "yes"
+        } else {
+            "no"
+        }
+    );
+    let fits = outcome
+        .candidates
+        .iter()
+        .filter(|c| c.fit.is_some())
+        .count();
+    let evals: usize = outcome
+        .candidates
+        .iter()
+        .filter_map(|c| c.fit.as_ref())
+        .map(|f| f.evaluations)
+        .sum();
+    println!(
+        "{fits} candidate fits, {evals} replays in {wall:.1} s\nwrote {}, {}, {} ({} plot files)",
+        written.json.display(),
+        written.markdown.display(),
+        written.vehicle.display(),
+        written.plots.len()
+    );
+    Ok(ExitCode::SUCCESS)
+}
