@@ -40,6 +40,14 @@ enum Command {
     /// Compare measured runs with the vehicle model: what it gets wrong, which catalogue
     /// effects explain it, the fitted extension (vehicle.toml) and its validation gain.
     Validate(validate::ValidateArgs),
+    /// Print the effect catalogue of `validate` as a Markdown table: every parameter with its
+    /// unit, bounds (for the given vehicle) and null value.
+    Effects {
+        /// Vehicle model in the world-file format (bounds depend on it) [default: the μAUV²
+        /// preset].
+        #[arg(long, value_name = "FILE")]
+        vehicle: Option<PathBuf>,
+    },
     /// Print a built-in vehicle model as a runnable world file (every number, to copy and edit).
     Preset {
         /// Preset name.
@@ -69,6 +77,7 @@ fn main() -> ExitCode {
         Command::Check { world } => run::check(&world),
         Command::Preset { name } => run::preset(&name),
         Command::Validate(a) => validate::validate(&a),
+        Command::Effects { vehicle } => validate::effects_table(vehicle.as_deref()),
         Command::Bench(a) => bench::bench(&a)
             .map(|()| ExitCode::SUCCESS)
             .map_err(Failure::Other),

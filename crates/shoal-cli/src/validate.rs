@@ -14,7 +14,7 @@ use shoal_sysid::run::{ChannelKind, MeasuredRun};
 use shoal_sysid::search::{SearchOptions, search};
 use shoal_world::load::load_vehicle;
 use shoal_world::spec::VehicleSpec;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
@@ -202,7 +202,7 @@ pub fn validate(args: &ValidateArgs) -> Result<ExitCode, Failure> {
     println!("{}", verdict_sentence(&outcome));
     println!();
     println!(
-        "{:<10} {:>14} {:>14} {:>8} {:>10} {:>10}",
+        "{:<10} {:>16} {:>16} {:>8} {:>10} {:>10}",
         "channel", "RMSE before", "RMSE after", "gain", "fit% bef.", "fit% aft."
     );
     for (k, mb) in &outcome.baseline.eval.metrics {
@@ -213,12 +213,10 @@ pub fn validate(args: &ValidateArgs) -> Result<ExitCode, Failure> {
             0.0
         };
         println!(
-            "{:<10} {:>10.4} {:<3} {:>10.4} {:<3} {:>7.1}% {:>10.1} {:>10.1}",
+            "{:<10} {:>16} {:>16} {:>7.1}% {:>10.1} {:>10.1}",
             format!("y.{}", k.name()),
-            mb.rmse,
-            k.unit(),
-            mf.rmse,
-            k.unit(),
+            format!("{:.4} {:<5}", mb.rmse, k.unit()),
+            format!("{:.4} {:<5}", mf.rmse, k.unit()),
             gain,
             mb.fit_pct,
             mf.fit_pct
@@ -257,4 +255,62 @@ pub fn validate(args: &ValidateArgs) -> Result<ExitCode, Failure> {
         written.plots.len()
     );
     Ok(ExitCode::SUCCESS)
+}
+
+/// `shoal effects`: the catalogue as a Markdown table for the vehicle in `vehicle` (default:
+/// the μAUV² preset), since some bounds scale with the vehicle (its weight, its length).
+pub fn effects_table(vehicle: Option<&Path>) -> Result<ExitCode, Failure> {
+    let (params, name) = match vehicle {
+        Some(p) => {
+            let vf = load_vehicle(p).map_err(|e| Failure::Input(e.to_string()))?;
+            (vf.spec.to_params(), format!("`{}`", p.display()))
+        }
+        None => (presets::uauv2(), "the μAUV² preset".to_string()),
+    };
+    println!("Effect catalogue for {name} (bounds in the parameter's unit):\n");
+    println!("| effect | what | parameter | unit | bounds | null | meaning |");
+    println!("|---|---|---|---|---|---|---|");
+    for e in effects::catalogue() {
+        if let Some(why) = e.not_applicable(&params) {
+            println!(
+                "| `{}` | {} | — | | | | does not apply: {why} |",
+                e.name(),
+                cell(e.summary())
+            );
+            continue;
+        }
+        for (i, p) in e.params(&params).iter().enumerate() {
+            let (n, w) = if i == 0 {
+                (format!("`{}`", e.name()), cell(e.summary()))
+            } else {
+                (String::new(), String::new())
+            };
+            println!(
+                "| {n} | {w} | `{}` | {} | {} … {} | {} | {} |",
+                p.name,
+                p.unit,
+                fmt(p.lo),
+                fmt(p.hi),
+                fmt(p.null),
+                cell(p.doc)
+            );
+        }
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Text for a Markdown table cell (pipes escaped).
+fn cell(s: &str) -> String {
+    s.replace('|', "\\|")
+}
+
+/// A bound or null value, short.
+fn fmt(x: f64) -> String {
+    let t = format!("{x}");
+    if t.len() <= 8 {
+        t
+    } else {
+        let s = format!("{x:.4}");
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    }
 }

@@ -480,3 +480,109 @@ fn malformed_measured_runs_are_rejected_with_line_and_column() {
         "{stderr}"
     );
 }
+
+/// The real BlueROV pool logs (not shipped: read from `../shared/data` beside the checkout)
+/// converted by `examples/bluerov1/convert.py` and validated against `worlds/bluerov1.toml`:
+/// the extended model must predict the two hold-out runs clearly better than the baseline on
+/// every channel, and name the excess yaw authority of the baseline as too little damping.
+#[test]
+fn bluerov_logs_are_explained_better_on_hold_out_runs() {
+    let data = repo().join("../shared/data/bluerov1_liu2016");
+    if !data.is_dir() {
+        eprintln!("skipped: no BlueROV logs at {}", data.display());
+        return;
+    }
+    if Command::new("python3").arg("--version").output().is_err() {
+        eprintln!("skipped: python3 not found (needed by examples/bluerov1/convert.py)");
+        return;
+    }
+    let dir = tmp("bluerov");
+    let runs = dir.join("runs");
+    let o = Command::new("python3")
+        .arg(repo().join("examples/bluerov1/convert.py"))
+        .arg(&data)
+        .arg(&runs)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{:?}", text(&o));
+    let out = dir.join("report");
+    let o = shoal()
+        .args(["validate", "--quiet", "--channels", "y.r,y.yaw,y.depth"])
+        .args(["--vehicle"])
+        .arg(repo().join("worlds/bluerov1.toml"))
+        .args(["yaw_1", "yaw_2", "yaw_3"].map(|r| runs.join(format!("{r}.csv"))))
+        .args(["--holdout"])
+        .arg(runs.join("yaw_4.csv"))
+        .args(["--holdout"])
+        .arg(runs.join("yaw_5.csv"))
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    let (stdout, stderr) = text(&o);
+    assert!(o.status.success(), "{stdout}\n{stderr}");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    let v = &report["verdict"];
+    let effects: Vec<&str> = v["effects"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e.as_str().unwrap())
+        .collect();
+    assert!(effects.contains(&"damping_error"), "{effects:?}");
+    let gain = v["validation_gain_pct"].as_f64().unwrap();
+    assert!(gain > 30.0, "hold-out gain {gain} %");
+    for ch in ["y.r", "y.yaw", "y.depth"] {
+        let g = v["channels"][ch]["gain_pct"].as_f64().unwrap();
+        assert!(g > 5.0, "{ch}: hold-out gain {g} %");
+    }
+    assert_eq!(report["runs"][4]["role"], "holdout");
+    let o = shoal()
+        .arg("check")
+        .arg(out.join("vehicle.toml"))
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{:?}", text(&o));
+}
+
+/// `shoal effects` lists every catalogue effect with its parameters, and docs/validation.md
+/// shows exactly that table for the μAUV² preset (so the docs cannot drift from the code).
+#[test]
+fn effect_catalogue_table_matches_the_docs() {
+    let o = shoal().arg("effects").output().unwrap();
+    let (stdout, stderr) = text(&o);
+    assert!(o.status.success(), "{stderr}");
+    for name in shoal_model::effects::names() {
+        assert!(
+            stdout.contains(&format!("| `{name}` |")),
+            "{name} missing:\n{stdout}"
+        );
+    }
+    let table: Vec<&str> = stdout.lines().filter(|l| l.starts_with('|')).collect();
+    let docs = std::fs::read_to_string(repo().join("docs/validation.md")).unwrap();
+    let start = docs
+        .find(table[0])
+        .expect("docs/validation.md contains the catalogue table");
+    let doc_rows: Vec<&str> = docs[start..]
+        .lines()
+        .take_while(|l| l.starts_with('|'))
+        .collect();
+    assert_eq!(
+        doc_rows, table,
+        "docs/validation.md is out of date: paste the output of `shoal effects`"
+    );
+    // Bounds follow the vehicle; the BlueROV has no tank.
+    let o = shoal()
+        .args(["effects", "--vehicle"])
+        .arg(repo().join("worlds/bluerov1.toml"))
+        .output()
+        .unwrap();
+    let (blue, _) = text(&o);
+    // ±10 % of its weight: 0.1 · 6.621 kg · 9.81 m/s² = 6.4952 N.
+    assert!(blue.contains("| N | -6.4952 … 6.4952 |"), "{blue}");
+    assert!(
+        blue.contains("does not apply: the vehicle has no buoyancy tank"),
+        "{blue}"
+    );
+}

@@ -92,7 +92,7 @@ impl InputMap {
                 }
                 return Err(RunError {
                     file: run.path.clone(),
-                    line: 1,
+                    line: run.header_line,
                     column: Some((inp.column, format!("u.{}", inp.name))),
                     message: format!(
                         "vehicle `{}` has no actuator `{}` (its inputs: {})",
@@ -110,8 +110,7 @@ impl InputMap {
 fn input_error(run: &MeasuredRun, row: usize, column: usize, name: &str, msg: String) -> RunError {
     RunError {
         file: run.path.clone(),
-        // Header on line 1, data from line 2 (comments aside: close enough to find it).
-        line: row + 2,
+        line: run.lines.get(row).copied().unwrap_or(0),
         column: Some((column, format!("u.{name}"))),
         message: msg,
     }
@@ -365,5 +364,33 @@ fn record(
             }
         };
         out.push(x);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    #[test]
+    fn input_errors_name_the_file_line_after_comments() {
+        let text = "# a comment\n# another\nt,u.port,y.depth\n0,10,1\n0.1,,1\n0.2,120,1\n";
+        let run = MeasuredRun::parse(text, Path::new("r.csv")).unwrap();
+        assert_eq!(run.header_line, 3);
+        assert_eq!(run.lines, vec![4, 5, 6]);
+        let params = shoal_model::presets::uauv2();
+        // A command beyond ±100 % is reported on the row where it is set.
+        let e = InputMap::new(&params, &run).unwrap_err();
+        assert_eq!((e.line, e.column.clone()), (6, Some((2, "u.port".into()))));
+        assert!(e.message.contains("−100 … 100 %"), "{}", e.message);
+        // An unknown actuator is reported on the header line.
+        let text = text.replace("u.port", "u.rudder");
+        let run = MeasuredRun::parse(&text, Path::new("r.csv")).unwrap();
+        let e = InputMap::new(&params, &run).unwrap_err();
+        assert_eq!(
+            (e.line, e.column.clone()),
+            (3, Some((2, "u.rudder".into())))
+        );
+        assert!(e.message.contains("u.port"), "{}", e.message);
     }
 }

@@ -590,10 +590,14 @@ fn markdown(
         for p in e.params.iter().filter(|p| p.excited) {
             let _ = writeln!(
                 s,
-                "  - `{}` = {} {} (null {}; white-residual σ {})",
+                "  - `{}` = {}{} (null {}; white-residual σ {})",
                 p.name,
                 fmt_pm(p.value, p.sigma),
-                p.unit,
+                if p.unit == "-" || p.unit.is_empty() {
+                    String::new()
+                } else {
+                    format!(" {}", p.unit)
+                },
                 sig(p.null),
                 p.sigma_white.map_or("—".into(), sig)
             );

@@ -146,6 +146,10 @@ pub struct MeasuredRun {
     pub channels: Vec<Channel>,
     /// Names of ignored `x.` columns.
     pub extra: Vec<String>,
+    /// 1-based line of the header in the file (0 for runs not read from a file).
+    pub header_line: usize,
+    /// 1-based file line of each row (empty for runs not read from a file).
+    pub lines: Vec<usize>,
 }
 
 /// A problem with a measured-run file.
@@ -203,7 +207,13 @@ impl MeasuredRun {
         let mut records = rdr.records();
         let header = match records.next() {
             Some(Ok(h)) => h,
-            Some(Err(e)) => return Err(err(csv_line(&e), None, format!("not valid CSV: {e}"))),
+            Some(Err(e)) => {
+                return Err(err(
+                    line_of(text, e.position()),
+                    None,
+                    format!("not valid CSV: {e}"),
+                ));
+            }
             None => {
                 return Err(err(
                     0,
@@ -212,7 +222,7 @@ impl MeasuredRun {
                 ));
             }
         };
-        let header_line = header.position().map_or(1, |p| p.line() as usize);
+        let header_line = line_of(text, header.position());
         let names: Vec<String> = header.iter().map(str::to_string).collect();
         enum Col {
             Time,
@@ -316,9 +326,16 @@ impl MeasuredRun {
             ));
         }
         let mut t: Vec<f64> = Vec::new();
+        let mut lines: Vec<usize> = Vec::new();
         for rec in records {
-            let rec = rec.map_err(|e| err(csv_line(&e), None, format!("not valid CSV: {e}")))?;
-            let line = rec.position().map_or(0, |p| p.line() as usize);
+            let rec = rec.map_err(|e| {
+                err(
+                    line_of(text, e.position()),
+                    None,
+                    format!("not valid CSV: {e}"),
+                )
+            })?;
+            let line = line_of(text, rec.position());
             if rec.len() == 1 && rec.get(0).is_some_and(str::is_empty) {
                 continue; // blank line
             }
@@ -382,6 +399,7 @@ impl MeasuredRun {
                             ));
                         }
                         t.push(v);
+                        lines.push(line);
                     }
                     Col::Input(k) => raw_inputs[k].push(value),
                     Col::Output(k) => {
@@ -440,6 +458,8 @@ impl MeasuredRun {
             inputs,
             channels,
             extra,
+            header_line,
+            lines,
         })
     }
 
@@ -493,8 +513,26 @@ impl MeasuredRun {
     }
 }
 
-fn csv_line(e: &csv::Error) -> usize {
-    e.position().map_or(0, |p| p.line() as usize)
+/// 1-based line of the record at a csv position (0 if unknown). The csv crate neither counts
+/// comment lines nor skips them in the position it reports, so the line is counted from the
+/// byte offset, past any comment lines there.
+fn line_of(text: &str, p: Option<&csv::Position>) -> usize {
+    let Some(p) = p else { return 0 };
+    let mut at = (p.byte() as usize).min(text.len());
+    let mut line = 1 + text.as_bytes()[..at]
+        .iter()
+        .filter(|b| **b == b'\n')
+        .count();
+    while text[at..].trim_start_matches([' ', '\t']).starts_with('#') {
+        match text[at..].find('\n') {
+            Some(n) => {
+                at += n + 1;
+                line += 1;
+            }
+            None => break,
+        }
+    }
+    line
 }
 
 /// The closest name within edit distance 2, if any.
@@ -555,6 +593,12 @@ mod tests {
         let e = parse("t,u.port,y.depth\n0,1,2\n0.1,abc,2\n").unwrap_err();
         assert_eq!((e.line, e.column.clone()), (3, Some((2, "u.port".into()))));
         assert!(e.message.contains("`abc` is not a number"), "{e}");
+        // Comment lines (before the header and between rows) count as lines.
+        let e =
+            parse("# from a logger\nt,u.port,y.depth\n0,1,2\n# pause\n0.1,abc,2\n").unwrap_err();
+        assert_eq!((e.line, e.column.clone()), (5, Some((2, "u.port".into()))));
+        let e = parse("# from a logger\nt,u.port,y.dpth\n0,1,2\n").unwrap_err();
+        assert_eq!(e.line, 2);
         let e = parse("t,u.port,y.dpth\n0,1,2\n").unwrap_err();
         assert_eq!((e.line, e.column.clone()), (1, Some((3, "y.dpth".into()))));
         assert!(e.message.contains("did you mean `y.depth`"), "{e}");

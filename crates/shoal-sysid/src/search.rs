@@ -23,13 +23,17 @@
 //! 1. ΔBIC < −10 on the estimation data;
 //! 2. the validation RMSE falls by at least `min_gain` (default 3 %) averaged over channels,
 //!    each relative to the model it is added to;
-//! 3. a parameter is `z_threshold` (default 3) `sigma_white` away from its null value.
+//! 3. its parameters are jointly `z_threshold` (default 3) standard deviations away from their
+//!    null values (Wald test with the white-residual covariance, expressed as the normal
+//!    deviate of the same tail probability).
 //!
 //! *Backward*: in the final model every effect must still earn its place against the model
-//! without it (refitted): ΔBIC < −10, validation gain ≥ `min_gain`, and a parameter
-//! `z_threshold` honest `sigma`s from null — now that the other effects are in, its residuals
-//! are close to white if the model is right, and κ no longer hides real effects. The weakest
-//! failing effect is removed and the test repeated.
+//! without it (refitted), by the same three rules. The weakest failing effect is removed and
+//! the test repeated. The Wald test uses the white-residual covariance in both directions: on
+//! real data with model error the κ-inflated (honest) σ is so wide that it would reject
+//! effects that cut hold-out error in half; the honest σ is what the report quotes as a
+//! parameter's uncertainty, and the validation-gain rule is what guards against fitting
+//! noise.
 //!
 //! A run the baseline already explains therefore yields an empty verdict: nothing fitted to
 //! noise generalises to the validation data.
@@ -41,6 +45,7 @@ use crate::stats;
 use nalgebra::DMatrix;
 use shoal_model::effects::{Effect, EffectInstance, Effects, ParamInfo};
 use shoal_model::vehicle::{VehicleModel, VehicleParams};
+use statrs::distribution::{ChiSquared, ContinuousCDF, Normal};
 use std::collections::BTreeMap;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -136,6 +141,13 @@ pub struct Fit {
     pub eval: Evaluation,
     /// Model replays spent on the fit.
     pub evaluations: usize,
+    /// (effect index, parameter index) of each free parameter, in the order of the
+    /// covariance matrices.
+    pub free: Vec<(usize, usize)>,
+    /// Covariance of the free parameters allowing for autocorrelated residuals.
+    pub cov: Option<DMatrix<f64>>,
+    /// Gauss–Newton covariance of the free parameters for white residuals.
+    pub cov_white: Option<DMatrix<f64>>,
 }
 
 impl Fit {
@@ -177,7 +189,9 @@ pub struct Candidate {
     /// Relative validation-RMSE reduction against the model it was added to (fraction,
     /// mean over channels).
     pub gain: f64,
-    /// Largest distance of its parameters from their null values [standard deviations].
+    /// Joint distance of its parameters from their null values: the Wald test with the
+    /// white-residual covariance, as the normal deviate of the same tail probability
+    /// [standard deviations].
     pub z: f64,
     /// Whether it passed all three significance tests.
     pub significant: bool,
@@ -427,7 +441,17 @@ impl Ctx<'_> {
             }
         }
         let (_, lm, used, x, eval) = best?;
-        let sigmas = self.sigmas(&eval, &lm.jacobian, &free, &used);
+        let (cov, cov_white) = self.covariances(&eval, &lm.jacobian, &free, &used);
+        let sd = |c: &Option<DMatrix<f64>>, k: usize| {
+            c.as_ref().and_then(|c| {
+                let v = c[(k, k)];
+                (v.is_finite() && v > 0.0).then(|| v.sqrt())
+            })
+        };
+        let sigmas: Vec<(Option<f64>, Option<f64>)> = (0..free.len())
+            .map(|k| (sd(&cov, k), sd(&cov_white, k)))
+            .collect();
+        let mut free_index = Vec::new();
         let mut params = Vec::new();
         let mut i = 0;
         let mut fitted = Vec::new();
@@ -436,6 +460,9 @@ impl Ctx<'_> {
             let mut ps = Vec::new();
             for j in i..i + n {
                 let p = &infos[j];
+                if excited[j] {
+                    free_index.push((fitted.len(), j - i));
+                }
                 let (sigma, sigma_white) = free
                     .iter()
                     .position(|&f| f == j)
@@ -463,6 +490,9 @@ impl Ctx<'_> {
             k: free.len(),
             eval,
             evaluations: evaluations + 1,
+            free: free_index,
+            cov,
+            cov_white,
         })
     }
 
@@ -561,19 +591,19 @@ impl Ctx<'_> {
         }
     }
 
-    /// Parameter standard deviations (honest, white) from the Jacobian `jac` of the residuals
+    /// Parameter covariances (honest, white) from the Jacobian `jac` of the residuals
     /// weighted by `factors` (the last weights of the fit), with the noise of `eval` (see the
     /// module docs).
-    fn sigmas(
+    fn covariances(
         &self,
         eval: &Evaluation,
         jac: &DMatrix<f64>,
         free: &[usize],
         factors: &BTreeMap<ChannelKind, f64>,
-    ) -> Vec<(Option<f64>, Option<f64>)> {
+    ) -> (Option<DMatrix<f64>>, Option<DMatrix<f64>>) {
         let n = free.len();
         if n == 0 || jac.ncols() != n {
-            return vec![(None, None); n];
+            return (None, None);
         }
         let kinds = eval.weighted_kinds();
         let mut honest = DMatrix::<f64>::zeros(n, n);
@@ -597,34 +627,52 @@ impl Ctx<'_> {
                 }
             }
         }
-        let sd = |f: DMatrix<f64>| -> Vec<Option<f64>> {
-            match f.try_inverse() {
-                Some(cov) => (0..n)
-                    .map(|a| {
-                        let v = cov[(a, a)];
-                        (v.is_finite() && v > 0.0).then(|| v.sqrt())
-                    })
-                    .collect(),
-                None => vec![None; n],
-            }
-        };
-        sd(honest).into_iter().zip(sd(white)).collect()
+        (honest.try_inverse(), white.try_inverse())
     }
 }
 
-/// Largest distance of `effect`'s parameters from their null values, in honest (`white` =
-/// false) or white-residual standard deviations.
+/// Distance of `effect`'s parameters from their null values, jointly (Wald test with the
+/// honest covariance, or the white-residual one with `white`), as the equivalent number of
+/// standard deviations of a normal variable: for one parameter |θ − θ₀|/σ.
 fn z_of(fit: &Fit, effect: &str, white: bool) -> f64 {
-    fit.effects
+    let Some(ei) = fit.effects.iter().position(|e| e.effect.name() == effect) else {
+        return 0.0;
+    };
+    let Some(cov) = (if white { &fit.cov_white } else { &fit.cov }) else {
+        return 0.0;
+    };
+    let idx: Vec<usize> = fit
+        .free
         .iter()
-        .filter(|e| e.effect.name() == effect)
-        .flat_map(|e| e.params.iter())
-        .filter(|p| p.excited)
-        .map(|p| match if white { p.sigma_white } else { p.sigma } {
-            Some(s) if s > 0.0 => (p.value - p.null).abs() / s,
-            _ => 0.0,
-        })
-        .fold(0.0, f64::max)
+        .enumerate()
+        .filter(|(_, (e, _))| *e == ei)
+        .map(|(k, _)| k)
+        .collect();
+    if idx.is_empty() {
+        return 0.0;
+    }
+    let d = nalgebra::DVector::from_iterator(
+        idx.len(),
+        idx.iter().map(|&k| {
+            let (e, j) = fit.free[k];
+            let p = &fit.effects[e].params[j];
+            p.value - p.null
+        }),
+    );
+    let sub = DMatrix::from_fn(idx.len(), idx.len(), |a, b| cov[(idx[a], idx[b])]);
+    let Some(inv) = sub.try_inverse() else {
+        return 0.0;
+    };
+    let w = (d.transpose() * inv * &d)[(0, 0)].max(0.0);
+    if idx.len() == 1 {
+        return w.sqrt();
+    }
+    let p = ChiSquared::new(idx.len() as f64).map_or(0.0, |c| c.sf(w));
+    if p < 1e-15 {
+        // Beyond the precision of the tail: the normal deviate of the same χ² (≈ √W).
+        return (w - (idx.len() as f64 - 1.0)).max(0.0).sqrt().max(8.0);
+    }
+    Normal::standard().inverse_cdf(1.0 - 0.5 * p)
 }
 
 /// Runs `f` over `items` on `threads` threads; results in input order.
@@ -683,6 +731,9 @@ pub fn search(
         k: 0,
         eval: base_eval,
         evaluations: 1,
+        free: Vec::new(),
+        cov: None,
+        cov_white: None,
     };
     let ctx = Ctx {
         ds,
@@ -912,7 +963,7 @@ fn skipped(round: usize, name: &str, note: String) -> Candidate {
 }
 
 /// Tests whether `name` earns its place in `fit` against `base` (the model without it):
-/// forward with white-residual σ, backward with honest σ (see the module docs).
+/// the same rules forward and backward (see the module docs).
 fn judge(
     round: usize,
     name: &str,
@@ -923,7 +974,7 @@ fn judge(
 ) -> Candidate {
     let d = delta_bic(base, &fit);
     let g = gain(&base.eval, &fit.eval);
-    let z = z_of(&fit, name, !backward);
+    let z = z_of(&fit, name, true);
     let ok_bic = d < opts.bic_threshold;
     let ok_gain = g >= opts.min_gain;
     let ok_z = z >= opts.z_threshold;

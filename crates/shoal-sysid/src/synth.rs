@@ -181,5 +181,7 @@ pub fn synthesize(
         inputs,
         channels,
         extra: Vec::new(),
+        header_line: 0,
+        lines: Vec::new(),
     }
 }

@@ -61,6 +61,8 @@ fn run_with(inputs: Vec<(&str, &dyn Fn(f64) -> f64)>, duration: f64) -> Measured
             mk(ChannelKind::R, 0.0),
         ],
         extra: Vec::new(),
+        header_line: 0,
+        lines: Vec::new(),
     }
 }
 

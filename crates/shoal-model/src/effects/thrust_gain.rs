@@ -30,8 +30,8 @@ impl Effect for ThrustGain {
         vec![ParamInfo {
             name: "k",
             unit: "-",
-            lo: 0.3,
-            hi: 2.0,
+            lo: 0.1,
+            hi: 3.0,
             null: 1.0,
             typical: 1.2,
             doc: "thrust scale factor",
