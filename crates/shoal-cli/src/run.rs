@@ -3,6 +3,8 @@
 use crate::Failure;
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressStyle};
+use shoal_bridge::host::{Flow, Host};
+use shoal_sim::agents::AgentsSummary;
 use shoal_sim::prelude::*;
 use shoal_world::desc::WorldDesc;
 use shoal_world::load::{default_world, load_file};
@@ -10,7 +12,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 /// Arguments of `shoal run`.
 #[derive(clap::Args, Debug)]
@@ -35,6 +37,17 @@ pub struct RunArgs {
     /// Print only the summary (no progress bar).
     #[arg(long, short)]
     pub quiet: bool,
+    /// External agents: wait for them each control period (`lockstep`) or never (`free`)
+    /// [default: the world's `[agents] timing`].
+    #[arg(long, value_parser = ["lockstep", "free"])]
+    pub timing: Option<String>,
+    /// External agents: service-name prefix of this world [default: `[agents] prefix`, else
+    /// the world's name].
+    #[arg(long)]
+    pub prefix: Option<String>,
+    /// External agents: how long to wait for them to attach before starting [s].
+    #[arg(long, value_name = "SECONDS")]
+    pub wait_agents: Option<f64>,
 }
 
 fn load(world: Option<&Path>) -> Result<WorldDesc, Failure> {
@@ -80,6 +93,25 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, Failure> {
     }
     if args.no_plots {
         desc.output.plots = false;
+    }
+    if let Some(t) = &args.timing {
+        desc.agents.lockstep = t == "lockstep";
+    }
+    if let Some(p) = &args.prefix {
+        if !shoal_world::load::valid_service_word(p) {
+            return Err(Failure::Input(format!(
+                "--prefix `{p}`: use 1–64 letters, digits, `_`, `-` or `.`"
+            )));
+        }
+        desc.agents.prefix = p.clone();
+    }
+    if let Some(w) = args.wait_agents {
+        if !(w.is_finite() && (0.0..=86400.0).contains(&w)) {
+            return Err(Failure::Input(format!(
+                "--wait-agents {w}: allowed 0 … 86400 s"
+            )));
+        }
+        desc.agents.attach_timeout = w;
     }
     let out_dir = args
         .out
@@ -127,11 +159,26 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, Failure> {
             out_dir.display()
         );
     }
+    let mut host = open_agents(&desc, args.quiet, &interrupted)?;
+    let mut stopped: Option<String> = None;
     let chunk = (steps / 500).clamp(1, 500);
     let start = Instant::now();
-    while sim.step_count() < steps && !interrupted.load(Ordering::SeqCst) {
+    while sim.step_count() < steps && !interrupted.load(Ordering::SeqCst) && stopped.is_none() {
         let n = chunk.min(steps - sim.step_count());
-        sim.run(n);
+        match host.as_mut() {
+            None => sim.run(n),
+            Some(h) => {
+                for _ in 0..n {
+                    match h.before_step(&mut sim).context("external agents")? {
+                        Flow::Continue => sim.step(),
+                        Flow::Stop(why) => {
+                            stopped = Some(why);
+                            break;
+                        }
+                    }
+                }
+            }
+        }
         out.write(&sim.drain())
             .context("cannot write trajectories")?;
         let wall = start.elapsed().as_secs_f64();
@@ -145,6 +192,21 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, Failure> {
     let was_interrupted = interrupted.load(Ordering::SeqCst);
     pb.finish_and_clear();
     let wall = start.elapsed().as_secs_f64();
+    if let Some(mut h) = host {
+        let reports = h.finish(&mut sim, Duration::from_secs(1));
+        out.agents = Some(AgentsSummary {
+            prefix: desc.agents.prefix.clone(),
+            timing: if desc.agents.lockstep {
+                "lockstep"
+            } else {
+                "free"
+            },
+            fallback: format!("{:?}", desc.agents.fallback).to_lowercase(),
+            stopped,
+            agents: reports,
+        });
+        drop(h);
+    }
     let summary = out
         .finish(&desc, &sim, wall, was_interrupted)
         .context("cannot write the run outputs")?;
@@ -154,6 +216,68 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, Failure> {
     } else {
         ExitCode::SUCCESS
     })
+}
+
+/// Opens the world's agent services (when a vehicle group names an agent) and waits for the
+/// agents to attach, printing where they attach.
+fn open_agents(
+    desc: &WorldDesc,
+    quiet: bool,
+    interrupted: &AtomicBool,
+) -> Result<Option<Host>, Failure> {
+    if desc.agents.names.is_empty() {
+        return Ok(None);
+    }
+    let counts: Vec<usize> = desc
+        .agents
+        .names
+        .iter()
+        .map(|n| {
+            desc.vehicles
+                .iter()
+                .filter(|v| v.agent.as_deref() == Some(n))
+                .count()
+        })
+        .collect();
+    let mut host = Host::open(&desc.agents, &counts).map_err(|e| Failure::Input(e.to_string()))?;
+    if !quiet {
+        eprintln!(
+            "shoal: agents ({}) attach with prefix `{}`: {}",
+            if desc.agents.lockstep {
+                "lock-step"
+            } else {
+                "free-running"
+            },
+            desc.agents.prefix,
+            desc.agents
+                .names
+                .iter()
+                .zip(&counts)
+                .map(|(n, c)| format!("`{n}` ({c} vehicles)"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
+    let wait = Duration::from_secs_f64(desc.agents.attach_timeout);
+    let mut shown = false;
+    let missing = host.wait_for_agents(wait, &mut |missing| {
+        if !quiet && !shown {
+            eprintln!(
+                "shoal: waiting up to {:.0} s for {} (Ctrl-C to stop)",
+                wait.as_secs_f64(),
+                missing.join(", ")
+            );
+            shown = true;
+        }
+        !interrupted.load(Ordering::SeqCst)
+    });
+    if !missing.is_empty() && !quiet {
+        eprintln!(
+            "shoal: starting without {}: their vehicles hold depth and heading until they attach",
+            missing.join(", ")
+        );
+    }
+    Ok(Some(host))
 }
 
 /// `shoal preset`.

@@ -2,8 +2,10 @@
 //!
 //! The simulated world of shoal: one bevy_ecs entity per vehicle ([`components`]), a fixed-step
 //! schedule of chained system sets ([`systems`]) run by [`sim::Sim`], per-world parallel loops
-//! ([`parallel`]), a trajectory recorder ([`recorder`]) and run outputs ([`output`], [`plot`]).
+//! ([`parallel`]), a trajectory recorder ([`recorder`]) and run outputs ([`output`], [`plot`]);
+//! external agents, independent of their transport ([`agents`]).
 
+pub mod agents;
 pub mod analysis;
 pub mod behaviour;
 pub mod bench;

@@ -67,6 +67,8 @@ pub struct RunOutput {
     keep_every: u64,
     plots: bool,
     csv_rows: u64,
+    /// External agents' part of the summary (set by the run driver before `finish`).
+    pub agents: Option<crate::agents::AgentsSummary>,
 }
 
 impl RunOutput {
@@ -132,6 +134,7 @@ impl RunOutput {
             keep_every: expected_rows.div_ceil(PLOT_POINTS as u64).max(1),
             plots: desc.output.plots,
             csv_rows: 0,
+            agents: None,
         })
     }
 
@@ -243,6 +246,7 @@ impl RunOutput {
         files.push(json_path.clone());
         let mut summary = Summary::new(desc, sim, &snaps, &self.acc, wall_s, interrupted);
         summary.comm = comm;
+        summary.agents = self.agents.take();
         summary.trajectory_rows = self.csv_rows;
         summary.files = files.iter().map(|p| p.display().to_string()).collect();
         let text = serde_json::to_string_pretty(&summary).unwrap_or_default();
@@ -466,6 +470,9 @@ pub struct Summary {
     /// Optical communication (absent when no frame was sent).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub comm: Option<crate::comm_report::CommSummary>,
+    /// External agents (absent when no vehicle has one).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub agents: Option<crate::agents::AgentsSummary>,
 }
 
 impl Summary {
@@ -573,6 +580,7 @@ impl Summary {
             vehicle_details: details,
             files: Vec::new(),
             comm: None,
+            agents: None,
         }
     }
 
@@ -663,6 +671,40 @@ impl Summary {
                     )),
                     None => s.push_str(&format!("  gossip: the value reached {} of {} vehicles\n", g.informed, g.vehicles)),
                 }
+            }
+        }
+        if let Some(a) = &self.agents {
+            s.push_str(&format!(
+                "\nagents ({}, prefix `{}`, fallback {}):\n",
+                a.timing, a.prefix, a.fallback
+            ));
+            for r in &a.agents {
+                let rt = &r.round_trip;
+                s.push_str(&format!(
+                    "  {:<12} {} vehicle(s), {} commands applied, {} rejected or clamped, {} vehicle-ticks in fallback{}\n",
+                    r.name,
+                    r.vehicles,
+                    r.commands_applied,
+                    r.rejections.total(),
+                    r.fallback_ticks,
+                    if rt.count > 0 {
+                        format!("; round trip median {:.0} µs, 99 % {:.0} µs", rt.median_us, rt.p99_us)
+                    } else {
+                        String::new()
+                    }
+                ));
+                for e in &r.events {
+                    s.push_str(&format!(
+                        "    t = {:>8.2} s  {:<10} {}\n",
+                        e.t, e.what, e.detail
+                    ));
+                }
+                if r.events.is_empty() {
+                    s.push_str("    never attached: its vehicles held depth and heading\n");
+                }
+            }
+            if let Some(why) = &a.stopped {
+                s.push_str(&format!("  STOPPED: {why}\n"));
             }
         }
         s.push_str(&format!(

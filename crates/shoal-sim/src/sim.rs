@@ -1,6 +1,7 @@
 //! The simulated world: a bevy_ecs [`World`] with one entity per vehicle, driven one fixed step
 //! at a time by the schedule of [`crate::systems`].
 
+use crate::agents::External;
 use crate::behaviour::{self, Behave};
 use crate::comm::{CommStats, Inbox, Medium, Modems, Outbox, comm_rng};
 use crate::components::*;
@@ -172,6 +173,13 @@ impl Sim {
                     ),
                 ))
                 .id();
+            if let Some(a) = &v.agent {
+                let agent = desc.agents.names.iter().position(|n| n == a).unwrap_or(0);
+                world.entity_mut(e).insert(External {
+                    agent,
+                    fallback: false,
+                });
+            }
             if let Some(b) = &v.behaviour {
                 world.entity_mut(e).insert(Behave {
                     behaviour: behaviour::build(b),
@@ -180,11 +188,16 @@ impl Sim {
             }
             entities.push(e);
         }
-        Self {
+        let mut sim = Self {
             world,
             schedule: build_schedule(false),
             entities,
+        };
+        // Until their agent attaches, agent-driven vehicles hold depth and heading.
+        for a in 0..desc.agents.names.len() {
+            sim.set_fallback(a, shoal_world::spec::FallbackSpec::Hold);
         }
+        sim
     }
 
     /// Advances one physics step.
@@ -198,6 +211,16 @@ impl Sim {
         for _ in 0..n {
             self.step();
         }
+    }
+
+    /// Entity of each vehicle, by id.
+    pub fn entities(&self) -> &[Entity] {
+        &self.entities
+    }
+
+    /// Size of the pool (x, y, depth) [m].
+    pub fn pool_size(&self) -> Vec3 {
+        self.world.resource::<StaticGeometry>().0.pool
     }
 
     /// Steps completed.

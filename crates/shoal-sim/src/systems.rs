@@ -4,6 +4,7 @@
 //! the world's [`Parallel`] pool and never reads another vehicle's data, so the order of
 //! vehicles and the number of threads cannot change the result.
 
+use crate::agents::External;
 use crate::behaviour::{Behave, BehaviourIo};
 use crate::comm::{
     CommStats, Inbox, Medium, Outbox, comm_deliver_system, comm_snapshot_system,
@@ -142,8 +143,8 @@ pub fn behaviour_system(
     );
 }
 
-/// Vehicles without a behaviour (or agent) drop what they receive each step.
-pub fn inbox_clear_system(mut q: Query<&mut Inbox, Without<Behave>>) {
+/// Vehicles without a behaviour or agent drop what they receive each step.
+pub fn inbox_clear_system(mut q: Query<&mut Inbox, (Without<Behave>, Without<External>)>) {
     for mut i in &mut q {
         if !i.0.is_empty() {
             i.0.clear();

@@ -2,7 +2,7 @@
 //! groups, models derived and shared, geometry built. Produced only by [`crate::load`].
 
 use crate::geometry::Geometry;
-use crate::spec::BehaviourSpec;
+use crate::spec::{BehaviourSpec, FallbackSpec};
 use shoal_model::optics::Ambient;
 use shoal_model::prelude::*;
 use std::path::PathBuf;
@@ -25,6 +25,29 @@ pub struct VehicleDesc {
     pub attitude: Quat,
     /// Built-in behaviour, if any.
     pub behaviour: Option<BehaviourSpec>,
+    /// Name of the external agent that drives it, if any.
+    pub agent: Option<String>,
+}
+
+/// How external agents attach (see [`crate::spec::AgentsSpec`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct AgentsDesc {
+    /// Service-name prefix of this world.
+    pub prefix: String,
+    /// Wait for agents each control period (`true`) or never.
+    pub lockstep: bool,
+    /// Longest wait for one agent's commands [s, wall time].
+    pub timeout: f64,
+    /// Longest wait at the start for the agents to attach [s, wall time].
+    pub attach_timeout: f64,
+    /// What vehicles do without their agent.
+    pub fallback: FallbackSpec,
+    /// Agents see true positions.
+    pub grant_position: bool,
+    /// Free-running pace [simulated s per wall s]; 0 = as fast as possible.
+    pub pace: f64,
+    /// Names of the agents the vehicles name, sorted.
+    pub names: Vec<String>,
 }
 
 /// What a run writes.
@@ -65,6 +88,8 @@ pub struct WorldDesc {
     pub groups: Vec<String>,
     /// Output settings.
     pub output: OutputDesc,
+    /// External agents.
+    pub agents: AgentsDesc,
 }
 
 impl WorldDesc {

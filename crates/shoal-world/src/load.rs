@@ -3,7 +3,7 @@
 //! them, and reject overlaps and vehicles outside the pool. User input never panics: every
 //! problem becomes a [`Problem`] naming the file, line/column and field.
 
-use crate::desc::{OutputDesc, VehicleDesc, WorldDesc};
+use crate::desc::{AgentsDesc, OutputDesc, VehicleDesc, WorldDesc};
 use crate::error::{FieldPath, Problem, ProblemKind, SourceMap, WorldError};
 use crate::geometry::{Geometry, hull_shape, hulls_intersect, to_pose};
 use crate::spec::*;
@@ -225,6 +225,30 @@ fn suggest<'a>(name: &str, expected: &[&'a str]) -> Option<&'a str> {
         .filter(|(d, e)| *d <= (e.len() / 3).max(2))
         .min()
         .map(|(_, e)| e)
+}
+
+/// Whether `s` can be part of a service name: 1–64 of `[A-Za-z0-9_.-]`.
+pub fn valid_service_word(s: &str) -> bool {
+    !s.is_empty()
+        && s.len() <= 64
+        && s.chars()
+            .all(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.'))
+}
+
+/// `name` made into a valid service word (other characters become `_`, at most 64).
+pub fn service_word(name: &str) -> String {
+    let s: String = name
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.') {
+                c
+            } else {
+                '_'
+            }
+        })
+        .take(64)
+        .collect();
+    if s.is_empty() { "world".into() } else { s }
 }
 
 /// What a field's number means, for messages.
@@ -463,6 +487,37 @@ fn build(wf: &WorldFile, file: &Path, v: &mut Validator<'_>) -> Option<WorldDesc
             }
         },
     };
+    let ag = root.key("agents");
+    if let Some(pfx) = &wf.agents.prefix
+        && !valid_service_word(pfx)
+    {
+        v.push(
+            ProblemKind::Invalid,
+            &ag.key("prefix"),
+            format!("prefix `{pfx}`: use 1–64 letters, digits, `_`, `-` or `.`"),
+        );
+    }
+    v.num(
+        &ag.key("timeout"),
+        wf.agents.timeout,
+        End::Open(0.0),
+        End::Closed(3600.0),
+        "s",
+    );
+    v.num(
+        &ag.key("attach_timeout"),
+        wf.agents.attach_timeout,
+        End::Closed(0.0),
+        End::Closed(86400.0),
+        "s",
+    );
+    v.num(
+        &ag.key("pace"),
+        wf.agents.pace,
+        End::Closed(0.0),
+        End::Closed(1e6),
+        "simulated s per wall s",
+    );
     let out = root.key("output");
     v.num(
         &out.key("record_hz"),
@@ -523,7 +578,26 @@ fn build(wf: &WorldFile, file: &Path, v: &mut Validator<'_>) -> Option<WorldDesc
         file.file_stem()
             .map_or_else(|| "world".into(), |s| s.to_string_lossy().into_owned())
     });
+    let mut agent_names: Vec<String> = vehicles.iter().filter_map(|d| d.agent.clone()).collect();
+    agent_names.sort();
+    agent_names.dedup();
+    let prefix = wf
+        .agents
+        .prefix
+        .clone()
+        .unwrap_or_else(|| service_word(&name));
+    let agents = AgentsDesc {
+        prefix,
+        lockstep: wf.agents.timing == TimingSpec::Lockstep,
+        timeout: wf.agents.timeout,
+        attach_timeout: wf.agents.attach_timeout,
+        fallback: wf.agents.fallback,
+        grant_position: wf.agents.grant_position,
+        pace: wf.agents.pace,
+        names: agent_names,
+    };
     Some(WorldDesc {
+        agents,
         name,
         source: PathBuf::from(file),
         seed: wf.seed,
@@ -1231,6 +1305,33 @@ fn group_vehicles(
     if let Some(b) = &g.behaviour {
         validate_behaviour(b, &model, &gp.key("behaviour"), wf.duration, v);
     }
+    if let Some(a) = &g.agent {
+        if !valid_service_word(a) {
+            v.push(
+                ProblemKind::Invalid,
+                &gp.key("agent"),
+                format!("agent name `{a}`: use 1–64 letters, digits, `_`, `-` or `.`"),
+            );
+        }
+        if g.behaviour.is_some() {
+            v.push(
+                ProblemKind::Invalid,
+                &gp.key("behaviour"),
+                "a group driven by an `agent` takes its setpoints and frames from the agent: \
+                 give either `agent` or `behaviour`"
+                    .into(),
+            );
+        }
+        if !g.mission.is_empty() {
+            v.push(
+                ProblemKind::Invalid,
+                &gp.key("mission"),
+                "a group driven by an `agent` takes its setpoints from the agent (and from \
+                 `[agents] fallback` while it is absent): remove `mission`"
+                    .into(),
+            );
+        }
+    }
     if v.problems.len() > n0 {
         return;
     }
@@ -1289,6 +1390,7 @@ fn group_vehicles(
             model: model.clone(),
             mission: mission.clone(),
             behaviour: g.behaviour.clone(),
+            agent: g.agent.clone(),
             position: pos,
             attitude: att,
         });
@@ -1423,6 +1525,7 @@ fn group_vehicles(
                     model: model.clone(),
                     mission: mission.clone(),
                     behaviour: g.behaviour.clone(),
+                    agent: g.agent.clone(),
                     position: pos,
                     attitude: att,
                 });
@@ -1657,8 +1760,10 @@ pub fn vehicle_world_toml(
             mission: Vec::new(),
             model: Some(model),
             behaviour: None,
+            agent: None,
         }],
         output: OutputSpec::default(),
+        agents: AgentsSpec::default(),
     };
     toml::to_string(&wf)
 }

@@ -69,6 +69,91 @@ pub struct WorldFile {
     /// What the run writes.
     #[serde(default)]
     pub output: OutputSpec,
+    /// How external agent processes attach (used when a vehicle group names an `agent`).
+    #[serde(default, skip_serializing_if = "AgentsSpec::is_default")]
+    pub agents: AgentsSpec,
+}
+
+/// How the world exchanges with external agents.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum TimingSpec {
+    /// The world waits for every attached agent on each control period (reproducible).
+    #[default]
+    Lockstep,
+    /// The world never waits; the last command stays in force.
+    Free,
+}
+
+/// What a vehicle does while its agent is absent, hung or dead.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FallbackSpec {
+    /// Hold the depth and heading it had (auto mode, no surge).
+    #[default]
+    Hold,
+    /// Rise to the surface holding its heading.
+    Surface,
+    /// End the run (outputs are written, the summary says why).
+    Stop,
+}
+
+/// External agents (`[agents]`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AgentsSpec {
+    /// Service-name prefix that isolates this world's agents from other worlds' (letters,
+    /// digits, `_`, `-`, `.`; default: the world's name).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub prefix: Option<String>,
+    /// Lock-step or free-running.
+    #[serde(default)]
+    pub timing: TimingSpec,
+    /// Lock-step: longest wait for an agent's commands on one control period [s, wall time];
+    /// an agent that misses it is treated as hung.
+    #[serde(default = "d_agent_timeout")]
+    pub timeout: f64,
+    /// How long the world waits at the start for its agents to attach [s, wall time].
+    #[serde(default = "d_attach_timeout")]
+    pub attach_timeout: f64,
+    /// What vehicles do without their agent.
+    #[serde(default)]
+    pub fallback: FallbackSpec,
+    /// Whether agents see their vehicle's true position (a real vehicle would not).
+    #[serde(default)]
+    pub grant_position: bool,
+    /// Free-running: simulated seconds per wall-clock second (0: as fast as possible).
+    #[serde(default)]
+    pub pace: f64,
+}
+
+impl Default for AgentsSpec {
+    fn default() -> Self {
+        Self {
+            prefix: None,
+            timing: TimingSpec::default(),
+            timeout: d_agent_timeout(),
+            attach_timeout: d_attach_timeout(),
+            fallback: FallbackSpec::default(),
+            grant_position: false,
+            pace: 0.0,
+        }
+    }
+}
+
+impl AgentsSpec {
+    /// Whether every field has its default (then it is not written out).
+    pub fn is_default(&self) -> bool {
+        *self == Self::default()
+    }
+}
+
+fn d_agent_timeout() -> f64 {
+    1.0
+}
+
+fn d_attach_timeout() -> f64 {
+    10.0
 }
 
 /// Integrator choice.
@@ -350,6 +435,9 @@ pub struct VehicleGroupSpec {
     /// A built-in swarm behaviour run on every control tick.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub behaviour: Option<BehaviourSpec>,
+    /// Name of the external agent process that drives this group (see `[agents]`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub agent: Option<String>,
 }
 
 /// Built-in swarm behaviours (in-process; they see only sensors and received frames).

@@ -1,0 +1,177 @@
+//! The agent side: attach to a running world as agent `name`, receive each control tick's
+//! observations of its vehicles, answer with one command per vehicle.
+//!
+//! ```no_run
+//! use shoal_bridge::agent::{Agent, AgentLink};
+//! use shoal_bridge::protocol::{Command, Observation, mode};
+//!
+//! /// Every vehicle dives to 1.5 m and turns north-east.
+//! struct Dive;
+//! impl Agent for Dive {
+//!     fn tick(&mut self, obs: &Observation, cmd: &mut Command) {
+//!         cmd.set_mode(mode::AUTO, 1.5, 0.785, 0.0, 0.0);
+//!     }
+//! }
+//!
+//! let mut link = AgentLink::attach("my-world", "divers", std::time::Duration::from_secs(30))?;
+//! link.run(&mut Dive)?;
+//! # Ok::<(), shoal_bridge::BridgeError>(())
+//! ```
+
+use crate::protocol::{Command, Observation, flags};
+use crate::{BridgeError, ipc, service_name};
+use iceoryx2::port::publisher::Publisher;
+use iceoryx2::port::subscriber::Subscriber;
+use iceoryx2::prelude::*;
+use std::time::{Duration, Instant};
+
+type Ipc = ipc::Service;
+
+/// A swarm behaviour run by [`AgentLink::run`]: called once per vehicle and tick.
+pub trait Agent {
+    /// Fill `cmd` (pre-set to "keep", for `obs.vehicle` and `obs.step`) from `obs`.
+    fn tick(&mut self, obs: &Observation, cmd: &mut Command);
+}
+
+/// What ended [`AgentLink::run`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Ended {
+    /// The world said the run is over.
+    WorldEnded,
+    /// No observation arrived for the idle timeout (the world died or stalled).
+    Silent,
+}
+
+/// An attached agent.
+pub struct AgentLink {
+    node: Node<Ipc>,
+    obs: Subscriber<Ipc, [Observation], ()>,
+    cmd: Publisher<Ipc, [Command], ()>,
+    /// Longest wait for the next observation before [`Ended::Silent`].
+    pub idle_timeout: Duration,
+    /// Ticks answered.
+    pub ticks: u64,
+}
+
+impl AgentLink {
+    /// Attaches as `agent` to the world with `prefix`, waiting up to `wait` for the world to
+    /// appear.
+    pub fn attach(prefix: &str, agent: &str, wait: Duration) -> Result<AgentLink, BridgeError> {
+        let config = Config::default();
+        let node = NodeBuilder::new()
+            .name(&NodeName::new(&format!("shoal-agent.{agent}")).map_err(ipc("node name"))?)
+            .config(&config)
+            .create::<Ipc>()
+            .map_err(ipc("node"))?;
+        let start = Instant::now();
+        let (obs_svc, cmd_svc) = loop {
+            let o = node
+                .service_builder(
+                    &ServiceName::new(&service_name(prefix, agent, "obs"))
+                        .map_err(ipc("service name"))?,
+                )
+                .publish_subscribe::<[Observation]>()
+                .open();
+            let c = node
+                .service_builder(
+                    &ServiceName::new(&service_name(prefix, agent, "cmd"))
+                        .map_err(ipc("service name"))?,
+                )
+                .publish_subscribe::<[Command]>()
+                .open();
+            match (o, c) {
+                (Ok(o), Ok(c)) => break (o, c),
+                _ if start.elapsed() < wait => std::thread::sleep(Duration::from_millis(20)),
+                _ => {
+                    return Err(BridgeError::NoWorld {
+                        prefix: prefix.into(),
+                        agent: agent.into(),
+                        secs: wait.as_secs_f64(),
+                    });
+                }
+            }
+        };
+        let cmd = cmd_svc
+            .publisher_builder()
+            .initial_max_slice_len(64)
+            .allocation_strategy(AllocationStrategy::PowerOfTwo)
+            .create()
+            .map_err(|_| BridgeError::AgentTaken(agent.into()))?;
+        let obs = obs_svc
+            .subscriber_builder()
+            .buffer_size(2)
+            .create()
+            .map_err(|_| BridgeError::AgentTaken(agent.into()))?;
+        Ok(AgentLink {
+            node,
+            obs,
+            cmd,
+            idle_timeout: Duration::from_secs(10),
+            ticks: 0,
+        })
+    }
+
+    /// The next observation slice (busy-polls briefly, then naps), or `None` after
+    /// `timeout`. The slice of the world's last tick has [`flags::END`] set.
+    pub fn receive(&mut self, timeout: Duration) -> Result<Option<Vec<Observation>>, BridgeError> {
+        let start = Instant::now();
+        loop {
+            // Take the newest slice if several are queued.
+            let mut newest = None;
+            while let Some(s) = self.obs.receive().map_err(ipc("receiving observations"))? {
+                newest = Some(s.payload().to_vec());
+            }
+            if newest.is_some() {
+                return Ok(newest);
+            }
+            let waited = start.elapsed();
+            if waited >= timeout {
+                return Ok(None);
+            }
+            if waited < Duration::from_micros(50) {
+                std::hint::spin_loop();
+            } else if waited < Duration::from_millis(1) {
+                std::thread::yield_now();
+            } else {
+                std::thread::sleep(Duration::from_micros(50));
+            }
+        }
+    }
+
+    /// Sends one reply slice (at least one command; all for the same step).
+    pub fn send(&mut self, cmds: &[Command]) -> Result<(), BridgeError> {
+        if cmds.is_empty() {
+            return Ok(());
+        }
+        let s = self
+            .cmd
+            .loan_slice_uninit(cmds.len())
+            .map_err(ipc("loaning a command slice"))?;
+        s.write_from_fn(|i| cmds[i])
+            .send()
+            .map_err(ipc("sending commands"))?;
+        Ok(())
+    }
+
+    /// Runs `agent` until the world ends the run or falls silent.
+    pub fn run(&mut self, agent: &mut dyn Agent) -> Result<Ended, BridgeError> {
+        let mut cmds = Vec::new();
+        loop {
+            let Some(obs) = self.receive(self.idle_timeout)? else {
+                self.node.try_cleanup_dead_nodes();
+                return Ok(Ended::Silent);
+            };
+            if obs.iter().any(|o| o.flags & flags::END != 0) {
+                return Ok(Ended::WorldEnded);
+            }
+            cmds.clear();
+            for o in &obs {
+                let mut c = Command::keep(o);
+                agent.tick(o, &mut c);
+                cmds.push(c);
+            }
+            self.send(&cmds)?;
+            self.ticks += 1;
+        }
+    }
+}

@@ -1,0 +1,622 @@
+//! The world side of the bridge: one pair of services per agent (`…/obs`, `…/cmd`, created
+//! by the world with one publisher each, so a second world with the same prefix or a second
+//! process with the same agent name is refused), and the exchange on every control tick.
+//!
+//! **Lock-step**: the world publishes the observations and waits for each attached agent's
+//! reply to this very step (busy-polling for the first 50 µs, then yielding, then sleeping in
+//! 50 µs naps), at most `timeout` of wall time. Replies are applied in agent order, so the
+//! run is reproducible. **Free-running**: the world publishes and applies whatever replies
+//! have arrived (the last command per vehicle stays in force), never waiting.
+//!
+//! **Faults**: an agent that misses the timeout is *hung*: its vehicles fall back and the
+//! world stops waiting for it; a reply to a recent step re-attaches it. While waiting, and on
+//! every tick while absent, dead nodes are cleaned up (`try_cleanup_dead_nodes`), so a
+//! killed agent's ports vanish and it counts as *gone*; a new process may then attach under
+//! the same name. Every command is validated (see [`shoal_sim::agents`]); protocol errors
+//! are counted as malformed. Every event is kept for the summary.
+//!
+//! **Shutdown**: the last observation carries [`flags::END`]; the world waits up to 1 s for
+//! its agents to leave before removing its services, so no shared memory is left behind.
+
+use crate::protocol::{self, ALL_MODEMS, Command, FRAME_BYTES, MAX_RX_FRAMES, Observation, flags};
+use crate::{BridgeError, ipc, service_name};
+use iceoryx2::port::publisher::Publisher;
+use iceoryx2::port::subscriber::Subscriber;
+use iceoryx2::prelude::*;
+use iceoryx2::service::port_factory::PortFactory as _;
+use iceoryx2::service::port_factory::publish_subscribe::PortFactory;
+use shoal_model::ballast::Pump;
+use shoal_model::control::Mode;
+use shoal_model::math::euler_rpy;
+use shoal_sim::agents::{self, AgentEvent, AgentReport, FrameOrder, Order, Rejections, RoundTrip};
+use shoal_sim::sim::Sim;
+use shoal_world::desc::AgentsDesc;
+use shoal_world::spec::FallbackSpec;
+use std::time::{Duration, Instant};
+
+/// Largest number of vehicles one agent's slice is prepared for; more are allocated on demand.
+const INITIAL_SLICE: usize = 1024;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum State {
+    Absent,
+    Attached,
+    Hung,
+}
+
+type Ipc = ipc::Service;
+
+struct Port {
+    obs_svc: PortFactory<Ipc, [Observation], ()>,
+    cmd_svc: PortFactory<Ipc, [Command], ()>,
+    obs_pub: Publisher<Ipc, [Observation], ()>,
+    cmd_sub: Subscriber<Ipc, [Command], ()>,
+    state: State,
+    report: AgentReport,
+    rtt: Vec<f64>,
+    /// Step of the tick before the current one.
+    prev_step: u64,
+    last_step: u64,
+}
+
+impl Port {
+    /// Whether an agent process holds both ends.
+    fn connected(&self) -> bool {
+        self.obs_svc.dynamic_config().number_of_subscribers() > 0
+            && self.cmd_svc.dynamic_config().number_of_publishers() > 0
+    }
+
+    fn event(&mut self, t: f64, step: u64, what: &'static str, detail: String) {
+        self.report.events.push(AgentEvent {
+            t,
+            step,
+            what,
+            detail,
+        });
+    }
+}
+
+/// What the run should do after an exchange.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Flow {
+    /// Go on.
+    Continue,
+    /// End the run (fallback `stop`), with the reason.
+    Stop(String),
+}
+
+/// The world's end of the bridge.
+pub struct Host {
+    node: Node<Ipc>,
+    ports: Vec<Port>,
+    cfg: AgentsDesc,
+    wall0: Option<Instant>,
+}
+
+impl Host {
+    /// Creates the services of every agent named in `cfg` (`vehicles[i]`: how many vehicles
+    /// agent `i` drives).
+    pub fn open(cfg: &AgentsDesc, vehicles: &[usize]) -> Result<Host, BridgeError> {
+        let config = Config::default();
+        let node = NodeBuilder::new()
+            .name(&NodeName::new(&format!("shoal-world.{}", cfg.prefix)).map_err(ipc("node name"))?)
+            .config(&config)
+            .create::<Ipc>()
+            .map_err(ipc("node"))?;
+        let mut ports = Vec::new();
+        for (i, name) in cfg.names.iter().enumerate() {
+            let svc = |leaf: &str| {
+                ServiceName::new(&service_name(&cfg.prefix, name, leaf))
+                    .map_err(ipc("service name"))
+            };
+            let in_use = |e: &dyn std::fmt::Debug| {
+                if format!("{e:?}").contains("AlreadyExists") {
+                    BridgeError::PrefixInUse(cfg.prefix.clone())
+                } else {
+                    BridgeError::Ipc(format!("creating the services of agent `{name}`: {e:?}"))
+                }
+            };
+            let obs_svc = node
+                .service_builder(&svc("obs")?)
+                .publish_subscribe::<[Observation]>()
+                .max_publishers(1)
+                .max_subscribers(2)
+                .subscriber_max_buffer_size(2)
+                .history_size(0)
+                .enable_safe_overflow(true)
+                .create()
+                .map_err(|e| in_use(&e))?;
+            let cmd_svc = node
+                .service_builder(&svc("cmd")?)
+                .publish_subscribe::<[Command]>()
+                .max_publishers(1)
+                .max_subscribers(1)
+                .subscriber_max_buffer_size(4)
+                .history_size(0)
+                .enable_safe_overflow(true)
+                .create()
+                .map_err(|e| in_use(&e))?;
+            let obs_pub = obs_svc
+                .publisher_builder()
+                .initial_max_slice_len(
+                    vehicles
+                        .get(i)
+                        .copied()
+                        .unwrap_or(1)
+                        .clamp(1, INITIAL_SLICE),
+                )
+                .allocation_strategy(AllocationStrategy::PowerOfTwo)
+                .create()
+                .map_err(ipc("observation publisher"))?;
+            let cmd_sub = cmd_svc
+                .subscriber_builder()
+                .buffer_size(4)
+                .create()
+                .map_err(ipc("command subscriber"))?;
+            ports.push(Port {
+                obs_svc,
+                cmd_svc,
+                obs_pub,
+                cmd_sub,
+                state: State::Absent,
+                report: AgentReport {
+                    name: name.clone(),
+                    vehicles: vehicles.get(i).copied().unwrap_or(0),
+                    attached_at_end: false,
+                    events: Vec::new(),
+                    replies: 0,
+                    late_replies: 0,
+                    commands_applied: 0,
+                    rejections: Rejections::default(),
+                    fallback_ticks: 0,
+                    round_trip: RoundTrip::default(),
+                },
+                rtt: Vec::new(),
+                prev_step: 0,
+                last_step: 0,
+            });
+        }
+        Ok(Host {
+            node,
+            ports,
+            cfg: cfg.clone(),
+            wall0: None,
+        })
+    }
+
+    /// Service names agents attach to, one line per agent.
+    pub fn services(&self) -> Vec<String> {
+        self.cfg
+            .names
+            .iter()
+            .map(|n| service_name(&self.cfg.prefix, n, "{obs,cmd}"))
+            .collect()
+    }
+
+    /// Waits up to `timeout` (wall time) until every agent is attached; `tick` is called about
+    /// every 100 ms with the names still missing and stops the wait by returning `false`.
+    /// Returns the names still missing.
+    pub fn wait_for_agents(
+        &mut self,
+        timeout: Duration,
+        tick: &mut dyn FnMut(&[String]) -> bool,
+    ) -> Vec<String> {
+        let start = Instant::now();
+        let mut last = Instant::now();
+        loop {
+            self.node.try_cleanup_dead_nodes();
+            let missing: Vec<String> = self
+                .ports
+                .iter()
+                .filter(|p| !p.connected())
+                .map(|p| p.report.name.clone())
+                .collect();
+            if missing.is_empty() || start.elapsed() >= timeout {
+                return missing;
+            }
+            if last.elapsed() >= Duration::from_millis(100) {
+                if !tick(&missing) {
+                    return missing;
+                }
+                last = Instant::now();
+            }
+            std::thread::sleep(Duration::from_millis(2));
+        }
+    }
+
+    /// The exchange before a physics step: on a control tick of agent-driven vehicles,
+    /// publish observations, collect (lock-step: wait for) replies, validate and apply them,
+    /// handle attach, detach, hang and death.
+    pub fn before_step(&mut self, sim: &mut Sim) -> Result<Flow, BridgeError> {
+        if self.ports.is_empty() || !sim.agent_tick_due() {
+            return Ok(Flow::Continue);
+        }
+        let wall0 = *self.wall0.get_or_insert_with(Instant::now);
+        let step = sim.step_count();
+        let t = sim.time();
+        let obs = sim.observe_agents(self.ports.len(), self.cfg.grant_position);
+        let mut flow = Flow::Continue;
+        let mut sent_at = vec![None; self.ports.len()];
+        for (a, port) in self.ports.iter_mut().enumerate() {
+            let fallback_ticks = obs[a].iter().filter(|o| o.fallback).count() as u64;
+            port.report.fallback_ticks += fallback_ticks;
+            if !port.connected() && port.state == State::Attached {
+                port.state = State::Absent;
+                port.event(t, step, "left", "the agent closed its ports".into());
+                sim.set_fallback(a, self.cfg.fallback);
+                flow = lost(&self.cfg, &port.report.name, "left", flow);
+            }
+            publish(&port.obs_pub, &obs[a], 0).map_err(ipc("publishing observations"))?;
+            sent_at[a] = Some(Instant::now());
+            port.prev_step = port.last_step;
+            port.last_step = step;
+        }
+        for (a, sent) in sent_at.into_iter().enumerate() {
+            let Some(sent) = sent else { continue };
+            let lockstep = self.cfg.lockstep;
+            let timeout = Duration::from_secs_f64(self.cfg.timeout);
+            let port = &mut self.ports[a];
+            match port.state {
+                State::Attached if lockstep => {
+                    match wait_reply(&self.node, port, step, sent, timeout) {
+                        Reply::Got(cmds) => {
+                            port.rtt.push(sent.elapsed().as_secs_f64() * 1e6);
+                            apply(sim, a, port, &cmds);
+                        }
+                        Reply::Timeout => {
+                            port.state = State::Hung;
+                            port.event(
+                                t,
+                                step,
+                                "hung",
+                                format!("no reply within {} s", self.cfg.timeout),
+                            );
+                            sim.set_fallback(a, self.cfg.fallback);
+                            flow = lost(&self.cfg, &port.report.name, "hung", flow);
+                        }
+                        Reply::Gone => {
+                            port.state = State::Absent;
+                            port.event(
+                                t,
+                                step,
+                                "gone",
+                                "the agent process died (dead node cleaned up)".into(),
+                            );
+                            sim.set_fallback(a, self.cfg.fallback);
+                            flow = lost(&self.cfg, &port.report.name, "died", flow);
+                        }
+                    }
+                }
+                State::Attached => {
+                    // Free-running: whatever has arrived, in order; the last one wins.
+                    for cmds in drain(port) {
+                        apply(sim, a, port, &cmds);
+                    }
+                }
+                State::Hung => {
+                    // Back once it answers the previous tick or this one.
+                    let prev = port.prev_step;
+                    let fresh = drain(port)
+                        .into_iter()
+                        .any(|c| c.first().is_some_and(|c| c.step >= prev));
+                    if fresh && port.connected() {
+                        port.state = State::Attached;
+                        port.event(t, step, "reattached", "answering again".into());
+                    } else if !port.connected() {
+                        self.node.try_cleanup_dead_nodes();
+                        let port = &mut self.ports[a];
+                        if !port.connected() {
+                            port.state = State::Absent;
+                            port.event(t, step, "gone", "the hung agent's process is gone".into());
+                        }
+                    }
+                }
+                State::Absent => {
+                    if port.connected() {
+                        let again = port.report.events.iter().any(|e| e.what == "attached");
+                        port.state = State::Attached;
+                        port.event(
+                            t,
+                            step,
+                            if again { "reattached" } else { "attached" },
+                            String::new(),
+                        );
+                        // Its first reply answers the next tick; discard anything older.
+                        let _ = drain(port);
+                    } else if step.is_multiple_of(64) {
+                        self.node.try_cleanup_dead_nodes();
+                    }
+                }
+            }
+        }
+        if !self.cfg.lockstep && self.cfg.pace > 0.0 {
+            let ahead = t / self.cfg.pace - wall0.elapsed().as_secs_f64();
+            if ahead > 0.0 {
+                std::thread::sleep(Duration::from_secs_f64(ahead));
+            }
+        }
+        Ok(flow)
+    }
+
+    /// Ends the exchange: tells attached agents the run is over (observations with
+    /// [`flags::END`]), waits up to `grace` for them to leave, and returns the reports. The
+    /// services disappear when the host is dropped.
+    pub fn finish(&mut self, sim: &mut Sim, grace: Duration) -> Vec<AgentReport> {
+        let step = sim.step_count();
+        let t = sim.time();
+        let obs = sim.observe_agents(self.ports.len(), false);
+        for (a, port) in self.ports.iter_mut().enumerate() {
+            port.report.attached_at_end = port.state == State::Attached && port.connected();
+            let mut end: Vec<agents::Observation> = obs[a].clone();
+            if end.is_empty() {
+                end.push(agents::Observation {
+                    id: u32::MAX,
+                    step,
+                    t,
+                    sensors: shoal_model::control::SensorReadings::zeros(0),
+                    position: None,
+                    frames: Vec::new(),
+                    fallback: true,
+                });
+            }
+            let _ = publish(&port.obs_pub, &end, flags::END);
+        }
+        let start = Instant::now();
+        while start.elapsed() < grace
+            && self
+                .ports
+                .iter()
+                .any(|p| p.obs_svc.dynamic_config().number_of_subscribers() > 0)
+        {
+            self.node.try_cleanup_dead_nodes();
+            std::thread::sleep(Duration::from_millis(2));
+        }
+        self.ports
+            .iter_mut()
+            .map(|p| {
+                p.report.round_trip = stats(&mut p.rtt);
+                p.report.clone()
+            })
+            .collect()
+    }
+}
+
+fn lost(cfg: &AgentsDesc, name: &str, how: &str, flow: Flow) -> Flow {
+    if cfg.fallback == FallbackSpec::Stop && flow == Flow::Continue {
+        Flow::Stop(format!("agent `{name}` {how} and the fallback is `stop`"))
+    } else {
+        flow
+    }
+}
+
+enum Reply {
+    Got(Vec<Command>),
+    Timeout,
+    Gone,
+}
+
+/// Waits for `port`'s reply to `step`.
+fn wait_reply(
+    node: &Node<Ipc>,
+    port: &mut Port,
+    step: u64,
+    sent: Instant,
+    timeout: Duration,
+) -> Reply {
+    let mut last_check = Instant::now();
+    loop {
+        loop {
+            match port.cmd_sub.receive() {
+                Ok(Some(s)) => {
+                    port.report.replies += 1;
+                    let cmds = s.payload();
+                    if cmds.first().is_some_and(|c| c.step == step) {
+                        return Reply::Got(cmds.to_vec());
+                    }
+                    port.report.late_replies += 1;
+                }
+                Ok(None) => break,
+                Err(_) => {
+                    port.report.rejections.malformed += 1;
+                    break;
+                }
+            }
+        }
+        let waited = sent.elapsed();
+        if waited >= timeout {
+            return Reply::Timeout;
+        }
+        if last_check.elapsed() >= Duration::from_millis(10) {
+            node.try_cleanup_dead_nodes();
+            if !port.connected() {
+                return Reply::Gone;
+            }
+            last_check = Instant::now();
+        }
+        if waited < Duration::from_micros(50) {
+            std::hint::spin_loop();
+        } else if waited < Duration::from_millis(1) {
+            std::thread::yield_now();
+        } else {
+            std::thread::sleep(Duration::from_micros(50));
+        }
+    }
+}
+
+/// Every reply that has arrived, oldest first.
+fn drain(port: &mut Port) -> Vec<Vec<Command>> {
+    let mut out = Vec::new();
+    loop {
+        match port.cmd_sub.receive() {
+            Ok(Some(s)) => {
+                port.report.replies += 1;
+                out.push(s.payload().to_vec());
+            }
+            Ok(None) => break,
+            Err(_) => {
+                port.report.rejections.malformed += 1;
+                break;
+            }
+        }
+    }
+    out
+}
+
+/// Validates and applies one reply slice.
+fn apply(sim: &mut Sim, agent: usize, port: &mut Port, cmds: &[Command]) {
+    for c in cmds {
+        let rej = &mut port.report.rejections;
+        if let Some(cmd) = decode(c, rej)
+            && sim.command_vehicle(agent, &cmd, rej)
+        {
+            port.report.commands_applied += 1;
+        }
+    }
+}
+
+/// A wire command as a world command; protocol-level problems are counted and reject it.
+pub fn decode(c: &Command, rej: &mut Rejections) -> Option<agents::Command> {
+    if c.version != protocol::PROTOCOL_VERSION {
+        rej.malformed += 1;
+        return None;
+    }
+    let order = match c.kind {
+        protocol::kind::KEEP => Order::Keep,
+        protocol::kind::MODE => {
+            let mode = match c.mode {
+                protocol::mode::OFF => Mode::Off,
+                protocol::mode::DIVING => Mode::Diving,
+                protocol::mode::BUOYANCY => Mode::Buoyancy,
+                protocol::mode::TURNING => Mode::Turning,
+                protocol::mode::DRIFT => Mode::Drift,
+                protocol::mode::AUTO => Mode::Auto,
+                _ => {
+                    rej.invalid += 1;
+                    return None;
+                }
+            };
+            Order::Mode {
+                mode,
+                depth: c.depth,
+                yaw: c.yaw,
+                surge: c.surge,
+                sway: c.sway,
+            }
+        }
+        protocol::kind::RAW => Order::Raw {
+            thrusters: c.thrusters.to_vec(),
+            tilts: c.tilts.to_vec(),
+            pump: match c.pump {
+                -1 => Pump::Empty,
+                0 => Pump::Off,
+                1 => Pump::Fill,
+                _ => {
+                    rej.invalid += 1;
+                    return None;
+                }
+            },
+        },
+        _ => {
+            rej.invalid += 1;
+            return None;
+        }
+    };
+    let n = c.n_frames as usize;
+    if n > protocol::MAX_TX_FRAMES {
+        rej.bad_frames += (n - protocol::MAX_TX_FRAMES) as u64;
+    }
+    let mut frames = Vec::new();
+    for f in c.frames.iter().take(n.min(protocol::MAX_TX_FRAMES)) {
+        if f.len as usize > FRAME_BYTES {
+            rej.bad_frames += 1;
+            continue;
+        }
+        frames.push(FrameOrder {
+            modem: (f.modem != ALL_MODEMS).then_some(f.modem as usize),
+            payload: f.payload().to_vec(),
+            delay: f.t,
+        });
+    }
+    Some(agents::Command {
+        id: c.vehicle,
+        order,
+        frames,
+    })
+}
+
+/// Encodes observations (with extra `flags`) and sends them as one slice.
+fn publish(
+    p: &Publisher<Ipc, [Observation], ()>,
+    obs: &[agents::Observation],
+    extra: u32,
+) -> Result<usize, String> {
+    if obs.is_empty() {
+        return Ok(0);
+    }
+    let sample = p
+        .loan_slice_uninit(obs.len())
+        .map_err(|e| format!("{e:?}"))?;
+    let sample = sample.write_from_fn(|i| encode(&obs[i], extra));
+    sample.send().map_err(|e| format!("{e:?}"))
+}
+
+/// A world observation on the wire.
+pub fn encode(o: &agents::Observation, extra: u32) -> Observation {
+    let mut w = Observation::EMPTY;
+    w.vehicle = o.id;
+    w.step = o.step;
+    w.time = o.t;
+    let s = &o.sensors;
+    w.depth = s.depth;
+    let (roll, pitch, yaw) = euler_rpy(&s.attitude);
+    w.roll = roll;
+    w.pitch = pitch;
+    w.yaw = yaw;
+    w.rates = [s.gyro.x, s.gyro.y, s.gyro.z];
+    w.accel = [s.accel.x, s.accel.y, s.accel.z];
+    w.flags = extra;
+    if let Some(p) = o.position {
+        w.position = [p.x, p.y, p.z];
+        w.flags |= flags::POSITION;
+    }
+    if s.tank_full {
+        w.flags |= flags::TANK_FULL;
+    }
+    if o.fallback {
+        w.flags |= flags::FALLBACK;
+    }
+    w.n_tilts = s.tilts.len().min(protocol::MAX_TILTS) as u32;
+    for (d, v) in w.tilts.iter_mut().zip(&s.tilts) {
+        *d = *v;
+    }
+    let mut n = 0;
+    for r in &o.frames {
+        if n == MAX_RX_FRAMES || r.payload.len() > FRAME_BYTES {
+            w.frames_dropped += 1;
+            continue;
+        }
+        let f = &mut w.frames[n];
+        f.t = r.t;
+        f.power = r.power;
+        f.modem = r.modem.min(254) as u8;
+        f.len = r.payload.len() as u16;
+        f.data[..r.payload.len()].copy_from_slice(&r.payload);
+        n += 1;
+    }
+    w.n_frames = n as u32;
+    w
+}
+
+fn stats(v: &mut [f64]) -> RoundTrip {
+    if v.is_empty() {
+        return RoundTrip::default();
+    }
+    v.sort_by(f64::total_cmp);
+    let at = |q: f64| v[((v.len() - 1) as f64 * q).round() as usize];
+    RoundTrip {
+        count: v.len(),
+        median_us: at(0.5),
+        p99_us: at(0.99),
+        max_us: v[v.len() - 1],
+    }
+}

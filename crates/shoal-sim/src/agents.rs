@@ -1,0 +1,429 @@
+//! External agents, independent of how they are reached: what an agent sees of its vehicles
+//! on a control tick ([`Observation`]), what it may answer ([`Command`]), how every answer is
+//! checked before it touches the world ([`Sim::command_vehicle`]), and the fallback that takes
+//! over while an agent is absent ([`Sim::set_fallback`]).
+//!
+//! The transport (shared memory, in `shoal-bridge`) calls, before each physics step whose
+//! control tick is due ([`Sim::agent_tick_due`]): [`Sim::observe_agents`], then
+//! [`Sim::command_vehicle`] for each command received. Commands therefore act in the same
+//! control tick as a built-in behaviour's setpoints would, and a lock-step run is as
+//! reproducible as one without agents.
+
+use crate::comm::{Inbox, OutFrame, Outbox, Received};
+use crate::components::*;
+use crate::sim::Sim;
+use bevy_ecs::prelude::*;
+use shoal_model::math::{euler_rpy, wrap_pi};
+use shoal_model::prelude::*;
+use shoal_world::spec::FallbackSpec;
+
+/// Marks a vehicle driven by an external agent.
+#[derive(Component, Clone, Debug)]
+pub struct External {
+    /// Index of its agent in [`shoal_world::desc::AgentsDesc::names`].
+    pub agent: usize,
+    /// Whether the fallback is in force (the agent is absent, hung or dead).
+    pub fallback: bool,
+}
+
+/// What an agent sees of one vehicle on a control tick: only what the vehicle could sense.
+#[derive(Clone, Debug)]
+pub struct Observation {
+    /// Vehicle id (index in the world).
+    pub id: u32,
+    /// Physics step of this tick.
+    pub step: u64,
+    /// Simulated time [s].
+    pub t: f64,
+    /// Sensor readings (quantised depth, IMU attitude and rates, tilt angles, tank switch).
+    pub sensors: SensorReadings,
+    /// True position of the body origin, world frame [m] — only if the world grants it.
+    pub position: Option<Vec3>,
+    /// Frames received since the last tick, in order of arrival.
+    pub frames: Vec<Received>,
+    /// Whether the fallback is driving the vehicle.
+    pub fallback: bool,
+}
+
+/// What an agent asks of one vehicle.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Order {
+    /// Keep the setpoints in force (e.g. only send frames).
+    Keep,
+    /// A controller mode with its setpoints.
+    Mode {
+        /// The mode (not [`Mode::Raw`]).
+        mode: Mode,
+        /// Depth [m, positive down].
+        depth: f64,
+        /// Heading [rad].
+        yaw: f64,
+        /// Surge force [N].
+        surge: f64,
+        /// Sway force [N].
+        sway: f64,
+    },
+    /// Raw actuator commands.
+    Raw {
+        /// Per thruster [%]; missing ones are 0.
+        thrusters: Vec<f64>,
+        /// Per tilt drive [rad]; missing ones are 0.
+        tilts: Vec<f64>,
+        /// Pump.
+        pump: Pump,
+    },
+}
+
+/// A frame an agent hands to its vehicle's modems.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FrameOrder {
+    /// Modem index, or `None` for all modems in sync.
+    pub modem: Option<usize>,
+    /// Payload bytes.
+    pub payload: Vec<u8>,
+    /// Delay after the tick [s].
+    pub delay: f64,
+}
+
+/// One agent command for one vehicle.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Command {
+    /// Vehicle id.
+    pub id: u32,
+    /// Setpoints.
+    pub order: Order,
+    /// Frames to send.
+    pub frames: Vec<FrameOrder>,
+}
+
+/// Counts of what was wrong in agents' commands. A rejected command changes nothing; a
+/// clamped value is applied at the nearest allowed value.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct Rejections {
+    /// Commands rejected for a NaN or infinite number.
+    pub non_finite: u64,
+    /// Values outside their range, clamped.
+    pub clamped: u64,
+    /// Commands for a vehicle that does not exist or is not this agent's.
+    pub unknown_vehicle: u64,
+    /// Commands with an unknown mode or pump value.
+    pub invalid: u64,
+    /// Frames rejected: longer than the modem's payload, unknown modem, no modem.
+    pub bad_frames: u64,
+    /// Messages of another protocol version, or malformed at the transport.
+    pub malformed: u64,
+}
+
+impl Rejections {
+    /// Sum of every count.
+    pub fn total(&self) -> u64 {
+        self.non_finite
+            + self.clamped
+            + self.unknown_vehicle
+            + self.invalid
+            + self.bad_frames
+            + self.malformed
+    }
+
+    /// Adds `o` to these counts.
+    pub fn add(&mut self, o: &Rejections) {
+        self.non_finite += o.non_finite;
+        self.clamped += o.clamped;
+        self.unknown_vehicle += o.unknown_vehicle;
+        self.invalid += o.invalid;
+        self.bad_frames += o.bad_frames;
+        self.malformed += o.malformed;
+    }
+}
+
+/// Something that happened to an agent.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct AgentEvent {
+    /// Simulated time [s].
+    pub t: f64,
+    /// Physics step.
+    pub step: u64,
+    /// `attached`, `left`, `hung`, `gone` (process died), `reattached`.
+    pub what: &'static str,
+    /// Details for people.
+    pub detail: String,
+}
+
+/// Round-trip statistics [µs].
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct RoundTrip {
+    /// Exchanges measured.
+    pub count: usize,
+    /// Median [µs].
+    pub median_us: f64,
+    /// 99th percentile [µs].
+    pub p99_us: f64,
+    /// Largest [µs].
+    pub max_us: f64,
+}
+
+/// Everything about one agent for the run summary.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct AgentReport {
+    /// Agent name.
+    pub name: String,
+    /// Vehicles it drives.
+    pub vehicles: usize,
+    /// Attached when the run ended.
+    pub attached_at_end: bool,
+    /// Events in order.
+    pub events: Vec<AgentEvent>,
+    /// Reply slices received.
+    pub replies: u64,
+    /// Replies to an older step (ignored in lock-step).
+    pub late_replies: u64,
+    /// Commands applied.
+    pub commands_applied: u64,
+    /// Problems found in its commands.
+    pub rejections: Rejections,
+    /// Vehicle control ticks spent under the fallback.
+    pub fallback_ticks: u64,
+    /// Lock-step: publish → matching reply, wall time.
+    pub round_trip: RoundTrip,
+}
+
+/// The agents part of a run summary.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct AgentsSummary {
+    /// Service-name prefix of the world.
+    pub prefix: String,
+    /// `lockstep` or `free`.
+    pub timing: &'static str,
+    /// What vehicles did without their agent.
+    pub fallback: String,
+    /// Why the run was ended early by the fallback `stop`, if it was.
+    pub stopped: Option<String>,
+    /// Per agent.
+    pub agents: Vec<AgentReport>,
+}
+
+/// Largest |surge| or |sway| an agent may ask for [N]: the sum of every thruster's larger
+/// thrust limit (more than the vehicle can produce in any direction).
+fn force_limit(m: &VehicleModel) -> f64 {
+    m.params
+        .thrusters
+        .iter()
+        .map(|t| {
+            let (a, b) = t.curve.limits(t.max_command);
+            a.max(b)
+        })
+        .sum()
+}
+
+impl Sim {
+    /// Whether any agent-driven vehicle has its control tick at the coming step.
+    pub fn agent_tick_due(&mut self) -> bool {
+        let step = self.step_count();
+        let mut q = self.world_mut().query::<(&External, &Control)>();
+        q.iter(self.world())
+            .any(|(_, c)| step.is_multiple_of(c.every))
+    }
+
+    /// Observations of every agent-driven vehicle whose control tick is at the coming step,
+    /// grouped by agent index (`n_agents` groups, each sorted by vehicle id). Takes the frames
+    /// each vehicle received since its last tick.
+    pub fn observe_agents(
+        &mut self,
+        n_agents: usize,
+        grant_position: bool,
+    ) -> Vec<Vec<Observation>> {
+        let step = self.step_count();
+        let t = self.time();
+        let mut out = vec![Vec::new(); n_agents];
+        let mut q = self.world_mut().query::<(
+            &VehicleId,
+            &External,
+            &Control,
+            &Sensors,
+            &Physics,
+            &mut Inbox,
+        )>();
+        for (id, ext, control, sensors, phys, mut inbox) in q.iter_mut(self.world_mut()) {
+            if !step.is_multiple_of(control.every) || ext.agent >= n_agents {
+                continue;
+            }
+            out[ext.agent].push(Observation {
+                id: id.0,
+                step,
+                t,
+                sensors: sensors.0.clone(),
+                position: grant_position.then_some(phys.state.rigid.position),
+                frames: std::mem::take(&mut inbox.0),
+                fallback: ext.fallback,
+            });
+        }
+        for o in &mut out {
+            o.sort_by_key(|o| o.id);
+        }
+        out
+    }
+
+    /// Index of the agent that drives vehicle `id`, if any.
+    pub fn agent_of(&self, id: u32) -> Option<usize> {
+        let e = *self.entities().get(id as usize)?;
+        self.world().get::<External>(e).map(|x| x.agent)
+    }
+
+    /// Applies an agent's command to its vehicle after checking every value: a non-finite
+    /// number or an unknown mode rejects the command, values out of range are clamped, bad
+    /// frames are dropped; each case is counted in `rej`. Returns whether the command was
+    /// applied. `agent` must drive the vehicle. The command ends the vehicle's fallback.
+    pub fn command_vehicle(&mut self, agent: usize, cmd: &Command, rej: &mut Rejections) -> bool {
+        if self.agent_of(cmd.id) != Some(agent) {
+            rej.unknown_vehicle += 1;
+            return false;
+        }
+        let e = self.entities()[cmd.id as usize];
+        let t = self.time();
+        let pool_depth = self.pool_size().z;
+        let mut ent = self.world_mut().entity_mut(e);
+        let model = ent.get::<Kind>().expect("vehicle").0.clone();
+        let p = &model.params;
+        let finite = |xs: &[f64]| xs.iter().all(|x| x.is_finite());
+        // Check everything before changing anything.
+        let clamped = std::cell::Cell::new(0u64);
+        let clamp = |x: f64, lo: f64, hi: f64| {
+            if x < lo || x > hi {
+                clamped.set(clamped.get() + 1);
+            }
+            x.clamp(lo, hi)
+        };
+        let new_setpoints = match &cmd.order {
+            Order::Keep => None,
+            Order::Mode {
+                mode,
+                depth,
+                yaw,
+                surge,
+                sway,
+            } => {
+                if !finite(&[*depth, *yaw, *surge, *sway]) {
+                    rej.non_finite += 1;
+                    return false;
+                }
+                if *mode == Mode::Raw {
+                    rej.invalid += 1;
+                    return false;
+                }
+                let f = force_limit(&model);
+                Some((
+                    *mode,
+                    clamp(*depth, 0.0, pool_depth),
+                    wrap_pi(*yaw),
+                    clamp(*surge, -f, f),
+                    clamp(*sway, -f, f),
+                    None,
+                ))
+            }
+            Order::Raw {
+                thrusters,
+                tilts,
+                pump,
+            } => {
+                if !finite(thrusters) || !finite(tilts) {
+                    rej.non_finite += 1;
+                    return false;
+                }
+                let mut raw = model.zero_commands();
+                for (i, x) in thrusters.iter().enumerate() {
+                    match p.thrusters.get(i) {
+                        Some(th) => raw.thrusters[i] = clamp(*x, -th.max_command, th.max_command),
+                        None if *x != 0.0 => clamped.set(clamped.get() + 1),
+                        None => {}
+                    }
+                }
+                for (i, x) in tilts.iter().enumerate() {
+                    match p.tilts.get(i) {
+                        Some(tl) => raw.tilts[i] = clamp(*x, tl.min, tl.max),
+                        None if *x != 0.0 => clamped.set(clamped.get() + 1),
+                        None => {}
+                    }
+                }
+                raw.pump = if p.ballast.is_some() {
+                    *pump
+                } else {
+                    Pump::Off
+                };
+                Some((Mode::Raw, 0.0, 0.0, 0.0, 0.0, Some(raw)))
+            }
+        };
+        let mut frames = Vec::new();
+        for f in &cmd.frames {
+            let ok_modem = match f.modem {
+                Some(k) => k < p.modems.len(),
+                None => !p.modems.is_empty(),
+            };
+            let max = match f.modem {
+                Some(k) => p.modems.get(k).map_or(0, |m| m.max_payload),
+                None => p.modems.iter().map(|m| m.max_payload).min().unwrap_or(0),
+            };
+            if !ok_modem || f.payload.is_empty() || f.payload.len() > max || !f.delay.is_finite() {
+                rej.bad_frames += 1;
+                continue;
+            }
+            frames.push(OutFrame {
+                modem: f.modem,
+                payload: f.payload.clone(),
+                ready: t + f.delay.clamp(0.0, 1.0),
+            });
+        }
+        rej.clamped += clamped.get();
+        if let Some((mode, depth, yaw, surge, sway, raw)) = new_setpoints {
+            let mut c = ent.get_mut::<Control>().expect("vehicle");
+            let sp = &mut c.setpoints;
+            sp.mode = mode;
+            if let Some(raw) = raw {
+                sp.raw = raw;
+            } else {
+                sp.depth = depth;
+                sp.yaw = yaw;
+                sp.surge = surge;
+                sp.sway = sway;
+            }
+        }
+        ent.get_mut::<Outbox>().expect("vehicle").0.extend(frames);
+        ent.get_mut::<External>().expect("vehicle").fallback = false;
+        true
+    }
+
+    /// Puts every vehicle of `agent` under `fallback` (`Hold`: auto mode at its current depth
+    /// reading and heading, no surge; `Surface`: the same towards depth 0; `Stop` holds too —
+    /// ending the run is the caller's decision). Vehicles already in fallback keep theirs.
+    pub fn set_fallback(&mut self, agent: usize, fallback: FallbackSpec) {
+        let mut q = self
+            .world_mut()
+            .query::<(&mut External, &mut Control, &Sensors)>();
+        for (mut ext, mut c, s) in q.iter_mut(self.world_mut()) {
+            if ext.agent != agent || ext.fallback {
+                continue;
+            }
+            ext.fallback = true;
+            let heading = euler_rpy(&s.0.attitude).2;
+            let sp = &mut c.setpoints;
+            sp.mode = Mode::Auto;
+            sp.yaw = heading;
+            sp.surge = 0.0;
+            sp.sway = 0.0;
+            sp.depth = match fallback {
+                FallbackSpec::Surface => 0.0,
+                FallbackSpec::Hold | FallbackSpec::Stop => s.0.depth,
+            };
+        }
+    }
+
+    /// Number of vehicles driven by `agent` that are in fallback, and in all.
+    pub fn fallback_count(&mut self, agent: usize) -> (usize, usize) {
+        let mut q = self.world_mut().query::<&External>();
+        let mine: Vec<bool> = q
+            .iter(self.world())
+            .filter(|x| x.agent == agent)
+            .map(|x| x.fallback)
+            .collect();
+        (mine.iter().filter(|f| **f).count(), mine.len())
+    }
+}
