@@ -1,0 +1,132 @@
+//! A minimal agent: drives every vehicle it is given to one depth and heading in auto mode.
+//! With `--bad` it also sends, on every tick, commands the world must reject (NaN, unknown
+//! mode, unknown vehicle, wrong protocol version, oversized frames); with `--slow MS` it
+//! sleeps that long per tick (a heavy computation).
+//!
+//! ```sh
+//! cargo run --release -p shoal-bridge --example goto_agent -- PREFIX AGENT DEPTH_M HEADING_DEG [--bad] [--slow MS]
+//! ```
+
+use shoal_bridge::agent::{Agent, AgentLink, Ended};
+use shoal_bridge::protocol::{Command, MAX_TX_FRAMES, Observation, mode};
+use std::process::ExitCode;
+use std::time::Duration;
+
+struct Goto {
+    depth: f64,
+    yaw: f64,
+    slow: Duration,
+}
+
+impl Agent for Goto {
+    fn tick(&mut self, _o: &Observation, cmd: &mut Command) {
+        cmd.set_mode(mode::AUTO, self.depth, self.yaw, 0.0, 0.0);
+        if !self.slow.is_zero() {
+            std::thread::sleep(self.slow);
+        }
+    }
+}
+
+/// Commands a buggy or hostile agent might send alongside `good`.
+fn garbage(good: &Command) -> Vec<Command> {
+    let mut nan = *good;
+    nan.depth = f64::NAN;
+    let mut inf = *good;
+    inf.yaw = f64::INFINITY;
+    let mut bad_mode = *good;
+    bad_mode.mode = 42;
+    let mut stranger = *good;
+    stranger.vehicle = 999_999;
+    let mut old = *good;
+    old.version = 7;
+    let mut bad_kind = *good;
+    bad_kind.kind = 9;
+    let mut frames = Command::keep(&Observation::EMPTY);
+    frames.vehicle = good.vehicle;
+    frames.step = good.step;
+    frames.n_frames = (MAX_TX_FRAMES + 5) as u32; // claims more frames than fit
+    frames.frames[0].len = 200; // longer than the frame buffer
+    frames.frames[1].len = 60; // longer than the μAUV² modem's 58-byte payload
+    frames.frames[1].modem = 0;
+    frames.frames[2].len = 4;
+    frames.frames[2].modem = 17; // no such modem
+    vec![nan, inf, bad_mode, stranger, old, bad_kind, frames]
+}
+
+fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let bad = args.iter().any(|a| a == "--bad");
+    let slow_ms = args
+        .iter()
+        .position(|a| a == "--slow")
+        .and_then(|i| args.get(i + 1))
+        .and_then(|s| s.parse::<u64>().ok())
+        .unwrap_or(0);
+    let pos: Vec<&String> = args
+        .iter()
+        .enumerate()
+        .filter(|(i, a)| !a.starts_with("--") && (*i == 0 || args[i - 1] != "--slow"))
+        .map(|(_, a)| a)
+        .collect();
+    let (Some(prefix), Some(name), Some(depth), Some(heading)) = (
+        pos.first(),
+        pos.get(1),
+        pos.get(2).and_then(|s| s.parse::<f64>().ok()),
+        pos.get(3).and_then(|s| s.parse::<f64>().ok()),
+    ) else {
+        eprintln!("usage: goto_agent PREFIX AGENT DEPTH_M HEADING_DEG [--bad] [--slow MS]");
+        return ExitCode::from(2);
+    };
+    let mut link = match AgentLink::attach(prefix, name, Duration::from_secs(60)) {
+        Ok(l) => l,
+        Err(e) => {
+            eprintln!("goto_agent: {e}");
+            return ExitCode::from(1);
+        }
+    };
+    eprintln!("goto_agent: attached to `{prefix}` as `{name}`");
+    let mut agent = Goto {
+        depth,
+        yaw: heading.to_radians(),
+        slow: Duration::from_millis(slow_ms),
+    };
+    let result = if bad {
+        // The same loop as `AgentLink::run`, with garbage before each good command.
+        loop {
+            let obs = match link.receive(Duration::from_secs(10)) {
+                Ok(Some(o)) => o,
+                Ok(None) => break Ok(Ended::Silent),
+                Err(e) => break Err(e),
+            };
+            if obs
+                .iter()
+                .any(|o| o.flags & shoal_bridge::protocol::flags::END != 0)
+            {
+                break Ok(Ended::WorldEnded);
+            }
+            let mut cmds = Vec::new();
+            for o in &obs {
+                let mut c = Command::keep(o);
+                agent.tick(o, &mut c);
+                cmds.extend(garbage(&c));
+                cmds.push(c);
+            }
+            if let Err(e) = link.send(&cmds) {
+                break Err(e);
+            }
+        }
+    } else {
+        link.run(&mut agent)
+    };
+    match result {
+        Ok(Ended::WorldEnded) => ExitCode::SUCCESS,
+        Ok(Ended::Silent) => {
+            eprintln!("goto_agent: the world fell silent");
+            ExitCode::from(1)
+        }
+        Err(e) => {
+            eprintln!("goto_agent: {e}");
+            ExitCode::from(1)
+        }
+    }
+}

@@ -1,0 +1,169 @@
+//! `kill -9` of an agent in the middle of a lock-step run: the world notices (timeout, then
+//! the dead node is cleaned up), the vehicle falls back to holding depth and heading, the run
+//! finishes normally, the summary says what happened, and no shared memory is left behind.
+//! (Its own test binary: it compares /dev/shm before and after, so nothing may run beside it.)
+
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+fn repo() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn shm() -> BTreeSet<String> {
+    std::fs::read_dir("/dev/shm")
+        .map(|d| {
+            d.filter_map(|e| e.ok())
+                .map(|e| e.file_name().to_string_lossy().into_owned())
+                // iceoryx2 keeps one global management segment per machine by design.
+                .filter(|n| !n.ends_with("global_mgmt"))
+                .collect()
+        })
+        .unwrap_or_default()
+}
+
+#[test]
+fn killed_agent_is_detected_its_vehicle_falls_back_and_nothing_is_left() {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let st = Command::new(cargo)
+        .current_dir(repo())
+        .args([
+            "build",
+            "-q",
+            "-p",
+            "shoal-bridge",
+            "--example",
+            "goto_agent",
+        ])
+        .status()
+        .unwrap();
+    assert!(st.success());
+    let exe = std::env::current_exe().unwrap();
+    let agent_bin = exe
+        .parent()
+        .unwrap()
+        .parent()
+        .unwrap()
+        .join("examples/goto_agent");
+
+    let dir = std::env::temp_dir().join(format!("shoal-kill-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let world = dir.join("world.toml");
+    std::fs::write(
+        &world,
+        r#"name = "kill-test"
+duration = 120.0
+[pool]
+size = [10.0, 10.0, 3.0]
+[agents]
+timing = "lockstep"
+timeout = 0.5
+attach_timeout = 20.0
+fallback = "hold"
+[[vehicles]]
+name = "auv"
+position = [5.0, 5.0, 0.5]
+agent = "pilot"
+"#,
+    )
+    .unwrap();
+    let before = shm();
+    let prefix = format!("kill{}", std::process::id());
+    let out = dir.join("out");
+    let mut sim = Command::new(env!("CARGO_BIN_EXE_shoal"))
+        .args(["run", "--quiet", "--no-plots", "--prefix", &prefix, "--out"])
+        .arg(&out)
+        .arg(&world)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // The agent dives to 1.5 m, slowly (2 ms per tick: 120 s take ≈ 5 s of wall time).
+    let mut agent = Command::new(&agent_bin)
+        .args([&prefix, "pilot", "1.5", "0", "--slow", "2"])
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_millis(1500));
+    assert!(
+        agent.try_wait().unwrap().is_none(),
+        "the agent is still running"
+    );
+    // kill -9
+    agent.kill().unwrap();
+    agent.wait().unwrap();
+    let start = Instant::now();
+    let status = loop {
+        if let Some(s) = sim.try_wait().unwrap() {
+            break s;
+        }
+        assert!(start.elapsed() < Duration::from_secs(60), "the world hangs");
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    let text = sim.wait_with_output().unwrap();
+    assert!(status.success(), "{text:?}");
+    let stdout = String::from_utf8_lossy(&text.stdout);
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(
+        s["simulated_s"].as_f64().unwrap(),
+        120.0,
+        "the run finished"
+    );
+    let ag = &s["agents"]["agents"][0];
+    let events: Vec<&str> = ag["events"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e["what"].as_str().unwrap())
+        .collect();
+    assert_eq!(events[0], "attached");
+    assert!(
+        events.contains(&"gone"),
+        "the dead agent is detected: {events:?}"
+    );
+    assert!(
+        stdout.contains("gone"),
+        "the printed summary says so:\n{stdout}"
+    );
+    // After the kill the vehicle is in fallback for the rest of the run.
+    let t_gone = ag["events"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|e| e["what"] == "gone" || e["what"] == "hung")
+        .unwrap()["t"]
+        .as_f64()
+        .unwrap();
+    let fb = ag["fallback_ticks"].as_u64().unwrap() as f64;
+    let expected = (120.0 - t_gone) / 0.05;
+    assert!(
+        (fb - expected).abs() <= 3.0,
+        "{fb} fallback ticks, expected ≈ {expected}"
+    );
+    assert!(!ag["attached_at_end"].as_bool().unwrap());
+    // Holding: the depth at the end equals the depth when the agent died (± 5 cm).
+    let mut r = csv::Reader::from_path(out.join("trajectories.csv")).unwrap();
+    let h = r.headers().unwrap().clone();
+    let (ct, cz) = (
+        h.iter().position(|c| c == "t_s").unwrap(),
+        h.iter().position(|c| c == "depth_reading_m").unwrap(),
+    );
+    let rows: Vec<(f64, f64)> = r
+        .records()
+        .map(|x| {
+            let x = x.unwrap();
+            (x[ct].parse().unwrap(), x[cz].parse().unwrap())
+        })
+        .collect();
+    let at = |t: f64| rows.iter().find(|(tt, _)| *tt >= t).unwrap().1;
+    let (z_gone, z_end) = (at(t_gone), rows.last().unwrap().1);
+    assert!((z_end - z_gone).abs() < 0.05, "held {z_gone} m → {z_end} m");
+    // Nothing left in shared memory by the world or the killed agent.
+    let after = shm();
+    let left: Vec<&String> = after.difference(&before).collect();
+    assert!(left.is_empty(), "left in /dev/shm: {left:?}");
+}
