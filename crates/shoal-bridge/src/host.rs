@@ -237,6 +237,21 @@ impl Host {
         let obs = sim.observe_agents(self.ports.len(), self.cfg.grant_position);
         let mut flow = Flow::Continue;
         let mut sent_at = vec![None; self.ports.len()];
+        for port in self.ports.iter_mut() {
+            // An agent that attached since the last tick answers this very tick (lock-step
+            // waits for it), so runs do not depend on how fast it was.
+            if port.state == State::Absent && port.connected() {
+                let again = port.report.events.iter().any(|e| e.what == "attached");
+                port.state = State::Attached;
+                port.event(
+                    t,
+                    step,
+                    if again { "reattached" } else { "attached" },
+                    String::new(),
+                );
+                let _ = drain(port);
+            }
+        }
         for (a, port) in self.ports.iter_mut().enumerate() {
             let fallback_ticks = obs[a].iter().filter(|o| o.fallback).count() as u64;
             port.report.fallback_ticks += fallback_ticks;

@@ -1,0 +1,99 @@
+#!/usr/bin/env python3
+"""The `school` agent in Python (the same behaviour as
+`crates/shoal-bridge/examples/school_agent.rs`, command for command): every vehicle beacons
+its heading and depth once a second on all modems and steers towards the mean of its own and
+what it heard in the last 3 s; alone, it stops and turns slowly to find the others. It uses
+only sensed data and received frames.
+
+    cargo run --release -- run worlds/agents_school.toml      # terminal 1
+    python3 python/examples/school.py agents_school            # terminal 2 (in the venv)
+
+Arguments: `PREFIX [AGENT]` (AGENT defaults to `school`). Exit status 0 when the world ended
+the run, 1 when it fell silent or could not be reached, 130 on Ctrl-C.
+"""
+
+import math
+import signal
+import struct
+import sys
+from pathlib import Path
+
+try:
+    import shoal_agent
+except ImportError:  # run from a checkout without PYTHONPATH=python
+    sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+    import shoal_agent
+
+from shoal_agent import ALL_MODEMS, Agent, AgentLink, BridgeError, Ended, mode
+
+#: Frame tag of a school beacon.
+TAG = 0x5C
+#: A beacon: tag, heading [rad] and depth [m] as little-endian float32 (9 bytes).
+BEACON = struct.Struct("<Bff")
+
+
+class School(Agent):
+    """The school behaviour; state per vehicle, so one instance drives the whole group."""
+
+    def __init__(self) -> None:
+        #: Per vehicle: (sender-less) beacons heard as (time, heading, depth).
+        self.heard = {}
+        #: Per vehicle: time of its next beacon.
+        self.next = {}
+
+    def tick(self, o, cmd) -> None:
+        vehicle, time, yaw, depth = o.vehicle, o.time, o.yaw, o.depth
+        heard = self.heard.setdefault(vehicle, [])
+        for payload, _modem, _power, t in shoal_agent.received(o):
+            if len(payload) == BEACON.size and payload[0] == TAG:
+                _, h, d = BEACON.unpack(payload)  # float32 → float, exactly as in Rust
+                heard.append((t, h, d))
+        heard[:] = [b for b in heard if time - b[0] < 3.0]
+        # Beacon once a second, staggered by vehicle id.
+        nxt = self.next.setdefault(vehicle, 0.1 * float(vehicle % 10))
+        if time + 1e-9 >= nxt:
+            # struct rounds to the nearest float32, as Rust's `as f32`.
+            shoal_agent.send(cmd, ALL_MODEMS, BEACON.pack(TAG, yaw, depth), 0.0)
+            self.next[vehicle] = nxt + 1.0
+        if not heard:
+            shoal_agent.set_mode(cmd, mode.AUTO, depth, yaw + 0.4, 0.0, 0.0)
+        else:
+            # Summed in the same order as in Rust, so the result is bit-identical.
+            x, y, d = math.cos(yaw), math.sin(yaw), depth
+            for _, h, dd in heard:
+                x += math.cos(h)
+                y += math.sin(h)
+                d += dd
+            shoal_agent.set_mode(
+                cmd, mode.AUTO, d / float(len(heard) + 1), math.atan2(y, x), 0.03, 0.0
+            )
+
+
+def main(argv) -> int:
+    args = [a for a in argv if not a.startswith("--")]
+    if not args:
+        print("usage: school.py PREFIX [AGENT]", file=sys.stderr)
+        return 2
+    prefix = args[0]
+    name = args[1] if len(args) > 1 else "school"
+    # `kill` (SIGTERM) detaches cleanly too, like Ctrl-C.
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
+    try:
+        with AgentLink.attach(prefix, name, wait=60.0) as link:
+            print(f"school.py: attached to `{prefix}` as `{name}`", file=sys.stderr)
+            ended = link.run(School())
+            if ended is Ended.WORLD_ENDED:
+                print(f"school.py: the run ended after {link.ticks} ticks", file=sys.stderr)
+                return 0
+            print(f"school.py: the world fell silent after {link.ticks} ticks", file=sys.stderr)
+            return 1
+    except BridgeError as e:
+        print(f"school.py: {e}", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        print("school.py: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
