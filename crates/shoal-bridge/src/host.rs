@@ -239,7 +239,7 @@ impl Host {
         let mut sent_at = vec![None; self.ports.len()];
         for port in self.ports.iter_mut() {
             // An agent that attached since the last tick answers this very tick (lock-step
-            // waits for it), so runs do not depend on how fast it was.
+            // waits for it), so runs do not depend on how fast it was. Older replies go.
             if port.state == State::Absent && port.connected() {
                 let again = port.report.events.iter().any(|e| e.what == "attached");
                 port.state = State::Attached;
@@ -307,6 +307,22 @@ impl Host {
                     for cmds in drain(port) {
                         apply(sim, a, port, &cmds);
                     }
+                    // Nothing waits here, so look for a killed agent now and then.
+                    if step.is_multiple_of(64) {
+                        self.node.try_cleanup_dead_nodes();
+                        let port = &mut self.ports[a];
+                        if !port.connected() {
+                            port.state = State::Absent;
+                            port.event(
+                                t,
+                                step,
+                                "gone",
+                                "the agent process died (dead node cleaned up)".into(),
+                            );
+                            sim.set_fallback(a, self.cfg.fallback);
+                            flow = lost(&self.cfg, &port.report.name, "died", flow);
+                        }
+                    }
                 }
                 State::Hung => {
                     // Back once it answers the previous tick or this one.
@@ -326,19 +342,9 @@ impl Host {
                         }
                     }
                 }
+                // (Attaching is handled before publishing, above.)
                 State::Absent => {
-                    if port.connected() {
-                        let again = port.report.events.iter().any(|e| e.what == "attached");
-                        port.state = State::Attached;
-                        port.event(
-                            t,
-                            step,
-                            if again { "reattached" } else { "attached" },
-                            String::new(),
-                        );
-                        // Its first reply answers the next tick; discard anything older.
-                        let _ = drain(port);
-                    } else if step.is_multiple_of(64) {
+                    if step.is_multiple_of(64) {
                         self.node.try_cleanup_dead_nodes();
                     }
                 }

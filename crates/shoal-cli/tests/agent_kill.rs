@@ -3,14 +3,11 @@
 //! finishes normally, the summary says what happened, and no shared memory is left behind.
 //! (Its own test binary: it compares /dev/shm before and after, so nothing may run beside it.)
 
+mod common;
+
 use std::collections::BTreeSet;
-use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
-
-fn repo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
 
 fn shm() -> BTreeSet<String> {
     std::fs::read_dir("/dev/shm")
@@ -26,27 +23,7 @@ fn shm() -> BTreeSet<String> {
 
 #[test]
 fn killed_agent_is_detected_its_vehicle_falls_back_and_nothing_is_left() {
-    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
-    let st = Command::new(cargo)
-        .current_dir(repo())
-        .args([
-            "build",
-            "-q",
-            "-p",
-            "shoal-bridge",
-            "--example",
-            "goto_agent",
-        ])
-        .status()
-        .unwrap();
-    assert!(st.success());
-    let exe = std::env::current_exe().unwrap();
-    let agent_bin = exe
-        .parent()
-        .unwrap()
-        .parent()
-        .unwrap()
-        .join("examples/goto_agent");
+    let agent_bin = common::example_agent("goto_agent");
 
     let dir = std::env::temp_dir().join(format!("shoal-kill-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);

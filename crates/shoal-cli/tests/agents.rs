@@ -5,14 +5,12 @@
 //!
 //! The agent is `crates/shoal-bridge/examples/goto_agent.rs`, built by the test with cargo.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, ExitStatus, Stdio};
 use std::sync::OnceLock;
 use std::time::{Duration, Instant};
-
-fn repo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
 
 fn tmp(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("shoal-agents-{}-{name}", std::process::id()));
@@ -24,26 +22,7 @@ fn tmp(name: &str) -> PathBuf {
 /// The goto agent, built once per test process.
 fn agent_bin() -> &'static Path {
     static BIN: OnceLock<PathBuf> = OnceLock::new();
-    BIN.get_or_init(|| {
-        let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
-        let st = Command::new(cargo)
-            .current_dir(repo())
-            .args([
-                "build",
-                "-q",
-                "-p",
-                "shoal-bridge",
-                "--example",
-                "goto_agent",
-            ])
-            .status()
-            .expect("cargo runs");
-        assert!(st.success(), "building the goto agent");
-        // Same target directory and profile as this test binary.
-        let exe = std::env::current_exe().unwrap();
-        let profile_dir = exe.parent().unwrap().parent().unwrap();
-        profile_dir.join("examples/goto_agent")
-    })
+    BIN.get_or_init(|| common::example_agent("goto_agent"))
 }
 
 /// A world with one μAUV² driven by agent `pilot`.

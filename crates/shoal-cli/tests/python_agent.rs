@@ -7,6 +7,8 @@
 //! `pip install` (no network, no PyPI) fails the test. The venv lives in `target/pyvenv` and
 //! is reused once it has iceoryx2 0.10.0.
 
+mod common;
+
 use serde_json::Value;
 use shoal_bridge::protocol::{self, CType, flags, kind, mode};
 use std::ffi::OsString;
@@ -24,9 +26,7 @@ const VEHICLES: u64 = 8;
 /// Longest a world with its agent may take before both are killed.
 const RUN_TIMEOUT: Duration = Duration::from_secs(120);
 
-fn repo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
+use common::repo;
 
 fn cargo() -> OsString {
     std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into())
@@ -248,34 +248,9 @@ fn venv(py: &str) -> PathBuf {
     python
 }
 
-/// The Rust `school_agent` example, built like the binary under test (debug or release).
+/// The Rust `school_agent` example.
 fn rust_school_agent() -> PathBuf {
-    let bin_dir = Path::new(env!("CARGO_BIN_EXE_shoal")).parent().unwrap();
-    let mut build = Command::new(cargo());
-    build
-        .args([
-            "build",
-            "-q",
-            "-p",
-            "shoal-bridge",
-            "--example",
-            "school_agent",
-        ])
-        .current_dir(repo());
-    if bin_dir.ends_with("release") {
-        build.arg("--release");
-    }
-    let o = build.output().unwrap();
-    assert!(
-        o.status.success(),
-        "building school_agent failed: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    let exe = bin_dir
-        .join("examples")
-        .join(format!("school_agent{}", std::env::consts::EXE_SUFFIX));
-    assert!(exe.exists(), "{} missing", exe.display());
-    exe
+    common::example_agent("school_agent")
 }
 
 /// Waits for every child, polling; after `timeout` kills them all and panics.
