@@ -18,11 +18,10 @@ use std::time::{Duration, Instant};
 
 /// The iceoryx2 version of the Python package (must match the Rust crate's).
 const ICEORYX2: &str = "0.10.0";
-/// Simulated seconds per run, and the control ticks in them (control period 0.05 s).
-const DURATION_S: f64 = 10.0;
-const TICKS: u64 = 200;
-/// Vehicles of the world's `school` agent.
-const VEHICLES: u64 = 8;
+/// Simulated seconds per school run.
+const SCHOOL_S: f64 = 10.0;
+/// Vehicles of the school world's agent.
+const SCHOOL_VEHICLES: u64 = 8;
 /// Longest a world with its agent may take before both are killed.
 const RUN_TIMEOUT: Duration = Duration::from_secs(120);
 
@@ -253,6 +252,25 @@ fn rust_school_agent() -> PathBuf {
     common::example_agent("school_agent")
 }
 
+/// The venv, created once per test process (the tests run in parallel).
+fn shared_venv(py: &str) -> PathBuf {
+    static VENV: std::sync::Mutex<Option<PathBuf>> = std::sync::Mutex::new(None);
+    let mut v = VENV.lock().unwrap_or_else(|e| e.into_inner());
+    v.get_or_insert_with(|| venv(py)).clone()
+}
+
+/// The first vehicle's last depth reading [m] and heading [rad] in a trajectories.csv.
+fn final_pose(csv_path: &Path) -> (f64, f64) {
+    let mut r = csv::Reader::from_path(csv_path).unwrap();
+    let h = r.headers().unwrap().clone();
+    let col = |n: &str| h.iter().position(|c| c == n).unwrap();
+    let (id, z, yaw) = (col("vehicle"), col("depth_reading_m"), col("yaw_rad"));
+    let rows: Vec<csv::StringRecord> = r.records().map(|x| x.unwrap()).collect();
+    let first = rows[0][id].to_string();
+    let last = rows.iter().rev().find(|x| x[id] == first).unwrap();
+    (last[z].parse().unwrap(), last[yaw].parse().unwrap())
+}
+
 /// Waits for every child, polling; after `timeout` kills them all and panics.
 fn wait_all(children: &mut [(&str, Child)], timeout: Duration) -> Vec<ExitStatus> {
     let start = Instant::now();
@@ -279,10 +297,11 @@ fn wait_all(children: &mut [(&str, Child)], timeout: Duration) -> Vec<ExitStatus
     done.into_iter().map(Option::unwrap).collect()
 }
 
-/// One run of `worlds/agents_school.toml` with `agent` (a command, completed with the prefix)
-/// as agent `school`.
+/// One run of a world with one agent process.
 struct Run {
     summary: Value,
+    /// Vehicle 0's last depth reading [m] and heading [rad].
+    final_pose: (f64, f64),
     agent_log: String,
     wall: Duration,
 }
@@ -296,7 +315,17 @@ impl Run {
     }
 }
 
-fn run_school(label: &str, mut agent: Command) -> Run {
+/// Runs `worlds/<world>.toml` for `duration` s with `agent` (a command, completed with the
+/// prefix and `agent_args`); its `vehicles` must have answered every control tick but the
+/// first two (at 0.05 s).
+fn run_world(
+    world: &str,
+    duration: f64,
+    vehicles: u64,
+    label: &str,
+    mut agent: Command,
+    agent_args: &[&str],
+) -> Run {
     let dir = tmp(label);
     let out = dir.join("out");
     let prefix = format!("pytest-{}-{label}", std::process::id());
@@ -304,9 +333,9 @@ fn run_school(label: &str, mut agent: Command) -> Run {
     let t = Instant::now();
     let world = Command::new(env!("CARGO_BIN_EXE_shoal"))
         .arg("run")
-        .arg(repo().join("worlds/agents_school.toml"))
+        .arg(repo().join(format!("worlds/{world}.toml")))
         .args(["--quiet", "--no-plots", "--duration"])
-        .arg(DURATION_S.to_string())
+        .arg(duration.to_string())
         .args(["--prefix", &prefix, "--out"])
         .arg(&out)
         .stdin(Stdio::null())
@@ -316,6 +345,7 @@ fn run_school(label: &str, mut agent: Command) -> Run {
         .unwrap();
     let agent = agent
         .arg(&prefix)
+        .args(agent_args)
         .current_dir(repo())
         .stdin(Stdio::null())
         .stdout(log("agent.out"))
@@ -338,13 +368,15 @@ fn run_school(label: &str, mut agent: Command) -> Run {
         serde_json::from_str(&read(&out.join("summary.json"))).expect("summary.json");
     let run = Run {
         summary,
+        final_pose: final_pose(&out.join("trajectories.csv")),
         agent_log: read(&dir.join("agent.err")),
         wall,
     };
     let a = run.agent();
     let applied = a["commands_applied"].as_u64().unwrap();
+    let ticks = (duration / 0.05).round() as u64;
     assert!(
-        applied >= VEHICLES * (TICKS - 2),
+        applied >= vehicles * (ticks - 2),
         "{label}: {applied} commands applied\n{logs}"
     );
     let rejected: u64 = a["rejections"]
@@ -376,7 +408,7 @@ fn python_agent_drives_the_school_in_lockstep() {
         return;
     };
     let t = Instant::now();
-    let python = venv(py);
+    let python = shared_venv(py);
     println!("venv ready in {:.1} s", t.elapsed().as_secs_f64());
     let school_py = || {
         let mut c = Command::new(&python);
@@ -385,8 +417,18 @@ fn python_agent_drives_the_school_in_lockstep() {
             .env("PYTHONDONTWRITEBYTECODE", "1");
         c
     };
-    let py1 = run_school("py1", school_py());
-    let py2 = run_school("py2", school_py());
+    let school = |label: &str, agent: Command| {
+        run_world(
+            "agents_school",
+            SCHOOL_S,
+            SCHOOL_VEHICLES,
+            label,
+            agent,
+            &[],
+        )
+    };
+    let py1 = school("py1", school_py());
+    let py2 = school("py2", school_py());
     // The agent's log says how many ticks it answered: 200 and 199 mean that one run's agent
     // saw the first tick and the other's did not — the world did not wait for the reply on
     // the tick it noticed the agent (it only attaches it then), so the stateful school agent
@@ -403,7 +445,7 @@ fn python_agent_drives_the_school_in_lockstep() {
     // The Rust example agent must give the very same run: the Python agent decodes the
     // float32 beacons exactly, sums in the same order and uses the same libm functions, so
     // its commands are bit-identical.
-    let rs = run_school("rust", Command::new(rust_school_agent()));
+    let rs = school("rust", Command::new(rust_school_agent()));
     assert_eq!(
         py1.digest(),
         rs.digest(),
@@ -418,5 +460,47 @@ fn python_agent_drives_the_school_in_lockstep() {
         py1.wall.as_secs_f64(),
         py2.wall.as_secs_f64(),
         rs.wall.as_secs_f64()
+    );
+}
+
+#[test]
+fn python_agent_drives_a_vehicle_to_depth_and_heading_reproducibly() {
+    let Some(py) = python3() else {
+        println!("skipped: no python3 on the PATH");
+        return;
+    };
+    let python = shared_venv(py);
+    let goto_py = || {
+        let mut c = Command::new(&python);
+        c.arg(repo().join("python/examples/goto.py"))
+            .env("PYTHONPATH", repo().join("python"))
+            .env("PYTHONDONTWRITEBYTECODE", "1");
+        c
+    };
+    let target = ["pilot", "1.5", "90"];
+    let goto =
+        |label: &str, agent: Command| run_world("agents_goto", 60.0, 1, label, agent, &target);
+    let a = goto("goto-py1", goto_py());
+    let b = goto("goto-py2", goto_py());
+    // From 0.5 m and heading 0 the auto mode reaches the target well within 60 s (heading
+    // time constant ≈ 6 s): within 5 cm and 1°.
+    let (z, yaw) = a.final_pose;
+    assert!((z - 1.5).abs() < 0.05, "depth {z}");
+    assert!(
+        (yaw - 90f64.to_radians()).abs() < 1f64.to_radians(),
+        "heading {yaw}"
+    );
+    assert_eq!(a.agent()["events"][0]["what"], "attached");
+    assert_eq!(a.digest(), b.digest(), "two lock-step Python runs differ");
+    assert_eq!(a.final_pose, b.final_pose);
+    // The Rust goto agent sends the same commands: the same run, bit for bit.
+    let rs = goto(
+        "goto-rust",
+        Command::new(common::example_agent("goto_agent")),
+    );
+    assert_eq!(
+        a.digest(),
+        rs.digest(),
+        "Python and Rust goto agents differ"
     );
 }

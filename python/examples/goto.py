@@ -1,0 +1,67 @@
+#!/usr/bin/env python3
+"""The `goto` agent in Python (the same as `crates/shoal-bridge/examples/goto_agent.rs`): every
+vehicle it is given goes to one depth and heading in the controller's auto mode. The smallest
+useful agent; `shoal bench --agents python` uses it to measure the lock-step round trip.
+
+    shoal run worlds/agents_goto.toml                                    # terminal 1
+    python3 python/examples/goto.py agents_goto pilot 1.5 90             # terminal 2 (in the venv)
+
+Arguments: `PREFIX AGENT DEPTH_M HEADING_DEG`. Exit status 0 when the world ended the run,
+1 when it fell silent or could not be reached, 2 on bad arguments, 130 on Ctrl-C.
+"""
+
+import math
+import signal
+import sys
+from pathlib import Path
+
+try:
+    import shoal_agent
+except ImportError:  # run from a checkout without PYTHONPATH=python
+    sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+    import shoal_agent
+
+from shoal_agent import Agent, AgentLink, BridgeError, Ended, mode
+
+
+class Goto(Agent):
+    """Depth [m] and heading [rad] for every vehicle."""
+
+    def __init__(self, depth: float, yaw: float) -> None:
+        self.depth = depth
+        self.yaw = yaw
+
+    def tick(self, o, cmd) -> None:
+        shoal_agent.set_mode(cmd, mode.AUTO, self.depth, self.yaw, 0.0, 0.0)
+
+
+def main(argv) -> int:
+    args = [a for a in argv if not a.startswith("--")]
+    try:
+        prefix, name, depth, heading = args[0], args[1], float(args[2]), float(args[3])
+    except (IndexError, ValueError):
+        print("usage: goto.py PREFIX AGENT DEPTH_M HEADING_DEG", file=sys.stderr)
+        return 2
+    if not (math.isfinite(depth) and math.isfinite(heading)):
+        print("goto.py: DEPTH_M and HEADING_DEG must be finite numbers", file=sys.stderr)
+        return 2
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
+    try:
+        with AgentLink.attach(prefix, name, wait=60.0) as link:
+            print(f"goto.py: attached to `{prefix}` as `{name}`", file=sys.stderr)
+            ended = link.run(Goto(depth, math.radians(heading)))
+            if ended is Ended.WORLD_ENDED:
+                print(f"goto.py: the run ended after {link.ticks} ticks", file=sys.stderr)
+                return 0
+            print(f"goto.py: the world fell silent after {link.ticks} ticks", file=sys.stderr)
+            return 1
+    except BridgeError as e:
+        print(f"goto.py: {e}", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        print("goto.py: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
