@@ -359,6 +359,20 @@ impl Host {
         Ok(flow)
     }
 
+    /// Round-trip statistics of every agent since the start or the last call, clearing them
+    /// (the report of [`Host::finish`] then covers only what came after): a benchmark takes
+    /// them once after its warm-up and once at the end.
+    pub fn take_round_trips(&mut self) -> Vec<RoundTrip> {
+        self.ports
+            .iter_mut()
+            .map(|p| {
+                let r = stats(&mut p.rtt);
+                p.rtt.clear();
+                r
+            })
+            .collect()
+    }
+
     /// Ends the exchange: tells attached agents the run is over (observations with
     /// [`flags::END`]), waits up to `grace` for them to leave, and returns the reports. The
     /// services disappear when the host is dropped.

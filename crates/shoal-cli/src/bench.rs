@@ -1,19 +1,28 @@
 //! `shoal bench`: the scaling table. Every figure comes from one process in one run, so the
 //! ratios between rows (thread speed-up, cost of the optical medium, memory per vehicle) are
 //! comparable even on a noisy machine; absolute numbers are not.
+//!
+//! `shoal bench --agents rust,python`: the lock-step round trip per control period with 1, 100
+//! and 1,000 vehicles in one external agent process (the goto example agents), measured by
+//! the world's end of the bridge.
 
 use crate::alloc::live_bytes;
+use anyhow::Context;
+use shoal_bridge::host::{Flow, Host};
 use shoal_sim::bench::{SPACING, TRAFFIC_SPACING, swarm_spaced};
 use shoal_sim::prelude::*;
 use shoal_world::desc::WorldDesc;
-use std::time::Instant;
+use std::io::Read;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Stdio};
+use std::time::{Duration, Instant};
 
 /// Arguments of `shoal bench`.
 #[derive(clap::Args, Debug)]
 pub struct BenchArgs {
-    /// Vehicle counts.
-    #[arg(long, value_delimiter = ',', default_values_t = [1usize, 10, 100, 1000, 10000])]
-    pub vehicles: Vec<usize>,
+    /// Vehicle counts [default: 1,10,100,1000,10000; with --agents 1,100,1000].
+    #[arg(long, value_delimiter = ',')]
+    pub vehicles: Option<Vec<usize>>,
     /// Thread counts.
     #[arg(long, value_delimiter = ',', default_values_t = [1usize, 2])]
     pub threads: Vec<usize>,
@@ -26,6 +35,18 @@ pub struct BenchArgs {
     /// Print the tables as JSON as well.
     #[arg(long)]
     pub json: bool,
+    /// Instead of the scaling tables: the lock-step round trip to an external agent process
+    /// written in these languages (`rust`: the goto_agent example; `python`:
+    /// python/examples/goto.py).
+    #[arg(long, value_delimiter = ',', value_parser = ["rust", "python"])]
+    pub agents: Vec<String>,
+    /// The Rust agent executable [default: examples/goto_agent next to this binary].
+    #[arg(long, value_name = "PATH")]
+    pub rust_agent: Option<PathBuf>,
+    /// The Python interpreter with iceoryx2 0.10 installed [default: target/pyvenv/bin/python
+    /// of the checkout if it exists, else python3].
+    #[arg(long, value_name = "PATH")]
+    pub python: Option<PathBuf>,
 }
 
 struct Cell {
@@ -79,7 +100,10 @@ pub fn bench(a: &BenchArgs) -> anyhow::Result<()> {
         "--seconds must be > 0"
     );
     anyhow::ensure!(
-        a.vehicles.iter().all(|n| (1..=1_000_000).contains(n)),
+        a.vehicles
+            .iter()
+            .flatten()
+            .all(|n| (1..=1_000_000).contains(n)),
         "--vehicles: each 1 … 1000000"
     );
     anyhow::ensure!(
@@ -91,6 +115,13 @@ pub fn bench(a: &BenchArgs) -> anyhow::Result<()> {
             "warning: this is a debug build; benchmark a release build (cargo run --release -- bench)"
         );
     }
+    if !a.agents.is_empty() {
+        return agents(a);
+    }
+    let vehicles = a
+        .vehicles
+        .clone()
+        .unwrap_or_else(|| vec![1, 10, 100, 1000, 10000]);
     let mut json = Vec::new();
     println!(
         "shoal bench — μAUV² swarm on a 0.6 m grid in auto mode, dt = 0.01 s, RK4, recording off"
@@ -106,7 +137,7 @@ pub fn bench(a: &BenchArgs) -> anyhow::Result<()> {
         "speed-up",
         "bytes/vehicle"
     );
-    for &n in &a.vehicles {
+    for &n in &vehicles {
         let desc = swarm_spaced(n, 1, SPACING, false);
         let mut base: Option<f64> = None;
         for &t in &a.threads {
@@ -147,7 +178,7 @@ pub fn bench(a: &BenchArgs) -> anyhow::Result<()> {
             "delivered/s",
             "medium share"
         );
-        for &n in &a.vehicles {
+        for &n in &vehicles {
             let desc = swarm_spaced(n, 1, TRAFFIC_SPACING, true);
             let silent = swarm_spaced(n, 1, TRAFFIC_SPACING, false);
             for &t in &a.threads {
@@ -175,6 +206,227 @@ pub fn bench(a: &BenchArgs) -> anyhow::Result<()> {
                     "bytes_per_vehicle": c.bytes_per_vehicle
                 }));
             }
+        }
+    }
+    if a.json {
+        println!("{}", serde_json::to_string_pretty(&json)?);
+    }
+    Ok(())
+}
+
+/// The checkout this binary was built in, or the current directory's, if any: the directory
+/// holding `python/shoal_agent`.
+fn checkout() -> Option<PathBuf> {
+    let starts = [std::env::current_exe().ok(), std::env::current_dir().ok()];
+    starts.into_iter().flatten().find_map(|s| {
+        s.ancestors()
+            .find(|d| d.join("python/shoal_agent/__init__.py").is_file())
+            .map(Path::to_path_buf)
+    })
+}
+
+/// The command line of the goto agent in `lang`, without its arguments.
+fn agent_command(a: &BenchArgs, lang: &str) -> anyhow::Result<std::process::Command> {
+    if lang == "rust" {
+        let exe = match &a.rust_agent {
+            Some(p) => p.clone(),
+            None => std::env::current_exe()
+                .context("cannot locate this binary")?
+                .parent()
+                .context("cannot locate this binary's directory")?
+                .join("examples")
+                .join(format!("goto_agent{}", std::env::consts::EXE_SUFFIX)),
+        };
+        anyhow::ensure!(
+            exe.is_file(),
+            "the Rust agent {} does not exist: build it with `cargo build --release -p shoal-bridge --example goto_agent` or pass --rust-agent PATH",
+            exe.display()
+        );
+        return Ok(std::process::Command::new(exe));
+    }
+    let repo = checkout().context(
+        "cannot find the checkout's python/ directory (run from inside the shoal repository)",
+    )?;
+    let python = a.python.clone().unwrap_or_else(|| {
+        let venv = repo.join("target/pyvenv/bin/python");
+        if venv.is_file() {
+            venv
+        } else {
+            PathBuf::from("python3")
+        }
+    });
+    let mut c = std::process::Command::new(python);
+    c.arg(repo.join("python/examples/goto.py"))
+        .env("PYTHONPATH", repo.join("python"))
+        .env("PYTHONDONTWRITEBYTECODE", "1");
+    Ok(c)
+}
+
+/// An agent process that is killed if the bench leaves early.
+struct AgentProcess(Child);
+
+impl AgentProcess {
+    /// Its standard error so far (after it ended).
+    fn stderr(&mut self) -> String {
+        let mut s = String::new();
+        if let Some(e) = self.0.stderr.as_mut() {
+            let _ = e.read_to_string(&mut s);
+        }
+        s.trim().to_string()
+    }
+
+    /// Waits up to `limit` for it to end; kills it after that.
+    fn wait(&mut self, limit: Duration) -> Option<std::process::ExitStatus> {
+        let start = Instant::now();
+        while start.elapsed() < limit {
+            if let Ok(Some(s)) = self.0.try_wait() {
+                return Some(s);
+            }
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+        None
+    }
+}
+
+impl Drop for AgentProcess {
+    fn drop(&mut self) {
+        if let Ok(None) = self.0.try_wait() {
+            let _ = self.0.kill();
+            let _ = self.0.wait();
+        }
+    }
+}
+
+/// One row of the agent table.
+struct AgentCell {
+    ticks: usize,
+    round_trip: shoal_sim::agents::RoundTrip,
+    real_time: f64,
+}
+
+fn measure_agent(a: &BenchArgs, lang: &str, n: usize) -> anyhow::Result<AgentCell> {
+    let prefix = format!("bench-{}-{lang}-{n}", std::process::id());
+    let desc = shoal_sim::bench::agent_swarm(n, &prefix).map_err(anyhow::Error::msg)?;
+    let mut host = Host::open(&desc.agents, &[n])?;
+    let mut sim = Sim::new(
+        &desc,
+        SimOptions {
+            threads: 1,
+            record: false,
+        },
+    );
+    let mut child = AgentProcess(
+        agent_command(a, lang)?
+            .args([prefix.as_str(), "pilot", "1.3", "45"])
+            .stdin(Stdio::null())
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .with_context(|| format!("cannot start the {lang} agent"))?,
+    );
+    let missing = host.wait_for_agents(Duration::from_secs(30), &mut |_| {
+        matches!(child.0.try_wait(), Ok(None))
+    });
+    if !missing.is_empty() {
+        child.wait(Duration::from_millis(500));
+        anyhow::bail!(
+            "the {lang} agent did not attach: {}{}",
+            child.stderr(),
+            if lang == "python" {
+                "\n(the interpreter needs iceoryx2 0.10: python3 -m venv target/pyvenv && target/pyvenv/bin/pip install -r python/requirements.txt)"
+            } else {
+                ""
+            }
+        );
+    }
+    let step = |sim: &mut Sim, host: &mut Host| -> anyhow::Result<()> {
+        match host.before_step(sim)? {
+            Flow::Continue => {
+                sim.step();
+                Ok(())
+            }
+            Flow::Stop(why) => anyhow::bail!("{why}"),
+        }
+    };
+    // Warm-up: 20 control ticks (1 s simulated), not measured.
+    for _ in 0..100 {
+        step(&mut sim, &mut host)?;
+    }
+    host.take_round_trips();
+    let start = Instant::now();
+    let t0 = sim.time();
+    loop {
+        for _ in 0..5 {
+            step(&mut sim, &mut host)?;
+        }
+        if start.elapsed().as_secs_f64() >= a.seconds && sim.time() - t0 >= 1.0 {
+            break;
+        }
+    }
+    let wall = start.elapsed().as_secs_f64();
+    let sim_s = sim.time() - t0;
+    let rt = host.take_round_trips()[0];
+    let report = host.finish(&mut sim, Duration::from_secs(2));
+    drop(host);
+    let status = child.wait(Duration::from_secs(5));
+    let hiccups: Vec<String> = report[0]
+        .events
+        .iter()
+        .filter(|e| e.what != "attached")
+        .map(|e| format!("{} at t = {:.2} s", e.what, e.t))
+        .collect();
+    anyhow::ensure!(
+        hiccups.is_empty(),
+        "the {lang} agent with {n} vehicles: {}",
+        hiccups.join(", ")
+    );
+    anyhow::ensure!(
+        status.is_some_and(|s| s.success()),
+        "the {lang} agent did not end cleanly ({status:?}): {}",
+        child.stderr()
+    );
+    Ok(AgentCell {
+        ticks: rt.count,
+        round_trip: rt,
+        real_time: sim_s / wall,
+    })
+}
+
+/// The agent round-trip table.
+fn agents(a: &BenchArgs) -> anyhow::Result<()> {
+    let vehicles = a.vehicles.clone().unwrap_or_else(|| vec![1, 100, 1000]);
+    println!(
+        "shoal bench --agents — lock-step round trip per control period (0.05 s) to one agent process\n\
+         driving every vehicle (goto example); publish observations → all commands back, wall time;\n\
+         world on 1 thread, 20 ticks of warm-up not counted"
+    );
+    println!(
+        "{:>8} {:>8} {:>7} {:>11} {:>11} {:>11} {:>13} {:>12}",
+        "agent", "vehicles", "ticks", "median µs", "p99 µs", "max µs", "µs/vehicle", "real-time ×"
+    );
+    let mut json = Vec::new();
+    for lang in &a.agents {
+        for &n in &vehicles {
+            let c = measure_agent(a, lang, n)?;
+            let r = c.round_trip;
+            println!(
+                "{:>8} {:>8} {:>7} {:>11.1} {:>11.1} {:>11.1} {:>13.3} {:>12.1}",
+                lang,
+                n,
+                c.ticks,
+                r.median_us,
+                r.p99_us,
+                r.max_us,
+                r.median_us / n as f64,
+                c.real_time
+            );
+            json.push(serde_json::json!({
+                "table": "agents", "agent": lang, "vehicles": n, "ticks": c.ticks,
+                "median_us": r.median_us, "p99_us": r.p99_us, "max_us": r.max_us,
+                "median_us_per_vehicle": r.median_us / n as f64, "real_time_factor": c.real_time
+            }));
         }
     }
     if a.json {

@@ -213,3 +213,9 @@ fn two_worlds_with_different_prefixes_do_not_see_each_other() {
     let (zb, _) = final_pose(&ob);
     assert!((zb - 0.41).abs() < 0.03, "B held its depth: {zb}");
 }
+
+#[test]
+fn bench_measures_the_round_trip_to_a_rust_agent() {
+    let agent = agent_bin();
+    common::check_agent_bench("rust", &["--rust-agent".as_ref(), agent.as_os_str()]);
+}

@@ -504,3 +504,13 @@ fn python_agent_drives_a_vehicle_to_depth_and_heading_reproducibly() {
         "Python and Rust goto agents differ"
     );
 }
+
+#[test]
+fn bench_measures_the_round_trip_to_a_python_agent() {
+    let Some(py) = python3() else {
+        println!("skipped: no python3 on the PATH");
+        return;
+    };
+    let python = shared_venv(py);
+    common::check_agent_bench("python", &["--python".as_ref(), python.as_os_str()]);
+}

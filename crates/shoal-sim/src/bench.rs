@@ -46,6 +46,31 @@ pub fn swarm_text(n: usize, seed: u64, spacing: f64, traffic: bool) -> String {
     t
 }
 
+/// The world-file text of an `n`-vehicle swarm on a [`SPACING`] grid driven by one external
+/// agent `pilot` in lock-step, with service prefix `prefix` (the agent latency benchmark).
+pub fn agent_swarm_text(n: usize, prefix: &str) -> String {
+    let columns = (n as f64).sqrt().ceil().max(1.0) as usize;
+    let rows = n.div_ceil(columns);
+    let (lx, ly) = (columns as f64 * SPACING + 2.0, rows as f64 * SPACING + 2.0);
+    format!(
+        "name = \"agent bench swarm of {n}\"\nseed = 1\nduration = 3600\ndt = 0.01\n\
+         [pool]\nsize = [{lx}, {ly}, 3.0]\n\
+         [agents]\nprefix = \"{prefix}\"\ntiming = \"lockstep\"\ntimeout = 5.0\nattach_timeout = 30.0\n\
+         [[vehicles]]\nname = \"b\"\ncount = {n}\n\
+         grid = {{ origin = [1.0, 1.0, 1.0], spacing = [{SPACING}, {SPACING}], columns = {columns} }}\n\
+         agent = \"pilot\"\n[output]\nplots = false\n"
+    )
+}
+
+/// The validated agent benchmark swarm (see [`agent_swarm_text`]).
+pub fn agent_swarm(n: usize, prefix: &str) -> Result<WorldDesc, String> {
+    load_str(
+        &agent_swarm_text(n, prefix),
+        Path::new("<agent bench swarm>"),
+    )
+    .map_err(|e| e.to_string())
+}
+
 /// A ring of four modems: front, right, back, left (name, position, direction).
 pub const RING: [(&str, &str, &str); 4] = [
     ("front", "[0.125, 0.0, 0.0]", "[1.0, 0.0, 0.0]"),

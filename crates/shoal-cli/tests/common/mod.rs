@@ -34,3 +34,45 @@ pub fn example_agent(name: &str) -> PathBuf {
     assert!(exe.exists(), "{} missing", exe.display());
     exe
 }
+
+/// Runs `shoal bench --agents LANG --vehicles 1,20 --json` with `extra` arguments and checks
+/// the rows: every tick of at least one simulated second measured, statistics ordered.
+pub fn check_agent_bench(lang: &str, extra: &[&std::ffi::OsStr]) {
+    let o = Command::new(env!("CARGO_BIN_EXE_shoal"))
+        .args([
+            "bench",
+            "--agents",
+            lang,
+            "--vehicles",
+            "1,20",
+            "--seconds",
+            "0.2",
+            "--json",
+        ])
+        .args(extra)
+        .current_dir(repo())
+        .output()
+        .unwrap();
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        o.status.success(),
+        "{out}\n{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    println!("{out}");
+    let json: serde_json::Value = serde_json::from_str(&out[out.find("\n[").unwrap()..]).unwrap();
+    let rows = json.as_array().unwrap();
+    assert_eq!(rows.len(), 2);
+    for (row, n) in rows.iter().zip([1, 20]) {
+        assert_eq!(row["agent"], lang);
+        assert_eq!(row["vehicles"], n);
+        // At least 1 s simulated at a 0.05 s control period, each tick one round trip.
+        assert!(row["ticks"].as_u64().unwrap() >= 20, "{row}");
+        let (m, p, x) = (
+            row["median_us"].as_f64().unwrap(),
+            row["p99_us"].as_f64().unwrap(),
+            row["max_us"].as_f64().unwrap(),
+        );
+        assert!(m > 0.0 && m <= p && p <= x, "{row}");
+    }
+}
