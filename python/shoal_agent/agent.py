@@ -16,7 +16,9 @@ Services: the world creates `shoal/<prefix>/<agent>/obs` (it publishes `[Observa
 slices, one element per vehicle of the agent whose control tick it is) and
 `shoal/<prefix>/<agent>/cmd` (the agent publishes `[Command]` slices, one element per
 observed vehicle, carrying the observation's `step`). The last observation slice of a run has
-`flags.END` set: the agent then leaves without answering.
+`flags.END` set: the agent then leaves without answering. An agent that leaves earlier (Ctrl-C,
+`close`) sends a one-element `kind.LEAVE` slice first and waits briefly for the world's END
+acknowledgement.
 """
 
 import ctypes
@@ -62,6 +64,8 @@ _SPIN_S = 0.001
 _SHORT_NAP_S = 0.0001
 _LONG_NAP_AFTER_S = 0.1
 _LONG_NAP_S = 0.001
+# Longest wait for the world to acknowledge a LEAVE [s].
+_LEAVE_ACK_S = 0.5
 
 
 class BridgeError(Exception):
@@ -168,6 +172,8 @@ class AgentLink:
         self.idle_timeout = 10.0
         #: Ticks answered.
         self.ticks = 0
+        #: The world ended the run (no goodbye needed).
+        self._ended = False
 
     @classmethod
     def attach(cls, prefix: str, agent: str, wait: float = 60.0) -> "AgentLink":
@@ -236,8 +242,24 @@ class AgentLink:
         self.close()
 
     def close(self) -> None:
-        """Releases the ports, the services and the node (idempotent). The node has no
+        """Detaches: unless the world ended the run, says LEAVE and waits (at most 0.5 s)
+        for the world's acknowledgement, so the world records `left` rather than `gone`;
+        then releases the ports, the services and the node (idempotent). The node has no
         explicit delete in Python: it goes with its last reference, held only here."""
+        if self._obs_sub is not None and not self._ended:
+            try:
+                bye = Command()
+                bye.version = PROTOCOL_VERSION
+                bye.vehicle = 0xFFFFFFFF
+                bye.kind = kind.LEAVE
+                self.send([bye])
+                deadline = time.perf_counter() + _LEAVE_ACK_S
+                while not self._ended:
+                    left = deadline - time.perf_counter()
+                    if left <= 0 or self.receive(left) is None:
+                        break
+            except Exception:
+                pass  # the world is gone: nothing to say goodbye to
         for attr in ("_obs_sub", "_cmd_pub"):
             port = getattr(self, attr, None)
             if port is not None:
@@ -277,6 +299,8 @@ class AgentLink:
                 finally:
                     sample.delete()
             if newest is not None:
+                if any(o.flags & flags.END for o in newest):
+                    self._ended = True
                 return newest
             waited = time.perf_counter() - start
             if waited >= timeout:

@@ -32,6 +32,7 @@ class kind:
     KEEP = 0
     MODE = 1
     RAW = 2
+    LEAVE = 3
 
 
 class mode:

@@ -116,7 +116,7 @@ fn module() -> String {
         (
             "kind",
             "Values of `Command.kind`.",
-            consts!(kind::KEEP, kind::MODE, kind::RAW),
+            consts!(kind::KEEP, kind::MODE, kind::RAW, kind::LEAVE),
         ),
         (
             "mode",

@@ -1,10 +1,11 @@
 //! A minimal agent: drives every vehicle it is given to one depth and heading in auto mode.
 //! With `--bad` it also sends, on every tick, commands the world must reject (NaN, unknown
 //! mode, unknown vehicle, wrong protocol version, oversized frames); with `--slow MS` it
-//! sleeps that long per tick (a heavy computation).
+//! sleeps that long per tick (a heavy computation); with `--stall TICK:MS` it sleeps MS once,
+//! at its TICK-th tick (counted from 0: a hang it recovers from).
 //!
 //! ```sh
-//! cargo run --release -p shoal-bridge --example goto_agent -- PREFIX AGENT DEPTH_M HEADING_DEG [--bad] [--slow MS]
+//! cargo run --release -p shoal-bridge --example goto_agent -- PREFIX AGENT DEPTH_M HEADING_DEG [--bad] [--slow MS] [--stall TICK:MS]
 //! ```
 
 use shoal_bridge::agent::{Agent, AgentLink, Ended};
@@ -16,13 +17,28 @@ struct Goto {
     depth: f64,
     yaw: f64,
     slow: Duration,
+    /// (tick, how long) of the one-off stall.
+    stall: Option<(u64, Duration)>,
+    /// Current tick, and the step it belongs to.
+    tick: u64,
+    step: Option<u64>,
 }
 
 impl Agent for Goto {
-    fn tick(&mut self, _o: &Observation, cmd: &mut Command) {
+    fn tick(&mut self, o: &Observation, cmd: &mut Command) {
+        if self.step.is_some_and(|s| s != o.step) {
+            self.tick += 1;
+        }
+        self.step = Some(o.step);
         cmd.set_mode(mode::AUTO, self.depth, self.yaw, 0.0, 0.0);
         if !self.slow.is_zero() {
             std::thread::sleep(self.slow);
+        }
+        if let Some((at, d)) = self.stall
+            && at == self.tick
+        {
+            self.stall = None;
+            std::thread::sleep(d);
         }
     }
 }
@@ -62,10 +78,19 @@ fn main() -> ExitCode {
         .and_then(|i| args.get(i + 1))
         .and_then(|s| s.parse::<u64>().ok())
         .unwrap_or(0);
+    let stall = args
+        .iter()
+        .position(|a| a == "--stall")
+        .and_then(|i| args.get(i + 1))
+        .and_then(|s| s.split_once(':'))
+        .and_then(|(t, ms)| Some((t.parse::<u64>().ok()?, ms.parse::<u64>().ok()?)));
     let pos: Vec<&String> = args
         .iter()
         .enumerate()
-        .filter(|(i, a)| !a.starts_with("--") && (*i == 0 || args[i - 1] != "--slow"))
+        .filter(|(i, a)| {
+            !a.starts_with("--")
+                && (*i == 0 || !matches!(args[i - 1].as_str(), "--slow" | "--stall"))
+        })
         .map(|(_, a)| a)
         .collect();
     let (Some(prefix), Some(name), Some(depth), Some(heading)) = (
@@ -74,7 +99,9 @@ fn main() -> ExitCode {
         pos.get(2).and_then(|s| s.parse::<f64>().ok()),
         pos.get(3).and_then(|s| s.parse::<f64>().ok()),
     ) else {
-        eprintln!("usage: goto_agent PREFIX AGENT DEPTH_M HEADING_DEG [--bad] [--slow MS]");
+        eprintln!(
+            "usage: goto_agent PREFIX AGENT DEPTH_M HEADING_DEG [--bad] [--slow MS] [--stall TICK:MS]"
+        );
         return ExitCode::from(2);
     };
     let mut link = match AgentLink::attach(prefix, name, Duration::from_secs(60)) {
@@ -89,6 +116,9 @@ fn main() -> ExitCode {
         depth,
         yaw: heading.to_radians(),
         slow: Duration::from_millis(slow_ms),
+        stall: stall.map(|(t, ms)| (t, Duration::from_millis(ms))),
+        tick: 0,
+        step: None,
     };
     let result = if bad {
         // The same loop as `AgentLink::run`, with garbage before each good command.

@@ -51,6 +51,29 @@ pub struct AgentLink {
     pub idle_timeout: Duration,
     /// Ticks answered.
     pub ticks: u64,
+    /// The world ended the run (no goodbye needed).
+    ended: bool,
+}
+
+/// Longest wait for the world to acknowledge a LEAVE.
+const LEAVE_ACK: Duration = Duration::from_millis(500);
+
+impl Drop for AgentLink {
+    /// Detaches: unless the world ended the run, says LEAVE and waits (at most 0.5 s) for the
+    /// world's acknowledgement, so the world records `left` rather than `gone`.
+    fn drop(&mut self) {
+        if self.ended || self.send(&[Command::leave()]).is_err() {
+            return;
+        }
+        let start = Instant::now();
+        while start.elapsed() < LEAVE_ACK {
+            match self.receive(LEAVE_ACK.saturating_sub(start.elapsed())) {
+                Ok(Some(_)) if self.ended => return,
+                Ok(Some(_)) => {}
+                _ => return,
+            }
+        }
+    }
 }
 
 impl AgentLink {
@@ -108,11 +131,13 @@ impl AgentLink {
             cmd,
             idle_timeout: Duration::from_secs(10),
             ticks: 0,
+            ended: false,
         })
     }
 
     /// The next observation slice (busy-polls briefly, then naps), or `None` after
-    /// `timeout`. The slice of the world's last tick has [`flags::END`] set.
+    /// `timeout`. The slice of the world's last tick has [`flags::END`] set. (Dropping the
+    /// link detaches with a goodbye the world acknowledges.)
     pub fn receive(&mut self, timeout: Duration) -> Result<Option<Vec<Observation>>, BridgeError> {
         let start = Instant::now();
         loop {
@@ -121,7 +146,8 @@ impl AgentLink {
             while let Some(s) = self.obs.receive().map_err(ipc("receiving observations"))? {
                 newest = Some(s.payload().to_vec());
             }
-            if newest.is_some() {
+            if let Some(obs) = &newest {
+                self.ended |= obs.iter().any(|o| o.flags & flags::END != 0);
                 return Ok(newest);
             }
             let waited = start.elapsed();

@@ -9,11 +9,14 @@
 //! have arrived (the last command per vehicle stays in force), never waiting.
 //!
 //! **Faults**: an agent that misses the timeout is *hung*: its vehicles fall back and the
-//! world stops waiting for it; a reply to a recent step re-attaches it. While waiting, and on
-//! every tick while absent, dead nodes are cleaned up (`try_cleanup_dead_nodes`), so a
-//! killed agent's ports vanish and it counts as *gone*; a new process may then attach under
-//! the same name. Every command is validated (see [`shoal_sim::agents`]); protocol errors
-//! are counted as malformed. Every event is kept for the summary.
+//! world stops waiting for it; any reply to a step since it hung re-attaches it (its vehicles
+//! leave the fallback with its next command). While waiting, and every 64 steps otherwise,
+//! dead nodes are cleaned up (`try_cleanup_dead_nodes`), so a killed agent's ports vanish
+//! and it counts as *gone*. An agent that closes properly says so first
+//! ([`protocol::kind::LEAVE`], acknowledged with [`flags::END`]) and counts as *left*. A new
+//! process may then attach under the same name (*reattached*). Every command is validated
+//! (see [`shoal_sim::agents`]); protocol errors are counted as malformed. The first 1,000
+//! events per agent are kept for the summary, later ones counted.
 //!
 //! **Shutdown**: the last observation carries [`flags::END`]; the world waits up to 1 s for
 //! its agents to leave before removing its services, so no shared memory is left behind.
@@ -36,6 +39,8 @@ use std::time::{Duration, Instant};
 
 /// Largest number of vehicles one agent's slice is prepared for; more are allocated on demand.
 const INITIAL_SLICE: usize = 1024;
+/// Events kept per agent; later ones are only counted (an agent that hangs on every tick).
+const MAX_EVENTS: usize = 1000;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum State {
@@ -54,9 +59,10 @@ struct Port {
     state: State,
     report: AgentReport,
     rtt: Vec<f64>,
-    /// Step of the tick before the current one.
-    prev_step: u64,
-    last_step: u64,
+    /// Step of the tick on which it was declared hung.
+    hung_step: u64,
+    /// It said LEAVE and has not closed its ports yet (it is not re-attached meanwhile).
+    leaving: bool,
 }
 
 impl Port {
@@ -67,12 +73,48 @@ impl Port {
     }
 
     fn event(&mut self, t: f64, step: u64, what: &'static str, detail: String) {
+        if self.report.events.len() >= MAX_EVENTS {
+            self.report.events_omitted += 1;
+            return;
+        }
         self.report.events.push(AgentEvent {
             t,
             step,
             what,
             detail,
         });
+    }
+
+    /// The agent said LEAVE: record it, put its vehicles under the fallback and acknowledge
+    /// with an [`flags::END`] slice (it waits for that before closing its ports).
+    fn leave(
+        &mut self,
+        sim: &mut Sim,
+        a: usize,
+        cfg: &AgentsDesc,
+        t: f64,
+        step: u64,
+        flow: Flow,
+    ) -> Flow {
+        self.state = State::Absent;
+        self.leaving = true;
+        self.event(t, step, "left", "the agent detached".into());
+        sim.set_fallback(a, cfg.fallback);
+        let _ = publish(&self.obs_pub, &[end_marker(step, t)], flags::END);
+        lost(cfg, &self.report.name, "left", flow)
+    }
+}
+
+/// An observation slice element that only carries [`flags::END`] (no vehicle).
+fn end_marker(step: u64, t: f64) -> agents::Observation {
+    agents::Observation {
+        id: u32::MAX,
+        step,
+        t,
+        sensors: shoal_model::control::SensorReadings::zeros(0),
+        position: None,
+        frames: Vec::new(),
+        fallback: true,
     }
 }
 
@@ -170,10 +212,11 @@ impl Host {
                     rejections: Rejections::default(),
                     fallback_ticks: 0,
                     round_trip: RoundTrip::default(),
+                    events_omitted: 0,
                 },
                 rtt: Vec::new(),
-                prev_step: 0,
-                last_step: 0,
+                hung_step: 0,
+                leaving: false,
             });
         }
         Ok(Host {
@@ -237,10 +280,26 @@ impl Host {
         let obs = sim.observe_agents(self.ports.len(), self.cfg.grant_position);
         let mut flow = Flow::Continue;
         let mut sent_at = vec![None; self.ports.len()];
-        for port in self.ports.iter_mut() {
-            // An agent that attached since the last tick answers this very tick (lock-step
-            // waits for it), so runs do not depend on how fast it was. Older replies go.
-            if port.state == State::Absent && port.connected() {
+        for (a, port) in self.ports.iter_mut().enumerate() {
+            if !port.connected() {
+                // Ports vanished without a LEAVE: the process was killed or crashed (its
+                // dead node was cleaned up, by us or by another process).
+                if port.state != State::Absent {
+                    port.state = State::Absent;
+                    port.event(
+                        t,
+                        step,
+                        "gone",
+                        "the agent's process vanished without detaching (killed or crashed)".into(),
+                    );
+                    sim.set_fallback(a, self.cfg.fallback);
+                    flow = lost(&self.cfg, &port.report.name, "died", flow);
+                }
+                port.leaving = false;
+            } else if port.state == State::Absent && !port.leaving {
+                // An agent that attached since the last tick answers this very tick
+                // (lock-step waits for it), so runs do not depend on how fast it was. Older
+                // replies go.
                 let again = port.report.events.iter().any(|e| e.what == "attached");
                 port.state = State::Attached;
                 port.event(
@@ -255,16 +314,13 @@ impl Host {
         for (a, port) in self.ports.iter_mut().enumerate() {
             let fallback_ticks = obs[a].iter().filter(|o| o.fallback).count() as u64;
             port.report.fallback_ticks += fallback_ticks;
-            if !port.connected() && port.state == State::Attached {
-                port.state = State::Absent;
-                port.event(t, step, "left", "the agent closed its ports".into());
-                sim.set_fallback(a, self.cfg.fallback);
-                flow = lost(&self.cfg, &port.report.name, "left", flow);
-            }
             publish(&port.obs_pub, &obs[a], 0).map_err(ipc("publishing observations"))?;
             sent_at[a] = Some(Instant::now());
-            port.prev_step = port.last_step;
-            port.last_step = step;
+        }
+        if step.is_multiple_of(64) {
+            // Nothing waits for an absent, hung or free-running agent: look for dead ones
+            // now and then (a lock-step wait looks every 10 ms).
+            self.node.try_cleanup_dead_nodes();
         }
         for (a, sent) in sent_at.into_iter().enumerate() {
             let Some(sent) = sent else { continue };
@@ -278,8 +334,12 @@ impl Host {
                             port.rtt.push(sent.elapsed().as_secs_f64() * 1e6);
                             apply(sim, a, port, &cmds);
                         }
+                        Reply::Leave => {
+                            flow = port.leave(sim, a, &self.cfg, t, step, flow);
+                        }
                         Reply::Timeout => {
                             port.state = State::Hung;
+                            port.hung_step = step;
                             port.event(
                                 t,
                                 step,
@@ -295,7 +355,7 @@ impl Host {
                                 t,
                                 step,
                                 "gone",
-                                "the agent process died (dead node cleaned up)".into(),
+                                "the agent's process died (its dead node was cleaned up)".into(),
                             );
                             sim.set_fallback(a, self.cfg.fallback);
                             flow = lost(&self.cfg, &port.report.name, "died", flow);
@@ -305,49 +365,29 @@ impl Host {
                 State::Attached => {
                     // Free-running: whatever has arrived, in order; the last one wins.
                     for cmds in drain(port) {
-                        apply(sim, a, port, &cmds);
-                    }
-                    // Nothing waits here, so look for a killed agent now and then.
-                    if step.is_multiple_of(64) {
-                        self.node.try_cleanup_dead_nodes();
-                        let port = &mut self.ports[a];
-                        if !port.connected() {
-                            port.state = State::Absent;
-                            port.event(
-                                t,
-                                step,
-                                "gone",
-                                "the agent process died (dead node cleaned up)".into(),
-                            );
-                            sim.set_fallback(a, self.cfg.fallback);
-                            flow = lost(&self.cfg, &port.report.name, "died", flow);
+                        if is_leave(&cmds) {
+                            flow = port.leave(sim, a, &self.cfg, t, step, flow);
+                            break;
                         }
+                        apply(sim, a, port, &cmds);
                     }
                 }
                 State::Hung => {
-                    // Back once it answers the previous tick or this one.
-                    let prev = port.prev_step;
-                    let fresh = drain(port)
-                        .into_iter()
-                        .any(|c| c.first().is_some_and(|c| c.step >= prev));
-                    if fresh && port.connected() {
+                    // Back as soon as it answers any step since it hung (it woke up); its
+                    // vehicles stay under the fallback until its next command.
+                    let replies = drain(port);
+                    if replies.iter().any(|c| is_leave(c)) {
+                        flow = port.leave(sim, a, &self.cfg, t, step, flow);
+                    } else if replies
+                        .iter()
+                        .any(|c| c.first().is_some_and(|c| c.step >= port.hung_step))
+                    {
                         port.state = State::Attached;
                         port.event(t, step, "reattached", "answering again".into());
-                    } else if !port.connected() {
-                        self.node.try_cleanup_dead_nodes();
-                        let port = &mut self.ports[a];
-                        if !port.connected() {
-                            port.state = State::Absent;
-                            port.event(t, step, "gone", "the hung agent's process is gone".into());
-                        }
                     }
                 }
                 // (Attaching is handled before publishing, above.)
-                State::Absent => {
-                    if step.is_multiple_of(64) {
-                        self.node.try_cleanup_dead_nodes();
-                    }
-                }
+                State::Absent => {}
             }
         }
         if !self.cfg.lockstep && self.cfg.pace > 0.0 {
@@ -384,15 +424,7 @@ impl Host {
             port.report.attached_at_end = port.state == State::Attached && port.connected();
             let mut end: Vec<agents::Observation> = obs[a].clone();
             if end.is_empty() {
-                end.push(agents::Observation {
-                    id: u32::MAX,
-                    step,
-                    t,
-                    sensors: shoal_model::control::SensorReadings::zeros(0),
-                    position: None,
-                    frames: Vec::new(),
-                    fallback: true,
-                });
+                end.push(end_marker(step, t));
             }
             let _ = publish(&port.obs_pub, &end, flags::END);
         }
@@ -426,8 +458,15 @@ fn lost(cfg: &AgentsDesc, name: &str, how: &str, flow: Flow) -> Flow {
 
 enum Reply {
     Got(Vec<Command>),
+    Leave,
     Timeout,
     Gone,
+}
+
+/// Whether a reply slice is the agent's goodbye ([`protocol::kind::LEAVE`]).
+fn is_leave(cmds: &[Command]) -> bool {
+    cmds.first()
+        .is_some_and(|c| c.version == protocol::PROTOCOL_VERSION && c.kind == protocol::kind::LEAVE)
 }
 
 /// Waits for `port`'s reply to `step`.
@@ -445,6 +484,9 @@ fn wait_reply(
                 Ok(Some(s)) => {
                     port.report.replies += 1;
                     let cmds = s.payload();
+                    if is_leave(cmds) {
+                        return Reply::Leave;
+                    }
                     if cmds.first().is_some_and(|c| c.step == step) {
                         return Reply::Got(cmds.to_vec());
                     }

@@ -54,6 +54,11 @@ pub mod kind {
     pub const MODE: u32 = 1;
     /// Raw actuator commands `thrusters`, `tilts`, `pump`.
     pub const RAW: u32 = 2;
+    /// The agent detaches: sent alone, in a one-element slice, as it closes (`vehicle` and
+    /// `step` are ignored). The world answers with an observation slice flagged
+    /// [`flags::END`](super::flags::END), records `left` (not `gone`) and puts the agent's
+    /// vehicles under the fallback.
+    pub const LEAVE: u32 = 3;
 }
 
 /// Values of [`Command::mode`] (the μAUV² paper's modes).
@@ -230,6 +235,15 @@ impl Command {
             pump: 0,
             n_frames: 0,
             frames: [Frame::EMPTY; MAX_TX_FRAMES],
+        }
+    }
+
+    /// The goodbye an agent sends as it closes ([`kind::LEAVE`]).
+    pub fn leave() -> Command {
+        Command {
+            vehicle: u32::MAX,
+            kind: kind::LEAVE,
+            ..Command::keep(&Observation::EMPTY)
         }
     }
 

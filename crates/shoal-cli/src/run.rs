@@ -213,6 +213,9 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, Failure> {
     println!("{}", summary.to_text());
     Ok(if was_interrupted {
         ExitCode::from(130)
+    } else if summary.agents.as_ref().is_some_and(|a| a.stopped.is_some()) {
+        // The world's agent fallback `stop` ended the run early (outputs are complete).
+        ExitCode::from(3)
     } else {
         ExitCode::SUCCESS
     })

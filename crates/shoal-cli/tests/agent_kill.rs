@@ -1,11 +1,17 @@
 //! `kill -9` of an agent in the middle of a lock-step run: the world notices (timeout, then
 //! the dead node is cleaned up), the vehicle falls back to holding depth and heading, the run
 //! finishes normally, the summary says what happened, and no shared memory is left behind.
-//! (Its own test binary: it compares /dev/shm before and after, so nothing may run beside it.)
+//! Ctrl-C of the world: it ends the run, its agent is told and leaves, nothing is left.
+//! (Its own test binary: it compares /dev/shm before and after, so its tests run one at a
+//! time and nothing else may run beside them.)
 
 mod common;
 
 use std::collections::BTreeSet;
+use std::sync::Mutex;
+
+/// Held by each test: the /dev/shm comparisons must not see each other's segments.
+static ONE_AT_A_TIME: Mutex<()> = Mutex::new(());
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
@@ -23,6 +29,7 @@ fn shm() -> BTreeSet<String> {
 
 #[test]
 fn killed_agent_is_detected_its_vehicle_falls_back_and_nothing_is_left() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     let agent_bin = common::example_agent("goto_agent");
 
     let dir = std::env::temp_dir().join(format!("shoal-kill-{}", std::process::id()));
@@ -142,5 +149,74 @@ agent = "pilot"
     // Nothing left in shared memory by the world or the killed agent.
     let after = shm();
     let left: Vec<&String> = after.difference(&before).collect();
+    assert!(left.is_empty(), "left in /dev/shm: {left:?}");
+}
+
+#[test]
+fn world_interrupted_with_ctrl_c_tells_its_agent_and_leaves_nothing() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    let agent_bin = common::example_agent("goto_agent");
+    let dir = std::env::temp_dir().join(format!("shoal-ctrl-c-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let world = dir.join("world.toml");
+    std::fs::write(
+        &world,
+        "name = \"ctrl-c-test\"\nduration = 600.0\n[pool]\nsize = [10.0, 10.0, 3.0]\n\
+         [agents]\ntiming = \"lockstep\"\ntimeout = 0.5\nattach_timeout = 20.0\n\
+         [[vehicles]]\nname = \"auv\"\nposition = [5.0, 5.0, 0.5]\nagent = \"pilot\"\n",
+    )
+    .unwrap();
+    let before = shm();
+    let prefix = format!("ctrlc{}", std::process::id());
+    let out = dir.join("out");
+    let mut sim = Command::new(env!("CARGO_BIN_EXE_shoal"))
+        .args(["run", "--quiet", "--no-plots", "--prefix", &prefix, "--out"])
+        .arg(&out)
+        .arg(&world)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // 2 ms per tick: 600 s (12,000 ticks) would take ≈ 25 s.
+    let mut agent = Command::new(&agent_bin)
+        .args([&prefix, "pilot", "1.5", "0", "--slow", "2"])
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_millis(2000));
+    assert!(sim.try_wait().unwrap().is_none(), "the world still runs");
+    let int = Command::new("kill")
+        .args(["-INT", &sim.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(int.success());
+    let start = Instant::now();
+    let status = loop {
+        if let Some(s) = sim.try_wait().unwrap() {
+            break s;
+        }
+        assert!(start.elapsed() < Duration::from_secs(30), "the world hangs");
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    let text = sim.wait_with_output().unwrap();
+    assert_eq!(status.code(), Some(130), "{text:?}");
+    // The agent got the END of the run and left by itself, successfully.
+    let start = Instant::now();
+    let agent_status = loop {
+        if let Some(s) = agent.try_wait().unwrap() {
+            break s;
+        }
+        assert!(start.elapsed() < Duration::from_secs(15), "the agent hangs");
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    assert!(agent_status.success(), "agent: {agent_status}");
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(s["interrupted"], true);
+    let t = s["simulated_s"].as_f64().unwrap();
+    assert!(t > 1.0 && t < 600.0, "interrupted at {t} s");
+    assert!(String::from_utf8_lossy(&text.stdout).contains("INTERRUPTED"));
+    let left: Vec<String> = shm().difference(&before).cloned().collect();
     assert!(left.is_empty(), "left in /dev/shm: {left:?}");
 }

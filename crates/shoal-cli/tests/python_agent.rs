@@ -153,6 +153,7 @@ fn python_protocol_matches_rust_layout() {
         ("kind.KEEP", kind::KEEP.into()),
         ("kind.MODE", kind::MODE.into()),
         ("kind.RAW", kind::RAW.into()),
+        ("kind.LEAVE", kind::LEAVE.into()),
         ("mode.OFF", mode::OFF.into()),
         ("mode.DIVING", mode::DIVING.into()),
         ("mode.BUOYANCY", mode::BUOYANCY.into()),
@@ -513,4 +514,86 @@ fn bench_measures_the_round_trip_to_a_python_agent() {
     };
     let python = shared_venv(py);
     common::check_agent_bench("python", &["--python".as_ref(), python.as_os_str()]);
+}
+
+#[test]
+fn python_agent_interrupted_with_ctrl_c_says_goodbye() {
+    let Some(py) = python3() else {
+        println!("skipped: no python3 on the PATH");
+        return;
+    };
+    let python = shared_venv(py);
+    let dir = tmp("ctrl-c");
+    let prefix = format!("pytest-{}-ctrl-c", std::process::id());
+    // Free-running at 10× real time: 60 s simulated take 6 s.
+    let world = dir.join("world.toml");
+    std::fs::write(
+        &world,
+        "name = \"ctrl-c\"\nduration = 60.0\n[pool]\nsize = [10.0, 10.0, 3.0]\n\
+         [agents]\ntiming = \"free\"\npace = 10.0\nattach_timeout = 60.0\nfallback = \"hold\"\n\
+         [[vehicles]]\nname = \"auv\"\nposition = [5.0, 5.0, 0.5]\nagent = \"pilot\"\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let log = |name: &str| std::fs::File::create(dir.join(name)).unwrap();
+    let world_proc = Command::new(env!("CARGO_BIN_EXE_shoal"))
+        .args(["run", "--quiet", "--no-plots", "--prefix", &prefix, "--out"])
+        .arg(&out)
+        .arg(&world)
+        .stdout(log("world.out"))
+        .stderr(log("world.err"))
+        .spawn()
+        .unwrap();
+    let agent = Command::new(&python)
+        .arg(repo().join("python/examples/goto.py"))
+        .args([&prefix, "pilot", "1.5", "90"])
+        .env("PYTHONPATH", repo().join("python"))
+        .env("PYTHONDONTWRITEBYTECODE", "1")
+        .stdout(log("agent.out"))
+        .stderr(log("agent.err"))
+        .spawn()
+        .unwrap();
+    // Once it has driven a while (it prints when attached), Ctrl-C.
+    let start = Instant::now();
+    while !read(&dir.join("agent.err")).contains("attached") {
+        assert!(start.elapsed() < Duration::from_secs(60), "never attached");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    std::thread::sleep(Duration::from_millis(1500));
+    let interrupted = Command::new("kill")
+        .args(["-INT", &agent.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(interrupted.success());
+    let mut children = [("world", world_proc), ("agent", agent)];
+    let status = wait_all(&mut children, RUN_TIMEOUT);
+    let logs = format!(
+        "world: {}\nagent: {}",
+        read(&dir.join("world.err")),
+        read(&dir.join("agent.err"))
+    );
+    assert!(status[0].success(), "{logs}");
+    assert_eq!(status[1].code(), Some(130), "{logs}");
+    let s: Value = serde_json::from_str(&read(&out.join("summary.json"))).unwrap();
+    let a = &s["agents"]["agents"][0];
+    let events: Vec<&str> = a["events"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e["what"].as_str().unwrap())
+        .collect();
+    // A goodbye the world acknowledged: `left`, not `gone`.
+    assert_eq!(events, ["attached", "left"], "{logs}");
+    let t_left = a["events"][1]["t"].as_f64().unwrap();
+    assert!(t_left > 5.0 && t_left < 59.0, "left at {t_left} s");
+    assert!(!a["attached_at_end"].as_bool().unwrap());
+    // From then on its vehicle held (fallback) to the end; before, only the ticks until its
+    // first command (a few: the world paces 5 ms of wall time per tick).
+    let fallback = a["fallback_ticks"].as_u64().unwrap() as f64;
+    let expected = (60.0 - t_left) / 0.05;
+    assert!(
+        fallback >= expected - 1.0 && fallback <= expected + 10.0,
+        "{fallback} fallback ticks, ≈ {expected} expected"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -171,8 +171,10 @@ pub struct AgentReport {
     pub vehicles: usize,
     /// Attached when the run ended.
     pub attached_at_end: bool,
-    /// Events in order.
+    /// Events in order (the first 1,000).
     pub events: Vec<AgentEvent>,
+    /// Events after the first 1,000, only counted.
+    pub events_omitted: u64,
     /// Reply slices received.
     pub replies: u64,
     /// Replies to an older step (ignored in lock-step).

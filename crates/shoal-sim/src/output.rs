@@ -693,11 +693,16 @@ impl Summary {
                         String::new()
                     }
                 ));
-                for e in &r.events {
+                const SHOWN: usize = 12;
+                for e in r.events.iter().take(SHOWN) {
                     s.push_str(&format!(
                         "    t = {:>8.2} s  {:<10} {}\n",
                         e.t, e.what, e.detail
                     ));
+                }
+                let more = r.events.len().saturating_sub(SHOWN) as u64 + r.events_omitted;
+                if more > 0 {
+                    s.push_str(&format!("    … and {more} more events (summary.json)\n"));
                 }
                 if r.events.is_empty() {
                     s.push_str("    never attached: its vehicles held depth and heading\n");
