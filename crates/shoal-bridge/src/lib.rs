@@ -29,7 +29,7 @@ pub enum BridgeError {
         prefix: String,
         /// Agent name.
         agent: String,
-        /// Waited [s].
+        /// Waited \[s\].
         secs: f64,
     },
     /// Another process is already attached as this agent.

@@ -21,7 +21,7 @@ use iceoryx2::prelude::ZeroCopySend;
 
 /// Version of this protocol; a message with another version is rejected and counted.
 pub const PROTOCOL_VERSION: u32 = 1;
-/// Payload capacity of one frame [bytes] (a μAUV² modem carries at most 58).
+/// Payload capacity of one frame \[bytes\] (a μAUV² modem carries at most 58).
 pub const FRAME_BYTES: usize = 64;
 /// Received frames per observation; more are counted in `frames_dropped`.
 pub const MAX_RX_FRAMES: usize = 8;
@@ -82,11 +82,11 @@ pub mod mode {
 #[type_name("shoal_Frame")]
 #[repr(C)]
 pub struct Frame {
-    /// Received: end of reception [s]. To send: delay after the tick [s], 0…1.
+    /// Received: end of reception \[s\]. To send: delay after the tick \[s\], 0…1.
     pub t: f64,
-    /// Received: optical power at the receiving modem [W]. To send: unused.
+    /// Received: optical power at the receiving modem \[W\]. To send: unused.
     pub power: f64,
-    /// Payload length [bytes], ≤ [`FRAME_BYTES`] and ≤ the modem's payload limit.
+    /// Payload length \[bytes\], ≤ [`FRAME_BYTES`] and ≤ the modem's payload limit.
     pub len: u16,
     /// Modem index on the vehicle; to send, [`ALL_MODEMS`] for all in sync.
     pub modem: u8,
@@ -124,7 +124,7 @@ pub struct Observation {
     pub vehicle: u32,
     /// Physics step of this tick (answer with the same).
     pub step: u64,
-    /// Simulated time [s].
+    /// Simulated time \[s\].
     pub time: f64,
     /// Bits of [`flags`].
     pub flags: u32,
@@ -136,19 +136,19 @@ pub struct Observation {
     pub n_tilts: u32,
     /// Depth from the pressure sensor, quantised [m, positive down].
     pub depth: f64,
-    /// Roll from the IMU [rad].
+    /// Roll from the IMU \[rad\].
     pub roll: f64,
-    /// Pitch from the IMU [rad].
+    /// Pitch from the IMU \[rad\].
     pub pitch: f64,
-    /// Heading from the IMU [rad], −π…π.
+    /// Heading from the IMU \[rad\], −π…π.
     pub yaw: f64,
     /// Body rates p, q, r from the gyros [rad/s].
     pub rates: [f64; 3],
     /// Specific force from the accelerometer, body frame [m/s²].
     pub accel: [f64; 3],
-    /// True position (north, east, down) [m], if [`flags::POSITION`]; else zeros.
+    /// True position (north, east, down) \[m\], if [`flags::POSITION`]; else zeros.
     pub position: [f64; 3],
-    /// Tilt angles from the potentiometers [rad].
+    /// Tilt angles from the potentiometers \[rad\].
     pub tilts: [f64; MAX_TILTS],
     /// Received frames, in order of arrival.
     pub frames: [Frame; MAX_RX_FRAMES],
@@ -171,15 +171,15 @@ pub struct Command {
     pub mode: u32,
     /// Depth setpoint [m, positive down], clamped to the pool.
     pub depth: f64,
-    /// Heading setpoint [rad].
+    /// Heading setpoint \[rad\].
     pub yaw: f64,
-    /// Surge force [N] (drift and auto modes).
+    /// Surge force \[N\] (drift and auto modes).
     pub surge: f64,
-    /// Sway force [N] (drift mode).
+    /// Sway force \[N\] (drift mode).
     pub sway: f64,
     /// Raw thruster commands [% of full scale], clamped to ±`max_command`.
     pub thrusters: [f64; MAX_THRUSTERS],
-    /// Raw tilt targets [rad], clamped to the drive's range.
+    /// Raw tilt targets \[rad\], clamped to the drive's range.
     pub tilts: [f64; MAX_TILTS],
     /// Raw pump: −1 empty, 0 off, +1 fill.
     pub pump: i32,
@@ -257,7 +257,7 @@ impl Command {
         self.sway = sway;
     }
 
-    /// Adds a frame for modem `modem` ([`ALL_MODEMS`] for all), `delay` [s] after the tick.
+    /// Adds a frame for modem `modem` ([`ALL_MODEMS`] for all), `delay` \[s\] after the tick.
     /// Returns `false` (and adds nothing) when the payload exceeds [`FRAME_BYTES`] or the
     /// command already holds [`MAX_TX_FRAMES`] frames.
     pub fn send(&mut self, modem: u8, payload: &[u8], delay: f64) -> bool {
@@ -314,9 +314,9 @@ pub struct StructLayout {
     pub name: &'static str,
     /// The iceoryx2 type name.
     pub type_name: &'static str,
-    /// `size_of` [bytes].
+    /// `size_of` \[bytes\].
     pub size: usize,
-    /// `align_of` [bytes].
+    /// `align_of` \[bytes\].
     pub align: usize,
     /// Fields in declaration order.
     pub fields: Vec<Field>,
@@ -371,7 +371,7 @@ pub fn layout() -> Vec<StructLayout> {
 }
 
 impl CType {
-    /// Size of one element [bytes].
+    /// Size of one element \[bytes\].
     pub fn size(self) -> usize {
         match self {
             CType::U8 => 1,

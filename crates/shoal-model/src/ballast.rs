@@ -41,18 +41,18 @@ impl Pump {
 /// Buoyancy-tank parameters.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BallastParams {
-    /// Tank capacity [m³].
+    /// Tank capacity \[m³\].
     pub capacity: f64,
     /// Pump volume flow [m³/s] (same both ways).
     pub flow: f64,
-    /// Centre of the tank water in the body frame [m].
+    /// Centre of the tank water in the body frame \[m\].
     pub position: Vec3,
-    /// Water in the tank at the start of a run [m³].
+    /// Water in the tank at the start of a run \[m³\].
     pub initial_volume: f64,
 }
 
 impl BallastParams {
-    /// New water volume [m³] after running the pump for `dt` [s] from `volume` [m³].
+    /// New water volume \[m³\] after running the pump for `dt` \[s\] from `volume` \[m³\].
     #[inline]
     pub fn advance(&self, volume: f64, pump: Pump, dt: f64) -> f64 {
         (volume + pump.sign() * self.flow * dt).clamp(0.0, self.capacity)

@@ -75,7 +75,7 @@ impl Mode {
 pub struct ActuatorCommands {
     /// Command per thruster [% of full scale, −100…100].
     pub thrusters: Vec<f64>,
-    /// Target angle per tilt drive [rad].
+    /// Target angle per tilt drive \[rad\].
     pub tilts: Vec<f64>,
     /// Pump command.
     pub pump: Pump,
@@ -97,13 +97,13 @@ impl ActuatorCommands {
 pub struct Setpoints {
     /// Active mode.
     pub mode: Mode,
-    /// Depth setpoint [m] (positive down).
+    /// Depth setpoint \[m\] (positive down).
     pub depth: f64,
-    /// Heading setpoint [rad].
+    /// Heading setpoint \[rad\].
     pub yaw: f64,
-    /// Desired surge force [N] (drift and auto modes).
+    /// Desired surge force \[N\] (drift and auto modes).
     pub surge: f64,
-    /// Desired sway force [N] (drift mode).
+    /// Desired sway force \[N\] (drift mode).
     pub sway: f64,
     /// Commands for [`Mode::Raw`].
     pub raw: ActuatorCommands,
@@ -112,21 +112,21 @@ pub struct Setpoints {
 /// One entry of a mission: at time `t` the given fields replace the current setpoints.
 #[derive(Clone, Debug, PartialEq, Default)]
 pub struct MissionStep {
-    /// Time at which the step takes effect [s].
+    /// Time at which the step takes effect \[s\].
     pub t: f64,
     /// New mode.
     pub mode: Option<Mode>,
-    /// New depth setpoint [m].
+    /// New depth setpoint \[m\].
     pub depth: Option<f64>,
-    /// New heading setpoint [rad].
+    /// New heading setpoint \[rad\].
     pub yaw: Option<f64>,
-    /// New surge force [N].
+    /// New surge force \[N\].
     pub surge: Option<f64>,
-    /// New sway force [N].
+    /// New sway force \[N\].
     pub sway: Option<f64>,
     /// New raw thruster commands [%] as (thruster index, command).
     pub thrusters: Vec<(usize, f64)>,
-    /// New raw tilt targets [rad] as (tilt index, angle).
+    /// New raw tilt targets \[rad\] as (tilt index, angle).
     pub tilts: Vec<(usize, f64)>,
     /// New raw pump command.
     pub pump: Option<Pump>,
@@ -252,7 +252,7 @@ impl Uauv2Layout {
 /// Parameters of the built-in controller.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ControlParams {
-    /// Control period [s] (the controller runs every this many seconds).
+    /// Control period \[s\] (the controller runs every this many seconds).
     pub period: f64,
     /// Heave PD in diving and auto mode.
     pub heave: PdDesign,
@@ -260,18 +260,18 @@ pub struct ControlParams {
     pub heave_buoyancy: PdDesign,
     /// Yaw PD.
     pub yaw: PdDesign,
-    /// Pump dead zone on the heave error: the pump runs only when |error| exceeds it [m].
+    /// Pump dead zone on the heave error: the pump runs only when |error| exceeds it \[m\].
     pub dead_zone: f64,
-    /// Moving-average window on thruster commands and tilt angles [samples] (1 = no filter).
+    /// Moving-average window on thruster commands and tilt angles \[samples\] (1 = no filter).
     pub filter_window: usize,
-    /// Largest side-thruster tilt |β| in auto mode [rad].
+    /// Largest side-thruster tilt |β| in auto mode \[rad\].
     pub auto_tilt_max: f64,
     /// Time constant of the first-order filter on the depth rate estimated from the quantised
-    /// depth reading [s] (0 = raw backward difference).
+    /// depth reading \[s\] (0 = raw backward difference).
     pub rate_filter: f64,
 }
 
-/// Heading error [rad] for the PD: wrapped into (−π + δ, π + δ] with δ = 2°, so that a command
+/// Heading error \[rad\] for the PD: wrapped into (−π + δ, π + δ] with δ = 2°, so that a command
 /// of exactly ±180° turns the same (positive) way whatever the sensor noise.
 #[inline]
 pub fn heading_error(setpoint: f64, yaw: f64) -> f64 {
@@ -282,7 +282,7 @@ pub fn heading_error(setpoint: f64, yaw: f64) -> f64 {
 /// What the controller can sense.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SensorReadings {
-    /// Quantised depth from the pressure sensor [m].
+    /// Quantised depth from the pressure sensor \[m\].
     pub depth: f64,
     /// Attitude from the IMU's filter.
     pub attitude: Quat,
@@ -290,7 +290,7 @@ pub struct SensorReadings {
     pub gyro: Vec3,
     /// Specific force from the accelerometer [m/s²].
     pub accel: Vec3,
-    /// Tilt angles from the potentiometers [rad].
+    /// Tilt angles from the potentiometers \[rad\].
     pub tilts: Vec<f64>,
     /// The tank's full switch.
     pub tank_full: bool,
@@ -353,7 +353,7 @@ pub struct ControllerState {
     prev_mode: Mode,
     thruster_filters: Vec<MovingAverage>,
     tilt_filters: Vec<MovingAverage>,
-    /// Last heave force demand after saturation [N].
+    /// Last heave force demand after saturation \[N\].
     pub heave_force: f64,
     /// Last yaw torque demand after saturation [N·m].
     pub yaw_torque: f64,
@@ -370,16 +370,16 @@ pub struct Uauv2Control {
     pub buoyancy_gains: (f64, f64),
     /// Yaw PD gains (K_P [N·m/rad], K_D [N·m·s/rad]).
     pub yaw_gains: (f64, f64),
-    /// Half the lateral distance between the side thrusters [m].
+    /// Half the lateral distance between the side thrusters \[m\].
     pub side_arm: f64,
-    /// (forward, reverse) thrust limits of a side thruster [N].
+    /// (forward, reverse) thrust limits of a side thruster \[N\].
     pub side_limits: (f64, f64),
-    /// (forward, reverse) thrust limits of the top thruster [N].
+    /// (forward, reverse) thrust limits of the top thruster \[N\].
     pub top_limits: (f64, f64),
 }
 
 impl Uauv2Control {
-    /// Gains and limits for a vehicle with effective heave mass `m_heave` [kg] and effective
+    /// Gains and limits for a vehicle with effective heave mass `m_heave` \[kg\] and effective
     /// yaw inertia `i_yaw` [kg·m²].
     pub fn new(
         layout: Uauv2Layout,

@@ -12,7 +12,7 @@ use nalgebra::Quaternion;
 /// Position, attitude and velocity of one hull.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RigidState {
-    /// Position of the body origin in the world (NED) frame [m]; `z` is depth.
+    /// Position of the body origin in the world (NED) frame \[m\]; `z` is depth.
     pub position: Vec3,
     /// Attitude (body → world).
     pub attitude: Quat,
@@ -21,7 +21,7 @@ pub struct RigidState {
 }
 
 impl RigidState {
-    /// At rest at `position` [m] with attitude `attitude`.
+    /// At rest at `position` \[m\] with attitude `attitude`.
     pub fn at_rest(position: Vec3, attitude: Quat) -> Self {
         Self {
             position,
@@ -97,7 +97,7 @@ fn deriv(
     }
 }
 
-/// Advances `state` by `dt` [s] with the force `tau` held constant over the step.
+/// Advances `state` by `dt` \[s\] with the force `tau` held constant over the step.
 pub fn integrate(
     integrator: Integrator,
     body: &BodyParams,

@@ -26,7 +26,7 @@ pub fn skew(a: &Vec3) -> Mat3 {
     Mat3::new(0.0, -a.z, a.y, a.z, 0.0, -a.x, -a.y, a.x, 0.0)
 }
 
-/// Wraps an angle [rad] into (−π, π].
+/// Wraps an angle \[rad\] into (−π, π].
 #[inline]
 pub fn wrap_pi(a: f64) -> f64 {
     let two_pi = std::f64::consts::TAU;
@@ -37,13 +37,13 @@ pub fn wrap_pi(a: f64) -> f64 {
     r
 }
 
-/// Roll, pitch, yaw (ZYX Euler angles) [rad] of an attitude quaternion.
+/// Roll, pitch, yaw (ZYX Euler angles) \[rad\] of an attitude quaternion.
 #[inline]
 pub fn euler_rpy(q: &Quat) -> (f64, f64, f64) {
     q.euler_angles()
 }
 
-/// Attitude quaternion from roll, pitch, yaw (ZYX) [rad].
+/// Attitude quaternion from roll, pitch, yaw (ZYX) \[rad\].
 #[inline]
 pub fn quat_from_rpy(roll: f64, pitch: f64, yaw: f64) -> Quat {
     Quat::from_euler_angles(roll, pitch, yaw)

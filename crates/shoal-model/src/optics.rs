@@ -1,7 +1,7 @@
 //! The optical link budget of an LED modem under water (the μAUV²'s 530 nm OptCom).
 //!
-//! Transmitter: a Lambertian LED of optical power P_t [W] and half-power half-angle Φ½, so
-//! its order is `m = −ln 2 / ln cos Φ½`. Receiver: a photodiode of area A_r [m²], field of view
+//! Transmitter: a Lambertian LED of optical power P_t \[W\] and half-power half-angle Φ½, so
+//! its order is `m = −ln 2 / ln cos Φ½`. Receiver: a photodiode of area A_r \[m²\], field of view
 //! (half-angle) Ψ_c and responsivity R [A/W]. Channel (line of sight, Beer–Lambert):
 //!
 //! ```text
@@ -10,7 +10,7 @@
 //! ```
 //!
 //! with φ the angle off the LED axis, ψ the angle off the photodiode normal and c the beam
-//! attenuation of the water. Noise (variance of the photocurrent [A²] in bandwidth B):
+//! attenuation of the water. Noise (variance of the photocurrent \[A²\] in bandwidth B):
 //!
 //! ```text
 //! σ² = i_n² B                              thermal (input-referred amplifier noise density i_n)
@@ -27,7 +27,7 @@
 use crate::math::{Quat, Vec3};
 use nalgebra::Unit;
 
-/// Elementary charge [C].
+/// Elementary charge \[C\].
 pub const Q_E: f64 = 1.602_176_634e-19;
 
 /// The Gaussian tail function Q(x) = P(N(0,1) > x).
@@ -36,7 +36,7 @@ pub fn q_function(x: f64) -> f64 {
     0.5 * statrs::function::erf::erfc(x / std::f64::consts::SQRT_2)
 }
 
-/// Lambertian order of an LED with half-power half-angle `half_angle` [rad] (0 < · < π/2).
+/// Lambertian order of an LED with half-power half-angle `half_angle` \[rad\] (0 < · < π/2).
 #[inline]
 pub fn lambertian_order(half_angle: f64) -> f64 {
     -std::f64::consts::LN_2 / half_angle.cos().ln()
@@ -45,26 +45,26 @@ pub fn lambertian_order(half_angle: f64) -> f64 {
 /// LED transmitter.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Led {
-    /// Optical output power [W].
+    /// Optical output power \[W\].
     pub power: f64,
-    /// Half-power half-angle Φ½ [rad].
+    /// Half-power half-angle Φ½ \[rad\].
     pub half_angle: f64,
 }
 
 /// Photodiode receiver with its amplifier.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Receiver {
-    /// Active area A_r [m²].
+    /// Active area A_r \[m²\].
     pub area: f64,
-    /// Field of view, half-angle Ψ_c [rad].
+    /// Field of view, half-angle Ψ_c \[rad\].
     pub fov: f64,
     /// Responsivity at the LED's wavelength [A/W].
     pub responsivity: f64,
     /// Input-referred noise current density of the amplifier [A/√Hz].
     pub noise_density: f64,
-    /// Noise bandwidth B [Hz].
+    /// Noise bandwidth B \[Hz\].
     pub bandwidth: f64,
-    /// Dark current [A].
+    /// Dark current \[A\].
     pub dark_current: f64,
 }
 
@@ -78,7 +78,7 @@ pub struct Ambient {
 }
 
 impl Ambient {
-    /// Irradiance at depth `z` [m] [W/m²].
+    /// Irradiance at depth `z` \[m\] [W/m²].
     #[inline]
     pub fn irradiance(&self, z: f64) -> f64 {
         self.surface_irradiance * (-self.diffuse_attenuation * z.max(0.0)).exp()
@@ -91,11 +91,11 @@ pub enum Access {
     /// Unslotted ALOHA: transmit as soon as a frame is ready and the modem is idle.
     Aloha,
     /// Listen before talk: transmit only if the received optical power is below `threshold`
-    /// [W]; otherwise wait a random time up to `backoff_max` [s] and listen again.
+    /// \[W\]; otherwise wait a random time up to `backoff_max` \[s\] and listen again.
     CarrierSense {
-        /// Busy threshold on received optical power [W].
+        /// Busy threshold on received optical power \[W\].
         threshold: f64,
-        /// Longest random back-off [s].
+        /// Longest random back-off \[s\].
         backoff_max: f64,
     },
 }
@@ -105,7 +105,7 @@ pub enum Access {
 pub struct ModemParams {
     /// Name (e.g. `front`).
     pub name: String,
-    /// Position on the hull, body frame [m].
+    /// Position on the hull, body frame \[m\].
     pub position: Vec3,
     /// Axis of the LED and normal of the photodiode, body frame.
     pub direction: Unit<Vec3>,
@@ -117,11 +117,11 @@ pub struct ModemParams {
     pub bit_rate: f64,
     /// Bits on the line per byte (10 for UART 8N1).
     pub bits_per_byte: u32,
-    /// Link-layer header added to every frame [bytes] (source, sequence, length, CRC).
+    /// Link-layer header added to every frame \[bytes\] (source, sequence, length, CRC).
     pub header_bytes: usize,
-    /// Largest payload [bytes].
+    /// Largest payload \[bytes\].
     pub max_payload: usize,
-    /// Transmit queue length [frames]; a frame arriving at a full queue is dropped and counted.
+    /// Transmit queue length \[frames\]; a frame arriving at a full queue is dropped and counted.
     pub queue_frames: usize,
     /// Capture ratio (linear power ratio ≥ 1): a frame survives an overlapping one only if
     /// its received power is at least this many times stronger.
@@ -131,7 +131,7 @@ pub struct ModemParams {
 }
 
 impl ModemParams {
-    /// Time on the air of a frame with `payload` bytes [s].
+    /// Time on the air of a frame with `payload` bytes \[s\].
     #[inline]
     pub fn airtime(&self, payload: usize) -> f64 {
         ((payload + self.header_bytes) * self.bits_per_byte as usize) as f64 / self.bit_rate
@@ -147,14 +147,14 @@ impl ModemParams {
 /// Where a modem is in the world.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ModemPose {
-    /// Position [m].
+    /// Position \[m\].
     pub position: Vec3,
     /// Unit axis.
     pub axis: Vec3,
 }
 
 impl ModemPose {
-    /// World pose of a modem mounted at `m` on a hull at `position` [m] with `attitude`.
+    /// World pose of a modem mounted at `m` on a hull at `position` \[m\] with `attitude`.
     #[inline]
     pub fn of(m: &ModemParams, position: &Vec3, attitude: &Quat) -> Self {
         Self {
@@ -167,7 +167,7 @@ impl ModemPose {
 /// Geometry of one transmitter → receiver link.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LinkGeometry {
-    /// Distance [m].
+    /// Distance \[m\].
     pub distance: f64,
     /// cos φ: angle between the LED axis and the direction to the receiver.
     pub cos_tx: f64,
@@ -196,7 +196,7 @@ impl LinkGeometry {
         }
     }
 
-    /// On-axis geometry at `distance` [m].
+    /// On-axis geometry at `distance` \[m\].
     pub fn on_axis(distance: f64) -> Self {
         Self {
             distance,
@@ -221,14 +221,14 @@ pub fn channel_gain(led: &Led, rx: &Receiver, g: &LinkGeometry, attenuation: f64
         * (-attenuation * g.distance).exp()
 }
 
-/// Background photocurrent from ambient light at depth `z` [m] [A].
+/// Background photocurrent from ambient light at depth `z` \[m\] \[A\].
 #[inline]
 pub fn background_current(rx: &Receiver, ambient: &Ambient, z: f64) -> f64 {
     rx.responsivity * ambient.irradiance(z) * rx.area * rx.fov.sin().powi(2)
 }
 
-/// Noise variance of the photocurrent [A²] for signal current `i_s`, background current
-/// `i_bg` and total interfering optical power `p_int` [W] (treated as random OOK).
+/// Noise variance of the photocurrent \[A²\] for signal current `i_s`, background current
+/// `i_bg` and total interfering optical power `p_int` \[W\] (treated as random OOK).
 #[inline]
 pub fn noise_variance(rx: &Receiver, i_s: f64, i_bg: f64, p_int: f64) -> f64 {
     let b = rx.bandwidth;
@@ -258,11 +258,11 @@ pub fn frame_error_rate(ber: f64, bits: u64) -> f64 {
 pub struct Budget {
     /// Channel gain H.
     pub gain: f64,
-    /// Received optical power [W].
+    /// Received optical power \[W\].
     pub p_rx: f64,
-    /// Signal photocurrent [A].
+    /// Signal photocurrent \[A\].
     pub i_signal: f64,
-    /// Noise standard deviation [A].
+    /// Noise standard deviation \[A\].
     pub sigma: f64,
     /// Electrical SNR I_s²/σ².
     pub snr: f64,
@@ -273,7 +273,7 @@ pub struct Budget {
 }
 
 /// The full budget of a reception: `g` geometry, water `attenuation` [1/m], receiver depth
-/// `rx_depth` [m] (for ambient light), interfering power `p_int` [W], frame of `bits`.
+/// `rx_depth` \[m\] (for ambient light), interfering power `p_int` \[W\], frame of `bits`.
 pub fn budget(
     led: &Led,
     rx: &Receiver,
@@ -291,7 +291,7 @@ pub fn budget(
     }
 }
 
-/// The receiver side of [`budget`] for a known received optical power `p_rx` [W] (e.g. the
+/// The receiver side of [`budget`] for a known received optical power `p_rx` \[W\] (e.g. the
 /// sum of several in-sync copies of a frame); `gain` is left at 0.
 pub fn reception(
     rx: &Receiver,

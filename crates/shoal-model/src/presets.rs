@@ -28,7 +28,7 @@ pub fn by_name(name: &str) -> Option<VehicleParams> {
 pub const UAUV2_CT_POS: f64 = 13.2e-6;
 /// μAUV² C_t⁻ magnitude [N/%²] — **paper** Table 2 (printed −8.32e-6; the sign says "reverse").
 pub const UAUV2_CT_NEG: f64 = 8.32e-6;
-/// μAUV² effective heave mass m + A₃₃ [kg] — **paper** Table 4 (R² 0.80, poor fit).
+/// μAUV² effective heave mass m + A₃₃ \[kg\] — **paper** Table 4 (R² 0.80, poor fit).
 pub const UAUV2_HEAVE_MASS: f64 = 1.96;
 /// μAUV² effective yaw inertia I_zz + A₆₆ [kg·m²] — **paper** Table 4.
 pub const UAUV2_YAW_INERTIA: f64 = 4.9e-3;
@@ -44,10 +44,10 @@ pub const UAUV2_ZWW: f64 = 6.28;
 pub const UAUV2_NR: f64 = 2.51e-4;
 /// μAUV² quadratic yaw damping N_r|r| [N·m·s²] — **paper** Table 3.
 pub const UAUV2_NRR: f64 = 3.54e-3;
-/// μAUV² mass [kg] — **paper** Sec. 1.
+/// μAUV² mass \[kg\] — **paper** Sec. 1.
 pub const UAUV2_MASS: f64 = 1.2;
 
-/// Optical power of the μAUV² modem's LED [W] — **derived** from the calibration target (a
+/// Optical power of the μAUV² modem's LED \[W\] — **derived** from the calibration target (a
 /// 32-byte on-axis frame delivered half the time at 2.5 m in pool water, c = 0.07 1/m) with the
 /// assumed receiver of [`uauv2_modem`]: it needs SNR = 8.14 there (BER 2.16e-3 over 320 line
 /// bits), which the thermal-noise-limited photodiode gives at P_t = 48.5 mW.

@@ -21,15 +21,15 @@ use crate::math::{GRAVITY, Mat3, Mat6, Quat, Vec3, Vec6, join6, skew, split6};
 /// All positions are body-frame coordinates of that origin.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BodyParams {
-    /// Dry mass of the vehicle without ballast water [kg].
+    /// Dry mass of the vehicle without ballast water \[kg\].
     pub mass: f64,
     /// Dry rigid-body inertia about the dry centre of gravity, body axes [kg·m²].
     pub inertia_cg: Mat3,
-    /// Dry centre of gravity, body frame [m].
+    /// Dry centre of gravity, body frame \[m\].
     pub cog: Vec3,
-    /// Centre of buoyancy, body frame [m].
+    /// Centre of buoyancy, body frame \[m\].
     pub cob: Vec3,
-    /// Displaced volume when fully submerged [m³].
+    /// Displaced volume when fully submerged \[m³\].
     pub volume: f64,
     /// Added-mass matrix M_A (symmetric, positive semi-definite) [kg, kg·m, kg·m²].
     pub added_mass: Mat6,
@@ -39,7 +39,7 @@ pub struct BodyParams {
     /// Quadratic damping coefficients (X_u|u|, Y_v|v|, Z_w|w| [N·s²/m²]; K_p|p|, M_q|q|, N_r|r|
     /// [N·m·s²]), all ≥ 0: the damping force is `+d |ν| ν` on the left-hand side.
     pub damping_quadratic: Vec6,
-    /// Outer hull extents along body x, y, z (length, width, height) [m]; used for collisions
+    /// Outer hull extents along body x, y, z (length, width, height) \[m\]; used for collisions
     /// and for the buoyancy lost when the hull breaks the surface.
     pub hull_size: Vec3,
 }
@@ -70,9 +70,9 @@ impl Default for Environment {
 /// Cached per vehicle and recomputed only when the ballast volume changes.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MassProperties {
-    /// Total mass [kg].
+    /// Total mass \[kg\].
     pub mass: f64,
-    /// Total centre of gravity, body frame [m].
+    /// Total centre of gravity, body frame \[m\].
     pub cog: Vec3,
     /// Total rigid-body inertia about the body origin [kg·m²].
     pub inertia_origin: Mat3,
@@ -80,7 +80,7 @@ pub struct MassProperties {
     pub m_total: Mat6,
     /// M⁻¹.
     pub m_inv: Mat6,
-    /// Ballast water volume this cache was computed for [m³].
+    /// Ballast water volume this cache was computed for \[m³\].
     pub ballast_volume: f64,
 }
 
@@ -90,8 +90,8 @@ fn point_inertia(m: f64, r: &Vec3) -> Mat3 {
 }
 
 impl MassProperties {
-    /// Mass properties of `body` carrying `ballast_volume` [m³] of water of density
-    /// `density` [kg/m³] as a point mass at `ballast_position` [m].
+    /// Mass properties of `body` carrying `ballast_volume` \[m³\] of water of density
+    /// `density` [kg/m³] as a point mass at `ballast_position` \[m\].
     pub fn new(
         body: &BodyParams,
         ballast_volume: f64,
@@ -137,7 +137,7 @@ impl MassProperties {
         join6(&f, &t)
     }
 
-    /// Kinetic energy ½ νᵀ M ν [J] (rigid body + added mass).
+    /// Kinetic energy ½ νᵀ M ν \[J\] (rigid body + added mass).
     pub fn kinetic_energy(&self, nu: &Vec6) -> f64 {
         0.5 * nu.dot(&(self.m_total * nu))
     }
@@ -165,14 +165,14 @@ impl BodyParams {
     }
 
     /// Fraction of the hull volume below the surface (0…1) for a centre-of-buoyancy depth
-    /// `depth_cob` [m]; the hull is treated as a vertical prism of height `hull_size.z`.
+    /// `depth_cob` \[m\]; the hull is treated as a vertical prism of height `hull_size.z`.
     #[inline]
     pub fn submerged_fraction(&self, depth_cob: f64) -> f64 {
         let h = self.hull_size.z.max(1e-6);
         ((depth_cob + 0.5 * h) / h).clamp(0.0, 1.0)
     }
 
-    /// Restoring force g(η) (left-hand side) for attitude `att`, body-origin depth `depth` [m]
+    /// Restoring force g(η) (left-hand side) for attitude `att`, body-origin depth `depth` \[m\]
     /// and the current mass properties.
     pub fn restoring(
         &self,
@@ -192,7 +192,7 @@ impl BodyParams {
         -join6(&f, &t)
     }
 
-    /// Potential energy of weight and buoyancy [J] for a fully submerged hull (zero at depth 0).
+    /// Potential energy of weight and buoyancy \[J\] for a fully submerged hull (zero at depth 0).
     pub fn potential_energy(
         &self,
         mp: &MassProperties,

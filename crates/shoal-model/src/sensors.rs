@@ -12,27 +12,27 @@ use rand_distr::StandardNormal;
 pub struct PressureSensorParams {
     /// Calibration slope C₁ [m/V].
     pub c1: f64,
-    /// Calibration offset C₂ [m].
+    /// Calibration offset C₂ \[m\].
     pub c2: f64,
-    /// Depth resolution of one ADC step [m] (the voltage step is `depth_step / c1`).
+    /// Depth resolution of one ADC step \[m\] (the voltage step is `depth_step / c1`).
     pub depth_step: f64,
-    /// ADC resolution [bits].
+    /// ADC resolution \[bits\].
     pub bits: u32,
-    /// Standard deviation of the depth noise before quantisation [m].
+    /// Standard deviation of the depth noise before quantisation \[m\].
     pub noise_std: f64,
-    /// Position of the pressure port in the body frame [m].
+    /// Position of the pressure port in the body frame \[m\].
     pub position: Vec3,
 }
 
 impl PressureSensorParams {
-    /// Voltage [V] that the sensor outputs at true depth `depth` [m] (no noise). Above the
+    /// Voltage \[V\] that the sensor outputs at true depth `depth` \[m\] (no noise). Above the
     /// surface the differential sensor sees no water column and reads depth 0.
     #[inline]
     pub fn voltage(&self, depth: f64) -> f64 {
         (depth.max(0.0) - self.c2) / self.c1
     }
 
-    /// ADC code for a voltage [V].
+    /// ADC code for a voltage \[V\].
     #[inline]
     pub fn code(&self, voltage: f64) -> u32 {
         let lsb = self.depth_step / self.c1;
@@ -40,14 +40,14 @@ impl PressureSensorParams {
         (voltage / lsb).round().clamp(0.0, max) as u32
     }
 
-    /// Depth [m] the calibrated line assigns to an ADC code.
+    /// Depth \[m\] the calibrated line assigns to an ADC code.
     #[inline]
     pub fn depth_of_code(&self, code: u32) -> f64 {
         let lsb = self.depth_step / self.c1;
         self.c1 * (code as f64 * lsb) + self.c2
     }
 
-    /// A quantised depth reading [m] at true depth `depth` [m].
+    /// A quantised depth reading \[m\] at true depth `depth` \[m\].
     pub fn read<R: Rng + ?Sized>(&self, depth: f64, rng: &mut R) -> f64 {
         let noise: f64 = if self.noise_std > 0.0 {
             self.noise_std * rng.sample::<f64, _>(StandardNormal)
@@ -62,7 +62,7 @@ impl PressureSensorParams {
 /// IMU noise parameters.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ImuParams {
-    /// Standard deviation of the attitude error of the on-board filter, per axis [rad].
+    /// Standard deviation of the attitude error of the on-board filter, per axis \[rad\].
     pub attitude_noise: f64,
     /// Standard deviation of the rate-gyro noise per sample [rad/s].
     pub gyro_noise: f64,

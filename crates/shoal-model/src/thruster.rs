@@ -15,7 +15,7 @@ pub enum ThrustCurve {
         /// C_t⁻ magnitude [N/%²], ≥ 0 (reverse thrust is `−ct_neg n²`).
         ct_neg: f64,
     },
-    /// Piecewise-linear table of (command [%], thrust [N]) points, strictly increasing in the
+    /// Piecewise-linear table of (command [%], thrust \[N\]) points, strictly increasing in the
     /// command and non-decreasing in thrust; clamped at both ends.
     Table {
         /// The points, sorted by command.
@@ -24,7 +24,7 @@ pub enum ThrustCurve {
 }
 
 impl ThrustCurve {
-    /// Thrust [N] for command `n` [%].
+    /// Thrust \[N\] for command `n` [%].
     #[inline]
     pub fn thrust(&self, n: f64) -> f64 {
         match self {
@@ -39,7 +39,7 @@ impl ThrustCurve {
         }
     }
 
-    /// The command [%] that produces thrust `f` [N] (clamped to what the curve can give within
+    /// The command [%] that produces thrust `f` \[N\] (clamped to what the curve can give within
     /// ±`max_command`).
     pub fn command_for(&self, f: f64, max_command: f64) -> f64 {
         let n = match self {
@@ -72,7 +72,7 @@ impl ThrustCurve {
         n.clamp(-max_command, max_command)
     }
 
-    /// Largest forward and largest reverse thrust magnitude [N] within ±`max_command`.
+    /// Largest forward and largest reverse thrust magnitude \[N\] within ±`max_command`.
     pub fn limits(&self, max_command: f64) -> (f64, f64) {
         (
             self.thrust(max_command).max(0.0),
@@ -105,16 +105,16 @@ pub struct TiltParams {
     pub name: String,
     /// Rotation axis in the body frame (unit vector).
     pub axis: Unit<Vec3>,
-    /// Lower angle limit [rad].
+    /// Lower angle limit \[rad\].
     pub min: f64,
-    /// Upper angle limit [rad].
+    /// Upper angle limit \[rad\].
     pub max: f64,
     /// Maximum angular rate [rad/s] (> 0).
     pub rate_max: f64,
 }
 
 impl TiltParams {
-    /// Moves `angle` [rad] towards `target` [rad] for `dt` [s] within the rate and range limits.
+    /// Moves `angle` \[rad\] towards `target` \[rad\] for `dt` \[s\] within the rate and range limits.
     #[inline]
     pub fn advance(&self, angle: f64, target: f64, dt: f64) -> f64 {
         let target = target.clamp(self.min, self.max);
@@ -128,7 +128,7 @@ impl TiltParams {
 pub struct ThrusterParams {
     /// Name (e.g. `top`, `port`, `stbd`).
     pub name: String,
-    /// Position of the propeller in the body frame [m].
+    /// Position of the propeller in the body frame \[m\].
     pub position: Vec3,
     /// Thrust direction at tilt angle 0, body frame (unit vector): positive thrust pushes the
     /// hull along this direction.
@@ -139,12 +139,12 @@ pub struct ThrusterParams {
     pub curve: ThrustCurve,
     /// Largest command magnitude [%] (commands are clamped to ±this).
     pub max_command: f64,
-    /// Time constant of a first-order lag between static and actual thrust [s]; 0 = none.
+    /// Time constant of a first-order lag between static and actual thrust \[s\]; 0 = none.
     pub lag: f64,
 }
 
 impl ThrusterParams {
-    /// Thrust direction [unit, body frame] when the thruster's tilt drive stands at `angle` [rad].
+    /// Thrust direction [unit, body frame] when the thruster's tilt drive stands at `angle` \[rad\].
     #[inline]
     pub fn direction_at(&self, axis: Option<&Unit<Vec3>>, angle: f64) -> Vec3 {
         match axis {
@@ -159,13 +159,13 @@ impl ThrusterParams {
 /// Per-vehicle actuator state: tilt angles and actual thrust of each thruster.
 #[derive(Clone, Debug, PartialEq, Default)]
 pub struct ActuatorState {
-    /// Current tilt angle of each tilt drive [rad].
+    /// Current tilt angle of each tilt drive \[rad\].
     pub tilt: Vec<f64>,
-    /// Actual thrust of each thruster after the lag, at the end of the last step [N].
+    /// Actual thrust of each thruster after the lag, at the end of the last step \[N\].
     pub thrust: Vec<f64>,
 }
 
-/// Advances tilt drives and thrust lags by `dt` [s] and returns the generalised force τ
+/// Advances tilt drives and thrust lags by `dt` \[s\] and returns the generalised force τ
 /// (body frame) [N, N·m]. `submerged[i]` is false for a thruster above the water surface
 /// (it then produces no thrust). The static thrust of each thruster comes from its curve.
 pub fn actuate(
@@ -190,7 +190,7 @@ pub fn actuate(
 }
 
 /// [`actuate`] with a custom static-thrust model: `static_thrust(thruster, command [%],
-/// thrust direction (unit, body frame))` returns the thrust [N] before the lag.
+/// thrust direction (unit, body frame))` returns the thrust \[N\] before the lag.
 pub fn actuate_with(
     thrusters: &[ThrusterParams],
     tilts: &[TiltParams],

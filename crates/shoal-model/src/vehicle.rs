@@ -41,18 +41,18 @@ pub struct VehicleParams {
 }
 
 impl VehicleParams {
-    /// Mass properties with `ballast_volume` [m³] of water of `density` [kg/m³] in the tank.
+    /// Mass properties with `ballast_volume` \[m³\] of water of `density` [kg/m³] in the tank.
     pub fn mass_properties(&self, ballast_volume: f64, density: f64) -> MassProperties {
         let pos = self.ballast.as_ref().map_or(Vec3::zeros(), |b| b.position);
         MassProperties::new(&self.body, ballast_volume, &pos, density)
     }
 
-    /// Initial ballast water volume [m³].
+    /// Initial ballast water volume \[m³\].
     pub fn initial_ballast(&self) -> f64 {
         self.ballast.as_ref().map_or(0.0, |b| b.initial_volume)
     }
 
-    /// Net downward force at rest, fully submerged, with the initial ballast [N]
+    /// Net downward force at rest, fully submerged, with the initial ballast \[N\]
     /// (positive: the vehicle sinks; negative: it rises).
     pub fn net_weight(&self, env: &Environment) -> f64 {
         let m = self.body.mass + self.initial_ballast() * env.density;
@@ -74,7 +74,7 @@ pub struct VehicleModel {
     /// on the parameters as given, before effects: the controller is built for the model its
     /// designer believes in.
     pub uauv2: Option<Uauv2Control>,
-    /// Effective heave mass m + A₃₃ at the initial ballast, before effects [kg].
+    /// Effective heave mass m + A₃₃ at the initial ballast, before effects \[kg\].
     pub heave_mass: f64,
     /// Effective yaw inertia I_zz + A₆₆ at the initial ballast, before effects [kg·m²].
     pub yaw_inertia: f64,
@@ -147,7 +147,7 @@ pub struct VehicleState {
     pub rigid: RigidState,
     /// Tilt angles and actual thrusts.
     pub actuators: ActuatorState,
-    /// Water in the buoyancy tank [m³].
+    /// Water in the buoyancy tank \[m³\].
     pub ballast_volume: f64,
     /// Mass properties for the current ballast (cache).
     pub mass: MassProperties,
@@ -156,10 +156,10 @@ pub struct VehicleState {
     /// Thruster force applied during the last step, body frame [N, N·m] (including the
     /// effects' forces).
     pub tau: Vec6,
-    /// Time since the vehicle started [s].
+    /// Time since the vehicle started \[s\].
     pub time: f64,
     /// Readings waiting to be released by a sensor delay, oldest first, with the time each
-    /// was taken [s].
+    /// was taken \[s\].
     pub delayed: VecDeque<(f64, SensorReadings)>,
 }
 
@@ -183,14 +183,14 @@ impl VehicleState {
         }
     }
 
-    /// Depth of a body-frame point [m].
+    /// Depth of a body-frame point \[m\].
     #[inline]
     pub fn depth_of(&self, body_point: &Vec3) -> f64 {
         self.rigid.position.z + self.rigid.attitude.transform_vector(body_point).z
     }
 }
 
-/// Actuation for one step of `dt` [s]: runs the pump, moves the tilt drives, updates the
+/// Actuation for one step of `dt` \[s\]: runs the pump, moves the tilt drives, updates the
 /// thrust lags and stores the resulting generalised force in `state.tau`.
 pub fn actuate_vehicle(
     model: &VehicleModel,
@@ -249,7 +249,7 @@ pub fn actuate_vehicle(
     state.tau = tau + extra;
 }
 
-/// Rigid-body integration for one step of `dt` [s] with `state.tau` held constant.
+/// Rigid-body integration for one step of `dt` \[s\] with `state.tau` held constant.
 pub fn integrate_vehicle(
     model: &VehicleModel,
     state: &mut VehicleState,
@@ -271,7 +271,7 @@ pub fn integrate_vehicle(
     state.time += dt;
 }
 
-/// Advances one vehicle by `dt` [s]: pump, tilt drives and thrusters (→ τ), then the rigid
+/// Advances one vehicle by `dt` \[s\]: pump, tilt drives and thrusters (→ τ), then the rigid
 /// body with τ held over the step.
 pub fn step(
     model: &VehicleModel,

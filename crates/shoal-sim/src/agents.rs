@@ -33,11 +33,11 @@ pub struct Observation {
     pub id: u32,
     /// Physics step of this tick.
     pub step: u64,
-    /// Simulated time [s].
+    /// Simulated time \[s\].
     pub t: f64,
     /// Sensor readings (quantised depth, IMU attitude and rates, tilt angles, tank switch).
     pub sensors: SensorReadings,
-    /// True position of the body origin, world frame [m] — only if the world grants it.
+    /// True position of the body origin, world frame \[m\] — only if the world grants it.
     pub position: Option<Vec3>,
     /// Frames received since the last tick, in order of arrival.
     pub frames: Vec<Received>,
@@ -56,18 +56,18 @@ pub enum Order {
         mode: Mode,
         /// Depth [m, positive down].
         depth: f64,
-        /// Heading [rad].
+        /// Heading \[rad\].
         yaw: f64,
-        /// Surge force [N].
+        /// Surge force \[N\].
         surge: f64,
-        /// Sway force [N].
+        /// Sway force \[N\].
         sway: f64,
     },
     /// Raw actuator commands.
     Raw {
         /// Per thruster [%]; missing ones are 0.
         thrusters: Vec<f64>,
-        /// Per tilt drive [rad]; missing ones are 0.
+        /// Per tilt drive \[rad\]; missing ones are 0.
         tilts: Vec<f64>,
         /// Pump.
         pump: Pump,
@@ -81,7 +81,7 @@ pub struct FrameOrder {
     pub modem: Option<usize>,
     /// Payload bytes.
     pub payload: Vec<u8>,
-    /// Delay after the tick [s].
+    /// Delay after the tick \[s\].
     pub delay: f64,
 }
 
@@ -139,7 +139,7 @@ impl Rejections {
 /// Something that happened to an agent.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct AgentEvent {
-    /// Simulated time [s].
+    /// Simulated time \[s\].
     pub t: f64,
     /// Physics step.
     pub step: u64,
@@ -149,16 +149,16 @@ pub struct AgentEvent {
     pub detail: String,
 }
 
-/// Round-trip statistics [µs].
+/// Round-trip statistics \[µs\].
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
 pub struct RoundTrip {
     /// Exchanges measured.
     pub count: usize,
-    /// Median [µs].
+    /// Median \[µs\].
     pub median_us: f64,
-    /// 99th percentile [µs].
+    /// 99th percentile \[µs\].
     pub p99_us: f64,
-    /// Largest [µs].
+    /// Largest \[µs\].
     pub max_us: f64,
 }
 

@@ -30,7 +30,7 @@ pub fn record_run(desc: &WorldDesc) -> Vec<Vec<Vec<f64>>> {
         .collect()
 }
 
-/// True (noise-free) depth [m] of a point at body-frame height `port_z` [m] on the vehicle's
+/// True (noise-free) depth \[m\] of a point at body-frame height `port_z` \[m\] on the vehicle's
 /// vertical axis (e.g. the pressure port), from a recorded row.
 pub fn point_depth(row: &[f64], port_z: f64) -> f64 {
     row[col::Z] + port_z * row[col::ROLL].cos() * row[col::PITCH].cos()
@@ -39,9 +39,9 @@ pub fn point_depth(row: &[f64], port_z: f64) -> f64 {
 /// One setpoint segment of a step response.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Segment {
-    /// Start and end time of the segment [s].
+    /// Start and end time of the segment \[s\].
     pub t0: f64,
-    /// End time [s].
+    /// End time \[s\].
     pub t1: f64,
     /// Signal value at the start.
     pub from: f64,
@@ -49,7 +49,7 @@ pub struct Segment {
     pub target: f64,
     /// Largest excursion beyond the target in the direction of the move (≥ 0).
     pub overshoot: f64,
-    /// Time from `t0` until the signal first enters `target ± band` [s].
+    /// Time from `t0` until the signal first enters `target ± band` \[s\].
     pub time_to_band: Option<f64>,
     /// Target minus the value at the end of the segment.
     pub final_error: f64,

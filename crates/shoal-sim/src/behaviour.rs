@@ -19,11 +19,11 @@ use std::collections::BTreeMap;
 
 /// What a behaviour sees and does on one tick.
 pub struct BehaviourIo<'a> {
-    /// Time [s].
+    /// Time \[s\].
     pub t: f64,
     /// This vehicle's id (as written in the link-layer header of its frames).
     pub id: u32,
-    /// Time to the next tick [s] (the control period, or the physics step).
+    /// Time to the next tick \[s\] (the control period, or the physics step).
     pub period: f64,
     /// Sensor readings.
     pub sensors: &'a SensorReadings,
@@ -41,7 +41,7 @@ pub struct BehaviourIo<'a> {
 
 impl BehaviourIo<'_> {
     /// Hands `payload` to one modem (`Some(index)`) or to all of them in sync (`None`),
-    /// `delay` [s] after now.
+    /// `delay` \[s\] after now.
     pub fn send(&mut self, modem: Option<usize>, payload: &[u8], delay: f64) {
         self.outbox.push(OutFrame {
             modem,
@@ -50,7 +50,7 @@ impl BehaviourIo<'_> {
         });
     }
 
-    /// Heading from the IMU [rad].
+    /// Heading from the IMU \[rad\].
     pub fn heading(&self) -> f64 {
         euler_rpy(&self.sensors.attitude).2
     }

@@ -6,13 +6,13 @@ use shoal_world::desc::WorldDesc;
 use shoal_world::load::load_str;
 use std::path::Path;
 
-/// Grid spacing of the quiet benchmark swarm [m]: a dense swarm, all dynamics.
+/// Grid spacing of the quiet benchmark swarm \[m\]: a dense swarm, all dynamics.
 pub const SPACING: f64 = 0.6;
-/// Grid spacing of the benchmark swarm with optical traffic [m]: neighbours well inside the
+/// Grid spacing of the benchmark swarm with optical traffic \[m\]: neighbours well inside the
 /// reliable range (≈2 m), about 25 vehicles within the cut-off range of each.
 pub const TRAFFIC_SPACING: f64 = 1.5;
 
-/// The world-file text of an `n`-vehicle benchmark swarm on a grid of `spacing` [m]. With
+/// The world-file text of an `n`-vehicle benchmark swarm on a grid of `spacing` \[m\]. With
 /// `traffic`, every vehicle carries a ring of four modems and beacons a 26-byte payload (a
 /// 32-byte frame) once a second. At [`TRAFFIC_SPACING`] the vehicles turn on the spot (with or
 /// without traffic, so the two can be compared); otherwise they also drive forward.
@@ -95,7 +95,7 @@ pub fn swarm_with(n: usize, seed: u64, traffic: bool) -> WorldDesc {
     )
 }
 
-/// The benchmark swarm at any grid spacing [m].
+/// The benchmark swarm at any grid spacing \[m\].
 pub fn swarm_spaced(n: usize, seed: u64, spacing: f64, traffic: bool) -> WorldDesc {
     match load_str(
         &swarm_text(n, seed, spacing, traffic),

@@ -61,7 +61,7 @@ pub struct OutFrame {
     pub modem: Option<usize>,
     /// Payload bytes (the link-layer header is added on the air).
     pub payload: Vec<u8>,
-    /// Time at which the frame is handed over [s].
+    /// Time at which the frame is handed over \[s\].
     pub ready: f64,
 }
 
@@ -72,7 +72,7 @@ pub struct Outbox(pub Vec<OutFrame>);
 /// A frame delivered to a vehicle.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Received {
-    /// End of the reception [s].
+    /// End of the reception \[s\].
     pub t: f64,
     /// Sending vehicle (from the link-layer header).
     pub from: u32,
@@ -80,11 +80,11 @@ pub struct Received {
     pub seq: u32,
     /// Which of this vehicle's modems received it.
     pub modem: usize,
-    /// Received optical power at that modem [W].
+    /// Received optical power at that modem \[W\].
     pub power: f64,
     /// Electrical SNR of the reception.
     pub snr: f64,
-    /// Time the sender handed the frame over [s].
+    /// Time the sender handed the frame over \[s\].
     pub sent: f64,
     /// Payload.
     pub payload: Arc<[u8]>,
@@ -159,9 +159,9 @@ pub struct LinkStats {
     pub lost_collision: u64,
     /// Lost because the receiving modem was transmitting.
     pub lost_half_duplex: u64,
-    /// Sum of hand-over-to-delivery latencies of delivered frames [s].
+    /// Sum of hand-over-to-delivery latencies of delivered frames \[s\].
     pub latency_sum_s: f64,
-    /// Time of the last delivery [s] (−∞ if none).
+    /// Time of the last delivery \[s\] (−∞ if none).
     #[serde(skip)]
     pub last_delivery: f64,
 }
@@ -194,7 +194,7 @@ impl LinkStats {
     }
 }
 
-/// Width of a distance bin of the delivery histogram [m].
+/// Width of a distance bin of the delivery histogram \[m\].
 pub const DIST_BIN: f64 = 0.1;
 /// Number of distance bins.
 pub const DIST_BINS: usize = 80;
@@ -265,14 +265,14 @@ impl CommStats {
     }
 }
 
-/// Latency histogram bin of a latency [s].
+/// Latency histogram bin of a latency \[s\].
 pub fn latency_bin(l: f64) -> usize {
     ((l.max(1e-4).log10() + 4.0) * 20.0)
         .floor()
         .clamp(0.0, (LAT_BINS - 1) as f64) as usize
 }
 
-/// Geometric centre of a latency bin [s] (within ±6 % of any latency in it).
+/// Geometric centre of a latency bin \[s\] (within ±6 % of any latency in it).
 pub fn latency_bin_centre(k: usize) -> f64 {
     10f64.powf((k as f64 + 0.5) / 20.0 - 4.0)
 }
@@ -297,13 +297,13 @@ pub struct Transmission {
     pub tx: u32,
     /// Sending modem.
     pub modem: usize,
-    /// Start and end of the transmission [s].
+    /// Start and end of the transmission \[s\].
     pub start: f64,
-    /// End [s].
+    /// End \[s\].
     pub end: f64,
     /// Sender's sequence number (copies on several modems share it).
     pub seq: u32,
-    /// Time the frame was handed over [s].
+    /// Time the frame was handed over \[s\].
     pub sent: f64,
     /// Payload.
     pub payload: Arc<[u8]>,
@@ -339,7 +339,7 @@ impl Grid {
         (c[0] * self.dims[1] + c[1]) * self.dims[2] + c[2]
     }
 
-    /// Rebuilds the grid over `points` (index = id) with cells of about `cell` [m] (larger if
+    /// Rebuilds the grid over `points` (index = id) with cells of about `cell` \[m\] (larger if
     /// the points spread so far that the grid would exceed a few cells per point).
     pub fn rebuild(&mut self, cell: f64, points: &[Vec3]) {
         let (mut lo, mut hi) = (Vec3::repeat(f64::INFINITY), Vec3::repeat(f64::NEG_INFINITY));
@@ -383,7 +383,7 @@ impl Grid {
         }
     }
 
-    /// Calls `f` with every id whose cell overlaps the box `lo … hi` [m] (a superset of the
+    /// Calls `f` with every id whose cell overlaps the box `lo … hi` \[m\] (a superset of the
     /// points inside it); stops early when `f` returns `false`. Returns whether it ran to the end.
     pub fn each_in_box(&self, lo: &Vec3, hi: &Vec3, mut f: impl FnMut(u32) -> bool) -> bool {
         if self.dims[0] == 0 {
@@ -411,13 +411,13 @@ impl Grid {
 /// Per-modem constants of the link budget, precomputed once per design.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ModemConsts {
-    /// P_t (m+1)/(2π) of the LED [W].
+    /// P_t (m+1)/(2π) of the LED \[W\].
     pub coef: f64,
     /// Lambertian order m.
     pub order: f64,
     /// cos of the receiver's field of view.
     pub cos_fov: f64,
-    /// Photodiode area [m²].
+    /// Photodiode area \[m²\].
     pub area: f64,
 }
 
@@ -434,7 +434,7 @@ impl ModemConsts {
     }
 }
 
-/// Received optical power [W]: `P_t · H` of [`shoal_model::optics::channel_gain`] with the
+/// Received optical power \[W\]: `P_t · H` of [`shoal_model::optics::channel_gain`] with the
 /// constants precomputed.
 #[inline]
 pub fn received_power(
@@ -465,7 +465,7 @@ pub struct Medium {
     pub attenuation: f64,
     /// Ambient light.
     pub ambient: Ambient,
-    /// Beyond this distance no frame can be decoded and no interference matters [m].
+    /// Beyond this distance no frame can be decoded and no interference matters \[m\].
     pub r_cut: f64,
     /// Model of every vehicle, by id.
     pub kinds: Vec<Arc<VehicleModel>>,

@@ -16,9 +16,9 @@ use std::path::{Path, PathBuf};
 /// Deliveries within one distance bin.
 #[derive(Clone, Debug, Serialize)]
 pub struct DistanceBin {
-    /// Bin start [m].
+    /// Bin start \[m\].
     pub from_m: f64,
-    /// Bin end [m].
+    /// Bin end \[m\].
     pub to_m: f64,
     /// Frames sent by vehicles this far away.
     pub attempts: u64,
@@ -35,19 +35,19 @@ pub struct GossipSummary {
     pub vehicles: usize,
     /// Vehicles that learned the value.
     pub informed: usize,
-    /// Time the value appeared at the origin [s].
+    /// Time the value appeared at the origin \[s\].
     pub start_s: f64,
-    /// Time from the start until every vehicle knew it [s] (`null` if some never did).
+    /// Time from the start until every vehicle knew it \[s\] (`null` if some never did).
     pub time_to_all_s: Option<f64>,
-    /// Time from the start until half the vehicles knew it [s].
+    /// Time from the start until half the vehicles knew it \[s\].
     pub time_to_half_s: Option<f64>,
     /// Most hops from the origin.
     pub max_hops: u32,
     /// Mean hops from the origin over informed vehicles.
     pub mean_hops: f64,
-    /// Mean over informed vehicles of (time learned − start) / hops [s].
+    /// Mean over informed vehicles of (time learned − start) / hops \[s\].
     pub mean_time_per_hop_s: f64,
-    /// (time [s], vehicles informed) at every new informed vehicle.
+    /// (time \[s\], vehicles informed) at every new informed vehicle.
     pub informed_over_time: Vec<(f64, usize)>,
 }
 
@@ -70,7 +70,7 @@ pub struct VehicleComm {
 pub struct CommSummary {
     /// Beam attenuation of the water [1/m].
     pub attenuation_per_m: f64,
-    /// Distance beyond which no frame is decodable [m].
+    /// Distance beyond which no frame is decodable \[m\].
     pub cutoff_range_m: f64,
     /// Frames put on the air.
     pub frames_sent: u64,
@@ -84,13 +84,13 @@ pub struct CommSummary {
     pub receptions: LinkStats,
     /// receptions.delivered / receptions.attempts.
     pub delivery_ratio: f64,
-    /// Mean hand-over-to-delivery latency [s].
+    /// Mean hand-over-to-delivery latency \[s\].
     pub latency_mean_s: Option<f64>,
-    /// Median latency [s] (centre of its histogram bin: ±6 %).
+    /// Median latency \[s\] (centre of its histogram bin: ±6 %).
     pub latency_median_s: Option<f64>,
-    /// 95th percentile latency [s] (centre of its histogram bin: ±6 %).
+    /// 95th percentile latency \[s\] (centre of its histogram bin: ±6 %).
     pub latency_p95_s: Option<f64>,
-    /// Mean frame length on the line [bits].
+    /// Mean frame length on the line \[bits\].
     pub mean_frame_bits: f64,
     /// Delivery ratio against distance.
     pub by_distance: Vec<DistanceBin>,

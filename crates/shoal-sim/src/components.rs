@@ -24,7 +24,7 @@ pub struct Kind(pub Arc<VehicleModel>);
 pub struct Physics {
     /// The state.
     pub state: VehicleState,
-    /// Body-origin position before the last dynamics step, world frame [m].
+    /// Body-origin position before the last dynamics step, world frame \[m\].
     pub prev_position: Vec3,
 }
 
@@ -62,7 +62,7 @@ pub struct ContactStats {
     pub steps_in_contact: u64,
     /// Number of separate impacts (contact after a free step).
     pub impacts: u64,
-    /// Deepest penetration resolved [m].
+    /// Deepest penetration resolved \[m\].
     pub max_depth: f64,
     /// Whether the hull touched something in the last step.
     pub touching: bool,
@@ -78,12 +78,12 @@ pub struct Track(pub Vec<f64>);
 pub struct Clock {
     /// Steps completed.
     pub step: u64,
-    /// Physics step [s].
+    /// Physics step \[s\].
     pub dt: f64,
 }
 
 impl Clock {
-    /// Simulated time at the start of the current step [s].
+    /// Simulated time at the start of the current step \[s\].
     pub fn t(&self) -> f64 {
         self.step as f64 * self.dt
     }

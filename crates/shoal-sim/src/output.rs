@@ -387,19 +387,19 @@ pub struct VehicleSummary {
     pub group: String,
     /// Final mode.
     pub mode: String,
-    /// Final position, world frame [m].
+    /// Final position, world frame \[m\].
     pub final_position_m: [f64; 3],
-    /// Final heading [deg].
+    /// Final heading \[deg\].
     pub final_yaw_deg: f64,
-    /// Final depth reading [m].
+    /// Final depth reading \[m\].
     pub final_depth_reading_m: f64,
-    /// Final depth setpoint minus reading [m].
+    /// Final depth setpoint minus reading \[m\].
     pub depth_error_m: f64,
-    /// Final heading setpoint minus heading, wrapped [deg].
+    /// Final heading setpoint minus heading, wrapped \[deg\].
     pub yaw_error_deg: f64,
-    /// Path length over the recorded samples [m].
+    /// Path length over the recorded samples \[m\].
     pub distance_m: f64,
-    /// Deepest body-origin depth [m].
+    /// Deepest body-origin depth \[m\].
     pub max_depth_m: f64,
     /// Largest speed through the water [m/s].
     pub max_speed_m_s: f64,
@@ -407,7 +407,7 @@ pub struct VehicleSummary {
     pub impacts: u64,
     /// Steps spent in contact.
     pub steps_in_contact: u64,
-    /// Final ballast water [ml].
+    /// Final ballast water \[ml\].
     pub ballast_ml: f64,
 }
 
@@ -420,11 +420,11 @@ pub struct GroupSummary {
     pub count: usize,
     /// Final mode of its first vehicle.
     pub mode: String,
-    /// Mean |final depth error| [m].
+    /// Mean |final depth error| \[m\].
     pub mean_abs_depth_error_m: f64,
-    /// Mean |final heading error| [deg].
+    /// Mean |final heading error| \[deg\].
     pub mean_abs_yaw_error_deg: f64,
-    /// Mean path length [m].
+    /// Mean path length \[m\].
     pub mean_distance_m: f64,
     /// Total impacts.
     pub impacts: u64,
@@ -443,15 +443,15 @@ pub struct Summary {
     pub vehicles: usize,
     /// Working threads.
     pub threads: usize,
-    /// Physics step [s].
+    /// Physics step \[s\].
     pub dt_s: f64,
     /// Steps run.
     pub steps: u64,
-    /// Simulated time [s].
+    /// Simulated time \[s\].
     pub simulated_s: f64,
-    /// Planned duration [s].
+    /// Planned duration \[s\].
     pub planned_s: f64,
-    /// Wall-clock time [s].
+    /// Wall-clock time \[s\].
     pub wall_s: f64,
     /// Simulated seconds per wall-clock second.
     pub real_time_factor: f64,

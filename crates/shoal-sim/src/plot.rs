@@ -69,7 +69,7 @@ pub struct Plot {
     pub x_range: Option<(f64, f64)>,
     /// Fixed ranges; `None` = from the data.
     pub y_range: Option<(f64, f64)>,
-    /// Image size [px].
+    /// Image size \[px\].
     pub size: (u32, u32),
 }
 

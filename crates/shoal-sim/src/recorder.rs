@@ -56,7 +56,7 @@ pub mod col {
 }
 
 /// Values per row for a vehicle kind: the fixed columns, one command per thruster [%] and one
-/// angle per tilt drive [rad].
+/// angle per tilt drive \[rad\].
 pub fn stride(model: &VehicleModel) -> usize {
     FIXED.len() + model.params.thrusters.len() + model.params.tilts.len()
 }

@@ -218,7 +218,7 @@ impl Sim {
         &self.entities
     }
 
-    /// Size of the pool (x, y, depth) [m].
+    /// Size of the pool (x, y, depth) \[m\].
     pub fn pool_size(&self) -> Vec3 {
         self.world.resource::<StaticGeometry>().0.pool
     }
@@ -228,7 +228,7 @@ impl Sim {
         self.world.resource::<Clock>().step
     }
 
-    /// Simulated time [s].
+    /// Simulated time \[s\].
     pub fn time(&self) -> f64 {
         self.world.resource::<Clock>().t()
     }

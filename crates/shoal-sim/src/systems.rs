@@ -155,7 +155,7 @@ pub fn inbox_clear_system(mut q: Query<&mut Inbox, (Without<Behave>, Without<Ext
 /// One sample of the communication graph.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct ConnSample {
-    /// Time [s].
+    /// Time \[s\].
     pub t: f64,
     /// Vehicles in the largest connected component.
     pub largest: usize,
@@ -169,9 +169,9 @@ pub struct ConnSample {
 /// between them (either way) within the last `window` seconds; sampled every `every` seconds.
 #[derive(Resource, Clone, Debug)]
 pub struct Connectivity {
-    /// Sample interval [s].
+    /// Sample interval \[s\].
     pub every: f64,
-    /// Window [s].
+    /// Window \[s\].
     pub window: f64,
     /// Samples.
     pub samples: Vec<ConnSample>,

@@ -32,7 +32,7 @@ pub struct RunData {
     pub init: InitialState,
     /// The channels used, in the order of [`MeasuredRun::channels`] (indices into it).
     pub channels: Vec<usize>,
-    /// Samples at times before this are estimation data [s] (+∞: all; −∞: none).
+    /// Samples at times before this are estimation data \[s\] (+∞: all; −∞: none).
     pub split_time: f64,
     /// Whether the run is a hold-out run (scored only).
     pub holdout: bool,
@@ -300,7 +300,7 @@ pub fn unwrap(a: &mut [f64]) {
 pub struct ChannelResult {
     /// What it measures.
     pub kind: ChannelKind,
-    /// Sample times [s].
+    /// Sample times \[s\].
     pub times: Vec<f64>,
     /// Measured values (angles unwrapped into a continuous series).
     pub measured: Vec<f64>,

@@ -79,7 +79,7 @@ fn expand(pattern: &[Segment], duration: f64, seed: u64) -> Vec<(f64, f64, f64)>
     out
 }
 
-/// The diving-mode heave experiment: `duration` [s], logged at 50 Hz, starting at rest with
+/// The diving-mode heave experiment: `duration` \[s\], logged at 50 Hz, starting at rest with
 /// the pressure port 1 m deep.
 pub fn uauv2_heave(seed: u64, duration: f64) -> Experiment {
     let mut inputs = vec![
@@ -114,7 +114,7 @@ pub fn balanced_stbd(port: f64) -> f64 {
     }
 }
 
-/// The turning-mode yaw experiment: `duration` [s], logged at 50 Hz, with a tracked position
+/// The turning-mode yaw experiment: `duration` \[s\], logged at 50 Hz, with a tracked position
 /// (1 cm noise), starting at rest 1 m deep.
 pub fn uauv2_yaw(seed: u64, duration: f64) -> Experiment {
     let mut inputs = vec![

@@ -28,7 +28,7 @@ use shoal_model::vehicle::{
 pub struct InputMap {
     /// (thruster index, input column index) [command %].
     pub thrusters: Vec<(usize, usize)>,
-    /// (tilt index, input column index) [rad].
+    /// (tilt index, input column index) \[rad\].
     pub tilts: Vec<(usize, usize)>,
     /// Input column of the pump (−1 empty, 0 off, +1 fill).
     pub pump: Option<usize>,
@@ -36,7 +36,7 @@ pub struct InputMap {
 
 impl InputMap {
     /// Maps the run's `u.` columns onto the vehicle's actuators by name: `u.<thruster>`
-    /// [%], `u.<tilt drive>` [rad], `u.pump`. Actuators without a column stay at zero.
+    /// [%], `u.<tilt drive>` \[rad\], `u.pump`. Actuators without a column stay at zero.
     pub fn new(params: &VehicleParams, run: &MeasuredRun) -> Result<InputMap, RunError> {
         let mut map = InputMap::default();
         for (k, inp) in run.inputs.iter().enumerate() {
@@ -119,7 +119,7 @@ fn input_error(run: &MeasuredRun, row: usize, column: usize, name: &str, msg: St
 /// Settings of a replay.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ReplayOptions {
-    /// Physics step [s].
+    /// Physics step \[s\].
     pub dt: f64,
     /// Integrator.
     pub integrator: Integrator,
@@ -137,9 +137,9 @@ impl Default for ReplayOptions {
 /// The state a replay starts from.
 #[derive(Clone, Debug, PartialEq)]
 pub struct InitialState {
-    /// Roll, pitch, yaw [rad].
+    /// Roll, pitch, yaw \[rad\].
     pub rpy: Vec3,
-    /// World position of the body origin [m] (depth from the first depth reading).
+    /// World position of the body origin \[m\] (depth from the first depth reading).
     pub position: Vec3,
     /// Body velocity over ground (u, v, w) [m/s], if measured; otherwise the vehicle starts
     /// at rest relative to the water.
@@ -216,9 +216,9 @@ impl InitialState {
 /// A replayed run: the model's outputs on a uniform time grid.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Trace {
-    /// Time of the first grid point (the run's first time) [s].
+    /// Time of the first grid point (the run's first time) \[s\].
     pub t0: f64,
-    /// Grid step [s].
+    /// Grid step \[s\].
     pub dt: f64,
     /// The recorded kinds, in column order of `values`.
     pub kinds: Vec<ChannelKind>,
@@ -237,7 +237,7 @@ impl Trace {
         self.values.is_empty()
     }
 
-    /// The value of column `col` at time `t` [s] (linear interpolation, angles along the
+    /// The value of column `col` at time `t` \[s\] (linear interpolation, angles along the
     /// shorter arc; held constant outside the grid).
     pub fn at(&self, col: usize, t: f64) -> f64 {
         let n = self.len();

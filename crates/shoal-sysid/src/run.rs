@@ -1,6 +1,6 @@
 //! Measured runs: the CSV format of `../shared/spec/validation.md`.
 //!
-//! One header row, then one row per time stamp: `t` [s] (strictly increasing, need not be
+//! One header row, then one row per time stamp: `t` \[s\] (strictly increasing, need not be
 //! uniform), inputs `u.<actuator>` held until their next value (zero-order hold), measurements
 //! `y.<channel>`, and ignored extra columns `x.<anything>`. An empty cell means "not sampled at
 //! this time" (multi-rate logs merged on the union of their time stamps). Lines starting with
@@ -14,13 +14,13 @@ use std::path::{Path, PathBuf};
 /// What a `y.` column measures.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum ChannelKind {
-    /// Depth reading [m] (pressure sensor, positive down).
+    /// Depth reading \[m\] (pressure sensor, positive down).
     Depth,
-    /// Roll angle [rad].
+    /// Roll angle \[rad\].
     Roll,
-    /// Pitch angle [rad].
+    /// Pitch angle \[rad\].
     Pitch,
-    /// Yaw angle [rad].
+    /// Yaw angle \[rad\].
     Yaw,
     /// Roll rate [rad/s].
     P,
@@ -28,9 +28,9 @@ pub enum ChannelKind {
     Q,
     /// Yaw rate [rad/s].
     R,
-    /// World position x (north) [m].
+    /// World position x (north) \[m\].
     X,
-    /// World position y (east) [m].
+    /// World position y (east) \[m\].
     Y,
     /// Surge velocity over ground, body frame [m/s].
     U,
@@ -138,7 +138,7 @@ pub struct MeasuredRun {
     pub path: PathBuf,
     /// Short name (the file stem).
     pub name: String,
-    /// Time of each row [s].
+    /// Time of each row \[s\].
     pub t: Vec<f64>,
     /// Inputs.
     pub inputs: Vec<InputColumn>,
@@ -463,7 +463,7 @@ impl MeasuredRun {
         })
     }
 
-    /// Duration from the first to the last row [s].
+    /// Duration from the first to the last row \[s\].
     pub fn duration(&self) -> f64 {
         self.t.last().copied().unwrap_or(0.0) - self.t.first().copied().unwrap_or(0.0)
     }

@@ -25,20 +25,20 @@ use std::path::PathBuf;
 pub struct Experiment {
     /// Name (becomes the run's name and file stem).
     pub name: String,
-    /// Length [s].
+    /// Length \[s\].
     pub duration: f64,
-    /// Logger sample period [s].
+    /// Logger sample period \[s\].
     pub sample_period: f64,
-    /// Input changes (time [s], actuator name, value), in time order. Values hold until the
+    /// Input changes (time \[s\], actuator name, value), in time order. Values hold until the
     /// next change of the same actuator (thrusters in %, tilts in rad, pump −1/0/+1).
     pub inputs: Vec<(f64, String, f64)>,
     /// What is logged.
     pub channels: Vec<ChannelKind>,
-    /// Initial position of the body origin, world frame [m].
+    /// Initial position of the body origin, world frame \[m\].
     pub position: Vec3,
-    /// Initial heading [rad].
+    /// Initial heading \[rad\].
     pub yaw: f64,
-    /// Standard deviation of tracked positions `y.x`, `y.y` [m].
+    /// Standard deviation of tracked positions `y.x`, `y.y` \[m\].
     pub tracking_noise: f64,
 }
 
@@ -54,7 +54,7 @@ impl Experiment {
         out
     }
 
-    /// The value of actuator `name` in force at time `t` [s] (0 before its first change).
+    /// The value of actuator `name` in force at time `t` \[s\] (0 before its first change).
     pub fn input_at(&self, name: &str, t: f64) -> f64 {
         self.inputs
             .iter()
@@ -63,7 +63,7 @@ impl Experiment {
     }
 }
 
-/// Simulates `exp` on `model` in water `env` with physics step `dt` [s] and measurement
+/// Simulates `exp` on `model` in water `env` with physics step `dt` \[s\] and measurement
 /// noise from `seed`.
 pub fn synthesize(
     model: &VehicleModel,

@@ -19,7 +19,7 @@ pub struct VehicleDesc {
     pub model: Arc<VehicleModel>,
     /// Its mission (shared by the group).
     pub mission: Arc<Mission>,
-    /// Initial position of the body origin, world frame [m].
+    /// Initial position of the body origin, world frame \[m\].
     pub position: Vec3,
     /// Initial attitude.
     pub attitude: Quat,
@@ -53,7 +53,7 @@ pub struct AgentsDesc {
 /// What a run writes.
 #[derive(Clone, Debug, PartialEq)]
 pub struct OutputDesc {
-    /// Trajectory sample rate [Hz].
+    /// Trajectory sample rate \[Hz\].
     pub record_hz: f64,
     /// Write plots.
     pub plots: bool,
@@ -68,9 +68,9 @@ pub struct WorldDesc {
     pub source: PathBuf,
     /// World seed.
     pub seed: u64,
-    /// Simulated duration [s].
+    /// Simulated duration \[s\].
     pub duration: f64,
-    /// Physics step [s].
+    /// Physics step \[s\].
     pub dt: f64,
     /// Integrator.
     pub integrator: Integrator,

@@ -45,7 +45,7 @@ pub struct Obstacle {
 
 impl Obstacle {
     /// The obstacle's outline seen from above: its projection on the horizontal plane as a
-    /// convex polygon of `n` support points, world (x, y) [m]. Falls back to the bounding box
+    /// convex polygon of `n` support points, world (x, y) \[m\]. Falls back to the bounding box
     /// for shapes without a support map.
     pub fn top_outline(&self, n: usize) -> Vec<(f64, f64)> {
         match self.shape.as_support_map() {
@@ -79,7 +79,7 @@ pub struct HullContact {
     /// Unit normal in the world frame pointing out of the obstacle, into the hull: moving the
     /// hull along it by `depth` separates them.
     pub normal: Vec3,
-    /// Penetration depth [m] (> 0 when overlapping).
+    /// Penetration depth \[m\] (> 0 when overlapping).
     pub depth: f64,
     /// Index of the obstacle, or `None` for a pool wall or the floor.
     pub obstacle: Option<usize>,
@@ -88,20 +88,20 @@ pub struct HullContact {
 /// The pool and its obstacles.
 #[derive(Clone, Debug)]
 pub struct Geometry {
-    /// Pool length, width, depth [m] (corner at the origin, surface at z = 0).
+    /// Pool length, width, depth \[m\] (corner at the origin, surface at z = 0).
     pub pool: Vec3,
     walls: Vec<(Pose, HalfSpace)>,
     /// Obstacles.
     pub obstacles: Vec<Obstacle>,
 }
 
-/// The hull collision shape: a box of the hull's outer extents [m].
+/// The hull collision shape: a box of the hull's outer extents \[m\].
 pub fn hull_shape(hull_size: &Vec3) -> Cuboid {
     Cuboid::new(to_vector(&(hull_size * 0.5)))
 }
 
 impl Geometry {
-    /// A pool of `size` [m] with `obstacles`.
+    /// A pool of `size` \[m\] with `obstacles`.
     pub fn new(size: Vec3, obstacles: Vec<Obstacle>) -> Self {
         let wall = |p: Vector, n: Vector| (Pose::from_translation(p), HalfSpace::new(n));
         // A half-space is solid where `x·n ≤ 0`: the normals point out of the walls, into
@@ -120,7 +120,7 @@ impl Geometry {
         }
     }
 
-    /// An obstacle of `shape` at world `position` [m] with attitude `attitude`.
+    /// An obstacle of `shape` at world `position` \[m\] with attitude `attitude`.
     pub fn obstacle(name: &str, shape: SharedShape, position: &Vec3, attitude: &Quat) -> Obstacle {
         let pose = to_pose(position, attitude);
         let aabb = shape.compute_aabb(&pose);
@@ -140,7 +140,7 @@ impl Geometry {
     }
 
     /// Every contact of `hull` at `pose` with walls, floor and obstacles closer than `margin`
-    /// [m], appended to `out` (`depth` < 0 for a gap smaller than the margin).
+    /// \[m\], appended to `out` (`depth` < 0 for a gap smaller than the margin).
     pub fn contacts(&self, hull: &Cuboid, pose: &Pose, margin: f64, out: &mut Vec<HullContact>) {
         let aabb = hull.compute_aabb(pose).loosened(margin);
         let interior = self.pool_interior();
@@ -156,7 +156,7 @@ impl Geometry {
         }
     }
 
-    /// Earliest fraction `t ∈ [0, 1)` of the straight move `from → from + delta` [m] at which
+    /// Earliest fraction `t ∈ [0, 1)` of the straight move `from → from + delta` \[m\] at which
     /// `hull` touches walls, floor or an obstacle, with the surface normal there. Impacts at
     /// t = 0 with separating motion are ignored.
     pub fn first_hit(&self, hull: &Cuboid, from: &Pose, delta: &Vec3) -> Option<(f64, Vec3)> {
@@ -211,7 +211,7 @@ impl Geometry {
         })
     }
 
-    /// Whether the segment `a → b` [m] crosses no wall, floor or obstacle.
+    /// Whether the segment `a → b` \[m\] crosses no wall, floor or obstacle.
     pub fn line_of_sight(&self, a: &Vec3, b: &Vec3) -> bool {
         let d = b - a;
         let len = d.norm();
@@ -237,7 +237,7 @@ impl Geometry {
     }
 }
 
-/// Whether the segment `a → b` [m] passes through a hull box of `hull_size` [m] at `position`
+/// Whether the segment `a → b` \[m\] passes through a hull box of `hull_size` \[m\] at `position`
 /// with `attitude`.
 pub fn segment_hits_hull(
     a: &Vec3,

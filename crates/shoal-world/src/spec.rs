@@ -45,10 +45,10 @@ pub struct WorldFile {
     /// World seed: every random draw derives from it.
     #[serde(default)]
     pub seed: u64,
-    /// Simulated time [s].
+    /// Simulated time \[s\].
     #[serde(default = "d_duration")]
     pub duration: f64,
-    /// Physics time step [s].
+    /// Physics time step \[s\].
     #[serde(default = "d_dt")]
     pub dt: f64,
     /// Integrator.
@@ -171,7 +171,7 @@ pub enum IntegratorSpec {
 #[derive(Clone, Debug, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PoolSpec {
-    /// Length (x), width (y) and depth (z) [m].
+    /// Length (x), width (y) and depth (z) \[m\].
     #[serde(default = "d_pool")]
     pub size: [f64; 3],
 }
@@ -272,18 +272,18 @@ pub struct ObstacleSpec {
     pub name: Option<String>,
     /// Shape kind.
     pub shape: ShapeKind,
-    /// Full extents of a box (x, y, z) [m].
+    /// Full extents of a box (x, y, z) \[m\].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub size: Option<[f64; 3]>,
-    /// Radius of a sphere, cylinder or capsule [m].
+    /// Radius of a sphere, cylinder or capsule \[m\].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub radius: Option<f64>,
-    /// Full height of a cylinder, or of a capsule's straight part [m].
+    /// Full height of a cylinder, or of a capsule's straight part \[m\].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub height: Option<f64>,
-    /// Centre in the world frame [m].
+    /// Centre in the world frame \[m\].
     pub position: [f64; 3],
-    /// Roll, pitch, yaw of the shape [deg].
+    /// Roll, pitch, yaw of the shape \[deg\].
     #[serde(default)]
     pub rotation_deg: [f64; 3],
 }
@@ -292,9 +292,9 @@ pub struct ObstacleSpec {
 #[derive(Clone, Debug, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct GridSpec {
-    /// Position of the first vehicle [m].
+    /// Position of the first vehicle \[m\].
     pub origin: [f64; 3],
-    /// Spacing along x and along y [m].
+    /// Spacing along x and along y \[m\].
     pub spacing: [f64; 2],
     /// Vehicles per row (along x).
     pub columns: usize,
@@ -304,9 +304,9 @@ pub struct GridSpec {
 #[derive(Clone, Debug, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RandomSpec {
-    /// Lower corner [m].
+    /// Lower corner \[m\].
     pub min: [f64; 3],
-    /// Upper corner [m].
+    /// Upper corner \[m\].
     pub max: [f64; 3],
     /// Draw each heading uniformly as well.
     #[serde(default)]
@@ -373,27 +373,27 @@ impl From<PumpSpec> for Pump {
 #[derive(Clone, Debug, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MissionStepSpec {
-    /// Time [s].
+    /// Time \[s\].
     pub t: f64,
     /// Mode.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub mode: Option<ModeSpec>,
-    /// Depth setpoint of the pressure sensor [m].
+    /// Depth setpoint of the pressure sensor \[m\].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub depth: Option<f64>,
-    /// Heading setpoint [deg].
+    /// Heading setpoint \[deg\].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub yaw_deg: Option<f64>,
-    /// Surge force [N] (drift, auto).
+    /// Surge force \[N\] (drift, auto).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub surge: Option<f64>,
-    /// Sway force [N] (drift).
+    /// Sway force \[N\] (drift).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sway: Option<f64>,
     /// Raw thruster commands by thruster name [% of full scale].
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub thrusters: BTreeMap<String, f64>,
-    /// Raw tilt targets by tilt name [deg].
+    /// Raw tilt targets by tilt name \[deg\].
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub tilts_deg: BTreeMap<String, f64>,
     /// Raw pump command.
@@ -414,7 +414,7 @@ pub struct VehicleGroupSpec {
     /// Number of vehicles.
     #[serde(default = "d_count")]
     pub count: usize,
-    /// Single position [m] (for `count = 1`).
+    /// Single position \[m\] (for `count = 1`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub position: Option<[f64; 3]>,
     /// Grid placement.
@@ -423,7 +423,7 @@ pub struct VehicleGroupSpec {
     /// Random placement.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub random: Option<RandomSpec>,
-    /// Initial heading [deg].
+    /// Initial heading \[deg\].
     #[serde(default)]
     pub heading_deg: f64,
     /// Mission steps.
@@ -446,12 +446,12 @@ pub struct VehicleGroupSpec {
 pub enum BehaviourSpec {
     /// Broadcast a frame of `payload_bytes` every `period` seconds (± `jitter`).
     Beacon {
-        /// Interval [s].
+        /// Interval \[s\].
         period: f64,
-        /// Payload size [bytes].
+        /// Payload size \[bytes\].
         #[serde(default = "d_payload")]
         payload_bytes: usize,
-        /// Random offset of each send, uniform in [0, jitter] [s].
+        /// Random offset of each send, uniform in [0, jitter] \[s\].
         #[serde(default)]
         jitter: f64,
     },
@@ -461,16 +461,16 @@ pub enum BehaviourSpec {
         /// This group holds the origin.
         #[serde(default)]
         origin: bool,
-        /// Time the value appears at the origin [s].
+        /// Time the value appears at the origin \[s\].
         #[serde(default = "d_gossip_start")]
         start: f64,
         /// Rebroadcasts per vehicle.
         #[serde(default = "d_repeats")]
         repeats: u32,
-        /// Time between rebroadcasts [s].
+        /// Time between rebroadcasts \[s\].
         #[serde(default = "d_interval")]
         interval: f64,
-        /// Random delay before each rebroadcast, uniform in [0, jitter] [s].
+        /// Random delay before each rebroadcast, uniform in [0, jitter] \[s\].
         #[serde(default = "d_jitter")]
         jitter: f64,
     },
@@ -479,15 +479,15 @@ pub enum BehaviourSpec {
     /// (cohesion) and away from the strongest (separation), and pushes forward with `surge`.
     /// Alone, it heads for where it last heard the others; after 20 s it searches on the spot.
     Flock {
-        /// Forward force [N].
+        /// Forward force \[N\].
         surge: f64,
-        /// Beacon interval [s].
+        /// Beacon interval \[s\].
         #[serde(default = "d_flock_period")]
         period: f64,
-        /// Received power above which a neighbour is too close [W].
+        /// Received power above which a neighbour is too close \[W\].
         #[serde(default = "d_too_close")]
         too_close: f64,
-        /// Received power below which a neighbour is drifting away [W].
+        /// Received power below which a neighbour is drifting away \[W\].
         #[serde(default = "d_too_far")]
         too_far: f64,
         /// Weight of cohesion and separation against alignment [-].
@@ -528,7 +528,7 @@ fn d_cohesion() -> f64 {
 #[derive(Clone, Debug, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct OutputSpec {
-    /// Trajectory sample rate [Hz].
+    /// Trajectory sample rate \[Hz\].
     #[serde(default = "d_record_hz")]
     pub record_hz: f64,
     /// Write PNG/SVG plots.
@@ -665,22 +665,22 @@ pub struct ModemSpec {
     /// Name.
     #[serde(default = "dm_name")]
     pub name: String,
-    /// Position on the hull, body frame [m].
+    /// Position on the hull, body frame \[m\].
     #[serde(default = "dm_position")]
     pub position: [f64; 3],
     /// LED axis and photodiode normal, body frame (normalised on load).
     #[serde(default = "dm_direction")]
     pub direction: [f64; 3],
-    /// LED optical power [W].
+    /// LED optical power \[W\].
     #[serde(default = "dm_led_power")]
     pub led_power: f64,
-    /// LED half-power half-angle [deg].
+    /// LED half-power half-angle \[deg\].
     #[serde(default = "dm_led_half_angle_deg")]
     pub led_half_angle_deg: f64,
-    /// Photodiode area [m²].
+    /// Photodiode area \[m²\].
     #[serde(default = "dm_rx_area")]
     pub rx_area: f64,
-    /// Receiver field of view, half-angle [deg].
+    /// Receiver field of view, half-angle \[deg\].
     #[serde(default = "dm_rx_fov_deg")]
     pub rx_fov_deg: f64,
     /// Responsivity [A/W].
@@ -689,10 +689,10 @@ pub struct ModemSpec {
     /// Amplifier noise density [A/√Hz].
     #[serde(default = "dm_noise_density")]
     pub noise_density: f64,
-    /// Noise bandwidth [Hz].
+    /// Noise bandwidth \[Hz\].
     #[serde(default = "dm_bandwidth")]
     pub bandwidth: f64,
-    /// Dark current [A].
+    /// Dark current \[A\].
     #[serde(default = "dm_dark_current")]
     pub dark_current: f64,
     /// Line rate [bit/s].
@@ -701,13 +701,13 @@ pub struct ModemSpec {
     /// Line bits per byte.
     #[serde(default = "dm_bits_per_byte")]
     pub bits_per_byte: u32,
-    /// Header per frame [bytes].
+    /// Header per frame \[bytes\].
     #[serde(default = "dm_header_bytes")]
     pub header_bytes: usize,
-    /// Largest payload [bytes].
+    /// Largest payload \[bytes\].
     #[serde(default = "dm_max_payload")]
     pub max_payload: usize,
-    /// Transmit queue [frames].
+    /// Transmit queue \[frames\].
     #[serde(default = "dm_queue_frames")]
     pub queue_frames: usize,
     /// Capture ratio (optical power ratio ≥ 1).
@@ -716,10 +716,10 @@ pub struct ModemSpec {
     /// Medium access.
     #[serde(default = "dm_access")]
     pub access: AccessSpec,
-    /// Carrier-sense busy threshold [W] (carrier_sense only).
+    /// Carrier-sense busy threshold \[W\] (carrier_sense only).
     #[serde(default = "dm_cs_threshold")]
     pub cs_threshold: f64,
-    /// Longest carrier-sense back-off [s] (carrier_sense only).
+    /// Longest carrier-sense back-off \[s\] (carrier_sense only).
     #[serde(default = "dm_backoff_max")]
     pub backoff_max: f64,
 }
@@ -797,15 +797,15 @@ impl ModemSpec {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BodySpec {
-    /// Dry mass [kg].
+    /// Dry mass \[kg\].
     pub mass: f64,
     /// Inertia about the dry CG [kg·m²].
     pub inertia: Mat3Spec,
-    /// Dry centre of gravity, body frame [m].
+    /// Dry centre of gravity, body frame \[m\].
     pub cog: [f64; 3],
-    /// Centre of buoyancy, body frame [m].
+    /// Centre of buoyancy, body frame \[m\].
     pub cob: [f64; 3],
-    /// Displaced volume [m³].
+    /// Displaced volume \[m³\].
     pub volume: f64,
     /// Added mass M_A [kg, kg·m, kg·m²].
     pub added_mass: Mat6Spec,
@@ -813,7 +813,7 @@ pub struct BodySpec {
     pub damping_linear: [f64; 6],
     /// Quadratic damping (X_u|u|, Y_v|v|, Z_w|w| [N·s²/m²], K_p|p|, M_q|q|, N_r|r| [N·m·s²]).
     pub damping_quadratic: [f64; 6],
-    /// Hull length, width, height [m].
+    /// Hull length, width, height \[m\].
     pub hull_size: [f64; 3],
 }
 
@@ -825,9 +825,9 @@ pub struct TiltSpec {
     pub name: String,
     /// Body-frame axis (normalised on load).
     pub axis: [f64; 3],
-    /// Lower limit [deg].
+    /// Lower limit \[deg\].
     pub min_deg: f64,
-    /// Upper limit [deg].
+    /// Upper limit \[deg\].
     pub max_deg: f64,
     /// Rate limit [deg/s].
     pub rate_deg_s: f64,
@@ -857,7 +857,7 @@ pub enum CurveSpec {
 pub struct ThrusterSpec {
     /// Name.
     pub name: String,
-    /// Body-frame position [m].
+    /// Body-frame position \[m\].
     pub position: [f64; 3],
     /// Thrust direction at tilt 0, body frame (normalised on load).
     pub direction: [f64; 3],
@@ -869,7 +869,7 @@ pub struct ThrusterSpec {
     /// Command limit [%].
     #[serde(default = "d_max_command")]
     pub max_command: f64,
-    /// First-order thrust lag time constant [s] (0 = none).
+    /// First-order thrust lag time constant \[s\] (0 = none).
     #[serde(default)]
     pub lag: f64,
 }
@@ -878,13 +878,13 @@ pub struct ThrusterSpec {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BallastSpec {
-    /// Capacity [m³].
+    /// Capacity \[m³\].
     pub capacity: f64,
     /// Pump flow [m³/s].
     pub flow: f64,
-    /// Tank water centre, body frame [m].
+    /// Tank water centre, body frame \[m\].
     pub position: [f64; 3],
-    /// Water aboard at the start [m³].
+    /// Water aboard at the start \[m³\].
     pub initial_volume: f64,
 }
 
@@ -894,15 +894,15 @@ pub struct BallastSpec {
 pub struct PressureSpec {
     /// C₁ [m/V].
     pub c1: f64,
-    /// C₂ [m].
+    /// C₂ \[m\].
     pub c2: f64,
-    /// Depth per ADC step [m].
+    /// Depth per ADC step \[m\].
     pub depth_step: f64,
     /// ADC bits.
     pub bits: u32,
-    /// Noise standard deviation [m].
+    /// Noise standard deviation \[m\].
     pub noise_std: f64,
-    /// Port position, body frame [m].
+    /// Port position, body frame \[m\].
     pub position: [f64; 3],
 }
 
@@ -910,7 +910,7 @@ pub struct PressureSpec {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ImuSpec {
-    /// Attitude noise per axis [deg].
+    /// Attitude noise per axis \[deg\].
     pub attitude_noise_deg: f64,
     /// Gyro noise [rad/s].
     pub gyro_noise: f64,
@@ -940,7 +940,7 @@ pub struct PdSpec {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ControlSpec {
-    /// Control period [s].
+    /// Control period \[s\].
     pub period: f64,
     /// Heave PD (diving, auto).
     pub heave: PdSpec,
@@ -948,13 +948,13 @@ pub struct ControlSpec {
     pub heave_buoyancy: PdSpec,
     /// Yaw PD.
     pub yaw: PdSpec,
-    /// Pump dead zone [m].
+    /// Pump dead zone \[m\].
     pub dead_zone: f64,
-    /// Moving-average window [samples].
+    /// Moving-average window \[samples\].
     pub filter_window: usize,
-    /// Largest |β| in auto mode [deg].
+    /// Largest |β| in auto mode \[deg\].
     pub auto_tilt_max_deg: f64,
-    /// Depth-rate filter time constant [s].
+    /// Depth-rate filter time constant \[s\].
     pub rate_filter: f64,
 }
 

@@ -93,7 +93,7 @@ pub enum Stage {
 /// What a thrust hook may look at.
 #[derive(Clone, Copy, Debug)]
 pub struct ThrustContext<'a> {
-    /// Time since the start of the run [s].
+    /// Time since the start of the run \[s\].
     pub t: f64,
     /// The thruster.
     pub thruster: &'a ThrusterParams,
@@ -107,11 +107,11 @@ pub struct ThrustContext<'a> {
 /// What a force hook may look at.
 #[derive(Clone, Copy, Debug)]
 pub struct ForceContext<'a> {
-    /// Time since the start of the run [s].
+    /// Time since the start of the run \[s\].
     pub t: f64,
     /// The hull's pose and velocity.
     pub rigid: &'a RigidState,
-    /// Force of all thrusters together, body frame [N].
+    /// Force of all thrusters together, body frame \[N\].
     pub thrust_force: Vec3,
     /// Moment of all thrusters together about the body origin, body frame [N·m].
     pub thrust_moment: Vec3,
@@ -151,7 +151,7 @@ pub trait Effect: Send + Sync + fmt::Debug {
     fn command(&self, _p: &[f64], _thruster: &ThrusterParams, n: f64) -> f64 {
         n
     }
-    /// The thrust [N] after this effect, given the thrust `f` [N] so far.
+    /// The thrust \[N\] after this effect, given the thrust `f` \[N\] so far.
     fn thrust(&self, _p: &[f64], _ctx: &ThrustContext<'_>, f: f64) -> f64 {
         f
     }
@@ -159,12 +159,12 @@ pub trait Effect: Send + Sync + fmt::Debug {
     fn force(&self, _p: &[f64], _ctx: &ForceContext<'_>) -> Vec6 {
         Vec6::zeros()
     }
-    /// An offset added to the true depth before the pressure sensor reads it [m], at time
-    /// `t` [s] since the start.
+    /// An offset added to the true depth before the pressure sensor reads it \[m\], at time
+    /// `t` \[s\] since the start.
     fn depth_offset(&self, _p: &[f64], _t: f64) -> f64 {
         0.0
     }
-    /// How much every measurement lags the truth [s].
+    /// How much every measurement lags the truth \[s\].
     fn delay(&self, _p: &[f64]) -> f64 {
         0.0
     }
@@ -270,12 +270,12 @@ impl Effects {
         self.current
     }
 
-    /// Total measurement delay [s].
+    /// Total measurement delay \[s\].
     pub fn delay(&self) -> f64 {
         self.delay
     }
 
-    /// Static thrust [N] of `thruster` for the clamped command `n` [%] with the effects.
+    /// Static thrust \[N\] of `thruster` for the clamped command `n` [%] with the effects.
     pub fn thrust(&self, thruster: &ThrusterParams, n: f64, t: f64, inflow: f64) -> f64 {
         let mut cmd = n;
         for e in &self.list {
@@ -303,7 +303,7 @@ impl Effects {
         f
     }
 
-    /// Sum of the depth-reading offsets at time `t` [s] [m].
+    /// Sum of the depth-reading offsets at time `t` \[s\] \[m\].
     pub fn depth_offset(&self, t: f64) -> f64 {
         self.list
             .iter()
