@@ -52,6 +52,8 @@ agent = "pilot"
 }
 
 fn spawn_world(world: &Path, out: &Path, prefix: &str, extra: &[&str]) -> Child {
+    // The agent is built first: a world waits only `attach_timeout` for it.
+    agent_bin();
     Command::new(env!("CARGO_BIN_EXE_shoal"))
         .args(["run", "--quiet", "--no-plots", "--prefix", prefix, "--out"])
         .arg(out)
