@@ -106,6 +106,7 @@ fn main() -> ExitCode {
     };
     let mut link = match AgentLink::attach(prefix, name, Duration::from_secs(60)) {
         Ok(l) => l,
+        Err(shoal_bridge::BridgeError::Interrupted) => return ExitCode::from(130),
         Err(e) => {
             eprintln!("goto_agent: {e}");
             return ExitCode::from(1);
@@ -153,6 +154,11 @@ fn main() -> ExitCode {
         Ok(Ended::Silent) => {
             eprintln!("goto_agent: the world fell silent");
             ExitCode::from(1)
+        }
+        Err(shoal_bridge::BridgeError::Interrupted) => {
+            // Dropping the link (on return) says goodbye: the world records `left`.
+            eprintln!("goto_agent: interrupted after {} ticks", link.ticks);
+            ExitCode::from(130)
         }
         Err(e) => {
             eprintln!("goto_agent: {e}");

@@ -85,6 +85,7 @@ fn main() -> std::process::ExitCode {
     let name = pos.get(1).map_or("school", |s| s.as_str());
     let mut link = match AgentLink::attach(prefix, name, Duration::from_secs(60)) {
         Ok(l) => l,
+        Err(shoal_bridge::BridgeError::Interrupted) => return std::process::ExitCode::from(130),
         Err(e) => {
             eprintln!("school_agent: {e}");
             return std::process::ExitCode::from(1);
@@ -106,6 +107,11 @@ fn main() -> std::process::ExitCode {
                 link.ticks
             );
             std::process::ExitCode::from(1)
+        }
+        Err(shoal_bridge::BridgeError::Interrupted) => {
+            // Dropping the link (on return) says goodbye: the world records `left`.
+            eprintln!("school_agent: interrupted after {} ticks", link.ticks);
+            std::process::ExitCode::from(130)
         }
         Err(e) => {
             eprintln!("school_agent: {e}");

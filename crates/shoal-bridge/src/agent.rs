@@ -53,10 +53,14 @@ pub struct AgentLink {
     pub ticks: u64,
     /// The world ended the run (no goodbye needed).
     ended: bool,
+    /// Last look for a termination request.
+    signal_checked: Instant,
 }
 
 /// Longest wait for the world to acknowledge a LEAVE.
 const LEAVE_ACK: Duration = Duration::from_millis(500);
+/// Longest time between two looks for Ctrl-C / SIGTERM while ticks keep coming.
+const SIGNAL_CHECK: Duration = Duration::from_millis(10);
 
 impl Drop for AgentLink {
     /// Detaches: unless the world ended the run, says LEAVE and waits (at most 0.5 s) for the
@@ -67,7 +71,8 @@ impl Drop for AgentLink {
         }
         let start = Instant::now();
         while start.elapsed() < LEAVE_ACK {
-            match self.receive(LEAVE_ACK.saturating_sub(start.elapsed())) {
+            // (Without looking for signals: after Ctrl-C the goodbye still completes.)
+            match self.poll(LEAVE_ACK.saturating_sub(start.elapsed()), false) {
                 Ok(Some(_)) if self.ended => return,
                 Ok(Some(_)) => {}
                 _ => return,
@@ -104,7 +109,11 @@ impl AgentLink {
                 .open();
             match (o, c) {
                 (Ok(o), Ok(c)) => break (o, c),
-                _ if start.elapsed() < wait => std::thread::sleep(Duration::from_millis(20)),
+                _ if start.elapsed() < wait => {
+                    // Sleeps, and notices Ctrl-C / SIGTERM (iceoryx2 catches them).
+                    node.wait(Duration::from_millis(20))
+                        .map_err(|_| BridgeError::Interrupted)?;
+                }
                 _ => {
                     return Err(BridgeError::NoWorld {
                         prefix: prefix.into(),
@@ -132,14 +141,33 @@ impl AgentLink {
             idle_timeout: Duration::from_secs(10),
             ticks: 0,
             ended: false,
+            signal_checked: Instant::now(),
         })
     }
 
     /// The next observation slice (busy-polls briefly, then naps), or `None` after
     /// `timeout`. The slice of the world's last tick has [`flags::END`] set. (Dropping the
     /// link detaches with a goodbye the world acknowledges.)
+    ///
+    /// Ctrl-C and SIGTERM are caught (by iceoryx2's node) and end the wait with
+    /// [`BridgeError::Interrupted`]; they are looked for at least every 10 ms.
     pub fn receive(&mut self, timeout: Duration) -> Result<Option<Vec<Observation>>, BridgeError> {
+        self.poll(timeout, true)
+    }
+
+    /// [`AgentLink::receive`], with or without looking for termination requests.
+    fn poll(
+        &mut self,
+        timeout: Duration,
+        signals: bool,
+    ) -> Result<Option<Vec<Observation>>, BridgeError> {
         let start = Instant::now();
+        if signals && self.signal_checked.elapsed() >= SIGNAL_CHECK {
+            self.signal_checked = Instant::now();
+            self.node
+                .wait(Duration::ZERO)
+                .map_err(|_| BridgeError::Interrupted)?;
+        }
         loop {
             // Take the newest slice if several are queued.
             let mut newest = None;
@@ -158,6 +186,10 @@ impl AgentLink {
                 std::hint::spin_loop();
             } else if waited < Duration::from_millis(1) {
                 std::thread::yield_now();
+            } else if signals {
+                self.node
+                    .wait(Duration::from_micros(50))
+                    .map_err(|_| BridgeError::Interrupted)?;
             } else {
                 std::thread::sleep(Duration::from_micros(50));
             }

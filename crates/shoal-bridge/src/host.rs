@@ -143,6 +143,8 @@ impl Host {
         let node = NodeBuilder::new()
             .name(&NodeName::new(&format!("shoal-world.{}", cfg.prefix)).map_err(ipc("node name"))?)
             .config(&config)
+            // The program owns its signals (the `shoal` binary has its own Ctrl-C handler).
+            .signal_handling_mode(SignalHandlingMode::Disabled)
             .create::<Ipc>()
             .map_err(ipc("node"))?;
         let mut ports = Vec::new();

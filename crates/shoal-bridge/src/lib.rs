@@ -35,6 +35,9 @@ pub enum BridgeError {
     /// Another process is already attached as this agent.
     #[error("agent `{0}` is already attached to this world (one process per agent name)")]
     AgentTaken(String),
+    /// The agent process was asked to end (Ctrl-C or SIGTERM).
+    #[error("interrupted (Ctrl-C or SIGTERM)")]
+    Interrupted,
 }
 
 /// Name of an agent's service `leaf` (`obs` or `cmd`) in the world with `prefix`.

@@ -365,3 +365,34 @@ fn free_running_world_notices_a_killed_agent_and_takes_a_new_one() {
     assert_on_target(&f, 1.0, 90.0);
     assert!(f.agent()["attached_at_end"].as_bool().unwrap());
 }
+
+#[test]
+fn rust_agent_interrupted_with_ctrl_c_says_goodbye() {
+    let dir = tmp("ctrl-c");
+    let prefix = format!("f{}-ctrl-c", std::process::id());
+    // Free-running at 10× real time: 60 s simulated take 6 s.
+    let w = world(
+        &dir,
+        60.0,
+        "timing = \"free\"\npace = 10.0\nfallback = \"hold\"",
+    );
+    let out = dir.join("out");
+    let sim = spawn_world(&w, &out, &prefix);
+    let agent = spawn_agent(&prefix, &["1.5", "90"]);
+    std::thread::sleep(Duration::from_millis(2000));
+    let int = Command::new("kill")
+        .args(["-INT", &agent.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(int.success());
+    let mut agent = agent;
+    let status = wait(&mut agent, Duration::from_secs(30));
+    // iceoryx2 catches the signal; the agent API turns it into `Interrupted`, the example
+    // exits 130 and the link says goodbye on the way out.
+    assert_eq!(status.code(), Some(130));
+    let f = finish(sim, &out);
+    assert!(f.status.success());
+    let names: Vec<String> = f.events().into_iter().map(|e| e.0).collect();
+    assert_eq!(names, ["attached", "left"]);
+    assert!(!f.agent()["attached_at_end"].as_bool().unwrap());
+}
