@@ -221,3 +221,62 @@ fn bench_measures_the_round_trip_to_a_rust_agent() {
     let agent = agent_bin();
     common::check_agent_bench("rust", &["--rust-agent".as_ref(), agent.as_os_str()]);
 }
+
+#[test]
+fn school_agent_aligns_the_school_using_only_what_it_senses_and_hears() {
+    let school = common::example_agent("school_agent");
+    agent_bin();
+    let dir = tmp("school");
+    let prefix = format!("t{}-school", std::process::id());
+    let out = dir.join("out");
+    let mut sim = spawn_world(
+        &common::repo().join("worlds/agents_school.toml"),
+        &out,
+        &prefix,
+        &[],
+    );
+    let mut agent = Command::new(school)
+        .arg(&prefix)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    assert!(wait(&mut agent, Duration::from_secs(120)).success());
+    assert!(wait(&mut sim, Duration::from_secs(120)).success());
+    // Headings start up to 145° from their mean (random); by the end of the 60 s run the
+    // agent has brought every vehicle within 5° of the mean, and all eight in optical contact.
+    let mut r = csv::Reader::from_path(out.join("trajectories.csv")).unwrap();
+    let h = r.headers().unwrap().clone();
+    let col = |n: &str| h.iter().position(|c| c == n).unwrap();
+    let (ct, cy) = (col("t_s"), col("yaw_rad"));
+    let rows: Vec<(f64, f64)> = r
+        .records()
+        .map(|x| {
+            let x = x.unwrap();
+            (x[ct].parse().unwrap(), x[cy].parse().unwrap())
+        })
+        .collect();
+    let spread = |t: f64| {
+        let ys: Vec<f64> = rows
+            .iter()
+            .filter(|r| (r.0 - t).abs() < 1e-6)
+            .map(|r| r.1)
+            .collect();
+        assert_eq!(ys.len(), 8, "samples at t = {t}");
+        let (c, s) = ys
+            .iter()
+            .fold((0.0, 0.0), |(c, s), y| (c + y.cos(), s + y.sin()));
+        let mean = s.atan2(c);
+        ys.iter()
+            .map(|y| (y - mean).sin().atan2((y - mean).cos()).abs())
+            .fold(0.0, f64::max)
+            .to_degrees()
+    };
+    let (start, end) = (spread(0.0), spread(60.0));
+    assert!(start > 60.0, "the school starts scattered: {start}°");
+    assert!(end < 5.0, "aligned within 5° at the end: {end}°");
+    let s = summary(&out);
+    let contact = s["comm"]["connectivity"].as_array().unwrap();
+    assert_eq!(contact.last().unwrap()["largest"], 8);
+    assert_eq!(s["agents"]["agents"][0]["rejections"]["non_finite"], 0);
+}
