@@ -13,7 +13,7 @@ use std::sync::Mutex;
 /// Held by each test: the /dev/shm comparisons must not see each other's segments.
 static ONE_AT_A_TIME: Mutex<()> = Mutex::new(());
 use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 fn shm() -> BTreeSet<String> {
     std::fs::read_dir("/dev/shm")
@@ -79,14 +79,7 @@ agent = "pilot"
     // kill -9
     agent.kill().unwrap();
     agent.wait().unwrap();
-    let start = Instant::now();
-    let status = loop {
-        if let Some(s) = sim.try_wait().unwrap() {
-            break s;
-        }
-        assert!(start.elapsed() < Duration::from_secs(60), "the world hangs");
-        std::thread::sleep(Duration::from_millis(20));
-    };
+    let status = common::wait(&mut sim, Duration::from_secs(60));
     let text = sim.wait_with_output().unwrap();
     assert!(status.success(), "{text:?}");
     let stdout = String::from_utf8_lossy(&text.stdout);
@@ -191,25 +184,11 @@ fn world_interrupted_with_ctrl_c_tells_its_agent_and_leaves_nothing() {
         .status()
         .unwrap();
     assert!(int.success());
-    let start = Instant::now();
-    let status = loop {
-        if let Some(s) = sim.try_wait().unwrap() {
-            break s;
-        }
-        assert!(start.elapsed() < Duration::from_secs(30), "the world hangs");
-        std::thread::sleep(Duration::from_millis(20));
-    };
+    let status = common::wait(&mut sim, Duration::from_secs(30));
     let text = sim.wait_with_output().unwrap();
     assert_eq!(status.code(), Some(130), "{text:?}");
     // The agent got the END of the run and left by itself, successfully.
-    let start = Instant::now();
-    let agent_status = loop {
-        if let Some(s) = agent.try_wait().unwrap() {
-            break s;
-        }
-        assert!(start.elapsed() < Duration::from_secs(15), "the agent hangs");
-        std::thread::sleep(Duration::from_millis(20));
-    };
+    let agent_status = common::wait(&mut agent, Duration::from_secs(15));
     assert!(agent_status.success(), "agent: {agent_status}");
     let s: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();

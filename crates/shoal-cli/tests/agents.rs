@@ -7,17 +7,12 @@
 
 mod common;
 
-use std::path::{Path, PathBuf};
-use std::process::{Child, Command, ExitStatus, Stdio};
-use std::sync::OnceLock;
-use std::time::{Duration, Instant};
+use common::{summary, wait};
 
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("shoal-agents-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::sync::OnceLock;
+use std::time::Duration;
 
 /// The goto agent, built once per test process.
 fn agent_bin() -> &'static Path {
@@ -75,26 +70,6 @@ fn spawn_agent(prefix: &str, name: &str, args: &[&str]) -> Child {
         .unwrap()
 }
 
-/// Waits for `c` at most `limit`, killing it after that (a test never hangs).
-fn wait(c: &mut Child, limit: Duration) -> ExitStatus {
-    let start = Instant::now();
-    loop {
-        if let Some(s) = c.try_wait().unwrap() {
-            return s;
-        }
-        if start.elapsed() > limit {
-            let _ = c.kill();
-            let s = c.wait().unwrap();
-            panic!("process did not finish within {limit:?} (killed: {s})");
-        }
-        std::thread::sleep(Duration::from_millis(10));
-    }
-}
-
-fn summary(out: &Path) -> serde_json::Value {
-    serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap()
-}
-
 /// Final depth reading [m] and heading [rad] of vehicle 0 from trajectories.csv.
 fn final_pose(out: &Path) -> (f64, f64) {
     let mut r = csv::Reader::from_path(out.join("trajectories.csv")).unwrap();
@@ -121,7 +96,7 @@ fn run_pilot(dir: &Path, prefix: &str, duration: f64, agent_args: &[&str]) -> se
 
 #[test]
 fn rust_agent_drives_a_vehicle_in_lockstep_reproducibly() {
-    let dir = tmp("lockstep");
+    let dir = common::tmp("agents", "lockstep");
     let pfx = format!("t{}-lock", std::process::id());
     let a = run_pilot(&dir, &format!("{pfx}-a"), 60.0, &["1.5", "90"]);
     let b = run_pilot(&dir, &format!("{pfx}-b"), 60.0, &["1.5", "90"]);
@@ -151,7 +126,7 @@ fn rust_agent_drives_a_vehicle_in_lockstep_reproducibly() {
 
 #[test]
 fn invalid_commands_are_counted_and_leave_the_run_unaffected() {
-    let dir = tmp("invalid");
+    let dir = common::tmp("agents", "invalid");
     let pfx = format!("t{}-bad", std::process::id());
     let good = run_pilot(&dir, &format!("{pfx}-good"), 30.0, &["1.2", "-45"]);
     let bad = run_pilot(&dir, &format!("{pfx}-bad"), 30.0, &["1.2", "-45", "--bad"]);
@@ -176,7 +151,7 @@ fn invalid_commands_are_counted_and_leave_the_run_unaffected() {
 
 #[test]
 fn two_worlds_with_different_prefixes_do_not_see_each_other() {
-    let dir = tmp("isolation");
+    let dir = common::tmp("agents", "isolation");
     let pfx = format!("t{}-iso", std::process::id());
     let (pa, pb) = (format!("{pfx}-a"), format!("{pfx}-b"));
     let w = world(&dir, 20.0, "");
@@ -226,7 +201,7 @@ fn bench_measures_the_round_trip_to_a_rust_agent() {
 fn school_agent_aligns_the_school_using_only_what_it_senses_and_hears() {
     let school = common::example_agent("school_agent");
     agent_bin();
-    let dir = tmp("school");
+    let dir = common::tmp("agents", "school");
     let prefix = format!("t{}-school", std::process::id());
     let out = dir.join("out");
     let mut sim = spawn_world(

@@ -4,7 +4,8 @@
 #![allow(dead_code)]
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::process::{Child, Command, ExitStatus};
+use std::time::{Duration, Instant};
 
 /// The repository root.
 pub fn repo() -> PathBuf {
@@ -75,4 +76,33 @@ pub fn check_agent_bench(lang: &str, extra: &[&std::ffi::OsStr]) {
         );
         assert!(m > 0.0 && m <= p && p <= x, "{row}");
     }
+}
+
+/// A fresh temporary directory `shoal-<tag>-<pid>-<name>`.
+pub fn tmp(tag: &str, name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("shoal-{tag}-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// Waits for `c` at most `limit`, killing it after that (a test never hangs).
+pub fn wait(c: &mut Child, limit: Duration) -> ExitStatus {
+    let start = Instant::now();
+    loop {
+        if let Some(s) = c.try_wait().unwrap() {
+            return s;
+        }
+        if start.elapsed() > limit {
+            let _ = c.kill();
+            let s = c.wait().unwrap();
+            panic!("process did not finish within {limit:?} (killed: {s})");
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    }
+}
+
+/// A run's summary.json.
+pub fn summary(out: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap()
 }
