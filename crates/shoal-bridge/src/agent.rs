@@ -91,6 +91,10 @@ impl AgentLink {
             .config(&config)
             .create::<Ipc>()
             .map_err(ipc("node"))?;
+        // The first look for a termination request installs iceoryx2's Ctrl-C / SIGTERM
+        // handler (it is installed lazily): from here on they end the wait cleanly.
+        node.wait(Duration::ZERO)
+            .map_err(|_| BridgeError::Interrupted)?;
         let start = Instant::now();
         let (obs_svc, cmd_svc) = loop {
             let o = node

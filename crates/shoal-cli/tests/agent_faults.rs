@@ -372,3 +372,19 @@ fn rust_agent_interrupted_with_ctrl_c_says_goodbye() {
     assert_eq!(names, ["attached", "left"]);
     assert!(!f.agent()["attached_at_end"].as_bool().unwrap());
 }
+
+#[test]
+fn rust_agent_waiting_for_its_world_stops_on_ctrl_c() {
+    agent_bin();
+    // No world with this prefix: the agent waits for it (up to 60 s).
+    let mut agent = spawn_agent(&format!("f{}-nowhere", std::process::id()), &["1", "0"]);
+    std::thread::sleep(Duration::from_millis(1000));
+    let int = Command::new("kill")
+        .args(["-INT", &agent.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(int.success());
+    // Ended by the API (`Interrupted` → exit 130), not by the signal's default action.
+    let status = wait(&mut agent, Duration::from_secs(10));
+    assert_eq!(status.code(), Some(130), "{status}");
+}
