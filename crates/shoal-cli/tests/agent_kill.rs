@@ -12,7 +12,8 @@ use std::sync::Mutex;
 
 /// Held by each test: the /dev/shm comparisons must not see each other's segments.
 static ONE_AT_A_TIME: Mutex<()> = Mutex::new(());
-use std::process::{Command, Stdio};
+use std::path::PathBuf;
+use std::process::{Child, Command, Stdio};
 use std::time::Duration;
 
 fn shm() -> BTreeSet<String> {
@@ -27,37 +28,25 @@ fn shm() -> BTreeSet<String> {
         .unwrap_or_default()
 }
 
-#[test]
-fn killed_agent_is_detected_its_vehicle_falls_back_and_nothing_is_left() {
-    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+/// A lock-step world of `duration` s with one vehicle driven by a goto agent that takes 2 ms
+/// per tick (so the run lasts a while), both started. Returns the world, the agent and the
+/// output directory.
+fn start(name: &str, duration: f64) -> (Child, Child, PathBuf) {
     let agent_bin = common::example_agent("goto_agent");
-
-    let dir = std::env::temp_dir().join(format!("shoal-kill-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::tmp("kill", name);
     let world = dir.join("world.toml");
     std::fs::write(
         &world,
-        r#"name = "kill-test"
-duration = 120.0
-[pool]
-size = [10.0, 10.0, 3.0]
-[agents]
-timing = "lockstep"
-timeout = 0.5
-attach_timeout = 20.0
-fallback = "hold"
-[[vehicles]]
-name = "auv"
-position = [5.0, 5.0, 0.5]
-agent = "pilot"
-"#,
+        format!(
+            "name = \"{name}\"\nduration = {duration}\n[pool]\nsize = [10.0, 10.0, 3.0]\n\
+             [agents]\ntiming = \"lockstep\"\ntimeout = 0.5\nattach_timeout = 20.0\nfallback = \"hold\"\n\
+             [[vehicles]]\nname = \"auv\"\nposition = [5.0, 5.0, 0.5]\nagent = \"pilot\"\n"
+        ),
     )
     .unwrap();
-    let before = shm();
-    let prefix = format!("kill{}", std::process::id());
+    let prefix = format!("{name}{}", std::process::id());
     let out = dir.join("out");
-    let mut sim = Command::new(env!("CARGO_BIN_EXE_shoal"))
+    let sim = Command::new(env!("CARGO_BIN_EXE_shoal"))
         .args(["run", "--quiet", "--no-plots", "--prefix", &prefix, "--out"])
         .arg(&out)
         .arg(&world)
@@ -65,12 +54,20 @@ agent = "pilot"
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
-    // The agent dives to 1.5 m, slowly (2 ms per tick: 120 s take ≈ 5 s of wall time).
-    let mut agent = Command::new(&agent_bin)
+    let agent = Command::new(&agent_bin)
         .args([&prefix, "pilot", "1.5", "0", "--slow", "2"])
         .stderr(Stdio::null())
         .spawn()
         .unwrap();
+    (sim, agent, out)
+}
+
+#[test]
+fn killed_agent_is_detected_its_vehicle_falls_back_and_nothing_is_left() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    let before = shm();
+    // 120 s at 2 ms per tick: ≈ 5 s of wall time.
+    let (mut sim, mut agent, out) = start("kill", 120.0);
     std::thread::sleep(Duration::from_millis(1500));
     assert!(
         agent.try_wait().unwrap().is_none(),
@@ -148,35 +145,9 @@ agent = "pilot"
 #[test]
 fn world_interrupted_with_ctrl_c_tells_its_agent_and_leaves_nothing() {
     let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
-    let agent_bin = common::example_agent("goto_agent");
-    let dir = std::env::temp_dir().join(format!("shoal-ctrl-c-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    let world = dir.join("world.toml");
-    std::fs::write(
-        &world,
-        "name = \"ctrl-c-test\"\nduration = 600.0\n[pool]\nsize = [10.0, 10.0, 3.0]\n\
-         [agents]\ntiming = \"lockstep\"\ntimeout = 0.5\nattach_timeout = 20.0\n\
-         [[vehicles]]\nname = \"auv\"\nposition = [5.0, 5.0, 0.5]\nagent = \"pilot\"\n",
-    )
-    .unwrap();
     let before = shm();
-    let prefix = format!("ctrlc{}", std::process::id());
-    let out = dir.join("out");
-    let mut sim = Command::new(env!("CARGO_BIN_EXE_shoal"))
-        .args(["run", "--quiet", "--no-plots", "--prefix", &prefix, "--out"])
-        .arg(&out)
-        .arg(&world)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    // 2 ms per tick: 600 s (12,000 ticks) would take ≈ 25 s.
-    let mut agent = Command::new(&agent_bin)
-        .args([&prefix, "pilot", "1.5", "0", "--slow", "2"])
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
+    // 600 s (12,000 ticks) at 2 ms per tick would take ≈ 25 s.
+    let (mut sim, mut agent, out) = start("ctrlc", 600.0);
     std::thread::sleep(Duration::from_millis(2000));
     assert!(sim.try_wait().unwrap().is_none(), "the world still runs");
     let int = Command::new("kill")
