@@ -11,7 +11,6 @@ Arguments: `PREFIX AGENT DEPTH_M HEADING_DEG`. Exit status 0 when the world ende
 """
 
 import math
-import signal
 import sys
 from pathlib import Path
 
@@ -21,7 +20,7 @@ except ImportError:  # run from a checkout without PYTHONPATH=python
     sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
     import shoal_agent
 
-from shoal_agent import Agent, AgentLink, BridgeError, Ended, mode
+from shoal_agent import Agent, mode
 
 
 class Goto(Agent):
@@ -45,22 +44,7 @@ def main(argv) -> int:
     if not (math.isfinite(depth) and math.isfinite(heading)):
         print("goto.py: DEPTH_M and HEADING_DEG must be finite numbers", file=sys.stderr)
         return 2
-    signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
-    try:
-        with AgentLink.attach(prefix, name, wait=60.0) as link:
-            print(f"goto.py: attached to `{prefix}` as `{name}`", file=sys.stderr)
-            ended = link.run(Goto(depth, math.radians(heading)))
-            if ended is Ended.WORLD_ENDED:
-                print(f"goto.py: the run ended after {link.ticks} ticks", file=sys.stderr)
-                return 0
-            print(f"goto.py: the world fell silent after {link.ticks} ticks", file=sys.stderr)
-            return 1
-    except BridgeError as e:
-        print(f"goto.py: {e}", file=sys.stderr)
-        return 1
-    except KeyboardInterrupt:
-        print("goto.py: interrupted", file=sys.stderr)
-        return 130
+    return shoal_agent.main("goto.py", prefix, name, Goto(depth, math.radians(heading)))
 
 
 if __name__ == "__main__":

@@ -13,7 +13,6 @@ the run, 1 when it fell silent or could not be reached, 130 on Ctrl-C.
 """
 
 import math
-import signal
 import struct
 import sys
 from pathlib import Path
@@ -24,7 +23,7 @@ except ImportError:  # run from a checkout without PYTHONPATH=python
     sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
     import shoal_agent
 
-from shoal_agent import ALL_MODEMS, Agent, AgentLink, BridgeError, Ended, mode
+from shoal_agent import ALL_MODEMS, Agent, mode
 
 #: Frame tag of a school beacon.
 TAG = 0x5C
@@ -76,23 +75,7 @@ def main(argv) -> int:
         return 2
     prefix = args[0]
     name = args[1] if len(args) > 1 else "school"
-    # `kill` (SIGTERM) detaches cleanly too, like Ctrl-C.
-    signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
-    try:
-        with AgentLink.attach(prefix, name, wait=60.0) as link:
-            print(f"school.py: attached to `{prefix}` as `{name}`", file=sys.stderr)
-            ended = link.run(School())
-            if ended is Ended.WORLD_ENDED:
-                print(f"school.py: the run ended after {link.ticks} ticks", file=sys.stderr)
-                return 0
-            print(f"school.py: the world fell silent after {link.ticks} ticks", file=sys.stderr)
-            return 1
-    except BridgeError as e:
-        print(f"school.py: {e}", file=sys.stderr)
-        return 1
-    except KeyboardInterrupt:
-        print("school.py: interrupted", file=sys.stderr)
-        return 130
+    return shoal_agent.main("school.py", prefix, name, School())
 
 
 if __name__ == "__main__":

@@ -48,6 +48,7 @@ __all__ = [
     "Ended",
     "NoWorld",
     "keep",
+    "main",
     "received",
     "run",
     "send",
@@ -357,3 +358,29 @@ def run(
     with AgentLink.attach(prefix, name, wait) as link:
         link.idle_timeout = idle_timeout
         return link.run(agent)
+
+
+def main(label: str, prefix: str, name: str, agent: Agent, wait: float = 60.0) -> int:
+    """`run` for a command-line agent: reports on stderr as `label` and returns the exit
+    status — 0 when the world ended the run, 1 when it fell silent or could not be reached,
+    130 on Ctrl-C, 143 on SIGTERM (both detach with a goodbye first)."""
+    import signal
+    import sys
+
+    # `kill` (SIGTERM) detaches cleanly too, like Ctrl-C.
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
+    try:
+        with AgentLink.attach(prefix, name, wait) as link:
+            print(f"{label}: attached to `{prefix}` as `{name}`", file=sys.stderr)
+            ended = link.run(agent)
+            if ended is Ended.WORLD_ENDED:
+                print(f"{label}: the run ended after {link.ticks} ticks", file=sys.stderr)
+                return 0
+            print(f"{label}: the world fell silent after {link.ticks} ticks", file=sys.stderr)
+            return 1
+    except BridgeError as e:
+        print(f"{label}: {e}", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        print(f"{label}: interrupted", file=sys.stderr)
+        return 130
