@@ -132,6 +132,8 @@ pub fn uauv2() -> VehicleParams {
         max_command: 100.0,
         // Thruster dynamics neglected — paper Sec. 4.2.
         lag: 0.0,
+        lag_down: -1.0,
+        lag_stages: 1,
     };
     VehicleParams {
         name: "uauv2".into(),

@@ -141,9 +141,40 @@ pub struct ThrusterParams {
     pub max_command: f64,
     /// Time constant of a first-order lag between static and actual thrust \[s\]; 0 = none.
     pub lag: f64,
+    /// Time constant of the lag while the thrust magnitude falls (spin-down) \[s\]; a
+    /// negative value means "the same as `lag`".
+    pub lag_down: f64,
+    /// Lag stages in series, each with the time constant above (1: first order, 2: critically
+    /// damped second order, as a motor whose speed and current both lag).
+    pub lag_stages: u8,
+}
+
+/// Exact response of a first-order lag with time constant `tau` \[s\] from `x0` towards the
+/// constant `target` over `dt` \[s\]: (value at the end, mean over the step).
+#[inline]
+fn first_order_step(x0: f64, target: f64, tau: f64, dt: f64) -> (f64, f64) {
+    if tau <= 0.0 {
+        return (target, target);
+    }
+    let e = (-dt / tau).exp();
+    (
+        target + (x0 - target) * e,
+        target + (x0 - target) * (1.0 - e) * tau / dt,
+    )
 }
 
 impl ThrusterParams {
+    /// The lag's time constant \[s\] for a thrust moving from `from` towards `to` \[N\]:
+    /// `lag_down` while the magnitude falls (if set), `lag` otherwise.
+    #[inline]
+    pub fn lag_towards(&self, from: f64, to: f64) -> f64 {
+        if self.lag_down >= 0.0 && to.abs() < from.abs() {
+            self.lag_down
+        } else {
+            self.lag
+        }
+    }
+
     /// Thrust direction [unit, body frame] when the thruster's tilt drive stands at `angle` \[rad\].
     #[inline]
     pub fn direction_at(&self, axis: Option<&Unit<Vec3>>, angle: f64) -> Vec3 {
@@ -163,6 +194,9 @@ pub struct ActuatorState {
     pub tilt: Vec<f64>,
     /// Actual thrust of each thruster after the lag, at the end of the last step \[N\].
     pub thrust: Vec<f64>,
+    /// Output of the first stage of a two-stage lag, at the end of the last step \[N\] (empty
+    /// or unused for single-stage lags).
+    pub stage: Vec<f64>,
 }
 
 /// Advances tilt drives and thrust lags by `dt` \[s\] and returns the generalised force τ
@@ -225,11 +259,23 @@ pub fn actuate_with(
         };
         // Exact first-order response over the step: the thrust at its end is kept as state,
         // its mean over the step is what the hull receives (the exact impulse).
-        let f = if th.lag > 0.0 {
-            let e = (-dt / th.lag).exp();
+        let f = if th.lag > 0.0 || th.lag_down > 0.0 {
+            let mut target = f_static;
+            if th.lag_stages >= 2 {
+                if state.stage.len() < thrusters.len() {
+                    state.stage.resize(thrusters.len(), 0.0);
+                }
+                // First stage: exact over the step; the second stage follows its mean.
+                let s0 = state.stage[i];
+                let tau = th.lag_towards(s0, target);
+                let (end, mean) = first_order_step(s0, target, tau, dt);
+                state.stage[i] = end;
+                target = mean;
+            }
             let f0 = state.thrust[i];
-            state.thrust[i] = f_static + (f0 - f_static) * e;
-            f_static + (f0 - f_static) * (1.0 - e) * th.lag / dt
+            let (end, mean) = first_order_step(f0, target, th.lag_towards(f0, target), dt);
+            state.thrust[i] = end;
+            mean
         } else {
             state.thrust[i] = f_static;
             f_static
@@ -309,10 +355,13 @@ mod tests {
             },
             max_command: 100.0,
             lag: 0.5,
+            lag_down: -1.0,
+            lag_stages: 1,
         };
         let mut st = ActuatorState {
             tilt: vec![],
             thrust: vec![0.0],
+            stage: vec![],
         };
         let dt = 0.001;
         let mut t = 0.0;

@@ -173,6 +173,7 @@ impl VehicleState {
             actuators: ActuatorState {
                 tilt: vec![0.0; p.tilts.len()],
                 thrust: vec![0.0; p.thrusters.len()],
+                stage: vec![0.0; p.thrusters.len()],
             },
             ballast_volume: vol,
             mass: p.mass_properties(vol, env.density),

@@ -415,6 +415,33 @@ impl Evaluation {
         out
     }
 
+    /// [`Evaluation::weighted`] with each estimation sample also multiplied by the square root
+    /// of its block's weight in `resample` (the least-squares form of a weighted fit).
+    pub fn weighted_with(
+        &self,
+        factor: &BTreeMap<ChannelKind, f64>,
+        resample: Option<&crate::blocks::Resample>,
+    ) -> Vec<f64> {
+        let Some(rs) = resample else {
+            return self.weighted(factor);
+        };
+        let mut out = Vec::new();
+        for (ri, r) in self.runs.iter().enumerate() {
+            for c in &r.channels {
+                let w = factor[&c.kind];
+                let blocks = crate::blocks::sample_blocks(c, rs.len);
+                out.extend(
+                    c.resid
+                        .iter()
+                        .zip(blocks)
+                        .filter(|(_, (e, _))| *e)
+                        .map(|(r, (e, b))| r * w * rs.weight((ri, e, b)).sqrt()),
+                );
+            }
+        }
+        out
+    }
+
     /// Maximum-likelihood residual factors for this evaluation: 1/σ̂ per channel, with σ̂² the
     /// estimation residuals' mean square. Weighted this way, a channel counts by its
     /// information: a noisy or badly modelled channel less, a clean one more.

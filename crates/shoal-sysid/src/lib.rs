@@ -5,6 +5,7 @@
 //!
 //! * [`run`] — the measured-run CSV format, parsed with errors that name line and column;
 //! * [`replay`] — the vehicle model driven open-loop by the measured inputs;
+//! * [`blocks`] — time blocks of residuals: held-out tests and the block bootstrap;
 //! * [`data`] — runs split into estimation and validation data, models evaluated on them;
 //! * [`lm`], [`stats`] — bounded Levenberg–Marquardt, whiteness tests and friends;
 //! * [`search`] — per-effect fits, BIC and validation scoring, greedy forward selection with a
@@ -16,6 +17,7 @@
 //! The effects themselves live in `shoal_model::effects`, so that `shoal run` uses a fitted
 //! model unchanged.
 
+pub mod blocks;
 pub mod data;
 pub mod design;
 pub mod lm;

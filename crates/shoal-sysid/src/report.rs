@@ -136,7 +136,11 @@ fn candidate_json(c: &Candidate) -> Value {
         v["params"] = Value::Object(p);
         v["params_sigma"] = Value::Object(s);
         v["model"] = json!(f.names());
+        v["form"] = json!(c.form);
+        v["forms"] = json!(c.forms);
         v["delta_bic"] = json!(c.delta_bic);
+        v["delta_bic_eff"] = json!(c.delta_bic_eff);
+        v["heldout_block_t"] = json!(c.heldout_t);
         v["validation_gain_pct"] = json!(100.0 * c.gain);
         v["z"] = json!(c.z);
         let mut val = Map::new();
@@ -485,6 +489,10 @@ pub fn write_report(dir: &Path, input: &ReportInput<'_>) -> Result<Written, Repo
             "replay_dt_s": ds.replay.dt,
             "min_validation_gain_pct": 100.0 * input.opts.min_gain,
             "bic_threshold": input.opts.bic_threshold,
+            "heldout_t_threshold": input.opts.t_threshold,
+            "block_s": input.opts.block_s,
+            "stability_draws": input.opts.stability_draws,
+            "stability_threshold": input.opts.stability_threshold,
             "z_threshold": input.opts.z_threshold,
             "max_effects": input.opts.max_effects,
             "effects_considered": input.opts.effects.iter().map(|e| e.name()).collect::<Vec<_>>(),
@@ -496,6 +504,12 @@ pub fn write_report(dir: &Path, input: &ReportInput<'_>) -> Result<Written, Repo
         "candidates": out.candidates.iter().map(candidate_json).collect::<Vec<_>>(),
         "verdict": {
             "effects": fin.names(),
+            "forms": out.verdict.forms,
+            "possible": out.verdict.possible,
+            "ambiguous": out.verdict.ambiguous,
+            "unexplained": out.verdict.unexplained,
+            "stability": out.verdict.stability,
+            "stepwise": out.stepwise.names(),
             "params": vp,
             "params_sigma": vs,
             "validation_gain_pct": out.validation_gain_pct(),
@@ -520,10 +534,28 @@ pub fn write_report(dir: &Path, input: &ReportInput<'_>) -> Result<Written, Repo
 /// One sentence: what was found and what it gained.
 pub fn verdict_sentence(out: &Outcome) -> String {
     let fin = &out.chosen;
+    let mut tail = String::new();
+    for p in &out.verdict.possible {
+        tail.push_str(&format!(
+            " Possible, not named: {} ({}) — {}.",
+            p.effect, p.form, p.reason
+        ));
+    }
+    for u in &out.verdict.unexplained {
+        tail.push_str(&format!(
+            " Unexplained structure on channel y.{}: held-out RMSE {} {} against a noise floor of {} (Ljung–Box p = {:.2e}); no catalogue family explains it.",
+            u.channel.name(),
+            sig(u.rmse),
+            u.channel.unit(),
+            sig(u.noise_floor),
+            u.ljung_box_p
+        ));
+    }
     if fin.effects.is_empty() {
-        return "No effect is needed: no catalogue effect improves the validation error \
-                significantly, the baseline explains these runs."
-            .into();
+        return format!(
+            "No effect is needed with strong evidence: no catalogue effect improves the held-out \
+             error significantly and stably.{tail}"
+        );
     }
     let parts: Vec<String> = fin
         .effects
@@ -535,11 +567,22 @@ pub fn verdict_sentence(out: &Outcome) -> String {
                 .filter(|p| p.excited)
                 .map(|p| format!("{} = {}", p.name, fmt_pm(p.value, p.sigma)))
                 .collect();
-            format!("{} ({})", e.effect.name(), ps.join(", "))
+            let stab = out
+                .verdict
+                .stability
+                .get(e.effect.name())
+                .map(|f| format!(", chosen in {:.0} % of resamples", 100.0 * f))
+                .unwrap_or_default();
+            format!(
+                "{} [form {}{stab}] ({})",
+                e.effect.name(),
+                e.effect.form(),
+                ps.join(", ")
+            )
         })
         .collect();
     format!(
-        "Found {}: validation RMSE {:.1} % lower than the baseline's (mean over channels).",
+        "Found {}: validation RMSE {:.1} % lower than the baseline's (mean over channels).{tail}",
         parts.join(" and "),
         out.validation_gain_pct()
     )

@@ -1045,6 +1045,24 @@ fn validate_effect(e: &EffectSpec, vehicle: &VehicleParams, p: &FieldPath, v: &m
         );
         return;
     };
+    let effect = match e.form.as_deref() {
+        None => effect,
+        Some(f) => match shoal_model::effects::by_name_form(&e.name, Some(f)) {
+            Some(x) => x,
+            None => {
+                v.push(
+                    ProblemKind::Reference,
+                    &p.key("form"),
+                    format!(
+                        "effect `{}` has no form `{f}` (allowed: {})",
+                        e.name,
+                        shoal_model::effects::forms(&e.name).join(", ")
+                    ),
+                );
+                return;
+            }
+        },
+    };
     if let Some(why) = effect.not_applicable(vehicle) {
         v.push(
             ProblemKind::Invalid,

@@ -607,6 +607,10 @@ pub struct VehicleSpec {
 pub struct EffectSpec {
     /// Catalogue name (e.g. `thruster_lag`).
     pub name: String,
+    /// Form of the family (e.g. `second_order`; `shoal effects` lists them); absent: the
+    /// family's default form.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub form: Option<String>,
     /// Every parameter of the effect by name, each in the unit its name ends with (e.g.
     /// `tau_s` in seconds); `shoal validate` writes them, `shoal check` lists the bounds.
     #[serde(default)]
@@ -1073,6 +1077,8 @@ impl VehicleSpec {
                     },
                     max_command: t.max_command,
                     lag: t.lag,
+                    lag_down: -1.0,
+                    lag_stages: 1,
                 })
                 .collect(),
             tilts: self
@@ -1207,12 +1213,12 @@ impl VehicleSpec {
     /// Call only after validation: unknown effects are skipped and missing parameters take
     /// their null values.
     pub fn effects(&self, params: &VehicleParams) -> shoal_model::effects::Effects {
-        use shoal_model::effects::{EffectInstance, Effects, by_name};
+        use shoal_model::effects::{EffectInstance, Effects, by_name_form};
         Effects::new(
             self.effects
                 .iter()
                 .filter_map(|e| {
-                    let effect = by_name(&e.name)?;
+                    let effect = by_name_form(&e.name, e.form.as_deref())?;
                     let values = effect
                         .params(params)
                         .iter()
@@ -1235,6 +1241,9 @@ impl VehicleSpec {
         list.iter()
             .map(|e| EffectSpec {
                 name: e.effect.name().to_string(),
+                form: (shoal_model::effects::forms(e.effect.name()).first()
+                    != Some(&e.effect.form()))
+                .then(|| e.effect.form().to_string()),
                 params: e
                     .effect
                     .params(params)

@@ -35,6 +35,7 @@ impl Effect for AddedMassError {
             null: 1.0,
             typical: 1.5,
             doc: "factor on M_A and on the rigid-body inertia",
+            shape: false,
         }]
     }
     fn configure(&self, p: &[f64], vehicle: &mut VehicleParams) {

@@ -43,6 +43,7 @@ impl Effect for BallastMass {
             null: base,
             typical: if base > 0.0 { 2.0 * base } else { 0.1 },
             doc: "pump volume flow (both directions)",
+            shape: false,
         }]
     }
     fn configure(&self, p: &[f64], vehicle: &mut VehicleParams) {

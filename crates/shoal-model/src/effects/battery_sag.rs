@@ -6,6 +6,9 @@
 //!
 //! Modelled as `f = max(1 − s·t, 0) · f_static`, t from the start of the run.
 
+//!
+//! An `exponential` form competes with the linear one: k(t) = 1 − a·(1 − e^(−t/τ)), a sag
+//! that levels off.
 use super::{Effect, ParamInfo, ThrustContext};
 use crate::vehicle::VehicleParams;
 
@@ -14,6 +17,9 @@ use crate::vehicle::VehicleParams;
 pub struct BatterySag;
 
 impl Effect for BatterySag {
+    fn form(&self) -> &'static str {
+        "linear"
+    }
     fn name(&self) -> &'static str {
         "battery_sag"
     }
@@ -33,9 +39,60 @@ impl Effect for BatterySag {
             null: 0.0,
             typical: 0.001,
             doc: "relative thrust lost per second",
+            shape: false,
         }]
     }
     fn thrust(&self, p: &[f64], ctx: &ThrustContext<'_>, f: f64) -> f64 {
         (1.0 - p[0] * ctx.t).max(0.0) * f
+    }
+}
+
+/// The `exponential` form: the thrust scale falls by a fraction a with time constant τ and
+/// levels off, k(t) = 1 − a·(1 − e^(−t/τ)) — a battery whose voltage drops quickly under load
+/// and then holds.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct BatterySagExponential;
+
+impl Effect for BatterySagExponential {
+    fn name(&self) -> &'static str {
+        "battery_sag"
+    }
+    fn form(&self) -> &'static str {
+        "exponential"
+    }
+    fn summary(&self) -> &'static str {
+        "thrust scale falls and levels off, k(t) = 1 − a·(1 − e^(−t/τ))"
+    }
+    fn explanation(&self) -> &'static str {
+        "Battery discharge under load: the voltage, and with it the thrust, drops by a \
+         fraction a with time constant τ and then holds."
+    }
+    fn params(&self, _vehicle: &VehicleParams) -> Vec<ParamInfo> {
+        vec![
+            ParamInfo {
+                name: "a",
+                unit: "-",
+                lo: 0.0,
+                hi: 0.6,
+                null: 0.0,
+                typical: 0.1,
+                doc: "fraction of thrust lost in the end",
+                shape: false,
+            },
+            ParamInfo {
+                name: "tau_s",
+                unit: "s",
+                lo: 5.0,
+                hi: 1000.0,
+                null: 60.0,
+                typical: 60.0,
+                doc: "time constant of the sag",
+                shape: true,
+            },
+        ]
+    }
+    fn thrust(&self, p: &[f64], ctx: &ThrustContext<'_>, f: f64) -> f64 {
+        let tau = p[1].max(1e-3);
+        (1.0 - p[0] * (1.0 - (-ctx.t / tau).exp())).max(0.0) * f
     }
 }

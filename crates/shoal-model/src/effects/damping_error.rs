@@ -35,6 +35,7 @@ impl Effect for DampingError {
                 null: 1.0,
                 typical: 1.5,
                 doc: "factor on the linear damping coefficients",
+                shape: false,
             },
             ParamInfo {
                 name: "scale_quad",
@@ -44,6 +45,7 @@ impl Effect for DampingError {
                 null: 1.0,
                 typical: 1.5,
                 doc: "factor on the quadratic damping coefficients",
+                shape: false,
             },
         ]
     }

@@ -8,6 +8,8 @@
 //! Note: with the initial depth taken from the first reading, b₀ is observable only where the
 //! physics depends on absolute depth (at the surface).
 
+//!
+//! A `settling` form competes: `b₀ + Δ·(1 − e^(−t/τ))`, a drift that levels off.
 use super::{Effect, ParamInfo};
 use crate::vehicle::VehicleParams;
 
@@ -16,6 +18,9 @@ use crate::vehicle::VehicleParams;
 pub struct DepthSensorBias;
 
 impl Effect for DepthSensorBias {
+    fn form(&self) -> &'static str {
+        "linear_drift"
+    }
     fn name(&self) -> &'static str {
         "depth_sensor_bias"
     }
@@ -36,6 +41,7 @@ impl Effect for DepthSensorBias {
                 null: 0.0,
                 typical: 0.02,
                 doc: "constant offset of the depth reading",
+                shape: false,
             },
             ParamInfo {
                 name: "b1_m_s",
@@ -45,10 +51,69 @@ impl Effect for DepthSensorBias {
                 null: 0.0,
                 typical: 5e-4,
                 doc: "drift of the depth reading per second",
+                shape: false,
             },
         ]
     }
     fn depth_offset(&self, p: &[f64], t: f64) -> f64 {
         p[0] + p[1] * t
+    }
+}
+
+/// The `settling` form: the reading's offset moves by Δ towards a new value with time
+/// constant τ, `b₀ + Δ·(1 − e^(−t/τ))` — a sensor warming up to the water's temperature.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct DepthSensorBiasSettling;
+
+impl Effect for DepthSensorBiasSettling {
+    fn name(&self) -> &'static str {
+        "depth_sensor_bias"
+    }
+    fn form(&self) -> &'static str {
+        "settling"
+    }
+    fn summary(&self) -> &'static str {
+        "depth reading offset b₀ that settles by Δ with time constant τ"
+    }
+    fn explanation(&self) -> &'static str {
+        "Pressure-sensor zero that drifts while the sensor reaches the water's temperature: \
+         the reading is depth + b₀ + Δ·(1 − e^(−t/τ)) while the motion is unchanged."
+    }
+    fn params(&self, _vehicle: &VehicleParams) -> Vec<ParamInfo> {
+        vec![
+            ParamInfo {
+                name: "b0_m",
+                unit: "m",
+                lo: -0.5,
+                hi: 0.5,
+                null: 0.0,
+                typical: 0.02,
+                doc: "constant offset of the depth reading",
+                shape: false,
+            },
+            ParamInfo {
+                name: "delta_m",
+                unit: "m",
+                lo: -0.5,
+                hi: 0.5,
+                null: 0.0,
+                typical: 0.03,
+                doc: "change of the offset once settled",
+                shape: false,
+            },
+            ParamInfo {
+                name: "tau_s",
+                unit: "s",
+                lo: 2.0,
+                hi: 1000.0,
+                null: 60.0,
+                typical: 60.0,
+                doc: "time constant of the settling",
+                shape: true,
+            },
+        ]
+    }
+    fn depth_offset(&self, p: &[f64], t: f64) -> f64 {
+        p[0] + p[1] * (1.0 - (-t / p[2].max(1e-3)).exp())
     }
 }

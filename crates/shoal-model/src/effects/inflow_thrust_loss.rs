@@ -13,6 +13,8 @@
 //! (and the thrust never changes sign by it). The loss grows with speed and vanishes at rest,
 //! so it looks like extra damping that only acts while the thruster runs.
 
+//!
+//! A `linear` form competes: `f = f_static − k·|f_static|·u_a`.
 use super::{Effect, ParamInfo, ThrustContext};
 use crate::vehicle::VehicleParams;
 
@@ -21,6 +23,9 @@ use crate::vehicle::VehicleParams;
 pub struct InflowThrustLoss;
 
 impl Effect for InflowThrustLoss {
+    fn form(&self) -> &'static str {
+        "advance_ratio"
+    }
     fn name(&self) -> &'static str {
         "inflow_thrust_loss"
     }
@@ -40,10 +45,48 @@ impl Effect for InflowThrustLoss {
             null: 0.0,
             typical: 0.5,
             doc: "thrust loss per √N of static thrust and m/s of inflow",
+            shape: false,
         }]
     }
     fn thrust(&self, p: &[f64], ctx: &ThrustContext<'_>, f: f64) -> f64 {
         let g = f - p[0] * f.abs().sqrt() * ctx.inflow;
+        if g * f < 0.0 { 0.0 } else { g }
+    }
+}
+
+/// The `linear` form: thrust lost in proportion to thrust and inflow speed,
+/// `f = f_static − k·|f_static|·u_a` (momentum theory at small inflow).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct InflowThrustLossLinear;
+
+impl Effect for InflowThrustLossLinear {
+    fn name(&self) -> &'static str {
+        "inflow_thrust_loss"
+    }
+    fn form(&self) -> &'static str {
+        "linear"
+    }
+    fn summary(&self) -> &'static str {
+        "thrust falls in proportion to thrust and axial inflow speed"
+    }
+    fn explanation(&self) -> &'static str {
+        "Propeller inflow: moving along the thrust direction lowers the thrust by a fraction \
+         k·u_a of itself, f = f_static − k·|f_static|·u_a."
+    }
+    fn params(&self, _vehicle: &VehicleParams) -> Vec<ParamInfo> {
+        vec![ParamInfo {
+            name: "k_s_m",
+            unit: "s/m",
+            lo: 0.0,
+            hi: 10.0,
+            null: 0.0,
+            typical: 1.0,
+            doc: "relative thrust loss per m/s of inflow",
+            shape: false,
+        }]
+    }
+    fn thrust(&self, p: &[f64], ctx: &ThrustContext<'_>, f: f64) -> f64 {
+        let g = f - p[0] * f.abs() * ctx.inflow;
         if g * f < 0.0 { 0.0 } else { g }
     }
 }

@@ -38,18 +38,18 @@ mod water_current;
 
 pub use added_mass_error::AddedMassError;
 pub use ballast_mass::BallastMass;
-pub use battery_sag::BatterySag;
-pub use buoyancy_offset::BuoyancyOffset;
+pub use battery_sag::{BatterySag, BatterySagExponential};
+pub use buoyancy_offset::{BuoyancyOffset, BuoyancyOffsetDepth};
 pub use damping_error::DampingError;
-pub use depth_sensor_bias::DepthSensorBias;
-pub use inflow_thrust_loss::InflowThrustLoss;
+pub use depth_sensor_bias::{DepthSensorBias, DepthSensorBiasSettling};
+pub use inflow_thrust_loss::{InflowThrustLoss, InflowThrustLossLinear};
 pub use sensor_delay::SensorDelay;
 pub use thrust_asymmetry::ThrustAsymmetry;
 pub use thrust_coupling::ThrustCoupling;
 pub use thrust_gain::ThrustGain;
-pub use thrust_saturation::ThrustSaturation;
-pub use thruster_deadband::ThrusterDeadband;
-pub use thruster_lag::ThrusterLag;
+pub use thrust_saturation::{ThrustSaturation, ThrustSaturationSmooth};
+pub use thruster_deadband::{ThrusterDeadband, ThrusterDeadbandSoft};
+pub use thruster_lag::{ThrusterLag, ThrusterLagSecondOrder, ThrusterLagUpDown};
 pub use water_current::WaterCurrent;
 
 use crate::dynamics::RigidState;
@@ -78,6 +78,11 @@ pub struct ParamInfo {
     pub typical: f64,
     /// What the parameter means.
     pub doc: &'static str,
+    /// A shape parameter: it changes how the effect acts, not whether it acts (a time
+    /// constant of an exponential, a softness). It has no null value of its own — `null`
+    /// holds a neutral default — and is never tested against it; the effect vanishes when its
+    /// other parameters are at their nulls.
+    pub shape: bool,
 }
 
 /// In which order thrust hooks run: every `Command` hook, then the thrust curve, then every
@@ -126,6 +131,12 @@ pub struct ForceContext<'a> {
 pub trait Effect: Send + Sync + fmt::Debug {
     /// Stable name (snake case), as used in files and reports.
     fn name(&self) -> &'static str;
+    /// Which form of its family this is (e.g. `hard` or `soft` for a dead band). An effect
+    /// family is every catalogue entry with the same [`Effect::name`]; its forms compete as
+    /// alternative shapes of one physical cause and are never named together.
+    fn form(&self) -> &'static str {
+        "standard"
+    }
     /// What the effect is, in one sentence.
     fn summary(&self) -> &'static str;
     /// The physical cause it stands for and how it is modelled (shown in reports).
@@ -170,35 +181,69 @@ pub trait Effect: Send + Sync + fmt::Debug {
     }
 }
 
-/// The built-in effects in catalogue order (see `../shared/spec/validation.md`).
+/// The built-in effects in catalogue order (see `../shared/spec/validation.md`), every form
+/// of a family after its first (default) form.
 pub fn catalogue() -> Vec<Arc<dyn Effect>> {
     vec![
         Arc::new(ThrusterLag),
+        Arc::new(ThrusterLagSecondOrder),
+        Arc::new(ThrusterLagUpDown),
         Arc::new(ThrustGain),
         Arc::new(ThrustAsymmetry),
         Arc::new(ThrusterDeadband),
+        Arc::new(ThrusterDeadbandSoft),
         Arc::new(BatterySag),
+        Arc::new(BatterySagExponential),
         Arc::new(InflowThrustLoss),
+        Arc::new(InflowThrustLossLinear),
         Arc::new(BuoyancyOffset),
+        Arc::new(BuoyancyOffsetDepth),
         Arc::new(BallastMass),
         Arc::new(DampingError),
         Arc::new(AddedMassError),
         Arc::new(WaterCurrent),
         Arc::new(DepthSensorBias),
+        Arc::new(DepthSensorBiasSettling),
         Arc::new(SensorDelay),
         Arc::new(ThrustCoupling),
         Arc::new(ThrustSaturation),
+        Arc::new(ThrustSaturationSmooth),
     ]
 }
 
-/// The built-in effect of that name.
+/// The built-in effect of that family name, in its default (first) form.
 pub fn by_name(name: &str) -> Option<Arc<dyn Effect>> {
     catalogue().into_iter().find(|e| e.name() == name)
 }
 
-/// Names of the built-in effects in catalogue order.
+/// The built-in effect of that family name and form (`None`: the default form).
+pub fn by_name_form(name: &str, form: Option<&str>) -> Option<Arc<dyn Effect>> {
+    match form {
+        None => by_name(name),
+        Some(f) => catalogue()
+            .into_iter()
+            .find(|e| e.name() == name && e.form() == f),
+    }
+}
+
+/// The forms of the family `name`, default first.
+pub fn forms(name: &str) -> Vec<&'static str> {
+    catalogue()
+        .iter()
+        .filter(|e| e.name() == name)
+        .map(|e| e.form())
+        .collect()
+}
+
+/// Names of the built-in effect families in catalogue order (each once).
 pub fn names() -> Vec<&'static str> {
-    catalogue().iter().map(|e| e.name()).collect()
+    let mut out: Vec<&'static str> = Vec::new();
+    for e in catalogue() {
+        if !out.contains(&e.name()) {
+            out.push(e.name());
+        }
+    }
+    out
 }
 
 /// One effect with its parameter values.
@@ -212,7 +257,9 @@ pub struct EffectInstance {
 
 impl PartialEq for EffectInstance {
     fn eq(&self, other: &Self) -> bool {
-        self.effect.name() == other.effect.name() && self.params == other.params
+        self.effect.name() == other.effect.name()
+            && self.effect.form() == other.effect.form()
+            && self.params == other.params
     }
 }
 

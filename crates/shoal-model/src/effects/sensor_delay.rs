@@ -34,6 +34,7 @@ impl Effect for SensorDelay {
             null: 0.0,
             typical: 0.1,
             doc: "measurement delay",
+            shape: false,
         }]
     }
     fn delay(&self, p: &[f64]) -> f64 {

@@ -34,6 +34,7 @@ impl Effect for ThrustAsymmetry {
             null: 1.0,
             typical: 0.8,
             doc: "scale factor on reverse thrust",
+            shape: false,
         }]
     }
     fn thrust(&self, p: &[f64], _ctx: &ThrustContext<'_>, f: f64) -> f64 {

@@ -38,6 +38,7 @@ impl Effect for ThrustCoupling {
             null: 0.0,
             typical: 0.02 * l,
             doc,
+            shape: false,
         };
         vec![
             p("k_z_m", "yaw moment per newton of vertical (body z) thrust"),

@@ -35,6 +35,7 @@ impl Effect for ThrustGain {
             null: 1.0,
             typical: 1.2,
             doc: "thrust scale factor",
+            shape: false,
         }]
     }
     fn thrust(&self, p: &[f64], _ctx: &ThrustContext<'_>, f: f64) -> f64 {

@@ -7,6 +7,8 @@
 //! Modelled as `|f| ≤ fraction · f_max` with f_max the curve's thrust at full command in the
 //! same direction. Applied after every other thrust effect.
 
+//!
+//! A `smooth` form competes with the hard clamp: `f' = F·tanh(f/F)`, F = f_max/c.
 use super::{Effect, ParamInfo, Stage, ThrustContext};
 use crate::vehicle::VehicleParams;
 
@@ -15,6 +17,9 @@ use crate::vehicle::VehicleParams;
 pub struct ThrustSaturation;
 
 impl Effect for ThrustSaturation {
+    fn form(&self) -> &'static str {
+        "hard"
+    }
     fn name(&self) -> &'static str {
         "thrust_saturation"
     }
@@ -34,6 +39,7 @@ impl Effect for ThrustSaturation {
             null: 1.0,
             typical: 0.8,
             doc: "largest thrust as a fraction of the curve's maximum",
+            shape: false,
         }]
     }
     fn stage(&self) -> Stage {
@@ -42,5 +48,53 @@ impl Effect for ThrustSaturation {
     fn thrust(&self, p: &[f64], ctx: &ThrustContext<'_>, f: f64) -> f64 {
         let (fwd, rev) = ctx.thruster.curve.limits(ctx.thruster.max_command);
         f.clamp(-p[0] * rev, p[0] * fwd)
+    }
+}
+
+/// The `smooth` form: thrust bends over smoothly towards a cap, `f' = F·tanh(f/F)` with
+/// F = f_max/c, so that small thrusts are unaffected and large ones approach F.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ThrustSaturationSmooth;
+
+impl Effect for ThrustSaturationSmooth {
+    fn name(&self) -> &'static str {
+        "thrust_saturation"
+    }
+    fn form(&self) -> &'static str {
+        "smooth"
+    }
+    fn summary(&self) -> &'static str {
+        "thrust bends smoothly towards a cap f_max/c"
+    }
+    fn explanation(&self) -> &'static str {
+        "Current limit acting gradually (a supply that sags under load): thrust grows less \
+         and less with the command and approaches f_max/c."
+    }
+    fn params(&self, _vehicle: &VehicleParams) -> Vec<ParamInfo> {
+        vec![ParamInfo {
+            name: "c",
+            unit: "-",
+            lo: 0.0,
+            hi: 10.0,
+            null: 0.0,
+            typical: 1.25,
+            doc: "inverse of the cap as a fraction of the curve's maximum (0: no cap)",
+            shape: false,
+        }]
+    }
+    fn stage(&self) -> Stage {
+        Stage::Limit
+    }
+    fn thrust(&self, p: &[f64], ctx: &ThrustContext<'_>, f: f64) -> f64 {
+        let c = p[0];
+        if c <= 0.0 {
+            return f;
+        }
+        let (fwd, rev) = ctx.thruster.curve.limits(ctx.thruster.max_command);
+        let cap = if f >= 0.0 { fwd } else { rev } / c;
+        if cap <= 0.0 {
+            return f;
+        }
+        cap * (f / cap).tanh()
     }
 }

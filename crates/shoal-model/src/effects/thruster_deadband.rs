@@ -9,6 +9,9 @@
 //! kept: `n' = sign(n) · n_max · max(|n| − d₀, 0) / (n_max − d₀)`. Full command still gives
 //! full thrust, the map is continuous in n and in d₀, and d₀ = 0 is the baseline.
 
+//!
+//! A `soft` form competes with the hard cut: `n' = n − d₀·tanh(n/d₀)`, a dead band whose
+//! edge is a smooth knee and whose curve outside is shifted rather than stretched.
 use super::{Effect, ParamInfo};
 use crate::thruster::ThrusterParams;
 use crate::vehicle::VehicleParams;
@@ -18,6 +21,9 @@ use crate::vehicle::VehicleParams;
 pub struct ThrusterDeadband;
 
 impl Effect for ThrusterDeadband {
+    fn form(&self) -> &'static str {
+        "hard"
+    }
     fn name(&self) -> &'static str {
         "thruster_deadband"
     }
@@ -37,6 +43,7 @@ impl Effect for ThrusterDeadband {
             null: 0.0,
             typical: 8.0,
             doc: "dead band half-width in command percent",
+            shape: false,
         }]
     }
     fn command(&self, p: &[f64], thruster: &ThrusterParams, n: f64) -> f64 {
@@ -46,5 +53,46 @@ impl Effect for ThrusterDeadband {
             return n;
         }
         n.signum() * max * (n.abs() - d0).max(0.0) / (max - d0)
+    }
+}
+
+/// The `soft` form: the command is shifted towards zero by d₀ with a smooth knee,
+/// `n' = n − d₀·tanh(n/d₀)`: almost no thrust well inside the band (n'≈ n³/3d₀²), the full
+/// curve shifted by d₀ outside it — a motor whose friction fades in rather than cutting off.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ThrusterDeadbandSoft;
+
+impl Effect for ThrusterDeadbandSoft {
+    fn name(&self) -> &'static str {
+        "thruster_deadband"
+    }
+    fn form(&self) -> &'static str {
+        "soft"
+    }
+    fn summary(&self) -> &'static str {
+        "little thrust for |command| < d₀, with a smooth knee"
+    }
+    fn explanation(&self) -> &'static str {
+        "ESC and motor static friction that fades in: small commands give almost no thrust, \
+         larger ones the thrust of a command d₀ smaller."
+    }
+    fn params(&self, _vehicle: &VehicleParams) -> Vec<ParamInfo> {
+        vec![ParamInfo {
+            name: "d0_pct",
+            unit: "%",
+            lo: 0.0,
+            hi: 40.0,
+            null: 0.0,
+            typical: 8.0,
+            doc: "width of the soft dead band in command percent",
+            shape: false,
+        }]
+    }
+    fn command(&self, p: &[f64], _thruster: &ThrusterParams, n: f64) -> f64 {
+        let d0 = p[0];
+        if d0 <= 0.0 {
+            return n;
+        }
+        n - d0 * (n / d0).tanh()
     }
 }

@@ -11,6 +11,10 @@
 //!
 //! [`ThrusterParams::lag`]: crate::thruster::ThrusterParams::lag
 
+//!
+//! Two more forms of the family compete with the first-order lag: `second_order` (two equal
+//! stages in series, an S-shaped spin-up) and `up_down` (different time constants spinning up
+//! and down).
 use super::{Effect, ParamInfo};
 use crate::vehicle::VehicleParams;
 
@@ -19,6 +23,9 @@ use crate::vehicle::VehicleParams;
 pub struct ThrusterLag;
 
 impl Effect for ThrusterLag {
+    fn form(&self) -> &'static str {
+        "first_order"
+    }
     fn name(&self) -> &'static str {
         "thruster_lag"
     }
@@ -38,11 +45,98 @@ impl Effect for ThrusterLag {
             null: 0.0,
             typical: 0.3,
             doc: "time constant added to each thruster's lag",
+            shape: false,
         }]
     }
     fn configure(&self, p: &[f64], vehicle: &mut VehicleParams) {
         for th in &mut vehicle.thrusters {
             th.lag += p[0];
+        }
+    }
+}
+
+/// The `second_order` form: two equal first-order stages in series (critically damped), as a
+/// motor whose current and speed both lag: the thrust starts slowly and then catches up.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ThrusterLagSecondOrder;
+
+impl Effect for ThrusterLagSecondOrder {
+    fn name(&self) -> &'static str {
+        "thruster_lag"
+    }
+    fn form(&self) -> &'static str {
+        "second_order"
+    }
+    fn summary(&self) -> &'static str {
+        "thrust follows the command through two equal first-order lags τ (second order)"
+    }
+    fn explanation(&self) -> &'static str {
+        "Motor and propeller inertia with a lagging motor current: after a command step the \
+         thrust rises S-shaped, through two lags of time constant τ in series."
+    }
+    fn params(&self, _vehicle: &VehicleParams) -> Vec<ParamInfo> {
+        vec![ParamInfo {
+            name: "tau_s",
+            unit: "s",
+            lo: 0.0,
+            hi: 1.0,
+            null: 0.0,
+            typical: 0.15,
+            doc: "time constant of each of the two stages",
+            shape: false,
+        }]
+    }
+    fn configure(&self, p: &[f64], vehicle: &mut VehicleParams) {
+        for th in &mut vehicle.thrusters {
+            th.lag += p[0];
+            th.lag_stages = 2;
+        }
+    }
+}
+
+/// The `up_down` form: a first-order lag whose time constant differs between spin-up (the
+/// thrust magnitude grows) and spin-down (it falls) — a motor driven up but left to coast down.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ThrusterLagUpDown;
+
+impl Effect for ThrusterLagUpDown {
+    fn name(&self) -> &'static str {
+        "thruster_lag"
+    }
+    fn form(&self) -> &'static str {
+        "up_down"
+    }
+    fn summary(&self) -> &'static str {
+        "thrust follows the command through a first-order lag, τ_up spinning up, τ_down down"
+    }
+    fn explanation(&self) -> &'static str {
+        "Motor and propeller inertia with a driven spin-up and a coasting spin-down: the \
+         thrust settles with τ_up when its magnitude grows and with τ_down when it falls."
+    }
+    fn params(&self, _vehicle: &VehicleParams) -> Vec<ParamInfo> {
+        let p = |name, doc| ParamInfo {
+            name,
+            unit: "s",
+            lo: 0.0,
+            hi: 2.0,
+            null: 0.0,
+            typical: 0.3,
+            doc,
+            shape: false,
+        };
+        vec![
+            p("tau_up_s", "time constant while the thrust magnitude grows"),
+            p(
+                "tau_down_s",
+                "time constant while the thrust magnitude falls",
+            ),
+        ]
+    }
+    fn configure(&self, p: &[f64], vehicle: &mut VehicleParams) {
+        for th in &mut vehicle.thrusters {
+            let base = th.lag;
+            th.lag = base + p[0];
+            th.lag_down = base + p[1];
         }
     }
 }

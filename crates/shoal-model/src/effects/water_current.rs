@@ -36,6 +36,7 @@ impl Effect for WaterCurrent {
             null: 0.0,
             typical: 0.05,
             doc,
+            shape: false,
         };
         vec![
             p("vx_m_s", "current towards world x (north)"),

@@ -1,0 +1,466 @@
+//! Fitting one candidate model: replays, the excitation probe, bounded Levenberg–Marquardt from
+//! several starts with iterative reweighting, covariances and the Wald distance from null.
+
+use super::rules::bic_rs;
+use super::{Fit, FittedEffect, ParamEstimate, SearchOptions};
+use crate::blocks::Resample;
+use crate::data::{Dataset, Evaluation};
+use crate::lm::{LmOptions, minimise};
+use crate::run::ChannelKind;
+use crate::stats;
+use nalgebra::DMatrix;
+use shoal_model::effects::{Effect, EffectInstance, Effects, ParamInfo};
+use shoal_model::vehicle::{VehicleModel, VehicleParams};
+use statrs::distribution::{ChiSquared, ContinuousCDF, Normal};
+use std::collections::BTreeMap;
+use std::sync::Arc;
+
+/// What a fit works on: the data, the baseline, the options and, for stability selection, a
+/// block-bootstrap resample that weights the estimation samples.
+pub(super) struct Ctx<'a> {
+    pub ds: &'a Dataset,
+    pub base: &'a VehicleParams,
+    /// Baseline residual factors (for the excitation probe).
+    pub factors: BTreeMap<ChannelKind, f64>,
+    pub opts: &'a SearchOptions,
+    /// Weights of the estimation blocks (none: every sample once).
+    pub resample: Option<&'a Resample>,
+    /// Levenberg–Marquardt settings (the options' own, or fewer iterations for warm refits).
+    pub lm: LmOptions,
+}
+
+impl Ctx<'_> {
+    pub fn model(&self, effects: &[Arc<dyn Effect>], values: &[f64]) -> VehicleModel {
+        let mut list = self.opts.base_effects.clone();
+        let mut i = 0;
+        for e in effects {
+            let n = e.params(self.base).len();
+            list.push(EffectInstance {
+                effect: e.clone(),
+                params: values[i..i + n].to_vec(),
+            });
+            i += n;
+        }
+        VehicleModel::with_effects(self.base.clone(), Effects::new(list), self.ds.env.density)
+    }
+
+    pub fn eval(&self, effects: &[Arc<dyn Effect>], values: &[f64]) -> Option<Evaluation> {
+        let ev = self.ds.evaluate(&self.model(effects, values));
+        ev.metrics
+            .values()
+            .all(|m| m.sse_est.is_finite())
+            .then_some(ev)
+    }
+
+    fn weighted(
+        &self,
+        effects: &[Arc<dyn Effect>],
+        values: &[f64],
+        factors: &BTreeMap<ChannelKind, f64>,
+    ) -> Option<Vec<f64>> {
+        self.eval(effects, values)
+            .map(|e| e.weighted_with(factors, self.resample))
+    }
+
+    fn infos(&self, effects: &[Arc<dyn Effect>]) -> Vec<ParamInfo> {
+        effects.iter().flat_map(|e| e.params(self.base)).collect()
+    }
+
+    /// Which parameters of `effect` the data can see (probed from the baseline): a parameter
+    /// is excited when moving it halfway to its far bound changes the residuals. Ordinary
+    /// parameters are probed with the others at their nulls; shape parameters with the others
+    /// at their typical values (a time constant of a vanishing effect changes nothing).
+    pub fn excited(&self, effect: &Arc<dyn Effect>) -> Vec<bool> {
+        let infos = effect.params(self.base);
+        let null: Vec<f64> = infos.iter().map(|p| p.null).collect();
+        let active: Vec<f64> = infos
+            .iter()
+            .map(|p| if p.shape { p.null } else { p.typical })
+            .collect();
+        let fx = [effect.clone()];
+        let f = &self.factors;
+        let Some(e_null) = self.weighted(&fx, &null, f) else {
+            return vec![false; infos.len()];
+        };
+        let e_active = if infos.iter().any(|p| p.shape) {
+            self.weighted(&fx, &active, f)
+        } else {
+            None
+        };
+        let tol = 1e-8 * f.len() as f64;
+        (0..infos.len())
+            .map(|j| {
+                let p = &infos[j];
+                let (from, e0) = if p.shape {
+                    match &e_active {
+                        Some(e) => (&active, e),
+                        None => return false,
+                    }
+                } else {
+                    (&null, &e_null)
+                };
+                let far = if (p.hi - p.null).abs() >= (p.null - p.lo).abs() {
+                    p.hi
+                } else {
+                    p.lo
+                };
+                let mut x = from.clone();
+                x[j] = p.null + 0.5 * (far - p.null);
+                self.weighted(&fx, &x, f).is_some_and(|e| {
+                    e.len() == e0.len()
+                        && e.iter().zip(e0).map(|(a, b)| (a - b).powi(2)).sum::<f64>() > tol
+                })
+            })
+            .collect()
+    }
+
+    /// Fits `effects` (all parameters, excited ones free) from the best two of `starts` (full
+    /// vectors) and, with `scan`, of a scan from the null values towards the far bounds.
+    pub fn fit(
+        &self,
+        effects: &[Arc<dyn Effect>],
+        excited: &[bool],
+        starts: &[Vec<f64>],
+        scan: bool,
+    ) -> Option<Fit> {
+        let infos = self.infos(effects);
+        let free: Vec<usize> = (0..infos.len()).filter(|&j| excited[j]).collect();
+        let null: Vec<f64> = infos.iter().map(|p| p.null).collect();
+        let full = |xf: &[f64], start: &[f64]| {
+            let mut x = start.to_vec();
+            for (k, &j) in free.iter().enumerate() {
+                x[j] = xf[k];
+            }
+            for (j, p) in infos.iter().enumerate() {
+                if !excited[j] {
+                    x[j] = p.null;
+                }
+            }
+            x
+        };
+        let lo: Vec<f64> = free.iter().map(|&j| infos[j].lo).collect();
+        let hi: Vec<f64> = free.iter().map(|&j| infos[j].hi).collect();
+        let scale: Vec<f64> = free
+            .iter()
+            .map(|&j| {
+                let p = &infos[j];
+                let s = (p.typical - p.null).abs();
+                if s > 0.0 { s } else { 0.1 * (p.hi - p.lo) }
+            })
+            .collect();
+        // Candidate starts: the given ones and, with `scan`, points from the null values
+        // towards the far bounds (all free parameters together), against multimodal costs.
+        // The LM runs from the best two.
+        let mut evaluations = 0;
+        let mut points: Vec<(f64, Vec<f64>)> = Vec::new();
+        for s in starts {
+            let x = full(&free.iter().map(|&j| s[j]).collect::<Vec<_>>(), s);
+            evaluations += 1;
+            if let Some(ev) = self.eval(effects, &x) {
+                points.push((bic_rs(&ev, 0, self.resample), x));
+            }
+        }
+        for step in (1..=6).filter(|_| scan) {
+            let a = step as f64 / 7.0;
+            let x: Vec<f64> = infos
+                .iter()
+                .enumerate()
+                .map(|(j, p)| {
+                    if !excited[j] || p.shape {
+                        return p.null;
+                    }
+                    let far = if (p.hi - p.null).abs() >= (p.null - p.lo).abs() {
+                        p.hi
+                    } else {
+                        p.lo
+                    };
+                    p.null + a * (far - p.null)
+                })
+                .collect();
+            evaluations += 1;
+            if let Some(ev) = self.eval(effects, &x) {
+                points.push((bic_rs(&ev, 0, self.resample), x));
+            }
+        }
+        points.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let starts: Vec<Vec<f64>> = points.into_iter().take(2).map(|(_, x)| x).collect();
+        type Best = (
+            f64,
+            crate::lm::LmResult,
+            BTreeMap<ChannelKind, f64>,
+            Vec<f64>,
+            Evaluation,
+        );
+        let mut best: Option<Best> = None;
+        for s in &starts {
+            let mut x = s.clone();
+            let Some(mut ev) = self.eval(effects, &x) else {
+                continue;
+            };
+            evaluations += 1;
+            let mut result = None;
+            // Iteratively reweighted: weights from the residuals, fit, new weights, … .
+            for _ in 0..3 {
+                let factors = ev.ml_factors();
+                let x0: Vec<f64> = free.iter().map(|&j| x[j]).collect();
+                let f = |xf: &[f64]| self.weighted(effects, &full(xf, &null), &factors);
+                let Some(r) = minimise(&f, &x0, &lo, &hi, &scale, &self.lm) else {
+                    break;
+                };
+                evaluations += r.evaluations + 1;
+                x = full(&r.x, &null);
+                let Some(new_ev) = self.eval(effects, &x) else {
+                    break;
+                };
+                let new_factors = new_ev.ml_factors();
+                ev = new_ev;
+                result = Some((r, factors.clone()));
+                let settled = factors.iter().all(|(k, a)| {
+                    let b = new_factors[k];
+                    (b / a - 1.0).abs() < 0.05
+                });
+                if settled {
+                    break;
+                }
+            }
+            let Some((r, used)) = result else { continue };
+            let score = bic_rs(&ev, 0, self.resample);
+            if best.as_ref().is_none_or(|(b, ..)| score < *b) {
+                best = Some((score, r, used, x, ev));
+            }
+        }
+        let (_, lm, used, x, eval) = best?;
+        let (cov, cov_white) = self.covariances(&eval, &lm.jacobian, &free, &used);
+        let sd = |c: &Option<DMatrix<f64>>, k: usize| {
+            c.as_ref().and_then(|c| {
+                let v = c[(k, k)];
+                (v.is_finite() && v > 0.0).then(|| v.sqrt())
+            })
+        };
+        let sigmas: Vec<(Option<f64>, Option<f64>)> = (0..free.len())
+            .map(|k| (sd(&cov, k), sd(&cov_white, k)))
+            .collect();
+        let mut free_index = Vec::new();
+        let mut params = Vec::new();
+        let mut i = 0;
+        let mut fitted = Vec::new();
+        for e in effects {
+            let n = e.params(self.base).len();
+            let mut ps = Vec::new();
+            for j in i..i + n {
+                let p = &infos[j];
+                if excited[j] {
+                    free_index.push((fitted.len(), j - i));
+                }
+                let (sigma, sigma_white) = free
+                    .iter()
+                    .position(|&f| f == j)
+                    .and_then(|k| sigmas.get(k).copied())
+                    .unwrap_or((None, None));
+                ps.push(ParamEstimate {
+                    name: p.name.to_string(),
+                    unit: p.unit.to_string(),
+                    value: x[j],
+                    sigma,
+                    sigma_white,
+                    null: p.null,
+                    excited: excited[j],
+                    shape: p.shape,
+                });
+            }
+            params.extend(ps.clone());
+            fitted.push(FittedEffect {
+                effect: e.clone(),
+                params: ps,
+            });
+            i += n;
+        }
+        Some(Fit {
+            effects: fitted,
+            k: free.len(),
+            eval,
+            evaluations: evaluations + 1,
+            free: free_index,
+            cov,
+            cov_white,
+        })
+    }
+
+    /// `cur` with `add` fitted on top, all parameters free, from `cur`'s values and each of
+    /// `starts` for the new effect.
+    pub fn extend(
+        &self,
+        cur: &Fit,
+        add: &Arc<dyn Effect>,
+        excited_add: &[bool],
+        starts: &[Vec<f64>],
+    ) -> Option<Fit> {
+        let mut effects: Vec<Arc<dyn Effect>> =
+            cur.effects.iter().map(|e| e.effect.clone()).collect();
+        effects.push(add.clone());
+        let mut excited: Vec<bool> = Vec::new();
+        let mut held: Vec<f64> = Vec::new();
+        for e in &cur.effects {
+            excited.extend(e.params.iter().map(|p| p.excited));
+            held.extend(e.params.iter().map(|p| p.value));
+        }
+        excited.extend_from_slice(excited_add);
+        let starts: Vec<Vec<f64>> = starts
+            .iter()
+            .map(|s| {
+                let mut x = held.clone();
+                x.extend_from_slice(s);
+                x
+            })
+            .collect();
+        self.fit(&effects, &excited, &starts, false)
+    }
+
+    /// `cur` without the effect `name`, refitted (the baseline if nothing remains).
+    pub fn without(&self, cur: &Fit, name: &str, baseline: &Fit) -> Option<Fit> {
+        let keep: Vec<&FittedEffect> = cur
+            .effects
+            .iter()
+            .filter(|e| e.effect.name() != name)
+            .collect();
+        if keep.is_empty() {
+            return Some(baseline.clone());
+        }
+        let effects: Vec<Arc<dyn Effect>> = keep.iter().map(|e| e.effect.clone()).collect();
+        let excited: Vec<bool> = keep
+            .iter()
+            .flat_map(|e| e.params.iter().map(|p| p.excited))
+            .collect();
+        let held: Vec<f64> = keep
+            .iter()
+            .flat_map(|e| e.params.iter().map(|p| p.value))
+            .collect();
+        self.fit(&effects, &excited, &[held], false)
+    }
+
+    /// How much adding `add` to `cur` promises to lower the weighted cost: the reduction of a
+    /// linear least-squares step along the secants from its null to its typical values (a
+    /// score test that also sees parameters whose effect starts abruptly).
+    pub fn score(&self, cur: &Fit, add: &Arc<dyn Effect>, excited_add: &[bool]) -> f64 {
+        let factors = cur.eval.ml_factors();
+        let e0 = cur.eval.weighted(&factors);
+        let mut effects: Vec<Arc<dyn Effect>> =
+            cur.effects.iter().map(|e| e.effect.clone()).collect();
+        effects.push(add.clone());
+        let held: Vec<f64> = cur
+            .effects
+            .iter()
+            .flat_map(|e| e.params.iter().map(|p| p.value))
+            .collect();
+        let infos = add.params(self.base);
+        let null: Vec<f64> = infos.iter().map(|p| p.null).collect();
+        let mut cols: Vec<Vec<f64>> = Vec::new();
+        for (j, p) in infos.iter().enumerate() {
+            if !excited_add.get(j).copied().unwrap_or(false) {
+                continue;
+            }
+            let mut v = null.clone();
+            v[j] = p.typical;
+            let mut x = held.clone();
+            x.extend_from_slice(&v);
+            if let Some(e) = self.weighted(&effects, &x, &factors)
+                && e.len() == e0.len()
+            {
+                cols.push(e.iter().zip(&e0).map(|(a, b)| a - b).collect());
+            }
+        }
+        if cols.is_empty() {
+            return 0.0;
+        }
+        let d = DMatrix::from_fn(e0.len(), cols.len(), |i, j| cols[j][i]);
+        let g = d.transpose() * nalgebra::DVector::from_column_slice(&e0);
+        let a = d.transpose() * &d;
+        match a.clone().try_inverse() {
+            Some(inv) => (g.transpose() * inv * &g)[(0, 0)].max(0.0),
+            None => 0.0,
+        }
+    }
+
+    /// Parameter covariances (honest, white) from the Jacobian `jac` of the residuals
+    /// weighted by `factors` (the last weights of the fit), with the noise of `eval` (see the
+    /// module docs).
+    fn covariances(
+        &self,
+        eval: &Evaluation,
+        jac: &DMatrix<f64>,
+        free: &[usize],
+        factors: &BTreeMap<ChannelKind, f64>,
+    ) -> (Option<DMatrix<f64>>, Option<DMatrix<f64>>) {
+        let n = free.len();
+        if n == 0 || jac.ncols() != n {
+            return (None, None);
+        }
+        let kinds = eval.weighted_kinds();
+        let mut honest = DMatrix::<f64>::zeros(n, n);
+        let mut white = DMatrix::<f64>::zeros(n, n);
+        for (row, kind) in kinds.iter().enumerate() {
+            let m = &eval.metrics[kind];
+            let ne = m.n_est.max(1) as f64;
+            let var = (m.sse_est / ne).max(1e-300);
+            let w = factors[kind];
+            let c = 1.0 / (w * w * var);
+            let kappa = stats::inflation(m.rho1_est);
+            for a in 0..n {
+                let ja = jac[(row, a)];
+                if ja == 0.0 {
+                    continue;
+                }
+                for b in 0..n {
+                    let v = ja * jac[(row, b)] * c;
+                    white[(a, b)] += v;
+                    honest[(a, b)] += v / kappa;
+                }
+            }
+        }
+        (honest.try_inverse(), white.try_inverse())
+    }
+}
+
+/// Distance of `effect`'s parameters from their null values, jointly (Wald test with the
+/// honest covariance, or the white-residual one with `white`), as the equivalent number of
+/// standard deviations of a normal variable: for one parameter |θ − θ₀|/σ.
+pub(super) fn z_of(fit: &Fit, effect: &str, white: bool) -> f64 {
+    let Some(ei) = fit.effects.iter().position(|e| e.effect.name() == effect) else {
+        return 0.0;
+    };
+    let Some(cov) = (if white { &fit.cov_white } else { &fit.cov }) else {
+        return 0.0;
+    };
+    let idx: Vec<usize> = fit
+        .free
+        .iter()
+        .enumerate()
+        .filter(|(_, (e, j))| *e == ei && !fit.effects[*e].params[*j].shape)
+        .map(|(k, _)| k)
+        .collect();
+    if idx.is_empty() {
+        return 0.0;
+    }
+    let d = nalgebra::DVector::from_iterator(
+        idx.len(),
+        idx.iter().map(|&k| {
+            let (e, j) = fit.free[k];
+            let p = &fit.effects[e].params[j];
+            p.value - p.null
+        }),
+    );
+    let sub = DMatrix::from_fn(idx.len(), idx.len(), |a, b| cov[(idx[a], idx[b])]);
+    let Some(inv) = sub.try_inverse() else {
+        return 0.0;
+    };
+    let w = (d.transpose() * inv * &d)[(0, 0)].max(0.0);
+    if idx.len() == 1 {
+        return w.sqrt();
+    }
+    let p = ChiSquared::new(idx.len() as f64).map_or(0.0, |c| c.sf(w));
+    if p < 1e-15 {
+        // Beyond the precision of the tail: the normal deviate of the same χ² (≈ √W).
+        return (w - (idx.len() as f64 - 1.0)).max(0.0).sqrt().max(8.0);
+    }
+    Normal::standard().inverse_cdf(1.0 - 0.5 * p)
+}

@@ -1,0 +1,349 @@
+//! The search from start to verdict: round 1 (every family alone, forms competing), forward
+//! rounds, backward checks and swaps, then identifiability, stability and the verdict.
+
+use super::fit::Ctx;
+use super::rules::{bic, judge, skipped};
+use super::{
+    Candidate, Fit, FormScore, Outcome, SearchOptions, identify, par_map, stability, verdict,
+};
+use crate::data::Dataset;
+use shoal_model::effects::{Effect, Effects};
+use shoal_model::vehicle::{VehicleModel, VehicleParams};
+use std::collections::BTreeMap;
+use std::sync::Arc;
+
+/// The forms of each family among `effects`, families in first-appearance order.
+pub(super) fn families(effects: &[Arc<dyn Effect>]) -> Vec<(String, Vec<Arc<dyn Effect>>)> {
+    let mut out: Vec<(String, Vec<Arc<dyn Effect>>)> = Vec::new();
+    for e in effects {
+        match out.iter_mut().find(|(n, _)| n == e.name()) {
+            Some((_, v)) => v.push(e.clone()),
+            None => out.push((e.name().to_string(), vec![e.clone()])),
+        }
+    }
+    out
+}
+
+/// What round 1 learnt about one form: whether the data excite each parameter and its fit
+/// alone on the baseline.
+#[derive(Clone)]
+pub(super) struct FormInfo {
+    pub effect: Arc<dyn Effect>,
+    pub excited: Vec<bool>,
+    pub first: Option<Vec<f64>>,
+    pub bic: f64,
+}
+
+/// Everything the later stages of a search share.
+pub(super) struct Search<'a> {
+    pub ctx: Ctx<'a>,
+    pub baseline: Fit,
+    /// Per family: its forms that apply and are excited, with their round-1 fits.
+    pub forms: BTreeMap<String, Vec<FormInfo>>,
+}
+
+impl Search<'_> {
+    /// `cur` with the family `name` added: every excited form fitted on top (from its round-1
+    /// values and from null), the lowest BIC wins. Returns the fit and every form's score.
+    pub fn add(&self, cur: &Fit, name: &str) -> Option<(Fit, Vec<FormScore>)> {
+        let infos = self.forms.get(name)?;
+        let mut best: Option<Fit> = None;
+        let mut scores = Vec::new();
+        for fi in infos {
+            let params = fi.effect.params(self.ctx.base);
+            let null: Vec<f64> = params.iter().map(|p| p.null).collect();
+            let first = fi
+                .first
+                .clone()
+                .unwrap_or_else(|| params.iter().map(|p| p.typical).collect());
+            let Some(fit) = self
+                .ctx
+                .extend(cur, &fi.effect, &fi.excited, &[first, null])
+            else {
+                continue;
+            };
+            let b = bic(&fit.eval, fit.k);
+            scores.push(FormScore {
+                form: fi.effect.form().to_string(),
+                bic: b,
+                gain: super::gain(&cur.eval, &fit.eval),
+                k: fit.k - cur.k,
+            });
+            if best.as_ref().is_none_or(|f| b < bic(&f.eval, f.k)) {
+                best = Some(fit);
+            }
+        }
+        best.map(|f| (f, scores))
+    }
+
+    /// Families worth adding to `cur` (not in it, not excluded), best score first, at most
+    /// `candidates_per_round`.
+    pub fn promising(&self, cur: &Fit, exclude: &[String]) -> Vec<String> {
+        let names: Vec<String> = self
+            .forms
+            .keys()
+            .filter(|n| !cur.names().contains(n) && !exclude.contains(n))
+            .cloned()
+            .collect();
+        let opts = self.ctx.opts;
+        let scores = par_map(&names, opts.threads, |n| {
+            // Score each family by its round-1 best form.
+            let fi = self.forms[n]
+                .iter()
+                .min_by(|a, b| a.bic.total_cmp(&b.bic))
+                .expect("families have a form");
+            self.ctx.score(cur, &fi.effect, &fi.excited)
+        });
+        let mut ranked: Vec<(f64, String)> = scores.into_iter().zip(names).collect();
+        ranked.sort_by(|a, b| b.0.total_cmp(&a.0));
+        ranked
+            .into_iter()
+            .filter(|(s, _)| *s > 0.0)
+            .take(opts.candidates_per_round)
+            .map(|(_, n)| n)
+            .collect()
+    }
+}
+
+/// Searches the effects of `opts` for the ones that explain `ds` better than `base`.
+/// `progress` is called with a short message after each candidate fit.
+pub fn search(
+    ds: &Dataset,
+    base: &VehicleParams,
+    opts: &SearchOptions,
+    progress: &(dyn Fn(&str) + Sync),
+) -> Outcome {
+    let base_model = VehicleModel::with_effects(
+        base.clone(),
+        Effects::new(opts.base_effects.clone()),
+        ds.env.density,
+    );
+    let base_eval = ds.evaluate(&base_model);
+    let factors = base_eval.ml_factors();
+    let baseline = Fit {
+        effects: Vec::new(),
+        k: 0,
+        eval: base_eval,
+        evaluations: 1,
+        free: Vec::new(),
+        cov: None,
+        cov_white: None,
+    };
+    let ctx = Ctx {
+        ds,
+        base,
+        factors: factors.clone(),
+        opts,
+        resample: None,
+        lm: opts.lm.clone(),
+    };
+    let fams = families(&opts.effects);
+    let mut candidates = Vec::new();
+    // Round 1: every form of every family alone on the baseline.
+    let items: Vec<(usize, Arc<dyn Effect>)> = fams
+        .iter()
+        .enumerate()
+        .flat_map(|(i, (_, forms))| forms.iter().map(move |e| (i, e.clone())))
+        .collect();
+    let fitted: Vec<(usize, Arc<dyn Effect>, Result<(Fit, Vec<bool>), String>)> =
+        par_map(&items, opts.threads, |(i, e)| {
+            let r = if let Some(why) = e.not_applicable(base) {
+                Err(format!("does not apply: {why}"))
+            } else {
+                let excited = ctx.excited(e);
+                if !excited.iter().any(|&x| x) {
+                    Err("not excited: no input or measurement of these runs shows it".into())
+                } else {
+                    let infos = e.params(base);
+                    let starts = vec![
+                        infos.iter().map(|p| p.null).collect(),
+                        infos.iter().map(|p| p.typical).collect(),
+                    ];
+                    ctx.fit(std::slice::from_ref(e), &excited, &starts, true)
+                        .map(|f| (f, excited))
+                        .ok_or_else(|| "the replay failed for every start".to_string())
+                }
+            };
+            progress(&format!("{} ({})", e.name(), e.form()));
+            (*i, e.clone(), r)
+        });
+    let mut forms: BTreeMap<String, Vec<FormInfo>> = BTreeMap::new();
+    for (fi, (name, _)) in fams.iter().enumerate() {
+        let mine: Vec<&(usize, Arc<dyn Effect>, Result<(Fit, Vec<bool>), String>)> =
+            fitted.iter().filter(|(i, _, _)| *i == fi).collect();
+        let mut best: Option<&Fit> = None;
+        let mut scores = Vec::new();
+        let mut why = None;
+        for (_, e, r) in &mine {
+            match r {
+                Ok((fit, excited)) => {
+                    let b = bic(&fit.eval, fit.k);
+                    scores.push(FormScore {
+                        form: e.form().to_string(),
+                        bic: b,
+                        gain: super::gain(&baseline.eval, &fit.eval),
+                        k: fit.k,
+                    });
+                    forms.entry(name.clone()).or_default().push(FormInfo {
+                        effect: e.clone(),
+                        excited: excited.clone(),
+                        first: Some(fit.effects[0].params.iter().map(|p| p.value).collect()),
+                        bic: b,
+                    });
+                    if best.is_none_or(|f| b < bic(&f.eval, f.k)) {
+                        best = Some(fit);
+                    }
+                }
+                Err(w) => why = why.or(Some(w.clone())),
+            }
+        }
+        let c = match best {
+            Some(fit) => {
+                let mut c = judge(1, name, &baseline, fit.clone(), opts, false);
+                c.forms = scores;
+                c
+            }
+            None => skipped(1, name, why.unwrap_or_else(|| "no form applies".into())),
+        };
+        candidates.push(c);
+    }
+    let s = Search {
+        ctx,
+        baseline: baseline.clone(),
+        forms,
+    };
+    let mut current = baseline.clone();
+    let mut round = 1;
+    // Forward.
+    loop {
+        let best = candidates
+            .iter()
+            .filter(|c| c.round == round && !c.backward && c.significant)
+            .min_by(|a, b| {
+                let ba = a.fit.as_ref().map_or(f64::INFINITY, |f| bic(&f.eval, f.k));
+                let bb = b.fit.as_ref().map_or(f64::INFINITY, |f| bic(&f.eval, f.k));
+                ba.total_cmp(&bb)
+            });
+        let Some(fit) = best.and_then(|c| c.fit.clone()) else {
+            break;
+        };
+        current = fit;
+        if current.effects.len() >= opts.max_effects {
+            break;
+        }
+        round += 1;
+        let tries = s.promising(&current, &[]);
+        if tries.is_empty() {
+            break;
+        }
+        let cur = &current;
+        let next: Vec<Candidate> = par_map(&tries, opts.threads, |name| {
+            let c = match s.add(cur, name) {
+                Some((fit, scores)) => {
+                    let mut c = judge(round, name, cur, fit, opts, false);
+                    c.forms = scores;
+                    c
+                }
+                None => skipped(round, name, "the replay failed for every start".into()),
+            };
+            progress(name);
+            c
+        });
+        candidates.extend(next);
+    }
+    // Backward checks, then swaps of one effect for another where that lowers the BIC
+    // (equivalent explanations with fewer parameters), then backward checks again.
+    let mut swaps = 0;
+    loop {
+        let mut reduced: Vec<(String, Option<Fit>)> = Vec::new();
+        while !current.effects.is_empty() {
+            round += 1;
+            let names = current.names();
+            let cur = &current;
+            let checks: Vec<(Candidate, Option<Fit>)> = par_map(&names, opts.threads, |name| {
+                let r = s.ctx.without(cur, name, &baseline);
+                let c = match &r {
+                    Some(r) => judge(round, name, r, cur.clone(), opts, true),
+                    None => Candidate {
+                        significant: true,
+                        backward: true,
+                        ..skipped(
+                            round,
+                            name,
+                            "kept: the model without it could not be replayed".into(),
+                        )
+                    },
+                };
+                progress(name);
+                (c, r)
+            });
+            let weakest = checks
+                .iter()
+                .filter(|(c, r)| !c.significant && r.is_some())
+                .max_by(|a, b| a.0.delta_bic_eff.total_cmp(&b.0.delta_bic_eff))
+                .and_then(|(_, r)| r.clone());
+            reduced = checks
+                .iter()
+                .map(|(c, r)| (c.effect.clone(), r.clone()))
+                .collect();
+            candidates.extend(checks.into_iter().map(|(c, _)| c));
+            match weakest {
+                Some(r) => current = r,
+                None => break,
+            }
+        }
+        if current.effects.len() < 2 || swaps >= 2 {
+            break;
+        }
+        let cur_bic = bic(&current.eval, current.k);
+        let names = current.names();
+        let options: Vec<(String, Fit)> = reduced
+            .into_iter()
+            .filter_map(|(n, r)| r.map(|r| (n, r)))
+            .collect();
+        let pairs: Vec<(String, Fit, String)> = options
+            .iter()
+            .flat_map(|(out, r)| {
+                s.promising(r, &names)
+                    .into_iter()
+                    .take(3)
+                    .map(|alt| (out.clone(), r.clone(), alt))
+            })
+            .collect();
+        let swapped: Vec<Option<(Candidate, f64)>> =
+            par_map(&pairs, opts.threads, |(out, r, alt)| {
+                let (fit, scores) = s.add(r, alt)?;
+                let b = bic(&fit.eval, fit.k);
+                let mut c = judge(round + 1, alt, r, fit, opts, false);
+                c.forms = scores;
+                c.note = format!("swap for {out}: {}", c.note);
+                progress(alt);
+                Some((c, b))
+            });
+        let best = swapped
+            .into_iter()
+            .flatten()
+            .filter(|(c, b)| c.significant && *b < cur_bic - 2.0)
+            .min_by(|a, b| a.1.total_cmp(&b.1));
+        let Some((c, _)) = best else { break };
+        round += 1;
+        swaps += 1;
+        if let Some(f) = &c.fit {
+            current = f.clone();
+        }
+        candidates.push(c);
+    }
+    let stepwise = current.clone();
+    // Identifiability, stability, verdict.
+    let ambiguous = identify::ambiguities(&s, &stepwise, progress);
+    let freq = stability::frequencies(&s, &stepwise, progress);
+    let (chosen, verdict) = verdict::conclude(&s, &stepwise, &candidates, ambiguous, freq);
+    Outcome {
+        baseline,
+        candidates,
+        chosen,
+        stepwise,
+        verdict,
+        factors,
+    }
+}

@@ -1,0 +1,201 @@
+//! The rules that decide whether an effect earns its place: information criteria with the
+//! residuals' correlation taken into account, the held-out gain and its block test, and the
+//! Wald distance of the parameters from their null values.
+
+use super::fit::z_of;
+use super::{Candidate, Fit, SearchOptions};
+use crate::blocks::{Resample, heldout_t, part_sse};
+use crate::data::Evaluation;
+
+/// Mean over channels of 1 − RMSE_b/RMSE_a on validation data.
+pub fn gain(a: &Evaluation, b: &Evaluation) -> f64 {
+    gain_rs(a, b, None)
+}
+
+/// [`gain`] on the validation blocks of a resample (all blocks once without).
+pub fn gain_rs(a: &Evaluation, b: &Evaluation, rs: Option<&Resample>) -> f64 {
+    if rs.is_none() {
+        let mut s = 0.0;
+        let mut n = 0;
+        for (k, ma) in &a.metrics {
+            if let Some(mb) = b.metrics.get(k)
+                && ma.rmse > 0.0
+            {
+                s += 1.0 - mb.rmse / ma.rmse;
+                n += 1;
+            }
+        }
+        return if n > 0 { s / n as f64 } else { 0.0 };
+    }
+    let len = rs.map_or(crate::blocks::DEFAULT_BLOCK_S, |r| r.len);
+    let pa = part_sse(a, false, rs, len);
+    let pb = part_sse(b, false, rs, len);
+    let mut s = 0.0;
+    let mut n = 0;
+    for (k, (sa, na)) in &pa {
+        if let Some((sb, nb)) = pb.get(k)
+            && *sa > 0.0
+            && *na > 0.0
+            && *nb > 0.0
+        {
+            s += 1.0 - ((sb / nb) / (sa / na)).sqrt();
+            n += 1;
+        }
+    }
+    if n > 0 { s / n as f64 } else { 0.0 }
+}
+
+/// BIC of an evaluation with `k` free parameters: Σ_ch n_ch·ln(SSE_ch/n_ch) + k·ln n over the
+/// estimation samples (Gaussian likelihood with each channel's variance profiled out).
+pub fn bic(eval: &Evaluation, k: usize) -> f64 {
+    bic_rs(eval, k, None)
+}
+
+/// [`bic`] on the estimation blocks of a resample (every sample once without).
+pub fn bic_rs(eval: &Evaluation, k: usize, rs: Option<&Resample>) -> f64 {
+    let mut b = 0.0;
+    let mut ntot = 0.0;
+    if rs.is_none() {
+        for m in eval.metrics.values() {
+            let n = m.n_est.max(1) as f64;
+            b += n * (m.sse_est / n).max(1e-300).ln();
+            ntot += n;
+        }
+    } else {
+        for (s, n) in part_sse(eval, true, rs, 0.0).values() {
+            let n = n.max(1.0);
+            b += n * (s / n).max(1e-300).ln();
+            ntot += n;
+        }
+    }
+    b + k as f64 * ntot.max(1.0).ln()
+}
+
+/// ΔBIC of going from `a` to `b`.
+pub fn delta_bic(a: &Fit, b: &Fit) -> f64 {
+    bic(&b.eval, b.k) - bic(&a.eval, a.k)
+}
+
+/// ΔBIC of going from the smaller model `a` to the larger `b` with each channel's sample
+/// count replaced by its effective count n·(1−ρ₁)/(1+ρ₁), ρ₁ the lag-1 autocorrelation of
+/// `b`'s estimation residuals: a smooth residual that a mis-shaped extra effect only bends
+/// carries the information of a few dozen samples, not of thousands. (On a resample, counts
+/// and sums are the resample's.)
+pub fn delta_bic_eff(a: &Fit, b: &Fit, rs: Option<&Resample>) -> f64 {
+    let pa = part_sse(&a.eval, true, rs, rs.map_or(1.0, |r| r.len));
+    let pb = part_sse(&b.eval, true, rs, rs.map_or(1.0, |r| r.len));
+    let mut d = 0.0;
+    let mut ntot = 0.0;
+    for (k, (sb, nb)) in &pb {
+        let Some((sa, na)) = pa.get(k) else { continue };
+        if *na <= 0.0 || *nb <= 0.0 {
+            continue;
+        }
+        let rho = b
+            .eval
+            .metrics
+            .get(k)
+            .map_or(0.0, |m| m.rho1_est)
+            .clamp(0.0, 0.999);
+        let n_eff = (nb * (1.0 - rho) / (1.0 + rho)).max(1.0);
+        d += n_eff * ((sb / nb).max(1e-300) / (sa / na).max(1e-300)).ln();
+        ntot += n_eff;
+    }
+    d + (b.k as f64 - a.k as f64) * ntot.max(2.0).ln()
+}
+
+/// A candidate that was not fitted.
+pub fn skipped(round: usize, name: &str, note: String) -> Candidate {
+    Candidate {
+        round,
+        backward: false,
+        effect: name.to_string(),
+        form: String::new(),
+        forms: Vec::new(),
+        fit: None,
+        delta_bic: 0.0,
+        delta_bic_eff: 0.0,
+        gain: 0.0,
+        heldout_t: 0.0,
+        z: 0.0,
+        significant: false,
+        note,
+    }
+}
+
+/// Tests whether `name` earns its place in `fit` against `base` (the model without it): the
+/// same rules forward and backward (see the module docs of [`super`]).
+pub fn judge(
+    round: usize,
+    name: &str,
+    base: &Fit,
+    fit: Fit,
+    opts: &SearchOptions,
+    backward: bool,
+) -> Candidate {
+    let d = delta_bic(base, &fit);
+    let de = delta_bic_eff(base, &fit, None);
+    let g = gain(&base.eval, &fit.eval);
+    let t = heldout_t(&base.eval, &fit.eval, opts.block_s, None);
+    let z = z_of(&fit, name, true);
+    let ok_bic = de < opts.bic_threshold;
+    let ok_gain = g >= opts.min_gain;
+    let ok_t = t >= opts.t_threshold;
+    let ok_z = z >= opts.z_threshold;
+    let significant = ok_bic && ok_gain && ok_t && ok_z;
+    let mut why = Vec::new();
+    if !ok_bic {
+        why.push(format!(
+            "effective ΔBIC {de:.1} ≥ {} (plain {d:.1})",
+            opts.bic_threshold
+        ));
+    }
+    if !ok_gain {
+        why.push(format!(
+            "held-out gain {:.2} % < {:.1} %",
+            100.0 * g,
+            100.0 * opts.min_gain
+        ));
+    }
+    if !ok_t {
+        why.push(format!(
+            "held-out block test t = {t:.1} < {}",
+            opts.t_threshold
+        ));
+    }
+    if !ok_z {
+        why.push(format!(
+            "parameters within {:.1} σ of null (< {})",
+            z, opts.z_threshold
+        ));
+    }
+    let form = fit
+        .effects
+        .iter()
+        .find(|e| e.effect.name() == name)
+        .map(|e| e.effect.form().to_string())
+        .unwrap_or_default();
+    let note = if significant {
+        format!(
+            "significant: effective ΔBIC {de:.1}, held-out gain {:.1} % (block t {t:.1}), {z:.1} σ from null",
+            100.0 * g
+        )
+    } else {
+        format!("not significant: {}", why.join("; "))
+    };
+    Candidate {
+        round,
+        backward,
+        effect: name.to_string(),
+        form,
+        forms: Vec::new(),
+        fit: Some(fit),
+        delta_bic: d,
+        delta_bic_eff: de,
+        gain: g,
+        heldout_t: t,
+        z,
+        significant,
+        note,
+    }
+}

@@ -1,0 +1,183 @@
+//! The verdict: which effects the log shows with strong evidence, which are only possible
+//! (unstable under resampling, or not separable from another family), and where residual
+//! structure stays unexplained.
+
+use super::orchestrate::Search;
+use super::{Candidate, Fit};
+use crate::run::ChannelKind;
+use crate::stats;
+use std::collections::BTreeMap;
+
+/// What the search concludes.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
+pub struct Verdict {
+    /// Effect families with strong evidence (selected stepwise, stable under resampling,
+    /// identifiable), in the order they were chosen.
+    pub effects: Vec<String>,
+    /// The best-fitting form of each named effect (same order as `effects`).
+    pub forms: Vec<String>,
+    /// Weaker or ambiguous candidates, with their evidence.
+    pub possible: Vec<Possible>,
+    /// Pairs of effects the log cannot tell apart ("A or B").
+    pub ambiguous: Vec<Ambiguity>,
+    /// Channels whose held-out residuals stay structured with no family to explain them.
+    pub unexplained: Vec<Unexplained>,
+    /// Selection frequency of each stepwise effect over the block-bootstrap resamples (0…1).
+    pub stability: BTreeMap<String, f64>,
+}
+
+/// A candidate without strong evidence.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Possible {
+    /// Effect family.
+    pub effect: String,
+    /// Its best-fitting form.
+    pub form: String,
+    /// Why it is not named.
+    pub reason: String,
+    /// Its selection frequency over resamples (0…1), where measured.
+    pub stability: Option<f64>,
+}
+
+/// Two effects the log cannot tell apart.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Ambiguity {
+    /// The effect chosen stepwise, then the alternative that explains the data as well.
+    pub effects: [String; 2],
+    /// Held-out gain of the alternative over the chosen model (fraction; ≈ 0: as good).
+    pub heldout_gain: f64,
+    /// Held-out block test of the alternative against the chosen model.
+    pub heldout_t: f64,
+    /// The manoeuvre that would separate them.
+    pub manoeuvre: String,
+}
+
+/// Residual structure that no family explains.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Unexplained {
+    /// The channel.
+    pub channel: ChannelKind,
+    /// Held-out RMSE of the final model (channel unit).
+    pub rmse: f64,
+    /// Noise floor estimated from sample-to-sample differences of the held-out residuals
+    /// (channel unit).
+    pub noise_floor: f64,
+    /// Ljung–Box p-value of the held-out residuals.
+    pub ljung_box_p: f64,
+}
+
+impl serde::Serialize for ChannelKind {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(&format!("y.{}", self.name()))
+    }
+}
+
+/// RMS over noise floor above which structured residuals count as unexplained.
+const STRUCTURE_RATIO: f64 = 2.0;
+
+/// The verdict and the model of its named effects.
+pub(super) fn conclude(
+    s: &Search<'_>,
+    stepwise: &Fit,
+    candidates: &[Candidate],
+    ambiguous: Vec<Ambiguity>,
+    stability: BTreeMap<String, f64>,
+) -> (Fit, Verdict) {
+    let opts = s.ctx.opts;
+    let _ = candidates;
+    let mut possible = Vec::new();
+    let mut drop: Vec<String> = Vec::new();
+    for e in &stepwise.effects {
+        let name = e.effect.name().to_string();
+        let form = e.effect.form().to_string();
+        let freq = stability.get(&name).copied();
+        if let Some(a) = ambiguous.iter().find(|a| a.effects[0] == name) {
+            possible.push(Possible {
+                effect: name.clone(),
+                form: form.clone(),
+                reason: format!(
+                    "cannot be told apart from {} on this log (held-out block t {:.1}); {}",
+                    a.effects[1], a.heldout_t, a.manoeuvre
+                ),
+                stability: freq,
+            });
+            let alt_form = s
+                .forms
+                .get(&a.effects[1])
+                .and_then(|f| f.iter().min_by(|x, y| x.bic.total_cmp(&y.bic)))
+                .map(|f| f.effect.form().to_string())
+                .unwrap_or_default();
+            possible.push(Possible {
+                effect: a.effects[1].clone(),
+                form: alt_form,
+                reason: format!("explains the held-out data as well as {name}"),
+                stability: None,
+            });
+            drop.push(name);
+        } else if let Some(f) = freq.filter(|f| *f < opts.stability_threshold) {
+            possible.push(Possible {
+                effect: name.clone(),
+                form,
+                reason: format!(
+                    "selected in only {:.0} % of {} block-bootstrap resamples (needed: {:.0} %)",
+                    100.0 * f,
+                    opts.stability_draws,
+                    100.0 * opts.stability_threshold
+                ),
+                stability: Some(f),
+            });
+            drop.push(name);
+        }
+    }
+    let mut chosen = stepwise.clone();
+    for n in &drop {
+        if let Some(r) = s.ctx.without(&chosen, n, &s.baseline) {
+            chosen = r;
+        }
+    }
+    let unexplained = unexplained(&chosen);
+    let verdict = Verdict {
+        effects: chosen.names(),
+        forms: chosen
+            .effects
+            .iter()
+            .map(|e| e.effect.form().to_string())
+            .collect(),
+        possible,
+        ambiguous,
+        unexplained,
+        stability,
+    };
+    (chosen, verdict)
+}
+
+/// Channels of `fit` whose held-out residuals fail the Ljung–Box test and whose RMS is more
+/// than [`STRUCTURE_RATIO`] times the noise floor.
+fn unexplained(fit: &Fit) -> Vec<Unexplained> {
+    let mut out = Vec::new();
+    for (k, m) in &fit.eval.metrics {
+        let mut diffs = Vec::new();
+        for r in &fit.eval.runs {
+            for c in r.channels.iter().filter(|c| c.kind == *k) {
+                let v: Vec<f64> = c
+                    .resid
+                    .iter()
+                    .zip(&c.est)
+                    .filter(|(_, e)| !**e)
+                    .map(|(x, _)| *x)
+                    .collect();
+                diffs.extend(v.windows(2).map(|w| w[1] - w[0]));
+            }
+        }
+        let noise = stats::rms(&diffs) / std::f64::consts::SQRT_2;
+        if !m.ljung_box.white() && m.rmse > STRUCTURE_RATIO * noise.max(1e-12) {
+            out.push(Unexplained {
+                channel: *k,
+                rmse: m.rmse,
+                noise_floor: noise,
+                ljung_box_p: m.ljung_box.p_value,
+            });
+        }
+    }
+    out
+}
