@@ -94,11 +94,12 @@ impl Effect for BuoyancyOffsetDepth {
             ParamInfo {
                 name: "k_n_m",
                 unit: "N/m",
-                lo: -0.05 * w,
+                lo: 0.0,
                 hi: 0.05 * w,
                 null: 0.0,
                 typical: 0.002 * w,
-                doc: "change of the net downward force per metre of depth",
+                doc: "growth of the net downward force per metre of depth (compression only \
+                      makes a hull heavier)",
                 shape: false,
             },
         ]

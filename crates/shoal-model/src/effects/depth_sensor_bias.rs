@@ -104,7 +104,7 @@ impl Effect for DepthSensorBiasSettling {
             ParamInfo {
                 name: "tau_s",
                 unit: "s",
-                lo: 2.0,
+                lo: 20.0,
                 hi: 1000.0,
                 null: 60.0,
                 typical: 60.0,

@@ -48,7 +48,7 @@ pub use thrust_asymmetry::ThrustAsymmetry;
 pub use thrust_coupling::ThrustCoupling;
 pub use thrust_gain::ThrustGain;
 pub use thrust_saturation::{ThrustSaturation, ThrustSaturationSmooth};
-pub use thruster_deadband::{ThrusterDeadband, ThrusterDeadbandSoft};
+pub use thruster_deadband::{ThrusterDeadband, ThrusterDeadbandGate, ThrusterDeadbandSoft};
 pub use thruster_lag::{ThrusterLag, ThrusterLagSecondOrder, ThrusterLagUpDown};
 pub use water_current::WaterCurrent;
 
@@ -192,6 +192,7 @@ pub fn catalogue() -> Vec<Arc<dyn Effect>> {
         Arc::new(ThrustAsymmetry),
         Arc::new(ThrusterDeadband),
         Arc::new(ThrusterDeadbandSoft),
+        Arc::new(ThrusterDeadbandGate),
         Arc::new(BatterySag),
         Arc::new(BatterySagExponential),
         Arc::new(InflowThrustLoss),

@@ -12,6 +12,9 @@
 //!
 //! A `soft` form competes with the hard cut: `n' = n − d₀·tanh(n/d₀)`, a dead band whose
 //! edge is a smooth knee and whose curve outside is shifted rather than stretched.
+//! A `gate` form: `n' = n·x^p/(x^p + 1)`, x = |n|/d₀, no thrust well inside the band and the
+//! unchanged curve well outside it, with a fitted sharpness p.
+
 use super::{Effect, ParamInfo};
 use crate::thruster::ThrusterParams;
 use crate::vehicle::VehicleParams;
@@ -94,5 +97,63 @@ impl Effect for ThrusterDeadbandSoft {
             return n;
         }
         n - d0 * (n / d0).tanh()
+    }
+}
+
+/// The `gate` form: commands well below d₀ give no thrust, commands well above it the full
+/// curve, unchanged, with a gate of sharpness p between, `n' = n·x^p/(x^p + 1)`, x = |n|/d₀ —
+/// static friction that stops the motor at small commands but does not change the thrust once
+/// it turns. p → ∞ is a hard cut without stretching; p ≈ 2–4 a soft onset.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ThrusterDeadbandGate;
+
+impl Effect for ThrusterDeadbandGate {
+    fn name(&self) -> &'static str {
+        "thruster_deadband"
+    }
+    fn form(&self) -> &'static str {
+        "gate"
+    }
+    fn summary(&self) -> &'static str {
+        "no thrust for |command| below d₀, the unchanged curve above it"
+    }
+    fn explanation(&self) -> &'static str {
+        "ESC and motor static friction: small commands do not turn the motor, larger ones \
+         give the thrust the curve promises; a gate of width d₀ and sharpness p between."
+    }
+    fn params(&self, _vehicle: &VehicleParams) -> Vec<ParamInfo> {
+        vec![
+            ParamInfo {
+                name: "d0_pct",
+                unit: "%",
+                lo: 0.0,
+                hi: 40.0,
+                null: 0.0,
+                typical: 8.0,
+                doc: "command at which half the command gets through",
+                shape: false,
+            },
+            ParamInfo {
+                name: "sharpness",
+                unit: "-",
+                lo: 2.0,
+                hi: 40.0,
+                null: 8.0,
+                typical: 8.0,
+                doc: "exponent p of the gate (large: a hard cut)",
+                shape: true,
+            },
+        ]
+    }
+    fn command(&self, p: &[f64], _thruster: &ThrusterParams, n: f64) -> f64 {
+        let d0 = p[0];
+        if d0 <= 0.0 {
+            return n;
+        }
+        let xp = (n.abs() / d0).powf(p[1].clamp(1.0, 64.0));
+        if !xp.is_finite() {
+            return n;
+        }
+        n * xp / (xp + 1.0)
     }
 }
