@@ -14,7 +14,7 @@
 //! so it looks like extra damping that only acts while the thruster runs.
 
 //!
-//! A `linear` form competes: `f = f_static − k·|f_static|·u_a`.
+//! A `linear` form competes, `f = f_static − k·|f_static|·u_a`.
 use super::{Effect, ParamInfo, ThrustContext};
 use crate::vehicle::VehicleParams;
 

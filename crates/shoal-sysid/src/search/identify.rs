@@ -35,7 +35,7 @@ pub(super) fn ambiguities(
     let found: Vec<Option<Ambiguity>> = par_map(&tries, opts.threads, |(name, reduced, alt)| {
         let (fit, _) = s.add(reduced, alt)?;
         progress(&format!("{alt} in place of {name}"));
-        let c = judge(0, alt, reduced, fit.clone(), opts, false);
+        let c = judge(0, alt, reduced, fit.clone(), opts, false, &s.baseline.eval);
         if !c.significant {
             return None;
         }

@@ -30,7 +30,10 @@
 //!    (default 3 %), averaged over channels;
 //! 3. the held-out improvement is consistent over time blocks: the t statistic of the per-block
 //!    reductions ([`crate::blocks::heldout_t`]) is at least `t_threshold` (default 2);
-//! 4. its parameters are jointly `z_threshold` (default 3) standard deviations from their null
+//! 4. the held-out RMSE falls by at least `min_material` (default 2 %) *of the baseline's*
+//!    held-out RMSE: an extra effect that only trims what is left after the others — a form
+//!    mismatch being soaked up — is not worth naming;
+//! 5. its parameters are jointly `z_threshold` (default 3) standard deviations from their null
 //!    values (Wald test; shape parameters excluded).
 //!
 //! *Forward*: the family with the lowest BIC among those that pass joins the model, then each
@@ -105,6 +108,9 @@ pub struct SearchOptions {
     pub base_effects: Vec<EffectInstance>,
     /// Length of the time blocks of the held-out test and the bootstrap \[s\] (default 4).
     pub block_s: f64,
+    /// Smallest reduction of the held-out RMSE, as a fraction of the baseline's, that an
+    /// effect must bring to the model it joins (default 0.02).
+    pub min_material: f64,
     /// Smallest held-out block t statistic that counts (default 2).
     pub t_threshold: f64,
     /// Block-bootstrap resamples for stability selection (default 8; 0: no stability check).
@@ -130,6 +136,7 @@ impl Default for SearchOptions {
             base_effects: Vec::new(),
             block_s: crate::blocks::DEFAULT_BLOCK_S,
             t_threshold: 2.0,
+            min_material: 0.02,
             stability_draws: 8,
             stability_threshold: 0.7,
             seed: 0x5140a1,

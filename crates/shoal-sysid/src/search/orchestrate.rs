@@ -199,7 +199,7 @@ pub fn search(
         }
         let c = match best {
             Some(fit) => {
-                let mut c = judge(1, name, &baseline, fit.clone(), opts, false);
+                let mut c = judge(1, name, &baseline, fit.clone(), opts, false, &baseline.eval);
                 c.forms = scores;
                 c
             }
@@ -240,7 +240,7 @@ pub fn search(
         let next: Vec<Candidate> = par_map(&tries, opts.threads, |name| {
             let c = match s.add(cur, name) {
                 Some((fit, scores)) => {
-                    let mut c = judge(round, name, cur, fit, opts, false);
+                    let mut c = judge(round, name, cur, fit, opts, false, &baseline.eval);
                     c.forms = scores;
                     c
                 }
@@ -263,7 +263,7 @@ pub fn search(
             let checks: Vec<(Candidate, Option<Fit>)> = par_map(&names, opts.threads, |name| {
                 let r = s.ctx.without(cur, name, &baseline);
                 let c = match &r {
-                    Some(r) => judge(round, name, r, cur.clone(), opts, true),
+                    Some(r) => judge(round, name, r, cur.clone(), opts, true, &baseline.eval),
                     None => Candidate {
                         significant: true,
                         backward: true,
@@ -314,7 +314,7 @@ pub fn search(
             par_map(&pairs, opts.threads, |(out, r, alt)| {
                 let (fit, scores) = s.add(r, alt)?;
                 let b = bic(&fit.eval, fit.k);
-                let mut c = judge(round + 1, alt, r, fit, opts, false);
+                let mut c = judge(round + 1, alt, r, fit, opts, false, &baseline.eval);
                 c.forms = scores;
                 c.note = format!("swap for {out}: {}", c.note);
                 progress(alt);

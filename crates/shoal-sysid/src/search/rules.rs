@@ -104,6 +104,24 @@ pub fn delta_bic_eff(a: &Fit, b: &Fit, rs: Option<&Resample>) -> f64 {
     d + (b.k as f64 - a.k as f64) * ntot.max(2.0).ln()
 }
 
+/// How much going from `a` to `b` lowers the held-out RMSE, as a fraction of the baseline's
+/// held-out RMSE (mean over channels): an effect that only trims what is left after the
+/// others — a form mismatch being soaked up — moves little of the error the user started
+/// with.
+pub fn material(baseline: &Evaluation, a: &Evaluation, b: &Evaluation) -> f64 {
+    let mut s = 0.0;
+    let mut n = 0;
+    for (k, m0) in &baseline.metrics {
+        if let (Some(ma), Some(mb)) = (a.metrics.get(k), b.metrics.get(k))
+            && m0.rmse > 0.0
+        {
+            s += (ma.rmse - mb.rmse) / m0.rmse;
+            n += 1;
+        }
+    }
+    if n > 0 { s / n as f64 } else { 0.0 }
+}
+
 /// A candidate that was not fitted.
 pub fn skipped(round: usize, name: &str, note: String) -> Candidate {
     Candidate {
@@ -132,6 +150,7 @@ pub fn judge(
     fit: Fit,
     opts: &SearchOptions,
     backward: bool,
+    baseline: &Evaluation,
 ) -> Candidate {
     let d = delta_bic(base, &fit);
     let de = delta_bic_eff(base, &fit, None);
@@ -142,7 +161,9 @@ pub fn judge(
     let ok_gain = g >= opts.min_gain;
     let ok_t = t >= opts.t_threshold;
     let ok_z = z >= opts.z_threshold;
-    let significant = ok_bic && ok_gain && ok_t && ok_z;
+    let m = material(baseline, &base.eval, &fit.eval);
+    let ok_m = m >= opts.min_material;
+    let significant = ok_bic && ok_gain && ok_t && ok_z && ok_m;
     let mut why = Vec::new();
     if !ok_bic {
         why.push(format!(
@@ -161,6 +182,13 @@ pub fn judge(
         why.push(format!(
             "held-out block test t = {t:.1} < {}",
             opts.t_threshold
+        ));
+    }
+    if !ok_m {
+        why.push(format!(
+            "held-out RMSE falls by only {:.2} % of the baseline's (< {:.1} %)",
+            100.0 * m,
+            100.0 * opts.min_material
         ));
     }
     if !ok_z {
