@@ -43,7 +43,7 @@ pub(super) fn forms() -> Vec<TruthForm> {
             law: "pump flow q₀·(1 − e^(−(t − t_on)/τ)) after each start",
             params: vec![
                 FormParam::magnitude("q0_ml_s", "ml/s", 0.1, 0.25, "flow once up to speed"),
-                FormParam::magnitude("tau_s", "s", 1.0, 3.0, "spin-up time constant"),
+                FormParam::shape("tau_s", "s", 1.0, 3.0, "spin-up time constant"),
             ],
             excites: &[ExpKind::Heave],
             build: |p| {

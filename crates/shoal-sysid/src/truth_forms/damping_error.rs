@@ -29,7 +29,7 @@ pub(super) fn forms() -> Vec<TruthForm> {
             law: DIRECTION_LAW,
             params: vec![
                 FormParam::magnitude("k_pos", "-", 1.35, 1.7, "damping factor for ν > 0"),
-                FormParam::magnitude("k_neg", "-", 0.6, 0.8, "damping factor for ν < 0"),
+                FormParam::deficit("k_neg", "-", 0.6, 0.8, "damping factor for ν < 0"),
             ],
             excites: &[ExpKind::Heave, ExpKind::Yaw],
             build: |p| {

@@ -98,6 +98,9 @@ pub enum Draw {
     Magnitude,
     /// A magnitude as above, with a random sign.
     Signed,
+    /// A magnitude whose effect grows as the value falls (a factor below one, a time
+    /// constant's inverse): the band's weak end is `hi`, its strong end `lo`.
+    Deficit,
     /// A shape parameter (phase, direction, …): uniform over all of `lo … hi`, whatever the
     /// band.
     Shape,
@@ -110,9 +113,11 @@ pub struct FormParam {
     pub name: &'static str,
     /// Unit in words (e.g. `rad/s`, `-`).
     pub unit: &'static str,
-    /// Smallest value (magnitude for [`Draw::Signed`]), in [`FormParam::unit`].
+    /// Smallest value (magnitude for [`Draw::Signed`]; the strong end for [`Draw::Deficit`]),
+    /// in [`FormParam::unit`].
     pub lo: f64,
-    /// Largest value (magnitude for [`Draw::Signed`]), in [`FormParam::unit`].
+    /// Largest value (magnitude for [`Draw::Signed`]; the weak end for [`Draw::Deficit`]), in
+    /// [`FormParam::unit`].
     pub hi: f64,
     /// How it is drawn.
     pub draw: Draw,
@@ -149,6 +154,21 @@ impl FormParam {
     ) -> Self {
         Self {
             draw: Draw::Signed,
+            ..Self::magnitude(name, unit, lo, hi, doc)
+        }
+    }
+
+    /// A magnitude in `lo … hi` [`unit`](FormParam::unit) whose effect is the stronger the
+    /// smaller it is.
+    pub const fn deficit(
+        name: &'static str,
+        unit: &'static str,
+        lo: f64,
+        hi: f64,
+        doc: &'static str,
+    ) -> Self {
+        Self {
+            draw: Draw::Deficit,
             ..Self::magnitude(name, unit, lo, hi, doc)
         }
     }
@@ -215,9 +235,9 @@ impl TruthForm {
         self.name.split_once('/').map_or(self.name, |(_, f)| f)
     }
 
-    /// Draws parameter values: magnitudes uniformly within `band` (a sub-interval of 0 … 1 of
-    /// each magnitude's range: (0, 1) is the whole range, (0.5, 1) its upper half), shapes over
-    /// their whole range.
+    /// Draws parameter values: magnitudes uniformly within `band`, a sub-interval of 0 … 1 from
+    /// the weak to the strong end of each magnitude's range ((0, 1) is the whole range,
+    /// (0.5, 1) its stronger half); shapes over their whole range.
     pub fn draw(&self, rng: &mut ChaCha8Rng, band: (f64, f64)) -> Vec<f64> {
         let (b0, b1) = (band.0.clamp(0.0, 1.0), band.1.clamp(0.0, 1.0));
         self.params
@@ -227,7 +247,10 @@ impl TruthForm {
                     Draw::Shape => rng.random_range(0.0..1.0),
                     _ => b0 + (b1 - b0) * rng.random_range(0.0..1.0),
                 };
-                let v = p.lo + (p.hi - p.lo) * u;
+                let v = match p.draw {
+                    Draw::Deficit => p.hi - (p.hi - p.lo) * u,
+                    _ => p.lo + (p.hi - p.lo) * u,
+                };
                 if p.draw == Draw::Signed && rng.random_bool(0.5) {
                     -v
                 } else {
@@ -435,8 +458,11 @@ mod tests {
             for (p, v) in f.params.iter().zip(&x) {
                 let m = if p.draw == Draw::Signed { v.abs() } else { *v };
                 assert!(m >= p.lo && m <= p.hi, "{}.{} = {v}", f.name, p.name);
-                if p.draw != Draw::Shape {
-                    assert!(m >= p.lo + 0.5 * (p.hi - p.lo) - 1e-12, "{}", p.name);
+                let mid = p.lo + 0.5 * (p.hi - p.lo);
+                match p.draw {
+                    Draw::Magnitude | Draw::Signed => assert!(m >= mid - 1e-12, "{}", p.name),
+                    Draw::Deficit => assert!(m <= mid + 1e-12, "{}", p.name),
+                    Draw::Shape => {}
                 }
             }
             // Every form builds.

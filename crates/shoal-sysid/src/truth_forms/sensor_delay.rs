@@ -28,8 +28,8 @@ pub(super) fn forms() -> Vec<TruthForm> {
             family: "sensor_delay",
             law: "y(t) = x(latest φ + j·T_s ≤ t − δ)",
             params: vec![
-                FormParam::magnitude("period_s", "s", 0.06, 0.15, "sensor sample period T_s"),
-                FormParam::magnitude("delay_s", "s", 0.05, 0.2, "transport delay δ"),
+                FormParam::magnitude("period_s", "s", 0.08, 0.16, "sensor sample period T_s"),
+                FormParam::magnitude("delay_s", "s", 0.06, 0.2, "transport delay δ"),
                 FormParam::shape("phase", "-", 0.0, 1.0, "sensor clock phase φ / T_s"),
             ],
             excites: &[ExpKind::Heave, ExpKind::Yaw],

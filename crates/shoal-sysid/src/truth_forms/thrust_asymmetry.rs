@@ -39,8 +39,8 @@ pub(super) fn forms() -> Vec<TruthForm> {
             family: "thrust_asymmetry",
             law: PER_THRUSTER_LAW,
             params: vec![
-                FormParam::magnitude("k_port", "-", 0.6, 0.75, "reverse-thrust factor, port"),
-                FormParam::magnitude("k_stbd", "-", 0.75, 0.9, "reverse-thrust factor, starboard"),
+                FormParam::deficit("k_port", "-", 0.6, 0.75, "reverse-thrust factor, port"),
+                FormParam::deficit("k_stbd", "-", 0.75, 0.9, "reverse-thrust factor, starboard"),
             ],
             excites: &[ExpKind::Heave, ExpKind::Yaw],
             build: |p| {

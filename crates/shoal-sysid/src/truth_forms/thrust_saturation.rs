@@ -25,7 +25,7 @@ pub(super) fn forms() -> Vec<TruthForm> {
             family: "thrust_saturation",
             law: SOFT_LAW,
             params: vec![
-                FormParam::magnitude(
+                FormParam::deficit(
                     "c",
                     "-",
                     0.5,
@@ -42,20 +42,26 @@ pub(super) fn forms() -> Vec<TruthForm> {
             family: "thrust_saturation",
             law: CAPS_LAW,
             params: vec![
-                FormParam::magnitude("c_fwd", "-", 0.5, 0.7, "forward cap c₊ per forward maximum"),
-                FormParam::magnitude(
-                    "c_rev",
+                FormParam::deficit(
+                    "c_fwd",
                     "-",
-                    0.75,
-                    0.9,
-                    "reverse cap c₋ per reverse maximum",
+                    0.4,
+                    0.55,
+                    "forward cap c₊ per forward maximum",
+                ),
+                FormParam::shape(
+                    "gap",
+                    "-",
+                    0.15,
+                    0.3,
+                    "reverse cap minus forward cap, c₋ − c₊",
                 ),
             ],
             excites: &[ExpKind::Heave, ExpKind::Yaw],
             build: |p| {
                 Part::Effect(Arc::new(AsymmetricCaps {
                     c_fwd: p[0],
-                    c_rev: p[1],
+                    c_rev: p[0] + p[1],
                 }))
             },
         },

@@ -26,8 +26,8 @@ pub(super) fn forms() -> Vec<TruthForm> {
             family: "thruster_deadband",
             law: LINEAR_RAMP_LAW,
             params: vec![
-                FormParam::magnitude("d0_pct", "%", 4.0, 9.0, "edge of the dead band"),
-                FormParam::magnitude("ramp_pct", "%", 6.0, 14.0, "width of the ramp, d₁ − d₀"),
+                FormParam::magnitude("d0_pct", "%", 7.0, 10.0, "edge of the dead band"),
+                FormParam::magnitude("ramp_pct", "%", 8.0, 16.0, "width of the ramp, d₁ − d₀"),
             ],
             excites: &[ExpKind::Heave, ExpKind::Yaw],
             build: |p| {

@@ -24,14 +24,14 @@ pub(super) fn forms() -> Vec<TruthForm> {
             family: "thruster_lag",
             law: "port motor speed: n̈ = ω²(n_cmd − n) − 2ζω ṅ (underdamped); other motors instant",
             params: vec![
-                FormParam::magnitude(
+                FormParam::deficit(
                     "omega_rad_s",
                     "rad/s",
                     2.5,
                     5.0,
                     "natural frequency of the port motor's speed response",
                 ),
-                FormParam::magnitude("zeta", "-", 0.2, 0.45, "damping ratio (< 1: overshoot)"),
+                FormParam::shape("zeta", "-", 0.2, 0.45, "damping ratio (< 1: overshoot)"),
             ],
             excites: &[ExpKind::Heave, ExpKind::Yaw],
             build: |p| {
@@ -47,7 +47,7 @@ pub(super) fn forms() -> Vec<TruthForm> {
             name: "thruster_lag/slew_rate",
             family: "thruster_lag",
             law: "every motor command ramps toward its target at most R %/s",
-            params: vec![FormParam::magnitude(
+            params: vec![FormParam::deficit(
                 "rate_pct_s",
                 "%/s",
                 80.0,
