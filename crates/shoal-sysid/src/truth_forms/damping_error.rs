@@ -3,7 +3,8 @@
 //!
 //! * `damping_error/direction_dependent` — the drag depends on the direction of motion (a dome
 //!   or a skid on one side): every damping term is scaled by k₊ while the velocity component is
-//!   positive and by k₋ while it is negative (diving vs rising, turning right vs left).
+//!   positive and by k₋ (near one) while it is negative (diving vs rising, turning right vs
+//!   left).
 //! * `damping_error/speed_exponent` — an extra drag term of another power of the speed, as
 //!   from an appendage in turbulent flow: −s·d_quad·ν_ref^(2−p)·|ν|^(p−1)·ν per degree of
 //!   freedom, i.e. s times the quadratic damping at the reference speed ν_ref (0.1 m/s,
@@ -28,8 +29,8 @@ pub(super) fn forms() -> Vec<TruthForm> {
             family: "damping_error",
             law: DIRECTION_LAW,
             params: vec![
-                FormParam::magnitude("k_pos", "-", 1.35, 1.7, "damping factor for ν > 0"),
-                FormParam::deficit("k_neg", "-", 0.6, 0.8, "damping factor for ν < 0"),
+                FormParam::magnitude("k_pos", "-", 1.3, 1.6, "damping factor for ν > 0"),
+                FormParam::shape("k_neg", "-", 0.95, 1.1, "damping factor for ν < 0"),
             ],
             excites: &[ExpKind::Heave, ExpKind::Yaw],
             build: |p| {

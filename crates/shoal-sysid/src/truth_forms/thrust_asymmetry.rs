@@ -39,14 +39,20 @@ pub(super) fn forms() -> Vec<TruthForm> {
             family: "thrust_asymmetry",
             law: PER_THRUSTER_LAW,
             params: vec![
-                FormParam::deficit("k_port", "-", 0.6, 0.75, "reverse-thrust factor, port"),
-                FormParam::deficit("k_stbd", "-", 0.75, 0.9, "reverse-thrust factor, starboard"),
+                FormParam::deficit("k_port", "-", 0.6, 0.8, "reverse-thrust factor, port"),
+                FormParam::shape(
+                    "gap",
+                    "-",
+                    0.05,
+                    0.12,
+                    "starboard factor minus port factor, k_s − k_p",
+                ),
             ],
             excites: &[ExpKind::Heave, ExpKind::Yaw],
             build: |p| {
                 Part::Effect(Arc::new(ReversePerThruster {
                     k_port: p[0],
-                    k_stbd: p[1],
+                    k_stbd: p[0] + p[1],
                 }))
             },
         },

@@ -3,8 +3,8 @@
 //!
 //! * `thrust_coupling/quadratic_wash` — the wash that hits an appendage grows with the square of
 //!   the thrust: N = k·F_z·|F_z|/F_ref (F_ref = 0.1 N, k the arm at that thrust).
-//! * `thrust_coupling/direction_dependent` — the wash hits a fin only on one side: pushing down
-//!   gives N = k_d·F_z, pushing up N = r·k_d·F_z with |r| < 1 (possibly of the other sign).
+//! * `thrust_coupling/direction_dependent` — the wash hits a fin mainly on one side: pushing
+//!   down gives N = k_d·F_z, pushing up N = r·k_d·F_z with 0.2 ≤ r ≤ 0.6.
 //!
 //! F_z is the thrusters' force along body z. Both reuse the catalogue's moment with an arm that
 //! depends on the thrust.
@@ -53,8 +53,8 @@ pub(super) fn forms() -> Vec<TruthForm> {
                 FormParam::shape(
                     "r",
                     "-",
-                    -0.3,
-                    0.3,
+                    0.2,
+                    0.6,
                     "upward arm relative to the downward one",
                 ),
             ],

@@ -58,8 +58,8 @@ pub(super) fn forms() -> Vec<TruthForm> {
                 FormParam::signed(
                     "e",
                     "-",
-                    0.1,
-                    0.2,
+                    0.06,
+                    0.12,
                     "exponent of the gain's command dependence",
                 ),
             ],

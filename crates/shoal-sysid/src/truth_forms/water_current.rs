@@ -3,8 +3,9 @@
 //!
 //! * `water_current/oscillating` — a circulation that pulses: the current keeps its direction
 //!   θ while its speed swings, v(t) = m₀ + m₁·sin(2πt/P + φ).
-//! * `water_current/rotating` — an eddy drifting past: the current keeps its speed m while its
-//!   direction turns at a steady rate Ω, θ(t) = θ₀ + Ω·t.
+//! * `water_current/rotating` — a slowly veering flow (an eddy drifting past): the current keeps
+//!   its speed m while its direction turns at a steady rate Ω, θ(t) = θ₀ + Ω·t, by about a
+//!   radian over a two-minute run.
 //!
 //! Both are horizontal currents in the world frame, changed every simulation step (slowly
 //! enough that the hull's inertia against the changing flow is negligible).
@@ -50,9 +51,9 @@ pub(super) fn forms() -> Vec<TruthForm> {
                 FormParam::signed(
                     "omega_rad_s",
                     "rad/s",
-                    0.02,
-                    0.05,
-                    "turn rate of the direction",
+                    0.004,
+                    0.01,
+                    "turn rate of the direction (0.5–1.2 rad over 120 s)",
                 ),
                 FormParam::shape("theta0_rad", "rad", 0.0, TAU, "direction at t = 0"),
             ],
