@@ -1,8 +1,8 @@
 //! The search must recognise an effect's physics when its true functional form is not the
 //! catalogue's: the CI subset of the misspecified-form test set (`shoal_sysid::testset`) —
 //! every truth form once (an underdamped motor for a lag, a ramped dead band, a compressing air
-//! bubble for a buoyancy offset, a boxcar-filtering sensor for a delay, …), 13 pairs of
-//! families and 6 null runs — simulated through the full sensor models, written as a real
+//! bubble for a buoyancy offset, a boxcar-filtering sensor for a delay, …), 8 pairs of
+//! families and 4 null runs — simulated through the full sensor models, written as a real
 //! logger writes them (six significant digits, the tilt at −1.5708, 1.8 mm depth steps,
 //! 50 Hz) and handed to the search as CSV text only (μAUV² preset baseline, 60/40 split,
 //! 20 ms replay, 2 threads).
