@@ -448,7 +448,11 @@ mod tests {
                     })
                     .collect();
                 let best = snr.iter().map(|s| s.1).fold(0.0, f64::max);
-                assert!(best >= 5.0, "{} in {kind:?}: {snr:?}", spec.hidden[0].describe());
+                assert!(
+                    best >= 5.0,
+                    "{} in {kind:?}: {snr:?}",
+                    spec.hidden[0].describe()
+                );
             }
         }
     }
