@@ -13,6 +13,10 @@
 //! * [`report`] — `report.json`, `report.md` with plots, and the extended `vehicle.toml`;
 //! * [`synth`], [`design`] — synthetic runs with hidden effects and the μAUV² experiments
 //!   that excite every effect.
+//! * [`truth_forms`], [`logger`] — effects hidden in forms that differ from the catalogue's,
+//!   and logs written the way a real logger writes them;
+//! * [`testset`], [`recovery`] — the misspecified-form test set built from them, and how a
+//!   search's verdicts on it are scored.
 //!
 //! The effects themselves live in `shoal_model::effects`, so that `shoal run` uses a fitted
 //! model unchanged.
@@ -21,9 +25,13 @@ pub mod blocks;
 pub mod data;
 pub mod design;
 pub mod lm;
+pub mod logger;
+pub mod recovery;
 pub mod replay;
 pub mod report;
 pub mod run;
 pub mod search;
 pub mod stats;
 pub mod synth;
+pub mod testset;
+pub mod truth_forms;

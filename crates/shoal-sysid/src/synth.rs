@@ -6,6 +6,10 @@
 //! Independent of [`crate::replay`]: it steps the model with the run-time path of
 //! `shoal run` (`actuate_vehicle`, `integrate_vehicle`, `sense` with its delay line) on its own
 //! time step, and adds measurement noise from a seeded RNG.
+//!
+//! [`synthesize_with`] adds a [`TruthHook`]: per-step access for simulated truths whose state
+//! the effect hooks cannot carry (a motor's speed response, a pump's start-up, a sensor's
+//! filter; see [`crate::truth_forms`]). [`synthesize`] is the same without a hook.
 
 use crate::run::{Channel, ChannelKind, InputColumn, MeasuredRun};
 use rand::SeedableRng;
@@ -63,6 +67,40 @@ impl Experiment {
     }
 }
 
+/// Per-step access to a simulated truth, for behaviour with state of its own. Every method
+/// defaults to doing nothing; `()` is the hook that changes nothing.
+pub trait TruthHook {
+    /// Before the actuators act over a physics step of `dt` \[s\]: may change what the actuators
+    /// receive (`cmd`; the log keeps the experiment's commands), the water (`env`, for this
+    /// step and the samples that follow it) and the vehicle's state (e.g. its tank volume).
+    fn before_actuate(
+        &mut self,
+        _model: &VehicleModel,
+        _state: &mut VehicleState,
+        _cmd: &mut ActuatorCommands,
+        _env: &mut Environment,
+        _dt: f64,
+    ) {
+    }
+    /// After the actuators, before the rigid body is integrated over `dt` \[s\]: may change the
+    /// force `state.tau` and the mass properties `state.mass`.
+    fn before_integrate(
+        &mut self,
+        _model: &VehicleModel,
+        _state: &mut VehicleState,
+        _env: &Environment,
+        _dt: f64,
+    ) {
+    }
+    /// At a logger sample: the hull state the sensors see, if not the true one (a sensor that
+    /// filters or holds its input).
+    fn sensed(&mut self, _state: &VehicleState) -> Option<RigidState> {
+        None
+    }
+}
+
+impl TruthHook for () {}
+
 /// Simulates `exp` on `model` in water `env` with physics step `dt` \[s\] and measurement
 /// noise from `seed`.
 pub fn synthesize(
@@ -71,6 +109,18 @@ pub fn synthesize(
     exp: &Experiment,
     dt: f64,
     seed: u64,
+) -> MeasuredRun {
+    synthesize_with(model, env, exp, dt, seed, &mut ())
+}
+
+/// [`synthesize`] with a [`TruthHook`] called around every physics step and at every sample.
+pub fn synthesize_with(
+    model: &VehicleModel,
+    env: &Environment,
+    exp: &Experiment,
+    dt: f64,
+    seed: u64,
+    hook: &mut dyn TruthHook,
 ) -> MeasuredRun {
     let p = &model.params;
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
@@ -119,10 +169,14 @@ pub fn synthesize(
             }
         }
     };
+    let mut water = *env;
+    let mut hooked = cmd.clone();
     for k in 0..n_samples {
         let t = k as f64 * exp.sample_period;
         apply(t, &mut cmd, &mut state);
-        sense(model, &mut state, env, &mut rng, &mut readings);
+        let seen = hook.sensed(&state);
+        let truth = seen.map(|r| std::mem::replace(&mut state.rigid, r));
+        sense(model, &mut state, &water, &mut rng, &mut readings);
         // Tracked positions share the sensor delay.
         positions.push_back((state.time, state.rigid.position));
         while positions.len() > 1 && positions[1].0 <= state.time - delay + 1e-9 {
@@ -154,7 +208,7 @@ pub fn synthesize(
                         + state
                             .rigid
                             .attitude
-                            .inverse_transform_vector(&model.environment(env).current);
+                            .inverse_transform_vector(&model.environment(&water).current);
                     match c.kind {
                         ChannelKind::U => v.x,
                         ChannelKind::V => v.y,
@@ -165,13 +219,20 @@ pub fn synthesize(
             c.rows.push(k);
             c.values.push(v);
         }
+        if let Some(r) = truth {
+            state.rigid = r;
+        }
         if k + 1 == n_samples {
             break;
         }
         for s in 0..sub {
             apply(t + s as f64 * h, &mut cmd, &mut state);
-            actuate_vehicle(model, &mut state, &cmd, env, h);
-            integrate_vehicle(model, &mut state, env, Integrator::Rk4, h);
+            hooked.clone_from(&cmd);
+            water = *env;
+            hook.before_actuate(model, &mut state, &mut hooked, &mut water, h);
+            actuate_vehicle(model, &mut state, &hooked, &water, h);
+            hook.before_integrate(model, &mut state, &water, h);
+            integrate_vehicle(model, &mut state, &water, Integrator::Rk4, h);
         }
     }
     MeasuredRun {

@@ -1,0 +1,98 @@
+//! `buoyancy_offset` truth forms — weight and buoyancy differ, but not by a constant ΔF or
+//! ΔF + k·depth as the fitting side assumes:
+//!
+//! * `buoyancy_offset/gas_compression` — the vehicle was trimmed neutral at the surface with
+//!   air trapped in the hull; the air compresses with depth (Boyle), so the vehicle grows
+//!   heavier as it dives: ΔF(z) = B_g·(1 − 1/(1 + z/H)), B_g the air's buoyancy at the surface,
+//!   H = p_atm/(ρg) ≈ 10.33 m of fresh water.
+//! * `buoyancy_offset/slow_leak` — a float or a seal leaks slowly: ΔF(t) = ΔF₀ + r·t, a trim
+//!   error plus water seeping in at a steady rate.
+//!
+//! Both act as the catalogue's force along the world vertical at the centre of buoyancy
+//! (positive: heavier), with the value of the moment.
+
+use super::{ExpKind, FormParam, Part, TruthForm, truth_effect_meta};
+use shoal_model::effects::{BuoyancyOffset, Effect, ForceContext};
+use shoal_model::math::Vec6;
+use std::sync::Arc;
+
+/// Water column of one atmosphere in fresh water, p_atm/(ρg) \[m\].
+const ATMOSPHERE_HEAD: f64 = 101_325.0 / (1000.0 * shoal_model::math::GRAVITY);
+
+const GAS: &str = "buoyancy_offset/gas_compression";
+const GAS_LAW: &str = "ΔF(z) = B_g·(1 − 1/(1 + z/10.33 m)), neutral at the surface";
+const LEAK: &str = "buoyancy_offset/slow_leak";
+const LEAK_LAW: &str = "ΔF(t) = ΔF₀ + r·t";
+
+pub(super) fn forms() -> Vec<TruthForm> {
+    vec![
+        TruthForm {
+            name: GAS,
+            family: "buoyancy_offset",
+            law: GAS_LAW,
+            params: vec![FormParam::magnitude(
+                "b_gas_n",
+                "N",
+                0.016,
+                0.04,
+                "buoyancy of the trapped air at the surface (1.6–4 ml; ΔF 1.5–3.8 mN at 1 m)",
+            )],
+            excites: &[ExpKind::Heave, ExpKind::Yaw],
+            build: |p| Part::Effect(Arc::new(GasCompression { b_gas: p[0] })),
+        },
+        TruthForm {
+            name: LEAK,
+            family: "buoyancy_offset",
+            law: LEAK_LAW,
+            params: vec![
+                FormParam::shape("delta_f0_n", "N", -0.001, 0.001, "trim error at the start"),
+                FormParam::magnitude(
+                    "rate_n_s",
+                    "N/s",
+                    1.5e-5,
+                    3.0e-5,
+                    "weight gained per second (1.5–3 µl/s of water seeping in)",
+                ),
+            ],
+            excites: &[ExpKind::Heave, ExpKind::Yaw],
+            build: |p| {
+                Part::Effect(Arc::new(SlowLeak {
+                    delta_f0: p[0],
+                    rate: p[1],
+                }))
+            },
+        },
+    ]
+}
+
+/// See the module documentation.
+#[derive(Debug)]
+struct GasCompression {
+    /// Buoyancy of the trapped air at the surface \[N\].
+    b_gas: f64,
+}
+
+impl Effect for GasCompression {
+    truth_effect_meta!(GAS, GAS_LAW);
+    fn force(&self, _p: &[f64], ctx: &ForceContext<'_>) -> Vec6 {
+        let z = ctx.rigid.position.z.max(0.0);
+        let df = self.b_gas * (1.0 - 1.0 / (1.0 + z / ATMOSPHERE_HEAD));
+        BuoyancyOffset.force(&[df], ctx)
+    }
+}
+
+/// See the module documentation.
+#[derive(Debug)]
+struct SlowLeak {
+    /// Net downward force at the start \[N\].
+    delta_f0: f64,
+    /// Weight gained per second [N/s].
+    rate: f64,
+}
+
+impl Effect for SlowLeak {
+    truth_effect_meta!(LEAK, LEAK_LAW);
+    fn force(&self, _p: &[f64], ctx: &ForceContext<'_>) -> Vec6 {
+        BuoyancyOffset.force(&[self.delta_f0 + self.rate * ctx.t], ctx)
+    }
+}

@@ -1,0 +1,98 @@
+//! `thruster_deadband` truth forms — small commands give no thrust, but not through the fitting
+//! side's hard cut with a stretched curve or its tanh-softened band:
+//!
+//! * `thruster_deadband/linear_ramp` — no thrust below d₀; between d₀ and d₁ the effective
+//!   command ramps linearly from 0 to d₁; from d₁ on the thrust curve is the baseline's (a motor
+//!   that starts sluggishly and is fully up to speed past d₁).
+//! * `thruster_deadband/asymmetric` — the ESC's band is wider in reverse than forward
+//!   (d₋ > d₊); each side is a hard cut with the curve stretched over the rest of its range.
+
+use super::{ExpKind, FormParam, Part, TruthForm, truth_effect_meta};
+use shoal_model::effects::{Effect, ThrusterDeadband};
+use shoal_model::thruster::ThrusterParams;
+use std::sync::Arc;
+
+const LINEAR_RAMP: &str = "thruster_deadband/linear_ramp";
+const LINEAR_RAMP_LAW: &str =
+    "command 0 for |n| ≤ d₀, ramps 0 → d₁ between d₀ and d₁, unchanged above d₁";
+const ASYMMETRIC: &str = "thruster_deadband/asymmetric";
+const ASYMMETRIC_LAW: &str =
+    "hard dead band d₊ forward and d₋ reverse, curve stretched on each side";
+
+pub(super) fn forms() -> Vec<TruthForm> {
+    vec![
+        TruthForm {
+            name: LINEAR_RAMP,
+            family: "thruster_deadband",
+            law: LINEAR_RAMP_LAW,
+            params: vec![
+                FormParam::magnitude("d0_pct", "%", 7.0, 10.0, "edge of the dead band"),
+                FormParam::magnitude("ramp_pct", "%", 8.0, 16.0, "width of the ramp, d₁ − d₀"),
+            ],
+            excites: &[ExpKind::Heave, ExpKind::Yaw],
+            build: |p| {
+                Part::Effect(Arc::new(LinearRamp {
+                    d0: p[0],
+                    d1: p[0] + p[1],
+                }))
+            },
+        },
+        TruthForm {
+            name: ASYMMETRIC,
+            family: "thruster_deadband",
+            law: ASYMMETRIC_LAW,
+            params: vec![
+                FormParam::magnitude("d_fwd_pct", "%", 3.0, 7.0, "forward dead band d₊"),
+                FormParam::magnitude("d_rev_pct", "%", 10.0, 16.0, "reverse dead band d₋"),
+            ],
+            excites: &[ExpKind::Heave, ExpKind::Yaw],
+            build: |p| {
+                Part::Effect(Arc::new(Asymmetric {
+                    d_fwd: p[0],
+                    d_rev: p[1],
+                }))
+            },
+        },
+    ]
+}
+
+/// See the module documentation.
+#[derive(Debug)]
+struct LinearRamp {
+    /// Edge of the band [%].
+    d0: f64,
+    /// End of the ramp [%].
+    d1: f64,
+}
+
+impl Effect for LinearRamp {
+    truth_effect_meta!(LINEAR_RAMP, LINEAR_RAMP_LAW);
+    fn command(&self, _p: &[f64], _thruster: &ThrusterParams, n: f64) -> f64 {
+        let a = n.abs();
+        if a >= self.d1 {
+            n
+        } else if a <= self.d0 {
+            0.0
+        } else {
+            n.signum() * self.d1 * (a - self.d0) / (self.d1 - self.d0)
+        }
+    }
+}
+
+/// See the module documentation.
+#[derive(Debug)]
+struct Asymmetric {
+    /// Forward band [%].
+    d_fwd: f64,
+    /// Reverse band [%].
+    d_rev: f64,
+}
+
+impl Effect for Asymmetric {
+    truth_effect_meta!(ASYMMETRIC, ASYMMETRIC_LAW);
+    fn command(&self, _p: &[f64], thruster: &ThrusterParams, n: f64) -> f64 {
+        // Each side is the catalogue's hard cut with its own width.
+        let d = if n >= 0.0 { self.d_fwd } else { self.d_rev };
+        ThrusterDeadband.command(&[d], thruster, n)
+    }
+}

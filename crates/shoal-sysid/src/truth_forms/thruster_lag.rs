@@ -1,0 +1,133 @@
+//! `thruster_lag` truth forms — the thrust trails the command, but not through the fitting
+//! side's first-order, critically damped second-order or up/down lags:
+//!
+//! * `thruster_lag/underdamped_one_motor` — one motor (port) has a stiff but poorly damped
+//!   speed controller: its speed follows the command as an underdamped second-order system
+//!   n̈ = ω²(n_cmd − n) − 2ζω ṅ and overshoots after every step; the other motors follow at once.
+//! * `thruster_lag/slew_rate` — every ESC ramps its output toward the command at no more than
+//!   R %/s (a current-limited or soft-start ESC): a step becomes a ramp whose length grows with
+//!   the step.
+//!
+//! Both act on the command the thrust curve sees (the motor speed, ∝ command); the log keeps
+//! the commanded values.
+
+use super::{ExpKind, FormParam, Part, TruthForm};
+use crate::synth::TruthHook;
+use shoal_model::control::ActuatorCommands;
+use shoal_model::rigid_body::Environment;
+use shoal_model::vehicle::{VehicleModel, VehicleState};
+
+pub(super) fn forms() -> Vec<TruthForm> {
+    vec![
+        TruthForm {
+            name: "thruster_lag/underdamped_one_motor",
+            family: "thruster_lag",
+            law: "port motor speed: n̈ = ω²(n_cmd − n) − 2ζω ṅ (underdamped); other motors instant",
+            params: vec![
+                FormParam::deficit(
+                    "omega_rad_s",
+                    "rad/s",
+                    2.5,
+                    5.0,
+                    "natural frequency of the port motor's speed response",
+                ),
+                FormParam::shape("zeta", "-", 0.2, 0.45, "damping ratio (< 1: overshoot)"),
+            ],
+            excites: &[ExpKind::Heave, ExpKind::Yaw],
+            build: |p| {
+                Part::Hook(Box::new(Underdamped {
+                    motor: "port",
+                    omega: p[0],
+                    zeta: p[1],
+                    speed: None,
+                }))
+            },
+        },
+        TruthForm {
+            name: "thruster_lag/slew_rate",
+            family: "thruster_lag",
+            law: "every motor command ramps toward its target at most R %/s",
+            params: vec![FormParam::deficit(
+                "rate_pct_s",
+                "%/s",
+                80.0,
+                250.0,
+                "largest rate of change of the motor command (a 60 % step takes 60/R s)",
+            )],
+            excites: &[ExpKind::Heave, ExpKind::Yaw],
+            build: |p| {
+                Part::Hook(Box::new(SlewRate {
+                    rate: p[0],
+                    applied: Vec::new(),
+                }))
+            },
+        },
+    ]
+}
+
+/// See the module documentation.
+struct Underdamped {
+    /// Name of the motor with the second-order response.
+    motor: &'static str,
+    /// Natural frequency \[rad/s\].
+    omega: f64,
+    /// Damping ratio \[-\].
+    zeta: f64,
+    /// (thruster index, speed [%], speed rate [%/s]) once the motor is found.
+    speed: Option<(usize, f64, f64)>,
+}
+
+impl TruthHook for Underdamped {
+    fn before_actuate(
+        &mut self,
+        model: &VehicleModel,
+        _state: &mut VehicleState,
+        cmd: &mut ActuatorCommands,
+        _env: &mut Environment,
+        dt: f64,
+    ) {
+        if self.speed.is_none() {
+            // The run starts at rest: speed and its rate zero.
+            self.speed = model
+                .params
+                .thrusters
+                .iter()
+                .position(|t| t.name == self.motor)
+                .map(|i| (i, 0.0, 0.0));
+        }
+        let Some((i, n, dn)) = &mut self.speed else {
+            return;
+        };
+        let target = cmd.thrusters[*i];
+        // Semi-implicit Euler: ω·dt ≤ 0.03 at the simulation's 5 ms step.
+        *dn += dt * (self.omega * self.omega * (target - *n) - 2.0 * self.zeta * self.omega * *dn);
+        *n += dt * *dn;
+        cmd.thrusters[*i] = *n;
+    }
+}
+
+/// See the module documentation.
+struct SlewRate {
+    /// Largest rate of change of a motor command [%/s].
+    rate: f64,
+    /// The command each motor applies [%] (starts at zero: the run starts at rest).
+    applied: Vec<f64>,
+}
+
+impl TruthHook for SlewRate {
+    fn before_actuate(
+        &mut self,
+        _model: &VehicleModel,
+        _state: &mut VehicleState,
+        cmd: &mut ActuatorCommands,
+        _env: &mut Environment,
+        dt: f64,
+    ) {
+        self.applied.resize(cmd.thrusters.len(), 0.0);
+        let step = self.rate * dt;
+        for (a, c) in self.applied.iter_mut().zip(cmd.thrusters.iter_mut()) {
+            *a += (*c - *a).clamp(-step, step);
+            *c = *a;
+        }
+    }
+}
