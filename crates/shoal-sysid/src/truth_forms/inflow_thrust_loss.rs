@@ -1,9 +1,9 @@
 //! `inflow_thrust_loss` truth forms — a propeller advancing into its own thrust direction pushes
-//! less, but not as f − κ√|f|·u_a (advance ratio) or f·(1 − k·u_a) as the fitting side assumes:
+//! less, but not as f − κ√|f|·u_a (advance ratio) or f − k·|f|·u_a as the fitting side assumes:
 //!
-//! * `inflow_thrust_loss/proportional` — f − k·u_a·|f|: the loss is proportional to the inflow
-//!   and the thrust's magnitude, so it lowers reverse thrust when backing up, too (where
-//!   f·(1 − k·u_a) would raise it).
+//! * `inflow_thrust_loss/saturating` — f − k·u₀·tanh(u_a/u₀)·|f|, u₀ = 0.05 m/s: the loss
+//!   sets in with the first few cm/s of inflow and then hardly grows (a propeller whose tip
+//!   vortex sheds as soon as it advances).
 //! * `inflow_thrust_loss/quadratic` — f − c·u_a·|u_a|·|f|: the loss grows with the square of
 //!   the inflow (a ducted propeller whose duct loses its suction at speed).
 //!
@@ -14,10 +14,13 @@ use super::{ExpKind, FormParam, Part, TruthForm};
 use shoal_model::effects::{Effect, ThrustContext};
 use std::sync::Arc;
 
-const PROPORTIONAL: &str = "inflow_thrust_loss/proportional";
-const PROPORTIONAL_LAW: &str = "thrust f − k·u_a·|f|";
+const PROPORTIONAL: &str = "inflow_thrust_loss/saturating";
+const PROPORTIONAL_LAW: &str = "thrust f − k·u₀·tanh(u_a/u₀)·|f|, u₀ = 0.05 m/s";
 const QUADRATIC: &str = "inflow_thrust_loss/quadratic";
 const QUADRATIC_LAW: &str = "thrust f − c·u_a·|u_a|·|f|";
+
+/// Inflow speed at which the saturating loss levels off \[m/s\].
+const SATURATION_SPEED: f64 = 0.05;
 
 pub(super) fn forms() -> Vec<TruthForm> {
     vec![
@@ -28,9 +31,9 @@ pub(super) fn forms() -> Vec<TruthForm> {
             params: vec![FormParam::magnitude(
                 "k_s_m",
                 "s/m",
-                2.0,
                 4.0,
-                "relative thrust lost per m/s of inflow (20–45 % at 0.11 m/s, 60 % heave)",
+                9.0,
+                "relative thrust lost per m/s of inflow at small inflow (20–45 % once moving)",
             )],
             excites: &[ExpKind::Heave, ExpKind::Yaw],
             build: |p| Part::Effect(Arc::new(Loss { k: p[0], power: 1 })),
@@ -52,12 +55,12 @@ pub(super) fn forms() -> Vec<TruthForm> {
     ]
 }
 
-/// See the module documentation: f − k·u_a·|u_a|^(power−1)·|f|.
+/// See the module documentation: power 1 the saturating loss, power 2 the quadratic one.
 #[derive(Debug)]
 struct Loss {
     /// Loss coefficient [s/m for power 1, s²/m² for power 2].
     k: f64,
-    /// Power of the inflow (1 or 2).
+    /// 1: saturating; 2: quadratic.
     power: i32,
 }
 
@@ -87,7 +90,12 @@ impl Effect for Loss {
     }
     fn thrust(&self, _p: &[f64], ctx: &ThrustContext<'_>, f: f64) -> f64 {
         let u = ctx.inflow;
-        let g = f - self.k * u * u.abs().powi(self.power - 1) * f.abs();
+        let shape = if self.power == 1 {
+            SATURATION_SPEED * (u / SATURATION_SPEED).tanh()
+        } else {
+            u * u.abs()
+        };
+        let g = f - self.k * shape * f.abs();
         if g * f < 0.0 { 0.0 } else { g }
     }
 }
