@@ -74,6 +74,7 @@ fn line(label: &str, pts: Vec<(f64, f64)>, color: usize, dashed: bool) -> Series
         color,
         dashed,
         mark_start: false,
+        ..Default::default()
     }
 }
 

@@ -306,8 +306,7 @@ pub fn plots(
             .map(|b| (0.5 * (b.from_m + b.to_m), b.ratio))
             .collect(),
         color: 0,
-        mark_start: false,
-        dashed: false,
+        ..Default::default()
     }];
     if let Some(m) = snaps.iter().find_map(|s| s.model.params.modems.first()) {
         let pts = (1..=120)
@@ -334,7 +333,7 @@ pub fn plots(
             points: pts,
             color: 7,
             dashed: true,
-            mark_start: false,
+            ..Default::default()
         });
     }
     files.extend(
