@@ -3,7 +3,11 @@
 //! `shoal validate`: given logs of a real vehicle, show what the simulation gets wrong, name
 //! the cause, extend the model and measure the gain (`../shared/spec/validation.md`).
 //!
-//! * [`run`] — the measured-run CSV format, parsed with errors that name line and column;
+//! * [`run`] — a measured run: time, inputs, measurements, with errors that name line and
+//!   column;
+//! * [`ingest`] — reading runs as loggers write them (separators, comments, time units),
+//!   streaming and linear in the rows; [`segments`] — runs split at gaps in time;
+//!   [`limits`] — inputs checked against the actuator limits, rounding clamped and counted;
 //! * [`replay`] — the vehicle model driven open-loop by the measured inputs;
 //! * [`data`] — runs split into estimation and validation data, models evaluated on them;
 //! * [`lm`], [`stats`] — bounded Levenberg–Marquardt, whiteness tests and friends;
@@ -18,6 +22,9 @@
 
 pub mod data;
 pub mod design;
+mod header;
+pub mod ingest;
+mod lines;
 pub mod lm;
 pub mod replay;
 pub mod report;

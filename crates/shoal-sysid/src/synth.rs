@@ -93,6 +93,8 @@ pub fn synthesize(
             name: n.clone(),
             column: 2 + i,
             values: Vec::with_capacity(n_samples),
+            precision: Vec::new(),
+            first_set: 0,
         })
         .collect();
     let mut channels: Vec<Channel> = exp
@@ -183,5 +185,6 @@ pub fn synthesize(
         extra: Vec::new(),
         header_line: 0,
         lines: Vec::new(),
+        ingest: Default::default(),
     }
 }

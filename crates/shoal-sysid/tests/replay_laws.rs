@@ -42,6 +42,8 @@ fn run_with(inputs: Vec<(&str, &dyn Fn(f64) -> f64)>, duration: f64) -> Measured
             name: name.into(),
             column: i + 2,
             values: t.iter().map(|&t| f(t)).collect(),
+            precision: Vec::new(),
+            first_set: 0,
         })
         .collect();
     let mk = |kind, v: f64| Channel {
@@ -63,6 +65,7 @@ fn run_with(inputs: Vec<(&str, &dyn Fn(f64) -> f64)>, duration: f64) -> Measured
         extra: Vec::new(),
         header_line: 0,
         lines: Vec::new(),
+        ingest: Default::default(),
     }
 }
 
