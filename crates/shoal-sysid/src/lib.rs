@@ -24,6 +24,7 @@ pub mod data;
 pub mod design;
 mod header;
 pub mod ingest;
+pub mod limits;
 mod lines;
 pub mod lm;
 pub mod replay;

@@ -114,7 +114,7 @@ fn held(f: impl Fn(f64) -> f64, t: f64) -> f64 {
 fn diving_mode_is_the_heave_law() {
     let params = presets::uauv2();
     let model = VehicleModel::new(params.clone(), 1000.0);
-    let run = run_with(
+    let mut run = run_with(
         vec![
             ("beta", &|_| -FRAC_PI_2),
             ("alpha", &|_| 0.0),
@@ -123,7 +123,7 @@ fn diving_mode_is_the_heave_law() {
         ],
         36.0,
     );
-    let map = InputMap::new(&params, &run).unwrap();
+    let map = InputMap::new(&params, &mut run).unwrap();
     let init = InitialState::from_run(&params, &run, 0.5);
     let opts = ReplayOptions::default();
     let trace = simulate(
@@ -169,7 +169,7 @@ fn balanced_turning_mode_is_the_yaw_law_and_unbalanced_is_not() {
     let port = |t: f64| (profile(t) * 0.75).clamp(-79.0, 79.0);
     let stbd = move |t: f64| balanced_stbd(port(t));
     let law = |stbd_cmd: &dyn Fn(f64) -> f64| {
-        let run = run_with(
+        let mut run = run_with(
             vec![
                 ("beta", &|_| 0.0),
                 ("alpha", &|_| 0.0),
@@ -178,7 +178,7 @@ fn balanced_turning_mode_is_the_yaw_law_and_unbalanced_is_not() {
             ],
             36.0,
         );
-        let map = InputMap::new(&params, &run).unwrap();
+        let map = InputMap::new(&params, &mut run).unwrap();
         let init = InitialState::from_run(&params, &run, 0.5);
         let opts = ReplayOptions::default();
         let trace = simulate(
