@@ -31,5 +31,6 @@ pub mod replay;
 pub mod report;
 pub mod run;
 pub mod search;
+pub mod segments;
 pub mod stats;
 pub mod synth;
