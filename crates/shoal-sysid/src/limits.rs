@@ -74,9 +74,13 @@ impl fmt::Display for ClampNote {
     }
 }
 
-/// A number for messages, with a proper minus sign.
+/// A number for messages, with a proper minus sign in front.
 fn num(x: f64) -> String {
-    short(x).replace('-', "−")
+    let s = short(x);
+    match s.strip_prefix('-') {
+        Some(rest) => format!("−{rest}"),
+        None => s,
+    }
 }
 
 /// The allowed values of one input.
