@@ -310,7 +310,7 @@ impl MeasuredRun {
             .map(|inp| InputColumn {
                 name: inp.name.clone(),
                 column: inp.column,
-                values: inp.values[s..e].to_vec(),
+                values: inp.values.get(s..e).map(<[f64]>::to_vec).unwrap_or_default(),
                 precision: inp.precision.get(s..e).map(<[f32]>::to_vec).unwrap_or_default(),
                 first_set: inp.first_set.saturating_sub(s),
             })
@@ -334,7 +334,7 @@ impl MeasuredRun {
         MeasuredRun {
             path: self.path.clone(),
             name: format!("{}#{index}", self.name),
-            t: self.t[s..e].to_vec(),
+            t: self.t.get(s..e).map(<[f64]>::to_vec).unwrap_or_default(),
             inputs,
             channels,
             extra: self.extra.clone(),
