@@ -8,12 +8,12 @@ use shoal_model::effects;
 use shoal_model::presets;
 use shoal_model::rigid_body::Environment;
 use shoal_sysid::data::{DataOptions, Dataset};
+use shoal_sysid::ingest::{ReadOptions, TimeUnit};
 use shoal_sysid::replay::ReplayOptions;
 use shoal_sysid::report::{ReportInput, verdict_sentence, write_report};
-use shoal_sysid::ingest::{ReadOptions, TimeUnit};
 use shoal_sysid::run::{ChannelKind, MeasuredRun};
-use shoal_sysid::segments::{GapMode, GapOptions, Segments};
 use shoal_sysid::search::{SearchOptions, search};
+use shoal_sysid::segments::{GapMode, GapOptions, Segments};
 use shoal_world::load::load_vehicle;
 use shoal_world::spec::VehicleSpec;
 use std::path::{Path, PathBuf};
@@ -315,7 +315,11 @@ pub fn validate(args: &ValidateArgs) -> Result<ExitCode, Failure> {
 
 /// Prints how a file was read and, when it has gaps, its segments (at most 20 listed).
 fn print_segments(path: &Path, seg: &Segments) {
-    let info = seg.runs.first().map(|r| r.ingest.to_string()).unwrap_or_default();
+    let info = seg
+        .runs
+        .first()
+        .map(|r| r.ingest.to_string())
+        .unwrap_or_default();
     eprintln!("shoal: read {}: {info}", path.display());
     if seg.notes.len() > 1 {
         const SHOWN: usize = 20;

@@ -514,7 +514,14 @@ fn validate_reads_a_log_as_a_logger_writes_it() {
     let log = dir.join("dive.csv");
     std::fs::write(&log, out).unwrap();
     let o = shoal()
-        .args(["validate", "--no-plots", "--dt", "0.02", "--effects", "thruster_lag"])
+        .args([
+            "validate",
+            "--no-plots",
+            "--dt",
+            "0.02",
+            "--effects",
+            "thruster_lag",
+        ])
         .arg(&log)
         .arg("--out")
         .arg(dir.join("report"))
@@ -533,10 +540,9 @@ fn validate_reads_a_log_as_a_logger_writes_it() {
     ] {
         assert!(stderr.contains(want), "missing `{want}` in:\n{stderr}");
     }
-    let report: serde_json::Value = serde_json::from_str(
-        &std::fs::read_to_string(dir.join("report/report.json")).unwrap(),
-    )
-    .unwrap();
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("report/report.json")).unwrap())
+            .unwrap();
     assert_eq!(report["runs"][1]["name"], "dive#2");
 }
 
@@ -590,7 +596,12 @@ fn measured_run_limits_units_and_gaps_are_checked() {
             vec!["--time-unit", "ms"],
             "unit.csv:1: column 1 `t_s`: the header declares the time in s, but the time unit ms",
         ),
-        ("dt.csv", rows("0"), vec!["--dt", "1e-9"], "--dt 0.000000001: allowed 0.0001 ≤ dt ≤ 0.1 s"),
+        (
+            "dt.csv",
+            rows("0"),
+            vec!["--dt", "1e-9"],
+            "--dt 0.000000001: allowed 0.0001 ≤ dt ≤ 0.1 s",
+        ),
         (
             "long.csv",
             long,

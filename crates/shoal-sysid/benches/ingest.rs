@@ -23,7 +23,11 @@ fn log() -> PathBuf {
     let tmp = path.with_extension("tmp");
     let mut w = BufWriter::new(std::fs::File::create(&tmp).unwrap());
     writeln!(w, "# μAUV² diving log, 50 Hz").unwrap();
-    writeln!(w, "t,u.top,u.port,u.stbd,u.alpha,u.beta,u.pump,y.depth,y.yaw").unwrap();
+    writeln!(
+        w,
+        "t,u.top,u.port,u.stbd,u.alpha,u.beta,u.pump,y.depth,y.yaw"
+    )
+    .unwrap();
     for i in 0..ROWS {
         if i % 100_000 == 0 {
             writeln!(w, "  # checkpoint {i}").unwrap();

@@ -216,8 +216,13 @@ impl Header {
                 .trim(csv::Trim::All)
                 .from_reader(header_text.as_bytes());
             let mut rec = csv::StringRecord::new();
-            hr.read_record(&mut rec)
-                .map_err(|e| err(header_line, None, format!("the header is not valid CSV: {e}")))?;
+            hr.read_record(&mut rec).map_err(|e| {
+                err(
+                    header_line,
+                    None,
+                    format!("the header is not valid CSV: {e}"),
+                )
+            })?;
             rec.iter().map(str::to_string).collect()
         };
         let mut trailing_separator = false;

@@ -32,8 +32,8 @@
 //! Memory is the parsed columns (a few bytes per cell) plus one line; the text is never held
 //! whole.
 
-pub use crate::header::{Separator, TimeUnit};
 use crate::header::{Col, Header, quote};
+pub use crate::header::{Separator, TimeUnit};
 use crate::lines::{LineTooLong, LogLines};
 use crate::run::{MeasuredRun, RunError};
 use std::fmt;
@@ -154,7 +154,11 @@ impl MeasuredRun {
     }
 
     /// Parses CSV text with options; `path` names the file in messages.
-    pub fn parse_with(text: &str, path: &Path, opts: &ReadOptions) -> Result<MeasuredRun, RunError> {
+    pub fn parse_with(
+        text: &str,
+        path: &Path,
+        opts: &ReadOptions,
+    ) -> Result<MeasuredRun, RunError> {
         Self::from_reader(text.as_bytes(), path, opts)
     }
 
@@ -381,7 +385,9 @@ fn read_run<R: BufRead>(src: R, path: &Path, opts: &ReadOptions) -> Result<Measu
                      least 2"
                 )
             } else {
-                format!("only 1 data row after the header (line {header_line}): a run needs at least 2")
+                format!(
+                    "only 1 data row after the header (line {header_line}): a run needs at least 2"
+                )
             },
         ));
     }

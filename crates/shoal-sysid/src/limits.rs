@@ -145,11 +145,7 @@ impl Limits {
         let error = |row: usize, message: String| RunError {
             file: run.path.clone(),
             // A value before the column's first cell comes from that cell.
-            line: run
-                .lines
-                .get(row.max(inp.first_set))
-                .copied()
-                .unwrap_or(0),
+            line: run.lines.get(row.max(inp.first_set)).copied().unwrap_or(0),
             column: Some((inp.column, name.clone())),
             message,
         };
@@ -271,7 +267,11 @@ mod tests {
         assert_eq!(notes[0].name, "u.beta");
         assert!((notes[0].max_excess - (1.571 - std::f64::consts::FRAC_PI_2)).abs() < 1e-12);
         // -1.571 needs its written precision (5e-4) beyond the angle tolerance.
-        assert!((notes[0].tolerance - 5e-4).abs() < 1e-9, "{}", notes[0].tolerance);
+        assert!(
+            (notes[0].tolerance - 5e-4).abs() < 1e-9,
+            "{}",
+            notes[0].tolerance
+        );
         let text = notes[0].to_string();
         assert!(
             text.starts_with("u.beta: 3 value(s) within 0.0005 rad of the limit −1.570796 rad"),
@@ -293,8 +293,14 @@ mod tests {
         ] {
             let r = run("u.beta", cells);
             let e = lim.check(&r, 0).unwrap_err();
-            assert_eq!((e.line, e.column.clone()), (line, Some((2, "u.beta".into()))));
-            assert!(e.message.contains("allowed: −1.570796 … 1.570796 rad"), "{e}");
+            assert_eq!(
+                (e.line, e.column.clone()),
+                (line, Some((2, "u.beta".into())))
+            );
+            assert!(
+                e.message.contains("allowed: −1.570796 … 1.570796 rad"),
+                "{e}"
+            );
         }
         let lim = Limits::thruster(100.0);
         for cell in ["100.01", "101", "1e9", "-100.5"] {
@@ -315,8 +321,16 @@ mod tests {
         for cell in ["0.5", "1e9", "-2", "0.001"] {
             let r = run("u.pump", &["0", "1", cell]);
             let e = lim.check(&r, 0).unwrap_err();
-            assert_eq!((e.line, e.column.clone()), (4, Some((2, "u.pump".into()))), "{cell}");
-            assert!(e.message.contains("allowed: −1 (empty), 0 (off), +1 (fill)"), "{e}");
+            assert_eq!(
+                (e.line, e.column.clone()),
+                (4, Some((2, "u.pump".into()))),
+                "{cell}"
+            );
+            assert!(
+                e.message
+                    .contains("allowed: −1 (empty), 0 (off), +1 (fill)"),
+                "{e}"
+            );
         }
         let mut r = run("u.pump", &["0", "1", "-1", "0.9999999", "-0"]);
         let notes = lim.check(&r, 0).unwrap();

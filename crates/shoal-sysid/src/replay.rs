@@ -433,19 +433,38 @@ mod tests {
         let map = InputMap::new(&params, &mut run).unwrap();
         assert_eq!(map.clamped.len(), 1, "{:?}", map.clamped);
         let note = &map.clamped[0];
-        assert_eq!((note.name.as_str(), note.column, note.count), ("u.beta", 6, 50));
+        assert_eq!(
+            (note.name.as_str(), note.column, note.count),
+            ("u.beta", 6, 50)
+        );
         assert_eq!(note.limit, -std::f64::consts::FRAC_PI_2);
         assert!(note.to_string().contains("50 value(s)"), "{note}");
         let beta = run.input("beta").unwrap();
-        assert!(beta.values.iter().all(|&v| v == -std::f64::consts::FRAC_PI_2));
+        assert!(
+            beta.values
+                .iter()
+                .all(|&v| v == -std::f64::consts::FRAC_PI_2)
+        );
         // The pump takes −1, 0, +1 only, and a failed check leaves the run as it was.
         for bad in ["0.5", "1e9"] {
-            let text = text.replacen(",-1.5708,0,0.8\n0.02,", &format!(",-1.5708,{bad},0.8\n0.02,"), 1);
+            let text = text.replacen(
+                ",-1.5708,0,0.8\n0.02,",
+                &format!(",-1.5708,{bad},0.8\n0.02,"),
+                1,
+            );
             let mut run = MeasuredRun::parse(&text, Path::new("dive.csv")).unwrap();
             let before = run.clone();
             let e = InputMap::new(&params, &mut run).unwrap_err();
-            assert_eq!((e.line, e.column.clone()), (2, Some((7, "u.pump".into()))), "{e}");
-            assert!(e.message.contains("allowed: −1 (empty), 0 (off), +1 (fill)"), "{e}");
+            assert_eq!(
+                (e.line, e.column.clone()),
+                (2, Some((7, "u.pump".into()))),
+                "{e}"
+            );
+            assert!(
+                e.message
+                    .contains("allowed: −1 (empty), 0 (off), +1 (fill)"),
+                "{e}"
+            );
             assert_eq!(run, before);
         }
     }
@@ -453,7 +472,8 @@ mod tests {
     #[test]
     fn replay_steps_are_bounded() {
         let mut run =
-            MeasuredRun::parse("t,u.port,y.depth\n0,1,1\n1000,1,1\n", Path::new("long.csv")).unwrap();
+            MeasuredRun::parse("t,u.port,y.depth\n0,1,1\n1000,1,1\n", Path::new("long.csv"))
+                .unwrap();
         let opts = ReplayOptions::default();
         assert_eq!(opts.steps(&run).unwrap(), 100_000);
         for dt in [0.0, -1.0, f64::NAN, 1e-9, 0.5] {
@@ -475,7 +495,10 @@ mod tests {
             &map,
             &init,
             &[ChannelKind::Depth],
-            &ReplayOptions { dt: f64::NAN, ..opts },
+            &ReplayOptions {
+                dt: f64::NAN,
+                ..opts
+            },
         );
         assert_eq!(trace.len(), 1);
     }

@@ -310,8 +310,16 @@ impl MeasuredRun {
             .map(|inp| InputColumn {
                 name: inp.name.clone(),
                 column: inp.column,
-                values: inp.values.get(s..e).map(<[f64]>::to_vec).unwrap_or_default(),
-                precision: inp.precision.get(s..e).map(<[f32]>::to_vec).unwrap_or_default(),
+                values: inp
+                    .values
+                    .get(s..e)
+                    .map(<[f64]>::to_vec)
+                    .unwrap_or_default(),
+                precision: inp
+                    .precision
+                    .get(s..e)
+                    .map(<[f32]>::to_vec)
+                    .unwrap_or_default(),
                 first_set: inp.first_set.saturating_sub(s),
             })
             .collect();
@@ -339,7 +347,11 @@ impl MeasuredRun {
             channels,
             extra: self.extra.clone(),
             header_line: self.header_line,
-            lines: self.lines.get(s..e).map(<[usize]>::to_vec).unwrap_or_default(),
+            lines: self
+                .lines
+                .get(s..e)
+                .map(<[usize]>::to_vec)
+                .unwrap_or_default(),
             ingest,
         }
     }
@@ -386,7 +398,9 @@ mod tests {
 
     #[test]
     fn a_run_without_gaps_stays_whole() {
-        let seg = parse(&log(200, &[])).split_at_gaps(&GapOptions::default()).unwrap();
+        let seg = parse(&log(200, &[]))
+            .split_at_gaps(&GapOptions::default())
+            .unwrap();
         assert_eq!(seg.runs.len(), 1);
         assert_eq!(seg.runs[0].name, "dive");
         assert_eq!(seg.runs[0].ingest.segments, 1);
@@ -405,10 +419,19 @@ mod tests {
         assert_eq!(names, ["dive#1", "dive#2", "dive#3"]);
         assert_eq!(seg.notes.len(), 4);
         assert_eq!(seg.dropped(), 1);
-        assert!(seg.notes[3].dropped.as_deref().unwrap().contains("needs at least 1 s"));
+        assert!(
+            seg.notes[3]
+                .dropped
+                .as_deref()
+                .unwrap()
+                .contains("needs at least 1 s")
+        );
         assert_eq!(seg.notes[3].name, "dive#4");
         // File lines: comment, header, then row i on line i + 3.
-        assert_eq!((seg.notes[1].first_line, seg.notes[1].last_line), (103, 162));
+        assert_eq!(
+            (seg.notes[1].first_line, seg.notes[1].last_line),
+            (103, 162)
+        );
         let [a, b, c] = [&seg.runs[0], &seg.runs[1], &seg.runs[2]];
         assert_eq!((a.t.len(), b.t.len(), c.t.len()), (100, 60, 60));
         assert_eq!(b.lines[0], 103);
@@ -438,7 +461,10 @@ mod tests {
             .unwrap_err();
         assert_eq!((e.line, e.column.clone()), (103, Some((1, "t".into()))));
         assert!(e.message.contains("jumps by 30.02 s"), "{e}");
-        assert!(e.message.contains("max(10 × the median step 0.02 s, 1 s)"), "{e}");
+        assert!(
+            e.message.contains("max(10 × the median step 0.02 s, 1 s)"),
+            "{e}"
+        );
     }
 
     #[test]
@@ -454,7 +480,10 @@ mod tests {
         // Steps: 0.5, 1, 98.5, 1, 1, 98, 1, 1: median 1 s, limit 10 s.
         assert_eq!(seg.runs.len(), 2);
         assert_eq!(seg.runs[0].t, vec![0.0, 0.5, 1.5]);
-        assert_eq!(seg.notes[1].dropped.as_deref(), Some("no measurement sample"));
+        assert_eq!(
+            seg.notes[1].dropped.as_deref(),
+            Some("no measurement sample")
+        );
         assert_eq!(seg.runs[1].name, "dive#3");
         assert_eq!(seg.runs[1].channels[0].rows, vec![1]);
         let text = "t,u.port,y.depth\n0,1,1\n100,1,1\n200,,2\n";

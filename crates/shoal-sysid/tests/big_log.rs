@@ -13,7 +13,11 @@ fn a_million_rows_with_one_broken_cell_near_the_end() {
     let path = dir.join("big.csv");
     let mut w = BufWriter::new(std::fs::File::create(&path).unwrap());
     writeln!(w, "# a long diving log\r").unwrap();
-    writeln!(w, "t,u.top,u.port,u.stbd,u.alpha,u.beta,u.pump,y.depth,y.yaw\r").unwrap();
+    writeln!(
+        w,
+        "t,u.top,u.port,u.stbd,u.alpha,u.beta,u.pump,y.depth,y.yaw\r"
+    )
+    .unwrap();
     let mut line = 2;
     let mut broken_line = 0;
     for i in 0..ROWS {

@@ -101,19 +101,48 @@ enum Line {
 
 #[derive(Clone, Debug)]
 enum Mutation {
-    Cell { row: usize, col: usize, text: String },
-    DeleteCell { row: usize, col: usize },
-    DuplicateCell { row: usize, col: usize },
+    Cell {
+        row: usize,
+        col: usize,
+        text: String,
+    },
+    DeleteCell {
+        row: usize,
+        col: usize,
+    },
+    DuplicateCell {
+        row: usize,
+        col: usize,
+    },
     DeleteRow(usize),
     DuplicateRow(usize),
     SwapRows(usize, usize),
-    Comment { row: usize, text: String },
-    Blank { row: usize, text: String },
+    Comment {
+        row: usize,
+        text: String,
+    },
+    Blank {
+        row: usize,
+        text: String,
+    },
     Trailing(usize),
-    Time { row: usize, t: f64 },
-    Gap { row: usize, dt: f64 },
-    LongCell { row: usize, col: usize, len: usize },
-    OtherSeparator { row: usize, sep: char },
+    Time {
+        row: usize,
+        t: f64,
+    },
+    Gap {
+        row: usize,
+        dt: f64,
+    },
+    LongCell {
+        row: usize,
+        col: usize,
+        len: usize,
+    },
+    OtherSeparator {
+        row: usize,
+        sep: char,
+    },
 }
 
 #[derive(Clone, Debug)]
@@ -282,11 +311,55 @@ fn apply(lines: &mut Vec<Line>, m: &Mutation, ms: bool) {
 fn token() -> impl Strategy<Value = String> {
     prop_oneof![
         prop::sample::select(vec![
-            "", "nan", "NaN", "inf", "-inf", "1e400", "-1e400", "1e-400", "0.5", "1e9", "-1e9",
-            "-1.5708", "1.5708", "-1.5709", "-1.571", "-1.6", "-2", "100", "100.0005", "100.01",
-            "101", "-0", "+.5e-3", ".", "-", "e5", "1,5", "#", "1 # note", "\"", "\"\"",
-            "\"a,b\"", "\"1\n2\"", "0x10", "１", "\u{feff}1", " 1 ", "\t", "t", "t_ms", "t[s]",
-            "y.dpth", "u.", "x.a", "u.rudder", "y.depth", "u.pump", "1e308", "-1e-320",
+            "",
+            "nan",
+            "NaN",
+            "inf",
+            "-inf",
+            "1e400",
+            "-1e400",
+            "1e-400",
+            "0.5",
+            "1e9",
+            "-1e9",
+            "-1.5708",
+            "1.5708",
+            "-1.5709",
+            "-1.571",
+            "-1.6",
+            "-2",
+            "100",
+            "100.0005",
+            "100.01",
+            "101",
+            "-0",
+            "+.5e-3",
+            ".",
+            "-",
+            "e5",
+            "1,5",
+            "#",
+            "1 # note",
+            "\"",
+            "\"\"",
+            "\"a,b\"",
+            "\"1\n2\"",
+            "0x10",
+            "１",
+            "\u{feff}1",
+            " 1 ",
+            "\t",
+            "t",
+            "t_ms",
+            "t[s]",
+            "y.dpth",
+            "u.",
+            "x.a",
+            "u.rudder",
+            "y.depth",
+            "u.pump",
+            "1e308",
+            "-1e-320",
         ])
         .prop_map(str::to_string),
         any::<f64>().prop_map(|x| format!("{x}")),
@@ -402,7 +475,10 @@ fn the_base_logs_are_valid() {
                 assert!((run.t[59] - 59.0 * 0.02).abs() < 1e-9);
                 let map = InputMap::new(&params, &mut run).unwrap();
                 assert_eq!(map.clamped.len(), 1);
-                assert_eq!((map.clamped[0].name.as_str(), map.clamped[0].count), ("u.beta", 60));
+                assert_eq!(
+                    (map.clamped[0].name.as_str(), map.clamped[0].count),
+                    ("u.beta", 60)
+                );
             }
         }
     }

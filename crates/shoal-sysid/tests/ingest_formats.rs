@@ -30,7 +30,10 @@ fn separators_are_found_in_the_header() {
         (Separator::Comma, "t,u.port,y.depth\n0,10,1\n0.1,,1.1\n"),
         (Separator::Semicolon, "t;u.port;y.depth\n0;10;1\n0.1;;1.1\n"),
         (Separator::Tab, "t\tu.port\ty.depth\n0\t10\t1\n0.1\t\t1.1\n"),
-        (Separator::Semicolon, "t ; u.port ; y.depth\n0 ; 10 ; 1\n0.1;;1.1\n"),
+        (
+            Separator::Semicolon,
+            "t ; u.port ; y.depth\n0 ; 10 ; 1\n0.1;;1.1\n",
+        ),
     ] {
         let r = parse(text).unwrap();
         assert_eq!(r.ingest.separator, sep, "{text:?}");
@@ -40,7 +43,10 @@ fn separators_are_found_in_the_header() {
     }
     let e = parse("t;u.port,y.depth\n0;1,2\n").unwrap_err();
     assert_eq!(at(&e), (1, None));
-    assert!(e.message.contains("mixes the separators `,` and `;`"), "{e}");
+    assert!(
+        e.message.contains("mixes the separators `,` and `;`"),
+        "{e}"
+    );
     let e = parse("# c\nt u.port y.depth\n0 1 2\n").unwrap_err();
     assert_eq!(at(&e), (2, None));
     assert!(e.message.contains("no column separator"), "{e}");
@@ -135,7 +141,11 @@ fn time_in_milliseconds() {
     assert!(e.message.contains("second time column"), "{e}");
     let e = parse_ms("t,u.port,y.depth\n0,1,2\n20,1,2\n20,1,2\n").unwrap_err();
     assert_eq!(at(&e), (4, Some(1)));
-    assert!(e.message.contains("time 20 ms does not increase (line 3: 20 ms)"), "{e}");
+    assert!(
+        e.message
+            .contains("time 20 ms does not increase (line 3: 20 ms)"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -145,22 +155,70 @@ fn every_error_is_located() {
         ("", (0, None), "no header row"),
         ("# only\n\n  # comments\n", (0, None), "no header row"),
         ("t,u.port,y.depth\n", (1, None), "followed by no data row"),
-        ("# c\nt,u.port,y.depth\n0,1,2\n", (2, None), "only 1 data row"),
-        ("t,u.port,y.depth\n0,1,2\n0.1,1\n", (3, Some(3)), "2 field(s)"),
-        ("t,u.port,y.depth\n0,1,2\n0.1,1,2,3,4\n", (3, None), "5 fields"),
-        ("t,u.port,y.depth\n0,1,2\n0.1,1,inf\n", (3, Some(3)), "not a finite number"),
-        ("t,u.port,y.depth\n0,1,2\n0.1,1,NaN\n", (3, Some(3)), "not a finite number"),
-        ("t,u.port,y.depth\n0,1,2\n0.1,1,1e400\n", (3, Some(3)), "not a finite number"),
-        ("t,u.port,y.depth\n0,1,2\n,1,2\n", (3, Some(1)), "time is missing"),
-        ("t,u.port,y.depth\n5,1,2\n5,1,2\n", (3, Some(1)), "does not increase"),
-        ("t,u.port,y.depth\n0,1,2\n-1,1,2\n", (3, Some(1)), "does not increase"),
-        ("t,u.port,u.port,y.depth\n0,1,1,2\n", (1, Some(3)), "appears twice"),
+        (
+            "# c\nt,u.port,y.depth\n0,1,2\n",
+            (2, None),
+            "only 1 data row",
+        ),
+        (
+            "t,u.port,y.depth\n0,1,2\n0.1,1\n",
+            (3, Some(3)),
+            "2 field(s)",
+        ),
+        (
+            "t,u.port,y.depth\n0,1,2\n0.1,1,2,3,4\n",
+            (3, None),
+            "5 fields",
+        ),
+        (
+            "t,u.port,y.depth\n0,1,2\n0.1,1,inf\n",
+            (3, Some(3)),
+            "not a finite number",
+        ),
+        (
+            "t,u.port,y.depth\n0,1,2\n0.1,1,NaN\n",
+            (3, Some(3)),
+            "not a finite number",
+        ),
+        (
+            "t,u.port,y.depth\n0,1,2\n0.1,1,1e400\n",
+            (3, Some(3)),
+            "not a finite number",
+        ),
+        (
+            "t,u.port,y.depth\n0,1,2\n,1,2\n",
+            (3, Some(1)),
+            "time is missing",
+        ),
+        (
+            "t,u.port,y.depth\n5,1,2\n5,1,2\n",
+            (3, Some(1)),
+            "does not increase",
+        ),
+        (
+            "t,u.port,y.depth\n0,1,2\n-1,1,2\n",
+            (3, Some(1)),
+            "does not increase",
+        ),
+        (
+            "t,u.port,u.port,y.depth\n0,1,1,2\n",
+            (1, Some(3)),
+            "appears twice",
+        ),
         ("t,u.,y.depth\n0,1,2\n", (1, Some(2)), "actuator name"),
         ("u.port,y.depth\n0,1\n", (1, None), "no time column"),
         ("t,u.port\n0,1\n0.1,1\n", (1, None), "no measurement column"),
         ("t,,y.depth\n0,1,2\n", (1, Some(2)), "unknown column ``"),
-        ("t,u.port,y.depth\n0,,2\n0.1,,3\n", (1, Some(2)), "never set"),
-        ("t,u.port,y.depth\n0,1,\n0.1,1,\n", (1, Some(3)), "no samples"),
+        (
+            "t,u.port,y.depth\n0,,2\n0.1,,3\n",
+            (1, Some(2)),
+            "never set",
+        ),
+        (
+            "t,u.port,y.depth\n0,1,\n0.1,1,\n",
+            (1, Some(3)),
+            "no samples",
+        ),
     ];
     for (text, want, msg) in cases {
         let e = parse(text).unwrap_err();
@@ -181,7 +239,10 @@ fn every_error_is_located() {
 }
 
 #[test]
-#[expect(clippy::approx_constant, reason = "-1.5708 is what a logger writes for -π/2")]
+#[expect(
+    clippy::approx_constant,
+    reason = "-1.5708 is what a logger writes for -π/2"
+)]
 fn input_precision_is_recorded_per_value_and_held() {
     let r = parse("t,u.beta,u.port,y.depth\n0,,10,1\n0.1,-1.5708,,1\n0.2,-1.57,5.25,1\n0.3,,,1\n")
         .unwrap();
@@ -189,8 +250,14 @@ fn input_precision_is_recorded_per_value_and_held() {
     assert_eq!(beta.values, vec![-1.5708, -1.5708, -1.57, -1.57]);
     assert_eq!(beta.first_set, 1);
     let p: Vec<f64> = beta.precision.iter().map(|&p| f64::from(p)).collect();
-    assert!((p[0] - 5e-5).abs() < 1e-9 && (p[1] - 5e-5).abs() < 1e-9, "{p:?}");
-    assert!((p[2] - 5e-3).abs() < 1e-8 && (p[3] - 5e-3).abs() < 1e-8, "{p:?}");
+    assert!(
+        (p[0] - 5e-5).abs() < 1e-9 && (p[1] - 5e-5).abs() < 1e-9,
+        "{p:?}"
+    );
+    assert!(
+        (p[2] - 5e-3).abs() < 1e-8 && (p[3] - 5e-3).abs() < 1e-8,
+        "{p:?}"
+    );
     assert_eq!(r.inputs[1].first_set, 0);
     assert_eq!(r.inputs[1].precision[2], 0.005);
 }
