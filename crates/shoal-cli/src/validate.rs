@@ -8,10 +8,12 @@ use shoal_model::effects;
 use shoal_model::presets;
 use shoal_model::rigid_body::Environment;
 use shoal_sysid::data::{DataOptions, Dataset};
+use shoal_sysid::ingest::{ReadOptions, TimeUnit};
 use shoal_sysid::replay::ReplayOptions;
 use shoal_sysid::report::{ReportInput, verdict_sentence, write_report};
 use shoal_sysid::run::{ChannelKind, MeasuredRun};
 use shoal_sysid::search::{SearchOptions, search};
+use shoal_sysid::segments::{GapMode, GapOptions, Segments};
 use shoal_world::load::load_vehicle;
 use shoal_world::spec::VehicleSpec;
 use std::path::{Path, PathBuf};
@@ -38,9 +40,23 @@ pub struct ValidateArgs {
     /// Fraction of each run used for estimation when no hold-out runs are given (0…1).
     #[arg(long, default_value_t = 0.6)]
     pub split: f64,
-    /// Replay time step [s].
+    /// Replay time step [s] (1e-4 … 0.1).
     #[arg(long, default_value_t = 0.01)]
     pub dt: f64,
+    /// Unit of a plain `t` column: s or ms (a header `t_s`, `t[s]`, `t_ms`, `t[ms]` declares
+    /// its own; a conflict is an error) [default: s].
+    #[arg(long, value_name = "s|ms")]
+    pub time_unit: Option<TimeUnit>,
+    /// At a gap in time: split the run into segments NAME#1, NAME#2, … or refuse it (error).
+    #[arg(long, value_name = "split|error", default_value = "split")]
+    pub gaps: GapMode,
+    /// A step between rows longer than this is a gap [s] [default: max(10 × the median
+    /// sample period, 1 s)].
+    #[arg(long, value_name = "SECONDS")]
+    pub max_gap: Option<f64>,
+    /// Segments shorter than this are dropped [s].
+    #[arg(long, value_name = "SECONDS", default_value_t = 1.0)]
+    pub min_segment: f64,
     /// Use only these measurements (comma separated, e.g. y.r,y.depth).
     #[arg(long, value_delimiter = ',', value_name = "y.NAME")]
     pub channels: Vec<String>,
@@ -60,10 +76,24 @@ pub struct ValidateArgs {
 
 /// `shoal validate`.
 pub fn validate(args: &ValidateArgs) -> Result<ExitCode, Failure> {
-    if !(args.dt > 0.0 && args.dt <= 0.1) {
+    if !(args.dt >= ReplayOptions::DT_MIN && args.dt <= ReplayOptions::DT_MAX) {
         return Err(Failure::Input(format!(
-            "--dt {}: allowed 0 < dt ≤ 0.1 s",
-            args.dt
+            "--dt {}: allowed {} ≤ dt ≤ {} s",
+            args.dt,
+            ReplayOptions::DT_MIN,
+            ReplayOptions::DT_MAX
+        )));
+    }
+    if args.max_gap.is_some_and(|g| !(g.is_finite() && g > 0.0)) {
+        return Err(Failure::Input(format!(
+            "--max-gap {}: allowed a number of seconds > 0",
+            args.max_gap.unwrap_or_default()
+        )));
+    }
+    if !(args.min_segment.is_finite() && args.min_segment >= 0.0) {
+        return Err(Failure::Input(format!(
+            "--min-segment {}: allowed a number of seconds ≥ 0",
+            args.min_segment
         )));
     }
     if args.holdout.is_empty() && !(args.split > 0.0 && args.split < 1.0) {
@@ -119,11 +149,27 @@ pub fn validate(args: &ValidateArgs) -> Result<ExitCode, Failure> {
     };
     let params = spec.to_params();
     let base_effects = spec.effects(&params).list().to_vec();
+    let read_opts = ReadOptions {
+        time_unit: args.time_unit,
+    };
+    let gap_opts = GapOptions {
+        mode: args.gaps,
+        max_gap: args.max_gap,
+        min_duration: args.min_segment,
+        ..Default::default()
+    };
     let read = |paths: &[PathBuf]| -> Result<Vec<MeasuredRun>, Failure> {
-        paths
-            .iter()
-            .map(|p| MeasuredRun::read(p).map_err(|e| Failure::Input(e.to_string())))
-            .collect()
+        let mut runs = Vec::new();
+        for p in paths {
+            let run = MeasuredRun::read_with(p, &read_opts)
+                .and_then(|r| r.split_at_gaps(&gap_opts))
+                .map_err(|e| Failure::Input(e.to_string()))?;
+            if !args.quiet {
+                print_segments(p, &run);
+            }
+            runs.extend(run.runs);
+        }
+        Ok(runs)
     };
     let est = read(&args.runs)?;
     let hold = read(&args.holdout)?;
@@ -142,6 +188,13 @@ pub fn validate(args: &ValidateArgs) -> Result<ExitCode, Failure> {
         },
     )
     .map_err(|e| Failure::Input(e.to_string()))?;
+    if !args.quiet {
+        for rd in &ds.runs {
+            for note in &rd.map.clamped {
+                eprintln!("  {}: {note}", rd.run.name);
+            }
+        }
+    }
     let threads = args.threads.map_or_else(
         || std::thread::available_parallelism().map_or(1, |n| n.get().min(8)),
         usize::from,
@@ -156,7 +209,7 @@ pub fn validate(args: &ValidateArgs) -> Result<ExitCode, Failure> {
         eprintln!(
             "shoal: validating `{}` on {} run(s){} — {} effects, {} thread(s) → {}",
             spec.name,
-            args.runs.len(),
+            ds.runs.iter().filter(|r| !r.holdout).count(),
             if args.holdout.is_empty() {
                 format!(
                     " (split {:.0} % / {:.0} %)",
@@ -164,7 +217,10 @@ pub fn validate(args: &ValidateArgs) -> Result<ExitCode, Failure> {
                     100.0 * (1.0 - args.split)
                 )
             } else {
-                format!(" + {} hold-out run(s)", args.holdout.len())
+                format!(
+                    " + {} hold-out run(s)",
+                    ds.runs.iter().filter(|r| r.holdout).count()
+                )
             },
             opts.effects.len(),
             threads,
@@ -255,6 +311,29 @@ pub fn validate(args: &ValidateArgs) -> Result<ExitCode, Failure> {
         written.plots.len()
     );
     Ok(ExitCode::SUCCESS)
+}
+
+/// Prints how a file was read and, when it has gaps, its segments (at most 20 listed).
+fn print_segments(path: &Path, seg: &Segments) {
+    let info = seg
+        .runs
+        .first()
+        .map(|r| r.ingest.to_string())
+        .unwrap_or_default();
+    eprintln!("shoal: read {}: {info}", path.display());
+    if seg.notes.len() > 1 {
+        const SHOWN: usize = 20;
+        for note in seg.notes.iter().take(SHOWN) {
+            eprintln!("  {note}");
+        }
+        if seg.notes.len() > SHOWN {
+            eprintln!(
+                "  … and {} more segment(s) ({} dropped in all)",
+                seg.notes.len() - SHOWN,
+                seg.dropped()
+            );
+        }
+    }
 }
 
 /// `shoal effects`: the catalogue as a Markdown table for the vehicle in `vehicle` (default:

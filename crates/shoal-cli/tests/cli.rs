@@ -481,6 +481,151 @@ fn malformed_measured_runs_are_rejected_with_line_and_column() {
     );
 }
 
+/// A diving log as a logger writes it — `;` separators, CRLF, comments (indented ones too),
+/// times in milliseconds, a trailing separator, the tilt at −1.5708, a 100 s pause in the
+/// middle — is read, split at the pause into two runs, its tilt clamped and counted, and
+/// validated.
+#[test]
+fn validate_reads_a_log_as_a_logger_writes_it() {
+    let dir = tmp("loggerlog");
+    let src = hidden_run(&dir, "src", Some(("thruster_lag", vec![0.4])), 4);
+    let csv = std::fs::read_to_string(&src).unwrap();
+    let mut out = String::from("# logger v2.1\r\n   # pool test, 50 Hz\r\n");
+    for (i, line) in csv.lines().enumerate() {
+        let mut cells: Vec<String> = line.split(',').map(str::to_string).collect();
+        if i == 0 {
+            cells[0] = "t[ms]".into();
+        } else {
+            let t: f64 = cells[0].parse().unwrap();
+            let pause = if i > 3000 { 100.0 } else { 0.0 };
+            cells[0] = format!("{}", ((t + pause) * 1000.0).round());
+            for c in &mut cells {
+                if c.starts_with("-1.570796") {
+                    *c = "-1.5708".into();
+                }
+            }
+        }
+        if i == 3001 {
+            out.push_str("\t# restarted after a pause\r\n");
+        }
+        out.push_str(&cells.join(";"));
+        out.push_str(";\r\n");
+    }
+    let log = dir.join("dive.csv");
+    std::fs::write(&log, out).unwrap();
+    let o = shoal()
+        .args([
+            "validate",
+            "--no-plots",
+            "--dt",
+            "0.02",
+            "--effects",
+            "thruster_lag",
+        ])
+        .arg(&log)
+        .arg("--out")
+        .arg(dir.join("report"))
+        .output()
+        .unwrap();
+    let (stdout, stderr) = text(&o);
+    assert!(o.status.success(), "{stdout}\n{stderr}");
+    for want in [
+        "6001 rows, separator `;`, time in ms, 3 comment line(s), trailing separators, 2 \
+         segments split at gaps > 1 s (0 dropped as too short)",
+        "dive#1: lines 4–3003, 3000 rows, t = 0 … 59.98 s",
+        "dive#2: lines 3005–6005, 3001 rows, t = 160 … 220 s",
+        "dive#1: u.beta: 3000 value(s) within 0.0001 rad of the limit −1.570796 rad clamped",
+        "dive#2: u.beta: 3001 value(s)",
+        "on 2 run(s)",
+    ] {
+        assert!(stderr.contains(want), "missing `{want}` in:\n{stderr}");
+    }
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("report/report.json")).unwrap())
+            .unwrap();
+    assert_eq!(report["runs"][1]["name"], "dive#2");
+}
+
+/// Input problems found while reading or mapping a log: exit 2 with file, line, column and
+/// what is allowed.
+#[test]
+fn measured_run_limits_units_and_gaps_are_checked() {
+    let dir = tmp("runlimits");
+    // 100 rows at 10 Hz; `t(i)` and `pump(i)` override the time and the pump of row i.
+    let log = |t: &dyn Fn(u32) -> f64, pump: &dyn Fn(u32) -> &'static str| {
+        let mut s = String::from("t,u.port,u.stbd,u.beta,u.pump,y.depth\n");
+        for i in 0..100 {
+            s.push_str(&format!("{},10,10,-1.5708,{},1\n", t(i), pump(i)));
+        }
+        s
+    };
+    let t = |i: u32| f64::from(i) / 10.0;
+    let rows = |p: &'static str| log(&t, &move |i| if i == 40 { p } else { "0" });
+    let gap = log(&|i| t(i) + if i >= 50 { 495.0 } else { 0.0 }, &|_| "0");
+    let long = log(&|i| if i == 99 { 1e8 } else { t(i) }, &|_| "0");
+    let cases: Vec<(&str, String, Vec<&str>, &str)> = vec![
+        (
+            "pump.csv",
+            rows("0.5"),
+            vec![],
+            "pump.csv:42: column 5 `u.pump`: pump command 0.5 is not a pump state; allowed: −1 \
+             (empty), 0 (off), +1 (fill)",
+        ),
+        (
+            "pump_big.csv",
+            rows("1e9"),
+            vec![],
+            "pump_big.csv:42: column 5 `u.pump`: pump command 1e9",
+        ),
+        (
+            "tilt.csv",
+            rows("0").replacen("-1.5708", "-1.6", 1),
+            vec![],
+            "tilt.csv:2: column 4 `u.beta`: tilt angle −1.6 rad is beyond the lower limit \
+             −1.570796 rad",
+        ),
+        (
+            "gaps.csv",
+            gap,
+            vec!["--gaps", "error"],
+            "gaps.csv:52: column 1 `t`: the time jumps by 495.1 s",
+        ),
+        (
+            "unit.csv",
+            rows("0").replacen("t,", "t_s,", 1),
+            vec!["--time-unit", "ms"],
+            "unit.csv:1: column 1 `t_s`: the header declares the time in s, but the time unit ms",
+        ),
+        (
+            "dt.csv",
+            rows("0"),
+            vec!["--dt", "1e-9"],
+            "--dt 0.000000001: allowed 0.0001 ≤ dt ≤ 0.1 s",
+        ),
+        (
+            "long.csv",
+            long,
+            vec!["--max-gap", "1e9"],
+            "long.csv: run `long`: replaying its 1e8 s at a 0.01 s step needs 1.000e10 steps",
+        ),
+    ];
+    for (name, body, args, want) in cases {
+        let p = dir.join(name);
+        std::fs::write(&p, body).unwrap();
+        let o = shoal()
+            .args(["validate", "--quiet", "--out"])
+            .arg(dir.join("out"))
+            .args(&args)
+            .arg(&p)
+            .output()
+            .unwrap();
+        let (_, stderr) = text(&o);
+        assert_eq!(o.status.code(), Some(2), "{name}: {stderr}");
+        assert!(stderr.contains(want), "{name}: want `{want}` in:\n{stderr}");
+        assert!(!stderr.contains("panicked"));
+    }
+}
+
 /// The real BlueROV pool logs (not shipped: read from `../shared/data` beside the checkout)
 /// converted by `examples/bluerov1/convert.py` and validated against `worlds/bluerov1.toml`:
 /// the extended model must predict the two hold-out runs clearly better than the baseline on

@@ -110,8 +110,9 @@ impl Dataset {
             .into_iter()
             .map(|r| (r, false))
             .chain(holdout.into_iter().map(|r| (r, true)));
-        for (run, is_holdout) in all {
-            let map = InputMap::new(params, &run)?;
+        for (mut run, is_holdout) in all {
+            let map = InputMap::new(params, &mut run)?;
+            opts.replay.steps(&run)?;
             let init = InitialState::from_run(params, &run, 0.5);
             let channels: Vec<usize> = run
                 .channels

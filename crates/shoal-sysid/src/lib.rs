@@ -3,7 +3,11 @@
 //! `shoal validate`: given logs of a real vehicle, show what the simulation gets wrong, name
 //! the cause, extend the model and measure the gain (`../shared/spec/validation.md`).
 //!
-//! * [`run`] — the measured-run CSV format, parsed with errors that name line and column;
+//! * [`run`] — a measured run: time, inputs, measurements, with errors that name line and
+//!   column;
+//! * [`ingest`] — reading runs as loggers write them (separators, comments, time units),
+//!   streaming and linear in the rows; [`segments`] — runs split at gaps in time;
+//!   [`limits`] — inputs checked against the actuator limits, rounding clamped and counted;
 //! * [`replay`] — the vehicle model driven open-loop by the measured inputs;
 //! * [`blocks`] — time blocks of residuals: held-out tests and the block bootstrap;
 //! * [`data`] — runs split into estimation and validation data, models evaluated on them;
@@ -24,6 +28,10 @@
 pub mod blocks;
 pub mod data;
 pub mod design;
+mod header;
+pub mod ingest;
+pub mod limits;
+mod lines;
 pub mod lm;
 pub mod logger;
 pub mod recovery;
@@ -31,6 +39,7 @@ pub mod replay;
 pub mod report;
 pub mod run;
 pub mod search;
+pub mod segments;
 pub mod stats;
 pub mod synth;
 pub mod testset;

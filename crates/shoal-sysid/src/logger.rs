@@ -126,6 +126,8 @@ mod tests {
                 name: "beta".into(),
                 column: 2,
                 values: vec![-std::f64::consts::FRAC_PI_2; 3],
+                precision: Vec::new(),
+                first_set: 0,
             }],
             channels: vec![Channel {
                 kind: ChannelKind::Depth,
@@ -136,6 +138,7 @@ mod tests {
             extra: Vec::new(),
             header_line: 0,
             lines: Vec::new(),
+            ingest: Default::default(),
         };
         assert_eq!(
             logger_csv(&run),

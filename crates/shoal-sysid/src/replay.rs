@@ -13,6 +13,8 @@
 //! Quantisation and noise are not simulated: they are what the residual of a perfect model
 //! consists of.
 
+use crate::ingest::short;
+use crate::limits::{ClampNote, Limits};
 use crate::run::{ChannelKind, MeasuredRun, RunError};
 use shoal_model::ballast::Pump;
 use shoal_model::control::ActuatorCommands;
@@ -32,54 +34,33 @@ pub struct InputMap {
     pub tilts: Vec<(usize, usize)>,
     /// Input column of the pump (−1 empty, 0 off, +1 fill).
     pub pump: Option<usize>,
+    /// Input values that lay within rounding of an actuator limit and were clamped to it
+    /// (see [`crate::limits`]).
+    pub clamped: Vec<ClampNote>,
 }
 
 impl InputMap {
     /// Maps the run's `u.` columns onto the vehicle's actuators by name: `u.<thruster>`
     /// [%], `u.<tilt drive>` \[rad\], `u.pump`. Actuators without a column stay at zero.
-    pub fn new(params: &VehicleParams, run: &MeasuredRun) -> Result<InputMap, RunError> {
+    ///
+    /// Checks every input value against its actuator's limits ([`crate::limits`]): values
+    /// within rounding of a limit are clamped to it in `run` and counted in
+    /// [`InputMap::clamped`]; a value clearly out of range, a pump command that is not −1, 0
+    /// or +1, or an unknown actuator is an error naming the line and column (and `run` is
+    /// left unchanged).
+    pub fn new(params: &VehicleParams, run: &mut MeasuredRun) -> Result<InputMap, RunError> {
         let mut map = InputMap::default();
+        let mut limits = Vec::with_capacity(run.inputs.len());
         for (k, inp) in run.inputs.iter().enumerate() {
-            if let Some(i) = params.thrusters.iter().position(|t| t.name == inp.name) {
-                let max = params.thrusters[i].max_command;
-                if let Some((row, v)) = inp
-                    .values
-                    .iter()
-                    .enumerate()
-                    .find(|(_, v)| v.abs() > max * 1.000_001)
-                {
-                    return Err(input_error(
-                        run,
-                        row,
-                        inp.column,
-                        &inp.name,
-                        format!(
-                            "thruster command {v} % is out of range; allowed: −{max} … {max} %"
-                        ),
-                    ));
-                }
+            let lim = if let Some(i) = params.thrusters.iter().position(|t| t.name == inp.name) {
                 map.thrusters.push((i, k));
+                Limits::thruster(params.thrusters[i].max_command)
             } else if let Some(i) = params.tilts.iter().position(|t| t.name == inp.name) {
-                let (lo, hi) = (params.tilts[i].min, params.tilts[i].max);
-                if let Some((row, v)) = inp
-                    .values
-                    .iter()
-                    .enumerate()
-                    .find(|(_, v)| **v < lo - 1e-6 || **v > hi + 1e-6)
-                {
-                    return Err(input_error(
-                        run,
-                        row,
-                        inp.column,
-                        &inp.name,
-                        format!(
-                            "tilt angle {v} rad is out of range; allowed: {lo:.4} … {hi:.4} rad"
-                        ),
-                    ));
-                }
                 map.tilts.push((i, k));
+                Limits::tilt(params.tilts[i].min, params.tilts[i].max)
             } else if inp.name == "pump" && params.ballast.is_some() {
                 map.pump = Some(k);
+                Limits::Pump
             } else {
                 let mut names: Vec<String> = params
                     .thrusters
@@ -101,20 +82,22 @@ impl InputMap {
                         names.join(", ")
                     ),
                 });
-            }
+            };
+            map.clamped.extend(lim.check(run, k)?);
+            limits.push(lim);
+        }
+        for (inp, lim) in run.inputs.iter_mut().zip(&limits) {
+            lim.apply(&mut inp.values);
         }
         Ok(map)
     }
 }
 
-fn input_error(run: &MeasuredRun, row: usize, column: usize, name: &str, msg: String) -> RunError {
-    RunError {
-        file: run.path.clone(),
-        line: run.lines.get(row).copied().unwrap_or(0),
-        column: Some((column, format!("u.{name}"))),
-        message: msg,
-    }
-}
+/// The most physics steps one replay may take: 10⁷, i.e. 27.8 h of log at the default 10 ms
+/// step (the trace then holds 80 MB per recorded channel). Longer replays are refused by
+/// [`ReplayOptions::steps`] (and cut there by [`simulate`]) instead of allocating by the time
+/// span.
+pub const MAX_REPLAY_STEPS: usize = 10_000_000;
 
 /// Settings of a replay.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -123,6 +106,47 @@ pub struct ReplayOptions {
     pub dt: f64,
     /// Integrator.
     pub integrator: Integrator,
+}
+
+impl ReplayOptions {
+    /// Smallest physics step allowed \[s\].
+    pub const DT_MIN: f64 = 1e-4;
+    /// Largest physics step allowed \[s\].
+    pub const DT_MAX: f64 = 0.1;
+
+    /// The physics steps a replay of `run` takes, or an error naming the run when the step is
+    /// outside [`Self::DT_MIN`]…[`Self::DT_MAX`] or the replay would need more than
+    /// [`MAX_REPLAY_STEPS`].
+    pub fn steps(&self, run: &MeasuredRun) -> Result<usize, RunError> {
+        let err = |message: String| RunError {
+            file: run.path.clone(),
+            line: 0,
+            column: None,
+            message,
+        };
+        if !(self.dt >= Self::DT_MIN && self.dt <= Self::DT_MAX) {
+            return Err(err(format!(
+                "replay step {} s is out of range; allowed: {} … {} s",
+                self.dt,
+                Self::DT_MIN,
+                Self::DT_MAX
+            )));
+        }
+        let span = run.duration();
+        let steps = (span / self.dt).ceil();
+        if steps.is_nan() || steps > MAX_REPLAY_STEPS as f64 {
+            return Err(err(format!(
+                "run `{}`: replaying its {} s at a {} s step needs {:.3e} steps; at most {:.0e} \
+                 are allowed (use a larger --dt, or split the run at its gaps with --max-gap)",
+                run.name,
+                short(span),
+                self.dt,
+                steps,
+                MAX_REPLAY_STEPS as f64
+            )));
+        }
+        Ok(steps.max(0.0) as usize)
+    }
 }
 
 impl Default for ReplayOptions {
@@ -272,7 +296,10 @@ pub fn simulate(
     let dt = opts.dt;
     let t0 = run.t[0];
     let t_end = *run.t.last().unwrap_or(&t0);
-    let steps = ((t_end - t0) / dt).ceil().max(0.0) as usize;
+    // Bounded whatever the run: callers check with `ReplayOptions::steps` first.
+    let steps = ((t_end - t0) / dt)
+        .ceil()
+        .clamp(0.0, MAX_REPLAY_STEPS as f64) as usize;
     let env_vehicle = model.environment(env);
     let mut rigid = RigidState::at_rest(
         init.position,
@@ -375,22 +402,104 @@ mod tests {
     #[test]
     fn input_errors_name_the_file_line_after_comments() {
         let text = "# a comment\n# another\nt,u.port,y.depth\n0,10,1\n0.1,,1\n0.2,120,1\n";
-        let run = MeasuredRun::parse(text, Path::new("r.csv")).unwrap();
+        let mut run = MeasuredRun::parse(text, Path::new("r.csv")).unwrap();
         assert_eq!(run.header_line, 3);
         assert_eq!(run.lines, vec![4, 5, 6]);
         let params = shoal_model::presets::uauv2();
         // A command beyond ±100 % is reported on the row where it is set.
-        let e = InputMap::new(&params, &run).unwrap_err();
+        let e = InputMap::new(&params, &mut run).unwrap_err();
         assert_eq!((e.line, e.column.clone()), (6, Some((2, "u.port".into()))));
         assert!(e.message.contains("−100 … 100 %"), "{}", e.message);
         // An unknown actuator is reported on the header line.
         let text = text.replace("u.port", "u.rudder");
-        let run = MeasuredRun::parse(&text, Path::new("r.csv")).unwrap();
-        let e = InputMap::new(&params, &run).unwrap_err();
+        let mut run = MeasuredRun::parse(&text, Path::new("r.csv")).unwrap();
+        let e = InputMap::new(&params, &mut run).unwrap_err();
         assert_eq!(
             (e.line, e.column.clone()),
             (3, Some((2, "u.rudder".into())))
         );
         assert!(e.message.contains("u.port"), "{}", e.message);
+    }
+
+    #[test]
+    fn a_diving_log_at_the_tilt_limit_is_clamped_and_counted() {
+        let mut text = String::from("t,u.top,u.port,u.stbd,u.alpha,u.beta,u.pump,y.depth\n");
+        for i in 0..50 {
+            let t = f64::from(i) * 0.02;
+            text.push_str(&format!("{t},0,40,40,0,-1.5708,0,0.8\n"));
+        }
+        let mut run = MeasuredRun::parse(&text, Path::new("dive.csv")).unwrap();
+        let params = shoal_model::presets::uauv2();
+        let map = InputMap::new(&params, &mut run).unwrap();
+        assert_eq!(map.clamped.len(), 1, "{:?}", map.clamped);
+        let note = &map.clamped[0];
+        assert_eq!(
+            (note.name.as_str(), note.column, note.count),
+            ("u.beta", 6, 50)
+        );
+        assert_eq!(note.limit, -std::f64::consts::FRAC_PI_2);
+        assert!(note.to_string().contains("50 value(s)"), "{note}");
+        let beta = run.input("beta").unwrap();
+        assert!(
+            beta.values
+                .iter()
+                .all(|&v| v == -std::f64::consts::FRAC_PI_2)
+        );
+        // The pump takes −1, 0, +1 only, and a failed check leaves the run as it was.
+        for bad in ["0.5", "1e9"] {
+            let text = text.replacen(
+                ",-1.5708,0,0.8\n0.02,",
+                &format!(",-1.5708,{bad},0.8\n0.02,"),
+                1,
+            );
+            let mut run = MeasuredRun::parse(&text, Path::new("dive.csv")).unwrap();
+            let before = run.clone();
+            let e = InputMap::new(&params, &mut run).unwrap_err();
+            assert_eq!(
+                (e.line, e.column.clone()),
+                (2, Some((7, "u.pump".into()))),
+                "{e}"
+            );
+            assert!(
+                e.message
+                    .contains("allowed: −1 (empty), 0 (off), +1 (fill)"),
+                "{e}"
+            );
+            assert_eq!(run, before);
+        }
+    }
+
+    #[test]
+    fn replay_steps_are_bounded() {
+        let mut run =
+            MeasuredRun::parse("t,u.port,y.depth\n0,1,1\n1000,1,1\n", Path::new("long.csv"))
+                .unwrap();
+        let opts = ReplayOptions::default();
+        assert_eq!(opts.steps(&run).unwrap(), 100_000);
+        for dt in [0.0, -1.0, f64::NAN, 1e-9, 0.5] {
+            let e = ReplayOptions { dt, ..opts }.steps(&run).unwrap_err();
+            assert!(e.message.contains("allowed: 0.0001 … 0.1 s"), "{dt}: {e}");
+        }
+        run.t[1] = 1e9;
+        let e = opts.steps(&run).unwrap_err();
+        assert!(e.message.starts_with("run `long`"), "{e}");
+        assert!(e.message.contains("at most 1e7"), "{e}");
+        // Even unchecked, a replay never runs past the bound.
+        let model = VehicleModel::new(shoal_model::presets::uauv2(), 1000.0);
+        let map = InputMap::new(&model.params, &mut run).unwrap();
+        let init = InitialState::from_run(&model.params, &run, 0.5);
+        let trace = simulate(
+            &model,
+            &Environment::default(),
+            &run,
+            &map,
+            &init,
+            &[ChannelKind::Depth],
+            &ReplayOptions {
+                dt: f64::NAN,
+                ..opts
+            },
+        );
+        assert_eq!(trace.len(), 1);
     }
 }

@@ -3,13 +3,17 @@
 //! One header row, then one row per time stamp: `t` \[s\] (strictly increasing, need not be
 //! uniform), inputs `u.<actuator>` held until their next value (zero-order hold), measurements
 //! `y.<channel>`, and ignored extra columns `x.<anything>`. An empty cell means "not sampled at
-//! this time" (multi-rate logs merged on the union of their time stamps). Lines starting with
-//! `#` are comments.
+//! this time" (multi-rate logs merged on the union of their time stamps).
+//!
+//! This module holds the parsed run; [`crate::ingest`] reads it from a file (separators,
+//! comments, time units, streaming), [`crate::segments`] splits it at gaps in time and
+//! [`crate::limits`] checks its inputs against a vehicle's actuator limits.
 //!
 //! Every problem is a [`RunError`] naming the file, the line and the column.
 
+use crate::ingest::IngestInfo;
 use std::fmt;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// What a `y.` column measures.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -107,8 +111,15 @@ pub struct InputColumn {
     /// 1-based column number in the file.
     pub column: usize,
     /// Value in force at each row (held from the last set value; before the first set value,
-    /// the first set value).
+    /// the first set value) [unit of the actuator: % for thrusters, rad for tilt drives, −1/0/+1
+    /// for the pump].
     pub values: Vec<f64>,
+    /// For each row, half a unit of the last written digit of the cell its value comes from
+    /// (`-1.5708` → 5·10⁻⁵) [unit of the actuator]: how far the logger may have rounded it.
+    /// Empty for runs not read from text: every value is then exact.
+    pub precision: Vec<f32>,
+    /// Row of the first cell that sets this input (rows before it hold that cell's value).
+    pub first_set: usize,
 }
 
 /// A measurement column.
@@ -150,6 +161,8 @@ pub struct MeasuredRun {
     pub header_line: usize,
     /// 1-based file line of each row (empty for runs not read from a file).
     pub lines: Vec<usize>,
+    /// How the file was read (separator, time unit, comments, segments).
+    pub ingest: IngestInfo,
 }
 
 /// A problem with a measured-run file.
@@ -179,290 +192,6 @@ impl fmt::Display for RunError {
 }
 
 impl MeasuredRun {
-    /// Reads and parses a measured-run CSV file.
-    pub fn read(path: &Path) -> Result<MeasuredRun, RunError> {
-        let text = std::fs::read_to_string(path).map_err(|e| RunError {
-            file: path.to_path_buf(),
-            line: 0,
-            column: None,
-            message: format!("cannot read the file: {e}"),
-        })?;
-        Self::parse(&text, path)
-    }
-
-    /// Parses CSV text; `path` names the file in messages.
-    pub fn parse(text: &str, path: &Path) -> Result<MeasuredRun, RunError> {
-        let err = |line: usize, column: Option<(usize, &str)>, message: String| RunError {
-            file: path.to_path_buf(),
-            line,
-            column: column.map(|(c, n)| (c, n.to_string())),
-            message,
-        };
-        let mut rdr = csv::ReaderBuilder::new()
-            .has_headers(false)
-            .flexible(true)
-            .trim(csv::Trim::All)
-            .comment(Some(b'#'))
-            .from_reader(text.as_bytes());
-        let mut records = rdr.records();
-        let header = match records.next() {
-            Some(Ok(h)) => h,
-            Some(Err(e)) => {
-                return Err(err(
-                    line_of(text, e.position()),
-                    None,
-                    format!("not valid CSV: {e}"),
-                ));
-            }
-            None => {
-                return Err(err(
-                    0,
-                    None,
-                    "the file is empty: expected a header row starting with `t`".into(),
-                ));
-            }
-        };
-        let header_line = line_of(text, header.position());
-        let names: Vec<String> = header.iter().map(str::to_string).collect();
-        enum Col {
-            Time,
-            Input(usize),
-            Output(usize),
-            Extra,
-        }
-        let mut cols = Vec::with_capacity(names.len());
-        let mut time_col = None;
-        let mut inputs: Vec<InputColumn> = Vec::new();
-        let mut raw_inputs: Vec<Vec<Option<f64>>> = Vec::new();
-        let mut channels: Vec<Channel> = Vec::new();
-        let mut extra = Vec::new();
-        for (i, n) in names.iter().enumerate() {
-            let c = i + 1;
-            if names[..i].contains(n) {
-                return Err(err(
-                    header_line,
-                    Some((c, n)),
-                    "this column name appears twice".into(),
-                ));
-            }
-            if n == "t" {
-                time_col = Some(i);
-                cols.push(Col::Time);
-            } else if let Some(a) = n.strip_prefix("u.") {
-                if a.is_empty() {
-                    return Err(err(
-                        header_line,
-                        Some((c, n)),
-                        "an input column needs an actuator name after `u.`".into(),
-                    ));
-                }
-                cols.push(Col::Input(inputs.len()));
-                inputs.push(InputColumn {
-                    name: a.to_string(),
-                    column: c,
-                    values: Vec::new(),
-                });
-                raw_inputs.push(Vec::new());
-            } else if let Some(y) = n.strip_prefix("y.") {
-                let Some(kind) = ChannelKind::from_name(y) else {
-                    let allowed: Vec<String> = ChannelKind::ALL
-                        .iter()
-                        .map(|(_, n)| format!("y.{n}"))
-                        .collect();
-                    return Err(err(
-                        header_line,
-                        Some((c, n)),
-                        format!(
-                            "unknown measurement `{n}`{} (allowed: {})",
-                            suggest(y, ChannelKind::ALL.iter().map(|(_, n)| *n))
-                                .map(|s| format!(" — did you mean `y.{s}`?"))
-                                .unwrap_or_default(),
-                            allowed.join(", ")
-                        ),
-                    ));
-                };
-                cols.push(Col::Output(channels.len()));
-                channels.push(Channel {
-                    kind,
-                    column: c,
-                    rows: Vec::new(),
-                    values: Vec::new(),
-                });
-            } else if n.starts_with("x.") {
-                cols.push(Col::Extra);
-                extra.push(n.clone());
-            } else {
-                return Err(err(
-                    header_line,
-                    Some((c, n)),
-                    format!(
-                        "unknown column `{n}`: allowed are `t`, `u.<actuator>`, `y.<measurement>` \
-                         and `x.<anything>` (ignored){}",
-                        if n.is_empty() {
-                            String::new()
-                        } else {
-                            format!(" — to keep it, name it `x.{n}`")
-                        }
-                    ),
-                ));
-            }
-        }
-        let Some(time_col) = time_col else {
-            return Err(err(
-                header_line,
-                None,
-                format!(
-                    "no time column: the header must contain `t` (it has: {})",
-                    names.join(", ")
-                ),
-            ));
-        };
-        if channels.is_empty() {
-            return Err(err(
-                header_line,
-                None,
-                "no measurement column: at least one `y.` column is needed (e.g. y.depth, y.yaw, y.r)"
-                    .into(),
-            ));
-        }
-        let mut t: Vec<f64> = Vec::new();
-        let mut lines: Vec<usize> = Vec::new();
-        for rec in records {
-            let rec = rec.map_err(|e| {
-                err(
-                    line_of(text, e.position()),
-                    None,
-                    format!("not valid CSV: {e}"),
-                )
-            })?;
-            let line = line_of(text, rec.position());
-            if rec.len() == 1 && rec.get(0).is_some_and(str::is_empty) {
-                continue; // blank line
-            }
-            if rec.len() != names.len() {
-                return Err(err(
-                    line,
-                    None,
-                    format!(
-                        "{} fields, but the header has {} columns",
-                        rec.len(),
-                        names.len()
-                    ),
-                ));
-            }
-            let row = t.len();
-            for (i, cell) in rec.iter().enumerate() {
-                let c = i + 1;
-                if matches!(cols[i], Col::Extra) {
-                    continue; // kept as text, never parsed
-                }
-                let value = if cell.is_empty() {
-                    None
-                } else {
-                    match cell.parse::<f64>() {
-                        Ok(v) if v.is_finite() => Some(v),
-                        Ok(_) => {
-                            return Err(err(
-                                line,
-                                Some((c, &names[i])),
-                                format!("`{cell}` is not a finite number"),
-                            ));
-                        }
-                        Err(_) => {
-                            return Err(err(
-                                line,
-                                Some((c, &names[i])),
-                                format!("`{cell}` is not a number"),
-                            ));
-                        }
-                    }
-                };
-                match cols[i] {
-                    Col::Time => {
-                        let Some(v) = value else {
-                            return Err(err(
-                                line,
-                                Some((c, &names[i])),
-                                "the time is missing: every row needs `t`".into(),
-                            ));
-                        };
-                        if let Some(&prev) = t.last()
-                            && v <= prev
-                        {
-                            return Err(err(
-                                line,
-                                Some((c, &names[i])),
-                                format!(
-                                    "time {v} s does not increase (previous row: {prev} s); \
-                                     times must be strictly increasing"
-                                ),
-                            ));
-                        }
-                        t.push(v);
-                        lines.push(line);
-                    }
-                    Col::Input(k) => raw_inputs[k].push(value),
-                    Col::Output(k) => {
-                        if let Some(v) = value {
-                            channels[k].rows.push(row);
-                            channels[k].values.push(v);
-                        }
-                    }
-                    Col::Extra => {}
-                }
-            }
-            debug_assert_eq!(t.len(), row + 1, "time column {time_col}");
-        }
-        if t.len() < 2 {
-            return Err(err(
-                0,
-                None,
-                format!("{} data rows: a run needs at least 2", t.len()),
-            ));
-        }
-        for (inp, raw) in inputs.iter_mut().zip(raw_inputs) {
-            let Some(first) = raw.iter().flatten().next().copied() else {
-                return Err(err(
-                    header_line,
-                    Some((inp.column, &format!("u.{}", inp.name))),
-                    "this input is never set (every cell is empty)".into(),
-                ));
-            };
-            let mut cur = first;
-            inp.values = raw
-                .into_iter()
-                .map(|v| {
-                    if let Some(v) = v {
-                        cur = v;
-                    }
-                    cur
-                })
-                .collect();
-        }
-        for ch in &channels {
-            if ch.values.is_empty() {
-                return Err(err(
-                    header_line,
-                    Some((ch.column, &ch.label())),
-                    "this measurement has no samples (every cell is empty)".into(),
-                ));
-            }
-        }
-        let name = path
-            .file_stem()
-            .map_or_else(|| "run".to_string(), |s| s.to_string_lossy().into_owned());
-        Ok(MeasuredRun {
-            path: path.to_path_buf(),
-            name,
-            t,
-            inputs,
-            channels,
-            extra,
-            header_line,
-            lines,
-        })
-    }
-
     /// Duration from the first to the last row \[s\].
     pub fn duration(&self) -> f64 {
         self.t.last().copied().unwrap_or(0.0) - self.t.first().copied().unwrap_or(0.0)
@@ -513,28 +242,6 @@ impl MeasuredRun {
     }
 }
 
-/// 1-based line of the record at a csv position (0 if unknown). The csv crate neither counts
-/// comment lines nor skips them in the position it reports, so the line is counted from the
-/// byte offset, past any comment lines there.
-fn line_of(text: &str, p: Option<&csv::Position>) -> usize {
-    let Some(p) = p else { return 0 };
-    let mut at = (p.byte() as usize).min(text.len());
-    let mut line = 1 + text.as_bytes()[..at]
-        .iter()
-        .filter(|b| **b == b'\n')
-        .count();
-    while text[at..].trim_start_matches([' ', '\t']).starts_with('#') {
-        match text[at..].find('\n') {
-            Some(n) => {
-                at += n + 1;
-                line += 1;
-            }
-            None => break,
-        }
-    }
-    line
-}
-
 /// The closest name within edit distance 2, if any.
 pub(crate) fn suggest<'a>(name: &str, names: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
     names
@@ -563,6 +270,7 @@ fn edit_distance(a: &str, b: &str) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::path::Path;
 
     fn parse(s: &str) -> Result<MeasuredRun, RunError> {
         MeasuredRun::parse(s, Path::new("run.csv"))

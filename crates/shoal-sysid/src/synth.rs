@@ -143,6 +143,8 @@ pub fn synthesize_with(
             name: n.clone(),
             column: 2 + i,
             values: Vec::with_capacity(n_samples),
+            precision: Vec::new(),
+            first_set: 0,
         })
         .collect();
     let mut channels: Vec<Channel> = exp
@@ -244,5 +246,6 @@ pub fn synthesize_with(
         extra: Vec::new(),
         header_line: 0,
         lines: Vec::new(),
+        ingest: Default::default(),
     }
 }

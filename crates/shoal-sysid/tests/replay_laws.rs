@@ -42,6 +42,8 @@ fn run_with(inputs: Vec<(&str, &dyn Fn(f64) -> f64)>, duration: f64) -> Measured
             name: name.into(),
             column: i + 2,
             values: t.iter().map(|&t| f(t)).collect(),
+            precision: Vec::new(),
+            first_set: 0,
         })
         .collect();
     let mk = |kind, v: f64| Channel {
@@ -63,6 +65,7 @@ fn run_with(inputs: Vec<(&str, &dyn Fn(f64) -> f64)>, duration: f64) -> Measured
         extra: Vec::new(),
         header_line: 0,
         lines: Vec::new(),
+        ingest: Default::default(),
     }
 }
 
@@ -111,7 +114,7 @@ fn held(f: impl Fn(f64) -> f64, t: f64) -> f64 {
 fn diving_mode_is_the_heave_law() {
     let params = presets::uauv2();
     let model = VehicleModel::new(params.clone(), 1000.0);
-    let run = run_with(
+    let mut run = run_with(
         vec![
             ("beta", &|_| -FRAC_PI_2),
             ("alpha", &|_| 0.0),
@@ -120,7 +123,7 @@ fn diving_mode_is_the_heave_law() {
         ],
         36.0,
     );
-    let map = InputMap::new(&params, &run).unwrap();
+    let map = InputMap::new(&params, &mut run).unwrap();
     let init = InitialState::from_run(&params, &run, 0.5);
     let opts = ReplayOptions::default();
     let trace = simulate(
@@ -166,7 +169,7 @@ fn balanced_turning_mode_is_the_yaw_law_and_unbalanced_is_not() {
     let port = |t: f64| (profile(t) * 0.75).clamp(-79.0, 79.0);
     let stbd = move |t: f64| balanced_stbd(port(t));
     let law = |stbd_cmd: &dyn Fn(f64) -> f64| {
-        let run = run_with(
+        let mut run = run_with(
             vec![
                 ("beta", &|_| 0.0),
                 ("alpha", &|_| 0.0),
@@ -175,7 +178,7 @@ fn balanced_turning_mode_is_the_yaw_law_and_unbalanced_is_not() {
             ],
             36.0,
         );
-        let map = InputMap::new(&params, &run).unwrap();
+        let map = InputMap::new(&params, &mut run).unwrap();
         let init = InitialState::from_run(&params, &run, 0.5);
         let opts = ReplayOptions::default();
         let trace = simulate(

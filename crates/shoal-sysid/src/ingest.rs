@@ -1,0 +1,558 @@
+//! Reading measured runs as real loggers write them: streaming, one pass, linear in the rows.
+//!
+//! The format is the one of [`crate::run`] (`../shared/spec/validation.md`), read leniently
+//! where loggers differ and strictly where a value would be wrong:
+//!
+//! * **Separator**: `,`, `;` or a tab, taken from the header line — the one of the three that
+//!   occurs in it (a header with none, or with more than one of them, is an error naming the
+//!   header line). Quoted fields (`"…"`) are read as in RFC 4180.
+//! * **Trailing separator**: a header whose last field is empty (`t,u.port,y.depth,`) and rows
+//!   with one extra, empty last field are accepted; the empty field is ignored.
+//! * **Comments**: a line whose first character that is not a space or tab is `#`, anywhere in
+//!   the file (before the header, between rows, indented or not). A `#` after data on the same
+//!   line is *not* a comment: the cell is then not a number, and the message says so.
+//!   Blank lines are skipped. Line numbers in messages count every line of the file.
+//! * **Line ends**: `\n`, `\r\n` or `\r`; a UTF-8 byte-order mark is ignored.
+//! * **Time unit**: the time column is `t`, `t_s` or `t[s]` (seconds) or `t_ms` or `t[ms]`
+//!   (milliseconds). A plain `t` is in seconds unless [`ReadOptions::time_unit`] says
+//!   otherwise (`shoal validate --time-unit ms`); a header that declares a unit which
+//!   disagrees with that option is an error. Times are converted to seconds as they are read.
+//! * **Numbers**: anything Rust's `f64` parser reads (`1`, `-1.5708`, `2.5e-3`, `+.5`); an
+//!   empty cell means "not sampled"; `nan`, `inf` and numbers beyond the `f64` range are
+//!   errors. For each input cell the reader records half a unit of its last written digit
+//!   (`-1.5708` → 5·10⁻⁵), so that the limit check of [`crate::replay::InputMap::new`] can
+//!   tell a value rounded by the logger from one that is really out of range.
+//!
+//! Rejected, each with file, line and column: a header without `t` or without a `y.` column,
+//! an unknown or repeated column, a row with too many or too few fields, invalid UTF-8, a
+//! missing, non-increasing or non-finite time, a cell that is not a finite number, an input
+//! never set, a measurement never sampled, fewer than two data rows, a line longer than
+//! 1 MiB. Gaps in time are handled afterwards by [`MeasuredRun::split_at_gaps`].
+//!
+//! Memory is the parsed columns (a few bytes per cell) plus one line; the text is never held
+//! whole.
+
+use crate::header::{Col, Header, quote};
+pub use crate::header::{Separator, TimeUnit};
+use crate::lines::{LineTooLong, LogLines};
+use crate::run::{MeasuredRun, RunError};
+use std::fmt;
+use std::fs::File;
+use std::io::{self, BufRead, BufReader};
+use std::path::Path;
+
+/// How to read a measured run.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct ReadOptions {
+    /// The unit of a plain `t` column (seconds when `None`); a header that declares another
+    /// unit (`t_ms`, `t[s]`, …) is then an error.
+    pub time_unit: Option<TimeUnit>,
+}
+
+/// How a file was read: what the reader found and how it split the file (for the report).
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
+pub struct IngestInfo {
+    /// Column separator found in the header.
+    pub separator: Separator,
+    /// Unit the times were written in (they are converted to seconds when read).
+    pub time_unit: TimeUnit,
+    /// 1-based column of the time (0 for runs not read from a file).
+    pub time_column: usize,
+    /// Header name of the time column (`t`, `t_ms`, …).
+    pub time_header: String,
+    /// Comment lines in the file.
+    pub comment_lines: usize,
+    /// Empty or blank lines in the file.
+    pub blank_lines: usize,
+    /// Whether the header or a row ended with a separator (an empty last field, ignored).
+    pub trailing_separator: bool,
+    /// Data rows in the whole file.
+    pub file_rows: usize,
+    /// This run's 1-based place among the file's segments when the file was split at gaps in
+    /// time (`None`: the run is the whole file).
+    pub segment: Option<usize>,
+    /// Segments found in the file, dropped ones included (1: no gap; 0: not checked).
+    pub segments: usize,
+    /// Segments dropped as too short.
+    pub dropped_segments: usize,
+    /// Largest step between rows allowed within a segment \[s\] (0: not checked).
+    pub gap_limit: f64,
+}
+
+impl fmt::Display for IngestInfo {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{} rows, separator {}, time in {}, {} comment line(s)",
+            self.file_rows,
+            self.separator.name(),
+            self.time_unit,
+            self.comment_lines
+        )?;
+        if self.trailing_separator {
+            write!(f, ", trailing separators")?;
+        }
+        if self.segments > 1 {
+            write!(
+                f,
+                ", {} segments split at gaps > {} s ({} dropped as too short)",
+                self.segments,
+                short(self.gap_limit),
+                self.dropped_segments
+            )?;
+        }
+        Ok(())
+    }
+}
+
+/// A number for messages: at most 7 significant digits, no trailing zeros.
+pub(crate) fn short(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x}");
+    }
+    let a = x.abs();
+    if !(1e-4..1e7).contains(&a) {
+        let s = format!("{x:.6e}");
+        let (m, e) = s.split_once('e').unwrap_or((&s, "0"));
+        let m = if m.contains('.') {
+            m.trim_end_matches('0').trim_end_matches('.')
+        } else {
+            m
+        };
+        return format!("{m}e{e}");
+    }
+    let decimals = (6 - a.log10().floor() as i32).clamp(0, 12) as usize;
+    let s = format!("{x:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
+impl MeasuredRun {
+    /// Reads and parses a measured-run CSV file (times in seconds unless the header says
+    /// otherwise).
+    pub fn read(path: &Path) -> Result<MeasuredRun, RunError> {
+        Self::read_with(path, &ReadOptions::default())
+    }
+
+    /// Reads and parses a measured-run CSV file, streaming.
+    pub fn read_with(path: &Path, opts: &ReadOptions) -> Result<MeasuredRun, RunError> {
+        let file = File::open(path).map_err(|e| RunError {
+            file: path.to_path_buf(),
+            line: 0,
+            column: None,
+            message: format!("cannot read the file: {e}"),
+        })?;
+        Self::from_reader(BufReader::with_capacity(1 << 16, file), path, opts)
+    }
+
+    /// Parses CSV text; `path` names the file in messages.
+    pub fn parse(text: &str, path: &Path) -> Result<MeasuredRun, RunError> {
+        Self::parse_with(text, path, &ReadOptions::default())
+    }
+
+    /// Parses CSV text with options; `path` names the file in messages.
+    pub fn parse_with(
+        text: &str,
+        path: &Path,
+        opts: &ReadOptions,
+    ) -> Result<MeasuredRun, RunError> {
+        Self::from_reader(text.as_bytes(), path, opts)
+    }
+
+    /// Parses CSV from any buffered reader (the one code path of [`MeasuredRun::read`] and
+    /// [`MeasuredRun::parse`]); `path` names the file in messages.
+    pub fn from_reader<R: BufRead>(
+        src: R,
+        path: &Path,
+        opts: &ReadOptions,
+    ) -> Result<MeasuredRun, RunError> {
+        read_run(src, path, opts)
+    }
+}
+
+/// An I/O error at `line`, or the over-long line inside it.
+fn io_error(path: &Path, line: usize, e: &io::Error) -> RunError {
+    if let Some(t) = e.get_ref().and_then(|e| e.downcast_ref::<LineTooLong>()) {
+        return RunError {
+            file: path.to_path_buf(),
+            line: t.line,
+            column: None,
+            message: format!("{t}: is this a measured-run CSV file?"),
+        };
+    }
+    RunError {
+        file: path.to_path_buf(),
+        line,
+        column: None,
+        message: format!("cannot read the file: {e}"),
+    }
+}
+
+fn read_run<R: BufRead>(src: R, path: &Path, opts: &ReadOptions) -> Result<MeasuredRun, RunError> {
+    let err = |line: usize, column: Option<(usize, &str)>, message: String| RunError {
+        file: path.to_path_buf(),
+        line,
+        column: column.map(|(c, n)| (c, n.to_string())),
+        message,
+    };
+    let mut lines = BufReader::with_capacity(1 << 16, LogLines::new(src));
+
+    // The header: the first line that is neither blank nor a comment (`LogLines` leaves
+    // those out).
+    let mut raw = Vec::new();
+    let k = lines
+        .read_until(b'\n', &mut raw)
+        .map_err(|e| io_error(path, 1, &e))?;
+    if k == 0 {
+        return Err(err(
+            0,
+            None,
+            "no header row: the file is empty or holds only comments and blank lines; \
+             expected a header such as `t,u.port,y.depth`"
+                .into(),
+        ));
+    }
+    let header_line = lines.get_mut().file_line(1);
+    if raw.last() == Some(&b'\n') {
+        raw.pop();
+    }
+    let Header {
+        line: header_line,
+        separator: sep,
+        names,
+        cols,
+        time_column: time_col,
+        time_unit: unit,
+        trailing_separator,
+        mut inputs,
+        mut channels,
+        extra,
+    } = Header::parse(&raw, header_line, path, opts)?;
+    let mut trailing_separator = trailing_separator;
+    let time_name = names.get(time_col - 1).cloned().unwrap_or_default();
+    let mut first_set: Vec<Option<usize>> = vec![None; inputs.len()];
+
+    // The rows.
+    let mut rdr = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .delimiter(sep.byte())
+        .flexible(true)
+        .trim(csv::Trim::All)
+        .buffer_capacity(1 << 16)
+        .from_reader(lines);
+    let n_cols = names.len();
+    let mut rec = csv::ByteRecord::new();
+    let mut t: Vec<f64> = Vec::new();
+    let mut row_lines: Vec<usize> = Vec::new();
+    let mut prev_time: Option<(f64, usize)> = None;
+    let mut last_line = header_line;
+    loop {
+        match rdr.read_byte_record(&mut rec) {
+            Ok(true) => {}
+            Ok(false) => break,
+            Err(e) => {
+                let line = match e.position() {
+                    Some(p) => rdr.get_mut().get_mut().file_line(p.line() + 1),
+                    None => last_line + 1,
+                };
+                return Err(match e.kind() {
+                    csv::ErrorKind::Io(io) => io_error(path, line, io),
+                    _ => err(line, None, format!("not valid CSV: {e}")),
+                });
+            }
+        }
+        // The csv reader starts after the header: its line 1 is output line 2.
+        let out_line = rec.position().map_or(1, csv::Position::line) + 1;
+        let line = rdr.get_mut().get_mut().file_line(out_line);
+        last_line = line;
+        let k = rec.len();
+        if k == 1 && rec.get(0).is_some_and(<[u8]>::is_empty) {
+            continue; // a line holding only `""`
+        }
+        let extra_field = k == n_cols + 1 && rec.get(n_cols).is_some_and(<[u8]>::is_empty);
+        if k < n_cols {
+            let missing = names.get(k).map_or("", String::as_str);
+            return Err(err(
+                line,
+                Some((k + 1, missing)),
+                format!(
+                    "the row has {k} field(s), but the header has {n_cols} columns: this one \
+                     and any after it are missing (write an empty field for \"not sampled\")"
+                ),
+            ));
+        }
+        if k > n_cols && !extra_field {
+            let cell = String::from_utf8_lossy(rec.get(n_cols).unwrap_or_default());
+            return Err(err(
+                line,
+                None,
+                format!(
+                    "the row has {k} fields, but the header has {n_cols} columns: field {} \
+                     (`{}`) has no column",
+                    n_cols + 1,
+                    quote(&cell)
+                ),
+            ));
+        }
+        if extra_field {
+            trailing_separator = true;
+        }
+        let row = t.len();
+        for (i, (field, col)) in rec.iter().zip(&cols).enumerate() {
+            let c = i + 1;
+            let name = names.get(i).map_or("", String::as_str);
+            let cell = std::str::from_utf8(field).map_err(|e| {
+                err(
+                    line,
+                    Some((c, name)),
+                    format!(
+                        "the cell is not valid UTF-8 text (bad byte at position {} of the cell)",
+                        e.valid_up_to() + 1
+                    ),
+                )
+            })?;
+            if matches!(col, Col::Extra) {
+                continue; // kept as text, never parsed
+            }
+            let value = number(cell, sep).map_err(|m| err(line, Some((c, name)), m))?;
+            match *col {
+                Col::Time => {
+                    let Some(v) = value else {
+                        return Err(err(
+                            line,
+                            Some((c, name)),
+                            "the time is missing: every row needs one".into(),
+                        ));
+                    };
+                    let secs = unit.to_seconds(v);
+                    if let Some((prev, prev_line)) = prev_time
+                        && t.last().is_some_and(|&last| secs <= last)
+                    {
+                        return Err(err(
+                            line,
+                            Some((c, name)),
+                            format!(
+                                "time {} {unit} does not increase (line {prev_line}: {} {unit}); \
+                                 times must be strictly increasing",
+                                quote(cell),
+                                short(prev)
+                            ),
+                        ));
+                    }
+                    prev_time = Some((v, line));
+                    t.push(secs);
+                    row_lines.push(line);
+                }
+                Col::Input(k) => {
+                    let inp = &mut inputs[k];
+                    match value {
+                        Some(v) => {
+                            if first_set[k].is_none() {
+                                first_set[k] = Some(row);
+                            }
+                            inp.values.push(v);
+                            inp.precision.push(half_ulp(cell));
+                        }
+                        None => {
+                            // Held from the row before (back-filled below if never set yet).
+                            let v = inp.values.last().copied().unwrap_or(f64::NAN);
+                            let p = inp.precision.last().copied().unwrap_or(0.0);
+                            inp.values.push(v);
+                            inp.precision.push(p);
+                        }
+                    }
+                }
+                Col::Output(k) => {
+                    if let Some(v) = value {
+                        channels[k].rows.push(row);
+                        channels[k].values.push(v);
+                    }
+                }
+                Col::Extra => {}
+            }
+        }
+    }
+    if t.len() < 2 {
+        return Err(err(
+            header_line,
+            None,
+            if t.is_empty() {
+                format!(
+                    "the header (line {header_line}) is followed by no data row: a run needs at \
+                     least 2"
+                )
+            } else {
+                format!(
+                    "only 1 data row after the header (line {header_line}): a run needs at least 2"
+                )
+            },
+        ));
+    }
+    for (inp, first) in inputs.iter_mut().zip(first_set) {
+        let Some(first) = first else {
+            return Err(err(
+                header_line,
+                Some((inp.column, &format!("u.{}", inp.name))),
+                "this input is never set (every cell is empty)".into(),
+            ));
+        };
+        // Before its first value an input holds that value.
+        let (v, p) = (inp.values[first], inp.precision[first]);
+        inp.values[..first].fill(v);
+        inp.precision[..first].fill(p);
+        inp.first_set = first;
+    }
+    for ch in &channels {
+        if ch.values.is_empty() {
+            return Err(err(
+                header_line,
+                Some((ch.column, &ch.label())),
+                "this measurement has no samples (every cell is empty)".into(),
+            ));
+        }
+    }
+    let filter = rdr.get_ref().get_ref();
+    let ingest = IngestInfo {
+        separator: sep,
+        time_unit: unit,
+        time_column: time_col,
+        time_header: time_name,
+        comment_lines: filter.comment_lines(),
+        blank_lines: filter.blank_lines(),
+        trailing_separator,
+        file_rows: t.len(),
+        segment: None,
+        segments: 0,
+        dropped_segments: 0,
+        gap_limit: 0.0,
+    };
+    let name = path
+        .file_stem()
+        .map_or_else(|| "run".to_string(), |s| s.to_string_lossy().into_owned());
+    Ok(MeasuredRun {
+        path: path.to_path_buf(),
+        name,
+        t,
+        inputs,
+        channels,
+        extra,
+        header_line,
+        lines: row_lines,
+        ingest,
+    })
+}
+
+/// A cell as a number: `None` when empty; an error message when it is not a finite number.
+fn number(cell: &str, sep: Separator) -> Result<Option<f64>, String> {
+    if cell.is_empty() {
+        return Ok(None);
+    }
+    match cell.parse::<f64>() {
+        Ok(v) if v.is_finite() => Ok(Some(v)),
+        Ok(_) => Err(format!(
+            "`{}` is not a finite number (allowed: finite numbers such as -1.5708 or 2.5e-3)",
+            quote(cell)
+        )),
+        Err(_) => {
+            let hint = if cell.contains('#') {
+                " (a `#` comment must stand on its own line)"
+            } else if sep != Separator::Comma && cell.contains(',') {
+                " (decimal commas are not read: write 0.5, not 0,5)"
+            } else {
+                ""
+            };
+            Err(format!(
+                "`{}` is not a number{hint} (allowed: finite numbers such as -1.5708 or 2.5e-3, \
+                 or an empty cell for \"not sampled\")",
+                quote(cell)
+            ))
+        }
+    }
+}
+
+/// Half a unit of the last written digit of a decimal number — the rounding the writer may
+/// have applied: `-1.5708` → 5·10⁻⁵, `100` → 0.5, `2.50e-3` → 5·10⁻⁶. Saturates at the
+/// ends of the `f32` range (0 for cells that are not numbers).
+pub fn half_ulp(cell: &str) -> f32 {
+    let s = cell.as_bytes();
+    let mut i = usize::from(matches!(s.first(), Some(b'+' | b'-')));
+    let mut decimals: i64 = 0;
+    let mut dot = false;
+    let mut digits = false;
+    while let Some(&b) = s.get(i) {
+        match b {
+            b'0'..=b'9' => {
+                digits = true;
+                if dot {
+                    decimals = decimals.saturating_add(1);
+                }
+            }
+            b'.' if !dot => dot = true,
+            _ => break,
+        }
+        i += 1;
+    }
+    if !digits {
+        return 0.0;
+    }
+    let mut exp: i64 = 0;
+    if matches!(s.get(i), Some(b'e' | b'E')) {
+        i += 1;
+        let neg = s.get(i) == Some(&b'-');
+        if matches!(s.get(i), Some(b'+' | b'-')) {
+            i += 1;
+        }
+        while let Some(&b) = s.get(i) {
+            if !b.is_ascii_digit() {
+                break;
+            }
+            exp = (exp * 10 + i64::from(b - b'0')).min(100_000);
+            i += 1;
+        }
+        if neg {
+            exp = -exp;
+        }
+    }
+    let p = exp.saturating_sub(decimals).clamp(-400, 400) as i32;
+    (0.5 * 10f64.powi(p)) as f32
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn half_ulp_of_written_numbers() {
+        let cases = [
+            ("-1.5708", 5e-5),
+            ("1.5708", 5e-5),
+            ("100", 0.5),
+            ("0", 0.5),
+            ("2.50e-3", 5e-6),
+            ("1e9", 5e8),
+            ("1E+2", 50.0),
+            (".5", 0.05),
+            ("5.", 0.5),
+            ("+0.001", 5e-4),
+        ];
+        for (cell, want) in cases {
+            let h = f64::from(half_ulp(cell));
+            assert!((h - want).abs() <= 1e-6 * want, "{cell}: {h}");
+        }
+        assert_eq!(half_ulp("1e-999"), 0.0);
+        assert_eq!(half_ulp("1e999"), f32::INFINITY);
+        assert_eq!(half_ulp("abc"), 0.0);
+    }
+
+    #[test]
+    fn short_numbers() {
+        assert_eq!(short(-std::f64::consts::FRAC_PI_2), "-1.570796");
+        assert_eq!(short(100.0), "100");
+        assert_eq!(short(5e-5), "5e-5");
+        assert_eq!(short(0.02), "0.02");
+        assert_eq!(short(1e9), "1e9");
+    }
+}
