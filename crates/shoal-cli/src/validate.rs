@@ -347,30 +347,39 @@ pub fn effects_table(vehicle: Option<&Path>) -> Result<ExitCode, Failure> {
         None => (presets::uauv2(), "the μAUV² preset".to_string()),
     };
     println!("Effect catalogue for {name} (bounds in the parameter's unit):\n");
-    println!("| effect | what | parameter | unit | bounds | null | meaning |");
-    println!("|---|---|---|---|---|---|---|");
+    println!("| effect | form | what | parameter | unit | bounds | null | meaning |");
+    println!("|---|---|---|---|---|---|---|---|");
     for e in effects::catalogue() {
         if let Some(why) = e.not_applicable(&params) {
             println!(
-                "| `{}` | {} | — | | | | does not apply: {why} |",
+                "| `{}` | `{}` | {} | — | | | | does not apply: {why} |",
                 e.name(),
+                e.form(),
                 cell(e.summary())
             );
             continue;
         }
         for (i, p) in e.params(&params).iter().enumerate() {
-            let (n, w) = if i == 0 {
-                (format!("`{}`", e.name()), cell(e.summary()))
+            let (n, f, w) = if i == 0 {
+                (
+                    format!("`{}`", e.name()),
+                    format!("`{}`", e.form()),
+                    cell(e.summary()),
+                )
             } else {
-                (String::new(), String::new())
+                (String::new(), String::new(), String::new())
+            };
+            let null = if p.shape {
+                "(shape)".to_string()
+            } else {
+                fmt(p.null)
             };
             println!(
-                "| {n} | {w} | `{}` | {} | {} … {} | {} | {} |",
+                "| {n} | {f} | {w} | `{}` | {} | {} … {} | {null} | {} |",
                 p.name,
                 p.unit,
                 fmt(p.lo),
                 fmt(p.hi),
-                fmt(p.null),
                 cell(p.doc)
             );
         }
