@@ -71,6 +71,14 @@ fn catalogue_is_complete_and_consistent() {
         "thrust_saturation",
     ];
     assert_eq!(names(), want);
+    // Forms of one family have distinct names.
+    for n in names() {
+        let mut f = shoal_model::effects::forms(n);
+        let k = f.len();
+        f.sort();
+        f.dedup();
+        assert_eq!(f.len(), k, "{n}: duplicate forms");
+    }
     let v = presets::uauv2();
     for e in catalogue() {
         assert!(!e.explanation().is_empty() && !e.summary().is_empty());
@@ -80,7 +88,8 @@ fn catalogue_is_complete_and_consistent() {
                 "{}: {p:?}",
                 e.name()
             );
-            assert!(p.typical != p.null, "{}.{}", e.name(), p.name);
+            // A shape parameter has no null of its own: its `null` is its neutral default.
+            assert!(p.shape || p.typical != p.null, "{}.{}", e.name(), p.name);
         }
         // At the null values an effect changes nothing.
         let null = EffectInstance::null(e.clone(), &v);

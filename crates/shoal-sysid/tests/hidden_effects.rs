@@ -15,7 +15,17 @@ fn hidden(effect: &str, cases: &[(Exp, u64)]) {
         let (_, out) = find(run);
         let names = out.chosen.names();
         let ctx = format!("{effect} hidden with {truth:?} in the {exp:?} run, seed {seed}");
-        assert_eq!(names, vec![effect.to_string()], "{ctx}: verdict {names:?}");
+        assert_eq!(
+            names,
+            vec![effect.to_string()],
+            "{ctx}: verdict {names:?}; stepwise {:?}; {:?}; candidates {:?}",
+            out.stepwise.names(),
+            out.verdict,
+            out.candidates
+                .iter()
+                .map(|c| format!("{} ({}): {}", c.effect, c.form, c.note))
+                .collect::<Vec<_>>()
+        );
         // The error falls substantially where the effect shows, and nowhere grows.
         let gains = channel_gains(&out);
         let best = gains.iter().map(|g| g.1).fold(f64::MIN, f64::max);

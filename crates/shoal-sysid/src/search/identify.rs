@@ -2,15 +2,19 @@
 //!
 //! For each effect of the stepwise model, the most promising other families are fitted in its
 //! place (the model without it, refitted, plus the alternative in its best form). If an
-//! alternative would itself be selected there and predicts the held-out data about as well —
-//! its held-out RMSE within `min_gain` of the chosen model's and the block test unable to
-//! prefer either (|t| < `t_threshold`) — the log cannot separate the two: the verdict reports
+//! alternative would itself be selected there and explains the data about as well — its
+//! held-out RMSE within `min_gain` of the chosen model's, the block test unable to prefer
+//! either (|t| < 2) and the effective BIC of the two models within the selection
+//! threshold — the log cannot separate the two: the verdict reports
 //! "A or B" with the manoeuvre that would separate them.
 
 use super::orchestrate::Search;
-use super::rules::judge;
+use super::rules::{delta_bic_eff, judge};
 use super::{Ambiguity, Fit, par_map};
 use crate::blocks::heldout_t;
+
+/// Block t below which the held-out data cannot prefer one of two models.
+const AMBIGUOUS_T: f64 = 2.0;
 
 /// How many alternatives are tried for each chosen effect.
 const ALTERNATIVES: usize = 2;
@@ -41,11 +45,16 @@ pub(super) fn ambiguities(
         }
         let g = super::gain(&stepwise.eval, &fit.eval);
         let t = heldout_t(&stepwise.eval, &fit.eval, opts.block_s, None);
-        (g >= -opts.min_gain && t.abs() < opts.t_threshold).then(|| Ambiguity {
-            effects: [name.clone(), alt.clone()],
-            heldout_gain: g,
-            heldout_t: t,
-            manoeuvre: manoeuvre(name, alt),
+        // The estimation data must not tell them apart either: the effective BIC of the two
+        // models differs by less than the selection threshold.
+        let d = delta_bic_eff(stepwise, &fit, None);
+        (g >= -opts.min_gain && t.abs() < AMBIGUOUS_T && d.abs() < -opts.bic_threshold).then(|| {
+            Ambiguity {
+                effects: [name.clone(), alt.clone()],
+                heldout_gain: g,
+                heldout_t: t,
+                manoeuvre: manoeuvre(name, alt),
+            }
         })
     });
     let mut out: Vec<Ambiguity> = Vec::new();
