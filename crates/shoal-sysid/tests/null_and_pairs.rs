@@ -34,7 +34,17 @@ fn pair(exp: Exp, a: (&str, Vec<f64>), b: (&str, Vec<f64>), seed: u64) {
     names.sort();
     let mut want = vec![a.0.to_string(), b.0.to_string()];
     want.sort();
-    assert_eq!(names, want, "{exp:?} seed {seed}");
+    assert_eq!(
+        names,
+        want,
+        "{exp:?} seed {seed}; stepwise {:?}; {:?}; candidates {:?}",
+        out.stepwise.names(),
+        out.verdict,
+        out.candidates
+            .iter()
+            .map(|c| format!("r{} {} ({}): {}", c.round, c.effect, c.form, c.note))
+            .collect::<Vec<_>>()
+    );
     let gains = channel_gains(&out);
     assert!(
         gains.iter().map(|g| g.1).fold(f64::MIN, f64::max) > 0.5,

@@ -87,6 +87,9 @@ impl Effect for ThrusterLagSecondOrder {
         }]
     }
     fn configure(&self, p: &[f64], vehicle: &mut VehicleParams) {
+        if p[0] <= 0.0 {
+            return; // null: the vehicle's own lag, unchanged
+        }
         for th in &mut vehicle.thrusters {
             th.lag += p[0];
             th.lag_stages = 2;

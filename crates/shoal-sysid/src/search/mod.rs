@@ -23,9 +23,11 @@
 //!
 //! **Selection** ([`rules`]). An effect earns its place against the model without it when all
 //! of these hold:
-//! 1. *effective ΔBIC* < −10: the BIC difference with each channel's sample count replaced by
-//!    its effective count n·(1−ρ₁)/(1+ρ₁) (ρ₁ of the larger model's residuals) — correlated
-//!    residuals carry far less information than their number of samples;
+//! 1. ΔBIC < −10 on the estimation data. The *effective* ΔBIC — each channel's sample count
+//!    replaced by n·(1−ρ₁)/(1+ρ₁), ρ₁ of the larger model's residuals — is reported beside it
+//!    and used where two explanations are compared (identifiability); it is not a gate,
+//!    because while a second effect is still missing the residuals stay smooth whatever the
+//!    first explains;
 //! 2. the *held-out* RMSE (validation blocks the fit never saw) falls by at least `min_gain`
 //!    (default 3 %), averaged over channels;
 //! 3. the held-out improvement is consistent over time blocks: the t statistic of the per-block

@@ -3,13 +3,13 @@
 //! The stepwise model is refitted on block-bootstrap resamples of the log
 //! ([`crate::blocks::Resample`]: estimation and validation blocks drawn with replacement, a
 //! warm start from the full-data fit with a few Levenberg–Marquardt iterations), and on each the
-//! backward test is repeated with the resample's statistics: effective ΔBIC on the resampled
+//! backward test is repeated with the resample's statistics: ΔBIC on the resampled
 //! estimation blocks, held-out gain and block test on the resampled validation blocks. An
 //! effect's selection frequency is the share of resamples on which it passes.
 
 use super::fit::Ctx;
 use super::orchestrate::Search;
-use super::rules::{delta_bic_eff, gain_rs};
+use super::rules::{bic_rs, gain_rs};
 use super::{Fit, par_map};
 use crate::blocks::{Resample, heldout_t};
 use crate::lm::LmOptions;
@@ -58,7 +58,8 @@ pub(super) fn frequencies(
             .iter()
             .map(|n| {
                 ctx.without(&full, n, &s.baseline).is_some_and(|red| {
-                    delta_bic_eff(&red, &full, Some(&rs)) < opts.bic_threshold
+                    bic_rs(&full.eval, full.k, Some(&rs)) - bic_rs(&red.eval, red.k, Some(&rs))
+                        < opts.bic_threshold
                         && gain_rs(&red.eval, &full.eval, Some(&rs)) >= opts.min_gain
                         && heldout_t(&red.eval, &full.eval, opts.block_s, Some(&rs))
                             >= opts.t_threshold
