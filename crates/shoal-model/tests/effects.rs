@@ -253,7 +253,7 @@ fn record(v: &VehicleParams, effects: Vec<EffectInstance>, phases: &[Phase]) -> 
         };
         st.actuators.tilt.clone_from(&cmd.tilts);
         for _ in 0..(ph.seconds / DT).round() as usize {
-            if k % 5 == 0 {
+            if k.is_multiple_of(5) {
                 sense(&m, &mut st, &env, &mut rng, &mut r);
                 let p = st.rigid.position;
                 let (roll, pitch, yaw) = st.rigid.attitude.euler_angles();
@@ -280,73 +280,71 @@ fn check_nulls(v: &VehicleParams) -> Vec<String> {
     let lag = v.thrusters[0].lag;
     let mut checked = 0;
     let mut failures: Vec<String> = Vec::new();
-    {
-        for e in catalogue() {
-            let ctx = format!(
-                "{} ({}) on a vehicle with thruster lag {lag} s",
-                e.name(),
-                e.form()
-            );
-            if let Some(why) = e.not_applicable(v) {
-                panic!("{ctx}: does not apply to the μAUV²: {why}");
-            }
-            let phases = scenario(e.name());
-            let base = record(v, Vec::new(), &phases);
-            let infos = e.params(v);
-            let null: Vec<f64> = infos.iter().map(|p| p.null).collect();
-            let with = |params: Vec<f64>| {
-                record(
-                    v,
-                    vec![EffectInstance {
-                        effect: e.clone(),
-                        params,
-                    }],
-                    &phases,
-                )
-            };
-            // Null: exactly the baseline, for every value a shape parameter may take.
-            let mut nulls = vec![null.clone()];
-            for (i, p) in infos.iter().enumerate().filter(|(_, p)| p.shape) {
-                for s in [p.lo, p.typical, p.hi] {
-                    let mut q = null.clone();
-                    q[i] = s;
-                    nulls.push(q);
-                }
-            }
-            for q in nulls {
-                let t = with(q.clone());
-                if t != base {
-                    failures.push(format!(
-                        "{ctx}: at null {q:?} the run differs from the baseline, first at {}, \
-                         by up to {:.1} thresholds of a measurable change",
-                        t.first_change(&base).unwrap_or_default(),
-                        t.difference(&base)
-                    ));
-                }
-            }
-            // Typical: measurably different — each non-shape parameter alone (the others at
-            // null, shapes typical), and all together.
-            let shapes_typical: Vec<f64> = infos
-                .iter()
-                .map(|p| if p.shape { p.typical } else { p.null })
-                .collect();
-            let mut typical = vec![infos.iter().map(|p| p.typical).collect::<Vec<f64>>()];
-            for (i, p) in infos.iter().enumerate().filter(|(_, p)| !p.shape) {
-                let mut q = shapes_typical.clone();
-                q[i] = p.typical;
-                typical.push(q);
-            }
-            for q in typical {
-                let d = with(q.clone()).difference(&base);
-                if d <= 1.0 {
-                    failures.push(format!(
-                        "{ctx}: at {q:?} the run is only {d:.3} thresholds from the baseline — \
-                         the scenario does not show it"
-                    ));
-                }
-            }
-            checked += 1;
+    for e in catalogue() {
+        let ctx = format!(
+            "{} ({}) on a vehicle with thruster lag {lag} s",
+            e.name(),
+            e.form()
+        );
+        if let Some(why) = e.not_applicable(v) {
+            panic!("{ctx}: does not apply to the μAUV²: {why}");
         }
+        let phases = scenario(e.name());
+        let base = record(v, Vec::new(), &phases);
+        let infos = e.params(v);
+        let null: Vec<f64> = infos.iter().map(|p| p.null).collect();
+        let with = |params: Vec<f64>| {
+            record(
+                v,
+                vec![EffectInstance {
+                    effect: e.clone(),
+                    params,
+                }],
+                &phases,
+            )
+        };
+        // Null: exactly the baseline, for every value a shape parameter may take.
+        let mut nulls = vec![null.clone()];
+        for (i, p) in infos.iter().enumerate().filter(|(_, p)| p.shape) {
+            for s in [p.lo, p.typical, p.hi] {
+                let mut q = null.clone();
+                q[i] = s;
+                nulls.push(q);
+            }
+        }
+        for q in nulls {
+            let t = with(q.clone());
+            if t != base {
+                failures.push(format!(
+                    "{ctx}: at null {q:?} the run differs from the baseline, first at {}, \
+                         by up to {:.1} thresholds of a measurable change",
+                    t.first_change(&base).unwrap_or_default(),
+                    t.difference(&base)
+                ));
+            }
+        }
+        // Typical: measurably different — each non-shape parameter alone (the others at
+        // null, shapes typical), and all together.
+        let shapes_typical: Vec<f64> = infos
+            .iter()
+            .map(|p| if p.shape { p.typical } else { p.null })
+            .collect();
+        let mut typical = vec![infos.iter().map(|p| p.typical).collect::<Vec<f64>>()];
+        for (i, p) in infos.iter().enumerate().filter(|(_, p)| !p.shape) {
+            let mut q = shapes_typical.clone();
+            q[i] = p.typical;
+            typical.push(q);
+        }
+        for q in typical {
+            let d = with(q.clone()).difference(&base);
+            if d <= 1.0 {
+                failures.push(format!(
+                    "{ctx}: at {q:?} the run is only {d:.3} thresholds from the baseline — \
+                         the scenario does not show it"
+                ));
+            }
+        }
+        checked += 1;
     }
     assert_eq!(checked, catalogue().len());
     failures
