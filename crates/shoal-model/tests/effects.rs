@@ -1,12 +1,15 @@
 //! The model extensions of `shoal_model::effects` in a running vehicle, checked against closed
 //! forms: terminal speeds from the damping law with the thrust or force an effect implies,
-//! a first-order lag, a current carrying the hull, delayed and biased sensor readings.
+//! a first-order lag, a current carrying the hull, delayed and biased sensor readings. And
+//! for every form of every family: at its null values a run that would show it is exactly
+//! the baseline's, at its typical values it is measurably not.
 
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use shoal_model::effects::{EffectInstance, Effects, by_name, catalogue, names};
 use shoal_model::prelude::*;
 use shoal_model::presets::{UAUV2_CT_NEG, UAUV2_CT_POS, UAUV2_ZW, UAUV2_ZWW};
+use shoal_model::vehicle::VehicleParams;
 use std::f64::consts::FRAC_PI_2;
 
 const DT: f64 = 0.01;
@@ -85,33 +88,298 @@ fn catalogue_is_complete_and_consistent() {
         for p in e.params(&v) {
             assert!(
                 p.lo <= p.null && p.null <= p.hi && p.lo <= p.typical && p.typical <= p.hi,
-                "{}: {p:?}",
-                e.name()
+                "{} ({}): {p:?}",
+                e.name(),
+                e.form()
             );
-            // A shape parameter has no null of its own: its `null` is its neutral default.
-            assert!(p.shape || p.typical != p.null, "{}.{}", e.name(), p.name);
+            // A shape parameter's `null` is only a neutral default; every other parameter's
+            // typical value must switch the effect on.
+            assert!(
+                p.shape || p.typical != p.null,
+                "{} ({}).{}",
+                e.name(),
+                e.form(),
+                p.name
+            );
         }
-        // At the null values an effect changes nothing.
-        let null = EffectInstance::null(e.clone(), &v);
-        let m = VehicleModel::with_effects(v.clone(), Effects::new(vec![null]), 1000.0);
-        let plain = VehicleModel::new(v.clone(), 1000.0);
-        let a = run(&m, &diving(60.0), 3.0);
-        let b = run(&plain, &diving(60.0), 3.0);
-        assert!(
-            (a.rigid.position - b.rigid.position).norm() < 1e-12,
-            "{} at null",
-            e.name()
-        );
     }
+}
+
+// ---------------------------------------------------------------------------------------
+// Null values change nothing — in a scenario that would show the effect.
+
+/// One phase of a scenario: how long \[s\], the tilt of the side thrusters β \[rad\]
+/// (−π/2: diving, 0: surge/turning), the commands of top, port and starboard thruster [%],
+/// the pump.
+#[derive(Clone, Copy, Debug)]
+struct Phase {
+    seconds: f64,
+    beta: f64,
+    n: [f64; 3],
+    pump: Pump,
+}
+
+fn dive(seconds: f64, n: f64) -> Phase {
+    Phase {
+        seconds,
+        beta: -FRAC_PI_2,
+        n: [0.0, n, n],
+        pump: Pump::Off,
+    }
+}
+
+/// The scenario in which the family `name` shows if it is on; it starts at rest 3 m deep.
+fn scenario(name: &str) -> Vec<Phase> {
+    match name {
+        // Command steps up and down: lags and inertia act on every change.
+        "thruster_lag" | "added_mass_error" => {
+            vec![
+                dive(3.0, 70.0),
+                dive(3.0, 0.0),
+                dive(3.0, -70.0),
+                dive(3.0, 0.0),
+            ]
+        }
+        // Moving under thrust: scale, inflow and drag.
+        "thrust_gain" | "inflow_thrust_loss" | "damping_error" => vec![dive(10.0, 70.0)],
+        // Reverse thrust.
+        "thrust_asymmetry" => vec![dive(10.0, -70.0)],
+        // Small commands, inside a typical dead band and just outside it.
+        "thruster_deadband" => vec![dive(5.0, 5.0), dive(5.0, -6.0), dive(5.0, 12.0)],
+        // Full commands both ways.
+        "thrust_saturation" => vec![dive(5.0, 100.0), dive(5.0, -100.0)],
+        // A long run under thrust.
+        "battery_sag" => vec![dive(90.0, 40.0)],
+        // The pump filling, then emptying.
+        "ballast_mass" => vec![
+            Phase {
+                pump: Pump::Fill,
+                ..dive(10.0, 0.0)
+            },
+            Phase {
+                pump: Pump::Empty,
+                ..dive(10.0, 0.0)
+            },
+        ],
+        // Idle at depth: an offset force moves it, the current carries it.
+        "buoyancy_offset" | "water_current" => vec![dive(20.0, 0.0)],
+        // Depth readings over a while (bias and drift) and while moving (delay).
+        "depth_sensor_bias" | "sensor_delay" => vec![dive(10.0, 0.0), dive(10.0, 70.0)],
+        // Vertical thrust, then surge thrust.
+        "thrust_coupling" => vec![
+            dive(5.0, 70.0),
+            Phase {
+                beta: 0.0,
+                ..dive(5.0, 60.0)
+            },
+        ],
+        _ => panic!("no scenario for the effect family `{name}`: add one here"),
+    }
+}
+
+/// What a run records every 0.05 s, by quantity.
+#[derive(Clone, Debug, Default, PartialEq)]
+struct Trace {
+    /// Position, Euler angles and velocities (m, rad, m/s, rad/s).
+    motion: Vec<f64>,
+    /// Thrust of each thruster \[N\].
+    thrust: Vec<f64>,
+    /// Volume of water in the tank [m³].
+    ballast: Vec<f64>,
+    /// Depth reading, attitude reading, gyro reading (m, rad, rad/s).
+    readings: Vec<f64>,
+}
+
+impl Trace {
+    /// Largest difference to `o`, per quantity, each relative to its threshold of a
+    /// measurable change: 1 mm / 1 mrad / 1 mm/s of motion and readings, 1 mN of thrust,
+    /// 0.01 ml in the tank.
+    fn difference(&self, o: &Trace) -> f64 {
+        let max = |a: &[f64], b: &[f64], unit: f64| {
+            a.iter()
+                .zip(b)
+                .map(|(x, y)| (x - y).abs() / unit)
+                .fold(0.0, f64::max)
+        };
+        max(&self.motion, &o.motion, 1e-3)
+            .max(max(&self.thrust, &o.thrust, 1e-3))
+            .max(max(&self.ballast, &o.ballast, 1e-8))
+            .max(max(&self.readings, &o.readings, 1e-3))
+    }
+
+    /// The first entry that differs from `o` at all.
+    fn first_change(&self, o: &Trace) -> Option<String> {
+        for (what, a, b) in [
+            ("motion", &self.motion, &o.motion),
+            ("thrust", &self.thrust, &o.thrust),
+            ("ballast", &self.ballast, &o.ballast),
+            ("readings", &self.readings, &o.readings),
+        ] {
+            if a.len() != b.len() {
+                return Some(format!("{what}: {} vs {} entries", a.len(), b.len()));
+            }
+            if let Some(i) = (0..a.len()).find(|&i| a[i].to_bits() != b[i].to_bits()) {
+                return Some(format!("{what}[{i}]: {} vs {}", a[i], b[i]));
+            }
+        }
+        None
+    }
+}
+
+/// The μAUV² with noise-free sensors; `lag` \[s\] on every thruster (a baseline may already
+/// model a lag).
+fn vehicle(lag: f64) -> VehicleParams {
+    let mut p = presets::uauv2();
+    p.pressure.noise_std = 0.0;
+    p.imu.attitude_noise = 0.0;
+    p.imu.gyro_noise = 0.0;
+    p.imu.accel_noise = 0.0;
+    for th in &mut p.thrusters {
+        th.lag = lag;
+    }
+    p
+}
+
+/// Runs `phases` on `v` with `effects` and records the trace.
+fn record(v: &VehicleParams, effects: Vec<EffectInstance>, phases: &[Phase]) -> Trace {
+    let m = VehicleModel::with_effects(v.clone(), Effects::new(effects), 1000.0);
+    let env = Environment::default();
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    let mut st = VehicleState::new(
+        &m,
+        RigidState::at_rest(Vec3::new(0.0, 0.0, 3.0), Quat::identity()),
+        &env,
+    );
+    let mut r = SensorReadings::zeros(v.tilts.len());
+    let mut tr = Trace::default();
+    let mut k = 0usize;
+    for ph in phases {
+        let cmd = ActuatorCommands {
+            thrusters: ph.n.to_vec(),
+            tilts: vec![0.0, ph.beta],
+            pump: ph.pump,
+        };
+        st.actuators.tilt.clone_from(&cmd.tilts);
+        for _ in 0..(ph.seconds / DT).round() as usize {
+            if k.is_multiple_of(5) {
+                sense(&m, &mut st, &env, &mut rng, &mut r);
+                let p = st.rigid.position;
+                let (roll, pitch, yaw) = st.rigid.attitude.euler_angles();
+                tr.motion.extend([p.x, p.y, p.z, roll, pitch, yaw]);
+                tr.motion.extend(st.rigid.nu.iter());
+                tr.thrust.extend(st.actuators.thrust.iter());
+                tr.ballast.push(st.ballast_volume);
+                let (rr, rp, ry) = r.attitude.euler_angles();
+                tr.readings
+                    .extend([r.depth, rr, rp, ry, r.gyro.x, r.gyro.y, r.gyro.z]);
+            }
+            step(&m, &mut st, &cmd, &env, Integrator::Rk4, DT);
+            k += 1;
+        }
+    }
+    tr
+}
+
+/// Every form of every catalogue family on the vehicle `v`, in a scenario that shows it: at
+/// its null values the run must be bit for bit the baseline's — whatever the value of a shape
+/// parameter — and at its typical values (each non-shape parameter alone, and all together)
+/// measurably different. Returns what failed.
+fn check_nulls(v: &VehicleParams) -> Vec<String> {
+    let lag = v.thrusters[0].lag;
+    let mut checked = 0;
+    let mut failures: Vec<String> = Vec::new();
+    for e in catalogue() {
+        let ctx = format!(
+            "{} ({}) on a vehicle with thruster lag {lag} s",
+            e.name(),
+            e.form()
+        );
+        if let Some(why) = e.not_applicable(v) {
+            panic!("{ctx}: does not apply to the μAUV²: {why}");
+        }
+        let phases = scenario(e.name());
+        let base = record(v, Vec::new(), &phases);
+        let infos = e.params(v);
+        let null: Vec<f64> = infos.iter().map(|p| p.null).collect();
+        let with = |params: Vec<f64>| {
+            record(
+                v,
+                vec![EffectInstance {
+                    effect: e.clone(),
+                    params,
+                }],
+                &phases,
+            )
+        };
+        // Null: exactly the baseline, for every value a shape parameter may take.
+        let mut nulls = vec![null.clone()];
+        for (i, p) in infos.iter().enumerate().filter(|(_, p)| p.shape) {
+            for s in [p.lo, p.typical, p.hi] {
+                let mut q = null.clone();
+                q[i] = s;
+                nulls.push(q);
+            }
+        }
+        for q in nulls {
+            let t = with(q.clone());
+            if t != base {
+                failures.push(format!(
+                    "{ctx}: at null {q:?} the run differs from the baseline, first at {}, \
+                         by up to {:.1} thresholds of a measurable change",
+                    t.first_change(&base).unwrap_or_default(),
+                    t.difference(&base)
+                ));
+            }
+        }
+        // Typical: measurably different — each non-shape parameter alone (the others at
+        // null, shapes typical), and all together.
+        let shapes_typical: Vec<f64> = infos
+            .iter()
+            .map(|p| if p.shape { p.typical } else { p.null })
+            .collect();
+        let mut typical = vec![infos.iter().map(|p| p.typical).collect::<Vec<f64>>()];
+        for (i, p) in infos.iter().enumerate().filter(|(_, p)| !p.shape) {
+            let mut q = shapes_typical.clone();
+            q[i] = p.typical;
+            typical.push(q);
+        }
+        for q in typical {
+            let d = with(q.clone()).difference(&base);
+            if d <= 1.0 {
+                failures.push(format!(
+                    "{ctx}: at {q:?} the run is only {d:.3} thresholds from the baseline — \
+                         the scenario does not show it"
+                ));
+            }
+        }
+        checked += 1;
+    }
+    assert_eq!(checked, catalogue().len());
+    failures
+}
+
+/// On the plain μAUV² (no thruster lag of its own).
+#[test]
+fn null_values_change_nothing_where_the_effect_would_show() {
+    let failures = check_nulls(&vehicle(0.0));
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// On a vehicle whose thrusters already lag by 0.1 s, as a vehicle file may say: an effect at
+/// null must leave the baseline's own lag as it is. (Fails while the second-order lag form
+/// turns every lag into two stages even at τ = 0.)
+#[test]
+fn null_values_keep_a_lag_the_baseline_already_has() {
+    let failures = check_nulls(&vehicle(0.1));
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
 #[test]
 fn thrust_effects_set_terminal_heave_speeds() {
     let n = 70.0;
     let f0 = 2.0 * UAUV2_CT_POS * n * n;
-    let cases: [(&str, &[f64], f64); 5] = [
+    let cases: [(&str, &[f64], f64); 4] = [
         ("thrust_gain", &[1.3], 1.3 * f0),
-        ("battery_sag", &[0.0], f0),
         (
             "thrust_saturation",
             &[0.4],
@@ -134,6 +402,17 @@ fn thrust_effects_set_terminal_heave_speeds() {
             terminal(force)
         );
     }
+    // Battery sag: after 40 s the thrust is 1 − s·t of the static thrust (t the start of the
+    // last step).
+    let sag = 0.002;
+    let st = run(&with(&[("battery_sag", &[sag])]), &diving(n), 40.0);
+    let f1 = UAUV2_CT_POS * n * n;
+    let k = st.actuators.thrust[1] / f1;
+    assert!(
+        (k - (1.0 - sag * (st.time - DT))).abs() < 1e-9,
+        "thrust scale {k} after {} s",
+        st.time
+    );
     // Reverse thrust is scaled by k_rev.
     let st = run(&with(&[("thrust_asymmetry", &[0.5])]), &diving(-70.0), 30.0);
     let f = -0.5 * 2.0 * UAUV2_CT_NEG * n * n;

@@ -6,9 +6,10 @@
 //! `vehicle.toml` (the input model with the found effects switched on, as a world file
 //! `shoal run` loads).
 //!
-//! One file per concern: [`json`] builds `report.json`, [`markdown`] `report.md`, [`plots`]
-//! draws every figure, [`signature`] maps an effect family to the regressor its residual
-//! signature is plotted against. This file holds the public API and what they share.
+//! One file per concern under `report/`: `json.rs` builds `report.json`, `markdown.rs`
+//! `report.md`, `plots.rs` draws every figure, `signature.rs` maps an effect family to the
+//! regressor its residual signature is plotted against ([`regressor_of`]). This file holds
+//! the public API and what they share.
 
 mod json;
 mod markdown;

@@ -8,7 +8,21 @@ mod common;
 
 use common::{Exp, channel_gains, find, measured, realistic};
 
+/// Parameters compared with the truth, and those that could not be.
+#[derive(Debug, Default)]
+struct Count {
+    /// Compared with the truth (within tolerance, or the test failed).
+    checked: usize,
+    /// The data do not excite them (held at null by the fit).
+    not_excited: usize,
+    /// Their true value is the null value (the effect hidden without this part).
+    truth_at_null: usize,
+    /// The search named another form of the family, whose parameters mean something else.
+    other_form: usize,
+}
+
 fn hidden(effect: &str, cases: &[(Exp, u64)]) {
+    let mut n = Count::default();
     for &(exp, seed) in cases {
         let truth = realistic(effect, exp, seed);
         let run = measured(exp, &[(effect, truth.clone())], seed);
@@ -32,12 +46,27 @@ fn hidden(effect: &str, cases: &[(Exp, u64)]) {
         assert!(best > 0.5, "{ctx}: channel gains {gains:?}");
         assert!(gains.iter().all(|g| g.1 > -0.05), "{ctx}: {gains:?}");
         assert!(out.validation_gain_pct() > 15.0, "{ctx}");
-        // The parameters come back.
-        let fitted = &out.chosen.effects[0].params;
-        for (p, &t) in fitted.iter().zip(&truth) {
-            if !p.excited || (t - p.null).abs() < 1e-12 {
+        // The parameters come back (those of the hidden form: the family's default).
+        let found = &out.chosen.effects[0];
+        let hidden_form = shoal_model::effects::by_name(effect).unwrap().form();
+        if found.effect.form() != hidden_form {
+            eprintln!(
+                "{ctx}: named form `{}` instead of `{hidden_form}`: parameters not compared",
+                found.effect.form()
+            );
+            n.other_form += truth.len();
+            continue;
+        }
+        for (p, &t) in found.params.iter().zip(&truth) {
+            if (t - p.null).abs() < 1e-12 {
+                n.truth_at_null += 1;
                 continue;
             }
+            if !p.excited {
+                n.not_excited += 1;
+                continue;
+            }
+            n.checked += 1;
             let tol = if p.name == "delay_s" {
                 // The logger's 20 ms sampling of a delayed sensor.
                 0.03
@@ -53,6 +82,14 @@ fn hidden(effect: &str, cases: &[(Exp, u64)]) {
             );
         }
     }
+    // Skipped parameters are counted: at least half of the hidden parameters the search could
+    // have returned must have been compared with the truth.
+    let skipped = n.not_excited + n.other_form;
+    eprintln!("{effect}: {n:?}");
+    assert!(
+        n.checked > 0 && n.checked >= skipped,
+        "{effect}: too few parameters compared with the truth: {n:?}"
+    );
 }
 
 use Exp::{Heave, Yaw};

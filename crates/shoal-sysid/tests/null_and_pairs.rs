@@ -1,5 +1,7 @@
 //! No false discovery: runs that the baseline explains (only sensor noise and quantisation)
-//! give an empty verdict. And two effects hidden together are both named.
+//! give an empty verdict. And two effects hidden together are both named, each in the form
+//! it was hidden in, with its parameters within 20 % of the truth (a delay within one logger
+//! sample and a half).
 
 mod common;
 
@@ -28,6 +30,14 @@ fn null_runs_give_an_empty_verdict() {
     }
 }
 
+/// Relative tolerance of a fitted parameter in a pair: its distance from the truth may be at
+/// most this fraction of the truth's distance from the null value. Looser than alone (15 %):
+/// two effects fitted together can trade a little of one for the other.
+const PAIR_TOL: f64 = 0.2;
+
+/// Absolute tolerance of a delay \[s\]: the logger samples every 20 ms.
+const DELAY_TOL: f64 = 0.03;
+
 fn pair(exp: Exp, a: (&str, Vec<f64>), b: (&str, Vec<f64>), seed: u64) {
     let (_, out) = find(measured(exp, &[a.clone(), b.clone()], seed));
     let mut names = out.chosen.names();
@@ -49,6 +59,50 @@ fn pair(exp: Exp, a: (&str, Vec<f64>), b: (&str, Vec<f64>), seed: u64) {
     assert!(
         gains.iter().map(|g| g.1).fold(f64::MIN, f64::max) > 0.5,
         "{gains:?}"
+    );
+    // Both effects' parameters come back.
+    let mut checked = 0;
+    for (name, truth) in [&a, &b] {
+        let ctx = format!("{exp:?} seed {seed}: {name} hidden with {truth:?}");
+        let found = out
+            .chosen
+            .effects
+            .iter()
+            .find(|e| e.effect.name() == *name)
+            .expect("named");
+        // The hidden effect is the family's default form; another form's parameters mean
+        // something else.
+        let form = shoal_model::effects::by_name(name).unwrap().form();
+        assert_eq!(
+            found.effect.form(),
+            form,
+            "{ctx}: named in another form, parameters not comparable: {:?}",
+            found.params
+        );
+        for (p, &t) in found.params.iter().zip(truth) {
+            if (t - p.null).abs() < 1e-12 {
+                // Not part of the hidden effect (e.g. a bias without offset).
+                continue;
+            }
+            assert!(p.excited, "{ctx}: {} is hidden but not excited", p.name);
+            let tol = if p.name == "delay_s" {
+                DELAY_TOL
+            } else {
+                PAIR_TOL * (t - p.null).abs()
+            };
+            assert!(
+                (p.value - t).abs() <= tol,
+                "{ctx}: {} = {} (σ {:?}), truth {t}, tolerance {tol}",
+                p.name,
+                p.value,
+                p.sigma
+            );
+            checked += 1;
+        }
+    }
+    assert!(
+        checked >= 2,
+        "{exp:?} seed {seed}: only {checked} parameters compared"
     );
 }
 

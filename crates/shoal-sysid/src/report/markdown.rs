@@ -334,8 +334,9 @@ fn possible(s: &mut String, out: &Outcome) {
     }
     let _ = writeln!(
         s,
-        "These effects improved the fit in the stepwise search but lack strong evidence; they \
-         are **not** part of the extended model.\n"
+        "These effects have some evidence, but not enough to be named (unstable under \
+         resampling, or not separable from another family); they are **not** part of the \
+         extended model.\n"
     );
     for p in &out.verdict.possible {
         let stab = p
@@ -367,7 +368,7 @@ fn ambiguous(s: &mut String, out: &Outcome) {
         let _ = writeln!(
             s,
             "- **`{}` or `{}`**: the alternative's held-out gain over the first is {:.1} % \
-             (block t {:.1}), so this log cannot tell them apart. To separate them: {}",
+             (block t {:.1}), so this log cannot tell them apart; {}.",
             a.effects[0],
             a.effects[1],
             100.0 * a.heldout_gain,
