@@ -11,10 +11,7 @@
 //! run's estimation samples (over all samples for a hold-out run, whose initial condition
 //! must come from its own data) is removed. For a model whose motion does not depend on the
 //! absolute position and heading (true away from the surface) this is the least-squares
-//! estimate of the initial position. The validation part of a split run is anchored anew: its
-//! offset is the residual's mean over its first second, so that the held-out score judges the
-//! predicted motion from where the vehicle is seen, not an offset carried over from the
-//! estimation part (open-loop replays of closed-loop logs drift).
+//! estimate of the initial position.
 
 use crate::replay::{InitialState, InputMap, ReplayOptions, Trace, simulate};
 use crate::run::{ChannelKind, MeasuredRun, RunError};
@@ -230,9 +227,6 @@ impl Dataset {
     }
 }
 
-/// Length of the start of a validation part whose samples anchor its free offsets \[s\].
-const VALIDATION_ANCHOR_S: f64 = 1.0;
-
 fn compare(
     rd: &RunData,
     ci: usize,
@@ -273,18 +267,14 @@ fn compare(
                 .collect();
             (!sel.is_empty()).then(|| sel.iter().sum::<f64>() / sel.len() as f64)
         };
-        // The estimation part's offset from its own samples; the validation part starts anew
-        // from where the vehicle is seen at its start (its first second of samples), as a
-        // hold-out run does: prediction is judged on the motion, not on an offset carried
-        // over from the estimation part.
-        let off_est = mean_of(&|i| est[i]);
-        let t_val = times.iter().zip(&est).find(|(_, e)| !**e).map(|(t, _)| *t);
-        let off_val =
-            t_val.and_then(|t0| mean_of(&|i| !est[i] && times[i] < t0 + VALIDATION_ANCHOR_S));
+        // Estimation samples give the offset (a hold-out run's own samples when it has none):
+        // the validation part continues the replay from it, so a prediction is judged over
+        // the whole held-out stretch, drift included.
+        let use_est = est.iter().any(|&e| e);
+        let off = mean_of(&|i| est[i] == use_est).unwrap_or(0.0);
         for i in 0..resid.len() {
-            let o = if est[i] { off_est } else { off_val.or(off_est) }.unwrap_or(0.0);
-            resid[i] -= o;
-            predicted[i] += o;
+            resid[i] -= off;
+            predicted[i] += off;
         }
     }
     ChannelResult {

@@ -39,7 +39,7 @@ mod water_current;
 pub use added_mass_error::AddedMassError;
 pub use ballast_mass::BallastMass;
 pub use battery_sag::{BatterySag, BatterySagExponential};
-pub use buoyancy_offset::{BuoyancyOffset, BuoyancyOffsetDepth};
+pub use buoyancy_offset::BuoyancyOffset;
 pub use damping_error::DampingError;
 pub use depth_sensor_bias::{DepthSensorBias, DepthSensorBiasSettling};
 pub use inflow_thrust_loss::{InflowThrustLoss, InflowThrustLossLinear};
@@ -198,7 +198,6 @@ pub fn catalogue() -> Vec<Arc<dyn Effect>> {
         Arc::new(InflowThrustLoss),
         Arc::new(InflowThrustLossLinear),
         Arc::new(BuoyancyOffset),
-        Arc::new(BuoyancyOffsetDepth),
         Arc::new(BallastMass),
         Arc::new(DampingError),
         Arc::new(AddedMassError),

@@ -87,12 +87,12 @@ impl Search<'_> {
             .collect();
         let opts = self.ctx.opts;
         let scores = par_map(&names, opts.threads, |n| {
-            // Score each family by its round-1 best form.
-            let fi = self.forms[n]
+            // Score each family by its most promising form on top of `cur` (the form that
+            // fitted best alone need not be the one that fits best beside others).
+            self.forms[n]
                 .iter()
-                .min_by(|a, b| a.bic.total_cmp(&b.bic))
-                .expect("families have a form");
-            self.ctx.score(cur, &fi.effect, &fi.excited)
+                .map(|fi| self.ctx.score(cur, &fi.effect, &fi.excited))
+                .fold(0.0, f64::max)
         });
         let mut ranked: Vec<(f64, String)> = scores.into_iter().zip(names).collect();
         ranked.sort_by(|a, b| b.0.total_cmp(&a.0));
