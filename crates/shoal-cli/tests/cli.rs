@@ -681,13 +681,39 @@ fn bluerov_logs_are_explained_better_on_hold_out_runs() {
         .iter()
         .map(|e| e.as_str().unwrap())
         .collect();
-    assert!(effects.contains(&"damping_error"), "{effects:?}");
-    let gain = v["validation_gain_pct"].as_f64().unwrap();
+    // The published model lacks damping: the search finds it, and either names it or — where
+    // these yaw runs cannot tell it from an inflow thrust loss, which also acts in proportion
+    // to speed — reports "damping_error or inflow_thrust_loss". Either way the stepwise model
+    // that contains it is better on the two runs it never saw.
+    let ambiguous_with_damping = v["ambiguous"].as_array().unwrap().iter().any(|a| {
+        a["effects"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|e| e == "damping_error")
+    });
+    assert!(
+        effects.contains(&"damping_error") || ambiguous_with_damping,
+        "{effects:?}; {}",
+        v["ambiguous"]
+    );
+    let stepwise: Vec<&str> = v["stepwise"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e.as_str().unwrap())
+        .collect();
+    assert!(stepwise.contains(&"damping_error"), "{stepwise:?}");
+    let gain = v["stepwise_validation_gain_pct"].as_f64().unwrap();
     assert!(gain > 30.0, "hold-out gain {gain} %");
     for ch in ["y.r", "y.yaw", "y.depth"] {
-        let g = v["channels"][ch]["gain_pct"].as_f64().unwrap();
+        let g = v["stepwise_channel_gain_pct"][ch].as_f64().unwrap();
         assert!(g > 5.0, "{ch}: hold-out gain {g} %");
     }
+    eprintln!(
+        "BlueROV hold-out gains of the stepwise model {stepwise:?}: mean {gain:.1} %, per channel {}",
+        v["stepwise_channel_gain_pct"]
+    );
     assert_eq!(report["runs"][4]["role"], "holdout");
     let o = shoal()
         .arg("check")

@@ -177,6 +177,24 @@ pub(super) fn report(
             );
         }
     }
+    // The stepwise model (before the stability and identifiability checks): what a user who
+    // picks one of an "A or B" pair would get.
+    let stepwise_gains: Map<String, Value> = base
+        .eval
+        .metrics
+        .iter()
+        .filter_map(|(k, mb)| {
+            let ms = out.stepwise.eval.metrics.get(k)?;
+            Some((
+                label(*k),
+                json!(if mb.rmse > 0.0 {
+                    100.0 * (1.0 - ms.rmse / mb.rmse)
+                } else {
+                    0.0
+                }),
+            ))
+        })
+        .collect();
     let explanations: Map<String, Value> = fin
         .effects
         .iter()
@@ -243,6 +261,8 @@ pub(super) fn report(
             "unexplained": out.verdict.unexplained,
             "stability": out.verdict.stability,
             "stepwise": out.stepwise.names(),
+            "stepwise_validation_gain_pct": 100.0 * crate::search::gain(&base.eval, &out.stepwise.eval),
+            "stepwise_channel_gain_pct": stepwise_gains,
             "params": vp,
             "params_sigma": vs,
             "params_ci95": ci,
