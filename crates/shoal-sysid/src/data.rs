@@ -404,44 +404,36 @@ impl Evaluation {
     /// Estimation residuals of every channel, each multiplied by `factor[kind]`, in a fixed
     /// order (run, channel, sample): the vector a fit minimises.
     pub fn weighted(&self, factor: &BTreeMap<ChannelKind, f64>) -> Vec<f64> {
-        let mut out = Vec::new();
-        for r in &self.runs {
-            for c in &r.channels {
-                let w = factor[&c.kind];
-                out.extend(
-                    c.resid
-                        .iter()
-                        .zip(&c.est)
-                        .filter(|(_, e)| **e)
-                        .map(|(r, _)| r * w),
-                );
-            }
-        }
-        out
+        self.weighted_with(factor, None)
     }
 
-    /// [`Evaluation::weighted`] with each estimation sample also multiplied by the square root
+    /// Estimation residuals as in [`Evaluation::weighted`], each sample also multiplied by the square root
     /// of its block's weight in `resample` (the least-squares form of a weighted fit).
     pub fn weighted_with(
         &self,
         factor: &BTreeMap<ChannelKind, f64>,
         resample: Option<&crate::blocks::Resample>,
     ) -> Vec<f64> {
-        let Some(rs) = resample else {
-            return self.weighted(factor);
-        };
         let mut out = Vec::new();
         for (ri, r) in self.runs.iter().enumerate() {
             for c in &r.channels {
                 let w = factor[&c.kind];
-                let blocks = crate::blocks::sample_blocks(c, rs.len);
-                out.extend(
-                    c.resid
-                        .iter()
-                        .zip(blocks)
-                        .filter(|(_, (e, _))| *e)
-                        .map(|(r, (e, b))| r * w * rs.weight((ri, e, b)).sqrt()),
-                );
+                match resample {
+                    None => out.extend(
+                        c.resid
+                            .iter()
+                            .zip(&c.est)
+                            .filter(|(_, e)| **e)
+                            .map(|(r, _)| r * w),
+                    ),
+                    Some(rs) => out.extend(
+                        c.resid
+                            .iter()
+                            .zip(crate::blocks::sample_blocks(c, rs.len))
+                            .filter(|(_, (e, _))| *e)
+                            .map(|(r, (e, b))| r * w * rs.weight((ri, e, b)).sqrt()),
+                    ),
+                }
             }
         }
         out

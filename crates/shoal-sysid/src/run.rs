@@ -103,6 +103,13 @@ impl ChannelKind {
     }
 }
 
+/// Written as its column name, e.g. `"y.depth"`.
+impl serde::Serialize for ChannelKind {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(&format!("y.{}", self.name()))
+    }
+}
+
 /// An actuator input column, zero-order held.
 #[derive(Clone, Debug, PartialEq)]
 pub struct InputColumn {

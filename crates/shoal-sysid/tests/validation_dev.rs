@@ -10,12 +10,11 @@
 //! The folder must be there (it is beside the repository on every machine of this project);
 //! a missing folder fails the tests instead of skipping them.
 
+mod common;
+
 use shoal_model::presets;
-use shoal_model::rigid_body::Environment;
-use shoal_sysid::data::{DataOptions, Dataset};
-use shoal_sysid::replay::{InputMap, ReplayOptions};
+use shoal_sysid::replay::InputMap;
 use shoal_sysid::run::MeasuredRun;
-use shoal_sysid::search::{SearchOptions, search};
 use shoal_sysid::segments::GapOptions;
 use std::collections::BTreeMap;
 use std::f64::consts::FRAC_PI_2;
@@ -76,29 +75,11 @@ fn folder() -> PathBuf {
     ))
 }
 
-/// The verdict of the search on one development log (μAUV² preset, 60/40 split, 20 ms replay).
+/// The verdict of the search on one development log (as every search test runs it:
+/// `common::find`).
 fn verdict_of(dir: &Path, name: &str) -> (Vec<String>, shoal_sysid::search::Verdict) {
-    let base = presets::uauv2();
     let run = MeasuredRun::read(&dir.join(format!("{name}.csv"))).unwrap_or_else(|e| panic!("{e}"));
-    let ds = Dataset::new(
-        &base,
-        Environment::default(),
-        vec![run],
-        vec![],
-        &DataOptions {
-            replay: ReplayOptions {
-                dt: 0.02,
-                ..Default::default()
-            },
-            ..Default::default()
-        },
-    )
-    .unwrap_or_else(|e| panic!("{name}: {e}"));
-    let opts = SearchOptions {
-        threads: 2,
-        ..Default::default()
-    };
-    let out = search(&ds, &base, &opts, &|_| {});
+    let (_, out) = common::find(run);
     let mut got = out.verdict.effects.clone();
     got.sort();
     (got, out.verdict)

@@ -13,6 +13,20 @@
 use super::{Effect, ParamInfo};
 use crate::vehicle::VehicleParams;
 
+/// The reading's constant offset b₀ \[m\], shared by both forms.
+fn b0_param() -> ParamInfo {
+    ParamInfo {
+        name: "b0_m",
+        unit: "m",
+        lo: -0.5,
+        hi: 0.5,
+        null: 0.0,
+        typical: 0.02,
+        doc: "constant offset of the depth reading",
+        shape: false,
+    }
+}
+
 /// See the module documentation.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct DepthSensorBias;
@@ -33,16 +47,7 @@ impl Effect for DepthSensorBias {
     }
     fn params(&self, _vehicle: &VehicleParams) -> Vec<ParamInfo> {
         vec![
-            ParamInfo {
-                name: "b0_m",
-                unit: "m",
-                lo: -0.5,
-                hi: 0.5,
-                null: 0.0,
-                typical: 0.02,
-                doc: "constant offset of the depth reading",
-                shape: false,
-            },
+            b0_param(),
             ParamInfo {
                 name: "b1_m_s",
                 unit: "m/s",
@@ -81,16 +86,7 @@ impl Effect for DepthSensorBiasSettling {
     }
     fn params(&self, _vehicle: &VehicleParams) -> Vec<ParamInfo> {
         vec![
-            ParamInfo {
-                name: "b0_m",
-                unit: "m",
-                lo: -0.5,
-                hi: 0.5,
-                null: 0.0,
-                typical: 0.02,
-                doc: "constant offset of the depth reading",
-                shape: false,
-            },
+            b0_param(),
             ParamInfo {
                 name: "delta_m",
                 unit: "m",

@@ -19,6 +19,20 @@ use super::{Effect, ParamInfo};
 use crate::thruster::ThrusterParams;
 use crate::vehicle::VehicleParams;
 
+/// The band's width d₀ \[%\], shared by every form (`doc` says what it means in that form).
+fn d0_param(doc: &'static str) -> ParamInfo {
+    ParamInfo {
+        name: "d0_pct",
+        unit: "%",
+        lo: 0.0,
+        hi: 40.0,
+        null: 0.0,
+        typical: 8.0,
+        doc,
+        shape: false,
+    }
+}
+
 /// See the module documentation.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct ThrusterDeadband;
@@ -38,16 +52,7 @@ impl Effect for ThrusterDeadband {
          thrust curve is stretched over the remaining command range."
     }
     fn params(&self, _vehicle: &VehicleParams) -> Vec<ParamInfo> {
-        vec![ParamInfo {
-            name: "d0_pct",
-            unit: "%",
-            lo: 0.0,
-            hi: 40.0,
-            null: 0.0,
-            typical: 8.0,
-            doc: "dead band half-width in command percent",
-            shape: false,
-        }]
+        vec![d0_param("dead band half-width in command percent")]
     }
     fn command(&self, p: &[f64], thruster: &ThrusterParams, n: f64) -> f64 {
         let d0 = p[0];
@@ -80,16 +85,7 @@ impl Effect for ThrusterDeadbandSoft {
          larger ones the thrust of a command d₀ smaller."
     }
     fn params(&self, _vehicle: &VehicleParams) -> Vec<ParamInfo> {
-        vec![ParamInfo {
-            name: "d0_pct",
-            unit: "%",
-            lo: 0.0,
-            hi: 40.0,
-            null: 0.0,
-            typical: 8.0,
-            doc: "width of the soft dead band in command percent",
-            shape: false,
-        }]
+        vec![d0_param("width of the soft dead band in command percent")]
     }
     fn command(&self, p: &[f64], _thruster: &ThrusterParams, n: f64) -> f64 {
         let d0 = p[0];
@@ -123,16 +119,7 @@ impl Effect for ThrusterDeadbandGate {
     }
     fn params(&self, _vehicle: &VehicleParams) -> Vec<ParamInfo> {
         vec![
-            ParamInfo {
-                name: "d0_pct",
-                unit: "%",
-                lo: 0.0,
-                hi: 40.0,
-                null: 0.0,
-                typical: 8.0,
-                doc: "command at which half the command gets through",
-                shape: false,
-            },
+            d0_param("command at which half the command gets through"),
             ParamInfo {
                 name: "sharpness",
                 unit: "-",

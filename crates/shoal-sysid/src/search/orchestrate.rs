@@ -337,7 +337,7 @@ pub fn search(
     // Identifiability, stability, verdict.
     let ambiguous = identify::ambiguities(&s, &stepwise, progress);
     let freq = stability::frequencies(&s, &stepwise, progress);
-    let (chosen, verdict) = verdict::conclude(&s, &stepwise, &candidates, ambiguous, freq);
+    let (chosen, verdict) = verdict::conclude(&s, &stepwise, ambiguous, freq);
     Outcome {
         baseline,
         candidates,

@@ -2,8 +2,8 @@
 //! (unstable under resampling, or not separable from another family), and where residual
 //! structure stays unexplained.
 
+use super::Fit;
 use super::orchestrate::Search;
-use super::{Candidate, Fit};
 use crate::run::ChannelKind;
 use crate::stats;
 use std::collections::BTreeMap;
@@ -66,12 +66,6 @@ pub struct Unexplained {
     pub ljung_box_p: f64,
 }
 
-impl serde::Serialize for ChannelKind {
-    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        s.serialize_str(&format!("y.{}", self.name()))
-    }
-}
-
 /// RMS over noise floor above which structured residuals count as unexplained.
 const STRUCTURE_RATIO: f64 = 2.0;
 
@@ -79,12 +73,10 @@ const STRUCTURE_RATIO: f64 = 2.0;
 pub(super) fn conclude(
     s: &Search<'_>,
     stepwise: &Fit,
-    candidates: &[Candidate],
     ambiguous: Vec<Ambiguity>,
     stability: BTreeMap<String, f64>,
 ) -> (Fit, Verdict) {
     let opts = s.ctx.opts;
-    let _ = candidates;
     let mut possible = Vec::new();
     let mut drop: Vec<String> = Vec::new();
     for e in &stepwise.effects {
