@@ -105,6 +105,9 @@ impl Search<'_> {
     }
 }
 
+/// One round-1 fit: (family index, form, the fit with its excitation or why there is none).
+type RoundOne = (usize, Arc<dyn Effect>, Result<(Fit, Vec<bool>), String>);
+
 /// Searches the effects of `opts` for the ones that explain `ds` better than `base`.
 /// `progress` is called with a short message after each candidate fit.
 pub fn search(
@@ -135,7 +138,7 @@ pub fn search(
         factors: factors.clone(),
         opts,
         resample: None,
-        lm: opts.lm.clone(),
+        lm: opts.lm,
     };
     let fams = families(&opts.effects);
     let mut candidates = Vec::new();
@@ -145,32 +148,30 @@ pub fn search(
         .enumerate()
         .flat_map(|(i, (_, forms))| forms.iter().map(move |e| (i, e.clone())))
         .collect();
-    let fitted: Vec<(usize, Arc<dyn Effect>, Result<(Fit, Vec<bool>), String>)> =
-        par_map(&items, opts.threads, |(i, e)| {
-            let r = if let Some(why) = e.not_applicable(base) {
-                Err(format!("does not apply: {why}"))
+    let fitted: Vec<RoundOne> = par_map(&items, opts.threads, |(i, e)| {
+        let r = if let Some(why) = e.not_applicable(base) {
+            Err(format!("does not apply: {why}"))
+        } else {
+            let excited = ctx.excited(e);
+            if !excited.iter().any(|&x| x) {
+                Err("not excited: no input or measurement of these runs shows it".into())
             } else {
-                let excited = ctx.excited(e);
-                if !excited.iter().any(|&x| x) {
-                    Err("not excited: no input or measurement of these runs shows it".into())
-                } else {
-                    let infos = e.params(base);
-                    let starts = vec![
-                        infos.iter().map(|p| p.null).collect(),
-                        infos.iter().map(|p| p.typical).collect(),
-                    ];
-                    ctx.fit(std::slice::from_ref(e), &excited, &starts, true)
-                        .map(|f| (f, excited))
-                        .ok_or_else(|| "the replay failed for every start".to_string())
-                }
-            };
-            progress(&format!("{} ({})", e.name(), e.form()));
-            (*i, e.clone(), r)
-        });
+                let infos = e.params(base);
+                let starts = vec![
+                    infos.iter().map(|p| p.null).collect(),
+                    infos.iter().map(|p| p.typical).collect(),
+                ];
+                ctx.fit(std::slice::from_ref(e), &excited, &starts, true)
+                    .map(|f| (f, excited))
+                    .ok_or_else(|| "the replay failed for every start".to_string())
+            }
+        };
+        progress(&format!("{} ({})", e.name(), e.form()));
+        (*i, e.clone(), r)
+    });
     let mut forms: BTreeMap<String, Vec<FormInfo>> = BTreeMap::new();
     for (fi, (name, _)) in fams.iter().enumerate() {
-        let mine: Vec<&(usize, Arc<dyn Effect>, Result<(Fit, Vec<bool>), String>)> =
-            fitted.iter().filter(|(i, _, _)| *i == fi).collect();
+        let mine: Vec<&RoundOne> = fitted.iter().filter(|(i, _, _)| *i == fi).collect();
         let mut best: Option<&Fit> = None;
         let mut scores = Vec::new();
         let mut why = None;

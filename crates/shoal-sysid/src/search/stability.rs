@@ -45,7 +45,7 @@ pub(super) fn frequencies(
             resample: Some(&rs),
             lm: LmOptions {
                 max_iterations: REFIT_ITERATIONS,
-                ..opts.lm.clone()
+                ..opts.lm
             },
         };
         // Refit everything (no effect is named "")…
