@@ -6,7 +6,7 @@
 
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-use shoal_model::effects::{EffectInstance, Effects, by_name, catalogue, names};
+use shoal_model::effects::{EffectInstance, Effects, by_name, by_name_form, catalogue, names};
 use shoal_model::prelude::*;
 use shoal_model::presets::{UAUV2_CT_NEG, UAUV2_CT_POS, UAUV2_ZW, UAUV2_ZWW};
 use shoal_model::vehicle::VehicleParams;
@@ -141,7 +141,9 @@ fn scenario(name: &str) -> Vec<Phase> {
             ]
         }
         // Moving under thrust: scale, inflow and drag.
-        "thrust_gain" | "inflow_thrust_loss" | "damping_error" => vec![dive(10.0, 70.0)],
+        "thrust_gain" | "inflow_thrust_loss" => vec![dive(10.0, 70.0)],
+        // Moving both ways: drag that differs with the direction.
+        "damping_error" => vec![dive(10.0, 70.0), dive(10.0, -70.0)],
         // Reverse thrust.
         "thrust_asymmetry" => vec![dive(10.0, -70.0)],
         // Small commands, inside a typical dead band and just outside it.
@@ -422,6 +424,82 @@ fn thrust_effects_set_terminal_heave_speeds() {
     assert!(st.rigid.nu[2].abs() < 1e-12, "{}", st.rigid.nu[2]);
 }
 
+/// A model with one effect in a named form.
+fn with_form(name: &str, form: &str, params: &[f64]) -> VehicleModel {
+    let effect = by_name_form(name, Some(form)).unwrap_or_else(|| panic!("{name}/{form}"));
+    let list = vec![EffectInstance {
+        effect,
+        params: params.to_vec(),
+    }];
+    VehicleModel::with_effects(presets::uauv2(), Effects::new(list), 1000.0)
+}
+
+/// The forms with an exponent or a direction set the terminal heave speed their laws imply.
+#[test]
+fn shaped_forms_follow_their_laws() {
+    let n = 70.0;
+    let f0 = 2.0 * UAUV2_CT_POS * n * n;
+    // Gain curve: k·(|n|/50 %)^e.
+    let st = run(
+        &with_form("thrust_gain", "curve", &[1.2, 0.3]),
+        &diving(n),
+        40.0,
+    );
+    let f = 1.2 * (70.0_f64 / 50.0).powf(0.3) * f0;
+    assert!(
+        (st.rigid.nu[2] - terminal(f)).abs() < 1e-6,
+        "{}",
+        st.rigid.nu[2]
+    );
+    // Direction-dependent drag, diving (w > 0): the drag law × k₊, so the terminal speed is
+    // the baseline's for the force / k₊; rising (w < 0) it is × k₋.
+    // (Rising from 3 m, the run stops well before the surface.)
+    let m = with_form("damping_error", "direction", &[1.5, 2.0]);
+    let st = run(&m, &diving(n), 40.0);
+    assert!(
+        (st.rigid.nu[2] - terminal(f0 / 1.5)).abs() < 1e-6,
+        "{}",
+        st.rigid.nu[2]
+    );
+    let st = run(&m, &diving(-n), 12.0);
+    let fr = -2.0 * UAUV2_CT_NEG * n * n;
+    assert!(st.rigid.position.z > 0.5, "{}", st.rigid.position.z);
+    assert!(
+        (st.rigid.nu[2] - terminal(fr / 2.0)).abs() < 1e-6,
+        "{}",
+        st.rigid.nu[2]
+    );
+    // Asymmetric dead band (4 % forward, 12 % reverse): 8 % pushes, −8 % does nothing, and
+    // −40 % acts like −100·(40 − 12)/88.
+    let m = with_form("thruster_deadband", "asymmetric", &[4.0, 12.0]);
+    let st = run(&m, &diving(-8.0), 5.0);
+    assert!(st.rigid.nu[2].abs() < 1e-12, "{}", st.rigid.nu[2]);
+    let st = run(&m, &diving(8.0), 5.0);
+    assert!(st.rigid.nu[2] > 1e-4, "{}", st.rigid.nu[2]);
+    let st = run(&m, &diving(-40.0), 60.0);
+    let fr = -2.0 * UAUV2_CT_NEG * (100.0 * 28.0 / 88.0_f64).powi(2);
+    assert!(st.rigid.position.z > 0.5, "{}", st.rigid.position.z);
+    assert!(
+        (st.rigid.nu[2] - terminal(fr)).abs() < 1e-6,
+        "{} vs {}",
+        st.rigid.nu[2],
+        terminal(fr)
+    );
+    // Power sag: after t the thrust is 1 − a·(t/100 s)^p of the static thrust (t the start
+    // of the last step).
+    let st = run(
+        &with_form("battery_sag", "power", &[0.2, 2.5]),
+        &diving(n),
+        60.0,
+    );
+    let k = st.actuators.thrust[1] / (UAUV2_CT_POS * n * n);
+    let t = st.time - DT;
+    assert!(
+        (k - (1.0 - 0.2 * (t / 100.0).powf(2.5))).abs() < 1e-9,
+        "{k} at {t} s"
+    );
+}
+
 #[test]
 fn inflow_loss_and_buoyancy_offset_follow_their_force_laws() {
     // Inflow: at terminal speed w, f = f0 − κ√f0·w per thruster, so
@@ -551,6 +629,31 @@ fn sensors_are_biased_and_delayed() {
     sense(&m, &mut st, &env, &mut rng, &mut r);
     assert!(
         (r.depth - (1.0 + 0.05 + 0.002 * 10.0)).abs() <= 0.9e-3 + 1e-9,
+        "{}",
+        r.depth
+    );
+    // Power drift: reading = depth + b₀ + d·(t/100 s)^p.
+    let e = by_name_form("depth_sensor_bias", Some("power_drift")).unwrap();
+    let m = VehicleModel::with_effects(
+        p.clone(),
+        Effects::new(vec![EffectInstance {
+            effect: e,
+            params: vec![0.05, 0.1, 2.0],
+        }]),
+        1000.0,
+    );
+    let mut st = VehicleState::new(
+        &m,
+        RigidState::at_rest(Vec3::new(0.0, 0.0, 1.091), Quat::identity()),
+        &env,
+    );
+    st.actuators.tilt.clone_from(&cmd.tilts);
+    for _ in 0..3000 {
+        step(&m, &mut st, &cmd, &env, Integrator::Rk4, DT);
+    }
+    sense(&m, &mut st, &env, &mut rng, &mut r);
+    assert!(
+        (r.depth - (1.0 + 0.05 + 0.1 * 0.3_f64.powi(2))).abs() <= 0.9e-3 + 1e-9,
         "{}",
         r.depth
     );

@@ -110,6 +110,22 @@ fn report(name: &str, exp: Exp, hidden: &[(&str, Vec<f64>)], seed: u64) -> PathB
         assert!(section.contains(&format!("]({png})")), "{section}");
         assert_eq!(jn["signature_plot"], png.as_str());
     }
+    // How each file was read and what was clamped are in the JSON and on the page.
+    for (i, rd) in ds.runs.iter().enumerate() {
+        let jr = &json["runs"][i];
+        assert_eq!(jr["ingest"]["file_rows"], rd.run.ingest.file_rows, "{jr}");
+        assert_eq!(
+            jr["ingest"]["time_header"],
+            rd.run.ingest.time_header.as_str()
+        );
+        let clamped = jr["clamped"].as_array().expect("clamp notes");
+        assert_eq!(clamped.len(), rd.map.clamped.len());
+        for (j, note) in rd.map.clamped.iter().enumerate() {
+            assert_eq!(clamped[j]["count"], note.count);
+            assert!(md.contains(&note.to_string()), "{note} missing");
+        }
+        assert!(md.contains(&format!("read as: {}", rd.run.ingest)));
+    }
     // Every measured channel of every run is plotted.
     for rd in &ds.runs {
         for &c in &rd.channels {

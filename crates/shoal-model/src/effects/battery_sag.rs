@@ -8,7 +8,8 @@
 
 //!
 //! An `exponential` form competes with the linear one: k(t) = 1 − a·(1 − e^(−t/τ)), a sag
-//! that levels off.
+//! that levels off; a `power` form k(t) = 1 − a·(t/100 s)^p has a shape exponent p for a sag
+//! that accelerates (p > 1: a cell nearing the knee of its discharge curve) or slows (p < 1).
 use super::{Effect, ParamInfo, ThrustContext};
 use crate::vehicle::VehicleParams;
 
@@ -94,5 +95,58 @@ impl Effect for BatterySagExponential {
     fn thrust(&self, p: &[f64], ctx: &ThrustContext<'_>, f: f64) -> f64 {
         let tau = p[1].max(1e-3);
         (1.0 - p[0] * (1.0 - (-ctx.t / tau).exp())).max(0.0) * f
+    }
+}
+
+/// Time at which the `power` form's sag is `a` \[s\].
+const POWER_T_REF: f64 = 100.0;
+
+/// The `power` form: k(t) = 1 − a·(t/100 s)^p. The exponent p is the family's shape
+/// parameter: 1 is the linear sag, 2 a sag that accelerates as the cells near the knee of
+/// their discharge curve, below 1 one that slows.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct BatterySagPower;
+
+impl Effect for BatterySagPower {
+    fn name(&self) -> &'static str {
+        "battery_sag"
+    }
+    fn form(&self) -> &'static str {
+        "power"
+    }
+    fn summary(&self) -> &'static str {
+        "thrust scale falls as a power of time, k(t) = 1 − a·(t/100 s)^p"
+    }
+    fn explanation(&self) -> &'static str {
+        "Battery discharge whose voltage falls faster (p > 1) or slower (p < 1) than linearly \
+         in time: the thrust at a given command drops by a fraction a after 100 s."
+    }
+    fn params(&self, _vehicle: &VehicleParams) -> Vec<ParamInfo> {
+        vec![
+            ParamInfo {
+                name: "a",
+                unit: "-",
+                lo: 0.0,
+                hi: 0.6,
+                null: 0.0,
+                typical: 0.1,
+                doc: "fraction of thrust lost after 100 s",
+                shape: false,
+            },
+            ParamInfo {
+                name: "p",
+                unit: "-",
+                lo: 0.5,
+                hi: 4.0,
+                null: 2.0,
+                typical: 2.0,
+                doc: "exponent of the sag's growth in time",
+                shape: true,
+            },
+        ]
+    }
+    fn thrust(&self, p: &[f64], ctx: &ThrustContext<'_>, f: f64) -> f64 {
+        let x = (ctx.t.max(0.0) / POWER_T_REF).powf(p[1]);
+        (1.0 - p[0] * x).max(0.0) * f
     }
 }

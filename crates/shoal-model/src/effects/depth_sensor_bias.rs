@@ -9,7 +9,9 @@
 //! physics depends on absolute depth (at the surface).
 
 //!
-//! A `settling` form competes: `b₀ + Δ·(1 − e^(−t/τ))`, a drift that levels off.
+//! A `settling` form competes: `b₀ + Δ·(1 − e^(−t/τ))`, a drift that levels off; and a
+//! `power_drift` form `b₀ + d·(t/100 s)^p` whose exponent p shapes a drift that accelerates
+//! (p > 1, a sensor warming ever faster) or slows (p < 1).
 use super::{Effect, ParamInfo};
 use crate::vehicle::VehicleParams;
 
@@ -111,5 +113,57 @@ impl Effect for DepthSensorBiasSettling {
     }
     fn depth_offset(&self, p: &[f64], t: f64) -> f64 {
         p[0] + p[1] * (1.0 - (-t / p[2].max(1e-3)).exp())
+    }
+}
+
+/// Time at which the `power_drift` form's drift is `d` \[s\].
+const POWER_T_REF: f64 = 100.0;
+
+/// The `power_drift` form: `b₀ + d·(t/100 s)^p` — a drift of d after 100 s whose exponent p
+/// (the family's shape parameter; 1 is the linear drift) bends it.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct DepthSensorBiasPower;
+
+impl Effect for DepthSensorBiasPower {
+    fn name(&self) -> &'static str {
+        "depth_sensor_bias"
+    }
+    fn form(&self) -> &'static str {
+        "power_drift"
+    }
+    fn summary(&self) -> &'static str {
+        "depth reading offset b₀ plus a drift d·(t/100 s)^p"
+    }
+    fn explanation(&self) -> &'static str {
+        "Pressure-sensor zero and a temperature drift that accelerates or slows: the reading \
+         is depth + b₀ + d·(t/100 s)^p while the vehicle's motion is unchanged."
+    }
+    fn params(&self, _vehicle: &VehicleParams) -> Vec<ParamInfo> {
+        vec![
+            b0_param(),
+            ParamInfo {
+                name: "d_m",
+                unit: "m",
+                lo: -0.5,
+                hi: 0.5,
+                null: 0.0,
+                typical: 0.02,
+                doc: "drift of the depth reading after 100 s",
+                shape: false,
+            },
+            ParamInfo {
+                name: "p",
+                unit: "-",
+                lo: 0.5,
+                hi: 4.0,
+                null: 2.0,
+                typical: 2.0,
+                doc: "exponent of the drift's growth in time",
+                shape: true,
+            },
+        ]
+    }
+    fn depth_offset(&self, p: &[f64], t: f64) -> f64 {
+        p[0] + p[1] * (t.max(0.0) / POWER_T_REF).powf(p[2])
     }
 }

@@ -38,17 +38,19 @@ mod water_current;
 
 pub use added_mass_error::AddedMassError;
 pub use ballast_mass::BallastMass;
-pub use battery_sag::{BatterySag, BatterySagExponential};
+pub use battery_sag::{BatterySag, BatterySagExponential, BatterySagPower};
 pub use buoyancy_offset::BuoyancyOffset;
-pub use damping_error::DampingError;
-pub use depth_sensor_bias::{DepthSensorBias, DepthSensorBiasSettling};
+pub use damping_error::{DampingError, DampingErrorDirection};
+pub use depth_sensor_bias::{DepthSensorBias, DepthSensorBiasPower, DepthSensorBiasSettling};
 pub use inflow_thrust_loss::{InflowThrustLoss, InflowThrustLossLinear};
 pub use sensor_delay::SensorDelay;
 pub use thrust_asymmetry::ThrustAsymmetry;
 pub use thrust_coupling::ThrustCoupling;
-pub use thrust_gain::ThrustGain;
+pub use thrust_gain::{ThrustGain, ThrustGainCurve};
 pub use thrust_saturation::{ThrustSaturation, ThrustSaturationSmooth};
-pub use thruster_deadband::{ThrusterDeadband, ThrusterDeadbandGate, ThrusterDeadbandSoft};
+pub use thruster_deadband::{
+    ThrusterDeadband, ThrusterDeadbandAsymmetric, ThrusterDeadbandGate, ThrusterDeadbandSoft,
+};
 pub use thruster_lag::{ThrusterLag, ThrusterLagSecondOrder, ThrusterLagUpDown};
 pub use water_current::WaterCurrent;
 
@@ -189,21 +191,26 @@ pub fn catalogue() -> Vec<Arc<dyn Effect>> {
         Arc::new(ThrusterLagSecondOrder),
         Arc::new(ThrusterLagUpDown),
         Arc::new(ThrustGain),
+        Arc::new(ThrustGainCurve),
         Arc::new(ThrustAsymmetry),
         Arc::new(ThrusterDeadband),
         Arc::new(ThrusterDeadbandSoft),
         Arc::new(ThrusterDeadbandGate),
+        Arc::new(ThrusterDeadbandAsymmetric),
         Arc::new(BatterySag),
         Arc::new(BatterySagExponential),
+        Arc::new(BatterySagPower),
         Arc::new(InflowThrustLoss),
         Arc::new(InflowThrustLossLinear),
         Arc::new(BuoyancyOffset),
         Arc::new(BallastMass),
         Arc::new(DampingError),
+        Arc::new(DampingErrorDirection),
         Arc::new(AddedMassError),
         Arc::new(WaterCurrent),
         Arc::new(DepthSensorBias),
         Arc::new(DepthSensorBiasSettling),
+        Arc::new(DepthSensorBiasPower),
         Arc::new(SensorDelay),
         Arc::new(ThrustCoupling),
         Arc::new(ThrustSaturation),

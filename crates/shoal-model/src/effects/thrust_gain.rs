@@ -7,6 +7,10 @@
 //! the hull is still slow.
 //!
 //! Modelled as `f = k · f_static`.
+//!
+//! A `curve` form adds an exponent to the gain: `f = k·(|n|/50 %)^e · f_static`, a gain
+//! that changes with the command — a thrust curve whose exponent is not the baseline's (an
+//! ESC whose output is not linear in its input, a propeller that loads differently).
 
 use super::{Effect, ParamInfo, ThrustContext};
 use crate::vehicle::VehicleParams;
@@ -40,5 +44,60 @@ impl Effect for ThrustGain {
     }
     fn thrust(&self, p: &[f64], _ctx: &ThrustContext<'_>, f: f64) -> f64 {
         p[0] * f
+    }
+}
+
+/// Command at which the `curve` form's gain is k [%].
+const CURVE_N_REF: f64 = 50.0;
+
+/// The `curve` form: `f = k·(|n|/50 %)^e · f_static` — the gain k at half command, changing
+/// with the command by the exponent e (0 is the standard form; both are tested against null).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ThrustGainCurve;
+
+impl Effect for ThrustGainCurve {
+    fn name(&self) -> &'static str {
+        "thrust_gain"
+    }
+    fn form(&self) -> &'static str {
+        "curve"
+    }
+    fn summary(&self) -> &'static str {
+        "thrust scaled by k·(|n|/50 %)^e, a gain that changes with the command"
+    }
+    fn explanation(&self) -> &'static str {
+        "The thrust curve's exponent differs from the baseline's (an ESC whose output is not \
+         linear in its input, a different propeller): the thrust is off by a factor that \
+         grows or shrinks with the command."
+    }
+    fn params(&self, _vehicle: &VehicleParams) -> Vec<ParamInfo> {
+        vec![
+            ParamInfo {
+                name: "k",
+                unit: "-",
+                lo: 0.1,
+                hi: 3.0,
+                null: 1.0,
+                typical: 1.2,
+                doc: "thrust scale factor at half command",
+                shape: false,
+            },
+            ParamInfo {
+                name: "e",
+                unit: "-",
+                lo: -0.5,
+                hi: 0.5,
+                null: 0.0,
+                typical: 0.1,
+                doc: "exponent of the gain's change with the command",
+                // Not a shape: with e ≠ 0 the thrust differs from the baseline even at k = 1.
+                shape: false,
+            },
+        ]
+    }
+    fn thrust(&self, p: &[f64], ctx: &ThrustContext<'_>, f: f64) -> f64 {
+        // Below 1 % the thrust is negligible; the floor keeps a negative exponent finite.
+        let r = (ctx.command.abs().max(1.0) / CURVE_N_REF).powf(p[1]);
+        p[0] * r * f
     }
 }

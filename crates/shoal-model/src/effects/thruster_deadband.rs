@@ -14,6 +14,8 @@
 //! edge is a smooth knee and whose curve outside is shifted rather than stretched.
 //! A `gate` form: `n' = n·x^p/(x^p + 1)`, x = |n|/d₀, no thrust well inside the band and the
 //! unchanged curve well outside it, with a fitted sharpness p.
+//! An `asymmetric` form: the hard cut with its own width for forward (d₀) and reverse (d_rev)
+//! commands — an ESC whose neutral point is off centre.
 
 use super::{Effect, ParamInfo};
 use crate::thruster::ThrusterParams;
@@ -142,5 +144,39 @@ impl Effect for ThrusterDeadbandGate {
             return n;
         }
         n * xp / (xp + 1.0)
+    }
+}
+
+/// The `asymmetric` form: the hard cut of [`ThrusterDeadband`] with width d₀ for forward and
+/// d_rev for reverse commands.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ThrusterDeadbandAsymmetric;
+
+impl Effect for ThrusterDeadbandAsymmetric {
+    fn name(&self) -> &'static str {
+        "thruster_deadband"
+    }
+    fn form(&self) -> &'static str {
+        "asymmetric"
+    }
+    fn summary(&self) -> &'static str {
+        "no thrust for commands in (−d_rev, d₀): a dead band off centre"
+    }
+    fn explanation(&self) -> &'static str {
+        "ESC and motor static friction with the ESC's neutral point off centre: forward \
+         commands below d₀ and reverse commands below d_rev produce no thrust."
+    }
+    fn params(&self, _vehicle: &VehicleParams) -> Vec<ParamInfo> {
+        vec![
+            d0_param("dead band width for forward commands"),
+            ParamInfo {
+                name: "d_rev_pct",
+                ..d0_param("dead band width for reverse commands")
+            },
+        ]
+    }
+    fn command(&self, p: &[f64], thruster: &ThrusterParams, n: f64) -> f64 {
+        let d = if n >= 0.0 { p[0] } else { p[1] };
+        ThrusterDeadband.command(&[d], thruster, n)
     }
 }

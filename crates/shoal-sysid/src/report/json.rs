@@ -226,6 +226,8 @@ pub(super) fn report(
                 "split_time_s": if rd.split_time.is_finite() { json!(rd.split_time) } else { Value::Null },
                 "channels": rd.channels.iter().map(|&i| label(rd.run.channels[i].kind)).collect::<Vec<_>>(),
                 "inputs": rd.run.inputs.iter().map(|i| format!("u.{}", i.name)).collect::<Vec<_>>(),
+                "ingest": rd.run.ingest,
+                "clamped": rd.map.clamped,
             })
         })
         .collect();

@@ -475,6 +475,17 @@ fn runs(s: &mut String, input: &ReportInput<'_>) {
             inputs.join(", ")
         );
     }
+    // How each file was read, and what was clamped: a user checks that the reader understood
+    // the log as it was meant.
+    let _ = writeln!(s);
+    for rd in &input.ds.runs {
+        if rd.run.ingest.time_column > 0 {
+            let _ = writeln!(s, "- `{}` read as: {}", rd.run.name, rd.run.ingest);
+        }
+        for note in &rd.map.clamped {
+            let _ = writeln!(s, "- `{}`: {note}", rd.run.name);
+        }
+    }
 }
 
 fn diagnostics(s: &mut String, corr: &BTreeMap<ChannelKind, Vec<(String, f64)>>) {

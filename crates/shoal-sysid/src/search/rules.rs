@@ -7,7 +7,9 @@ use super::{Candidate, Fit, SearchOptions};
 use crate::blocks::{Resample, heldout_t, part_sse};
 use crate::data::Evaluation;
 
-/// Mean over channels of 1 − RMSE_b/RMSE_a on validation data.
+/// Mean over the channels `b` changes of 1 − RMSE_b/RMSE_a on validation data. A channel the
+/// change does not touch (a heave effect's yaw channel) is left out: the gain of an effect
+/// must not depend on how many unrelated channels a log happens to carry.
 pub fn gain(a: &Evaluation, b: &Evaluation) -> f64 {
     gain_rs(a, b, None)
 }
@@ -20,6 +22,7 @@ pub fn gain_rs(a: &Evaluation, b: &Evaluation, rs: Option<&Resample>) -> f64 {
         for (k, ma) in &a.metrics {
             if let Some(mb) = b.metrics.get(k)
                 && ma.rmse > 0.0
+                && touched(ma.rmse, mb.rmse)
             {
                 s += 1.0 - mb.rmse / ma.rmse;
                 n += 1;
@@ -37,12 +40,18 @@ pub fn gain_rs(a: &Evaluation, b: &Evaluation, rs: Option<&Resample>) -> f64 {
             && *sa > 0.0
             && *na > 0.0
             && *nb > 0.0
+            && touched(*sa, *sb)
         {
             s += 1.0 - ((sb / nb) / (sa / na)).sqrt();
             n += 1;
         }
     }
     if n > 0 { s / n as f64 } else { 0.0 }
+}
+
+/// Whether a channel's error measure moved from `a` to `b` by more than rounding.
+fn touched(a: f64, b: f64) -> bool {
+    (a - b).abs() > 1e-9 * a.abs().max(b.abs())
 }
 
 /// BIC of an evaluation with `k` free parameters: Σ_ch n_ch·ln(SSE_ch/n_ch) + k·ln n over the
@@ -105,7 +114,7 @@ pub fn delta_bic_eff(a: &Fit, b: &Fit, rs: Option<&Resample>) -> f64 {
 }
 
 /// How much going from `a` to `b` lowers the held-out RMSE, as a fraction of the baseline's
-/// held-out RMSE (mean over channels): an effect that only trims what is left after the
+/// held-out RMSE (mean over the channels the change touches): an effect that only trims what is left after the
 /// others — a form mismatch being soaked up — moves little of the error the user started
 /// with.
 pub fn material(baseline: &Evaluation, a: &Evaluation, b: &Evaluation) -> f64 {
@@ -114,6 +123,7 @@ pub fn material(baseline: &Evaluation, a: &Evaluation, b: &Evaluation) -> f64 {
     for (k, m0) in &baseline.metrics {
         if let (Some(ma), Some(mb)) = (a.metrics.get(k), b.metrics.get(k))
             && m0.rmse > 0.0
+            && touched(ma.rmse, mb.rmse)
         {
             s += (ma.rmse - mb.rmse) / m0.rmse;
             n += 1;
