@@ -10,8 +10,8 @@
 //!
 //! * [`full`] — every truth form in every experiment that excites it with three seeds (lower
 //!   half, upper half and all of each magnitude range), 13 pairs of families (each family in at
-//!   least one pair, each pair with both form combinations), 8 null runs.
-//! * [`ci_subset`] — 42 of them for the test: every form once, 8 pairs, 4 nulls.
+//!   least one pair, each pair in two combinations of its families' forms), 8 null runs.
+//! * [`ci_subset`] — 47 of them for the test: every form once, 8 pairs, 4 nulls.
 //!
 //! [`Conditions`] change the log's length and the sensor noise (for the recovery benchmark).
 
@@ -237,7 +237,8 @@ pub const PAIRS: [(&str, &str, ExpKind); 13] = [
 ];
 
 /// Pair `i` of [`PAIRS`] with `seed`: seed s takes form (s − 1) of the first family and form s
-/// of the second (cyclically), so seeds 1 and 2 cover both combinations of two-form families.
+/// of the second (cyclically), so seeds 1 and 2 cover both crossed combinations of two-form
+/// families (with three forms in the second family, seed 2 takes its third).
 pub fn pair_case(i: usize, seed: u64) -> CaseSpec {
     let (fa, fb, kind) = PAIRS[i];
     let (a, b) = (truth_forms::of_family(fa), truth_forms::of_family(fb));
@@ -245,7 +246,7 @@ pub fn pair_case(i: usize, seed: u64) -> CaseSpec {
     pair(&a[(s + a.len() - 1) % a.len()], &b[s % b.len()], kind, seed)
 }
 
-/// The whole test set (196 cases): every form in every experiment that excites it with seeds
+/// The whole test set (226 cases): every form in every experiment that excites it with seeds
 /// 1, 2, 3; every pair of [`PAIRS`] with seeds 1, 2; null runs in both experiments with seeds
 /// 1 … 4.
 pub fn full() -> Vec<CaseSpec> {
@@ -273,9 +274,9 @@ pub fn full() -> Vec<CaseSpec> {
 /// Pairs of [`PAIRS`] in [`ci_subset`] (the first ones: twelve families, both experiments).
 pub const CI_PAIRS: usize = 8;
 
-/// The test's subset of [`full`] (42 cases, sized for a few minutes of search on two cores):
+/// The test's subset of [`full`] (47 cases, sized for a few minutes of search on two cores):
 /// every form once with seed 3 (whole magnitude range; the first form of a family in its first
-/// experiment, the second in its last, so both experiments appear where both excite the
+/// experiment, the later ones in its last, so both experiments appear where both excite the
 /// family), the first [`CI_PAIRS`] pairs with seed 1, null runs in both experiments with seeds
 /// 1 and 2.
 pub fn ci_subset() -> Vec<CaseSpec> {
@@ -359,8 +360,8 @@ mod tests {
     fn sets_cover_every_form_and_family_and_names_are_unique() {
         let all = full();
         let ci = ci_subset();
-        assert_eq!(all.len(), 196);
-        assert_eq!(ci.len(), 42);
+        assert_eq!(all.len(), 226);
+        assert_eq!(ci.len(), 47);
         for family in shoal_model::effects::names() {
             assert!(
                 all.iter()

@@ -4,13 +4,18 @@
 //! * `damping_error/direction_dependent` — the drag depends on the direction of motion (a dome
 //!   or a skid on one side): every damping term is scaled by k₊ while the velocity component is
 //!   positive and by k₋ (near one) while it is negative (diving vs rising, turning right vs
-//!   left).
+//!   left). The catalogue's `direction` form has this law: the form is matched.
 //! * `damping_error/speed_exponent` — an extra drag term of another power of the speed, as
 //!   from an appendage in turbulent flow: −s·d_quad·ν_ref^(2−p)·|ν|^(p−1)·ν per degree of
 //!   freedom, i.e. s times the quadratic damping at the reference speed ν_ref (0.1 m/s,
 //!   1 rad/s) and growing faster above it.
+//! * `damping_error/quadratic_direction` — only the quadratic (form, or pressure) drag depends
+//!   on the direction of motion: the pressure drag follows the shape the flow meets (a blunt
+//!   dome one way, a tapered tail the other), the skin friction behind the linear term does
+//!   not. The quadratic term is scaled by k₊ > 1 while the velocity component is positive and
+//!   by k₋ < 1 while it is negative; the linear term is the baseline's.
 //!
-//! Both are forces on the hull computed from its velocity through the water.
+//! All are forces on the hull computed from its velocity through the water.
 
 use super::{ExpKind, FormParam, NU_REF, Part, TruthForm, truth_effect_meta};
 use shoal_model::effects::{Effect, ForceContext};
@@ -21,6 +26,9 @@ const DIRECTION: &str = "damping_error/direction_dependent";
 const DIRECTION_LAW: &str = "damping × k₊ for ν > 0, × k₋ for ν < 0, per degree of freedom";
 const EXPONENT: &str = "damping_error/speed_exponent";
 const EXPONENT_LAW: &str = "extra drag s·d_quad·ν_ref^(2−p)·|ν|^(p−1)·ν";
+const QUAD_DIRECTION: &str = "damping_error/quadratic_direction";
+const QUAD_DIRECTION_LAW: &str =
+    "quadratic damping × k₊ for ν > 0, × k₋ for ν < 0, linear damping unchanged";
 
 pub(super) fn forms() -> Vec<TruthForm> {
     vec![
@@ -56,6 +64,22 @@ pub(super) fn forms() -> Vec<TruthForm> {
             ],
             excites: &[ExpKind::Heave, ExpKind::Yaw],
             build: |p| Part::Effect(Arc::new(SpeedExponent { s: p[0], p: p[1] })),
+        },
+        TruthForm {
+            name: QUAD_DIRECTION,
+            family: "damping_error",
+            law: QUAD_DIRECTION_LAW,
+            params: vec![
+                FormParam::magnitude("k_pos", "-", 1.4, 1.8, "quadratic damping factor for ν > 0"),
+                FormParam::deficit("k_neg", "-", 0.7, 0.9, "quadratic damping factor for ν < 0"),
+            ],
+            excites: &[ExpKind::Heave, ExpKind::Yaw],
+            build: |p| {
+                Part::Effect(Arc::new(QuadraticDirection {
+                    k_pos: p[0],
+                    k_neg: p[1],
+                }))
+            },
         },
     ]
 }
@@ -99,5 +123,81 @@ impl Effect for SpeedExponent {
             let x = nu[i] / NU_REF[i];
             -self.s * d[i] * NU_REF[i] * NU_REF[i] * x.abs().powf(self.p - 1.0) * x
         })
+    }
+}
+
+/// See the module documentation.
+#[derive(Debug)]
+struct QuadraticDirection {
+    /// Quadratic damping factor for positive velocity \[-\].
+    k_pos: f64,
+    /// Quadratic damping factor for negative velocity \[-\].
+    k_neg: f64,
+}
+
+impl Effect for QuadraticDirection {
+    truth_effect_meta!(QUAD_DIRECTION, QUAD_DIRECTION_LAW);
+    fn force(&self, _p: &[f64], ctx: &ForceContext<'_>) -> Vec6 {
+        let nu = &ctx.rigid.nu;
+        let d = &ctx.vehicle.body.damping_quadratic;
+        Vec6::from_fn(|i, _| {
+            let k = if nu[i] > 0.0 { self.k_pos } else { self.k_neg };
+            -(k - 1.0) * d[i] * nu[i].abs() * nu[i]
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use shoal_model::dynamics::RigidState;
+    use shoal_model::math::{Quat, Vec3};
+    use shoal_model::presets;
+
+    /// The total drag (baseline plus `e`'s extra force) at velocity `nu`, as a resisting force.
+    fn drag(e: &dyn Effect, nu: Vec6) -> Vec6 {
+        let vehicle = presets::uauv2();
+        let mut rigid = RigidState::at_rest(Vec3::new(0.0, 0.0, 1.0), Quat::identity());
+        rigid.nu = nu;
+        let ctx = ForceContext {
+            t: 0.0,
+            rigid: &rigid,
+            thrust_force: Vec3::zeros(),
+            thrust_moment: Vec3::zeros(),
+            vehicle: &vehicle,
+            gravity: 9.81,
+        };
+        vehicle.body.damping(&nu) - e.force(&[], &ctx)
+    }
+
+    #[test]
+    fn quadratic_direction_scales_only_the_quadratic_drag_per_direction() {
+        let form = forms().into_iter().find(|f| f.name == QUAD_DIRECTION);
+        let form = form.expect("registered");
+        let Part::Effect(e) = form.part(&[1.5, 0.8]) else {
+            panic!("an effect")
+        };
+        let body = presets::uauv2().body;
+        let (zw, zww) = (body.damping_linear[2], body.damping_quadratic[2]);
+        let (nr, nrr) = (body.damping_linear[5], body.damping_quadratic[5]);
+        // Diving at 0.1 m/s and turning at −1 rad/s: Z_w·w + 1.5·Z_w|w|·w², N_r·r − 0.8·N_r|r|.
+        let d = drag(e.as_ref(), Vec6::new(0.0, 0.0, 0.1, 0.0, 0.0, -1.0));
+        assert!((d[2] - (zw * 0.1 + 1.5 * zww * 0.01)).abs() < 1e-12, "{d}");
+        assert!((d[5] - (-nr - 0.8 * nrr)).abs() < 1e-12, "{d}");
+        // Rising at 0.05 m/s and turning at +0.5 rad/s.
+        let d = drag(e.as_ref(), Vec6::new(0.0, 0.0, -0.05, 0.0, 0.0, 0.5));
+        assert!(
+            (d[2] - (-zw * 0.05 - 0.8 * zww * 0.0025)).abs() < 1e-12,
+            "{d}"
+        );
+        assert!((d[5] - (nr * 0.5 + 1.5 * nrr * 0.25)).abs() < 1e-12, "{d}");
+        // At rest nothing; factors of one: the baseline.
+        assert_eq!(drag(e.as_ref(), Vec6::zeros()), Vec6::zeros());
+        let null = QuadraticDirection {
+            k_pos: 1.0,
+            k_neg: 1.0,
+        };
+        let nu = Vec6::new(0.02, -0.03, 0.1, 0.2, -0.1, 0.8);
+        assert_eq!(drag(&null, nu), body.damping(&nu));
     }
 }

@@ -5,7 +5,10 @@
 //!   nicked propeller): port k(1 + r), starboard k(1 − r), top k.
 //! * `thrust_gain/command_dependent` — the gain varies with the command, k(n) = k·(|n|/50 %)^e:
 //!   the thrust curve's exponent differs from the baseline's 2 (an ESC whose output is not
-//!   linear in its input).
+//!   linear in its input). The catalogue's `curve` form has this law: the form is matched.
+//! * `thrust_gain/two_slope` — the gain is k₁ up to a knee command n_k and changes linearly to
+//!   k₂ at full command above it: an ESC whose throttle map has a breakpoint, so the thrust
+//!   curve has two slopes.
 
 use super::{ExpKind, FormParam, Part, TruthForm, truth_effect_meta};
 use shoal_model::effects::{Effect, ThrustContext};
@@ -18,6 +21,9 @@ const PER_THRUSTER: &str = "thrust_gain/per_thruster";
 const PER_THRUSTER_LAW: &str = "thrust × k(1 + r) on port, × k(1 − r) on starboard, × k on top";
 const COMMAND_DEPENDENT: &str = "thrust_gain/command_dependent";
 const COMMAND_DEPENDENT_LAW: &str = "thrust × k·(|n|/50 %)^e";
+const TWO_SLOPE: &str = "thrust_gain/two_slope";
+const TWO_SLOPE_LAW: &str =
+    "thrust × k₁ for |n| ≤ n_k, × k₁ + (k₂ − k₁)·(|n| − n_k)/(n_max − n_k) above";
 
 pub(super) fn forms() -> Vec<TruthForm> {
     vec![
@@ -71,6 +77,30 @@ pub(super) fn forms() -> Vec<TruthForm> {
                 }))
             },
         },
+        TruthForm {
+            name: TWO_SLOPE,
+            family: "thrust_gain",
+            law: TWO_SLOPE_LAW,
+            params: vec![
+                FormParam::signed("dk1", "-", 0.12, 0.22, "gain below the knee minus one"),
+                FormParam::signed(
+                    "dk2",
+                    "-",
+                    0.15,
+                    0.3,
+                    "change of the gain from the knee to full command: k₂ = k₁ + dk2",
+                ),
+                FormParam::shape("n_k_pct", "%", 40.0, 60.0, "knee command n_k"),
+            ],
+            excites: &[ExpKind::Heave, ExpKind::Yaw],
+            build: |p| {
+                Part::Effect(Arc::new(TwoSlope {
+                    k1: 1.0 + p[0],
+                    k2: 1.0 + p[0] + p[1],
+                    knee: p[2],
+                }))
+            },
+        },
     ]
 }
 
@@ -110,5 +140,81 @@ impl Effect for CommandDependent {
         // Below 1 % there is (almost) no thrust to scale; keep the factor finite.
         let n = ctx.command.abs().max(1.0);
         self.k * (n / N_REF).powf(self.e) * f
+    }
+}
+
+/// See the module documentation.
+#[derive(Debug)]
+struct TwoSlope {
+    /// Gain up to the knee \[-\].
+    k1: f64,
+    /// Gain at full command \[-\].
+    k2: f64,
+    /// Knee command [%].
+    knee: f64,
+}
+
+impl TwoSlope {
+    /// The gain at command `n` [%] of a thruster whose largest command is `n_max` [%].
+    fn gain(&self, n: f64, n_max: f64) -> f64 {
+        let a = n.abs();
+        if a <= self.knee || n_max <= self.knee {
+            self.k1
+        } else {
+            self.k1 + (self.k2 - self.k1) * ((a - self.knee) / (n_max - self.knee)).min(1.0)
+        }
+    }
+}
+
+impl Effect for TwoSlope {
+    truth_effect_meta!(TWO_SLOPE, TWO_SLOPE_LAW);
+    fn thrust(&self, _p: &[f64], ctx: &ThrustContext<'_>, f: f64) -> f64 {
+        self.gain(ctx.command, ctx.thruster.max_command) * f
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use shoal_model::presets;
+
+    fn thrust(e: &dyn Effect, n: f64) -> f64 {
+        let th = &presets::uauv2().thrusters[1];
+        let ctx = ThrustContext {
+            t: 0.0,
+            thruster: th,
+            command: n,
+            inflow: 0.0,
+        };
+        e.thrust(&[], &ctx, 2.0)
+    }
+
+    #[test]
+    fn two_slope_gain_is_flat_to_the_knee_then_linear() {
+        let form = forms().into_iter().find(|f| f.name == TWO_SLOPE);
+        let form = form.expect("registered");
+        let Part::Effect(e) = form.part(&[0.2, -0.3, 50.0]) else {
+            panic!("an effect")
+        };
+        // k₁ = 1.2 up to 50 %, k₂ = 0.9 at 100 %; the baseline thrust is 2 N.
+        for (n, k) in [
+            (10.0, 1.2),
+            (-50.0, 1.2),
+            (75.0, 1.05),
+            (-90.0, 0.96),
+            (100.0, 0.9),
+        ] {
+            let f = thrust(e.as_ref(), n);
+            assert!((f - 2.0 * k).abs() < 1e-12, "n = {n}: {f}");
+        }
+        // No gain error and no change at the knee: the baseline.
+        let null = TwoSlope {
+            k1: 1.0,
+            k2: 1.0,
+            knee: 40.0,
+        };
+        for n in [-100.0, -20.0, 0.0, 45.0, 100.0] {
+            assert_eq!(thrust(&null, n), 2.0);
+        }
     }
 }

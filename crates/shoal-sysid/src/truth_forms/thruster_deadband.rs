@@ -6,9 +6,14 @@
 //!   that starts sluggishly and is fully up to speed past d₁).
 //! * `thruster_deadband/asymmetric` — the ESC's band is wider in reverse than forward
 //!   (d₋ > d₊); each side is a hard cut with the curve stretched over the rest of its range.
+//!   The catalogue's `asymmetric` form has this law: the form is matched.
+//! * `thruster_deadband/asymmetric_soft` — friction that fades in, stronger in reverse: each
+//!   side is a soft knee n' = n − d·tanh(n/d) with its own width (d₊ forward, d₋ > d₊ reverse),
+//!   so small commands give almost no thrust and larger ones the thrust of a command d smaller
+//!   (a propeller that is less efficient and a motor with more cogging in reverse).
 
 use super::{ExpKind, FormParam, Part, TruthForm, truth_effect_meta};
-use shoal_model::effects::{Effect, ThrusterDeadband};
+use shoal_model::effects::{Effect, ThrusterDeadband, ThrusterDeadbandSoft};
 use shoal_model::thruster::ThrusterParams;
 use std::sync::Arc;
 
@@ -18,6 +23,8 @@ const LINEAR_RAMP_LAW: &str =
 const ASYMMETRIC: &str = "thruster_deadband/asymmetric";
 const ASYMMETRIC_LAW: &str =
     "hard dead band d₊ forward and d₋ reverse, curve stretched on each side";
+const ASYMMETRIC_SOFT: &str = "thruster_deadband/asymmetric_soft";
+const ASYMMETRIC_SOFT_LAW: &str = "command n − d·tanh(n/d), d = d₊ for n ≥ 0 and d₋ for n < 0";
 
 pub(super) fn forms() -> Vec<TruthForm> {
     vec![
@@ -48,6 +55,22 @@ pub(super) fn forms() -> Vec<TruthForm> {
             excites: &[ExpKind::Heave, ExpKind::Yaw],
             build: |p| {
                 Part::Effect(Arc::new(Asymmetric {
+                    d_fwd: p[0],
+                    d_rev: p[1],
+                }))
+            },
+        },
+        TruthForm {
+            name: ASYMMETRIC_SOFT,
+            family: "thruster_deadband",
+            law: ASYMMETRIC_SOFT_LAW,
+            params: vec![
+                FormParam::magnitude("d_fwd_pct", "%", 4.0, 8.0, "forward knee width d₊"),
+                FormParam::magnitude("d_rev_pct", "%", 10.0, 16.0, "reverse knee width d₋"),
+            ],
+            excites: &[ExpKind::Heave, ExpKind::Yaw],
+            build: |p| {
+                Part::Effect(Arc::new(AsymmetricSoft {
                     d_fwd: p[0],
                     d_rev: p[1],
                 }))
@@ -94,5 +117,58 @@ impl Effect for Asymmetric {
         // Each side is the catalogue's hard cut with its own width.
         let d = if n >= 0.0 { self.d_fwd } else { self.d_rev };
         ThrusterDeadband.command(&[d], thruster, n)
+    }
+}
+
+/// See the module documentation.
+#[derive(Debug)]
+struct AsymmetricSoft {
+    /// Forward knee width [%].
+    d_fwd: f64,
+    /// Reverse knee width [%].
+    d_rev: f64,
+}
+
+impl Effect for AsymmetricSoft {
+    truth_effect_meta!(ASYMMETRIC_SOFT, ASYMMETRIC_SOFT_LAW);
+    fn command(&self, _p: &[f64], thruster: &ThrusterParams, n: f64) -> f64 {
+        // Each side is the catalogue's soft knee with its own width.
+        let d = if n >= 0.0 { self.d_fwd } else { self.d_rev };
+        ThrusterDeadbandSoft.command(&[d], thruster, n)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use shoal_model::presets;
+
+    #[test]
+    fn asymmetric_soft_has_a_soft_knee_of_its_own_width_per_side() {
+        let th = &presets::uauv2().thrusters[1];
+        let form = forms().into_iter().find(|f| f.name == ASYMMETRIC_SOFT);
+        let form = form.expect("registered");
+        let Part::Effect(e) = form.part(&[5.0, 12.0]) else {
+            panic!("an effect")
+        };
+        let c = |n: f64| e.command(&[], th, n);
+        // tanh 2 = 0.964028, tanh 1 = 0.761594, tanh(5/12) = 0.394119.
+        assert_eq!(c(0.0), 0.0);
+        assert!((c(10.0) - (10.0 - 5.0 * 0.964_028)).abs() < 1e-5);
+        assert!((c(-12.0) - (-12.0 + 12.0 * 0.761_594)).abs() < 1e-5);
+        assert!((c(-5.0) - (-5.0 + 12.0 * 0.394_119)).abs() < 1e-5);
+        // Far outside the band each side is shifted by its own width.
+        assert!((c(80.0) - 75.0).abs() < 1e-9);
+        assert!((c(-80.0) + 68.0).abs() < 1e-4);
+        // Reverse loses more than forward.
+        assert!(c(30.0) > -c(-30.0));
+        // Zero widths: the baseline.
+        let null = AsymmetricSoft {
+            d_fwd: 0.0,
+            d_rev: 0.0,
+        };
+        for n in [-100.0, -7.0, 0.0, 3.0, 100.0] {
+            assert_eq!(null.command(&[], th, n), n);
+        }
     }
 }
