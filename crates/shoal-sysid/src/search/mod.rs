@@ -36,7 +36,10 @@
 //!    rejects effects that show only at a few events, such as a lag at command steps);
 //! 4. the held-out RMSE falls by at least `min_material` (default 2 %) *of the baseline's*
 //!    held-out RMSE: an extra effect that only trims what is left after the others — a form
-//!    mismatch being soaked up — is not worth naming;
+//!    mismatch being soaked up — is not worth naming; unless it closes at least
+//!    `min_closure` (default 50 %) of the gap between the held-out RMSE and the noise floor
+//!    ([`rules::closure`]): an effect that explains most of what is left above the sensor
+//!    noise is the rest of the story however small, where a soaking-up one trims a part;
 //! 5. its parameters are jointly `z_threshold` (default 3) standard deviations from their null
 //!    values (Wald test; shape parameters excluded).
 //!
@@ -115,6 +118,9 @@ pub struct SearchOptions {
     /// Smallest reduction of the held-out RMSE, as a fraction of the baseline's, that an
     /// effect must bring to the model it joins (default 0.02).
     pub min_material: f64,
+    /// Fraction of the gap between the held-out RMSE and the noise floor that makes an
+    /// effect material however small its share of the baseline's error (default 0.5).
+    pub min_closure: f64,
     /// Smallest held-out block t statistic that counts (default 0).
     pub t_threshold: f64,
     /// Block-bootstrap resamples for stability selection (default 8; 0: no stability check).
@@ -141,6 +147,7 @@ impl Default for SearchOptions {
             block_s: crate::blocks::DEFAULT_BLOCK_S,
             t_threshold: 0.0,
             min_material: 0.02,
+            min_closure: 0.5,
             stability_draws: 8,
             stability_threshold: 0.7,
             seed: 0x5140a1,

@@ -132,6 +132,46 @@ pub fn material(baseline: &Evaluation, a: &Evaluation, b: &Evaluation) -> f64 {
     if n > 0 { s / n as f64 } else { 0.0 }
 }
 
+/// The noise floor of a channel's held-out residuals: the RMS of their first differences over
+/// √2 — what is left of white sensor noise when every smooth structure is taken out.
+pub fn noise_floor(eval: &Evaluation, kind: crate::run::ChannelKind) -> f64 {
+    let mut diffs = Vec::new();
+    for r in &eval.runs {
+        for c in r.channels.iter().filter(|c| c.kind == kind) {
+            let v: Vec<f64> = c
+                .resid
+                .iter()
+                .zip(&c.est)
+                .filter(|(_, e)| !**e)
+                .map(|(x, _)| *x)
+                .collect();
+            diffs.extend(v.windows(2).map(|w| w[1] - w[0]));
+        }
+    }
+    crate::stats::rms(&diffs) / std::f64::consts::SQRT_2
+}
+
+/// How much of the gap between `a`'s held-out RMSE and the noise floor going to `b` closes
+/// (mean over the channels the change touches; 0 where `a` is already at the floor).
+pub fn closure(a: &Evaluation, b: &Evaluation) -> f64 {
+    let mut s = 0.0;
+    let mut n = 0;
+    for (k, ma) in &a.metrics {
+        if let Some(mb) = b.metrics.get(k)
+            && touched(ma.rmse, mb.rmse)
+        {
+            let gap = ma.rmse - noise_floor(a, *k);
+            s += if gap > 0.0 {
+                ((ma.rmse - mb.rmse) / gap).min(1.0)
+            } else {
+                0.0
+            };
+            n += 1;
+        }
+    }
+    if n > 0 { s / n as f64 } else { 0.0 }
+}
+
 /// A candidate that was not fitted.
 pub fn skipped(round: usize, name: &str, note: String) -> Candidate {
     Candidate {
@@ -175,7 +215,8 @@ pub fn judge(
     let ok_t = t >= opts.t_threshold;
     let ok_z = z >= opts.z_threshold;
     let m = material(baseline, &base.eval, &fit.eval);
-    let ok_m = m >= opts.min_material;
+    let c = closure(&base.eval, &fit.eval);
+    let ok_m = m >= opts.min_material || c >= opts.min_closure;
     let significant = ok_bic && ok_gain && ok_t && ok_z && ok_m;
     let mut why = Vec::new();
     if !ok_bic {
@@ -199,9 +240,11 @@ pub fn judge(
     }
     if !ok_m {
         why.push(format!(
-            "held-out RMSE falls by only {:.2} % of the baseline's (< {:.1} %)",
+            "held-out RMSE falls by only {:.2} % of the baseline's (< {:.1} %) and closes {:.0} % of the gap to the noise floor (< {:.0} %)",
             100.0 * m,
-            100.0 * opts.min_material
+            100.0 * opts.min_material,
+            100.0 * c,
+            100.0 * opts.min_closure
         ));
     }
     if !ok_z {
@@ -218,8 +261,10 @@ pub fn judge(
         .unwrap_or_default();
     let note = if significant {
         format!(
-            "significant: ΔBIC {d:.1} (effective {de:.1}), held-out gain {:.1} % (block t {t:.1}), {z:.1} σ from null",
-            100.0 * g
+            "significant: ΔBIC {d:.1} (effective {de:.1}), held-out gain {:.1} % (block t {t:.1}), {:.1} % of the baseline's RMSE, {:.0} % of the gap to the noise floor, {z:.1} σ from null",
+            100.0 * g,
+            100.0 * m,
+            100.0 * c
         )
     } else {
         format!("not significant: {}", why.join("; "))

@@ -5,7 +5,6 @@
 use super::Fit;
 use super::orchestrate::Search;
 use crate::run::ChannelKind;
-use crate::stats;
 use std::collections::BTreeMap;
 
 /// What the search concludes.
@@ -148,20 +147,7 @@ pub(super) fn conclude(
 fn unexplained(fit: &Fit) -> Vec<Unexplained> {
     let mut out = Vec::new();
     for (k, m) in &fit.eval.metrics {
-        let mut diffs = Vec::new();
-        for r in &fit.eval.runs {
-            for c in r.channels.iter().filter(|c| c.kind == *k) {
-                let v: Vec<f64> = c
-                    .resid
-                    .iter()
-                    .zip(&c.est)
-                    .filter(|(_, e)| !**e)
-                    .map(|(x, _)| *x)
-                    .collect();
-                diffs.extend(v.windows(2).map(|w| w[1] - w[0]));
-            }
-        }
-        let noise = stats::rms(&diffs) / std::f64::consts::SQRT_2;
+        let noise = super::rules::noise_floor(&fit.eval, *k);
         if !m.ljung_box.white() && m.rmse > STRUCTURE_RATIO * noise.max(1e-12) {
             out.push(Unexplained {
                 channel: *k,
