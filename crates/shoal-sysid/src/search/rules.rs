@@ -151,8 +151,14 @@ pub fn noise_floor(eval: &Evaluation, kind: crate::run::ChannelKind) -> f64 {
     crate::stats::rms(&diffs) / std::f64::consts::SQRT_2
 }
 
+/// How far above its noise floor a channel's held-out RMSE must be for its residual to count
+/// as structure (for the closure rule and for "unexplained structure").
+pub const STRUCTURE_RATIO: f64 = 2.0;
+
 /// How much of the gap between `a`'s held-out RMSE and the noise floor going to `b` closes
-/// (mean over the channels the change touches; 0 where `a` is already at the floor).
+/// (mean over the channels the change touches; 0 on a channel where `a` is within
+/// [`STRUCTURE_RATIO`] of its floor: what is left there is mostly noise, and closing such a gap
+/// says nothing).
 pub fn closure(a: &Evaluation, b: &Evaluation) -> f64 {
     let mut s = 0.0;
     let mut n = 0;
@@ -160,8 +166,9 @@ pub fn closure(a: &Evaluation, b: &Evaluation) -> f64 {
         if let Some(mb) = b.metrics.get(k)
             && touched(ma.rmse, mb.rmse)
         {
-            let gap = ma.rmse - noise_floor(a, *k);
-            s += if gap > 0.0 {
+            let floor = noise_floor(a, *k);
+            let gap = ma.rmse - floor;
+            s += if ma.rmse > STRUCTURE_RATIO * floor && gap > 0.0 {
                 ((ma.rmse - mb.rmse) / gap).min(1.0)
             } else {
                 0.0

@@ -65,9 +65,6 @@ pub struct Unexplained {
     pub ljung_box_p: f64,
 }
 
-/// RMS over noise floor above which structured residuals count as unexplained.
-const STRUCTURE_RATIO: f64 = 2.0;
-
 /// The verdict and the model of its named effects.
 pub(super) fn conclude(
     s: &Search<'_>,
@@ -143,12 +140,12 @@ pub(super) fn conclude(
 }
 
 /// Channels of `fit` whose held-out residuals fail the Ljung–Box test and whose RMS is more
-/// than [`STRUCTURE_RATIO`] times the noise floor.
+/// than [`super::rules::STRUCTURE_RATIO`] times the noise floor.
 fn unexplained(fit: &Fit) -> Vec<Unexplained> {
     let mut out = Vec::new();
     for (k, m) in &fit.eval.metrics {
         let noise = super::rules::noise_floor(&fit.eval, *k);
-        if !m.ljung_box.white() && m.rmse > STRUCTURE_RATIO * noise.max(1e-12) {
+        if !m.ljung_box.white() && m.rmse > super::rules::STRUCTURE_RATIO * noise.max(1e-12) {
             out.push(Unexplained {
                 channel: *k,
                 rmse: m.rmse,
