@@ -101,8 +101,8 @@ fn development_null_logs_give_an_empty_verdict() {
 }
 
 #[test]
-#[ignore = "acceptance gate not met yet (issue 12): 13 of 16 exact (combo misses the lag, \
-            saturation is named as inflow loss, inflow loss comes with two extras); run with \
+#[ignore = "acceptance gate not met yet (issue 12): 14 of 16 exact (saturation is named as \
+            inflow loss, inflow loss as direction-dependent drag); run with \
             `cargo test --release -p shoal-sysid --test validation_dev -- --ignored --nocapture`"]
 fn development_logs_get_exact_verdicts() {
     let dir = folder();

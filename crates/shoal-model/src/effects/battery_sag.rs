@@ -10,8 +10,22 @@
 //! An `exponential` form competes with the linear one: k(t) = 1 − a·(1 − e^(−t/τ)), a sag
 //! that levels off; a `power` form k(t) = 1 − a·(t/100 s)^p has a shape exponent p for a sag
 //! that accelerates (p > 1: a cell nearing the knee of its discharge curve) or slows (p < 1).
-use super::{Effect, ParamInfo, ThrustContext};
+use super::{Effect, POWER_T_REF, ParamInfo, ThrustContext, time_exponent_param};
 use crate::vehicle::VehicleParams;
+
+/// The fraction a of the thrust a sag takes (the exponential and power forms).
+fn fraction_param(doc: &'static str) -> ParamInfo {
+    ParamInfo {
+        name: "a",
+        unit: "-",
+        lo: 0.0,
+        hi: 0.6,
+        null: 0.0,
+        typical: 0.1,
+        doc,
+        shape: false,
+    }
+}
 
 /// See the module documentation.
 #[derive(Clone, Copy, Debug, Default)]
@@ -70,16 +84,7 @@ impl Effect for BatterySagExponential {
     }
     fn params(&self, _vehicle: &VehicleParams) -> Vec<ParamInfo> {
         vec![
-            ParamInfo {
-                name: "a",
-                unit: "-",
-                lo: 0.0,
-                hi: 0.6,
-                null: 0.0,
-                typical: 0.1,
-                doc: "fraction of thrust lost in the end",
-                shape: false,
-            },
+            fraction_param("fraction of thrust lost in the end"),
             ParamInfo {
                 name: "tau_s",
                 unit: "s",
@@ -97,9 +102,6 @@ impl Effect for BatterySagExponential {
         (1.0 - p[0] * (1.0 - (-ctx.t / tau).exp())).max(0.0) * f
     }
 }
-
-/// Time at which the `power` form's sag is `a` \[s\].
-const POWER_T_REF: f64 = 100.0;
 
 /// The `power` form: k(t) = 1 − a·(t/100 s)^p. The exponent p is the family's shape
 /// parameter: 1 is the linear sag, 2 a sag that accelerates as the cells near the knee of
@@ -123,26 +125,8 @@ impl Effect for BatterySagPower {
     }
     fn params(&self, _vehicle: &VehicleParams) -> Vec<ParamInfo> {
         vec![
-            ParamInfo {
-                name: "a",
-                unit: "-",
-                lo: 0.0,
-                hi: 0.6,
-                null: 0.0,
-                typical: 0.1,
-                doc: "fraction of thrust lost after 100 s",
-                shape: false,
-            },
-            ParamInfo {
-                name: "p",
-                unit: "-",
-                lo: 0.5,
-                hi: 4.0,
-                null: 2.0,
-                typical: 2.0,
-                doc: "exponent of the sag's growth in time",
-                shape: true,
-            },
+            fraction_param("fraction of thrust lost after 100 s"),
+            time_exponent_param("exponent of the sag's growth in time"),
         ]
     }
     fn thrust(&self, p: &[f64], ctx: &ThrustContext<'_>, f: f64) -> f64 {

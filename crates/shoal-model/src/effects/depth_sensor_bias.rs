@@ -12,7 +12,7 @@
 //! A `settling` form competes: `b₀ + Δ·(1 − e^(−t/τ))`, a drift that levels off; and a
 //! `power_drift` form `b₀ + d·(t/100 s)^p` whose exponent p shapes a drift that accelerates
 //! (p > 1, a sensor warming ever faster) or slows (p < 1).
-use super::{Effect, ParamInfo};
+use super::{Effect, POWER_T_REF, ParamInfo, time_exponent_param};
 use crate::vehicle::VehicleParams;
 
 /// The reading's constant offset b₀ \[m\], shared by both forms.
@@ -116,9 +116,6 @@ impl Effect for DepthSensorBiasSettling {
     }
 }
 
-/// Time at which the `power_drift` form's drift is `d` \[s\].
-const POWER_T_REF: f64 = 100.0;
-
 /// The `power_drift` form: `b₀ + d·(t/100 s)^p` — a drift of d after 100 s whose exponent p
 /// (the family's shape parameter; 1 is the linear drift) bends it.
 #[derive(Clone, Copy, Debug, Default)]
@@ -151,16 +148,7 @@ impl Effect for DepthSensorBiasPower {
                 doc: "drift of the depth reading after 100 s",
                 shape: false,
             },
-            ParamInfo {
-                name: "p",
-                unit: "-",
-                lo: 0.5,
-                hi: 4.0,
-                null: 2.0,
-                typical: 2.0,
-                doc: "exponent of the drift's growth in time",
-                shape: true,
-            },
+            time_exponent_param("exponent of the drift's growth in time"),
         ]
     }
     fn depth_offset(&self, p: &[f64], t: f64) -> f64 {

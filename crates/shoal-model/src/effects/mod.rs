@@ -61,6 +61,23 @@ use crate::vehicle::VehicleParams;
 use std::fmt;
 use std::sync::Arc;
 
+/// Reference time of the `power` forms' laws, (t / T_REF)^p \[s\].
+pub(crate) const POWER_T_REF: f64 = 100.0;
+
+/// The exponent p of a law in (t / 100 s)^p, the shape of a `power` form (1: linear in time).
+pub(crate) fn time_exponent_param(doc: &'static str) -> ParamInfo {
+    ParamInfo {
+        name: "p",
+        unit: "-",
+        lo: 0.5,
+        hi: 4.0,
+        null: 2.0,
+        typical: 2.0,
+        doc,
+        shape: true,
+    }
+}
+
 /// One parameter of an effect.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ParamInfo {

@@ -15,6 +15,20 @@
 use super::{Effect, ParamInfo, ThrustContext};
 use crate::vehicle::VehicleParams;
 
+/// The gain k of both forms.
+fn k_param(doc: &'static str) -> ParamInfo {
+    ParamInfo {
+        name: "k",
+        unit: "-",
+        lo: 0.1,
+        hi: 3.0,
+        null: 1.0,
+        typical: 1.2,
+        doc,
+        shape: false,
+    }
+}
+
 /// See the module documentation.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct ThrustGain;
@@ -31,16 +45,7 @@ impl Effect for ThrustGain {
          calibration error: every thruster's force is scaled by the same factor."
     }
     fn params(&self, _vehicle: &VehicleParams) -> Vec<ParamInfo> {
-        vec![ParamInfo {
-            name: "k",
-            unit: "-",
-            lo: 0.1,
-            hi: 3.0,
-            null: 1.0,
-            typical: 1.2,
-            doc: "thrust scale factor",
-            shape: false,
-        }]
+        vec![k_param("thrust scale factor")]
     }
     fn thrust(&self, p: &[f64], _ctx: &ThrustContext<'_>, f: f64) -> f64 {
         p[0] * f
@@ -72,16 +77,7 @@ impl Effect for ThrustGainCurve {
     }
     fn params(&self, _vehicle: &VehicleParams) -> Vec<ParamInfo> {
         vec![
-            ParamInfo {
-                name: "k",
-                unit: "-",
-                lo: 0.1,
-                hi: 3.0,
-                null: 1.0,
-                typical: 1.2,
-                doc: "thrust scale factor at half command",
-                shape: false,
-            },
+            k_param("thrust scale factor at half command"),
             ParamInfo {
                 name: "e",
                 unit: "-",
