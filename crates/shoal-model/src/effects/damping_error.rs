@@ -98,11 +98,10 @@ impl Effect for DampingErrorDirection {
     }
     fn force(&self, p: &[f64], ctx: &ForceContext<'_>) -> Vec6 {
         let nu = &ctx.rigid.nu;
-        let body = &ctx.vehicle.body;
+        let drag = ctx.vehicle.body.damping(nu);
         Vec6::from_fn(|i, _| {
-            let v = nu[i];
-            let k = if v >= 0.0 { p[0] } else { p[1] };
-            -(k - 1.0) * (body.damping_linear[i] * v + body.damping_quadratic[i] * v.abs() * v)
+            let k = if nu[i] >= 0.0 { p[0] } else { p[1] };
+            -(k - 1.0) * drag[i]
         })
     }
 }

@@ -18,7 +18,7 @@
 //! All are forces on the hull computed from its velocity through the water.
 
 use super::{ExpKind, FormParam, NU_REF, Part, TruthForm, truth_effect_meta};
-use shoal_model::effects::{Effect, ForceContext};
+use shoal_model::effects::{DampingErrorDirection, Effect, ForceContext};
 use shoal_model::math::Vec6;
 use std::sync::Arc;
 
@@ -96,12 +96,8 @@ struct DirectionDependent {
 impl Effect for DirectionDependent {
     truth_effect_meta!(DIRECTION, DIRECTION_LAW);
     fn force(&self, _p: &[f64], ctx: &ForceContext<'_>) -> Vec6 {
-        let nu = &ctx.rigid.nu;
-        let base = ctx.vehicle.body.damping(nu);
-        Vec6::from_fn(|i, _| {
-            let k = if nu[i] > 0.0 { self.k_pos } else { self.k_neg };
-            -(k - 1.0) * base[i]
-        })
+        // The catalogue's `direction` form has this law (the form is matched).
+        DampingErrorDirection.force(&[self.k_pos, self.k_neg], ctx)
     }
 }
 

@@ -13,7 +13,7 @@
 //!   (a propeller that is less efficient and a motor with more cogging in reverse).
 
 use super::{ExpKind, FormParam, Part, TruthForm, truth_effect_meta};
-use shoal_model::effects::{Effect, ThrusterDeadband, ThrusterDeadbandSoft};
+use shoal_model::effects::{Effect, ThrusterDeadbandAsymmetric, ThrusterDeadbandSoft};
 use shoal_model::thruster::ThrusterParams;
 use std::sync::Arc;
 
@@ -114,9 +114,8 @@ struct Asymmetric {
 impl Effect for Asymmetric {
     truth_effect_meta!(ASYMMETRIC, ASYMMETRIC_LAW);
     fn command(&self, _p: &[f64], thruster: &ThrusterParams, n: f64) -> f64 {
-        // Each side is the catalogue's hard cut with its own width.
-        let d = if n >= 0.0 { self.d_fwd } else { self.d_rev };
-        ThrusterDeadband.command(&[d], thruster, n)
+        // The catalogue's `asymmetric` form has this law (the form is matched).
+        ThrusterDeadbandAsymmetric.command(&[self.d_fwd, self.d_rev], thruster, n)
     }
 }
 
