@@ -1,0 +1,150 @@
+//! World files → [`WorldDesc`]: parse (serde with field paths), merge vehicle overrides over
+//! presets, validate every number against its allowed range, expand vehicle groups, place
+//! them, and reject overlaps and vehicles outside the pool. User input never panics: every
+//! problem becomes a [`Problem`] naming the file, line/column and field.
+
+//!
+//! One module per concern: [`messages`] (serde/TOML problems made readable), [`validator`]
+//! (located problems, range checks), [`world`] (top level, pool, water, agents, output),
+//! [`obstacles`], [`vehicle`] (a model: preset + overrides, every parameter), [`behaviour`],
+//! [`mission`], [`placement`] (groups, placement, overlaps), [`names`] (service names) and
+//! [`export`] (a model back to a world file).
+
+mod behaviour;
+mod export;
+mod messages;
+mod mission;
+mod names;
+mod obstacles;
+mod placement;
+mod validator;
+mod vehicle;
+mod world;
+
+pub use export::vehicle_world_toml;
+pub use messages::unit_of;
+pub use names::{service_word, valid_service_word};
+pub use validator::Validator;
+pub use vehicle::{merge, vehicle_spec};
+
+use crate::desc::WorldDesc;
+use crate::error::{FieldPath, Problem, ProblemKind, SourceMap, WorldError};
+use crate::spec::*;
+use messages::toml_problem;
+use shoal_model::prelude::*;
+use std::path::Path;
+use world::build;
+
+/// The embedded default world (`worlds/default.toml`): a small swarm in a pool.
+pub const DEFAULT_WORLD: &str = include_str!("../../../../worlds/default.toml");
+/// Name used in messages for the embedded default world.
+pub const EMBEDDED_NAME: &str = "<embedded default world>";
+
+/// Loads and validates a world file.
+pub fn load_file(path: &Path) -> Result<WorldDesc, WorldError> {
+    let text = std::fs::read_to_string(path).map_err(|e| {
+        WorldError::single(
+            path,
+            Problem {
+                kind: ProblemKind::Io,
+                field: None,
+                line_col: None,
+                message: format!("cannot read the file: {e}"),
+            },
+        )
+    })?;
+    load_str(&text, path)
+}
+
+/// The embedded default world.
+pub fn default_world() -> Result<WorldDesc, WorldError> {
+    load_str(DEFAULT_WORLD, Path::new(EMBEDDED_NAME))
+}
+
+/// A vehicle model taken from a world file: the merged model of its first vehicle group and
+/// the world's water.
+#[derive(Clone, Debug)]
+pub struct VehicleFile {
+    /// The model in file form (preset and overrides merged).
+    pub spec: VehicleSpec,
+    /// The world's water (density, gravity, current).
+    pub env: Environment,
+}
+
+/// Loads a vehicle model "in the world-file format": a world file whose first vehicle group
+/// describes the vehicle (as `shoal preset` prints it and `shoal validate` writes it). The
+/// whole world is validated.
+pub fn load_vehicle(path: &Path) -> Result<VehicleFile, WorldError> {
+    let desc = load_file(path)?;
+    let text = std::fs::read_to_string(path).unwrap_or_default();
+    let sm = SourceMap::new(&text);
+    let wf = parse_world_file(&text, path, &sm)?;
+    let mut v = Validator {
+        sm: &sm,
+        problems: Vec::new(),
+    };
+    let Some(g) = wf.vehicles.first() else {
+        return Err(WorldError::single(
+            path,
+            Problem {
+                kind: ProblemKind::MissingField,
+                field: Some(FieldPath::root().key("vehicles")),
+                line_col: None,
+                message: "no vehicle group: a vehicle file needs one [[vehicles]] entry".into(),
+            },
+        ));
+    };
+    let gp = FieldPath::root().key("vehicles").index(0);
+    match vehicle_spec(g.preset.as_deref(), g.model.as_ref(), &gp, &mut v) {
+        Some(spec) => Ok(VehicleFile {
+            spec,
+            env: desc.env,
+        }),
+        None => Err(WorldError {
+            file: path.to_path_buf(),
+            problems: v.problems,
+        }),
+    }
+}
+
+/// Parses `text` as the world file `file` (only used in messages) and validates it.
+pub fn load_str(text: &str, file: &Path) -> Result<WorldDesc, WorldError> {
+    let sm = SourceMap::new(text);
+    let wf = parse_world_file(text, file, &sm)?;
+    let mut v = Validator {
+        sm: &sm,
+        problems: Vec::new(),
+    };
+    let desc = build(&wf, file, &mut v);
+    if v.problems.is_empty() {
+        desc.ok_or_else(|| WorldError {
+            file: file.to_path_buf(),
+            problems: Vec::new(),
+        })
+    } else {
+        v.problems
+            .sort_by_key(|p| p.line_col.unwrap_or((usize::MAX, 0)));
+        Err(WorldError {
+            file: file.to_path_buf(),
+            problems: v.problems,
+        })
+    }
+}
+
+/// The serde stage alone: TOML → [`WorldFile`] with located errors.
+pub fn parse_world_file(
+    text: &str,
+    file: &Path,
+    sm: &SourceMap<'_>,
+) -> Result<WorldFile, WorldError> {
+    let de = toml::de::Deserializer::parse(text)
+        .map_err(|e| WorldError::single(file, toml_problem(&e, None, sm, ProblemKind::Syntax)))?;
+    serde_path_to_error::deserialize(de).map_err(|e| {
+        let path = FieldPath::parse(&e.path().to_string());
+        let inner = e.into_inner();
+        WorldError::single(
+            file,
+            toml_problem(&inner, Some(path), sm, ProblemKind::Invalid),
+        )
+    })
+}

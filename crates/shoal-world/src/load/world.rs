@@ -1,0 +1,242 @@
+//! The whole world: top-level fields, pool, water, agents and output are checked, then the
+//! obstacles, then every vehicle group; the result is a [`WorldDesc`].
+
+use super::names::{service_word, valid_service_word};
+use super::messages::suggest;
+use super::obstacles::obstacle;
+use super::placement::{check_overlaps, group};
+use super::validator::{End, Validator};
+use crate::desc::{AgentsDesc, OutputDesc, WorldDesc};
+use crate::error::{FieldPath, ProblemKind};
+use crate::geometry::Geometry;
+use crate::spec::*;
+use shoal_model::optics::Ambient;
+use shoal_model::prelude::*;
+use std::path::{Path, PathBuf};
+
+
+pub(super) fn build(wf: &WorldFile, file: &Path, v: &mut Validator<'_>) -> Option<WorldDesc> {
+    let root = FieldPath::root();
+    v.num(
+        &root.key("duration"),
+        wf.duration,
+        End::Open(0.0),
+        End::Closed(1e7),
+        "s",
+    );
+    let dt_ok = v.num(
+        &root.key("dt"),
+        wf.dt,
+        End::Open(0.0),
+        End::Closed(0.1),
+        "s",
+    );
+    if dt_ok && wf.duration / wf.dt > 1e10 {
+        v.push(
+            ProblemKind::Range,
+            &root.key("duration"),
+            "more than 10¹⁰ steps; raise dt or shorten the run".into(),
+        );
+    }
+    let pool = root.key("pool");
+    v.vec(
+        &pool.key("size"),
+        &wf.pool.size,
+        End::Open(0.0),
+        End::Closed(1e4),
+        "m",
+    );
+    let water = root.key("water");
+    v.num(
+        &water.key("density"),
+        wf.water.density,
+        End::Closed(500.0),
+        End::Closed(2000.0),
+        "kg/m³",
+    );
+    v.vec(
+        &water.key("current"),
+        &wf.water.current,
+        End::Closed(-5.0),
+        End::Closed(5.0),
+        "m/s",
+    );
+    v.num(
+        &water.key("ambient_irradiance"),
+        wf.water.ambient_irradiance,
+        End::Closed(0.0),
+        End::Closed(2000.0),
+        "W/m²",
+    );
+    v.num(
+        &water.key("diffuse_attenuation"),
+        wf.water.diffuse_attenuation,
+        End::Closed(0.0),
+        End::Closed(100.0),
+        "1/m",
+    );
+    let attenuation = match &wf.water.attenuation {
+        AttenuationSpec::Coefficient(c) => {
+            v.num(
+                &water.key("attenuation"),
+                *c,
+                End::Closed(0.0),
+                End::Closed(100.0),
+                "1/m",
+            );
+            *c
+        }
+        AttenuationSpec::Named(n) => match WATER_TYPES.iter().find(|w| w.0 == n) {
+            Some(w) => w.1,
+            None => {
+                let names: Vec<&str> = WATER_TYPES.iter().map(|w| w.0).collect();
+                let hint = suggest(n, &names)
+                    .map(|s| format!(" — did you mean `{s}`?"))
+                    .unwrap_or_default();
+                v.push(
+                    ProblemKind::Reference,
+                    &water.key("attenuation"),
+                    format!(
+                        "unknown water type `{n}`{hint} (allowed: {}, or a number in 1/m)",
+                        names.join(", ")
+                    ),
+                );
+                0.0
+            }
+        },
+    };
+    let ag = root.key("agents");
+    if let Some(pfx) = &wf.agents.prefix
+        && !valid_service_word(pfx)
+    {
+        v.push(
+            ProblemKind::Invalid,
+            &ag.key("prefix"),
+            format!("prefix `{pfx}`: use 1–64 letters, digits, `_`, `-` or `.`"),
+        );
+    }
+    v.num(
+        &ag.key("timeout"),
+        wf.agents.timeout,
+        End::Open(0.0),
+        End::Closed(3600.0),
+        "s",
+    );
+    v.num(
+        &ag.key("attach_timeout"),
+        wf.agents.attach_timeout,
+        End::Closed(0.0),
+        End::Closed(86400.0),
+        "s",
+    );
+    v.num(
+        &ag.key("pace"),
+        wf.agents.pace,
+        End::Closed(0.0),
+        End::Closed(1e6),
+        "simulated s per wall s",
+    );
+    let out = root.key("output");
+    v.num(
+        &out.key("record_hz"),
+        wf.output.record_hz,
+        End::Open(0.0),
+        End::Closed(1000.0),
+        "Hz",
+    );
+    if !v.problems.is_empty() {
+        return None;
+    }
+    let env = Environment {
+        density: wf.water.density,
+        gravity: shoal_model::math::GRAVITY,
+        current: Vec3::from(wf.water.current),
+    };
+    let pool_size = Vec3::from(wf.pool.size);
+
+    // Obstacles.
+    let mut obstacles = Vec::new();
+    for (i, o) in wf.obstacles.iter().enumerate() {
+        let p = root.key("obstacles").index(i);
+        if let Some(ob) = obstacle(o, &p, i, v) {
+            let lo = ob.aabb.mins;
+            let hi = ob.aabb.maxs;
+            if hi.x < 0.0
+                || hi.y < 0.0
+                || lo.x > pool_size.x
+                || lo.y > pool_size.y
+                || lo.z > pool_size.z
+            {
+                v.push(
+                    ProblemKind::Outside,
+                    &p.key("position"),
+                    format!(
+                        "obstacle `{}` lies entirely outside the pool (0…{} × 0…{} × 0…{} m)",
+                        ob.name, pool_size.x, pool_size.y, pool_size.z
+                    ),
+                );
+            }
+            obstacles.push(ob);
+        }
+    }
+    let geometry = Geometry::new(pool_size, obstacles);
+
+    // Vehicle groups.
+    let mut vehicles = Vec::new();
+    let mut groups = Vec::new();
+    for (gi, g) in wf.vehicles.iter().enumerate() {
+        groups.push(group(g, gi, wf, &env, &geometry, v, &mut vehicles));
+    }
+    check_overlaps(&vehicles, v);
+    if !v.problems.is_empty() {
+        return None;
+    }
+
+    let name = wf.name.clone().unwrap_or_else(|| {
+        file.file_stem()
+            .map_or_else(|| "world".into(), |s| s.to_string_lossy().into_owned())
+    });
+    let mut agent_names: Vec<String> = vehicles.iter().filter_map(|d| d.agent.clone()).collect();
+    agent_names.sort();
+    agent_names.dedup();
+    let prefix = wf
+        .agents
+        .prefix
+        .clone()
+        .unwrap_or_else(|| service_word(&name));
+    let agents = AgentsDesc {
+        prefix,
+        lockstep: wf.agents.timing == TimingSpec::Lockstep,
+        timeout: wf.agents.timeout,
+        attach_timeout: wf.agents.attach_timeout,
+        fallback: wf.agents.fallback,
+        grant_position: wf.agents.grant_position,
+        pace: wf.agents.pace,
+        names: agent_names,
+    };
+    Some(WorldDesc {
+        agents,
+        name,
+        source: PathBuf::from(file),
+        seed: wf.seed,
+        duration: wf.duration,
+        dt: wf.dt,
+        integrator: match wf.integrator {
+            IntegratorSpec::Rk4 => Integrator::Rk4,
+            IntegratorSpec::SemiImplicitEuler => Integrator::SemiImplicitEuler,
+        },
+        env,
+        attenuation,
+        ambient: Ambient {
+            surface_irradiance: wf.water.ambient_irradiance,
+            diffuse_attenuation: wf.water.diffuse_attenuation,
+        },
+        geometry,
+        vehicles,
+        groups,
+        output: OutputDesc {
+            record_hz: wf.output.record_hz,
+            plots: wf.output.plots,
+        },
+    })
+}
