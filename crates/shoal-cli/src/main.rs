@@ -2,7 +2,9 @@
 //! measured runs, benchmark scaling.
 //!
 //! Exit codes: 0 success, 1 failure (e.g. cannot write outputs), 2 invalid input (world file,
-//! measured run, vehicle file), 130 interrupted by Ctrl-C (outputs up to that moment are
+//! measured run, vehicle file), 3 the world's agent fallback `stop` ended the run, 4 a
+//! vehicle's state became non-finite (the run stopped there; outputs up to that step are
+//! written and marked `failed`), 130 interrupted by Ctrl-C (outputs up to that moment are
 //! written).
 
 mod alloc;

@@ -163,12 +163,19 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, Failure> {
     let mut stopped: Option<String> = None;
     let chunk = (steps / 500).clamp(1, 500);
     let start = Instant::now();
-    while sim.step_count() < steps && !interrupted.load(Ordering::SeqCst) && stopped.is_none() {
+    while sim.step_count() < steps
+        && !interrupted.load(Ordering::SeqCst)
+        && stopped.is_none()
+        && sim.fault().is_none()
+    {
         let n = chunk.min(steps - sim.step_count());
         match host.as_mut() {
             None => sim.run(n),
             Some(h) => {
                 for _ in 0..n {
+                    if sim.fault().is_some() {
+                        break;
+                    }
                     match h.before_step(&mut sim).context("external agents")? {
                         Flow::Continue => sim.step(),
                         Flow::Stop(why) => {
@@ -211,6 +218,14 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, Failure> {
         .finish(&desc, &sim, wall, was_interrupted)
         .context("cannot write the run outputs")?;
     println!("{}", summary.to_text());
+    if let Some(f) = sim.fault() {
+        eprintln!(
+            "error: the run stopped at t = {} s: {f}. The outputs up to that step are written; \
+             summary.json says `failed`.",
+            f.state.time
+        );
+        return Ok(ExitCode::from(4));
+    }
     Ok(if was_interrupted {
         ExitCode::from(130)
     } else if summary.agents.as_ref().is_some_and(|a| a.stopped.is_some()) {

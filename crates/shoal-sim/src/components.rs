@@ -26,6 +26,8 @@ pub struct Physics {
     pub state: VehicleState,
     /// Body-origin position before the last dynamics step, world frame \[m\].
     pub prev_position: Vec3,
+    /// Set when the state stopped being finite (boxed: almost always `None`).
+    pub fault: Option<Box<crate::fault::NonFinite>>,
 }
 
 /// Actuator commands in force (written by the controller or an agent).

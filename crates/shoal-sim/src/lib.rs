@@ -12,6 +12,7 @@ pub mod bench;
 pub mod comm;
 pub mod comm_report;
 pub mod components;
+pub mod fault;
 pub mod output;
 pub mod parallel;
 pub mod plot;

@@ -457,6 +457,10 @@ pub struct Summary {
     pub real_time_factor: f64,
     /// Ended early by Ctrl-C.
     pub interrupted: bool,
+    /// Ended early because a vehicle's state stopped being finite: which, when, and its last
+    /// finite state ([`crate::fault::SimFault`]); results after that step are not physical.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub failed: Option<String>,
     /// State digest (hex); equal digests mean bit-identical runs.
     pub digest: String,
     /// Rows written to trajectories.csv.
@@ -574,6 +578,7 @@ impl Summary {
                 f64::INFINITY
             },
             interrupted,
+            failed: sim.fault().map(|f| f.to_string()),
             digest: format!("{:016x}", sim.digest()),
             trajectory_rows: 0,
             groups,
@@ -587,7 +592,9 @@ impl Summary {
     /// The report printed at the end of a run.
     pub fn to_text(&self) -> String {
         let mut s = String::new();
-        let status = if self.interrupted {
+        let status = if self.failed.is_some() {
+            "FAILED after"
+        } else if self.interrupted {
             "INTERRUPTED after"
         } else {
             "simulated"
@@ -603,6 +610,9 @@ impl Summary {
             self.threads,
             if self.threads == 1 { "" } else { "s" }
         ));
+        if let Some(f) = &self.failed {
+            s.push_str(&format!("FAILED: {f}\n\n"));
+        }
         s.push_str(&format!(
             "{:<16} {:>5}  {:<9} {:>14} {:>16} {:>13} {:>8}\n",
             "group", "count", "mode", "|depth err| m", "|heading err| °", "distance m", "impacts"

@@ -5,6 +5,7 @@ use crate::agents::External;
 use crate::behaviour::{self, Behave};
 use crate::comm::{CommStats, Inbox, Medium, Modems, Outbox, comm_rng};
 use crate::components::*;
+use crate::fault::{FaultFlag, SimFault};
 use crate::parallel::Parallel;
 use crate::recorder::{self, RecordBatch};
 use crate::systems::Connectivity;
@@ -81,6 +82,7 @@ pub struct Sim {
     world: World,
     schedule: Schedule,
     entities: Vec<Entity>,
+    fault: Option<SimFault>,
 }
 
 impl Sim {
@@ -96,6 +98,7 @@ impl Sim {
             integrator: desc.integrator,
         });
         world.insert_resource(StaticGeometry(desc.geometry.clone()));
+        world.insert_resource(FaultFlag::default());
         world.insert_resource(Parallel::new(opts.threads));
         world.insert_resource(Medium::new(
             desc.vehicles.iter().map(|v| v.model.clone()).collect(),
@@ -155,6 +158,7 @@ impl Sim {
                     Physics {
                         prev_position: v.position,
                         state,
+                        fault: None,
                     },
                     Actuation(cmd),
                     control,
@@ -192,6 +196,7 @@ impl Sim {
             world,
             schedule: build_schedule(false),
             entities,
+            fault: None,
         };
         // Until their agent attaches, agent-driven vehicles hold depth and heading.
         for a in 0..desc.agents.names.len() {
@@ -200,15 +205,48 @@ impl Sim {
         sim
     }
 
-    /// Advances one physics step.
+    /// Advances one physics step. A vehicle whose state stops being finite is reported by
+    /// [`Self::fault`]; the caller should stop the run there.
     pub fn step(&mut self) {
         self.schedule.run(&mut self.world);
         self.world.resource_mut::<Clock>().step += 1;
+        if self.fault.is_none()
+            && self
+                .world
+                .resource::<FaultFlag>()
+                .0
+                .load(std::sync::atomic::Ordering::Relaxed)
+        {
+            self.fault = self.first_fault();
+        }
     }
 
-    /// Advances `n` steps.
+    /// The first vehicle (lowest id) whose state stopped being finite, if any: the run's
+    /// results are no longer physical from that step on.
+    pub fn fault(&self) -> Option<&SimFault> {
+        self.fault.as_ref()
+    }
+
+    fn first_fault(&mut self) -> Option<SimFault> {
+        let mut q = self.world.query::<(&VehicleId, &VehicleName, &Physics)>();
+        q.iter(&self.world)
+            .filter_map(|(id, name, p)| {
+                p.fault.as_ref().map(|f| SimFault {
+                    vehicle: id.0 as usize,
+                    name: name.0.clone(),
+                    state: (**f).clone(),
+                })
+            })
+            .min_by_key(|f| f.vehicle)
+    }
+
+    /// Advances `n` steps, or fewer when a vehicle's state stops being finite
+    /// ([`Self::fault`]).
     pub fn run(&mut self, n: u64) {
         for _ in 0..n {
+            if self.fault.is_some() {
+                break;
+            }
             self.step();
         }
     }

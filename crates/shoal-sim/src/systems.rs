@@ -11,6 +11,7 @@ use crate::comm::{
     comm_transmit_system,
 };
 use crate::components::*;
+use crate::fault::{FaultFlag, NonFinite, is_finite};
 use crate::parallel::Parallel;
 use crate::recorder;
 use bevy_ecs::prelude::*;
@@ -18,6 +19,7 @@ use bevy_ecs::schedule::SingleThreadedExecutor;
 use bevy_ecs::schedule::{LogLevel, ScheduleBuildSettings};
 use shoal_model::prelude::*;
 use shoal_world::geometry::{hull_shape, to_pose};
+use std::sync::atomic::Ordering;
 
 /// The phases of one step, run in this order.
 #[derive(SystemSet, Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -293,18 +295,34 @@ pub fn actuate_system(
 }
 
 /// Integrates every rigid body over one step.
+///
+/// A state that is no longer finite afterwards is put back to the last finite one and
+/// recorded ([`crate::fault`]); the run is then stopped by its caller.
 pub fn dynamics_system(
     clock: Res<Clock>,
     par: Res<Parallel>,
     phys: Res<Physical>,
+    flag: Res<FaultFlag>,
     mut q: Query<(&Kind, &mut Physics)>,
 ) {
     let dt = clock.dt;
+    let t_end = clock.t() + dt;
     let (env, integ) = (phys.env, phys.integrator);
     let mut items: Vec<_> = q.iter_mut().collect();
     par.for_each(&mut items, |(kind, p)| {
         p.prev_position = p.state.rigid.position;
+        let before = p.state.rigid.clone();
         integrate_vehicle(&kind.0, &mut p.state, &env, integ, dt);
+        if !is_finite(&p.state.rigid) {
+            p.state.rigid = before.clone();
+            if p.fault.is_none() {
+                p.fault = Some(Box::new(NonFinite {
+                    time: t_end,
+                    last: before,
+                }));
+            }
+            flag.0.store(true, Ordering::Relaxed);
+        }
     });
 }
 

@@ -107,7 +107,7 @@ fn negative_mass_is_out_of_range_with_the_allowed_range() {
     assert_eq!(p.line_col.map(|l| l.0), Some(6));
     let msg = e.to_string();
     assert!(
-        msg.contains("-1.2 is out of range") && msg.contains("0 < mass ≤ 100000 kg"),
+        msg.contains("-1.2 is out of range") && msg.contains("0.001 ≤ mass ≤ 1e5 kg"),
         "{msg}"
     );
 }

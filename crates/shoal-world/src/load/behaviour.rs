@@ -1,6 +1,6 @@
 //! Built-in behaviours (beacon, gossip, flock), checked against the vehicle that runs them.
 
-use super::validator::{End, Validator};
+use super::validator::Validator;
 use crate::error::{FieldPath, ProblemKind};
 use crate::spec::*;
 use shoal_model::prelude::*;
@@ -30,16 +30,14 @@ pub(super) fn validate_behaviour(
             payload_bytes,
             jitter,
         } => {
-            v.pos(p, "period", *period, 1e6, "s");
-            v.within(
-                p,
-                "payload_bytes",
+            v.field(&p.key("period"), *period);
+            v.field_with(
+                &p.key("payload_bytes"),
                 *payload_bytes as f64,
-                1.0,
-                max_payload as f64,
-                "bytes (the modems' max_payload)",
+                None,
+                Some(max_payload as f64),
             );
-            v.nonneg(p, "jitter", *jitter, 1e6, "s");
+            v.field(&p.key("jitter"), *jitter);
         }
         BehaviourSpec::Gossip {
             start,
@@ -48,10 +46,10 @@ pub(super) fn validate_behaviour(
             jitter,
             ..
         } => {
-            v.nonneg(p, "start", *start, duration, "s (0 … duration)");
-            v.within(p, "repeats", f64::from(*repeats), 1.0, 1e4, "");
-            v.pos(p, "interval", *interval, 1e6, "s");
-            v.nonneg(p, "jitter", *jitter, 1e6, "s");
+            v.field_with(&p.key("start"), *start, None, Some(duration));
+            v.field(&p.key("repeats"), f64::from(*repeats));
+            v.field(&p.key("interval"), *interval);
+            v.field(&p.key("jitter"), *jitter);
             if max_payload < 8 {
                 v.push(
                     ProblemKind::Invalid,
@@ -67,17 +65,11 @@ pub(super) fn validate_behaviour(
             too_far,
             cohesion,
         } => {
-            v.within(p, "surge", *surge, -1.0, 1.0, "N");
-            v.pos(p, "period", *period, 1e6, "s");
-            v.pos(p, "too_close", *too_close, 1.0, "W");
-            v.num(
-                &p.key("too_far"),
-                *too_far,
-                End::Open(0.0),
-                End::Open(*too_close),
-                "W (below too_close)",
-            );
-            v.nonneg(p, "cohesion", *cohesion, 100.0, "");
+            v.field(&p.key("surge"), *surge);
+            v.field(&p.key("period"), *period);
+            v.field(&p.key("too_close"), *too_close);
+            v.field_with(&p.key("too_far"), *too_far, None, Some(*too_close));
+            v.field(&p.key("cohesion"), *cohesion);
             if model.uauv2.is_none() {
                 v.push(
                     ProblemKind::Invalid,

@@ -24,7 +24,11 @@ pub(super) fn toml_problem(
 }
 
 /// Turns a serde message into a kind and a friendlier message with units and suggestions.
-pub(super) fn explain(msg: &str, path: Option<&FieldPath>, default: ProblemKind) -> (ProblemKind, String) {
+pub(super) fn explain(
+    msg: &str,
+    path: Option<&FieldPath>,
+    default: ProblemKind,
+) -> (ProblemKind, String) {
     let msg = msg.trim();
     if let Some(rest) = msg.strip_prefix("unknown field `") {
         let name = rest.split('`').next().unwrap_or("");

@@ -1,7 +1,7 @@
 //! Missions: time-ordered setpoint steps, checked against the pool, the run's duration and
 //! the vehicle's thrusters and tilt drives.
 
-use super::validator::{End, Validator};
+use super::validator::Validator;
 use crate::error::{FieldPath, ProblemKind};
 use crate::spec::*;
 use shoal_model::prelude::*;
@@ -18,14 +18,7 @@ pub(super) fn mission(
     let mut last_t = 0.0;
     for (i, s) in g.mission.iter().enumerate() {
         let mp = gp.key("mission").index(i);
-        if v.num(
-            &mp.key("t"),
-            s.t,
-            End::Closed(0.0),
-            End::Closed(wf.duration),
-            "s (0 … duration)",
-        ) && s.t < last_t
-        {
+        if v.field_with(&mp.key("t"), s.t, None, Some(wf.duration)) && s.t < last_t {
             v.push(
                 ProblemKind::Invalid,
                 &mp.key("t"),
@@ -37,26 +30,14 @@ pub(super) fn mission(
         }
         last_t = s.t;
         if let Some(d) = s.depth {
-            v.num(
-                &mp.key("depth"),
-                d,
-                End::Closed(0.0),
-                End::Closed(wf.pool.size[2]),
-                "m (0 … pool depth)",
-            );
+            v.field_with(&mp.key("depth"), d, None, Some(wf.pool.size[2]));
         }
         if let Some(y) = s.yaw_deg {
-            v.num(
-                &mp.key("yaw_deg"),
-                y,
-                End::Closed(-720.0),
-                End::Closed(720.0),
-                "deg",
-            );
+            v.field(&mp.key("yaw_deg"), y);
         }
         for (k, x) in [("surge", s.surge), ("sway", s.sway)] {
             if let Some(x) = x {
-                v.num(&mp.key(k), x, End::Closed(-1e3), End::Closed(1e3), "N");
+                v.field(&mp.key(k), x);
             }
         }
         let mode: Option<Mode> = s.mode.map(Into::into);
@@ -74,7 +55,7 @@ pub(super) fn mission(
             match p.thrusters.iter().position(|t| &t.name == name) {
                 Some(k) => {
                     let lim = p.thrusters[k].max_command;
-                    if v.num(&tp, *c, End::Closed(-lim), End::Closed(lim), "%") {
+                    if v.field_with(&tp, *c, Some(-lim), Some(lim)) {
                         thrusters.push((k, *c));
                     }
                 }
@@ -97,13 +78,7 @@ pub(super) fn mission(
             match p.tilts.iter().position(|t| &t.name == name) {
                 Some(k) => {
                     let t = &p.tilts[k];
-                    if v.num(
-                        &tp,
-                        *a,
-                        End::Closed(t.min.to_degrees()),
-                        End::Closed(t.max.to_degrees()),
-                        "deg",
-                    ) {
+                    if v.field_with(&tp, *a, Some(t.min.to_degrees()), Some(t.max.to_degrees())) {
                         tilts.push((k, a.to_radians()));
                     }
                 }

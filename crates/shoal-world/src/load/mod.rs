@@ -7,7 +7,7 @@
 //! One module per concern: [`messages`] (serde/TOML problems made readable), [`validator`]
 //! (located problems, range checks), [`world`] (top level, pool, water, agents, output),
 //! [`obstacles`], [`vehicle`] (a model: preset + overrides, every parameter), [`behaviour`],
-//! [`mission`], [`placement`] (groups, placement, overlaps), [`names`] (service names) and
+//! [`mission`], [`placement`], [`ranges`] (the allowed range of every number) (groups, placement, overlaps), [`names`] (service names) and
 //! [`export`] (a model back to a world file).
 
 mod behaviour;
@@ -17,6 +17,7 @@ mod mission;
 mod names;
 mod obstacles;
 mod placement;
+pub mod ranges;
 mod validator;
 mod vehicle;
 mod world;
@@ -42,18 +43,34 @@ pub const EMBEDDED_NAME: &str = "<embedded default world>";
 
 /// Loads and validates a world file.
 pub fn load_file(path: &Path) -> Result<WorldDesc, WorldError> {
-    let text = std::fs::read_to_string(path).map_err(|e| {
+    load_str(&read_text(path)?, path)
+}
+
+/// Reads a file as UTF-8 text; a byte sequence that is not UTF-8 is a problem located at its
+/// line and column.
+fn read_text(path: &Path) -> Result<String, WorldError> {
+    let io = |message: String, line_col: Option<(usize, usize)>| {
         WorldError::single(
             path,
             Problem {
                 kind: ProblemKind::Io,
                 field: None,
-                line_col: None,
-                message: format!("cannot read the file: {e}"),
+                line_col,
+                message,
             },
         )
-    })?;
-    load_str(&text, path)
+    };
+    let bytes = std::fs::read(path).map_err(|e| io(format!("cannot read the file: {e}"), None))?;
+    String::from_utf8(bytes).map_err(|e| {
+        let ok = &e.as_bytes()[..e.utf8_error().valid_up_to()];
+        let line = 1 + ok.iter().filter(|&&b| b == b'\n').count();
+        let start = ok.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
+        let col = 1 + String::from_utf8_lossy(&ok[start..]).chars().count();
+        io(
+            "the file is not UTF-8 text (a world file is TOML, which is UTF-8)".into(),
+            Some((line, col)),
+        )
+    })
 }
 
 /// The embedded default world.
@@ -76,7 +93,7 @@ pub struct VehicleFile {
 /// whole world is validated.
 pub fn load_vehicle(path: &Path) -> Result<VehicleFile, WorldError> {
     let desc = load_file(path)?;
-    let text = std::fs::read_to_string(path).unwrap_or_default();
+    let text = read_text(path)?;
     let sm = SourceMap::new(&text);
     let wf = parse_world_file(&text, path, &sm)?;
     let mut v = Validator {

@@ -1,7 +1,7 @@
 //! Obstacles: every dimension is checked before its parry3d shape is built (a negative or
 //! NaN radius must be a located problem, never a panic inside parry).
 
-use super::validator::{BIG, End, Validator};
+use super::validator::Validator;
 use crate::error::{FieldPath, ProblemKind};
 use crate::geometry::Geometry;
 use crate::spec::*;
@@ -15,24 +15,12 @@ pub(super) fn obstacle(
     v: &mut Validator<'_>,
 ) -> Option<crate::geometry::Obstacle> {
     let n0 = v.problems.len();
-    v.vec(
-        &p.key("position"),
-        &o.position,
-        End::Closed(-BIG),
-        End::Closed(BIG),
-        "m",
-    );
-    v.vec(
-        &p.key("rotation_deg"),
-        &o.rotation_deg,
-        End::Closed(-360.0),
-        End::Closed(360.0),
-        "deg",
-    );
+    v.fields(&p.key("position"), &o.position);
+    v.fields(&p.key("rotation_deg"), &o.rotation_deg);
     let need = |v: &mut Validator<'_>, key: &str, val: Option<f64>| -> f64 {
         match val {
             Some(x) => {
-                v.num(&p.key(key), x, End::Open(0.0), End::Closed(1e4), "m");
+                v.field(&p.key(key), x);
                 x
             }
             None => {
@@ -45,39 +33,45 @@ pub(super) fn obstacle(
             }
         }
     };
-    let shape = match o.shape {
-        ShapeKind::Box => {
-            let s = match o.size {
-                Some(s) => {
-                    v.vec(&p.key("size"), &s, End::Open(0.0), End::Closed(1e4), "m");
-                    s
-                }
-                None => {
-                    v.push(
-                        ProblemKind::MissingField,
-                        p,
-                        "a box obstacle needs `size` = [x, y, z] [m]".into(),
-                    );
-                    [1.0; 3]
-                }
-            };
-            SharedShape::cuboid(0.5 * s[0], 0.5 * s[1], 0.5 * s[2])
-        }
-        ShapeKind::Sphere => SharedShape::ball(need(v, "radius", o.radius)),
+    // Dimensions first; the parry shape is built only from checked values.
+    enum Dims {
+        Box([f64; 3]),
+        Sphere(f64),
+        Cylinder(f64, f64),
+        Capsule(f64, f64),
+    }
+    let dims = match o.shape {
+        ShapeKind::Box => Dims::Box(match o.size {
+            Some(s) => {
+                v.fields(&p.key("size"), &s);
+                s
+            }
+            None => {
+                v.push(
+                    ProblemKind::MissingField,
+                    p,
+                    "a box obstacle needs `size` = [x, y, z] [m]".into(),
+                );
+                [1.0; 3]
+            }
+        }),
+        ShapeKind::Sphere => Dims::Sphere(need(v, "radius", o.radius)),
         ShapeKind::Cylinder => {
-            let r = need(v, "radius", o.radius);
-            let h = need(v, "height", o.height);
-            SharedShape::cylinder(0.5 * h, r)
+            Dims::Cylinder(need(v, "radius", o.radius), need(v, "height", o.height))
         }
         ShapeKind::Capsule => {
-            let r = need(v, "radius", o.radius);
-            let h = need(v, "height", o.height);
-            SharedShape::capsule_z(0.5 * h, r)
+            Dims::Capsule(need(v, "radius", o.radius), need(v, "height", o.height))
         }
     };
     if v.problems.len() > n0 {
         return None;
     }
+    let shape = match dims {
+        Dims::Box(s) => SharedShape::cuboid(0.5 * s[0], 0.5 * s[1], 0.5 * s[2]),
+        Dims::Sphere(r) => SharedShape::ball(r),
+        Dims::Cylinder(r, h) => SharedShape::cylinder(0.5 * h, r),
+        Dims::Capsule(r, h) => SharedShape::capsule_z(0.5 * h, r),
+    };
     let [r, pi, y] = o.rotation_deg.map(f64::to_radians);
     let mut att = quat_from_rpy(r, pi, y);
     if o.shape == ShapeKind::Cylinder {

@@ -5,7 +5,7 @@
 use super::behaviour::validate_behaviour;
 use super::mission::mission;
 use super::names::valid_service_word;
-use super::validator::{BIG, End, Validator};
+use super::validator::Validator;
 use super::vehicle::vehicle_spec;
 use crate::desc::VehicleDesc;
 use crate::error::{FieldPath, ProblemKind};
@@ -50,20 +50,8 @@ pub(super) fn group_vehicles(
 ) {
     let gp = FieldPath::root().key("vehicles").index(gi);
     let n0 = v.problems.len();
-    v.num(
-        &gp.key("count"),
-        g.count as f64,
-        End::Closed(1.0),
-        End::Closed(1e7),
-        "vehicles",
-    );
-    v.num(
-        &gp.key("heading_deg"),
-        g.heading_deg,
-        End::Closed(-360.0),
-        End::Closed(360.0),
-        "deg",
-    );
+    v.field(&gp.key("count"), g.count as f64);
+    v.field(&gp.key("heading_deg"), g.heading_deg);
     let Some(spec) = vehicle_spec(g.preset.as_deref(), g.model.as_ref(), &gp, v) else {
         return;
     };
@@ -179,13 +167,7 @@ pub(super) fn group_vehicles(
         true
     };
     if let Some(p) = g.position {
-        if !v.vec(
-            &gp.key("position"),
-            &p,
-            End::Closed(-BIG),
-            End::Closed(BIG),
-            "m",
-        ) {
+        if !v.fields(&gp.key("position"), &p) {
             return;
         }
         if g.count != 1 {
@@ -202,25 +184,9 @@ pub(super) fn group_vehicles(
         place(v, gp.key("position"), 0, Vec3::from(p), yaw0);
     } else if let Some(grid) = &g.grid {
         let gr = gp.key("grid");
-        let ok = v.vec(
-            &gr.key("origin"),
-            &grid.origin,
-            End::Closed(-BIG),
-            End::Closed(BIG),
-            "m",
-        ) & v.vec(
-            &gr.key("spacing"),
-            &grid.spacing,
-            End::Closed(-BIG),
-            End::Closed(BIG),
-            "m",
-        ) & v.num(
-            &gr.key("columns"),
-            grid.columns as f64,
-            End::Closed(1.0),
-            End::None,
-            "",
-        );
+        let ok = v.fields(&gr.key("origin"), &grid.origin)
+            & v.fields(&gr.key("spacing"), &grid.spacing)
+            & v.field(&gr.key("columns"), grid.columns as f64);
         if !ok {
             return;
         }
@@ -234,19 +200,7 @@ pub(super) fn group_vehicles(
         }
     } else if let Some(r) = &g.random {
         let rp = gp.key("random");
-        let ok = v.vec(
-            &rp.key("min"),
-            &r.min,
-            End::Closed(-BIG),
-            End::Closed(BIG),
-            "m",
-        ) & v.vec(
-            &rp.key("max"),
-            &r.max,
-            End::Closed(-BIG),
-            End::Closed(BIG),
-            "m",
-        );
+        let ok = v.fields(&rp.key("min"), &r.min) & v.fields(&rp.key("max"), &r.max);
         if !ok {
             return;
         }

@@ -1,23 +1,14 @@
-//! The [`Validator`]: collects located problems and checks numbers against allowed ranges.
+//! The [`Validator`]: collects located problems and checks numbers against the allowed ranges
+//! of [`super::ranges`].
 
+use super::ranges::{self, End, FieldRange, fmt_num};
 use crate::error::{FieldPath, Problem, ProblemKind, SourceMap};
-
-/// Largest coordinate a position may have [m].
-pub(super) const BIG: f64 = 1e6;
 
 /// Collects problems with their locations.
 pub struct Validator<'a> {
     pub(super) sm: &'a SourceMap<'a>,
     /// Problems found so far.
     pub problems: Vec<Problem>,
-}
-
-/// An end of an allowed range.
-#[derive(Clone, Copy)]
-pub(super) enum End {
-    Open(f64),
-    Closed(f64),
-    None,
 }
 
 impl Validator<'_> {
@@ -30,90 +21,140 @@ impl Validator<'_> {
         });
     }
 
-    /// Checks `lo ⋚ x ⋚ hi`; returns whether it passed.
-    pub(super) fn num(&mut self, path: &FieldPath, x: f64, lo: End, hi: End, unit: &str) -> bool {
+    /// Checks the number at `path` against its range in [`ranges::RANGES`]; returns whether it
+    /// passed.
+    pub(super) fn field(&mut self, path: &FieldPath, x: f64) -> bool {
+        self.field_with(path, x, None, None)
+    }
+
+    /// [`Self::field`] where an end of the range is another field's value (`lo`, `hi`: the
+    /// values of the range's [`End::Field`] ends).
+    pub(super) fn field_with(
+        &mut self,
+        path: &FieldPath,
+        x: f64,
+        lo: Option<f64>,
+        hi: Option<f64>,
+    ) -> bool {
+        match ranges::lookup(&path.to_string()) {
+            Some(r) => self.check(path, x, r, lo, hi),
+            None => {
+                self.push(
+                    ProblemKind::Invalid,
+                    path,
+                    "no allowed range is defined for this field (a bug in shoal: please report it)"
+                        .into(),
+                );
+                false
+            }
+        }
+    }
+
+    /// Checks the number at `path` against the range of the field `range_of`.
+    pub(super) fn field_by(&mut self, path: &FieldPath, range_of: &FieldPath, x: f64) -> bool {
+        match ranges::lookup(&range_of.to_string()) {
+            Some(r) => self.check(path, x, r, None, None),
+            None => self.field(range_of, f64::NAN),
+        }
+    }
+
+    /// Checks every element of the vector field at `path` against the field's range.
+    pub(super) fn fields(&mut self, path: &FieldPath, xs: &[f64]) -> bool {
+        let Some(r) = ranges::lookup(&path.to_string()) else {
+            return self.field(path, f64::NAN);
+        };
+        let mut ok = true;
+        for (i, x) in xs.iter().enumerate() {
+            ok &= self.check(&path.index(i), *x, r, None, None);
+        }
+        ok
+    }
+
+    /// Checks `lo ⋚ x ⋚ hi` for a number whose range is not in the table (an effect's
+    /// parameter, whose range its effect declares).
+    pub(super) fn num(
+        &mut self,
+        path: &FieldPath,
+        x: f64,
+        lo: End,
+        hi: End,
+        unit: &'static str,
+    ) -> bool {
+        let r = FieldRange {
+            field: "",
+            lo,
+            hi,
+            zero_or: 0.0,
+            unit,
+            why: "",
+        };
+        self.check(path, x, &r, None, None)
+    }
+
+    fn check(
+        &mut self,
+        path: &FieldPath,
+        x: f64,
+        r: &FieldRange,
+        lo: Option<f64>,
+        hi: Option<f64>,
+    ) -> bool {
         let name = path.last_key().unwrap_or("value");
-        let ok_lo = match lo {
-            End::Open(a) => x > a,
-            End::Closed(a) => x >= a,
-            End::None => true,
+        let value = |e: End, v: Option<f64>| match e {
+            End::Open(a) | End::Closed(a) => Some(a),
+            End::Field(_) | End::OpenField(_) => v,
+            End::None => None,
         };
-        let ok_hi = match hi {
-            End::Open(b) => x < b,
-            End::Closed(b) => x <= b,
-            End::None => true,
+        let ok_lo = match (r.lo, value(r.lo, lo)) {
+            (End::Open(_) | End::OpenField(_), Some(a)) => x > a,
+            (_, Some(a)) => x >= a,
+            (_, None) => true,
         };
-        if x.is_finite() && ok_lo && ok_hi {
+        let ok_hi = match (r.hi, value(r.hi, hi)) {
+            (End::Open(_) | End::OpenField(_), Some(b)) => x < b,
+            (_, Some(b)) => x <= b,
+            (_, None) => true,
+        };
+        let subnormal = x != 0.0 && x.abs() < f64::MIN_POSITIVE;
+        let too_small = r.zero_or > 0.0 && x > 0.0 && x < r.zero_or;
+        if x.is_finite() && ok_lo && ok_hi && !subnormal && !too_small {
             return true;
         }
-        let mut allowed = String::new();
-        match lo {
-            End::Open(a) => allowed.push_str(&format!("{a} < ")),
-            End::Closed(a) => allowed.push_str(&format!("{a} ≤ ")),
-            End::None => {}
-        }
-        allowed.push_str(name);
-        match hi {
-            End::Open(b) => allowed.push_str(&format!(" < {b}")),
-            End::Closed(b) => allowed.push_str(&format!(" ≤ {b}")),
-            End::None => {}
-        }
-        let what = if x.is_finite() {
-            format!("{x} is out of range")
-        } else {
+        let what = if !x.is_finite() {
             format!("{x} is not a finite number")
+        } else if subnormal {
+            format!("{x:e} is a subnormal number, too small to mean anything")
+        } else if too_small {
+            format!(
+                "{} is too small to be physical (0 switches it off)",
+                fmt_num(x)
+            )
+        } else {
+            format!("{} is out of range", fmt_num(x))
+        };
+        let why = if r.why.is_empty() {
+            String::new()
+        } else {
+            format!(" — {}", r.why)
         };
         self.push(
             ProblemKind::Range,
             path,
-            format!("{what}; allowed: {allowed} {unit}")
-                .trim_end()
-                .to_string(),
+            format!(
+                "{what}; allowed: {} {}{why}",
+                r.allowed(name, lo, hi),
+                r.unit
+            )
+            .replace("  ", " ")
+            .trim_end()
+            .to_string(),
         );
         false
-    }
-
-    /// `0 < x ≤ max` for the field `key` of `p`.
-    pub(super) fn pos(&mut self, p: &FieldPath, key: &str, x: f64, max: f64, unit: &str) -> bool {
-        self.num(&p.key(key), x, End::Open(0.0), End::Closed(max), unit)
-    }
-
-    /// `0 ≤ x ≤ max` for the field `key` of `p`.
-    pub(super) fn nonneg(&mut self, p: &FieldPath, key: &str, x: f64, max: f64, unit: &str) -> bool {
-        self.num(&p.key(key), x, End::Closed(0.0), End::Closed(max), unit)
-    }
-
-    /// `lo ≤ x ≤ hi` for the field `key` of `p`.
-    pub(super) fn within(&mut self, p: &FieldPath, key: &str, x: f64, lo: f64, hi: f64, unit: &str) -> bool {
-        self.num(&p.key(key), x, End::Closed(lo), End::Closed(hi), unit)
-    }
-
-    /// `lo ≤ xᵢ ≤ hi` for every element of the field `key` of `p`.
-    pub(super) fn within_all(
-        &mut self,
-        p: &FieldPath,
-        key: &str,
-        xs: &[f64],
-        lo: f64,
-        hi: f64,
-        unit: &str,
-    ) -> bool {
-        self.vec(&p.key(key), xs, End::Closed(lo), End::Closed(hi), unit)
-    }
-
-    pub(super) fn vec(&mut self, path: &FieldPath, xs: &[f64], lo: End, hi: End, unit: &str) -> bool {
-        let mut ok = true;
-        for (i, x) in xs.iter().enumerate() {
-            ok &= self.num(&path.index(i), *x, lo, hi, unit);
-        }
-        ok
     }
 }
 
 pub(super) fn axis(v: &mut Validator<'_>, path: &FieldPath, a: &[f64; 3]) {
-    if v.vec(path, a, End::Closed(-1e3), End::Closed(1e3), "")
-        && (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt() < 1e-9
-    {
+    if v.fields(path, a) && (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt() < 1e-9 {
         v.push(
             ProblemKind::Range,
             path,

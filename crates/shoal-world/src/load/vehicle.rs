@@ -3,7 +3,8 @@
 //! mass matrix checked for being symmetric positive definite.
 
 use super::messages::{explain, suggest};
-use super::validator::{End, Validator, axis};
+use super::ranges::End;
+use super::validator::{Validator, axis};
 use crate::error::{FieldPath, ProblemKind};
 use crate::spec::*;
 use shoal_model::prelude::*;
@@ -80,71 +81,40 @@ pub(super) fn validate_vehicle(s: &VehicleSpec, p: &FieldPath, v: &mut Validator
     let n0 = v.problems.len();
     let b = p.key("body");
     let sb = &s.body;
-    v.pos(&b, "mass", sb.mass, 1e5, "kg");
+    v.field(&b.key("mass"), sb.mass);
     match &sb.inertia {
         Mat3Spec::Diagonal(d) => {
-            v.vec(
-                &b.key("inertia"),
-                d,
-                End::Open(0.0),
-                End::Closed(1e5),
-                "kg·m²",
-            );
+            v.fields(&b.key("inertia"), d);
         }
         Mat3Spec::Full(r) => {
             for (i, row) in r.iter().enumerate() {
-                v.vec(
-                    &b.key("inertia").index(i),
-                    row,
-                    End::Closed(-1e5),
-                    End::Closed(1e5),
-                    "kg·m²",
-                );
+                // The diagonal (principal moments) has the diagonal form's range.
+                if v.fields(&b.key("inertia").index(i), row) {
+                    v.field_by(
+                        &b.key("inertia").index(i).index(i),
+                        &b.key("inertia"),
+                        row[i],
+                    );
+                }
             }
         }
     }
-    v.within_all(&b, "cog", &sb.cog, -100.0, 100.0, "m");
-    v.within_all(&b, "cob", &sb.cob, -100.0, 100.0, "m");
-    v.pos(&b, "volume", sb.volume, 1e3, "m³");
+    v.fields(&b.key("cog"), &sb.cog);
+    v.fields(&b.key("cob"), &sb.cob);
+    v.field(&b.key("volume"), sb.volume);
     match &sb.added_mass {
         Mat6Spec::Diagonal(d) => {
-            v.within_all(&b, "added_mass", d, 0.0, 1e5, "kg or kg·m²");
+            v.fields(&b.key("added_mass"), d);
         }
         Mat6Spec::Full(r) => {
             for (i, row) in r.iter().enumerate() {
-                v.vec(
-                    &b.key("added_mass").index(i),
-                    row,
-                    End::Closed(-1e5),
-                    End::Closed(1e5),
-                    "",
-                );
+                v.fields(&b.key("added_mass").index(i), row);
             }
         }
     }
-    v.within_all(
-        &b,
-        "damping_linear",
-        &sb.damping_linear,
-        0.0,
-        1e5,
-        "N·s/m or N·m·s",
-    );
-    v.within_all(
-        &b,
-        "damping_quadratic",
-        &sb.damping_quadratic,
-        0.0,
-        1e5,
-        "N·s²/m² or N·m·s²",
-    );
-    v.vec(
-        &b.key("hull_size"),
-        &sb.hull_size,
-        End::Open(0.0),
-        End::Closed(100.0),
-        "m",
-    );
+    v.fields(&b.key("damping_linear"), &sb.damping_linear);
+    v.fields(&b.key("damping_quadratic"), &sb.damping_quadratic);
+    v.fields(&b.key("hull_size"), &sb.hull_size);
 
     let mut tilt_names: Vec<&str> = Vec::new();
     for (i, t) in s.tilts.iter().enumerate() {
@@ -158,16 +128,9 @@ pub(super) fn validate_vehicle(s: &VehicleSpec, p: &FieldPath, v: &mut Validator
         }
         tilt_names.push(&t.name);
         axis(v, &tp.key("axis"), &t.axis);
-        v.within(&tp, "min_deg", t.min_deg, -360.0, 360.0, "deg");
-        v.within(
-            &tp,
-            "max_deg",
-            t.max_deg,
-            t.min_deg.max(-360.0),
-            360.0,
-            "deg",
-        );
-        v.pos(&tp, "rate_deg_s", t.rate_deg_s, 1e4, "deg/s");
+        v.field(&tp.key("min_deg"), t.min_deg);
+        v.field_with(&tp.key("max_deg"), t.max_deg, Some(t.min_deg), None);
+        v.field(&tp.key("rate_deg_s"), t.rate_deg_s);
     }
     let mut thruster_names: Vec<&str> = Vec::new();
     for (i, t) in s.thrusters.iter().enumerate() {
@@ -180,7 +143,7 @@ pub(super) fn validate_vehicle(s: &VehicleSpec, p: &FieldPath, v: &mut Validator
             );
         }
         thruster_names.push(&t.name);
-        v.within_all(&tp, "position", &t.position, -100.0, 100.0, "m");
+        v.fields(&tp.key("position"), &t.position);
         axis(v, &tp.key("direction"), &t.direction);
         if let Some(n) = &t.tilt
             && !tilt_names.contains(&n.as_str())
@@ -196,13 +159,13 @@ pub(super) fn validate_vehicle(s: &VehicleSpec, p: &FieldPath, v: &mut Validator
                 format!("no tilt drive named `{n}` (defined: {defined})"),
             );
         }
-        v.pos(&tp, "max_command", t.max_command, 1e4, "%");
-        v.nonneg(&tp, "lag", t.lag, 100.0, "s");
+        v.field(&tp.key("max_command"), t.max_command);
+        v.field(&tp.key("lag"), t.lag);
         let cp = tp.key("curve");
         match &t.curve {
             CurveSpec::Quadratic { ct_pos, ct_neg } => {
-                v.nonneg(&cp, "ct_pos", *ct_pos, 1e3, "N/%²");
-                v.nonneg(&cp, "ct_neg", *ct_neg, 1e3, "N/%²");
+                v.field(&cp.key("ct_pos"), *ct_pos);
+                v.field(&cp.key("ct_neg"), *ct_neg);
             }
             CurveSpec::Table { points } => {
                 if points.len() < 2 {
@@ -224,78 +187,58 @@ pub(super) fn validate_vehicle(s: &VehicleSpec, p: &FieldPath, v: &mut Validator
                     }
                 }
                 for (k, pt) in points.iter().enumerate() {
-                    if !pt[0].is_finite() || !pt[1].is_finite() {
-                        v.push(
-                            ProblemKind::Range,
-                            &cp.key("points").index(k),
-                            "not a finite number".into(),
-                        );
-                    }
+                    v.fields(&cp.key("points").index(k), pt);
                 }
             }
         }
     }
     if let Some(bl) = &s.ballast {
         let bp = p.key("ballast");
-        v.pos(&bp, "capacity", bl.capacity, 10.0, "m³");
-        v.nonneg(&bp, "flow", bl.flow, 1.0, "m³/s");
-        v.within_all(&bp, "position", &bl.position, -100.0, 100.0, "m");
-        v.nonneg(
-            &bp,
-            "initial_volume",
+        v.field(&bp.key("capacity"), bl.capacity);
+        v.field(&bp.key("flow"), bl.flow);
+        v.fields(&bp.key("position"), &bl.position);
+        v.field_with(
+            &bp.key("initial_volume"),
             bl.initial_volume,
-            bl.capacity.max(0.0),
-            "m³ (the tank capacity)",
+            None,
+            Some(bl.capacity),
         );
     }
     let pp = p.key("pressure");
     let ps = &s.pressure;
-    v.pos(&pp, "c1", ps.c1, 1e4, "m/V");
-    v.within(&pp, "c2", ps.c2, -1e4, 1e4, "m");
-    v.pos(&pp, "depth_step", ps.depth_step, 10.0, "m");
-    v.within(&pp, "bits", f64::from(ps.bits), 1.0, 32.0, "bits");
-    v.nonneg(&pp, "noise_std", ps.noise_std, 10.0, "m");
-    v.within_all(&pp, "position", &ps.position, -100.0, 100.0, "m");
+    v.field(&pp.key("c1"), ps.c1);
+    v.field(&pp.key("c2"), ps.c2);
+    v.field(&pp.key("depth_step"), ps.depth_step);
+    v.field(&pp.key("bits"), f64::from(ps.bits));
+    v.field(&pp.key("noise_std"), ps.noise_std);
+    v.fields(&pp.key("position"), &ps.position);
     let ip = p.key("imu");
-    v.nonneg(
-        &ip,
-        "attitude_noise_deg",
-        s.imu.attitude_noise_deg,
-        90.0,
-        "deg",
-    );
-    v.nonneg(&ip, "gyro_noise", s.imu.gyro_noise, 10.0, "rad/s");
-    v.within_all(&ip, "gyro_bias", &s.imu.gyro_bias, -10.0, 10.0, "rad/s");
-    v.nonneg(&ip, "accel_noise", s.imu.accel_noise, 100.0, "m/s²");
+    v.field(&ip.key("attitude_noise_deg"), s.imu.attitude_noise_deg);
+    v.field(&ip.key("gyro_noise"), s.imu.gyro_noise);
+    v.fields(&ip.key("gyro_bias"), &s.imu.gyro_bias);
+    v.field(&ip.key("accel_noise"), s.imu.accel_noise);
     let c = p.key("control");
     let sc = &s.control;
-    v.pos(&c, "period", sc.period, 10.0, "s");
+    v.field(&c.key("period"), sc.period);
     for (k, pd) in [
         ("heave", &sc.heave),
         ("heave_buoyancy", &sc.heave_buoyancy),
         ("yaw", &sc.yaw),
     ] {
         let kp = c.key(k);
-        v.pos(&kp, "omega", pd.omega, 100.0, "rad/s");
-        v.pos(&kp, "zeta", pd.zeta, 100.0, "");
+        v.field(&kp.key("omega"), pd.omega);
+        v.field(&kp.key("zeta"), pd.zeta);
         if let Some(x) = pd.kp {
-            v.nonneg(&kp, "kp", x, 1e6, "");
+            v.field(&kp.key("kp"), x);
         }
         if let Some(x) = pd.kd {
-            v.nonneg(&kp, "kd", x, 1e6, "");
+            v.field(&kp.key("kd"), x);
         }
     }
-    v.nonneg(&c, "dead_zone", sc.dead_zone, 10.0, "m");
-    v.within(
-        &c,
-        "filter_window",
-        sc.filter_window as f64,
-        1.0,
-        1000.0,
-        "samples",
-    );
-    v.nonneg(&c, "auto_tilt_max_deg", sc.auto_tilt_max_deg, 90.0, "deg");
-    v.nonneg(&c, "rate_filter", sc.rate_filter, 100.0, "s");
+    v.field(&c.key("dead_zone"), sc.dead_zone);
+    v.field(&c.key("filter_window"), sc.filter_window as f64);
+    v.field(&c.key("auto_tilt_max_deg"), sc.auto_tilt_max_deg);
+    v.field(&c.key("rate_filter"), sc.rate_filter);
     let mut modem_names: Vec<&str> = Vec::new();
     for (i, m) in s.modems.iter().enumerate() {
         let mp = p.key("modems").index(i);
@@ -328,7 +271,12 @@ pub(super) fn validate_vehicle(s: &VehicleSpec, p: &FieldPath, v: &mut Validator
     v.problems.len() == n0
 }
 
-pub(super) fn validate_effect(e: &EffectSpec, vehicle: &VehicleParams, p: &FieldPath, v: &mut Validator<'_>) {
+pub(super) fn validate_effect(
+    e: &EffectSpec,
+    vehicle: &VehicleParams,
+    p: &FieldPath,
+    v: &mut Validator<'_>,
+) {
     let Some(effect) = shoal_model::effects::by_name(&e.name) else {
         let names = shoal_model::effects::names();
         let hint = suggest(&e.name, &names)
@@ -377,7 +325,7 @@ pub(super) fn validate_effect(e: &EffectSpec, vehicle: &VehicleParams, p: &Field
     for (k, &x) in &e.params {
         match infos.iter().find(|i| i.name == k) {
             Some(i) => {
-                v.within(&pp, k, x, i.lo, i.hi, i.unit);
+                v.num(&pp.key(k), x, End::Closed(i.lo), End::Closed(i.hi), i.unit);
             }
             None => {
                 let hint = suggest(k, &names)
@@ -410,49 +358,22 @@ pub(super) fn validate_effect(e: &EffectSpec, vehicle: &VehicleParams, p: &Field
 }
 
 pub(super) fn validate_modem(m: &ModemSpec, p: &FieldPath, v: &mut Validator<'_>) {
-    v.within_all(p, "position", &m.position, -100.0, 100.0, "m");
+    v.fields(&p.key("position"), &m.position);
     axis(v, &p.key("direction"), &m.direction);
-    v.pos(p, "led_power", m.led_power, 1e3, "W");
-    v.num(
-        &p.key("led_half_angle_deg"),
-        m.led_half_angle_deg,
-        End::Open(0.0),
-        End::Open(90.0),
-        "deg",
-    );
-    v.pos(p, "rx_area", m.rx_area, 1.0, "m²");
-    v.pos(p, "rx_fov_deg", m.rx_fov_deg, 90.0, "deg");
-    v.pos(p, "responsivity", m.responsivity, 10.0, "A/W");
-    v.nonneg(p, "noise_density", m.noise_density, 1e-6, "A/√Hz");
-    v.pos(p, "bandwidth", m.bandwidth, 1e10, "Hz");
-    v.nonneg(p, "dark_current", m.dark_current, 1e-3, "A");
-    v.pos(p, "bit_rate", m.bit_rate, 1e10, "bit/s");
-    v.within(
-        p,
-        "bits_per_byte",
-        f64::from(m.bits_per_byte),
-        8.0,
-        16.0,
-        "bits",
-    );
-    v.nonneg(p, "header_bytes", m.header_bytes as f64, 64.0, "bytes");
-    v.within(
-        p,
-        "max_payload",
-        m.max_payload as f64,
-        1.0,
-        65536.0,
-        "bytes",
-    );
-    v.within(p, "queue_frames", m.queue_frames as f64, 1.0, 1e5, "frames");
-    v.within(
-        p,
-        "capture_ratio",
-        m.capture_ratio,
-        1.0,
-        1e6,
-        "(power ratio)",
-    );
-    v.pos(p, "cs_threshold", m.cs_threshold, 1.0, "W");
-    v.pos(p, "backoff_max", m.backoff_max, 100.0, "s");
+    v.field(&p.key("led_power"), m.led_power);
+    v.field(&p.key("led_half_angle_deg"), m.led_half_angle_deg);
+    v.field(&p.key("rx_area"), m.rx_area);
+    v.field(&p.key("rx_fov_deg"), m.rx_fov_deg);
+    v.field(&p.key("responsivity"), m.responsivity);
+    v.field(&p.key("noise_density"), m.noise_density);
+    v.field(&p.key("bandwidth"), m.bandwidth);
+    v.field(&p.key("dark_current"), m.dark_current);
+    v.field(&p.key("bit_rate"), m.bit_rate);
+    v.field(&p.key("bits_per_byte"), f64::from(m.bits_per_byte));
+    v.field(&p.key("header_bytes"), m.header_bytes as f64);
+    v.field(&p.key("max_payload"), m.max_payload as f64);
+    v.field(&p.key("queue_frames"), m.queue_frames as f64);
+    v.field(&p.key("capture_ratio"), m.capture_ratio);
+    v.field(&p.key("cs_threshold"), m.cs_threshold);
+    v.field(&p.key("backoff_max"), m.backoff_max);
 }

@@ -1,11 +1,11 @@
 //! The whole world: top-level fields, pool, water, agents and output are checked, then the
 //! obstacles, then every vehicle group; the result is a [`WorldDesc`].
 
-use super::names::{service_word, valid_service_word};
 use super::messages::suggest;
+use super::names::{service_word, valid_service_word};
 use super::obstacles::obstacle;
 use super::placement::{check_overlaps, group};
-use super::validator::{End, Validator};
+use super::validator::Validator;
 use crate::desc::{AgentsDesc, OutputDesc, WorldDesc};
 use crate::error::{FieldPath, ProblemKind};
 use crate::geometry::Geometry;
@@ -14,76 +14,44 @@ use shoal_model::optics::Ambient;
 use shoal_model::prelude::*;
 use std::path::{Path, PathBuf};
 
-
 pub(super) fn build(wf: &WorldFile, file: &Path, v: &mut Validator<'_>) -> Option<WorldDesc> {
     let root = FieldPath::root();
-    v.num(
-        &root.key("duration"),
-        wf.duration,
-        End::Open(0.0),
-        End::Closed(1e7),
-        "s",
-    );
-    let dt_ok = v.num(
-        &root.key("dt"),
-        wf.dt,
-        End::Open(0.0),
-        End::Closed(0.1),
-        "s",
-    );
+    v.field(&root.key("duration"), wf.duration);
+    let dt_ok = v.field(&root.key("dt"), wf.dt);
     if dt_ok && wf.duration / wf.dt > 1e10 {
+        // Point at whichever of the two the file writes (dt when both are).
+        let at = if v.sm.locate(&root.key("dt")).is_some() {
+            "dt"
+        } else {
+            "duration"
+        };
         v.push(
             ProblemKind::Range,
-            &root.key("duration"),
-            "more than 10¹⁰ steps; raise dt or shorten the run".into(),
+            &root.key(at),
+            format!(
+                "duration / dt = {} / {} = {:e} steps, more than 1e10; raise dt or shorten the run",
+                wf.duration,
+                wf.dt,
+                wf.duration / wf.dt
+            ),
         );
     }
     let pool = root.key("pool");
-    v.vec(
-        &pool.key("size"),
-        &wf.pool.size,
-        End::Open(0.0),
-        End::Closed(1e4),
-        "m",
-    );
+    v.fields(&pool.key("size"), &wf.pool.size);
     let water = root.key("water");
-    v.num(
-        &water.key("density"),
-        wf.water.density,
-        End::Closed(500.0),
-        End::Closed(2000.0),
-        "kg/m³",
-    );
-    v.vec(
-        &water.key("current"),
-        &wf.water.current,
-        End::Closed(-5.0),
-        End::Closed(5.0),
-        "m/s",
-    );
-    v.num(
+    v.field(&water.key("density"), wf.water.density);
+    v.fields(&water.key("current"), &wf.water.current);
+    v.field(
         &water.key("ambient_irradiance"),
         wf.water.ambient_irradiance,
-        End::Closed(0.0),
-        End::Closed(2000.0),
-        "W/m²",
     );
-    v.num(
+    v.field(
         &water.key("diffuse_attenuation"),
         wf.water.diffuse_attenuation,
-        End::Closed(0.0),
-        End::Closed(100.0),
-        "1/m",
     );
     let attenuation = match &wf.water.attenuation {
         AttenuationSpec::Coefficient(c) => {
-            v.num(
-                &water.key("attenuation"),
-                *c,
-                End::Closed(0.0),
-                End::Closed(100.0),
-                "1/m",
-            );
+            v.field(&water.key("attenuation"), *c);
             *c
         }
         AttenuationSpec::Named(n) => match WATER_TYPES.iter().find(|w| w.0 == n) {
@@ -115,35 +83,11 @@ pub(super) fn build(wf: &WorldFile, file: &Path, v: &mut Validator<'_>) -> Optio
             format!("prefix `{pfx}`: use 1–64 letters, digits, `_`, `-` or `.`"),
         );
     }
-    v.num(
-        &ag.key("timeout"),
-        wf.agents.timeout,
-        End::Open(0.0),
-        End::Closed(3600.0),
-        "s",
-    );
-    v.num(
-        &ag.key("attach_timeout"),
-        wf.agents.attach_timeout,
-        End::Closed(0.0),
-        End::Closed(86400.0),
-        "s",
-    );
-    v.num(
-        &ag.key("pace"),
-        wf.agents.pace,
-        End::Closed(0.0),
-        End::Closed(1e6),
-        "simulated s per wall s",
-    );
+    v.field(&ag.key("timeout"), wf.agents.timeout);
+    v.field(&ag.key("attach_timeout"), wf.agents.attach_timeout);
+    v.field(&ag.key("pace"), wf.agents.pace);
     let out = root.key("output");
-    v.num(
-        &out.key("record_hz"),
-        wf.output.record_hz,
-        End::Open(0.0),
-        End::Closed(1000.0),
-        "Hz",
-    );
+    v.field(&out.key("record_hz"), wf.output.record_hz);
     if !v.problems.is_empty() {
         return None;
     }
