@@ -212,3 +212,40 @@ fn docs_range_table_is_the_checked_table() {
         }
     }
 }
+
+#[test]
+fn a_count_this_machine_cannot_hold_is_refused_before_placement() {
+    use shoal_world::load::{MemoryBudget, load_str_with};
+    let text = "[pool]\nsize = [100.0, 100.0, 3.0]\n[[vehicles]]\nname = \"small\"\n\
+                position = [1.0, 1.0, 1.0]\n[[vehicles]]\nname = \"swarm\"\ncount = 5000000\n\
+                grid = { origin = [1.0, 1.0, 1.0], spacing = [0.5, 0.5], columns = 100 }\n";
+    let budget = MemoryBudget {
+        available_bytes: 8_000_000_000,
+        bytes_per_vehicle: 4096,
+    };
+    // 5 000 001 vehicles × 4 KB = 20.5 GB > 8 GB: refused at the large group's count, with the
+    // estimate and what fits. Placing them would take seconds; the refusal is immediate
+    // because nothing is placed (the grid would not even fit the pool).
+    let e = load_str_with(text, Path::new("big.toml"), Some(&budget)).unwrap_err();
+    assert_eq!(e.problems.len(), 1, "{e}");
+    let p = e.first();
+    assert_eq!(p.kind, ProblemKind::Range);
+    assert_eq!(p.field.as_ref().unwrap().to_string(), "vehicles[1].count");
+    assert_eq!(p.line_col.map(|l| l.0), Some(8));
+    let msg = e.to_string();
+    assert!(
+        msg.contains("5000001 vehicles need about 20.5 GB (≈ 4.0 KB each, estimated)")
+            && msg
+                .contains("this machine has 8.0 GB available: at most about 1953125 vehicles fit"),
+        "{msg}"
+    );
+    // The same world within the budget gets past the estimate (and fails on placement: the
+    // grid leaves the 100 m pool).
+    let budget = MemoryBudget {
+        available_bytes: 30_000_000_000,
+        bytes_per_vehicle: 4096,
+    };
+    let e = load_str_with(text, Path::new("big.toml"), Some(&budget)).unwrap_err();
+    assert!(e.has(ProblemKind::Outside), "{e}");
+    assert!(!e.to_string().contains("need about"), "{e}");
+}

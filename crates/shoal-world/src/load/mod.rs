@@ -12,6 +12,7 @@
 
 mod behaviour;
 mod export;
+mod memory;
 mod messages;
 mod mission;
 mod names;
@@ -23,6 +24,7 @@ mod vehicle;
 mod world;
 
 pub use export::vehicle_world_toml;
+pub use memory::{DEFAULT_BYTES_PER_VEHICLE, MemoryBudget};
 pub use messages::unit_of;
 pub use names::{service_word, valid_service_word};
 pub use validator::Validator;
@@ -124,15 +126,25 @@ pub fn load_vehicle(path: &Path) -> Result<VehicleFile, WorldError> {
     }
 }
 
-/// Parses `text` as the world file `file` (only used in messages) and validates it.
+/// Parses `text` as the world file `file` (only used in messages) and validates it; a vehicle
+/// count this machine's memory cannot hold is refused ([`MemoryBudget::this_machine`]).
 pub fn load_str(text: &str, file: &Path) -> Result<WorldDesc, WorldError> {
+    load_str_with(text, file, MemoryBudget::this_machine().as_ref())
+}
+
+/// [`load_str`] with a given memory budget (`None`: no limit but the count's range).
+pub fn load_str_with(
+    text: &str,
+    file: &Path,
+    budget: Option<&MemoryBudget>,
+) -> Result<WorldDesc, WorldError> {
     let sm = SourceMap::new(text);
     let wf = parse_world_file(text, file, &sm)?;
     let mut v = Validator {
         sm: &sm,
         problems: Vec::new(),
     };
-    let desc = build(&wf, file, &mut v);
+    let desc = build(&wf, file, budget, &mut v);
     if v.problems.is_empty() {
         desc.ok_or_else(|| WorldError {
             file: file.to_path_buf(),

@@ -50,7 +50,6 @@ pub(super) fn group_vehicles(
 ) {
     let gp = FieldPath::root().key("vehicles").index(gi);
     let n0 = v.problems.len();
-    v.field(&gp.key("count"), g.count as f64);
     v.field(&gp.key("heading_deg"), g.heading_deg);
     let Some(spec) = vehicle_spec(g.preset.as_deref(), g.model.as_ref(), &gp, v) else {
         return;

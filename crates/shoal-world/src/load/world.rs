@@ -1,6 +1,7 @@
 //! The whole world: top-level fields, pool, water, agents and output are checked, then the
 //! obstacles, then every vehicle group; the result is a [`WorldDesc`].
 
+use super::memory::{self, MemoryBudget};
 use super::messages::suggest;
 use super::names::{service_word, valid_service_word};
 use super::obstacles::obstacle;
@@ -14,7 +15,12 @@ use shoal_model::optics::Ambient;
 use shoal_model::prelude::*;
 use std::path::{Path, PathBuf};
 
-pub(super) fn build(wf: &WorldFile, file: &Path, v: &mut Validator<'_>) -> Option<WorldDesc> {
+pub(super) fn build(
+    wf: &WorldFile,
+    file: &Path,
+    budget: Option<&MemoryBudget>,
+    v: &mut Validator<'_>,
+) -> Option<WorldDesc> {
     let root = FieldPath::root();
     v.field(&root.key("duration"), wf.duration);
     let dt_ok = v.field(&root.key("dt"), wf.dt);
@@ -88,6 +94,13 @@ pub(super) fn build(wf: &WorldFile, file: &Path, v: &mut Validator<'_>) -> Optio
     v.field(&ag.key("pace"), wf.agents.pace);
     let out = root.key("output");
     v.field(&out.key("record_hz"), wf.output.record_hz);
+    for (gi, g) in wf.vehicles.iter().enumerate() {
+        v.field(&root.key("vehicles").index(gi).key("count"), g.count as f64);
+    }
+    if v.problems.is_empty() {
+        // Before anything is placed: a count this machine cannot hold.
+        memory::check(wf, budget, v);
+    }
     if !v.problems.is_empty() {
         return None;
     }
