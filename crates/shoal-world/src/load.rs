@@ -3,6 +3,7 @@
 //! them, and reject overlaps and vehicles outside the pool. User input never panics: every
 //! problem becomes a [`Problem`] naming the file, line/column and field.
 
+use crate::cancel::{Cancel, Interrupted};
 use crate::desc::{AgentsDesc, OutputDesc, VehicleDesc, WorldDesc};
 use crate::error::{FieldPath, Problem, ProblemKind, SourceMap, WorldError};
 use crate::geometry::{Geometry, hull_shape, hulls_intersect, to_pose};
@@ -21,8 +22,26 @@ pub const DEFAULT_WORLD: &str = include_str!("../../../worlds/default.toml");
 /// Name used in messages for the embedded default world.
 pub const EMBEDDED_NAME: &str = "<embedded default world>";
 
+/// Why a world could not be loaded when loading may be stopped early.
+#[derive(Debug, thiserror::Error)]
+pub enum LoadError {
+    /// The file is unreadable or invalid.
+    #[error(transparent)]
+    World(#[from] WorldError),
+    /// A stop was asked for (through the [`Cancel`] given) before the world was complete.
+    #[error("interrupted while loading the world")]
+    Interrupted(#[from] Interrupted),
+}
+
 /// Loads and validates a world file.
 pub fn load_file(path: &Path) -> Result<WorldDesc, WorldError> {
+    never_interrupted(load_file_until(path, &Cancel::new()))
+}
+
+/// [`load_file`] that gives up with [`LoadError::Interrupted`] once `cancel` asks it to (it
+/// looks before each vehicle group, vehicle placement and overlap check, so even worlds of
+/// 10⁶ vehicles stop within moments).
+pub fn load_file_until(path: &Path, cancel: &Cancel) -> Result<WorldDesc, LoadError> {
     let text = std::fs::read_to_string(path).map_err(|e| {
         WorldError::single(
             path,
@@ -34,7 +53,16 @@ pub fn load_file(path: &Path) -> Result<WorldDesc, WorldError> {
             },
         )
     })?;
-    load_str(&text, path)
+    load_str_until(&text, path, cancel)
+}
+
+/// The result of loading with a [`Cancel`] nobody else can reach.
+fn never_interrupted(r: Result<WorldDesc, LoadError>) -> Result<WorldDesc, WorldError> {
+    match r {
+        Ok(desc) => Ok(desc),
+        Err(LoadError::World(e)) => Err(e),
+        Err(LoadError::Interrupted(_)) => unreachable!("a private Cancel is never requested"),
+    }
 }
 
 /// The embedded default world.
@@ -90,25 +118,32 @@ pub fn load_vehicle(path: &Path) -> Result<VehicleFile, WorldError> {
 
 /// Parses `text` as the world file `file` (only used in messages) and validates it.
 pub fn load_str(text: &str, file: &Path) -> Result<WorldDesc, WorldError> {
+    never_interrupted(load_str_until(text, file, &Cancel::new()))
+}
+
+/// [`load_str`] that gives up once `cancel` asks it to (see [`load_file_until`]).
+pub fn load_str_until(text: &str, file: &Path, cancel: &Cancel) -> Result<WorldDesc, LoadError> {
     let sm = SourceMap::new(text);
     let wf = parse_world_file(text, file, &sm)?;
+    cancel.check()?;
     let mut v = Validator {
         sm: &sm,
         problems: Vec::new(),
     };
-    let desc = build(&wf, file, &mut v);
+    let desc = build(&wf, file, &mut v, cancel)?;
     if v.problems.is_empty() {
-        desc.ok_or_else(|| WorldError {
+        Ok(desc.ok_or_else(|| WorldError {
             file: file.to_path_buf(),
             problems: Vec::new(),
-        })
+        })?)
     } else {
         v.problems
             .sort_by_key(|p| p.line_col.unwrap_or((usize::MAX, 0)));
         Err(WorldError {
             file: file.to_path_buf(),
             problems: v.problems,
-        })
+        }
+        .into())
     }
 }
 
@@ -397,7 +432,12 @@ impl Validator<'_> {
 
 const BIG: f64 = 1e6;
 
-fn build(wf: &WorldFile, file: &Path, v: &mut Validator<'_>) -> Option<WorldDesc> {
+fn build(
+    wf: &WorldFile,
+    file: &Path,
+    v: &mut Validator<'_>,
+    cancel: &Cancel,
+) -> Result<Option<WorldDesc>, Interrupted> {
     let root = FieldPath::root();
     v.num(
         &root.key("duration"),
@@ -527,7 +567,7 @@ fn build(wf: &WorldFile, file: &Path, v: &mut Validator<'_>) -> Option<WorldDesc
         "Hz",
     );
     if !v.problems.is_empty() {
-        return None;
+        return Ok(None);
     }
     let env = Environment {
         density: wf.water.density,
@@ -567,11 +607,11 @@ fn build(wf: &WorldFile, file: &Path, v: &mut Validator<'_>) -> Option<WorldDesc
     let mut vehicles = Vec::new();
     let mut groups = Vec::new();
     for (gi, g) in wf.vehicles.iter().enumerate() {
-        groups.push(group(g, gi, wf, &env, &geometry, v, &mut vehicles));
+        groups.push(group(g, gi, wf, &env, &geometry, v, &mut vehicles, cancel)?);
     }
-    check_overlaps(&vehicles, v);
+    check_overlaps(&vehicles, v, cancel)?;
     if !v.problems.is_empty() {
-        return None;
+        return Ok(None);
     }
 
     let name = wf.name.clone().unwrap_or_else(|| {
@@ -596,7 +636,7 @@ fn build(wf: &WorldFile, file: &Path, v: &mut Validator<'_>) -> Option<WorldDesc
         pace: wf.agents.pace,
         names: agent_names,
     };
-    Some(WorldDesc {
+    Ok(Some(WorldDesc {
         agents,
         name,
         source: PathBuf::from(file),
@@ -620,7 +660,7 @@ fn build(wf: &WorldFile, file: &Path, v: &mut Validator<'_>) -> Option<WorldDesc
             record_hz: wf.output.record_hz,
             plots: wf.output.plots,
         },
-    })
+    }))
 }
 
 fn obstacle(
@@ -1261,10 +1301,11 @@ fn group(
     geometry: &Geometry,
     v: &mut Validator<'_>,
     out: &mut Vec<VehicleDesc>,
-) -> String {
+    cancel: &Cancel,
+) -> Result<String, Interrupted> {
     let base = group_name(g, gi);
-    group_vehicles(g, gi, &base, wf, env, geometry, v, out);
-    base
+    group_vehicles(g, gi, &base, wf, env, geometry, v, out, cancel)?;
+    Ok(base)
 }
 
 /// The base name of a group: its `name`, or `<preset>-g<index>`.
@@ -1283,7 +1324,9 @@ fn group_vehicles(
     geometry: &Geometry,
     v: &mut Validator<'_>,
     out: &mut Vec<VehicleDesc>,
-) {
+    cancel: &Cancel,
+) -> Result<(), Interrupted> {
+    cancel.check()?;
     let gp = FieldPath::root().key("vehicles").index(gi);
     let n0 = v.problems.len();
     v.num(
@@ -1301,7 +1344,7 @@ fn group_vehicles(
         "deg",
     );
     let Some(spec) = vehicle_spec(g.preset.as_deref(), g.model.as_ref(), &gp, v) else {
-        return;
+        return Ok(());
     };
     let params = spec.to_params();
     // The control period must be a whole number of physics steps.
@@ -1351,7 +1394,7 @@ fn group_vehicles(
         }
     }
     if v.problems.len() > n0 {
-        return;
+        return Ok(());
     }
     // Placement.
 
@@ -1368,7 +1411,7 @@ fn group_vehicles(
     if choices != 1 {
         v.push(ProblemKind::Invalid, &gp, format!(
             "give exactly one placement: `position` (one vehicle), `grid` or `random` ({} given)", choices));
-        return;
+        return Ok(());
     }
     let hull = hull_shape(&model.params.body.hull_size);
     let pool = geometry.pool;
@@ -1422,7 +1465,7 @@ fn group_vehicles(
             End::Closed(BIG),
             "m",
         ) {
-            return;
+            return Ok(());
         }
         if g.count != 1 {
             v.push(
@@ -1433,7 +1476,7 @@ fn group_vehicles(
                     g.count
                 ),
             );
-            return;
+            return Ok(());
         }
         place(v, gp.key("position"), 0, Vec3::from(p), yaw0);
     } else if let Some(grid) = &g.grid {
@@ -1458,14 +1501,15 @@ fn group_vehicles(
             "",
         );
         if !ok {
-            return;
+            return Ok(());
         }
         for i in 0..g.count {
+            cancel.check()?;
             let (c, r) = ((i % grid.columns) as f64, (i / grid.columns) as f64);
             let pos =
                 Vec3::from(grid.origin) + Vec3::new(c * grid.spacing[0], r * grid.spacing[1], 0.0);
             if !place(v, gr.clone(), i, pos, yaw0) {
-                return;
+                return Ok(());
             }
         }
     } else if let Some(r) = &g.random {
@@ -1484,7 +1528,7 @@ fn group_vehicles(
             "m",
         );
         if !ok {
-            return;
+            return Ok(());
         }
         if (0..3).any(|k| r.max[k] < r.min[k]) {
             v.push(
@@ -1492,7 +1536,7 @@ fn group_vehicles(
                 &rp.key("max"),
                 "each coordinate of `max` must be ≥ the same coordinate of `min`".into(),
             );
-            return;
+            return Ok(());
         }
         // Placement draws from its own stream of the world seed, so vehicle RNG streams are
         // unaffected by how many tries placement needed.
@@ -1511,6 +1555,8 @@ fn group_vehicles(
         for i in 0..g.count {
             let mut placed = false;
             for _ in 0..1000 {
+                // Each try compares with every vehicle placed so far: look before each one.
+                cancel.check()?;
                 let u: [f64; 3] = [rng.random(), rng.random(), rng.random()];
                 let pos = Vec3::new(
                     r.min[0] + u[0] * (r.max[0] - r.min[0]),
@@ -1554,10 +1600,11 @@ fn group_vehicles(
                 v.push(ProblemKind::Overlap, &rp, format!(
                     "could place only {i} of {} vehicles in the box without overlaps (1000 tries for the next); enlarge the box or lower `count`",
                     g.count));
-                return;
+                return Ok(());
             }
         }
     }
+    Ok(())
 }
 
 type Cuboid3 = parry3d_f64::shape::Cuboid;
@@ -1692,13 +1739,17 @@ fn mission(
 }
 
 /// Rejects overlapping vehicles (spatial hash, so large swarms stay fast).
-fn check_overlaps(vehicles: &[VehicleDesc], v: &mut Validator<'_>) {
+fn check_overlaps(
+    vehicles: &[VehicleDesc],
+    v: &mut Validator<'_>,
+    cancel: &Cancel,
+) -> Result<(), Interrupted> {
     let Some(cell) = vehicles
         .iter()
         .map(|d| d.model.params.body.hull_size.norm())
         .reduce(f64::max)
     else {
-        return;
+        return Ok(());
     };
     let key = |p: &Vec3| {
         (
@@ -1718,6 +1769,7 @@ fn check_overlaps(vehicles: &[VehicleDesc], v: &mut Validator<'_>) {
         })
         .collect();
     for (i, d) in vehicles.iter().enumerate() {
+        cancel.check()?;
         let (kx, ky, kz) = key(&d.position);
         let mut hit = None;
         'search: for dx in -1..=1 {
@@ -1742,10 +1794,11 @@ fn check_overlaps(vehicles: &[VehicleDesc], v: &mut Validator<'_>) {
                 d.name, d.position.x, d.position.y, d.position.z,
                 vehicles[j].name, vehicles[j].position.x, vehicles[j].position.y, vehicles[j].position.z,
                 d.model.params.body.hull_size.x));
-            return;
+            return Ok(());
         }
         grid.entry((kx, ky, kz)).or_default().push(i);
     }
+    Ok(())
 }
 
 /// Writes a vehicle model as a world file with one vehicle group (`preset = "custom"`), which
