@@ -33,8 +33,10 @@ use shoal_model::control::Mode;
 use shoal_model::math::euler_rpy;
 use shoal_sim::agents::{self, AgentEvent, AgentReport, FrameOrder, Order, Rejections, RoundTrip};
 use shoal_sim::sim::Sim;
+use shoal_world::cancel::Cancel;
 use shoal_world::desc::AgentsDesc;
 use shoal_world::spec::FallbackSpec;
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 /// Largest number of vehicles one agent's slice is prepared for; more are allocated on demand.
@@ -125,6 +127,9 @@ pub enum Flow {
     Continue,
     /// End the run (fallback `stop`), with the reason.
     Stop(String),
+    /// A stop was asked for (see [`Host::stop_on`]) while waiting for an agent: end the run
+    /// without this step.
+    Interrupted,
 }
 
 /// The world's end of the bridge.
@@ -133,6 +138,7 @@ pub struct Host {
     ports: Vec<Port>,
     cfg: AgentsDesc,
     wall0: Option<Instant>,
+    cancel: Option<Arc<Cancel>>,
 }
 
 impl Host {
@@ -226,7 +232,15 @@ impl Host {
             ports,
             cfg: cfg.clone(),
             wall0: None,
+            cancel: None,
         })
+    }
+
+    /// Makes the exchange give up its waits (lock-step replies, free-running pace) within
+    /// about 10 ms once `cancel` asks for a stop; [`Host::before_step`] then says
+    /// [`Flow::Interrupted`]. The services are removed when the host is dropped, as always.
+    pub fn stop_on(&mut self, cancel: Arc<Cancel>) {
+        self.cancel = Some(cancel);
     }
 
     /// Service names agents attach to, one line per agent.
@@ -331,7 +345,15 @@ impl Host {
             let port = &mut self.ports[a];
             match port.state {
                 State::Attached if lockstep => {
-                    match wait_reply(&self.node, port, step, sent, timeout) {
+                    match wait_reply(
+                        &self.node,
+                        port,
+                        step,
+                        sent,
+                        timeout,
+                        self.cancel.as_deref(),
+                    ) {
+                        Reply::Interrupted => return Ok(Flow::Interrupted),
                         Reply::Got(cmds) => {
                             port.rtt.push(sent.elapsed().as_secs_f64() * 1e6);
                             apply(sim, a, port, &cmds);
@@ -393,9 +415,16 @@ impl Host {
             }
         }
         if !self.cfg.lockstep && self.cfg.pace > 0.0 {
-            let ahead = t / self.cfg.pace - wall0.elapsed().as_secs_f64();
-            if ahead > 0.0 {
-                std::thread::sleep(Duration::from_secs_f64(ahead));
+            // Sleep until the wall clock catches up, in naps short enough to answer a stop.
+            loop {
+                let ahead = t / self.cfg.pace - wall0.elapsed().as_secs_f64();
+                if ahead <= 0.0 {
+                    break;
+                }
+                if self.cancel.as_deref().is_some_and(Cancel::is_requested) {
+                    return Ok(Flow::Interrupted);
+                }
+                std::thread::sleep(Duration::from_secs_f64(ahead.min(0.01)));
             }
         }
         Ok(flow)
@@ -463,6 +492,7 @@ enum Reply {
     Leave,
     Timeout,
     Gone,
+    Interrupted,
 }
 
 /// Whether a reply slice is the agent's goodbye ([`protocol::kind::LEAVE`]).
@@ -478,6 +508,7 @@ fn wait_reply(
     step: u64,
     sent: Instant,
     timeout: Duration,
+    cancel: Option<&Cancel>,
 ) -> Reply {
     let mut last_check = Instant::now();
     loop {
@@ -506,6 +537,9 @@ fn wait_reply(
             return Reply::Timeout;
         }
         if last_check.elapsed() >= Duration::from_millis(10) {
+            if cancel.is_some_and(Cancel::is_requested) {
+                return Reply::Interrupted;
+            }
             node.try_cleanup_dead_nodes();
             if !port.connected() {
                 return Reply::Gone;

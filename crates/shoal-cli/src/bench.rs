@@ -348,6 +348,7 @@ fn measure_agent(a: &BenchArgs, lang: &str, n: usize) -> anyhow::Result<AgentCel
                 Ok(())
             }
             Flow::Stop(why) => anyhow::bail!("{why}"),
+            Flow::Interrupted => anyhow::bail!("interrupted"),
         }
     };
     // Warm-up: 20 control ticks (1 s simulated), not measured.

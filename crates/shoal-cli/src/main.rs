@@ -1,15 +1,23 @@
 //! `shoal`: run worlds of minuscule AUVs, check world files, validate the model against
 //! measured runs, benchmark scaling.
 //!
-//! Exit codes: 0 success, 1 failure (e.g. cannot write outputs), 2 invalid input (world file,
-//! measured run, vehicle file), 3 the world's agent fallback `stop` ended the run, 4 a
-//! vehicle's state became non-finite (the run stopped there; outputs up to that step are
-//! written and marked `failed`), 130 interrupted by Ctrl-C (outputs up to that moment are
-//! written).
+//! Exit codes (docs: README.md, "Exit codes"):
+//! - 0: success;
+//! - 1: failure, e.g. an output file could not be written (the message names it and gives the
+//!   operating system's reason; files finished before it stay);
+//! - 2: invalid input (world file, measured run, vehicle file, option value);
+//! - 3: `shoal run` ended early by the world's agent fallback `stop` (outputs complete);
+//! - 4: `shoal run` stopped because a vehicle's state became non-finite (the message names
+//!   the vehicle, the time and the last finite state; outputs up to that step are written and
+//!   summary.json says `failed`);
+//! - 129, 130, 143: `shoal run` stopped by SIGHUP, SIGINT (Ctrl-C) or SIGTERM (128 + the
+//!   signal number); outputs up to that step are written, or nothing when the signal came
+//!   while the world was being loaded or built.
 
 mod alloc;
 mod bench;
 mod run;
+mod signals;
 mod validate;
 
 use clap::{Parser, Subcommand};

@@ -1,18 +1,27 @@
 //! `shoal run` and `shoal check`.
+//!
+//! A run stops early, cleanly, on SIGINT, SIGTERM or SIGHUP ([`crate::signals`]): while the
+//! world is loaded or built it stops before the run starts and writes nothing; while it runs
+//! it stops at the next step and writes the outputs up to that step (see
+//! `shoal_sim::output`); agents are told and the shared memory is removed; the exit code is
+//! 128 + the signal number.
 
-use crate::Failure;
+use crate::{Failure, signals};
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressStyle};
 use shoal_bridge::host::{Flow, Host};
 use shoal_sim::agents::AgentsSummary;
 use shoal_sim::prelude::*;
+use shoal_world::cancel::Cancel;
 use shoal_world::desc::WorldDesc;
-use shoal_world::load::{default_world, load_file};
+use shoal_world::load::{DEFAULT_WORLD, EMBEDDED_NAME, LoadError, load_file_until, load_str_until};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
+
+/// Most vehicle-steps between two writes of trajectory rows (≈ 0.1 s of work).
+const CHUNK_WORK: u64 = 200_000;
 
 /// Arguments of `shoal run`.
 #[derive(clap::Args, Debug)]
@@ -50,12 +59,25 @@ pub struct RunArgs {
     pub wait_agents: Option<f64>,
 }
 
-fn load(world: Option<&Path>) -> Result<WorldDesc, Failure> {
+/// Loads the world file (or the embedded default world) until `cancel` asks for a stop.
+fn load(world: Option<&Path>, cancel: &Cancel) -> Result<WorldDesc, LoadError> {
     match world {
-        Some(p) => load_file(p),
-        None => default_world(),
+        Some(p) => load_file_until(p, cancel),
+        None => load_str_until(DEFAULT_WORLD, Path::new(EMBEDDED_NAME), cancel),
     }
-    .map_err(|e| Failure::Input(e.to_string()))
+}
+
+/// The end of a run stopped before it started: says so and gives the signal's exit code.
+fn stopped_before_start(cancel: &Cancel, phase: &str) -> ExitCode {
+    let Some(cause) = cancel.cause() else {
+        // (Only a stop request interrupts loading and building.)
+        return ExitCode::FAILURE;
+    };
+    eprintln!(
+        "shoal: interrupted by {} while {phase}, before the run started; nothing was written",
+        cause.name
+    );
+    signals::exit_code(cause)
 }
 
 fn slug(name: &str) -> String {
@@ -79,7 +101,22 @@ fn slug(name: &str) -> String {
 
 /// `shoal run`.
 pub fn run(args: &RunArgs) -> Result<ExitCode, Failure> {
-    let mut desc = load(args.world.as_deref())?;
+    let cancel = signals::install().context("cannot catch signals")?;
+    if !args.quiet {
+        eprintln!(
+            "shoal: loading {}",
+            args.world
+                .as_deref()
+                .map_or_else(|| EMBEDDED_NAME.into(), |p| p.display().to_string())
+        );
+    }
+    let mut desc = match load(args.world.as_deref(), &cancel) {
+        Ok(d) => d,
+        Err(LoadError::World(e)) => return Err(Failure::Input(e.to_string())),
+        Err(LoadError::Interrupted(_)) => {
+            return Ok(stopped_before_start(&cancel, "loading the world"));
+        }
+    };
     if let Some(s) = args.seed {
         desc.seed = s;
     }
@@ -118,23 +155,25 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, Failure> {
         .clone()
         .unwrap_or_else(|| PathBuf::from("out").join(slug(&desc.name)));
 
-    let interrupted = Arc::new(AtomicBool::new(false));
-    {
-        let flag = interrupted.clone();
-        // A second Ctrl-C while outputs are being written is ignored; the first one only
-        // asks the loop to stop after the current chunk.
-        ctrlc::set_handler(move || flag.store(true, Ordering::SeqCst))
-            .context("cannot install the Ctrl-C handler")?;
-    }
-
     let steps = desc.steps();
-    let mut sim = Sim::new(
+    if !args.quiet {
+        eprintln!(
+            "shoal: building `{}` — {} vehicles",
+            desc.name,
+            desc.vehicles.len()
+        );
+    }
+    let built = Sim::new_until(
         &desc,
         SimOptions {
             threads: usize::from(args.threads),
             record: true,
         },
+        &cancel,
     );
+    let Ok(mut sim) = built else {
+        return Ok(stopped_before_start(&cancel, "building the world"));
+    };
     let mut out = RunOutput::create(&out_dir, &desc)
         .with_context(|| format!("cannot create outputs in {}", out_dir.display()))?;
     let pb = if args.quiet {
@@ -159,21 +198,29 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, Failure> {
             out_dir.display()
         );
     }
-    let mut host = open_agents(&desc, args.quiet, &interrupted)?;
+    let mut host = open_agents(&desc, args.quiet, &cancel)?;
     let mut stopped: Option<String> = None;
-    let chunk = (steps / 500).clamp(1, 500);
+    // Steps between progress updates and trajectory writes: at most 500 and at most
+    // CHUNK_WORK vehicle-steps, so a stop request (seen at every step) is followed by little
+    // writing — the rows recorded in the chunk so far are written before the outputs end.
+    let chunk = (steps / 500)
+        .clamp(1, 500)
+        .min((CHUNK_WORK / desc.vehicles.len().max(1) as u64).max(1));
     let start = Instant::now();
     while sim.step_count() < steps
-        && !interrupted.load(Ordering::SeqCst)
+        && !cancel.is_requested()
         && stopped.is_none()
         && sim.fault().is_none()
     {
         let n = chunk.min(steps - sim.step_count());
         match host.as_mut() {
-            None => sim.run(n),
+            // A stop request ends the chunk at a step boundary; the loop condition sees it.
+            None => {
+                let _ = sim.run_until(n, &cancel);
+            }
             Some(h) => {
                 for _ in 0..n {
-                    if sim.fault().is_some() {
+                    if cancel.is_requested() || sim.fault().is_some() {
                         break;
                     }
                     match h.before_step(&mut sim).context("external agents")? {
@@ -182,12 +229,13 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, Failure> {
                             stopped = Some(why);
                             break;
                         }
+                        Flow::Interrupted => break,
                     }
                 }
             }
         }
         out.write(&sim.drain())
-            .context("cannot write trajectories")?;
+            .map_err(|e| Failure::Other(e.into()))?;
         let wall = start.elapsed().as_secs_f64();
         pb.set_position(sim.step_count());
         pb.set_message(format!(
@@ -196,7 +244,6 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, Failure> {
             sim.time() / wall.max(1e-9)
         ));
     }
-    let was_interrupted = interrupted.load(Ordering::SeqCst);
     pb.finish_and_clear();
     let wall = start.elapsed().as_secs_f64();
     if let Some(mut h) = host {
@@ -214,9 +261,10 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, Failure> {
         });
         drop(h);
     }
+    // The error names the file that could not be written and why; the files before it stay.
     let summary = out
-        .finish(&desc, &sim, wall, was_interrupted)
-        .context("cannot write the run outputs")?;
+        .finish(&desc, &sim, wall, &cancel)
+        .map_err(|e| Failure::Other(e.into()))?;
     println!("{}", summary.to_text());
     if let Some(f) = sim.fault() {
         eprintln!(
@@ -226,8 +274,8 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, Failure> {
         );
         return Ok(ExitCode::from(4));
     }
-    Ok(if was_interrupted {
-        ExitCode::from(130)
+    Ok(if let Some(cause) = cancel.cause() {
+        signals::exit_code(cause)
     } else if summary.agents.as_ref().is_some_and(|a| a.stopped.is_some()) {
         // The world's agent fallback `stop` ended the run early (outputs are complete).
         ExitCode::from(3)
@@ -241,7 +289,7 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, Failure> {
 fn open_agents(
     desc: &WorldDesc,
     quiet: bool,
-    interrupted: &AtomicBool,
+    cancel: &Arc<Cancel>,
 ) -> Result<Option<Host>, Failure> {
     if desc.agents.names.is_empty() {
         return Ok(None);
@@ -258,6 +306,7 @@ fn open_agents(
         })
         .collect();
     let mut host = Host::open(&desc.agents, &counts).map_err(|e| Failure::Input(e.to_string()))?;
+    host.stop_on(cancel.clone());
     if !quiet {
         eprintln!(
             "shoal: agents ({}) attach with prefix `{}`: {}",
@@ -287,7 +336,7 @@ fn open_agents(
             );
             shown = true;
         }
-        !interrupted.load(Ordering::SeqCst)
+        !cancel.is_requested()
     });
     if !missing.is_empty() && !quiet {
         eprintln!(
@@ -321,7 +370,7 @@ pub fn preset(name: &str) -> Result<ExitCode, Failure> {
 
 /// `shoal check`.
 pub fn check(world: &Path) -> Result<ExitCode, Failure> {
-    let desc = load(Some(world))?;
+    let desc = load(Some(world), &Cancel::new()).map_err(|e| Failure::Input(e.to_string()))?;
     println!(
         "{}: ok — `{}`, {} vehicles in {} group(s), {} obstacle(s), pool {} × {} × {} m, {:.1} s at dt = {} s ({} steps), seed {}",
         world.display(),

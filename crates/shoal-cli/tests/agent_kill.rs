@@ -46,14 +46,12 @@ fn start(name: &str, duration: f64) -> (Child, Child, PathBuf) {
     .unwrap();
     let prefix = format!("{name}{}", std::process::id());
     let out = dir.join("out");
-    let sim = Command::new(env!("CARGO_BIN_EXE_shoal"))
-        .args(["run", "--quiet", "--no-plots", "--prefix", &prefix, "--out"])
-        .arg(&out)
-        .arg(&world)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let sim = common::start_run(
+        &["--quiet", "--no-plots", "--prefix", &prefix],
+        &out,
+        &world,
+        None,
+    );
     let agent = Command::new(&agent_bin)
         .args([&prefix, "pilot", "1.5", "0", "--slow", "2"])
         .stderr(Stdio::null())

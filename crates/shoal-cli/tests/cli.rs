@@ -1,10 +1,10 @@
 //! The `shoal` binary end to end: outputs of a run, errors for bad input (exit 2, located
-//! messages, no panic), Ctrl-C writing what was computed, `check` on every shipped world, and
-//! the bench table's shape (no timing assertions: speed belongs in benches).
+//! messages, no panic), `check` on every shipped world, and the bench table's shape (no
+//! timing assertions: speed belongs in benches). Signals: `signals.rs`; write errors:
+//! `disk_full.rs`.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
-use std::time::Duration;
+use std::process::{Command, Output};
 
 fn shoal() -> Command {
     Command::new(env!("CARGO_BIN_EXE_shoal"))
@@ -149,49 +149,6 @@ fn every_shipped_world_checks() {
             assert!(o.status.success(), "{}: {}", p.display(), text(&o).1);
         }
     }
-}
-
-#[test]
-fn ctrl_c_ends_the_run_cleanly_with_outputs_written() {
-    let out = tmp("sigint");
-    let child = shoal()
-        .args(["run", "--quiet", "--duration", "100000", "--out"])
-        .arg(&out)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    // Wait until rows are being written, then interrupt.
-    // Poll until rows are being written (bounded, so a broken run cannot hang the suite).
-    let csv = out.join("trajectories.csv");
-    let mut polls = 0;
-    while csv.metadata().map(|m| m.len() < 200_000).unwrap_or(true) {
-        polls += 1;
-        assert!(polls < 2400, "the run did not start writing");
-        std::thread::sleep(Duration::from_millis(50));
-    }
-    let status = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(status.success());
-    let o = child.wait_with_output().unwrap();
-    let (stdout, stderr) = text(&o);
-    assert_eq!(o.status.code(), Some(130), "{stdout}\n{stderr}");
-    assert!(stdout.contains("INTERRUPTED"), "{stdout}");
-    let summary: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
-    assert_eq!(summary["interrupted"], true);
-    // Every row written so far is complete, and the summary counts them all.
-    let data = std::fs::read_to_string(&csv).unwrap();
-    let lines: Vec<&str> = data.lines().collect();
-    let width = lines[0].split(',').count();
-    assert!(lines.iter().all(|l| l.split(',').count() == width));
-    assert_eq!(
-        summary["trajectory_rows"].as_u64().unwrap() as usize,
-        lines.len() - 1
-    );
-    assert!(out.join("top.png").exists());
 }
 
 #[test]

@@ -4,7 +4,8 @@
 //! world floods a value — how many vehicles knew it over time.
 
 use crate::comm::{DIST_BIN, LinkStats, latency_bin_centre};
-use crate::plot::{Outline, Plot, PlotError, Series};
+use crate::files::FileError;
+use crate::plot::{Outline, Plot, Series};
 use crate::sim::{Sim, VehicleSnapshot};
 use crate::systems::ConnSample;
 use serde::Serialize;
@@ -245,9 +246,10 @@ fn gossip_summary(desc: &WorldDesc, snaps: &[VehicleSnapshot]) -> Option<GossipS
     })
 }
 
-/// Writes `links.csv`: one row per (sender, receiver) with at least one attempt.
-pub fn write_links_csv(path: &Path, snaps: &[VehicleSnapshot]) -> Result<(), csv::Error> {
-    let mut w = csv::Writer::from_path(path)?;
+/// Writes `links.csv` (whole, through [`crate::files`]): one row per (sender, receiver)
+/// with at least one attempt.
+pub fn write_links_csv(path: &Path, snaps: &[VehicleSnapshot]) -> Result<PathBuf, FileError> {
+    let mut w = crate::files::CsvFile::create(path)?;
     w.write_record([
         "sender",
         "receiver",
@@ -281,19 +283,18 @@ pub fn write_links_csv(path: &Path, snaps: &[VehicleSnapshot]) -> Result<(), csv
             ])?;
         }
     }
-    w.flush()?;
-    Ok(())
+    w.commit()
 }
 
-/// Writes the communication plots; returns their paths.
+/// The communication plots, each with the stem of its files (drawn by the caller, one at a
+/// time, so a stop request is answered between plots).
 pub fn plots(
-    dir: &Path,
     desc: &WorldDesc,
     sim: &Sim,
     snaps: &[VehicleSnapshot],
     c: &CommSummary,
-) -> Result<Vec<PathBuf>, PlotError> {
-    let mut files = Vec::new();
+) -> Vec<(&'static str, Plot)> {
+    let mut plots = Vec::new();
     // 1. Delivery against distance, with the on-axis link budget of the first modem for the
     //    run's mean frame length.
     let bits = c.mean_frame_bits.round().max(1.0) as u64;
@@ -336,7 +337,8 @@ pub fn plots(
             ..Default::default()
         });
     }
-    files.extend(
+    plots.push((
+        "delivery_vs_distance",
         Plot {
             title: format!("{}: delivery ratio against distance", desc.name),
             x_label: "distance between vehicles [m]".into(),
@@ -345,9 +347,8 @@ pub fn plots(
             x_range: Some((0.0, c.cutoff_range_m)),
             y_range: Some((0.0, 1.05)),
             ..Default::default()
-        }
-        .write(&dir.join("delivery_vs_distance"))?,
-    );
+        },
+    ));
     // 2. The communication graph at the end, seen from above.
     let pool = desc.geometry.pool;
     let conn = sim.connectivity();
@@ -392,7 +393,8 @@ pub fn plots(
     }
     let last = conn.samples.last();
     let margin = 0.05 * pool.x.max(pool.y);
-    files.extend(
+    plots.push((
+        "connectivity",
         Plot {
             title: format!(
                 "{}: links at t = {:.0} s ({} edges, largest group {} of {})",
@@ -410,14 +412,14 @@ pub fn plots(
             y_range: Some((-margin, pool.x + margin)),
             size: (800, 800),
             ..Default::default()
-        }
-        .write(&dir.join("connectivity"))?,
-    );
+        },
+    ));
     // 3. Flooding progress.
     if let Some(g) = &c.gossip {
         let mut pts = vec![(g.start_s, 0.0)];
         pts.extend(g.informed_over_time.iter().map(|(t, n)| (*t, *n as f64)));
-        files.extend(
+        plots.push((
+            "gossip",
             Plot {
                 title: format!(
                     "{}: vehicles that know the value ({} of {}{})",
@@ -436,9 +438,8 @@ pub fn plots(
                 }],
                 y_range: Some((0.0, g.vehicles as f64 * 1.05)),
                 ..Default::default()
-            }
-            .write(&dir.join("gossip"))?,
-        );
+            },
+        ));
     }
-    Ok(files)
+    plots
 }

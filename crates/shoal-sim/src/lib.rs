@@ -2,8 +2,10 @@
 //!
 //! The simulated world of shoal: one bevy_ecs entity per vehicle ([`components`]), a fixed-step
 //! schedule of chained system sets ([`systems`]) run by [`sim::Sim`], per-world parallel loops
-//! ([`parallel`]), a trajectory recorder ([`recorder`]) and run outputs ([`output`], [`plot`]);
-//! external agents, independent of their transport ([`agents`]).
+//! ([`parallel`]), a trajectory recorder ([`recorder`]) and run outputs ([`output`], [`plot`]),
+//! each file written whole or not at all ([`files`]); external agents, independent of their
+//! transport ([`agents`]). Long work (building a world, running it, drawing plots) can be
+//! stopped early through a [`shoal_world::cancel::Cancel`].
 
 pub mod agents;
 pub mod analysis;
@@ -13,6 +15,7 @@ pub mod comm;
 pub mod comm_report;
 pub mod components;
 pub mod fault;
+pub mod files;
 pub mod output;
 pub mod parallel;
 pub mod plot;

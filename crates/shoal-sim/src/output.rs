@@ -2,39 +2,46 @@
 //! sample, units in the column names), `summary.json`, and plots (`depth.png/svg`: depth of
 //! every vehicle against time with its setpoint; `top.png/svg`: tracks seen from above with
 //! the pool and obstacles). [`Summary::to_text`] is the end-of-run report for people.
+//!
+//! **Whole files only.** Every file goes through [`crate::files`]: it is written under a
+//! temporary name (`.<name>.tmp`) and renamed when complete. `trajectories.csv` is streamed
+//! to `.trajectories.csv.tmp` while the world runs and renamed by [`RunOutput::finish`], so
+//! under its real name it always ends with a whole row; if a write fails the temporary is
+//! removed and the error names the file with the operating system's reason.
+//!
+//! **Order.** [`RunOutput::finish`] writes `summary.json` first, then the tables
+//! (`trajectories.csv`, `links.csv`), then the plots, so when a later file fails (a full
+//! disk, a file-size limit) the summary is already there. The first summary lists the files
+//! the run is about to write; if fewer were written (a failure, or plots skipped after a stop
+//! request) it is written again with the files that exist, the error and the stop request.
 
+use crate::files::{CsvFile, FileError, write_whole};
 use crate::plot::{Outline, Plot, PlotError, Series};
 use crate::recorder::{self, RecordBatch, col, mode_of_code};
 use crate::sim::{Sim, VehicleSnapshot};
 use serde::Serialize;
 use shoal_model::math::wrap_pi;
 use shoal_model::prelude::*;
+use shoal_world::cancel::{Cancel, Cause};
 use shoal_world::desc::WorldDesc;
 use std::collections::HashMap;
-use std::fs::File;
-use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 
 /// An output failure (names the file).
 #[derive(Debug, thiserror::Error)]
 pub enum OutputError {
-    /// Filesystem error.
-    #[error("{path}: {source}")]
-    Io {
-        /// The file or folder.
+    /// The output folder cannot be created.
+    #[error("cannot create the folder {}: {reason}", path.display())]
+    Folder {
+        /// The folder.
         path: PathBuf,
-        /// The cause.
-        source: std::io::Error,
+        /// What the operating system said.
+        reason: std::io::Error,
     },
-    /// CSV error.
-    #[error("{path}: {source}")]
-    Csv {
-        /// The file.
-        path: PathBuf,
-        /// The cause.
-        source: csv::Error,
-    },
-    /// Plot error.
+    /// A file cannot be written.
+    #[error(transparent)]
+    File(#[from] FileError),
+    /// A plot cannot be drawn or written.
     #[error(transparent)]
     Plot(#[from] PlotError),
 }
@@ -57,8 +64,7 @@ struct VehicleAcc {
 /// Streams a run's outputs into a folder.
 pub struct RunOutput {
     dir: PathBuf,
-    csv_path: PathBuf,
-    csv: csv::Writer<BufWriter<File>>,
+    csv: CsvFile,
     /// Per vehicle: where each of its row values goes in the CSV record.
     maps: Vec<Vec<usize>>,
     width: usize,
@@ -72,18 +78,13 @@ pub struct RunOutput {
 }
 
 impl RunOutput {
-    /// Creates `dir` (and parents) and opens `trajectories.csv`.
+    /// Creates `dir` (and parents) and starts `trajectories.csv` (under its temporary name).
     pub fn create(dir: &Path, desc: &WorldDesc) -> Result<Self, OutputError> {
-        std::fs::create_dir_all(dir).map_err(|source| OutputError::Io {
+        std::fs::create_dir_all(dir).map_err(|reason| OutputError::Folder {
             path: dir.to_path_buf(),
-            source,
+            reason,
         })?;
-        let csv_path = dir.join("trajectories.csv");
-        let file = File::create(&csv_path).map_err(|source| OutputError::Io {
-            path: csv_path.clone(),
-            source,
-        })?;
-        let mut csv = csv::Writer::from_writer(BufWriter::new(file));
+        let mut csv = CsvFile::create(&dir.join("trajectories.csv"))?;
         // Header: t, vehicle, the fixed columns, then the union of actuator columns.
         let mut header: Vec<String> = vec!["t_s".into(), "vehicle".into()];
         header.extend(recorder::FIXED[1..].iter().map(|s| s.to_string()));
@@ -117,15 +118,10 @@ impl RunOutput {
         }
         header.extend(extra);
         let width = header.len();
-        csv.write_record(&header)
-            .map_err(|source| OutputError::Csv {
-                path: csv_path.clone(),
-                source,
-            })?;
+        csv.write_record(&header)?;
         let expected_rows = (desc.duration * desc.output.record_hz).max(1.0) as u64;
         Ok(Self {
             dir: dir.to_path_buf(),
-            csv_path,
             csv,
             maps,
             width,
@@ -170,12 +166,7 @@ impl RunOutput {
                     };
                 }
                 rec[1].clone_from(&self.names[i]);
-                self.csv
-                    .write_record(&rec)
-                    .map_err(|source| OutputError::Csv {
-                        path: self.csv_path.clone(),
-                        source,
-                    })?;
+                self.csv.write_record(&rec)?;
                 self.csv_rows += 1;
                 self.accumulate(i, row);
             }
@@ -210,51 +201,73 @@ impl RunOutput {
         a.last.extend_from_slice(row);
     }
 
-    /// Flushes the CSV, writes `summary.json` and the plots, and returns the summary.
+    /// Finishes the outputs in the order of the module documentation (summary, tables,
+    /// plots) and returns the summary.
+    ///
+    /// `cancel` is the run's stop request. One made before `finish` marks the summary
+    /// interrupted (with its cause). One made while finishing — the first after a complete
+    /// run, or another after an interrupted one — skips the plots not yet drawn; the summary
+    /// and the tables are always finished. The first write error ends the outputs: it names
+    /// the file and the reason, and every file written before it stays.
     pub fn finish(
-        mut self,
+        self,
         desc: &WorldDesc,
         sim: &Sim,
         wall_s: f64,
-        interrupted: bool,
+        cancel: &Cancel,
     ) -> Result<Summary, OutputError> {
-        self.csv.flush().map_err(|source| OutputError::Io {
-            path: self.csv_path.clone(),
-            source,
-        })?;
-        let mut files = vec![self.csv_path.clone()];
+        let seen = cancel.requests();
         let snaps = sim.vehicles();
         let comm = crate::comm_report::summarize(desc, sim, &snaps);
-        if let Some(c) = &comm {
-            let links = self.dir.join("links.csv");
-            crate::comm_report::write_links_csv(&links, &snaps).map_err(|source| {
-                OutputError::Csv {
-                    path: links.clone(),
-                    source,
-                }
-            })?;
-            files.push(links);
-            if self.plots {
-                files.extend(crate::comm_report::plots(&self.dir, desc, sim, &snaps, c)?);
-            }
-        }
+        let mut plots: Vec<(&'static str, Plot)> = Vec::new();
         if self.plots {
-            files.extend(self.depth_plot(desc)?);
-            files.extend(self.top_plot(desc)?);
+            if let Some(c) = &comm {
+                plots.extend(crate::comm_report::plots(desc, sim, &snaps, c));
+            }
+            plots.push(("depth", self.depth_plot(desc)));
+            plots.push(("top", self.top_plot(desc)));
         }
-        let json_path = self.dir.join("summary.json");
-        files.push(json_path.clone());
-        let mut summary = Summary::new(desc, sim, &snaps, &self.acc, wall_s, interrupted);
+        let RunOutput {
+            dir,
+            csv,
+            acc,
+            csv_rows,
+            agents,
+            ..
+        } = self;
+        let json_path = dir.join("summary.json");
+        let links_path = comm.as_ref().map(|_| dir.join("links.csv"));
+        let mut planned = vec![json_path.clone(), csv.path().to_path_buf()];
+        planned.extend(links_path.clone());
+        for (stem, _) in &plots {
+            let stem = dir.join(stem);
+            planned.extend([stem.with_extension("png"), stem.with_extension("svg")]);
+        }
+        let mut summary = Summary::new(desc, sim, &snaps, &acc, wall_s, cancel.cause());
         summary.comm = comm;
-        summary.agents = self.agents.take();
-        summary.trajectory_rows = self.csv_rows;
-        summary.files = files.iter().map(|p| p.display().to_string()).collect();
-        let text = serde_json::to_string_pretty(&summary).unwrap_or_default();
-        std::fs::write(&json_path, text).map_err(|source| OutputError::Io {
-            path: json_path.clone(),
-            source,
-        })?;
-        Ok(summary)
+        summary.agents = agents;
+        summary.trajectory_rows = csv_rows;
+        summary.files = planned.iter().map(|p| p.display().to_string()).collect();
+        write_summary(&json_path, &summary)?;
+        let mut written = vec![json_path.clone()];
+        let outcome = write_tables_and_plots(
+            csv,
+            links_path.as_deref(),
+            &snaps,
+            &plots,
+            &dir,
+            || cancel.requests() > seen,
+            &mut written,
+        );
+        if outcome.is_err() || written.len() < planned.len() || cancel.requests() > seen {
+            summary.interrupted = cancel.is_requested();
+            summary.signal = cancel.cause().map(|c| c.name.to_string());
+            summary.files = written.iter().map(|p| p.display().to_string()).collect();
+            summary.output_error = outcome.as_ref().err().map(|e| e.to_string());
+            // Best effort: when even this fails, the first summary stays.
+            let _ = write_summary(&json_path, &summary);
+        }
+        outcome.map(|()| summary)
     }
 
     fn shown(&self) -> Vec<usize> {
@@ -263,7 +276,7 @@ impl RunOutput {
         (0..n).step_by(step).collect()
     }
 
-    fn depth_plot(&self, desc: &WorldDesc) -> Result<Vec<PathBuf>, OutputError> {
+    fn depth_plot(&self, desc: &WorldDesc) -> Plot {
         let shown = self.shown();
         let mut series = Vec::new();
         let mut labelled = vec![false; desc.groups.len()];
@@ -297,7 +310,7 @@ impl RunOutput {
         } else {
             String::new()
         };
-        let plot = Plot {
+        Plot {
             title: format!(
                 "{}: depth reading (solid) and setpoint (dashed){note}",
                 desc.name
@@ -308,11 +321,10 @@ impl RunOutput {
             y_down: true,
             x_range: Some((0.0, desc.duration)),
             ..Default::default()
-        };
-        Ok(plot.write(&self.dir.join("depth"))?)
+        }
     }
 
-    fn top_plot(&self, desc: &WorldDesc) -> Result<Vec<PathBuf>, OutputError> {
+    fn top_plot(&self, desc: &WorldDesc) -> Plot {
         let pool = desc.geometry.pool;
         // Map view: east to the right, north up.
         let mut outlines = vec![Outline {
@@ -351,7 +363,7 @@ impl RunOutput {
         let h = 700u32;
         let w = ((f64::from(h) - 60.0) * (pool.y + 2.0 * margin) / (pool.x + 2.0 * margin) + 80.0)
             .clamp(560.0, 1800.0) as u32;
-        let plot = Plot {
+        Plot {
             title: format!("{}: tracks from above (dot = start)", desc.name),
             x_label: "east y [m]".into(),
             y_label: "north x [m]".into(),
@@ -361,9 +373,42 @@ impl RunOutput {
             y_range: Some((-margin, pool.x + margin)),
             size: (w, h),
             ..Default::default()
-        };
-        Ok(plot.write(&self.dir.join("top"))?)
+        }
     }
+}
+
+/// Writes `summary.json` (whole).
+fn write_summary(path: &Path, summary: &Summary) -> Result<PathBuf, FileError> {
+    let text = serde_json::to_vec_pretty(summary).map_err(|e| FileError {
+        path: path.to_path_buf(),
+        reason: e.into(),
+    })?;
+    write_whole(path, &text)
+}
+
+/// The part of [`RunOutput::finish`] after the summary: commits the trajectories, writes
+/// `links.csv` (when there is one) and draws the plots until `skip_plots` says so, adding
+/// each file to `written` as it is complete.
+fn write_tables_and_plots(
+    trajectories: CsvFile,
+    links: Option<&Path>,
+    snaps: &[VehicleSnapshot],
+    plots: &[(&'static str, Plot)],
+    dir: &Path,
+    skip_plots: impl Fn() -> bool,
+    written: &mut Vec<PathBuf>,
+) -> Result<(), OutputError> {
+    written.push(trajectories.commit()?);
+    if let Some(p) = links {
+        written.push(crate::comm_report::write_links_csv(p, snaps)?);
+    }
+    for (stem, plot) in plots {
+        if skip_plots() {
+            break;
+        }
+        written.extend(plot.write_until(&dir.join(stem), &skip_plots)?);
+    }
+    Ok(())
 }
 
 fn format_num(x: f64) -> String {
@@ -455,12 +500,20 @@ pub struct Summary {
     pub wall_s: f64,
     /// Simulated seconds per wall-clock second.
     pub real_time_factor: f64,
-    /// Ended early by Ctrl-C.
+    /// Stopped early by a stop request (Ctrl-C, SIGTERM, SIGHUP): the run, or — when
+    /// `simulated_s` equals `planned_s` — the writing of its plots (`files` lists what exists).
     pub interrupted: bool,
     /// Ended early because a vehicle's state stopped being finite: which, when, and its last
     /// finite state ([`crate::fault::SimFault`]); results after that step are not physical.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub failed: Option<String>,
+    /// What asked for the stop, e.g. `SIGTERM` (absent when not interrupted).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub signal: Option<String>,
+    /// The write error that cut the outputs short, naming the file (absent when all were
+    /// written).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub output_error: Option<String>,
     /// State digest (hex); equal digests mean bit-identical runs.
     pub digest: String,
     /// Rows written to trajectories.csv.
@@ -486,7 +539,7 @@ impl Summary {
         snaps: &[VehicleSnapshot],
         acc: &[VehicleAcc],
         wall_s: f64,
-        interrupted: bool,
+        interrupted: Option<Cause>,
     ) -> Self {
         let details: Vec<VehicleSummary> = snaps
             .iter()
@@ -577,8 +630,10 @@ impl Summary {
             } else {
                 f64::INFINITY
             },
-            interrupted,
+            interrupted: interrupted.is_some(),
             failed: sim.fault().map(|f| f.to_string()),
+            signal: interrupted.map(|c| c.name.to_string()),
+            output_error: None,
             digest: format!("{:016x}", sim.digest()),
             trajectory_rows: 0,
             groups,
@@ -592,12 +647,11 @@ impl Summary {
     /// The report printed at the end of a run.
     pub fn to_text(&self) -> String {
         let mut s = String::new();
-        let status = if self.failed.is_some() {
-            "FAILED after"
-        } else if self.interrupted {
-            "INTERRUPTED after"
-        } else {
-            "simulated"
+        let status = match (&self.failed, &self.signal, self.interrupted) {
+            (Some(_), _, _) => "FAILED after".into(),
+            (None, Some(sig), true) => format!("INTERRUPTED ({sig}) after"),
+            (None, None, true) => "INTERRUPTED after".into(),
+            (None, _, false) => "simulated".into(),
         };
         s.push_str(&format!(
             "{}: {} vehicles, {status} {:.1} s of {:.1} s in {:.2} s wall time ({:.1}× real time, {} thread{})\n\n",

@@ -11,6 +11,10 @@
 //! * the legend never covers data: it goes into a corner that nothing drawn passes through,
 //!   or below the plot when there is none ([`legend_place`]).
 
+use crate::files::{FileError, write_whole};
+use image::ColorType;
+use image::ImageEncoder;
+use image::codecs::png::PngEncoder;
 use plotters::coord::Shift;
 use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
@@ -30,12 +34,32 @@ fn register_font() {
 
 /// A plotting failure.
 #[derive(Debug, thiserror::Error)]
-#[error("cannot draw {path}: {message}")]
-pub struct PlotError {
-    /// The file being drawn.
-    pub path: PathBuf,
-    /// What went wrong.
-    pub message: String,
+pub enum PlotError {
+    /// The picture could not be drawn or encoded.
+    #[error("cannot draw {}: {message}", path.display())]
+    Draw {
+        /// The file being drawn.
+        path: PathBuf,
+        /// What went wrong.
+        message: String,
+    },
+    /// The drawn file could not be written.
+    #[error(transparent)]
+    File(#[from] FileError),
+}
+
+/// Why drawing ended early.
+enum DrawFail {
+    /// The caller's `stop` said so.
+    Stopped,
+    /// plotters failed, with its message.
+    Failed(String),
+}
+
+impl From<String> for DrawFail {
+    fn from(message: String) -> Self {
+        DrawFail::Failed(message)
+    }
 }
 
 /// One line (or cloud of dots) of a plot.
@@ -453,7 +477,8 @@ impl Plot {
         &self,
         root: DrawingArea<DB, Shift>,
         lay: &Layout,
-    ) -> Result<(), String> {
+        stop: &dyn Fn() -> bool,
+    ) -> Result<(), DrawFail> {
         register_font();
         root.fill(&WHITE).map_err(|e| e.to_string())?;
         let (area, strip) = if lay.strip > 0 {
@@ -493,6 +518,10 @@ impl Plot {
             }
         }
         for s in &self.series {
+            // A plot of every vehicle of a large world is a long loop: look here.
+            if stop() {
+                return Err(DrawFail::Stopped);
+            }
             let c = color(s.color);
             if s.dots {
                 let r = s.width.max(1);
@@ -535,25 +564,59 @@ impl Plot {
                 }
             }
         }
-        root.present().map_err(|e| e.to_string())
+        Ok(root.present().map_err(|e| e.to_string())?)
     }
 
-    /// Writes `<stem>.png` and `<stem>.svg`; returns both paths.
+    /// Writes `<stem>.png` and `<stem>.svg` (each drawn in memory, then written whole
+    /// through [`crate::files`]); returns both paths.
     pub fn write(&self, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
+        self.write_until(stem, &|| false)
+    }
+
+    /// [`Plot::write`] that gives up, between series and between the two files, once `stop`
+    /// says so; returns the files written (both, one or none). A file is never left half
+    /// written.
+    pub fn write_until(
+        &self,
+        stem: &Path,
+        stop: &dyn Fn() -> bool,
+    ) -> Result<Vec<PathBuf>, PlotError> {
         let png = stem.with_extension("png");
         let svg = stem.with_extension("svg");
-        let err = |p: &Path, message: String| PlotError {
+        let mut written = Vec::new();
+        let err = |p: &Path, message: String| PlotError::Draw {
             path: p.to_path_buf(),
             message,
+        };
+        // Whether a drawing is complete (false: stopped).
+        let complete = |drawn: Result<(), DrawFail>, p: &Path| match drawn {
+            Ok(()) => Ok(true),
+            Err(DrawFail::Stopped) => Ok(false),
+            Err(DrawFail::Failed(m)) => Err(err(p, m)),
         };
         let lay = self.layout().map_err(|m| err(&png, m))?;
         let (w, h) = self.size();
         let size = (w, h + lay.strip);
-        self.draw(BitMapBackend::new(&png, size).into_drawing_area(), &lay)
-            .map_err(|m| err(&png, m))?;
-        self.draw(SVGBackend::new(&svg, size).into_drawing_area(), &lay)
-            .map_err(|m| err(&svg, m))?;
-        Ok(vec![png, svg])
+        let mut pixels = vec![0u8; size.0 as usize * size.1 as usize * 3];
+        let root = BitMapBackend::with_buffer(&mut pixels, size).into_drawing_area();
+        if !complete(self.draw(root, &lay, stop), &png)? {
+            return Ok(written);
+        }
+        let mut encoded = Vec::new();
+        PngEncoder::new(&mut encoded)
+            .write_image(&pixels, size.0, size.1, ColorType::Rgb8)
+            .map_err(|e| err(&png, e.to_string()))?;
+        written.push(write_whole(&png, &encoded)?);
+        if stop() {
+            return Ok(written);
+        }
+        let mut text = String::new();
+        let root = SVGBackend::with_string(&mut text, size).into_drawing_area();
+        if !complete(self.draw(root, &lay, stop), &svg)? {
+            return Ok(written);
+        }
+        written.push(write_whole(&svg, text.as_bytes())?);
+        Ok(written)
     }
 }
 

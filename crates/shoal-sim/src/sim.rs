@@ -14,6 +14,7 @@ use bevy_ecs::prelude::*;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use shoal_model::prelude::*;
+use shoal_world::cancel::{Cancel, Interrupted};
 use shoal_world::desc::WorldDesc;
 use std::sync::Arc;
 
@@ -88,6 +89,18 @@ pub struct Sim {
 impl Sim {
     /// Spawns every vehicle of `desc` and prepares the schedule.
     pub fn new(desc: &WorldDesc, opts: SimOptions) -> Self {
+        match Self::new_until(desc, opts, &Cancel::new()) {
+            Ok(sim) => sim,
+            Err(Interrupted) => unreachable!("a private Cancel is never requested"),
+        }
+    }
+
+    /// [`Sim::new`] that gives up once `cancel` asks it to (it looks before each vehicle).
+    pub fn new_until(
+        desc: &WorldDesc,
+        opts: SimOptions,
+        cancel: &Cancel,
+    ) -> Result<Self, Interrupted> {
         let mut world = World::new();
         world.insert_resource(Clock {
             step: 0,
@@ -114,6 +127,7 @@ impl Sim {
         world.insert_resource(RecordConfig { every });
         let mut entities = Vec::with_capacity(desc.vehicles.len());
         for (i, v) in desc.vehicles.iter().enumerate() {
+            cancel.check()?;
             let id = i as u32;
             let m = &v.model;
             let mut state =
@@ -202,7 +216,7 @@ impl Sim {
         for a in 0..desc.agents.names.len() {
             sim.set_fallback(a, shoal_world::spec::FallbackSpec::Hold);
         }
-        sim
+        Ok(sim)
     }
 
     /// Advances one physics step. A vehicle whose state stops being finite is reported by
@@ -243,12 +257,23 @@ impl Sim {
     /// Advances `n` steps, or fewer when a vehicle's state stops being finite
     /// ([`Self::fault`]).
     pub fn run(&mut self, n: u64) {
+        // Nobody else holds this handle, so the run is never interrupted.
+        let _ = self.run_until(n, &Cancel::new());
+    }
+
+    /// Advances up to `n` steps, looking at `cancel` before each: stops at a step boundary
+    /// with `Err(Interrupted)` once a stop was asked for, and early (with `Ok`) when a
+    /// vehicle's state stops being finite ([`Self::fault`]); [`Sim::step_count`] tells how far
+    /// it got.
+    pub fn run_until(&mut self, n: u64, cancel: &Cancel) -> Result<(), Interrupted> {
         for _ in 0..n {
+            cancel.check()?;
             if self.fault.is_some() {
                 break;
             }
             self.step();
         }
+        Ok(())
     }
 
     /// Entity of each vehicle, by id.

@@ -5,8 +5,10 @@
 //! into a validated [`desc::WorldDesc`] in SI units, rejecting typos, wrong units, values out
 //! of range, overlapping vehicles and vehicles outside the pool with messages that name the
 //! file, line and field ([`error`]). [`geometry`] holds the pool and obstacles as parry3d
-//! shapes: hull contacts, swept tests and line of sight.
+//! shapes: hull contacts, swept tests and line of sight. [`cancel`] lets a caller stop long
+//! work (loading, and the crates above: building, running, writing) early.
 
+pub mod cancel;
 pub mod desc;
 pub mod error;
 pub mod geometry;
@@ -15,6 +17,7 @@ pub mod spec;
 
 /// The commonly used types.
 pub mod prelude {
+    pub use crate::cancel::{Cancel, Cause, Interrupted};
     pub use crate::desc::{OutputDesc, VehicleDesc, WorldDesc};
     pub use crate::error::{FieldPath, Problem, ProblemKind, WorldError};
     pub use crate::geometry::{Geometry, HullContact};

@@ -106,3 +106,78 @@ pub fn wait(c: &mut Child, limit: Duration) -> ExitStatus {
 pub fn summary(out: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap()
 }
+
+/// Checks that the CSV table `path` is whole: it ends with a newline and every row has as
+/// many fields as the header. Returns the number of rows (without the header).
+pub fn whole_csv_rows(path: &Path) -> usize {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    assert!(
+        text.ends_with('\n'),
+        "{} does not end with a newline",
+        path.display()
+    );
+    let mut r = csv::ReaderBuilder::new()
+        .flexible(true)
+        .from_reader(text.as_bytes());
+    let width = r.headers().unwrap().len();
+    assert!(width > 1, "{}: header of {width} field(s)", path.display());
+    let mut rows = 0;
+    for (i, rec) in r.records().enumerate() {
+        let rec = rec.unwrap();
+        assert_eq!(
+            rec.len(),
+            width,
+            "{}: row {} has {} fields, the header {width}",
+            path.display(),
+            i + 1,
+            rec.len()
+        );
+        rows += 1;
+    }
+    rows
+}
+
+/// The names of the files in `dir` that end with `suffix`.
+pub fn files_ending(dir: &Path, suffix: &str) -> Vec<String> {
+    std::fs::read_dir(dir)
+        .map(|d| {
+            d.filter_map(|e| e.ok())
+                .map(|e| e.file_name().to_string_lossy().into_owned())
+                .filter(|n| n.ends_with(suffix))
+                .collect()
+        })
+        .unwrap_or_default()
+}
+
+/// Starts `shoal run ARGS… --out OUT WORLD` with stdout and stderr piped. With `shell`
+/// (e.g. `trap '' HUP;`), `sh` runs that first and then becomes shoal (`exec`).
+pub fn start_run(args: &[&str], out: &Path, world: &Path, shell: Option<&str>) -> Child {
+    let mut c = match shell {
+        None => Command::new(env!("CARGO_BIN_EXE_shoal")),
+        Some(pre) => {
+            let mut c = Command::new("sh");
+            c.args(["-c", &format!("{pre} exec \"$@\""), "sh"])
+                .arg(env!("CARGO_BIN_EXE_shoal"));
+            c
+        }
+    };
+    c.arg("run")
+        .args(args)
+        .arg("--out")
+        .arg(out)
+        .arg(world)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap()
+}
+
+/// The files a summary.json lists.
+pub fn summary_files(summary: &serde_json::Value) -> Vec<PathBuf> {
+    summary["files"]
+        .as_array()
+        .expect("`files` in the summary")
+        .iter()
+        .map(|f| PathBuf::from(f.as_str().expect("a file name")))
+        .collect()
+}

@@ -30,6 +30,7 @@ pub use names::{service_word, valid_service_word};
 pub use validator::Validator;
 pub use vehicle::{merge, vehicle_spec};
 
+use crate::cancel::{Cancel, Interrupted};
 use crate::desc::WorldDesc;
 use crate::error::{FieldPath, Problem, ProblemKind, SourceMap, WorldError};
 use crate::spec::*;
@@ -43,9 +44,36 @@ pub const DEFAULT_WORLD: &str = include_str!("../../../../worlds/default.toml");
 /// Name used in messages for the embedded default world.
 pub const EMBEDDED_NAME: &str = "<embedded default world>";
 
+/// Why a world could not be loaded when loading may be stopped early.
+#[derive(Debug, thiserror::Error)]
+pub enum LoadError {
+    /// The file is unreadable or invalid.
+    #[error(transparent)]
+    World(#[from] WorldError),
+    /// A stop was asked for (through the [`Cancel`] given) before the world was complete.
+    #[error("interrupted while loading the world")]
+    Interrupted(#[from] Interrupted),
+}
+
 /// Loads and validates a world file.
 pub fn load_file(path: &Path) -> Result<WorldDesc, WorldError> {
-    load_str(&read_text(path)?, path)
+    never_interrupted(load_file_until(path, &Cancel::new()))
+}
+
+/// [`load_file`] that gives up with [`LoadError::Interrupted`] once `cancel` asks it to (it
+/// looks before each vehicle group, vehicle placement and overlap check, so even worlds of
+/// 10⁶ vehicles stop within moments).
+pub fn load_file_until(path: &Path, cancel: &Cancel) -> Result<WorldDesc, LoadError> {
+    load_str_until(&read_text(path)?, path, cancel)
+}
+
+/// The result of loading with a [`Cancel`] nobody else can reach.
+fn never_interrupted(r: Result<WorldDesc, LoadError>) -> Result<WorldDesc, WorldError> {
+    match r {
+        Ok(desc) => Ok(desc),
+        Err(LoadError::World(e)) => Err(e),
+        Err(LoadError::Interrupted(_)) => unreachable!("a private Cancel is never requested"),
+    }
 }
 
 /// Reads a file as UTF-8 text; a byte sequence that is not UTF-8 is a problem located at its
@@ -129,7 +157,12 @@ pub fn load_vehicle(path: &Path) -> Result<VehicleFile, WorldError> {
 /// Parses `text` as the world file `file` (only used in messages) and validates it; a vehicle
 /// count this machine's memory cannot hold is refused ([`MemoryBudget::this_machine`]).
 pub fn load_str(text: &str, file: &Path) -> Result<WorldDesc, WorldError> {
-    load_str_with(text, file, MemoryBudget::this_machine().as_ref())
+    never_interrupted(load_str_until(text, file, &Cancel::new()))
+}
+
+/// [`load_str`] that gives up once `cancel` asks it to (see [`load_file_until`]).
+pub fn load_str_until(text: &str, file: &Path, cancel: &Cancel) -> Result<WorldDesc, LoadError> {
+    load_text(text, file, MemoryBudget::this_machine().as_ref(), cancel)
 }
 
 /// [`load_str`] with a given memory budget (`None`: no limit but the count's range).
@@ -138,25 +171,36 @@ pub fn load_str_with(
     file: &Path,
     budget: Option<&MemoryBudget>,
 ) -> Result<WorldDesc, WorldError> {
+    never_interrupted(load_text(text, file, budget, &Cancel::new()))
+}
+
+fn load_text(
+    text: &str,
+    file: &Path,
+    budget: Option<&MemoryBudget>,
+    cancel: &Cancel,
+) -> Result<WorldDesc, LoadError> {
     let sm = SourceMap::new(text);
     let wf = parse_world_file(text, file, &sm)?;
+    cancel.check()?;
     let mut v = Validator {
         sm: &sm,
         problems: Vec::new(),
     };
-    let desc = build(&wf, file, budget, &mut v);
+    let desc = build(&wf, file, budget, &mut v, cancel)?;
     if v.problems.is_empty() {
-        desc.ok_or_else(|| WorldError {
+        Ok(desc.ok_or_else(|| WorldError {
             file: file.to_path_buf(),
             problems: Vec::new(),
-        })
+        })?)
     } else {
         v.problems
             .sort_by_key(|p| p.line_col.unwrap_or((usize::MAX, 0)));
         Err(WorldError {
             file: file.to_path_buf(),
             problems: v.problems,
-        })
+        }
+        .into())
     }
 }
 

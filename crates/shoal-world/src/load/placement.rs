@@ -7,6 +7,7 @@ use super::mission::mission;
 use super::names::valid_service_word;
 use super::validator::Validator;
 use super::vehicle::vehicle_spec;
+use crate::cancel::{Cancel, Interrupted};
 use crate::desc::VehicleDesc;
 use crate::error::{FieldPath, ProblemKind};
 use crate::geometry::{Geometry, hull_shape, hulls_intersect, to_pose};
@@ -25,10 +26,11 @@ pub(super) fn group(
     geometry: &Geometry,
     v: &mut Validator<'_>,
     out: &mut Vec<VehicleDesc>,
-) -> String {
+    cancel: &Cancel,
+) -> Result<String, Interrupted> {
     let base = group_name(g, gi);
-    group_vehicles(g, gi, &base, wf, env, geometry, v, out);
-    base
+    group_vehicles(g, gi, &base, wf, env, geometry, v, out, cancel)?;
+    Ok(base)
 }
 
 /// The base name of a group: its `name`, or `<preset>-g<index>`.
@@ -47,12 +49,14 @@ pub(super) fn group_vehicles(
     geometry: &Geometry,
     v: &mut Validator<'_>,
     out: &mut Vec<VehicleDesc>,
-) {
+    cancel: &Cancel,
+) -> Result<(), Interrupted> {
+    cancel.check()?;
     let gp = FieldPath::root().key("vehicles").index(gi);
     let n0 = v.problems.len();
     v.field(&gp.key("heading_deg"), g.heading_deg);
     let Some(spec) = vehicle_spec(g.preset.as_deref(), g.model.as_ref(), &gp, v) else {
-        return;
+        return Ok(());
     };
     let params = spec.to_params();
     // The control period must be a whole number of physics steps.
@@ -102,7 +106,7 @@ pub(super) fn group_vehicles(
         }
     }
     if v.problems.len() > n0 {
-        return;
+        return Ok(());
     }
     // Placement.
 
@@ -119,7 +123,7 @@ pub(super) fn group_vehicles(
     if choices != 1 {
         v.push(ProblemKind::Invalid, &gp, format!(
             "give exactly one placement: `position` (one vehicle), `grid` or `random` ({} given)", choices));
-        return;
+        return Ok(());
     }
     let hull = hull_shape(&model.params.body.hull_size);
     let pool = geometry.pool;
@@ -167,7 +171,7 @@ pub(super) fn group_vehicles(
     };
     if let Some(p) = g.position {
         if !v.fields(&gp.key("position"), &p) {
-            return;
+            return Ok(());
         }
         if g.count != 1 {
             v.push(
@@ -178,7 +182,7 @@ pub(super) fn group_vehicles(
                     g.count
                 ),
             );
-            return;
+            return Ok(());
         }
         place(v, gp.key("position"), 0, Vec3::from(p), yaw0);
     } else if let Some(grid) = &g.grid {
@@ -187,21 +191,22 @@ pub(super) fn group_vehicles(
             & v.fields(&gr.key("spacing"), &grid.spacing)
             & v.field(&gr.key("columns"), grid.columns as f64);
         if !ok {
-            return;
+            return Ok(());
         }
         for i in 0..g.count {
+            cancel.check()?;
             let (c, r) = ((i % grid.columns) as f64, (i / grid.columns) as f64);
             let pos =
                 Vec3::from(grid.origin) + Vec3::new(c * grid.spacing[0], r * grid.spacing[1], 0.0);
             if !place(v, gr.clone(), i, pos, yaw0) {
-                return;
+                return Ok(());
             }
         }
     } else if let Some(r) = &g.random {
         let rp = gp.key("random");
         let ok = v.fields(&rp.key("min"), &r.min) & v.fields(&rp.key("max"), &r.max);
         if !ok {
-            return;
+            return Ok(());
         }
         if (0..3).any(|k| r.max[k] < r.min[k]) {
             v.push(
@@ -209,7 +214,7 @@ pub(super) fn group_vehicles(
                 &rp.key("max"),
                 "each coordinate of `max` must be ≥ the same coordinate of `min`".into(),
             );
-            return;
+            return Ok(());
         }
         // Placement draws from its own stream of the world seed, so vehicle RNG streams are
         // unaffected by how many tries placement needed.
@@ -228,6 +233,8 @@ pub(super) fn group_vehicles(
         for i in 0..g.count {
             let mut placed = false;
             for _ in 0..1000 {
+                // Each try compares with every vehicle placed so far: look before each one.
+                cancel.check()?;
                 let u: [f64; 3] = [rng.random(), rng.random(), rng.random()];
                 let pos = Vec3::new(
                     r.min[0] + u[0] * (r.max[0] - r.min[0]),
@@ -271,22 +278,27 @@ pub(super) fn group_vehicles(
                 v.push(ProblemKind::Overlap, &rp, format!(
                     "could place only {i} of {} vehicles in the box without overlaps (1000 tries for the next); enlarge the box or lower `count`",
                     g.count));
-                return;
+                return Ok(());
             }
         }
     }
+    Ok(())
 }
 
 type Cuboid3 = parry3d_f64::shape::Cuboid;
 
 /// Rejects overlapping vehicles (spatial hash, so large swarms stay fast).
-pub(super) fn check_overlaps(vehicles: &[VehicleDesc], v: &mut Validator<'_>) {
+pub(super) fn check_overlaps(
+    vehicles: &[VehicleDesc],
+    v: &mut Validator<'_>,
+    cancel: &Cancel,
+) -> Result<(), Interrupted> {
     let Some(cell) = vehicles
         .iter()
         .map(|d| d.model.params.body.hull_size.norm())
         .reduce(f64::max)
     else {
-        return;
+        return Ok(());
     };
     let key = |p: &Vec3| {
         (
@@ -306,6 +318,7 @@ pub(super) fn check_overlaps(vehicles: &[VehicleDesc], v: &mut Validator<'_>) {
         })
         .collect();
     for (i, d) in vehicles.iter().enumerate() {
+        cancel.check()?;
         let (kx, ky, kz) = key(&d.position);
         let mut hit = None;
         'search: for dx in -1..=1 {
@@ -330,8 +343,9 @@ pub(super) fn check_overlaps(vehicles: &[VehicleDesc], v: &mut Validator<'_>) {
                 d.name, d.position.x, d.position.y, d.position.z,
                 vehicles[j].name, vehicles[j].position.x, vehicles[j].position.y, vehicles[j].position.z,
                 d.model.params.body.hull_size.x));
-            return;
+            return Ok(());
         }
         grid.entry((kx, ky, kz)).or_default().push(i);
     }
+    Ok(())
 }

@@ -7,6 +7,7 @@ use super::names::{service_word, valid_service_word};
 use super::obstacles::obstacle;
 use super::placement::{check_overlaps, group};
 use super::validator::Validator;
+use crate::cancel::{Cancel, Interrupted};
 use crate::desc::{AgentsDesc, OutputDesc, WorldDesc};
 use crate::error::{FieldPath, ProblemKind};
 use crate::geometry::Geometry;
@@ -20,7 +21,8 @@ pub(super) fn build(
     file: &Path,
     budget: Option<&MemoryBudget>,
     v: &mut Validator<'_>,
-) -> Option<WorldDesc> {
+    cancel: &Cancel,
+) -> Result<Option<WorldDesc>, Interrupted> {
     let root = FieldPath::root();
     v.field(&root.key("duration"), wf.duration);
     let dt_ok = v.field(&root.key("dt"), wf.dt);
@@ -102,7 +104,7 @@ pub(super) fn build(
         memory::check(wf, budget, v);
     }
     if !v.problems.is_empty() {
-        return None;
+        return Ok(None);
     }
     let env = Environment {
         density: wf.water.density,
@@ -142,11 +144,11 @@ pub(super) fn build(
     let mut vehicles = Vec::new();
     let mut groups = Vec::new();
     for (gi, g) in wf.vehicles.iter().enumerate() {
-        groups.push(group(g, gi, wf, &env, &geometry, v, &mut vehicles));
+        groups.push(group(g, gi, wf, &env, &geometry, v, &mut vehicles, cancel)?);
     }
-    check_overlaps(&vehicles, v);
+    check_overlaps(&vehicles, v, cancel)?;
     if !v.problems.is_empty() {
-        return None;
+        return Ok(None);
     }
 
     let name = wf.name.clone().unwrap_or_else(|| {
@@ -171,7 +173,7 @@ pub(super) fn build(
         pace: wf.agents.pace,
         names: agent_names,
     };
-    Some(WorldDesc {
+    Ok(Some(WorldDesc {
         agents,
         name,
         source: PathBuf::from(file),
@@ -195,5 +197,5 @@ pub(super) fn build(
             record_hz: wf.output.record_hz,
             plots: wf.output.plots,
         },
-    })
+    }))
 }
