@@ -108,7 +108,7 @@ fn bad_world_file_exits_2_with_a_located_message() {
             "mass.toml",
             "[[vehicles]]\nposition = [1, 1, 1]\n[vehicles.model.body]\nmass = -3\n",
             "mass.toml:4:1",
-            "0 < mass",
+            "0.001 ≤ mass ≤ 1e5 kg",
         ),
         (
             "overlap.toml",
