@@ -81,7 +81,11 @@ fn plot_over_the_limit(ignore_xfsz: bool) {
     );
     assert_eq!(
         common::summary_files(&s),
-        [out.join("summary.json"), out.join("trajectories.csv")]
+        [
+            out.join("summary.json"),
+            out.join("trajectories.csv"),
+            out.join("vehicles.csv")
+        ]
     );
     assert_eq!(common::whole_csv_rows(&out.join("trajectories.csv")), 21);
     // Nothing else: no truncated plot under its name, no temporaries.
@@ -90,7 +94,10 @@ fn plot_over_the_limit(ignore_xfsz: bool) {
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
         .collect();
     present.sort();
-    assert_eq!(present, ["summary.json", "trajectories.csv"]);
+    assert_eq!(
+        present,
+        ["summary.json", "trajectories.csv", "vehicles.csv"]
+    );
 }
 
 #[test]

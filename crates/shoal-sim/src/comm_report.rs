@@ -100,6 +100,8 @@ pub struct CommSummary {
     /// Flooding result, if the world runs the gossip behaviour.
     pub gossip: Option<GossipSummary>,
     /// Per vehicle.
+    /// (written to `vehicles.csv`, not to summary.json, which stays small for any count)
+    #[serde(skip)]
     pub vehicles: Vec<VehicleComm>,
 }
 

@@ -1,5 +1,6 @@
 //! Run outputs: `trajectories.csv` streamed batch by batch (time-major, one row per vehicle and
-//! sample, units in the column names), `summary.json`, and plots (`depth.png/svg`: depth of
+//! sample, units in the column names), `summary.json` (small for any vehicle count),
+//! `vehicles.csv` (one row per vehicle), and plots (`depth.png/svg`: depth of
 //! every vehicle against time with its setpoint; `top.png/svg`: tracks seen from above with
 //! the pool and obstacles). [`Summary::to_text`] is the end-of-run report for people.
 //!
@@ -15,6 +16,7 @@
 //! the run is about to write; if fewer were written (a failure, or plots skipped after a stop
 //! request) it is written again with the files that exist, the error and the stop request.
 
+use crate::comm_report::VehicleComm;
 use crate::files::{CsvFile, FileError, write_whole};
 use crate::plot::{Outline, Plot, PlotError, Series};
 use crate::recorder::{self, RecordBatch, col, mode_of_code};
@@ -237,7 +239,12 @@ impl RunOutput {
         } = self;
         let json_path = dir.join("summary.json");
         let links_path = comm.as_ref().map(|_| dir.join("links.csv"));
-        let mut planned = vec![json_path.clone(), csv.path().to_path_buf()];
+        let vehicles_path = dir.join("vehicles.csv");
+        let mut planned = vec![
+            json_path.clone(),
+            csv.path().to_path_buf(),
+            vehicles_path.clone(),
+        ];
         planned.extend(links_path.clone());
         for (stem, _) in &plots {
             let stem = dir.join(stem);
@@ -252,6 +259,11 @@ impl RunOutput {
         let mut written = vec![json_path.clone()];
         let outcome = write_tables_and_plots(
             csv,
+            (
+                &vehicles_path,
+                &summary.vehicle_details,
+                summary.comm.as_ref().map(|c| c.vehicles.as_slice()),
+            ),
             links_path.as_deref(),
             &snaps,
             &plots,
@@ -391,6 +403,7 @@ fn write_summary(path: &Path, summary: &Summary) -> Result<PathBuf, FileError> {
 /// each file to `written` as it is complete.
 fn write_tables_and_plots(
     trajectories: CsvFile,
+    vehicles: (&Path, &[VehicleSummary], Option<&[VehicleComm]>),
     links: Option<&Path>,
     snaps: &[VehicleSnapshot],
     plots: &[(&'static str, Plot)],
@@ -399,6 +412,7 @@ fn write_tables_and_plots(
     written: &mut Vec<PathBuf>,
 ) -> Result<(), OutputError> {
     written.push(trajectories.commit()?);
+    written.push(write_vehicles_csv(vehicles.0, vehicles.1, vehicles.2)?);
     if let Some(p) = links {
         written.push(crate::comm_report::write_links_csv(p, snaps)?);
     }
@@ -423,7 +437,89 @@ fn format_num(x: f64) -> String {
     }
 }
 
-/// What happened to one vehicle.
+/// `vehicles.csv`: one row per vehicle with its [`VehicleSummary`] and, when the world has
+/// optical traffic, its communication counters (units in the column names), so that
+/// summary.json stays small whatever the vehicle count.
+fn write_vehicles_csv(
+    path: &Path,
+    rows: &[VehicleSummary],
+    comm: Option<&[VehicleComm]>,
+) -> Result<PathBuf, FileError> {
+    const COMM: [&str; 8] = [
+        "frames_sent",
+        "queue_overflow",
+        "rx_attempts",
+        "rx_delivered",
+        "rx_lost_range",
+        "rx_lost_occlusion",
+        "rx_lost_collision",
+        "rx_lost_half_duplex",
+    ];
+    let mut w = CsvFile::create(path)?;
+    let mut header: Vec<&str> = vec![
+        "name",
+        "group",
+        "mode",
+        "final_x_m",
+        "final_y_m",
+        "final_z_m",
+        "final_yaw_deg",
+        "final_depth_reading_m",
+        "depth_error_m",
+        "yaw_error_deg",
+        "distance_m",
+        "max_depth_m",
+        "max_speed_m_s",
+        "impacts",
+        "steps_in_contact",
+        "ballast_ml",
+    ];
+    if comm.is_some() {
+        header.extend(COMM);
+    }
+    w.write_record(header)?;
+    for (i, v) in rows.iter().enumerate() {
+        let [x, y, z] = v.final_position_m;
+        let mut row = vec![
+            v.name.clone(),
+            v.group.clone(),
+            v.mode.clone(),
+            format_num(x),
+            format_num(y),
+            format_num(z),
+            format_num(v.final_yaw_deg),
+            format_num(v.final_depth_reading_m),
+            format_num(v.depth_error_m),
+            format_num(v.yaw_error_deg),
+            format_num(v.distance_m),
+            format_num(v.max_depth_m),
+            format_num(v.max_speed_m_s),
+            v.impacts.to_string(),
+            v.steps_in_contact.to_string(),
+            format_num(v.ballast_ml),
+        ];
+        if let Some(c) = comm.and_then(|c| c.get(i)) {
+            let r = &c.rx;
+            row.extend(
+                [
+                    c.sent,
+                    c.queue_overflow,
+                    r.attempts,
+                    r.delivered,
+                    r.lost_range,
+                    r.lost_occlusion,
+                    r.lost_collision,
+                    r.lost_half_duplex,
+                ]
+                .map(|x| x.to_string()),
+            );
+        }
+        w.write_record(row)?;
+    }
+    w.commit()
+}
+
+/// What happened to one vehicle (a row of `vehicles.csv`).
 #[derive(Clone, Debug, Serialize)]
 pub struct VehicleSummary {
     /// Name.
@@ -520,7 +616,9 @@ pub struct Summary {
     pub trajectory_rows: u64,
     /// Per group.
     pub groups: Vec<GroupSummary>,
-    /// Per vehicle.
+    /// Per vehicle; written to `vehicles.csv`, not to summary.json (which stays small for
+    /// any vehicle count).
+    #[serde(skip)]
     pub vehicle_details: Vec<VehicleSummary>,
     /// Files written.
     pub files: Vec<String>,
