@@ -195,8 +195,10 @@ fn ctrl_c_ends_the_run_cleanly_with_outputs_written() {
 }
 
 /// Vehicles of the thread test: well above the threshold below which every loop runs on the
-/// calling thread ([`shoal_sim::parallel::MIN_PARALLEL`]).
-const THREADS_VEHICLES: usize = 400;
+/// calling thread ([`shoal_sim::parallel::MIN_PARALLEL`]), and enough that the medium's
+/// reception loop has more receivers than that in some steps (measured: in 44 steps of this
+/// run; with 400 vehicles in none, the beacons being spread over 50 ms).
+const THREADS_VEHICLES: usize = 600;
 
 #[test]
 fn one_and_two_threads_give_the_same_digest() {
@@ -205,8 +207,9 @@ fn one_and_two_threads_give_the_same_digest() {
     const { assert!(THREADS_VEHICLES >= MIN_PARALLEL + MIN_PARALLEL / 2) };
     // The benchmark swarm with optical traffic: every vehicle in auto mode with its tilt
     // drives moving, a ring of four modems each and a beacon a second (within 50 ms), so that
-    // the vehicle loops and the medium's reception loop (over ≈ every vehicle in the steps
-    // the beacons end) take the parallel path on 2 threads. 3 s: three rounds of beacons.
+    // the vehicle loops and the medium's reception loop (over the vehicles that may hear a
+    // frame ending in the step) take the parallel path on 2 threads. 3 s: three rounds of
+    // beacons.
     let dir = tmp("threads");
     let world = dir.join("swarm.toml");
     std::fs::write(
@@ -255,7 +258,12 @@ fn one_and_two_threads_give_the_same_digest() {
     );
     assert_eq!(s1["digest"], s2["digest"], "state digests differ");
     assert!(c1 == c2, "trajectories differ between 1 and 2 threads");
-    assert_eq!(comm, &s2["comm"], "the optical link's statistics differ");
+    assert!(
+        comm == &s2["comm"],
+        "the optical link's statistics differ: receptions {} vs {}",
+        comm["receptions"],
+        s2["comm"]["receptions"]
+    );
     assert_eq!(s1["groups"], s2["groups"]);
     let _ = std::fs::remove_dir_all(&dir);
 }
