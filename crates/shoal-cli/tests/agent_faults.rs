@@ -48,13 +48,40 @@ fn world_with(dir: &Path, duration: f64, agents: &str, more_vehicles: &str) -> P
     p
 }
 
-fn world(dir: &Path, duration: f64, agents: &str) -> PathBuf {
-    world_with(dir, duration, agents, "")
-}
-
 /// A second vehicle far off, driven by agent `name`.
 fn second_vehicle(name: &str) -> String {
     format!("[[vehicles]]\nname = \"{name}\"\nposition = [2.0, 2.0, 0.5]\nagent = \"{name}\"\n")
+}
+
+/// A test's folder, its agents' service prefix, the run's output folder and the running
+/// world.
+struct Started {
+    dir: PathBuf,
+    prefix: String,
+    out: PathBuf,
+    world: Child,
+}
+
+/// Starts the world of test `name` ([`world_with`]) in a fresh folder, with its own prefix.
+fn start(name: &str, duration: f64, agents: &str, more_vehicles: &str) -> Started {
+    let dir = common::tmp("faults", name);
+    let prefix = format!("f{}-{name}", std::process::id());
+    let w = world_with(&dir, duration, agents, more_vehicles);
+    let out = dir.join("out");
+    let world = spawn_world(&w, &out, &prefix);
+    Started {
+        dir,
+        prefix,
+        out,
+        world,
+    }
+}
+
+impl Started {
+    /// The goto agent `pilot` with `args` ([`spawn_agent`], logging to `pilot.err`).
+    fn pilot(&self, args: &[&str]) -> (Child, PathBuf) {
+        spawn_agent(&self.dir, "pilot", &self.prefix, "pilot", args)
+    }
 }
 
 fn spawn_world(world: &Path, out: &Path, prefix: &str) -> Child {
@@ -231,6 +258,15 @@ fn assert_on_target(f: &Finished, depth: f64, heading_deg: f64) {
     );
 }
 
+/// Time of the first row under a command to `depth`.
+fn first_command(f: &Finished, depth: f64) -> f64 {
+    f.rows
+        .iter()
+        .find(|r| (r.depth_sp - depth).abs() < 1e-6)
+        .expect("a command took effect")
+        .t
+}
+
 /// In `from … to` the vehicle was under the agent's command: auto mode to `depth` and
 /// `heading_deg` (to the 6 decimals trajectories.csv has).
 fn assert_commanded(f: &Finished, from: f64, to: f64, depth: f64, heading_deg: f64) {
@@ -286,36 +322,38 @@ fn assert_holds(f: &Finished, since: f64, to: f64) -> f64 {
     held.yaw_sp
 }
 
+/// [`assert_holds`], and the heading held is more than 5° short of the commanded
+/// `heading_deg` (the vehicle was still turning when it lost its agent): the hold shows as
+/// such, not as the last command still in force.
+fn assert_holds_short_of(f: &Finished, since: f64, to: f64, heading_deg: f64) {
+    let held = assert_holds(f, since, to);
+    assert!(
+        angle(held, heading_deg.to_radians()) > 5f64.to_radians(),
+        "it held heading {}°, not short of the commanded {heading_deg}°",
+        held.to_degrees()
+    );
+}
+
 #[test]
 fn hung_agent_falls_back_and_is_taken_back_when_it_answers_again() {
-    let dir = common::tmp("faults", "hung");
-    let prefix = format!("f{}-hung", std::process::id());
     // A second vehicle far off, driven by agent `pacer`, which takes 5 ms per tick: the
     // lock-step world waits for it, so it runs at ≈ 10× real time while `pilot` hangs.
-    let w = world_with(
-        &dir,
+    let s = start(
+        "hung",
         60.0,
         "timing = \"lockstep\"\ntimeout = 0.5\nfallback = \"hold\"",
         &second_vehicle("pacer"),
     );
-    let out = dir.join("out");
-    let sim = spawn_world(&w, &out, &prefix);
     let (mut pacer, _) = spawn_agent(
-        &dir,
+        &s.dir,
         "pacer",
-        &prefix,
+        &s.prefix,
         "pacer",
         &["1.0", "0", "--slow", "5"],
     );
     // At its 40th tick (t = 2 s) the pilot stalls for 2 s, four times the timeout.
-    let (mut agent, _) = spawn_agent(
-        &dir,
-        "pilot",
-        &prefix,
-        "pilot",
-        &["1.5", "90", "--stall", "40:2000"],
-    );
-    let f = finish(sim, &out);
+    let (mut agent, _) = s.pilot(&["1.5", "90", "--stall", "40:2000"]);
+    let f = finish(s.world, &s.out);
     assert!(wait(&mut agent, Duration::from_secs(30)).success());
     assert!(wait(&mut pacer, Duration::from_secs(30)).success());
     assert!(f.status.success(), "{}", f.stdout);
@@ -366,16 +404,17 @@ struct Stopped {
 }
 
 fn stop_the_pilot(name: &str) -> Stopped {
-    let dir = common::tmp("faults", name);
-    let prefix = format!("f{}-{name}", std::process::id());
-    let w = world_with(
-        &dir,
+    let Started {
+        dir,
+        prefix,
+        out,
+        world,
+    } = start(
+        name,
         60.0,
         "timing = \"lockstep\"\ntimeout = 0.5\nfallback = \"hold\"",
         &second_vehicle("pacer"),
     );
-    let out = dir.join("out");
-    let world = spawn_world(&w, &out, &prefix);
     let (pacer, pacer_log) = spawn_agent(
         &dir,
         "pacer",
@@ -433,12 +472,7 @@ fn stopped_agent_is_declared_hung_and_taken_back_when_continued() {
         later.t
     );
     assert_commanded(&f, 0.2, hung - 0.05, 1.5, 180.0);
-    let held = assert_holds(&f, hung, back - 0.05);
-    assert!(
-        angle(held, 180f64.to_radians()) > 5f64.to_radians(),
-        "it held heading {}°, not the commanded 180°",
-        held.to_degrees()
-    );
+    assert_holds_short_of(&f, hung, back - 0.05, 180.0);
     assert_commanded(&f, back + 0.15, 60.0, 1.5, 180.0);
     // The pilot was told: its first observation after waking carried the fallback flag.
     let woke = common::logged(&common::read_log(&s.pilot_log));
@@ -498,25 +532,16 @@ fn stopped_agent_killed_and_replaced_by_a_new_process() {
 
 #[test]
 fn fallback_stop_ends_the_run_early_and_says_why() {
-    let dir = common::tmp("faults", "stop");
-    let prefix = format!("f{}-stop", std::process::id());
-    let w = world(
-        &dir,
+    let s = start(
+        "stop",
         60.0,
         "timing = \"lockstep\"\ntimeout = 0.5\nfallback = \"stop\"",
+        "",
     );
-    let out = dir.join("out");
-    let sim = spawn_world(&w, &out, &prefix);
     // Stalls 2 s at t = 1 s: hung after 0.5 s, the run stops; the agent wakes after the
     // world has gone and still finds the END of the run (exit 0).
-    let (mut agent, _) = spawn_agent(
-        &dir,
-        "pilot",
-        &prefix,
-        "pilot",
-        &["1.5", "90", "--stall", "20:2000"],
-    );
-    let f = finish(sim, &out);
+    let (mut agent, _) = s.pilot(&["1.5", "90", "--stall", "20:2000"]);
+    let f = finish(s.world, &s.out);
     assert!(wait(&mut agent, Duration::from_secs(30)).success());
     assert_eq!(f.status.code(), Some(3), "{}", f.stdout);
     let stopped = f.summary["agents"]["stopped"].as_str().unwrap();
@@ -537,21 +562,18 @@ fn fallback_stop_ends_the_run_early_and_says_why() {
 
 #[test]
 fn fallback_stop_ends_a_free_running_run_when_its_agent_is_killed() {
-    let dir = common::tmp("faults", "stop-killed");
-    let prefix = format!("f{}-stop-killed", std::process::id());
     // 60 s simulated at 20× real time.
-    let w = world(
-        &dir,
+    let s = start(
+        "stop-killed",
         60.0,
         "timing = \"free\"\npace = 20.0\nfallback = \"stop\"",
+        "",
     );
-    let out = dir.join("out");
-    let sim = spawn_world(&w, &out, &prefix);
-    let (mut agent, log) = spawn_agent(&dir, "pilot", &prefix, "pilot", &["1.5", "90"]);
+    let (mut agent, log) = s.pilot(&["1.5", "90"]);
     let alive = wait_logged(&log, 5.0);
     agent.kill().unwrap(); // kill -9
     agent.wait().unwrap();
-    let f = finish(sim, &out);
+    let f = finish(s.world, &s.out);
     assert_eq!(f.status.code(), Some(3), "{}", f.stdout);
     let stopped = f.summary["agents"]["stopped"].as_str().unwrap();
     assert!(
@@ -569,34 +591,20 @@ fn fallback_stop_ends_a_free_running_run_when_its_agent_is_killed() {
     assert!(t_end < 60.0);
     assert!(f.last().t <= t_end + 1e-9);
     // Its last command was in force to the end.
-    let first_cmd = f
-        .rows
-        .iter()
-        .find(|r| (r.depth_sp - 1.5).abs() < 1e-9)
-        .expect("a command took effect")
-        .t;
+    let first_cmd = first_command(&f, 1.5);
     assert_commanded(&f, first_cmd, t_end, 1.5, 90.0);
 }
 
 #[test]
 fn fallback_surface_brings_the_vehicle_up_after_its_agent_is_killed() {
-    let dir = common::tmp("faults", "surface");
-    let prefix = format!("f{}-surface", std::process::id());
-    let w = world(
-        &dir,
+    let s = start(
+        "surface",
         90.0,
         "timing = \"lockstep\"\ntimeout = 2.0\nfallback = \"surface\"",
+        "",
     );
-    let out = dir.join("out");
-    let sim = spawn_world(&w, &out, &prefix);
     // 10 ms per tick: the run lasts a while.
-    let (mut agent, log) = spawn_agent(
-        &dir,
-        "pilot",
-        &prefix,
-        "pilot",
-        &["1.5", "0", "--slow", "10"],
-    );
+    let (mut agent, log) = s.pilot(&["1.5", "0", "--slow", "10"]);
     // Killed once it has dived (its pressure port reads 0.09 m less than the 1.5 m).
     let dived = common::poll(common::POLL_LIMIT, "the vehicle dived", || {
         common::logged(&common::read_log(&log))
@@ -605,7 +613,7 @@ fn fallback_surface_brings_the_vehicle_up_after_its_agent_is_killed() {
     });
     agent.kill().unwrap(); // kill -9
     agent.wait().unwrap();
-    let f = finish(sim, &out);
+    let f = finish(s.world, &s.out);
     assert!(f.status.success());
     let ev = f.events();
     let gone = ev.iter().find(|e| e.0 == "gone").expect("gone event").1;
@@ -621,18 +629,15 @@ fn fallback_surface_brings_the_vehicle_up_after_its_agent_is_killed() {
 
 #[test]
 fn free_running_agent_gets_observations_and_its_commands_take_effect() {
-    let dir = common::tmp("faults", "free-obs");
-    let prefix = format!("f{}-free-obs", std::process::id());
     // 60 s simulated at 20× real time: 1,200 control ticks in 3 s of wall time.
-    let w = world(
-        &dir,
+    let s = start(
+        "free-obs",
         60.0,
         "timing = \"free\"\npace = 20.0\ntimeout = 0.3\nfallback = \"hold\"",
+        "",
     );
-    let out = dir.join("out");
-    let sim = spawn_world(&w, &out, &prefix);
-    let (mut agent, log) = spawn_agent(&dir, "pilot", &prefix, "pilot", &["1.5", "90"]);
-    let f = finish(sim, &out);
+    let (mut agent, log) = s.pilot(&["1.5", "90"]);
+    let f = finish(s.world, &s.out);
     assert!(wait(&mut agent, Duration::from_secs(30)).success());
     assert!(f.status.success(), "{}", f.stdout);
     assert_eq!(f.summary["agents"]["timing"], "free");
@@ -660,12 +665,7 @@ fn free_running_agent_gets_observations_and_its_commands_take_effect() {
     // Commands: from the first, the vehicle is under them to the end (the last command stays
     // in force between replies); before it, it held (fallback) — as many ticks as the
     // summary counts.
-    let first_cmd = f
-        .rows
-        .iter()
-        .find(|r| (r.depth_sp - 1.5).abs() < 1e-9)
-        .expect("a command took effect")
-        .t;
+    let first_cmd = first_command(&f, 1.5);
     assert_commanded(&f, first_cmd, 60.0, 1.5, 90.0);
     if first_cmd > 0.15 {
         assert_holds(&f, 0.0, first_cmd - 0.1);
@@ -688,25 +688,16 @@ fn free_running_agent_gets_observations_and_its_commands_take_effect() {
 
 #[test]
 fn free_running_world_never_waits_and_keeps_the_last_command() {
-    let dir = common::tmp("faults", "free");
-    let prefix = format!("f{}-free", std::process::id());
     // 60 s simulated at 20× real time: 3 s of wall time, 1200 control ticks.
-    let w = world(
-        &dir,
+    let s = start(
+        "free",
         60.0,
         "timing = \"free\"\npace = 20.0\ntimeout = 0.3\nfallback = \"hold\"",
+        "",
     );
-    let out = dir.join("out");
-    let sim = spawn_world(&w, &out, &prefix);
     // The agent needs 300 ms per tick: a lock-step world would take 1200 × 0.3 s = 6 min.
-    let (mut agent, _) = spawn_agent(
-        &dir,
-        "pilot",
-        &prefix,
-        "pilot",
-        &["1.5", "90", "--slow", "300"],
-    );
-    let f = finish(sim, &out);
+    let (mut agent, _) = s.pilot(&["1.5", "90", "--slow", "300"]);
+    let f = finish(s.world, &s.out);
     assert!(wait(&mut agent, Duration::from_secs(30)).success());
     assert!(f.status.success());
     let a = f.agent();
@@ -727,43 +718,35 @@ fn free_running_world_never_waits_and_keeps_the_last_command() {
     // fallback between the rare commands (that would be ≈ 1,200 − 20 ticks).
     let fallback = a["fallback_ticks"].as_u64().unwrap();
     assert!((1..400).contains(&fallback), "{fallback} fallback ticks");
-    let first_cmd = f
-        .rows
-        .iter()
-        .find(|r| (r.depth_sp - 1.5).abs() < 1e-9)
-        .expect("a command took effect")
-        .t;
+    let first_cmd = first_command(&f, 1.5);
     assert_commanded(&f, first_cmd, 60.0, 1.5, 90.0);
     assert_on_target(&f, 1.5, 90.0);
 }
 
 #[test]
 fn free_running_world_notices_a_killed_agent_and_takes_a_new_one() {
-    let dir = common::tmp("faults", "replace");
-    let prefix = format!("f{}-replace", std::process::id());
     // 120 s simulated at 10× real time; agent `watch` on a second vehicle shows how far the
     // world has run.
-    let w = world_with(
-        &dir,
+    let s = start(
+        "replace",
         120.0,
         "timing = \"free\"\npace = 10.0\ntimeout = 0.3\nfallback = \"hold\"",
         &second_vehicle("watch"),
     );
-    let out = dir.join("out");
-    let sim = spawn_world(&w, &out, &prefix);
-    let (mut watch, watch_log) = spawn_agent(&dir, "watch", &prefix, "watch", &["1.0", "0"]);
+    let (mut watch, watch_log) = spawn_agent(&s.dir, "watch", &s.prefix, "watch", &["1.0", "0"]);
     // Sent to 180°, which the paper's overdamped yaw loop takes well over 20 s to reach:
     // killed at 3 s, the vehicle holds a heading far from it.
-    let (mut first, first_log) = spawn_agent(&dir, "pilot", &prefix, "pilot", &["1.5", "180"]);
+    let (mut first, first_log) = s.pilot(&["1.5", "180"]);
     let alive = wait_logged(&first_log, 3.0);
     first.kill().unwrap(); // kill -9
     first.wait().unwrap();
     // The world goes on (it does not hang on the dead agent), finds it dead (it looks every
     // 64 steps) and frees its name: 10 s simulated later a new process attaches.
     let later = wait_logged(&watch_log, alive.t + 10.0);
-    let (mut second, second_log) = spawn_agent(&dir, "pilot2", &prefix, "pilot", &["1.0", "90"]);
+    let (mut second, second_log) =
+        spawn_agent(&s.dir, "pilot2", &s.prefix, "pilot", &["1.0", "90"]);
     wait_attached(&second_log);
-    let f = finish(sim, &out);
+    let f = finish(s.world, &s.out);
     assert!(wait(&mut second, Duration::from_secs(30)).success());
     assert!(wait(&mut watch, Duration::from_secs(30)).success());
     assert!(f.status.success());
@@ -776,12 +759,7 @@ fn free_running_world_notices_a_killed_agent_and_takes_a_new_one() {
     // Between the two the vehicle held the depth and heading it had when the first agent
     // died (not the 180° it was sent to), then followed the second agent.
     assert_commanded(&f, 0.5, gone - 0.05, 1.5, 180.0);
-    let held = assert_holds(&f, gone, back - 0.05);
-    assert!(
-        angle(held, 180f64.to_radians()) > 5f64.to_radians(),
-        "it held heading {}°",
-        held.to_degrees()
-    );
+    assert_holds_short_of(&f, gone, back - 0.05, 180.0);
     assert_commanded(&f, back + 0.2, 120.0, 1.0, 90.0);
     assert_on_target(&f, 1.0, 90.0);
     assert!(f.agent()["attached_at_end"].as_bool().unwrap());
@@ -791,17 +769,14 @@ fn free_running_world_notices_a_killed_agent_and_takes_a_new_one() {
 
 #[test]
 fn rust_agent_interrupted_with_ctrl_c_says_goodbye() {
-    let dir = common::tmp("faults", "ctrl-c");
-    let prefix = format!("f{}-ctrl-c", std::process::id());
     // Free-running at 10× real time: 60 s simulated take 6 s.
-    let w = world(
-        &dir,
+    let s = start(
+        "ctrl-c",
         60.0,
         "timing = \"free\"\npace = 10.0\nfallback = \"hold\"",
+        "",
     );
-    let out = dir.join("out");
-    let sim = spawn_world(&w, &out, &prefix);
-    let (mut agent, log) = spawn_agent(&dir, "pilot", &prefix, "pilot", &["1.5", "90"]);
+    let (mut agent, log) = s.pilot(&["1.5", "90"]);
     // Interrupted once it has observations (the world has it attached) and has driven 5 s.
     let driven = wait_logged(&log, 5.0);
     signal(&agent, "INT");
@@ -809,7 +784,7 @@ fn rust_agent_interrupted_with_ctrl_c_says_goodbye() {
     // iceoryx2 catches the signal; the agent API turns it into `Interrupted`, the example
     // exits 130 and the link says goodbye on the way out.
     assert_eq!(status.code(), Some(130));
-    let f = finish(sim, &out);
+    let f = finish(s.world, &s.out);
     assert!(f.status.success());
     let ev = f.events();
     assert_eq!(f.names(), ["attached", "left"]);
