@@ -223,7 +223,10 @@ fn buoyancy_calibration_ends_inside_the_dead_zone() {
     // starting buoyancy predicts both.
     let u = m[0].uauv2.as_ref().unwrap();
     let (ideal, ideal_stop) = ideal_buoyancy(
-        m[0].params.control.heave_buoyancy.gains(presets::UAUV2_HEAVE_MASS),
+        m[0].params
+            .control
+            .heave_buoyancy
+            .gains(presets::UAUV2_HEAVE_MASS),
         u.side_limits,
         0.2,
         sensor_depth(&rows[0][0], pz),
@@ -232,7 +235,9 @@ fn buoyancy_calibration_ends_inside_the_dead_zone() {
         120.0,
     );
     let ideal16 = ideal.iter().find(|s| s.0 >= 16.0).unwrap().1;
-    println!("depth at 16 s: sim {d16:.4} m, ideal {ideal16:.4} m; pump stops: sim {stop:.2} s, ideal {ideal_stop:.2} s");
+    println!(
+        "depth at 16 s: sim {d16:.4} m, ideal {ideal16:.4} m; pump stops: sim {stop:.2} s, ideal {ideal_stop:.2} s"
+    );
     // (Measured: 1.7 mm shallower and 0.55 s later than the ideal law; a pump 10 % slower
     // or faster moves the stop by 4 s, 25 % by 15 s, and the depth by 3 to 6 mm.)
     assert!(
@@ -277,7 +282,13 @@ fn turning_with_the_papers_gains_does_not_overshoot_and_follows_the_yaw_law() {
     // With K_Dψ = 0.016 the loop is overdamped: the 180° turn is still short after 15 s, by
     // what the ideal 1-DOF yaw law predicts for these gains (sensors, filters and the 6-DOF
     // hull change it by little), and so is every later turn.
-    let ideal = check_yaw_law(&rows[0], &segs, paper_yaw_gains(&m[0]), YAW_REL, YAW_TOL_DEG);
+    let ideal = check_yaw_law(
+        &rows[0],
+        &segs,
+        paper_yaw_gains(&m[0]),
+        YAW_REL,
+        YAW_TOL_DEG,
+    );
     let left = (segs[1].target - ideal[0].last().unwrap().1).to_degrees();
     assert!(left > 20.0, "the paper's gains leave {left}° after 15 s");
 }
@@ -313,7 +324,13 @@ fn turning_with_nominal_gains_turns_at_the_papers_rate() {
         );
         assert!(s.time_to_band.is_some(), "enters ±2°: {s:?}");
     }
-    let ideal = check_yaw_law(&rows[0], &segs, paper_yaw_gains(&m[0]), YAW_REL, YAW_TOL_DEG);
+    let ideal = check_yaw_law(
+        &rows[0],
+        &segs,
+        paper_yaw_gains(&m[0]),
+        YAW_REL,
+        YAW_TOL_DEG,
+    );
     // The peak rate of every turn as the 1-DOF law has it, sampled as recorded (20 Hz).
     let record_dt = rows[0][1][col::T] - rows[0][0][col::T];
     for (s, ideal) in segs[1..].iter().zip(&ideal) {

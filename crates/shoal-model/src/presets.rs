@@ -165,8 +165,8 @@ pub fn uauv2() -> VehicleParams {
             },
         ],
         ballast: Some(BallastParams {
-            capacity: 20e-6, // assumed
-            flow: UAUV2_PUMP_FLOW, // derived (see the constant)
+            capacity: 20e-6,                      // assumed
+            flow: UAUV2_PUMP_FLOW,                // derived (see the constant)
             position: Vec3::new(0.0, 0.0, 0.015), // assumed at the CG
             initial_volume: tank_neutral,
         }),
