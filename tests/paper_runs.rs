@@ -147,16 +147,16 @@ fn yaw_state_at(rows: &[Vec<f64>], s: &Segment) -> (f64, f64) {
     (s.from, r[col::R])
 }
 
-/// Each yaw segment after the first, against the ideal 1-DOF yaw law started from the
-/// recorded heading and rate: the final error must agree within `tol_deg` + `rel` of the
-/// move. Returns the ideal responses.
+/// Each yaw segment after the first, against the ideal 1-DOF yaw law (gains of the vehicle's
+/// design for the identified inertia) started from the recorded heading and rate: the final
+/// error must agree within [`YAW_TOL_DEG`] + [`YAW_REL`] of the move. Returns the ideal
+/// responses.
 fn check_yaw_law(
     rows: &[Vec<f64>],
     segs: &[Segment],
-    gains: (f64, f64),
-    rel: f64,
-    tol_deg: f64,
+    m: &VehicleModel,
 ) -> Vec<Vec<(f64, f64, f64)>> {
+    let gains = paper_yaw_gains(m);
     segs[1..]
         .iter()
         .map(|s| {
@@ -164,7 +164,7 @@ fn check_yaw_law(
             let ideal = ideal_yaw(gains, s.target, psi0, r0, s.t1 - s.t0);
             let predicted = (s.target - ideal.last().unwrap().1).to_degrees();
             let got = s.final_error.to_degrees();
-            let tol = tol_deg + rel * (s.target - psi0).abs().to_degrees();
+            let tol = YAW_TOL_DEG + YAW_REL * (s.target - psi0).abs().to_degrees();
             println!(
                 "yaw {:.0}° → {:.0}°: error at the end sim {got:.2}°, ideal {predicted:.2}° (± {tol:.2}°)",
                 psi0.to_degrees(),
@@ -282,13 +282,7 @@ fn turning_with_the_papers_gains_does_not_overshoot_and_follows_the_yaw_law() {
     // With K_Dψ = 0.016 the loop is overdamped: the 180° turn is still short after 15 s, by
     // what the ideal 1-DOF yaw law predicts for these gains (sensors, filters and the 6-DOF
     // hull change it by little), and so is every later turn.
-    let ideal = check_yaw_law(
-        &rows[0],
-        &segs,
-        paper_yaw_gains(&m[0]),
-        YAW_REL,
-        YAW_TOL_DEG,
-    );
+    let ideal = check_yaw_law(&rows[0], &segs, &m[0]);
     let left = (segs[1].target - ideal[0].last().unwrap().1).to_degrees();
     assert!(left > 20.0, "the paper's gains leave {left}° after 15 s");
 }
@@ -324,13 +318,7 @@ fn turning_with_nominal_gains_turns_at_the_papers_rate() {
         );
         assert!(s.time_to_band.is_some(), "enters ±2°: {s:?}");
     }
-    let ideal = check_yaw_law(
-        &rows[0],
-        &segs,
-        paper_yaw_gains(&m[0]),
-        YAW_REL,
-        YAW_TOL_DEG,
-    );
+    let ideal = check_yaw_law(&rows[0], &segs, &m[0]);
     // The peak rate of every turn as the 1-DOF law has it, sampled as recorded (20 Hz).
     let record_dt = rows[0][1][col::T] - rows[0][0][col::T];
     for (s, ideal) in segs[1..].iter().zip(&ideal) {
@@ -381,7 +369,7 @@ fn auto_mode_controls_heave_and_yaw_and_barely_drifts() {
     let yaw = yaw_segments(&rows[1], 2f64.to_radians());
     assert_eq!(yaw.len(), 5, "0 → 180° → 45° → 90° → 0: {yaw:?}");
     assert!(yaw.iter().all(|s| s.overshoot.to_degrees() <= 10.0));
-    let ideal = check_yaw_law(&rows[1], &yaw, paper_yaw_gains(&m[1]), YAW_REL, YAW_TOL_DEG);
+    let ideal = check_yaw_law(&rows[1], &yaw, &m[1]);
     // It turned: the 180° turn covered most of its way in 15 s, as the ideal one did.
     let covered = (yaw[1].target - yaw[1].final_error - yaw[1].from).to_degrees();
     let ideal_covered = (ideal[0].last().unwrap().1 - yaw[1].from).to_degrees();
