@@ -401,6 +401,8 @@ struct Stopped {
     pacer: Child,
     pacer_log: PathBuf,
     stopped_after: Logged,
+    /// A line the pacer logged after the pilot was stopped.
+    stopped: Logged,
 }
 
 fn stop_the_pilot(name: &str) -> Stopped {
@@ -427,6 +429,7 @@ fn stop_the_pilot(name: &str) -> Stopped {
     let (pilot, pilot_log) = spawn_agent(&dir, "pilot", &prefix, "pilot", &["1.5", "180"]);
     let stopped_after = wait_logged(&pilot_log, 3.0);
     signal(&pilot, "STOP");
+    let stopped = common::logged_from_now(&pacer_log);
     Stopped {
         dir,
         prefix,
@@ -437,6 +440,7 @@ fn stop_the_pilot(name: &str) -> Stopped {
         pacer,
         pacer_log,
         stopped_after,
+        stopped,
     }
 }
 
@@ -445,7 +449,7 @@ fn stopped_agent_is_declared_hung_and_taken_back_when_continued() {
     let s = stop_the_pilot("sigstop");
     // The world cannot pass the pilot's stalled tick before declaring it hung (lock-step):
     // once the pacer has seen 8 s more, the pilot has been hung for most of them.
-    let later = wait_logged(&s.pacer_log, s.stopped_after.t + 8.0);
+    let later = wait_logged(&s.pacer_log, s.stopped.t + 8.0);
     signal(&s.pilot, "CONT");
     let (mut pilot, mut pacer) = (s.pilot, s.pacer);
     let f = finish(s.world, &s.out);
@@ -499,13 +503,14 @@ fn stopped_agent_is_declared_hung_and_taken_back_when_continued() {
 #[test]
 fn stopped_agent_killed_and_replaced_by_a_new_process() {
     let s = stop_the_pilot("replace-hung");
-    let hung_seen = wait_logged(&s.pacer_log, s.stopped_after.t + 4.0);
+    let hung_seen = wait_logged(&s.pacer_log, s.stopped.t + 4.0);
     // kill -9 of the stopped process; the world finds its node dead (it looks every 64
     // steps) and the name free for a new process once some simulated seconds have passed.
     let mut pilot = s.pilot;
     pilot.kill().unwrap();
     pilot.wait().unwrap();
-    let dead_seen = wait_logged(&s.pacer_log, hung_seen.t + 4.0);
+    let killed = common::logged_from_now(&s.pacer_log);
+    let dead_seen = wait_logged(&s.pacer_log, killed.t + 4.0);
     let (mut second, second_log) = spawn_agent(&s.dir, "pilot2", &s.prefix, "pilot", &["1.0", "0"]);
     wait_attached(&second_log);
     let mut pacer = s.pacer;
@@ -744,7 +749,8 @@ fn free_running_world_notices_a_killed_agent_and_takes_a_new_one() {
     first.wait().unwrap();
     // The world goes on (it does not hang on the dead agent), finds it dead (it looks every
     // 64 steps) and frees its name: 10 s simulated later a new process attaches.
-    let later = wait_logged(&watch_log, alive.t + 10.0);
+    let killed = common::logged_from_now(&watch_log);
+    let later = wait_logged(&watch_log, killed.t + 10.0);
     let (mut second, second_log) =
         spawn_agent(&s.dir, "pilot2", &s.prefix, "pilot", &["1.0", "90"]);
     wait_attached(&second_log);

@@ -191,3 +191,22 @@ pub fn wait_logged(log: &Path, t: f64) -> Logged {
         || logged(&read_log(log)).into_iter().find(|l| l.t >= t),
     )
 }
+
+/// A line the goto agent logging to `log` prints after this call began: the world has run at
+/// least to its `t` since then, whatever the test did just before (a signal, a kill). (Two
+/// simulated seconds past the last complete line, so that a line being written meanwhile
+/// does not count.)
+pub fn logged_from_now(log: &Path) -> Logged {
+    let last = logged(&read_log(log))
+        .last()
+        .map_or(f64::NEG_INFINITY, |l| l.t);
+    poll(
+        POLL_LIMIT,
+        &format!("a new line logged in {}", log.display()),
+        || {
+            logged(&read_log(log))
+                .into_iter()
+                .find(|l| l.t >= last + 1.5)
+        },
+    )
+}
