@@ -2,14 +2,17 @@
 //! With `--bad` it also sends, on every tick, commands the world must reject (NaN, unknown
 //! mode, unknown vehicle, wrong protocol version, oversized frames); with `--slow MS` it
 //! sleeps that long per tick (a heavy computation); with `--stall TICK:MS` it sleeps MS once,
-//! at its TICK-th tick (counted from 0: a hang it recovers from).
+//! at its TICK-th tick (counted from 0: a hang it recovers from); with `--log` it prints what
+//! its first vehicle observes once per simulated second on stderr
+//! (`goto_agent: t = 12.00 s, depth 1.234 m, yaw 45.0°`, then ` (fallback)` while the world
+//! holds the vehicle under its fallback), so that a test can follow the run.
 //!
 //! ```sh
-//! cargo run --release -p shoal-bridge --example goto_agent -- PREFIX AGENT DEPTH_M HEADING_DEG [--bad] [--slow MS] [--stall TICK:MS]
+//! cargo run --release -p shoal-bridge --example goto_agent -- PREFIX AGENT DEPTH_M HEADING_DEG [--bad] [--slow MS] [--stall TICK:MS] [--log]
 //! ```
 
 use shoal_bridge::agent::{Agent, AgentLink, Ended};
-use shoal_bridge::protocol::{Command, MAX_TX_FRAMES, Observation, mode};
+use shoal_bridge::protocol::{Command, MAX_TX_FRAMES, Observation, flags, mode};
 use std::process::ExitCode;
 use std::time::Duration;
 
@@ -22,6 +25,8 @@ struct Goto {
     /// Current tick, and the step it belongs to.
     tick: u64,
     step: Option<u64>,
+    /// `--log`: the first vehicle's id and the last simulated second logged.
+    log: Option<(Option<u32>, Option<u64>)>,
 }
 
 impl Agent for Goto {
@@ -30,6 +35,23 @@ impl Agent for Goto {
             self.tick += 1;
         }
         self.step = Some(o.step);
+        if let Some((first, second)) = &mut self.log
+            && *first.get_or_insert(o.vehicle) == o.vehicle
+            && *second != Some(o.time as u64)
+        {
+            *second = Some(o.time as u64);
+            eprintln!(
+                "goto_agent: t = {:.2} s, depth {:.3} m, yaw {:.1}°{}",
+                o.time,
+                o.depth,
+                o.yaw.to_degrees(),
+                if o.flags & flags::FALLBACK != 0 {
+                    " (fallback)"
+                } else {
+                    ""
+                }
+            );
+        }
         cmd.set_mode(mode::AUTO, self.depth, self.yaw, 0.0, 0.0);
         if !self.slow.is_zero() {
             std::thread::sleep(self.slow);
@@ -72,6 +94,7 @@ fn garbage(good: &Command) -> Vec<Command> {
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let bad = args.iter().any(|a| a == "--bad");
+    let log = args.iter().any(|a| a == "--log");
     let slow_ms = args
         .iter()
         .position(|a| a == "--slow")
@@ -100,7 +123,7 @@ fn main() -> ExitCode {
         pos.get(3).and_then(|s| s.parse::<f64>().ok()),
     ) else {
         eprintln!(
-            "usage: goto_agent PREFIX AGENT DEPTH_M HEADING_DEG [--bad] [--slow MS] [--stall TICK:MS]"
+            "usage: goto_agent PREFIX AGENT DEPTH_M HEADING_DEG [--bad] [--slow MS] [--stall TICK:MS] [--log]"
         );
         return ExitCode::from(2);
     };
@@ -120,6 +143,7 @@ fn main() -> ExitCode {
         stall: stall.map(|(t, ms)| (t, Duration::from_millis(ms))),
         tick: 0,
         step: None,
+        log: log.then_some((None, None)),
     };
     let result = if bad {
         // The same loop as `AgentLink::run`, with garbage before each good command.
@@ -129,10 +153,7 @@ fn main() -> ExitCode {
                 Ok(None) => break Ok(Ended::Silent),
                 Err(e) => break Err(e),
             };
-            if obs
-                .iter()
-                .any(|o| o.flags & shoal_bridge::protocol::flags::END != 0)
-            {
+            if obs.iter().any(|o| o.flags & flags::END != 0) {
                 break Ok(Ended::WorldEnded);
             }
             let mut cmds = Vec::new();

@@ -20,6 +20,7 @@
 
 use crate::protocol::{Command, Observation, flags};
 use crate::{BridgeError, ipc, service_name};
+use iceoryx2::node::NodeWaitFailure;
 use iceoryx2::port::publisher::Publisher;
 use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::prelude::*;
@@ -81,6 +82,21 @@ impl Drop for AgentLink {
     }
 }
 
+/// Sleeps `d` on `node`, looking for Ctrl-C and SIGTERM (iceoryx2 catches them): they end
+/// the wait with [`BridgeError::Interrupted`]. A sleep cut short by any other signal — the
+/// SIGCONT that resumes a process stopped with SIGSTOP or Ctrl-Z, which Linux lets interrupt
+/// the sleep without a handler — is not a termination request: it only ends the nap early.
+fn nap(node: &Node<Ipc>, d: Duration) -> Result<(), BridgeError> {
+    match node.wait(d) {
+        Ok(()) => Ok(()),
+        // Was it Ctrl-C? Then the handler has recorded it, and this look reports it.
+        Err(NodeWaitFailure::Interrupt) => node
+            .wait(Duration::ZERO)
+            .map_err(|_| BridgeError::Interrupted),
+        Err(NodeWaitFailure::TerminationRequest) => Err(BridgeError::Interrupted),
+    }
+}
+
 impl AgentLink {
     /// Attaches as `agent` to the world with `prefix`, waiting up to `wait` for the world to
     /// appear.
@@ -93,8 +109,7 @@ impl AgentLink {
             .map_err(ipc("node"))?;
         // The first look for a termination request installs iceoryx2's Ctrl-C / SIGTERM
         // handler (it is installed lazily): from here on they end the wait cleanly.
-        node.wait(Duration::ZERO)
-            .map_err(|_| BridgeError::Interrupted)?;
+        nap(&node, Duration::ZERO)?;
         let start = Instant::now();
         let (obs_svc, cmd_svc) = loop {
             let o = node
@@ -115,8 +130,7 @@ impl AgentLink {
                 (Ok(o), Ok(c)) => break (o, c),
                 _ if start.elapsed() < wait => {
                     // Sleeps, and notices Ctrl-C / SIGTERM (iceoryx2 catches them).
-                    node.wait(Duration::from_millis(20))
-                        .map_err(|_| BridgeError::Interrupted)?;
+                    nap(&node, Duration::from_millis(20))?;
                 }
                 _ => {
                     return Err(BridgeError::NoWorld {
@@ -168,9 +182,7 @@ impl AgentLink {
         let start = Instant::now();
         if signals && self.signal_checked.elapsed() >= SIGNAL_CHECK {
             self.signal_checked = Instant::now();
-            self.node
-                .wait(Duration::ZERO)
-                .map_err(|_| BridgeError::Interrupted)?;
+            nap(&self.node, Duration::ZERO)?;
         }
         loop {
             // Take the newest slice if several are queued.
@@ -191,9 +203,7 @@ impl AgentLink {
             } else if waited < Duration::from_millis(1) {
                 std::thread::yield_now();
             } else if signals {
-                self.node
-                    .wait(Duration::from_micros(50))
-                    .map_err(|_| BridgeError::Interrupted)?;
+                nap(&self.node, Duration::from_micros(50))?;
             } else {
                 std::thread::sleep(Duration::from_micros(50));
             }

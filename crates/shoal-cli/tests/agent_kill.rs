@@ -13,7 +13,7 @@ use std::sync::Mutex;
 /// Held by each test: the /dev/shm comparisons must not see each other's segments.
 static ONE_AT_A_TIME: Mutex<()> = Mutex::new(());
 use std::path::PathBuf;
-use std::process::{Child, Command, Stdio};
+use std::process::{Child, Command};
 use std::time::Duration;
 
 fn shm() -> BTreeSet<String> {
@@ -29,9 +29,9 @@ fn shm() -> BTreeSet<String> {
 }
 
 /// A lock-step world of `duration` s with one vehicle driven by a goto agent that takes 2 ms
-/// per tick (so the run lasts a while), both started. Returns the world, the agent and the
-/// output directory.
-fn start(name: &str, duration: f64) -> (Child, Child, PathBuf) {
+/// per tick (so the run lasts a while), both started. Returns the world, the agent, the
+/// output directory and the agent's log (`--log`: what it observes each simulated second).
+fn start(name: &str, duration: f64) -> (Child, Child, PathBuf, PathBuf) {
     let agent_bin = common::example_agent("goto_agent");
     let dir = common::tmp("kill", name);
     let world = dir.join("world.toml");
@@ -52,12 +52,13 @@ fn start(name: &str, duration: f64) -> (Child, Child, PathBuf) {
         &world,
         None,
     );
+    let log = dir.join("agent.err");
     let agent = Command::new(&agent_bin)
-        .args([&prefix, "pilot", "1.5", "0", "--slow", "2"])
-        .stderr(Stdio::null())
+        .args([&prefix, "pilot", "1.5", "0", "--slow", "2", "--log"])
+        .stderr(common::log_file(&log))
         .spawn()
         .unwrap();
-    (sim, agent, out)
+    (sim, agent, out, log)
 }
 
 #[test]
@@ -65,8 +66,9 @@ fn killed_agent_is_detected_its_vehicle_falls_back_and_nothing_is_left() {
     let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     let before = shm();
     // 120 s at 2 ms per tick: ≈ 5 s of wall time.
-    let (mut sim, mut agent, out) = start("kill", 120.0);
-    std::thread::sleep(Duration::from_millis(1500));
+    let (mut sim, mut agent, out, log) = start("kill", 120.0);
+    // Killed once it has driven 20 s (simulated) towards its target.
+    let driven = common::wait_logged(&log, 20.0);
     assert!(
         agent.try_wait().unwrap().is_none(),
         "the agent is still running"
@@ -110,6 +112,11 @@ fn killed_agent_is_detected_its_vehicle_falls_back_and_nothing_is_left() {
         .unwrap()["t"]
         .as_f64()
         .unwrap();
+    assert!(
+        t_gone >= driven.t,
+        "gone at {t_gone} s, alive at {} s",
+        driven.t
+    );
     let fb = ag["fallback_ticks"].as_u64().unwrap() as f64;
     let expected = (120.0 - t_gone) / 0.05;
     assert!(
@@ -145,8 +152,9 @@ fn world_interrupted_with_ctrl_c_tells_its_agent_and_leaves_nothing() {
     let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     let before = shm();
     // 600 s (12,000 ticks) at 2 ms per tick would take ≈ 25 s.
-    let (mut sim, mut agent, out) = start("ctrlc", 600.0);
-    std::thread::sleep(Duration::from_millis(2000));
+    let (mut sim, mut agent, out, log) = start("ctrlc", 600.0);
+    // Interrupted once the run is under way with its agent (2 s simulated).
+    common::wait_logged(&log, 2.0);
     assert!(sim.try_wait().unwrap().is_none(), "the world still runs");
     let int = Command::new("kill")
         .args(["-INT", &sim.id().to_string()])

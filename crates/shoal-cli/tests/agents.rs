@@ -156,10 +156,25 @@ fn two_worlds_with_different_prefixes_do_not_see_each_other() {
     let (pa, pb) = (format!("{pfx}-a"), format!("{pfx}-b"));
     let w = world(&dir, 20.0, "");
     let (oa, ob) = (dir.join("a"), dir.join("b"));
-    let mut wa = spawn_world(&w, &oa, &pa, &[]);
+    // A is not quiet: it says when its services exist ("… attach with prefix …"), then waits
+    // up to its attach timeout (20 s) for its agent.
+    agent_bin();
+    let wa_err = dir.join("a.err");
+    let mut wa = Command::new(env!("CARGO_BIN_EXE_shoal"))
+        .args(["run", "--no-plots", "--prefix", &pa, "--out"])
+        .arg(&oa)
+        .arg(&w)
+        .stdout(Stdio::null())
+        .stderr(common::log_file(&wa_err))
+        .spawn()
+        .unwrap();
     let mut wb = spawn_world(&w, &ob, &pb, &["--wait-agents", "1.5"]);
     // A third world with A's prefix is refused while A runs.
-    std::thread::sleep(Duration::from_millis(300));
+    common::poll(common::POLL_LIMIT, "world A opened its services", || {
+        common::read_log(&wa_err)
+            .contains("attach with prefix")
+            .then_some(())
+    });
     let dup = Command::new(env!("CARGO_BIN_EXE_shoal"))
         .args(["run", "--quiet", "--no-plots", "--prefix", &pa, "--out"])
         .arg(dir.join("dup"))

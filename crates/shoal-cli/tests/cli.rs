@@ -151,37 +151,78 @@ fn every_shipped_world_checks() {
     }
 }
 
+/// Vehicles of the thread test: well above the threshold below which every loop runs on the
+/// calling thread ([`shoal_sim::parallel::MIN_PARALLEL`]), and enough that the medium's
+/// reception loop has more receivers than that in some steps (measured: in 44 steps of this
+/// run; with 400 vehicles in none, the beacons being spread over 50 ms).
+const THREADS_VEHICLES: usize = 600;
+
 #[test]
 fn one_and_two_threads_give_the_same_digest() {
-    let digest = |threads: &str| {
-        let out = tmp(&format!("threads{threads}"));
+    use shoal_sim::bench::{TRAFFIC_SPACING, swarm_text};
+    use shoal_sim::parallel::MIN_PARALLEL;
+    const { assert!(THREADS_VEHICLES >= MIN_PARALLEL + MIN_PARALLEL / 2) };
+    // The benchmark swarm with optical traffic: every vehicle in auto mode with its tilt
+    // drives moving, a ring of four modems each and a beacon a second (within 50 ms), so that
+    // the vehicle loops and the medium's reception loop (over the vehicles that may hear a
+    // frame ending in the step) take the parallel path on 2 threads. 3 s: three rounds of
+    // beacons.
+    let dir = tmp("threads");
+    let world = dir.join("swarm.toml");
+    std::fs::write(
+        &world,
+        swarm_text(THREADS_VEHICLES, 11, TRAFFIC_SPACING, true),
+    )
+    .unwrap();
+    let run = |threads: &str| {
+        let out = dir.join(format!("threads{threads}"));
         let o = shoal()
             .args([
                 "run",
                 "--quiet",
                 "--duration",
-                "20",
+                "3",
                 "--no-plots",
                 "--threads",
-                threads,
-                "--out",
             ])
+            .arg(threads)
+            .arg("--out")
             .arg(&out)
+            .arg(&world)
             .output()
             .unwrap();
-        assert!(o.status.success());
+        let (stdout, stderr) = text(&o);
+        assert!(o.status.success(), "{stdout}\n{stderr}");
         let s: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap())
                 .unwrap();
-        (
-            s["digest"].as_str().unwrap().to_string(),
-            std::fs::read(out.join("trajectories.csv")).unwrap(),
-        )
+        assert_eq!(s["threads"], threads.parse::<u64>().unwrap());
+        assert_eq!(s["vehicles"], THREADS_VEHICLES);
+        (s, std::fs::read(out.join("trajectories.csv")).unwrap())
     };
-    let (d1, c1) = digest("1");
-    let (d2, c2) = digest("2");
-    assert_eq!(d1, d2);
+    let (s1, c1) = run("1");
+    let (s2, c2) = run("2");
+    // The medium ran: every vehicle beaconed (at t ≈ 1 and 2 s at least) and a frame was
+    // heard by several neighbours on average.
+    let comm = &s1["comm"];
+    let (sent, delivered) = (
+        comm["frames_sent"].as_u64().unwrap(),
+        comm["receptions"]["delivered"].as_u64().unwrap(),
+    );
+    assert!(
+        sent >= 2 * THREADS_VEHICLES as u64 && delivered > 2 * sent,
+        "{sent} frames sent, {delivered} receptions delivered"
+    );
+    assert_eq!(s1["digest"], s2["digest"], "state digests differ");
     assert!(c1 == c2, "trajectories differ between 1 and 2 threads");
+    assert!(
+        comm == &s2["comm"],
+        "the optical link's statistics differ: receptions {} vs {}",
+        comm["receptions"],
+        s2["comm"]["receptions"]
+    );
+    assert_eq!(s1["groups"], s2["groups"]);
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]

@@ -3,9 +3,12 @@
 //! Python `school` example drives `worlds/agents_school.toml` in lock-step — reproducibly, and
 //! to the same state digest as the Rust `school_agent` example.
 //!
-//! Without `python3` on the PATH both tests print "skipped" and pass; with it, a failing
-//! `pip install` (no network, no PyPI) fails the test. The venv lives in `target/pyvenv` and
-//! is reused once it has iceoryx2 0.10.0.
+//! These tests need `python3` on the PATH with its `venv` module and pip (Debian:
+//! `python3-venv`), and PyPI: they create a venv in `target/pyvenv` and install
+//! `python/requirements.txt` into it (once; it is reused while it has iceoryx2 0.10.0). Without
+//! python3, venv or PyPI they fail and say which is missing: they never pass unrun. Creating the
+//! venv holds an exclusive lock on `target/pyvenv.lock`, so test processes started side by
+//! side do not build it twice or use it half-built.
 
 mod common;
 
@@ -31,27 +34,29 @@ fn cargo() -> OsString {
     std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into())
 }
 
-/// `python3`, if it runs.
-fn python3() -> Option<&'static str> {
-    let ok = Command::new("python3")
-        .arg("--version")
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .status()
-        .is_ok_and(|s| s.success());
-    ok.then_some("python3")
+/// `python3`; fails the test (with what to install) when it does not run.
+fn python3() -> &'static str {
+    match Command::new("python3").arg("--version").output() {
+        Ok(o) if o.status.success() => "python3",
+        Ok(o) => panic!(
+            "`python3 --version` failed ({}): {}\nThe Python agent tests need python3 with venv and \
+             pip (Debian: apt-get install python3 python3-venv) and PyPI access.",
+            o.status,
+            String::from_utf8_lossy(&o.stderr)
+        ),
+        Err(e) => panic!(
+            "no python3 on the PATH ({e}).\nThe Python agent tests need python3 with venv and pip \
+             (Debian: apt-get install python3 python3-venv) and PyPI access; scripts/test.sh \
+             installs them where it can."
+        ),
+    }
 }
 
 fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("shoal-python-agent-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    common::tmp("python-agent", name)
 }
 
-fn read(p: &Path) -> String {
-    std::fs::read_to_string(p).unwrap_or_default()
-}
+use common::read_log as read;
 
 /// Prints the Python layout of the generated module (loaded by path: no iceoryx2 needed).
 const LAYOUT_PY: &str = r#"
@@ -102,10 +107,7 @@ fn element(t: CType) -> String {
 
 #[test]
 fn python_protocol_matches_rust_layout() {
-    let Some(py) = python3() else {
-        println!("skipped: no python3 on the PATH");
-        return;
-    };
+    let py = python3();
     let module = repo().join("python/shoal_agent/protocol.py");
     let o = Command::new(py)
         .env("PYTHONDONTWRITEBYTECODE", "1")
@@ -188,9 +190,16 @@ fn python_protocol_matches_rust_layout() {
 }
 
 /// The venv's interpreter, creating the venv (`target/pyvenv`) and installing
-/// `python/requirements.txt` unless it already has iceoryx2 [`ICEORYX2`].
+/// `python/requirements.txt` unless it already has iceoryx2 [`ICEORYX2`]. Holds an exclusive
+/// lock on `target/pyvenv.lock` meanwhile: another test process waits, then finds it ready.
 fn venv(py: &str) -> PathBuf {
     let dir = repo().join("target/pyvenv");
+    std::fs::create_dir_all(dir.parent().unwrap()).unwrap();
+    let lock_path = dir.with_extension("lock");
+    let lock = std::fs::File::create(&lock_path)
+        .unwrap_or_else(|e| panic!("cannot create {}: {e}", lock_path.display()));
+    lock.lock()
+        .unwrap_or_else(|e| panic!("cannot lock {}: {e}", lock_path.display()));
     let python = if cfg!(windows) {
         dir.join("Scripts/python.exe")
     } else {
@@ -218,7 +227,9 @@ fn venv(py: &str) -> PathBuf {
         .unwrap();
     assert!(
         o.status.success(),
-        "python3 -m venv failed: {}",
+        "`python3 -m venv {}` failed: {}\nThe Python agent tests need python3's venv module \
+         with pip (Debian: apt-get install python3-venv).",
+        dir.display(),
         String::from_utf8_lossy(&o.stderr)
     );
     let o = Command::new(&python)
@@ -235,7 +246,8 @@ fn venv(py: &str) -> PathBuf {
         .unwrap();
     assert!(
         o.status.success(),
-        "pip install -r python/requirements.txt failed:\n{}\n{}",
+        "pip install -r python/requirements.txt failed (the Python agent tests need PyPI \
+         access to install iceoryx2 {ICEORYX2}):\n{}\n{}",
         String::from_utf8_lossy(&o.stdout),
         String::from_utf8_lossy(&o.stderr)
     );
@@ -245,6 +257,7 @@ fn venv(py: &str) -> PathBuf {
         dir.display(),
         t.elapsed().as_secs_f64()
     );
+    // (The lock is released when `lock` is dropped.)
     python
 }
 
@@ -404,10 +417,7 @@ fn run_world(
 
 #[test]
 fn python_agent_drives_the_school_in_lockstep() {
-    let Some(py) = python3() else {
-        println!("skipped: no python3 on the PATH");
-        return;
-    };
+    let py = python3();
     let t = Instant::now();
     let python = shared_venv(py);
     println!("venv ready in {:.1} s", t.elapsed().as_secs_f64());
@@ -466,10 +476,7 @@ fn python_agent_drives_the_school_in_lockstep() {
 
 #[test]
 fn python_agent_drives_a_vehicle_to_depth_and_heading_reproducibly() {
-    let Some(py) = python3() else {
-        println!("skipped: no python3 on the PATH");
-        return;
-    };
+    let py = python3();
     let python = shared_venv(py);
     let goto_py = || {
         let mut c = Command::new(&python);
@@ -508,20 +515,14 @@ fn python_agent_drives_a_vehicle_to_depth_and_heading_reproducibly() {
 
 #[test]
 fn bench_measures_the_round_trip_to_a_python_agent() {
-    let Some(py) = python3() else {
-        println!("skipped: no python3 on the PATH");
-        return;
-    };
+    let py = python3();
     let python = shared_venv(py);
     common::check_agent_bench("python", &["--python".as_ref(), python.as_os_str()]);
 }
 
 #[test]
 fn python_agent_interrupted_with_ctrl_c_says_goodbye() {
-    let Some(py) = python3() else {
-        println!("skipped: no python3 on the PATH");
-        return;
-    };
+    let py = python3();
     let python = shared_venv(py);
     let dir = tmp("ctrl-c");
     let prefix = format!("pytest-{}-ctrl-c", std::process::id());
@@ -544,22 +545,19 @@ fn python_agent_interrupted_with_ctrl_c_says_goodbye() {
         .stderr(log("world.err"))
         .spawn()
         .unwrap();
+    let agent_err = dir.join("agent.err");
     let agent = Command::new(&python)
         .arg(repo().join("python/examples/goto.py"))
-        .args([&prefix, "pilot", "1.5", "90"])
+        .args([&prefix, "pilot", "1.5", "90", "--log"])
         .env("PYTHONPATH", repo().join("python"))
         .env("PYTHONDONTWRITEBYTECODE", "1")
         .stdout(log("agent.out"))
         .stderr(log("agent.err"))
         .spawn()
         .unwrap();
-    // Once it has driven a while (it prints when attached), Ctrl-C.
-    let start = Instant::now();
-    while !read(&dir.join("agent.err")).contains("attached") {
-        assert!(start.elapsed() < Duration::from_secs(60), "never attached");
-        std::thread::sleep(Duration::from_millis(20));
-    }
-    std::thread::sleep(Duration::from_millis(1500));
+    // Once it has driven a while (its log says what it observed at 10 s simulated), Ctrl-C.
+    common::wait_attached(&agent_err);
+    let driven = common::wait_logged(&agent_err, 10.0);
     let interrupted = Command::new("kill")
         .args(["-INT", &agent.id().to_string()])
         .status()
@@ -585,7 +583,7 @@ fn python_agent_interrupted_with_ctrl_c_says_goodbye() {
     // A goodbye the world acknowledged: `left`, not `gone`.
     assert_eq!(events, ["attached", "left"], "{logs}");
     let t_left = a["events"][1]["t"].as_f64().unwrap();
-    assert!(t_left > 5.0 && t_left < 59.0, "left at {t_left} s");
+    assert!(t_left >= driven.t && t_left < 60.0, "left at {t_left} s");
     assert!(!a["attached_at_end"].as_bool().unwrap());
     // From then on its vehicle held (fallback) to the end; before, only the ticks until its
     // first command (a few: the world paces 5 ms of wall time per tick).

@@ -46,6 +46,9 @@ pub const UAUV2_NR: f64 = 2.51e-4;
 pub const UAUV2_NRR: f64 = 3.54e-3;
 /// μAUV² mass \[kg\] — **paper** Sec. 1.
 pub const UAUV2_MASS: f64 = 1.2;
+/// μAUV² buoyancy pump flow [m³/s] (0.05 ml/s, the same both ways) — **derived** from the
+/// calibration run: ≈0.016 N removed between t ≈ 16 s and 51 s (paper Fig. 13).
+pub const UAUV2_PUMP_FLOW: f64 = 0.05e-6;
 
 /// Optical power of the μAUV² modem's LED \[W\] — **derived** from the calibration target (a
 /// 32-byte on-axis frame delivered half the time at 2.5 m in pool water, c = 0.07 1/m) with the
@@ -162,10 +165,8 @@ pub fn uauv2() -> VehicleParams {
             },
         ],
         ballast: Some(BallastParams {
-            capacity: 20e-6, // assumed
-            // 0.05 ml/s — derived from the calibration run (≈0.016 N removed between t ≈ 16 s
-            // and 51 s, paper Fig. 13).
-            flow: 0.05e-6,
+            capacity: 20e-6,                      // assumed
+            flow: UAUV2_PUMP_FLOW,                // derived (see the constant)
             position: Vec3::new(0.0, 0.0, 0.015), // assumed at the CG
             initial_volume: tank_neutral,
         }),

@@ -1359,40 +1359,80 @@ mod tests {
         }
     }
 
+    /// A box query yields each point of the cells the box overlaps, once: every point inside
+    /// the box, the points of those cells outside it (within one cell of the box), and no
+    /// other point — checked against brute force for boxes inside, across and beyond the
+    /// points, on a grid whose cell was enlarged to fit the budget and one that was not.
     #[test]
     fn dense_grid_box_query_finds_exactly_the_points_inside() {
+        use std::collections::BTreeSet;
         let pts: Vec<Vec3> = (0..500)
             .map(|i| {
                 let f = i as f64;
                 Vec3::new((f * 0.37) % 9.0, (f * 0.61) % 7.0, (f * 0.13) % 2.0)
             })
             .collect();
-        let mut g = Grid::default();
-        g.rebuild(0.8, &pts);
-        let (lo, hi) = (Vec3::new(2.0, 1.5, 0.3), Vec3::new(5.5, 4.0, 1.2));
-        let mut found = Vec::new();
-        g.each_in_box(&lo, &hi, |id| {
-            found.push(id);
-            true
-        });
-        for (i, p) in pts.iter().enumerate() {
-            let inside = p.x >= lo.x
-                && p.x <= hi.x
-                && p.y >= lo.y
-                && p.y <= hi.y
-                && p.z >= lo.z
-                && p.z <= hi.z;
-            if inside {
-                assert!(found.contains(&(i as u32)), "missed {i}");
+        let boxes = [
+            (Vec3::new(2.0, 1.5, 0.3), Vec3::new(5.5, 4.0, 1.2)),
+            (Vec3::new(0.0, 0.0, 0.0), Vec3::new(0.9, 0.9, 0.9)),
+            // Beyond the points on every side: clamped to the outer cells.
+            (Vec3::new(-3.0, 5.9, -1.0), Vec3::new(1.1, 9.0, 0.5)),
+            (Vec3::new(8.2, -2.0, 1.7), Vec3::new(12.0, 0.4, 5.0)),
+            // Thinner than a cell.
+            (Vec3::new(4.0, 3.0, 1.0), Vec3::new(4.05, 3.05, 1.05)),
+        ];
+        for cell in [0.8, 0.05] {
+            let mut g = Grid::default();
+            g.rebuild(cell, &pts);
+            assert!(g.cell >= cell);
+            for (lo, hi) in &boxes {
+                let mut found = Vec::new();
+                assert!(g.each_in_box(lo, hi, |id| {
+                    found.push(id);
+                    true
+                }));
+                let set: BTreeSet<u32> = found.iter().copied().collect();
+                assert_eq!(set.len(), found.len(), "no duplicates");
+                // Brute force: the points whose cell lies in the box's range of cells.
+                let (a, b) = (g.coord(lo), g.coord(hi));
+                let in_cells: BTreeSet<u32> = (0..pts.len() as u32)
+                    .filter(|&i| {
+                        let c = g.coord(&pts[i as usize]);
+                        (0..3).all(|k| a[k] <= c[k] && c[k] <= b[k])
+                    })
+                    .collect();
+                assert_eq!(set, in_cells, "box {lo:?} … {hi:?}, cell {}", g.cell);
+                // Independently of the cells: every point inside is found, and nothing more
+                // than one cell outside the box on any axis.
+                let within = |p: &Vec3, margin: f64| {
+                    (0..3).all(|k| p[k] >= lo[k] - margin && p[k] <= hi[k] + margin)
+                };
+                let inside: BTreeSet<u32> = (0..pts.len() as u32)
+                    .filter(|&i| within(&pts[i as usize], 0.0))
+                    .collect();
+                assert!(
+                    inside.is_subset(&set),
+                    "missed {:?}",
+                    inside.difference(&set)
+                );
+                let far: Vec<u32> = set
+                    .iter()
+                    .copied()
+                    .filter(|&i| !within(&pts[i as usize], g.cell))
+                    .collect();
+                assert!(far.is_empty(), "found points far outside the box: {far:?}");
+                assert!(
+                    set.len() < pts.len(),
+                    "box {lo:?} … {hi:?} yields every point"
+                );
             }
         }
-        assert_eq!(
-            found.len(),
-            found
-                .iter()
-                .collect::<std::collections::BTreeSet<_>>()
-                .len(),
-            "no duplicates"
-        );
+        // The first box holds points, and points lie outside it.
+        let (lo, hi) = boxes[0];
+        let n_in = pts
+            .iter()
+            .filter(|p| (0..3).all(|k| p[k] >= lo[k] && p[k] <= hi[k]))
+            .count();
+        assert!(n_in > 10 && n_in < 250, "{n_in} points inside");
     }
 }

@@ -1,5 +1,7 @@
-//! Helpers shared by the agent tests: the repository root and the example agents of
-//! shoal-bridge, built with cargo like the binary under test.
+//! Helpers shared by the agent tests: the repository root, the example agents of
+//! shoal-bridge (built with cargo like the binary under test), and polling for what a running
+//! process has logged — that it attached, how far its world has run — instead of sleeping a
+//! fixed time and assuming it.
 
 #![allow(dead_code)]
 
@@ -180,4 +182,106 @@ pub fn summary_files(summary: &serde_json::Value) -> Vec<PathBuf> {
         .iter()
         .map(|f| PathBuf::from(f.as_str().expect("a file name")))
         .collect()
+}
+
+/// Calls `ready` every 10 ms until it gives a value. `limit` is a hang guard, not a timing
+/// assertion: only a process that never gets there takes that long, and the test then fails
+/// with `what`.
+pub fn poll<T>(limit: Duration, what: &str, mut ready: impl FnMut() -> Option<T>) -> T {
+    let start = Instant::now();
+    loop {
+        if let Some(v) = ready() {
+            return v;
+        }
+        assert!(start.elapsed() < limit, "{what}: not within {limit:?}");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+}
+
+/// What a running process has written to its log file so far (empty before it exists).
+pub fn read_log(path: &Path) -> String {
+    std::fs::read_to_string(path).unwrap_or_default()
+}
+
+/// A log file for a child's stderr (or stdout).
+pub fn log_file(path: &Path) -> std::process::Stdio {
+    std::fs::File::create(path)
+        .unwrap_or_else(|e| panic!("cannot create {}: {e}", path.display()))
+        .into()
+}
+
+/// Hang guard of the polls below.
+pub const POLL_LIMIT: Duration = Duration::from_secs(60);
+
+/// Waits until the agent logging to `log` says it attached (the Rust and Python example
+/// agents print `…: attached to `PREFIX` as `NAME``).
+pub fn wait_attached(log: &Path) {
+    poll(
+        POLL_LIMIT,
+        &format!("attach logged in {}", log.display()),
+        || read_log(log).contains("attached").then_some(()),
+    )
+}
+
+/// One line of a goto agent's `--log` output: what its first vehicle observed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Logged {
+    /// Simulated time of the observation [s].
+    pub t: f64,
+    /// Depth reading [m].
+    pub depth: f64,
+    /// Heading [°].
+    pub yaw_deg: f64,
+    /// The world held the vehicle under its fallback.
+    pub fallback: bool,
+}
+
+/// Every complete line of a goto agent's `--log` output
+/// (`goto_agent: t = 12.00 s, depth 1.234 m, yaw 45.0°[ (fallback)]`, the same from goto.py;
+/// a line still being written is left out).
+pub fn logged(log: &str) -> Vec<Logged> {
+    log.split_inclusive('\n')
+        .filter_map(|l| {
+            let l = l.strip_suffix('\n')?;
+            let rest = l.split_once(": t = ")?.1;
+            let (t, rest) = rest.split_once(" s, depth ")?;
+            let (depth, rest) = rest.split_once(" m, yaw ")?;
+            let (yaw, rest) = rest.split_once('°')?;
+            Some(Logged {
+                t: t.parse().ok()?,
+                depth: depth.parse().ok()?,
+                yaw_deg: yaw.parse().ok()?,
+                fallback: rest.contains("(fallback)"),
+            })
+        })
+        .collect()
+}
+
+/// Waits until the goto agent logging to `log` (with `--log`) has observed simulated time
+/// `t` or later; returns that line.
+pub fn wait_logged(log: &Path, t: f64) -> Logged {
+    poll(
+        POLL_LIMIT,
+        &format!("simulated t = {t} s logged in {}", log.display()),
+        || logged(&read_log(log)).into_iter().find(|l| l.t >= t),
+    )
+}
+
+/// A line the goto agent logging to `log` prints after this call began: the world has run at
+/// least to its `t` since then, whatever the test did just before (a signal, a kill). (Two
+/// simulated seconds past the last complete line, so that a line being written meanwhile
+/// does not count.)
+pub fn logged_from_now(log: &Path) -> Logged {
+    let last = logged(&read_log(log))
+        .last()
+        .map_or(f64::NEG_INFINITY, |l| l.t);
+    poll(
+        POLL_LIMIT,
+        &format!("a new line logged in {}", log.display()),
+        || {
+            logged(&read_log(log))
+                .into_iter()
+                .find(|l| l.t >= last + 1.5)
+        },
+    )
 }

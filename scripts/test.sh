@@ -1,0 +1,58 @@
+#!/usr/bin/env sh
+# The whole test suite: README's test command, and exactly what CI runs (.ci/run).
+#
+# 1. Python 3 with venv and pip, for the Python agent tests (crates/shoal-cli/tests/python_agent.rs
+#    builds its own venv in target/pyvenv and installs python/requirements.txt from PyPI):
+#    installed from Debian's packages when missing and this runs as root with apt-get; otherwise
+#    those tests fail and say what is missing.
+# 2. cargo test --workspace: every test (unit, integration, doc); it builds the examples too.
+# 3. cargo test --workspace --bench '*': every criterion bench, compiled and run once (test mode).
+# 4. Each root example once, on a short setting, into a temporary folder.
+#
+# Idempotent: run it as often as you like.
+set -eu
+cd "$(dirname "$0")/.."
+root=$(pwd)
+
+# 1. Python 3 with venv and pip.
+if ! python3 -c 'import venv, ensurepip' >/dev/null 2>&1; then
+    if command -v apt-get >/dev/null 2>&1 && [ "$(id -u)" = 0 ]; then
+        echo "scripts/test.sh: installing python3, python3-venv and python3-pip (Debian)"
+        apt-get update -qq
+        DEBIAN_FRONTEND=noninteractive apt-get install -y -qq python3 python3-venv python3-pip >/dev/null
+    else
+        echo "scripts/test.sh: python3 with venv and pip is missing (Debian: apt-get install" \
+            "python3 python3-venv python3-pip); the Python agent tests will fail" >&2
+    fi
+fi
+
+# 2. The tests.
+cargo test --workspace
+
+# 3. The benches, once each.
+cargo test --workspace --bench '*'
+
+# 4. The root examples, from the binaries step 2 built, on short settings.
+target=$(cargo metadata --format-version 1 --no-deps |
+    sed -n 's/.*"target_directory":"\([^"]*\)".*/\1/p')
+examples="$target/debug/examples"
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+need() {
+    for f in "$@"; do
+        [ -s "$f" ] || { echo "scripts/test.sh: $f was not written" >&2; exit 1; }
+    done
+}
+echo "scripts/test.sh: running the examples into $tmp"
+# The paper's Section 5 runs (five short worlds) and their figures and table.
+"$examples/paper_section5" "$tmp/paper"
+need "$tmp/paper/metrics.md" "$tmp/paper/diving.png" "$tmp/paper/buoyancy.svg" "$tmp/paper/turning.png"
+# The link-budget figure.
+"$examples/link_budget_curves" "$tmp/link_budget"
+need "$tmp/link_budget.png" "$tmp/link_budget.svg"
+# Two 120 s logs with a hidden effect (it writes out/hidden in the working folder).
+(cd "$tmp" && "$examples/hidden_effect")
+need "$tmp/out/hidden/dive_a.csv" "$tmp/out/hidden/dive_b.csv"
+# The medium's profile, on a 30-vehicle swarm instead of 1,000.
+"$examples/profile_comm" 30
+echo "scripts/test.sh: tests, benches and examples passed ($root)"
