@@ -117,6 +117,17 @@ pub(super) fn group_vehicles(
             format!("{base}-{i}")
         }
     };
+    // Vehicle `i` of the group at `pos` with attitude `att`.
+    let vehicle = |i: usize, pos: Vec3, att: Quat| VehicleDesc {
+        name: names(i),
+        group: gi,
+        model: model.clone(),
+        mission: mission.clone(),
+        behaviour: g.behaviour.clone(),
+        agent: g.agent.clone(),
+        position: pos,
+        attitude: att,
+    };
     let choices = usize::from(g.position.is_some())
         + usize::from(g.grid.is_some())
         + usize::from(g.random.is_some());
@@ -157,16 +168,7 @@ pub(super) fn group_vehicles(
             );
             return false;
         }
-        out.push(VehicleDesc {
-            name: names(i),
-            group: gi,
-            model: model.clone(),
-            mission: mission.clone(),
-            behaviour: g.behaviour.clone(),
-            agent: g.agent.clone(),
-            position: pos,
-            attitude: att,
-        });
+        out.push(vehicle(i, pos, att));
         true
     };
     if let Some(p) = g.position {
@@ -261,16 +263,7 @@ pub(super) fn group_vehicles(
                     continue;
                 }
                 mine.push(pose);
-                out.push(VehicleDesc {
-                    name: names(i),
-                    group: gi,
-                    model: model.clone(),
-                    mission: mission.clone(),
-                    behaviour: g.behaviour.clone(),
-                    agent: g.agent.clone(),
-                    position: pos,
-                    attitude: att,
-                });
+                out.push(vehicle(i, pos, att));
                 placed = true;
                 break;
             }
