@@ -1,7 +1,7 @@
 //! `shoal`: run worlds of minuscule AUVs, check world files, validate the model against
 //! measured runs, benchmark scaling.
 //!
-//! Exit codes (docs: README.md, "Exit codes"):
+//! Exit codes (docs/exit-codes.md):
 //! - 0: success;
 //! - 1: failure, e.g. an output file could not be written (the message names it and gives the
 //!   operating system's reason; files finished before it stay);
