@@ -12,7 +12,6 @@ use proptest::prelude::*;
 use shoal_bridge::host::decode;
 use shoal_bridge::protocol::{self, Command, FRAME_BYTES, Frame, MAX_TILTS, MAX_TX_FRAMES};
 use shoal_sim::agents::Rejections;
-use shoal_sim::fault::is_finite;
 use shoal_sim::prelude::*;
 use shoal_world::load::load_str;
 use std::path::Path;
@@ -135,7 +134,7 @@ proptest! {
         }
         prop_assert!(sim.fault().is_none(), "{}", sim.fault().unwrap());
         for v in sim.vehicles() {
-            prop_assert!(is_finite(&v.state.rigid), "{} is not finite", v.name);
+            prop_assert!(v.state.rigid.is_finite(), "{} is not finite", v.name);
         }
     }
 }

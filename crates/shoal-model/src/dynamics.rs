@@ -21,6 +21,13 @@ pub struct RigidState {
 }
 
 impl RigidState {
+    /// Whether every component (position, attitude, velocities) is a finite number.
+    pub fn is_finite(&self) -> bool {
+        self.position.iter().all(|x| x.is_finite())
+            && self.attitude.coords.iter().all(|x| x.is_finite())
+            && self.nu.iter().all(|x| x.is_finite())
+    }
+
     /// At rest at `position` \[m\] with attitude `attitude`.
     pub fn at_rest(position: Vec3, attitude: Quat) -> Self {
         Self {

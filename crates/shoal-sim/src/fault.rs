@@ -34,13 +34,6 @@ pub struct SimFault {
     pub state: NonFinite,
 }
 
-/// Whether every component of a rigid-body state is finite.
-pub fn is_finite(r: &RigidState) -> bool {
-    r.position.iter().all(|x| x.is_finite())
-        && r.attitude.coords.iter().all(|x| x.is_finite())
-        && r.nu.iter().all(|x| x.is_finite())
-}
-
 /// A state component for messages: fixed point when readable, else scientific.
 fn num(x: f64) -> String {
     if x != 0.0 && !(1e-4..1e6).contains(&x.abs()) {

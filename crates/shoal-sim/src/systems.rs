@@ -11,7 +11,7 @@ use crate::comm::{
     comm_transmit_system,
 };
 use crate::components::*;
-use crate::fault::{FaultFlag, NonFinite, is_finite};
+use crate::fault::{FaultFlag, NonFinite};
 use crate::parallel::Parallel;
 use crate::recorder;
 use bevy_ecs::prelude::*;
@@ -313,7 +313,7 @@ pub fn dynamics_system(
         p.prev_position = p.state.rigid.position;
         let before = p.state.rigid.clone();
         integrate_vehicle(&kind.0, &mut p.state, &env, integ, dt);
-        if !is_finite(&p.state.rigid) {
+        if !p.state.rigid.is_finite() {
             p.state.rigid = before.clone();
             if p.fault.is_none() {
                 p.fault = Some(Box::new(NonFinite {

@@ -10,7 +10,6 @@
 //! `PROPTEST_CASES=1000000 cargo test --release -p shoal-sim --test fuzz_worlds`.
 
 use proptest::prelude::*;
-use shoal_sim::fault::is_finite;
 use shoal_sim::prelude::*;
 use shoal_world::load::{MemoryBudget, load_str_with};
 use std::path::Path;
@@ -207,7 +206,7 @@ fn check(text: &str) {
             },
         );
         sim.run(20);
-        let finite = sim.vehicles().iter().all(|v| is_finite(&v.state.rigid));
+        let finite = sim.vehicles().iter().all(|v| v.state.rigid.is_finite());
         (sim.fault().is_some(), finite)
     }));
     match stepped {

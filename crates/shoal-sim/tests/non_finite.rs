@@ -5,7 +5,6 @@
 //! quadratic drag overflows.
 
 use shoal_model::math::Vec6;
-use shoal_sim::fault::is_finite;
 use shoal_sim::prelude::*;
 use shoal_world::load::load_str;
 use std::path::Path;
@@ -48,7 +47,7 @@ fn a_non_finite_state_is_reported_with_vehicle_time_and_last_finite_state() {
         assert_eq!(f.name, "a-1");
         assert!((f.state.time - 0.26).abs() < 1e-12, "{}", f.state.time);
         assert_eq!(f.state.last.nu[0], 1e200);
-        assert!(is_finite(&f.state.last));
+        assert!(f.state.last.is_finite());
         let text = f.to_string();
         assert!(
             text.contains("vehicle `a-1` (id 1) became non-finite at t = 0.26 s")
@@ -57,7 +56,7 @@ fn a_non_finite_state_is_reported_with_vehicle_time_and_last_finite_state() {
         );
         // Every vehicle's state stays finite, and the others keep their place.
         for v in sim.vehicles() {
-            assert!(is_finite(&v.state.rigid), "{}", v.name);
+            assert!(v.state.rigid.is_finite(), "{}", v.name);
         }
         let v0 = sim.vehicle(0);
         assert!((v0.state.rigid.position.x - 2.0).abs() < 0.01);

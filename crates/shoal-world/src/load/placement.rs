@@ -18,6 +18,15 @@ use shoal_model::prelude::*;
 use std::collections::HashMap;
 use std::sync::Arc;
 
+/// The base name of a group: its `name`, or `<preset>-g<index>`.
+fn group_name(g: &VehicleGroupSpec, gi: usize) -> String {
+    g.name
+        .clone()
+        .unwrap_or_else(|| format!("{}-g{gi}", g.preset.as_deref().unwrap_or("uauv2")))
+}
+
+/// Checks group `gi` (model, mission, behaviour, agent) and places its vehicles into `out`;
+/// returns the group's base name.
 pub(super) fn group(
     g: &VehicleGroupSpec,
     gi: usize,
@@ -28,35 +37,13 @@ pub(super) fn group(
     out: &mut Vec<VehicleDesc>,
     cancel: &Cancel,
 ) -> Result<String, Interrupted> {
-    let base = group_name(g, gi);
-    group_vehicles(g, gi, &base, wf, env, geometry, v, out, cancel)?;
-    Ok(base)
-}
-
-/// The base name of a group: its `name`, or `<preset>-g<index>`.
-pub(super) fn group_name(g: &VehicleGroupSpec, gi: usize) -> String {
-    g.name
-        .clone()
-        .unwrap_or_else(|| format!("{}-g{gi}", g.preset.as_deref().unwrap_or("uauv2")))
-}
-
-pub(super) fn group_vehicles(
-    g: &VehicleGroupSpec,
-    gi: usize,
-    base: &str,
-    wf: &WorldFile,
-    env: &Environment,
-    geometry: &Geometry,
-    v: &mut Validator<'_>,
-    out: &mut Vec<VehicleDesc>,
-    cancel: &Cancel,
-) -> Result<(), Interrupted> {
     cancel.check()?;
+    let base = &group_name(g, gi);
     let gp = FieldPath::root().key("vehicles").index(gi);
     let n0 = v.problems.len();
     v.field(&gp.key("heading_deg"), g.heading_deg);
     let Some(spec) = vehicle_spec(g.preset.as_deref(), g.model.as_ref(), &gp, v) else {
-        return Ok(());
+        return Ok(base.clone());
     };
     let params = spec.to_params();
     // The control period must be a whole number of physics steps.
@@ -106,7 +93,7 @@ pub(super) fn group_vehicles(
         }
     }
     if v.problems.len() > n0 {
-        return Ok(());
+        return Ok(base.clone());
     }
     // Placement.
 
@@ -134,7 +121,7 @@ pub(super) fn group_vehicles(
     if choices != 1 {
         v.push(ProblemKind::Invalid, &gp, format!(
             "give exactly one placement: `position` (one vehicle), `grid` or `random` ({} given)", choices));
-        return Ok(());
+        return Ok(base.clone());
     }
     let hull = hull_shape(&model.params.body.hull_size);
     let pool = geometry.pool;
@@ -173,7 +160,7 @@ pub(super) fn group_vehicles(
     };
     if let Some(p) = g.position {
         if !v.fields(&gp.key("position"), &p) {
-            return Ok(());
+            return Ok(base.clone());
         }
         if g.count != 1 {
             v.push(
@@ -184,7 +171,7 @@ pub(super) fn group_vehicles(
                     g.count
                 ),
             );
-            return Ok(());
+            return Ok(base.clone());
         }
         place(v, gp.key("position"), 0, Vec3::from(p), yaw0);
     } else if let Some(grid) = &g.grid {
@@ -193,7 +180,7 @@ pub(super) fn group_vehicles(
             & v.fields(&gr.key("spacing"), &grid.spacing)
             & v.field(&gr.key("columns"), grid.columns as f64);
         if !ok {
-            return Ok(());
+            return Ok(base.clone());
         }
         for i in 0..g.count {
             cancel.check()?;
@@ -201,14 +188,14 @@ pub(super) fn group_vehicles(
             let pos =
                 Vec3::from(grid.origin) + Vec3::new(c * grid.spacing[0], r * grid.spacing[1], 0.0);
             if !place(v, gr.clone(), i, pos, yaw0) {
-                return Ok(());
+                return Ok(base.clone());
             }
         }
     } else if let Some(r) = &g.random {
         let rp = gp.key("random");
         let ok = v.fields(&rp.key("min"), &r.min) & v.fields(&rp.key("max"), &r.max);
         if !ok {
-            return Ok(());
+            return Ok(base.clone());
         }
         if (0..3).any(|k| r.max[k] < r.min[k]) {
             v.push(
@@ -216,7 +203,7 @@ pub(super) fn group_vehicles(
                 &rp.key("max"),
                 "each coordinate of `max` must be ≥ the same coordinate of `min`".into(),
             );
-            return Ok(());
+            return Ok(base.clone());
         }
         // Placement draws from its own stream of the world seed, so vehicle RNG streams are
         // unaffected by how many tries placement needed.
@@ -271,11 +258,11 @@ pub(super) fn group_vehicles(
                 v.push(ProblemKind::Overlap, &rp, format!(
                     "could place only {i} of {} vehicles in the box without overlaps (1000 tries for the next); enlarge the box or lower `count`",
                     g.count));
-                return Ok(());
+                return Ok(base.clone());
             }
         }
     }
-    Ok(())
+    Ok(base.clone())
 }
 
 type Cuboid3 = parry3d_f64::shape::Cuboid;

@@ -258,39 +258,32 @@ impl FieldRange {
     /// The allowed range as text, e.g. `1e-3 ≤ mass ≤ 1e5`; `lo`/`hi` are the values of
     /// [`End::Field`] ends where known.
     pub fn allowed(&self, name: &str, lo: Option<f64>, hi: Option<f64>) -> String {
-        let end = |e: End, v: Option<f64>, low: bool| -> Option<String> {
-            let (x, open) = match e {
-                End::Open(x) => (fmt_num(x), true),
-                End::Closed(x) => (fmt_num(x), false),
-                End::Field(f) => (
-                    v.map_or_else(|| f.to_string(), |v| format!("{} ({f})", fmt_num(v))),
-                    false,
-                ),
-                End::OpenField(f) => (
-                    v.map_or_else(|| f.to_string(), |v| format!("{} ({f})", fmt_num(v))),
-                    true,
-                ),
+        let end = |e: End, v: Option<f64>| -> Option<(String, &str)> {
+            let field =
+                |f: &str| v.map_or_else(|| f.to_string(), |v| format!("{} ({f})", fmt_num(v)));
+            Some(match e {
+                End::Open(x) => (fmt_num(x), "<"),
+                End::Closed(x) => (fmt_num(x), "≤"),
+                End::Field(f) => (field(f), "≤"),
+                End::OpenField(f) => (field(f), "<"),
                 End::None => return None,
-            };
-            let op = if open { "<" } else { "≤" };
-            Some(if low {
-                format!("{x} {op} ")
-            } else {
-                format!(" {op} {x}")
             })
         };
-        let mut s = end(self.lo, lo, true).unwrap_or_default();
-        s.push_str(name);
-        s.push_str(&end(self.hi, hi, false).unwrap_or_default());
+        // A field that may be 0 (off) is otherwise at least `zero_or`.
+        let low = if self.zero_or > 0.0 {
+            Some((fmt_num(self.zero_or), "≤"))
+        } else {
+            end(self.lo, lo)
+        };
+        let mut s = match low {
+            Some((x, op)) => format!("{x} {op} {name}"),
+            None => name.to_string(),
+        };
+        if let Some((x, op)) = end(self.hi, hi) {
+            s.push_str(&format!(" {op} {x}"));
+        }
         if self.zero_or > 0.0 {
-            s = format!(
-                "{name} = 0 or {}",
-                s.replacen(
-                    &format!("{} ≤ ", fmt_num(0.0)),
-                    &format!("{} ≤ ", fmt_num(self.zero_or)),
-                    1
-                )
-            );
+            s = format!("{name} = 0 or {s}");
         }
         s
     }

@@ -36,38 +36,41 @@ impl Validator<'_> {
         lo: Option<f64>,
         hi: Option<f64>,
     ) -> bool {
-        match ranges::lookup(&path.to_string()) {
-            Some(r) => self.check(path, x, r, lo, hi),
-            None => {
-                self.push(
-                    ProblemKind::Invalid,
-                    path,
-                    "no allowed range is defined for this field (a bug in shoal: please report it)"
-                        .into(),
-                );
-                false
-            }
-        }
+        self.range_of(path)
+            .is_some_and(|r| self.check(path, x, r, lo, hi))
     }
 
     /// Checks the number at `path` against the range of the field `range_of`.
     pub(super) fn field_by(&mut self, path: &FieldPath, range_of: &FieldPath, x: f64) -> bool {
-        match ranges::lookup(&range_of.to_string()) {
-            Some(r) => self.check(path, x, r, None, None),
-            None => self.field(range_of, f64::NAN),
-        }
+        self.range_of(range_of)
+            .is_some_and(|r| self.check(path, x, r, None, None))
     }
 
     /// Checks every element of the vector field at `path` against the field's range.
     pub(super) fn fields(&mut self, path: &FieldPath, xs: &[f64]) -> bool {
-        let Some(r) = ranges::lookup(&path.to_string()) else {
-            return self.field(path, f64::NAN);
+        let Some(r) = self.range_of(path) else {
+            return false;
         };
         let mut ok = true;
         for (i, x) in xs.iter().enumerate() {
             ok &= self.check(&path.index(i), *x, r, None, None);
         }
         ok
+    }
+
+    /// The table's range of the field at `path`; a field missing from the table is a bug,
+    /// reported as a problem at that field rather than a panic.
+    fn range_of(&mut self, path: &FieldPath) -> Option<&'static FieldRange> {
+        let r = ranges::lookup(&path.to_string());
+        if r.is_none() {
+            self.push(
+                ProblemKind::Invalid,
+                path,
+                "no allowed range is defined for this field (a bug in shoal: please report it)"
+                    .into(),
+            );
+        }
+        r
     }
 
     /// Checks `lo ⋚ x ⋚ hi` for a number whose range is not in the table (an effect's
@@ -132,23 +135,14 @@ impl Validator<'_> {
         } else {
             format!("{} is out of range", fmt_num(x))
         };
-        let why = if r.why.is_empty() {
-            String::new()
-        } else {
-            format!(" — {}", r.why)
-        };
-        self.push(
-            ProblemKind::Range,
-            path,
-            format!(
-                "{what}; allowed: {} {}{why}",
-                r.allowed(name, lo, hi),
-                r.unit
-            )
-            .replace("  ", " ")
-            .trim_end()
-            .to_string(),
-        );
+        let mut message = format!("{what}; allowed: {}", r.allowed(name, lo, hi));
+        for (sep, part) in [(" ", r.unit), (" — ", r.why)] {
+            if !part.is_empty() {
+                message.push_str(sep);
+                message.push_str(part);
+            }
+        }
+        self.push(ProblemKind::Range, path, message);
         false
     }
 }
