@@ -263,7 +263,7 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, Failure> {
     }
     // The error names the file that could not be written and why; the files before it stay.
     let summary = out
-        .finish(&desc, &sim, wall, &cancel)
+        .finish(&desc, &mut sim, wall, &cancel)
         .map_err(|e| Failure::Other(e.into()))?;
     println!("{}", summary.to_text());
     if let Some(f) = sim.fault() {

@@ -61,6 +61,15 @@ pub fn install() -> std::io::Result<Arc<Cancel>> {
         .spawn(move || {
             for signal in signals.forever() {
                 if let Some(c) = cause(signal) {
+                    // Answered at once, whatever the phase; the stop itself comes at the next
+                    // step boundary (or vehicle, while a world is built).
+                    if requests.requests() == 0 {
+                        eprintln!(
+                            "\nshoal: {} — stopping at the next step and writing the outputs \
+                             so far (again: skip the plots)",
+                            c.name
+                        );
+                    }
                     requests.request(c);
                 }
             }

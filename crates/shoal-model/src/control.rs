@@ -310,37 +310,50 @@ impl SensorReadings {
     }
 }
 
-/// Moving average over the last `window` samples.
+/// Moving averages over the last `window` samples of several channels that are pushed
+/// together (one heap block for all of them).
 #[derive(Clone, Debug, PartialEq)]
-pub struct MovingAverage {
+pub struct MovingAverages {
+    /// Samples, channel after channel: channel `c` owns `buf[c·window .. (c+1)·window]`.
     buf: Vec<f64>,
+    window: usize,
+    /// Slot the next push overwrites (the same in every channel).
     next: usize,
-    filled: usize,
 }
 
-impl MovingAverage {
-    /// A filter with the given window (≥ 1) that starts at `initial`.
-    pub fn new(window: usize, initial: f64) -> Self {
-        let w = window.max(1);
+impl MovingAverages {
+    /// `channels` filters with the given window (≥ 1), every sample at `initial`.
+    pub fn new(channels: usize, window: usize, initial: f64) -> Self {
+        let window = window.max(1);
         Self {
-            buf: vec![initial; w],
+            buf: vec![initial; channels * window],
+            window,
             next: 0,
-            filled: w,
         }
     }
 
-    /// Pushes a sample and returns the current average.
-    pub fn push(&mut self, x: f64) -> f64 {
-        let w = self.buf.len();
-        self.buf[self.next] = x;
-        self.next = (self.next + 1) % w;
-        self.filled = (self.filled + 1).min(w);
-        self.buf.iter().sum::<f64>() / w as f64
+    /// Number of channels.
+    pub fn channels(&self) -> usize {
+        self.buf.len() / self.window
     }
 
-    /// Sets every sample to `x`.
-    pub fn reset(&mut self, x: f64) {
-        self.buf.iter_mut().for_each(|b| *b = x);
+    /// Pushes one sample per channel (`xs[c]` into channel `c`, for the first
+    /// `min(xs.len(), channels)` channels) and replaces each with its channel's average.
+    pub fn push(&mut self, xs: &mut [f64]) {
+        let w = self.window;
+        for (x, ch) in xs.iter_mut().zip(self.buf.chunks_exact_mut(w)) {
+            ch[self.next] = *x;
+            *x = ch.iter().sum::<f64>() / w as f64;
+        }
+        self.next = (self.next + 1) % w;
+    }
+
+    /// Sets every sample of channel `c` to `x` (nothing when there is no such channel).
+    pub fn reset(&mut self, c: usize, x: f64) {
+        let w = self.window;
+        if let Some(ch) = self.buf.get_mut(c * w..(c + 1) * w) {
+            ch.iter_mut().for_each(|b| *b = x);
+        }
     }
 }
 
@@ -351,8 +364,8 @@ pub struct ControllerState {
     depth_rate: f64,
     auto_tilt_down: bool,
     prev_mode: Mode,
-    thruster_filters: Vec<MovingAverage>,
-    tilt_filters: Vec<MovingAverage>,
+    thruster_filters: MovingAverages,
+    tilt_filters: MovingAverages,
     /// Last heave force demand after saturation \[N\].
     pub heave_force: f64,
     /// Last yaw torque demand after saturation [N·m].
@@ -413,8 +426,8 @@ impl ControllerState {
             depth_rate: 0.0,
             auto_tilt_down: true,
             prev_mode: Mode::Off,
-            thruster_filters: vec![MovingAverage::new(params.filter_window, 0.0); n_thrusters],
-            tilt_filters: vec![MovingAverage::new(params.filter_window, 0.0); n_tilts],
+            thruster_filters: MovingAverages::new(n_thrusters, params.filter_window, 0.0),
+            tilt_filters: MovingAverages::new(n_tilts, params.filter_window, 0.0),
             heave_force: 0.0,
             yaw_torque: 0.0,
         }
@@ -452,12 +465,12 @@ impl ControllerState {
             for i in 0..n {
                 let c = sp.raw.thrusters.get(i).copied().unwrap_or(0.0);
                 out.thrusters[i] = c;
-                self.thruster_filters[i].reset(c);
+                self.thruster_filters.reset(i, c);
             }
-            for (i, f) in self.tilt_filters.iter_mut().enumerate() {
+            for i in 0..self.tilt_filters.channels().min(out.tilts.len()) {
                 let a = sp.raw.tilts.get(i).copied().unwrap_or(0.0);
                 out.tilts[i] = a;
-                f.reset(a);
+                self.tilt_filters.reset(i, a);
             }
             out.pump = sp.raw.pump;
             return;
@@ -468,22 +481,14 @@ impl ControllerState {
         if let (Some(u), true) = (uauv2, sp.mode.needs_layout()) {
             if mode_changed {
                 // A new mode starts from the measured tilt angles, not from stale samples.
-                for (f, a) in self.tilt_filters.iter_mut().zip(&sensors.tilts) {
-                    f.reset(*a);
+                for (i, a) in sensors.tilts.iter().enumerate() {
+                    self.tilt_filters.reset(i, *a);
                 }
             }
             self.uauv2_mode(params, u, thrusters, sensors, sp, depth_rate, raw);
         }
-        for (c, f) in raw
-            .thrusters
-            .iter_mut()
-            .zip(self.thruster_filters.iter_mut())
-        {
-            *c = f.push(*c);
-        }
-        for (a, f) in raw.tilts.iter_mut().zip(self.tilt_filters.iter_mut()) {
-            *a = f.push(*a);
-        }
+        self.thruster_filters.push(&mut raw.thrusters);
+        self.tilt_filters.push(&mut raw.tilts);
     }
 
     fn uauv2_mode(
@@ -660,12 +665,20 @@ mod tests {
 
     #[test]
     fn moving_average_window() {
-        let mut f = MovingAverage::new(4, 0.0);
-        assert_eq!(f.push(4.0), 1.0);
-        assert_eq!(f.push(4.0), 2.0);
-        f.push(4.0);
-        assert_eq!(f.push(4.0), 4.0);
-        assert_eq!(f.push(0.0), 3.0);
+        let mut f = MovingAverages::new(2, 4, 0.0);
+        let push = |f: &mut MovingAverages, a: f64, b: f64| {
+            let mut x = [a, b];
+            f.push(&mut x);
+            x
+        };
+        assert_eq!(push(&mut f, 4.0, 8.0), [1.0, 2.0]);
+        assert_eq!(push(&mut f, 4.0, 8.0), [2.0, 4.0]);
+        push(&mut f, 4.0, 8.0);
+        assert_eq!(push(&mut f, 4.0, 8.0), [4.0, 8.0]);
+        assert_eq!(push(&mut f, 0.0, 8.0), [3.0, 8.0]);
+        // A reset channel averages its reset value; the other keeps its samples.
+        f.reset(1, 2.0);
+        assert_eq!(push(&mut f, 0.0, 2.0), [2.0, 2.0]);
     }
 
     #[test]

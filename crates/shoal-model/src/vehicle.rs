@@ -16,6 +16,7 @@ use crate::sensors::{ImuParams, PressureSensorParams};
 use crate::thruster::{ActuatorState, ThrusterParams, TiltParams, actuate, actuate_with};
 use rand::Rng;
 use std::collections::VecDeque;
+use std::sync::Arc;
 
 /// Everything that describes one kind of vehicle.
 #[derive(Clone, Debug, PartialEq)]
@@ -78,6 +79,11 @@ pub struct VehicleModel {
     pub heave_mass: f64,
     /// Effective yaw inertia I_zz + A₆₆ at the initial ballast, before effects [kg·m²].
     pub yaw_inertia: f64,
+    /// Water density the derived constants are for [kg/m³].
+    pub density: f64,
+    /// Mass properties at the initial ballast in water of [`Self::density`], shared by every
+    /// vehicle of the kind until its pump changes its ballast.
+    pub rest_mass: Arc<MassProperties>,
 }
 
 impl VehicleModel {
@@ -102,12 +108,15 @@ impl VehicleModel {
         });
         let mut params = params;
         effects.configure(&mut params);
+        let rest_mass = Arc::new(params.mass_properties(params.initial_ballast(), density));
         Self {
             params,
             effects,
             uauv2,
             heave_mass,
             yaw_inertia,
+            density,
+            rest_mass,
         }
     }
 
@@ -149,8 +158,10 @@ pub struct VehicleState {
     pub actuators: ActuatorState,
     /// Water in the buoyancy tank \[m³\].
     pub ballast_volume: f64,
-    /// Mass properties for the current ballast (cache).
-    pub mass: MassProperties,
+    /// Mass properties for the current ballast (cache; shared with the kind's
+    /// [`VehicleModel::rest_mass`] while the ballast is the initial one, so a swarm of quiet
+    /// vehicles keeps one copy). Change it with [`VehicleState::set_mass`].
+    pub mass: Arc<MassProperties>,
     /// Mean body acceleration over the last step, ν̇ [m/s², rad/s²].
     pub accel: Vec6,
     /// Thruster force applied during the last step, body frame [N, N·m] (including the
@@ -176,12 +187,21 @@ impl VehicleState {
                 stage: vec![0.0; p.thrusters.len()],
             },
             ballast_volume: vol,
-            mass: p.mass_properties(vol, env.density),
+            mass: if env.density == model.density {
+                model.rest_mass.clone()
+            } else {
+                Arc::new(p.mass_properties(vol, env.density))
+            },
             accel: Vec6::zeros(),
             tau: Vec6::zeros(),
             time: 0.0,
             delayed: VecDeque::new(),
         }
+    }
+
+    /// Replaces the mass properties (in place when this vehicle already has its own copy).
+    pub fn set_mass(&mut self, mass: MassProperties) {
+        *Arc::make_mut(&mut self.mass) = mass;
     }
 
     /// Depth of a body-frame point \[m\].
@@ -205,7 +225,7 @@ pub fn actuate_vehicle(
         let v = b.advance(state.ballast_volume, cmd.pump, dt);
         if v != state.ballast_volume {
             state.ballast_volume = v;
-            state.mass = p.mass_properties(v, env.density);
+            state.set_mass(p.mass_properties(v, env.density));
         }
     }
     let rigid = &state.rigid;

@@ -8,9 +8,9 @@
 //! and signal strengths: a flock that keeps optical contact).
 
 use crate::comm::{OutFrame, Received};
+use crate::sim::VehicleRng;
 use bevy_ecs::prelude::*;
 use rand::RngExt;
-use rand_chacha::ChaCha8Rng;
 use shoal_model::control::{SensorReadings, Setpoints};
 use shoal_model::math::{euler_rpy, wrap_pi};
 use shoal_model::optics::ModemParams;
@@ -34,7 +34,7 @@ pub struct BehaviourIo<'a> {
     /// This vehicle's modems (mounting and limits).
     pub modems: &'a [ModemParams],
     /// The behaviour's own random stream.
-    pub rng: &'a mut ChaCha8Rng,
+    pub rng: &'a mut VehicleRng,
     /// Frames to send.
     pub outbox: &'a mut Vec<OutFrame>,
 }
@@ -77,7 +77,7 @@ pub struct Behave {
     /// The behaviour.
     pub behaviour: Box<dyn Behaviour>,
     /// Its random stream.
-    pub rng: ChaCha8Rng,
+    pub rng: VehicleRng,
 }
 
 /// Builds a built-in behaviour from its file description.
@@ -177,7 +177,7 @@ pub struct Gossip {
 }
 
 impl Gossip {
-    fn learn(&mut self, value: u32, hops: u8, t: f64, rng: &mut ChaCha8Rng) {
+    fn learn(&mut self, value: u32, hops: u8, t: f64, rng: &mut VehicleRng) {
         self.known = Some((value, hops, t));
         self.left = self.repeats;
         self.next = t + rng.random::<f64>() * self.jitter;

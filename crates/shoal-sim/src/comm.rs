@@ -16,9 +16,9 @@
 
 use crate::components::{Kind, Physics, StaticGeometry, VehicleId};
 use crate::parallel::Parallel;
+use crate::sim::VehicleRng;
 use bevy_ecs::prelude::*;
-use rand::{RngExt, SeedableRng};
-use rand_chacha::ChaCha8Rng;
+use rand::RngExt;
 use serde::Serialize;
 use shoal_model::math::{Quat, Vec3};
 use shoal_model::optics::{
@@ -141,7 +141,7 @@ impl Modems {
 
 /// The vehicle's own random stream for the medium (back-offs, reception draws).
 #[derive(Component, Clone, Debug)]
-pub struct CommRng(pub ChaCha8Rng);
+pub struct CommRng(pub VehicleRng);
 
 /// How receptions of one sender's frames at one receiver ended.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
@@ -762,9 +762,7 @@ impl Medium {
 
 /// RNG stream of a vehicle's medium draws (see [`crate::sim::vehicle_rng`]).
 pub fn comm_rng(seed: u64, id: u32) -> CommRng {
-    let mut r = ChaCha8Rng::seed_from_u64(seed);
-    r.set_stream(u64::from(id) * 16 + crate::sim::stream::COMM);
-    CommRng(r)
+    CommRng(crate::sim::vehicle_rng(seed, id, crate::sim::stream::COMM))
 }
 
 /// Step phase 1: snapshot poses, rebuild the grid, prune old transmissions.
@@ -1194,7 +1192,7 @@ fn receive<'a>(
     kind: &VehicleModel,
     modems: &Modems,
     l: &Logical<'a>,
-    rng: &mut ChaCha8Rng,
+    rng: &mut VehicleRng,
     stats: &mut CommStats,
     inbox: &mut Inbox,
     scratch: &mut Scratch<'a>,

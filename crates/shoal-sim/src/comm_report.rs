@@ -6,8 +6,9 @@
 use crate::comm::{DIST_BIN, LinkStats, latency_bin_centre};
 use crate::files::FileError;
 use crate::plot::{Outline, Plot, Series};
-use crate::sim::{Sim, VehicleSnapshot};
+use crate::sim::Sim;
 use crate::systems::ConnSample;
+use crate::view::VehicleView;
 use serde::Serialize;
 use shoal_model::optics::{LinkGeometry, budget};
 use shoal_world::desc::WorldDesc;
@@ -122,7 +123,7 @@ fn percentile(hist: &[u64], q: f64) -> Option<f64> {
 }
 
 /// The communication section, or `None` when no vehicle sent a frame.
-pub fn summarize(desc: &WorldDesc, sim: &Sim, snaps: &[VehicleSnapshot]) -> Option<CommSummary> {
+pub fn summarize(desc: &WorldDesc, sim: &Sim, snaps: &[VehicleView<'_>]) -> Option<CommSummary> {
     let sent: u64 = snaps.iter().map(|s| s.comm.sent).sum();
     if sent == 0 {
         return None;
@@ -168,7 +169,7 @@ pub fn summarize(desc: &WorldDesc, sim: &Sim, snaps: &[VehicleSnapshot]) -> Opti
         vehicles: snaps
             .iter()
             .map(|s| VehicleComm {
-                name: s.name.clone(),
+                name: s.name.to_string(),
                 sent: s.comm.sent,
                 queue_overflow: s.comm.queue_overflow,
                 rx: s.comm.rx,
@@ -177,8 +178,8 @@ pub fn summarize(desc: &WorldDesc, sim: &Sim, snaps: &[VehicleSnapshot]) -> Opti
     })
 }
 
-fn gossip_summary(desc: &WorldDesc, snaps: &[VehicleSnapshot]) -> Option<GossipSummary> {
-    let members: Vec<&VehicleSnapshot> = snaps
+fn gossip_summary(desc: &WorldDesc, snaps: &[VehicleView<'_>]) -> Option<GossipSummary> {
+    let members: Vec<&VehicleView<'_>> = snaps
         .iter()
         .zip(&desc.vehicles)
         .filter(|(_, d)| matches!(d.behaviour, Some(BehaviourSpec::Gossip { .. })))
@@ -187,8 +188,8 @@ fn gossip_summary(desc: &WorldDesc, snaps: &[VehicleSnapshot]) -> Option<GossipS
     if members.is_empty() {
         return None;
     }
-    let get = |s: &VehicleSnapshot, k: &str| {
-        s.behaviour
+    let get = |s: &VehicleView<'_>, k: &str| {
+        s.behaviour()
             .iter()
             .find(|(n, _)| *n == k)
             .map_or(f64::NAN, |(_, v)| *v)
@@ -250,7 +251,7 @@ fn gossip_summary(desc: &WorldDesc, snaps: &[VehicleSnapshot]) -> Option<GossipS
 
 /// Writes `links.csv` (whole, through [`crate::files`]): one row per (sender, receiver)
 /// with at least one attempt.
-pub fn write_links_csv(path: &Path, snaps: &[VehicleSnapshot]) -> Result<PathBuf, FileError> {
+pub fn write_links_csv(path: &Path, snaps: &[VehicleView<'_>]) -> Result<PathBuf, FileError> {
     let mut w = crate::files::CsvFile::create(path)?;
     w.write_record([
         "sender",
@@ -273,8 +274,8 @@ pub fn write_links_csv(path: &Path, snaps: &[VehicleSnapshot]) -> Result<PathBuf
                 String::new()
             };
             w.write_record([
-                snaps[*from as usize].name.as_str(),
-                rx.name.as_str(),
+                snaps[*from as usize].name,
+                rx.name,
                 &l.attempts.to_string(),
                 &l.delivered.to_string(),
                 &l.lost_range.to_string(),
@@ -293,7 +294,7 @@ pub fn write_links_csv(path: &Path, snaps: &[VehicleSnapshot]) -> Result<PathBuf
 pub fn plots(
     desc: &WorldDesc,
     sim: &Sim,
-    snaps: &[VehicleSnapshot],
+    snaps: &[VehicleView<'_>],
     c: &CommSummary,
 ) -> Vec<(&'static str, Plot)> {
     let mut plots = Vec::new();

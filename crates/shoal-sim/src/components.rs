@@ -2,7 +2,6 @@
 //! shoal-model types; resources hold the world-wide settings.
 
 use bevy_ecs::prelude::*;
-use rand_chacha::ChaCha8Rng;
 use shoal_model::prelude::*;
 use shoal_world::geometry::Geometry;
 use std::sync::Arc;
@@ -55,7 +54,7 @@ pub struct Sensors(pub SensorReadings);
 
 /// The vehicle's own random stream for sensor noise (derived from the world seed and its id).
 #[derive(Component, Clone, Debug)]
-pub struct SensorRng(pub ChaCha8Rng);
+pub struct SensorRng(pub crate::sim::VehicleRng);
 
 /// Hull contacts with the static world.
 #[derive(Component, Clone, Copy, Debug, Default, PartialEq)]

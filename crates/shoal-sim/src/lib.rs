@@ -22,6 +22,7 @@ pub mod plot;
 pub mod recorder;
 pub mod sim;
 pub mod systems;
+pub mod view;
 
 /// The commonly used types.
 pub mod prelude {

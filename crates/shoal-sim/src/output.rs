@@ -20,7 +20,8 @@ use crate::comm_report::VehicleComm;
 use crate::files::{CsvFile, FileError, write_whole};
 use crate::plot::{Outline, Plot, PlotError, Series};
 use crate::recorder::{self, RecordBatch, col, mode_of_code};
-use crate::sim::{Sim, VehicleSnapshot};
+use crate::sim::Sim;
+use crate::view::VehicleView;
 use serde::Serialize;
 use shoal_model::math::wrap_pi;
 use shoal_model::prelude::*;
@@ -56,24 +57,31 @@ const PLOT_VEHICLES: usize = 200;
 #[derive(Clone, Debug, Default)]
 struct VehicleAcc {
     rows: u64,
-    last: Vec<f64>,
+    /// Position of the last row \[m\].
+    last: Option<[f64; 3]>,
     distance: f64,
     max_depth: f64,
     max_speed: f64,
-    plot: Vec<(f64, f64, f64, f64, f64)>, // t, x, y, depth reading, depth setpoint
+    /// Points for the plots (only for the vehicles drawn): t, x, y, depth reading, depth
+    /// setpoint.
+    plot: Vec<(f64, f64, f64, f64, f64)>,
 }
 
 /// Streams a run's outputs into a folder.
 pub struct RunOutput {
     dir: PathBuf,
     csv: CsvFile,
-    /// Per vehicle: where each of its row values goes in the CSV record.
+    /// Per vehicle kind: where each of its row values goes in the CSV record.
     maps: Vec<Vec<usize>>,
+    /// Per vehicle: its kind's index in `maps`.
+    kind_of: Vec<u32>,
     width: usize,
     names: Vec<String>,
     acc: Vec<VehicleAcc>,
     keep_every: u64,
     plots: bool,
+    /// Every this many vehicles one is drawn in the plots (at most [`PLOT_VEHICLES`]).
+    plot_stride: usize,
     csv_rows: u64,
     /// External agents' part of the summary (set by the run driver before `finish`).
     pub agents: Option<crate::agents::AgentsSummary>,
@@ -91,32 +99,31 @@ impl RunOutput {
         let mut header: Vec<String> = vec!["t_s".into(), "vehicle".into()];
         header.extend(recorder::FIXED[1..].iter().map(|s| s.to_string()));
         let mut extra: Vec<String> = Vec::new();
-        let mut maps = Vec::with_capacity(desc.vehicles.len());
-        let mut by_kind: HashMap<*const VehicleModel, Vec<usize>> = HashMap::new();
+        let mut maps = Vec::new();
+        let mut kind_of = Vec::with_capacity(desc.vehicles.len());
+        let mut by_kind: HashMap<*const VehicleModel, u32> = HashMap::new();
         for v in &desc.vehicles {
             let key = std::sync::Arc::as_ptr(&v.model);
-            let map = by_kind
-                .entry(key)
-                .or_insert_with(|| {
-                    let mut m: Vec<usize> = vec![0];
-                    m.extend(2..recorder::FIXED.len() + 1);
-                    for c in recorder::columns(&v.model)
-                        .into_iter()
-                        .skip(recorder::FIXED.len())
-                    {
-                        let k = match extra.iter().position(|e| *e == c) {
-                            Some(k) => k,
-                            None => {
-                                extra.push(c);
-                                extra.len() - 1
-                            }
-                        };
-                        m.push(recorder::FIXED.len() + 1 + k);
-                    }
-                    m
-                })
-                .clone();
-            maps.push(map);
+            let kind = *by_kind.entry(key).or_insert_with(|| {
+                let mut m: Vec<usize> = vec![0];
+                m.extend(2..recorder::FIXED.len() + 1);
+                for c in recorder::columns(&v.model)
+                    .into_iter()
+                    .skip(recorder::FIXED.len())
+                {
+                    let k = match extra.iter().position(|e| *e == c) {
+                        Some(k) => k,
+                        None => {
+                            extra.push(c);
+                            extra.len() - 1
+                        }
+                    };
+                    m.push(recorder::FIXED.len() + 1 + k);
+                }
+                maps.push(m);
+                (maps.len() - 1) as u32
+            });
+            kind_of.push(kind);
         }
         header.extend(extra);
         let width = header.len();
@@ -126,11 +133,13 @@ impl RunOutput {
             dir: dir.to_path_buf(),
             csv,
             maps,
+            kind_of,
             width,
             names: desc.vehicles.iter().map(|v| v.name.clone()).collect(),
             acc: vec![VehicleAcc::default(); desc.vehicles.len()],
             keep_every: expected_rows.div_ceil(PLOT_POINTS as u64).max(1),
             plots: desc.output.plots,
+            plot_stride: desc.vehicles.len().div_ceil(PLOT_VEHICLES).max(1),
             csv_rows: 0,
             agents: None,
         })
@@ -143,7 +152,9 @@ impl RunOutput {
 
     /// Writes a batch of rows (time-major) and updates the statistics.
     pub fn write(&mut self, batch: &RecordBatch) -> Result<(), OutputError> {
-        let strides: Vec<usize> = (0..batch.rows.len()).map(|i| self.maps[i].len()).collect();
+        let strides: Vec<usize> = (0..batch.rows.len())
+            .map(|i| self.maps[self.kind_of[i] as usize].len())
+            .collect();
         let n = batch
             .rows
             .iter()
@@ -160,7 +171,7 @@ impl RunOutput {
                 };
                 rec.iter_mut().for_each(|c| c.clear());
                 for (j, x) in row.iter().enumerate() {
-                    let target = self.maps[i][j];
+                    let target = self.maps[self.kind_of[i] as usize][j];
                     rec[target] = if j == col::MODE {
                         mode_of_code(*x).name().to_string()
                     } else {
@@ -177,12 +188,15 @@ impl RunOutput {
     }
 
     fn accumulate(&mut self, i: usize, row: &[f64]) {
-        let keep = self.acc[i].rows.is_multiple_of(self.keep_every);
+        let keep = self.plots
+            && i.is_multiple_of(self.plot_stride)
+            && self.acc[i].rows.is_multiple_of(self.keep_every);
         let a = &mut self.acc[i];
-        if let Some(last) = (!a.last.is_empty()).then_some(&a.last) {
-            let d = ((row[col::X] - last[col::X]).powi(2)
-                + (row[col::Y] - last[col::Y]).powi(2)
-                + (row[col::Z] - last[col::Z]).powi(2))
+        let here = [row[col::X], row[col::Y], row[col::Z]];
+        if let Some(last) = a.last {
+            let d = ((here[0] - last[0]).powi(2)
+                + (here[1] - last[1]).powi(2)
+                + (here[2] - last[2]).powi(2))
             .sqrt();
             a.distance += d;
         }
@@ -199,8 +213,7 @@ impl RunOutput {
             ));
         }
         a.rows += 1;
-        a.last.clear();
-        a.last.extend_from_slice(row);
+        a.last = Some(here);
     }
 
     /// Finishes the outputs in the order of the module documentation (summary, tables,
@@ -214,12 +227,14 @@ impl RunOutput {
     pub fn finish(
         self,
         desc: &WorldDesc,
-        sim: &Sim,
+        sim: &mut Sim,
         wall_s: f64,
         cancel: &Cancel,
     ) -> Result<Summary, OutputError> {
         let seen = cancel.requests();
-        let snaps = sim.vehicles();
+        sim.fold_comm();
+        let sim = &*sim;
+        let snaps = sim.views();
         let comm = crate::comm_report::summarize(desc, sim, &snaps);
         let mut plots: Vec<(&'static str, Plot)> = Vec::new();
         if self.plots {
@@ -283,9 +298,7 @@ impl RunOutput {
     }
 
     fn shown(&self) -> Vec<usize> {
-        let n = self.acc.len();
-        let step = n.div_ceil(PLOT_VEHICLES).max(1);
-        (0..n).step_by(step).collect()
+        (0..self.acc.len()).step_by(self.plot_stride).collect()
     }
 
     fn depth_plot(&self, desc: &WorldDesc) -> Plot {
@@ -389,6 +402,19 @@ impl RunOutput {
     }
 }
 
+/// Peak resident memory of this process (`VmHWM` of `/proc/self/status`) \[bytes\].
+fn peak_memory_bytes() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let kb: u64 = status
+        .lines()
+        .find_map(|l| l.strip_prefix("VmHWM:"))?
+        .split_whitespace()
+        .next()?
+        .parse()
+        .ok()?;
+    Some(kb * 1024)
+}
+
 /// Writes `summary.json` (whole).
 fn write_summary(path: &Path, summary: &Summary) -> Result<PathBuf, FileError> {
     let text = serde_json::to_vec_pretty(summary).map_err(|e| FileError {
@@ -405,7 +431,7 @@ fn write_tables_and_plots(
     trajectories: CsvFile,
     vehicles: (&Path, &[VehicleSummary], Option<&[VehicleComm]>),
     links: Option<&Path>,
-    snaps: &[VehicleSnapshot],
+    snaps: &[VehicleView<'_>],
     plots: &[(&'static str, Plot)],
     dir: &Path,
     skip_plots: impl Fn() -> bool,
@@ -596,6 +622,11 @@ pub struct Summary {
     pub wall_s: f64,
     /// Simulated seconds per wall-clock second.
     pub real_time_factor: f64,
+    /// The process's peak resident memory when the summary was made (after the world ran and
+    /// the end-of-run tables were gathered) \[bytes\]; absent where the system does not say
+    /// (it is read from `/proc/self/status`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub peak_memory_bytes: Option<u64>,
     /// Stopped early by a stop request (Ctrl-C, SIGTERM, SIGHUP): the run, or — when
     /// `simulated_s` equals `planned_s` — the writing of its plots (`files` lists what exists).
     pub interrupted: bool,
@@ -634,7 +665,7 @@ impl Summary {
     fn new(
         desc: &WorldDesc,
         sim: &Sim,
-        snaps: &[VehicleSnapshot],
+        snaps: &[VehicleView<'_>],
         acc: &[VehicleAcc],
         wall_s: f64,
         interrupted: Option<Cause>,
@@ -652,7 +683,7 @@ impl Summary {
                 );
                 let uses_yaw = matches!(s.setpoints.mode, Mode::Turning | Mode::Drift | Mode::Auto);
                 VehicleSummary {
-                    name: s.name.clone(),
+                    name: s.name.to_string(),
                     group: desc.groups[desc.vehicles[i].group].clone(),
                     mode: s.setpoints.mode.name().into(),
                     final_position_m: [r.position.x, r.position.y, r.position.z],
@@ -728,6 +759,7 @@ impl Summary {
             } else {
                 f64::INFINITY
             },
+            peak_memory_bytes: peak_memory_bytes(),
             interrupted: interrupted.is_some(),
             failed: sim.fault().map(|f| f.to_string()),
             signal: interrupted.map(|c| c.name.to_string()),
@@ -752,7 +784,7 @@ impl Summary {
             (None, _, false) => "simulated".into(),
         };
         s.push_str(&format!(
-            "{}: {} vehicles, {status} {:.1} s of {:.1} s in {:.2} s wall time ({:.1}× real time, {} thread{})\n\n",
+            "{}: {} vehicles, {status} {:.1} s of {:.1} s in {:.2} s wall time ({:.1}× real time, {} thread{})\n",
             self.world,
             self.vehicles,
             self.simulated_s,
@@ -762,6 +794,22 @@ impl Summary {
             self.threads,
             if self.threads == 1 { "" } else { "s" }
         ));
+        if let Some(b) = self.peak_memory_bytes {
+            let b = b as f64;
+            let size = if b >= 1e9 {
+                format!("{:.2} GB", b / 1e9)
+            } else {
+                format!("{:.0} MB", b / 1e6)
+            };
+            // Per vehicle once the vehicles dominate the process's fixed part.
+            let each = if self.vehicles >= 10_000 {
+                format!(" ({:.1} KB per vehicle)", b / 1024.0 / self.vehicles as f64)
+            } else {
+                String::new()
+            };
+            s.push_str(&format!("peak memory {size}{each}\n"));
+        }
+        s.push('\n');
         if let Some(f) = &self.failed {
             s.push_str(&format!("FAILED: {f}\n\n"));
         }

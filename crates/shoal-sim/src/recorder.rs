@@ -102,6 +102,7 @@ pub fn push_row(
     cmd: &ActuatorCommands,
     contacts: &ContactStats,
 ) {
+    out.reserve(stride(model));
     let r = &st.rigid;
     let (roll, pitch, yaw) = r.attitude.euler_angles();
     out.extend_from_slice(&[

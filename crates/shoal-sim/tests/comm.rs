@@ -491,7 +491,8 @@ fn gossip_floods_the_swarm_hop_by_hop_at_the_pace_of_ticks_and_airtime() {
         },
     );
     sim.run(desc.steps());
-    let snaps = sim.vehicles();
+    sim.fold_comm();
+    let snaps = sim.views();
     let c = shoal_sim::comm_report::summarize(&desc, &sim, &snaps).unwrap();
     let g = c.gossip.unwrap();
     assert_eq!(g.informed, g.vehicles, "everyone learns the value");

@@ -18,6 +18,7 @@ use std::path::Path;
 const BUDGET: MemoryBudget = MemoryBudget {
     available_bytes: 64 << 20,
     bytes_per_vehicle: 16 << 10,
+    extra_bytes_per_sender: 0,
 };
 
 fn worlds() -> &'static [(String, toml::Table)] {

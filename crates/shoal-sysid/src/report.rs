@@ -40,11 +40,15 @@ pub enum ReportError {
     },
 }
 
+/// Writes a whole file: under a temporary name, renamed when complete, so an interrupted or
+/// failed write never leaves a truncated report that looks whole.
 fn write(path: &Path, text: &str) -> Result<(), ReportError> {
-    std::fs::write(path, text).map_err(|e| ReportError::Write {
-        path: path.to_path_buf(),
-        message: e.to_string(),
-    })
+    shoal_sim::files::write_whole(path, text.as_bytes())
+        .map(|_| ())
+        .map_err(|e| ReportError::Write {
+            path: path.to_path_buf(),
+            message: e.reason.to_string(),
+        })
 }
 
 /// Everything the report needs besides the search outcome.

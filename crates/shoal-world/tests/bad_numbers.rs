@@ -222,6 +222,7 @@ fn a_count_this_machine_cannot_hold_is_refused_before_placement() {
     let budget = MemoryBudget {
         available_bytes: 8_000_000_000,
         bytes_per_vehicle: 4096,
+        extra_bytes_per_sender: 0,
     };
     // 5 000 001 vehicles × 4 KB = 20.5 GB > 8 GB: refused at the large group's count, with the
     // estimate and what fits. Placing them would take seconds; the refusal is immediate
@@ -244,8 +245,38 @@ fn a_count_this_machine_cannot_hold_is_refused_before_placement() {
     let budget = MemoryBudget {
         available_bytes: 30_000_000_000,
         bytes_per_vehicle: 4096,
+        extra_bytes_per_sender: 0,
     };
     let e = load_str_with(text, Path::new("big.toml"), Some(&budget)).unwrap_err();
     assert!(e.has(ProblemKind::Outside), "{e}");
     assert!(!e.to_string().contains("need about"), "{e}");
+}
+
+#[test]
+fn vehicles_that_transmit_count_their_receivers_link_tables_in_the_estimate() {
+    use shoal_world::load::{MemoryBudget, load_str_with};
+    let world = |behaviour: &str| {
+        format!(
+            "[pool]\nsize = [100.0, 100.0, 3.0]\n[[vehicles]]\nname = \"swarm\"\ncount = 700000\n\
+             grid = {{ origin = [1.0, 1.0, 1.0], spacing = [0.5, 0.5], columns = 100 }}\n{behaviour}"
+        )
+    };
+    let budget = MemoryBudget {
+        available_bytes: 8_000_000_000,
+        bytes_per_vehicle: 4096,
+        extra_bytes_per_sender: 8192,
+    };
+    // Quiet: 700 000 × 4 KB = 2.9 GB fits (the load then fails on placement, not memory).
+    let e = load_str_with(&world(""), Path::new("quiet.toml"), Some(&budget)).unwrap_err();
+    assert!(!e.to_string().contains("need about"), "{e}");
+    // Beaconing: 700 000 × 12 KB = 8.6 GB does not.
+    let beacons = "behaviour = { kind = \"beacon\", period = 1.0, payload_bytes = 8 }\n";
+    let e = load_str_with(&world(beacons), Path::new("loud.toml"), Some(&budget)).unwrap_err();
+    let msg = e.to_string();
+    assert_eq!(e.problems.len(), 1, "{e}");
+    assert!(
+        msg.contains("700000 vehicles need about 8.6 GB (≈ 12.0 KB each, estimated)")
+            && msg.contains("at most about 651041 vehicles fit"),
+        "{msg}"
+    );
 }

@@ -121,7 +121,7 @@ impl TruthHook for SpeedDependent {
         }
         if let Some(inv) = mp.m_total.try_inverse() {
             mp.m_inv = inv;
-            state.mass = mp;
+            state.set_mass(mp);
         }
     }
 }

@@ -114,7 +114,7 @@ impl TruthHook for TankPump {
         let v = (state.ballast_volume + sign * q * dt).clamp(0.0, b.capacity);
         if v != state.ballast_volume {
             state.ballast_volume = v;
-            state.mass = model.params.mass_properties(v, env.density);
+            state.set_mass(model.params.mass_properties(v, env.density));
         }
     }
 }

@@ -7,10 +7,16 @@ use crate::error::{FieldPath, ProblemKind};
 use crate::spec::WorldFile;
 
 /// Memory a running vehicle takes, all of it: its description, its simulation state, the
-/// per-vehicle output accumulators and its share of the summary \[bytes\]. Measured with
-/// `shoal bench` on the μAUV² preset (peak RSS / vehicles at 10⁵ vehicles: 11.6 KB); the
-/// estimate errs on the large side.
-pub const DEFAULT_BYTES_PER_VEHICLE: u64 = 12 * 1024;
+/// per-vehicle output accumulators and its share of the end-of-run tables \[bytes\].
+/// Measured as peak RSS / vehicles of `shoal run` on quiet μAUV² swarms (3.2 KB at 10⁵,
+/// 2.9 KB at 10⁶ vehicles); the estimate errs on the large side.
+pub const DEFAULT_BYTES_PER_VEHICLE: u64 = 4 * 1024;
+
+/// Extra memory of a vehicle in a group that transmits (a behaviour or an agent): the
+/// receivers in its range keep reception statistics per sender \[bytes\]. Measured with
+/// 1 Hz beacons on a 1.5 m grid (≈ 40 senders heard per vehicle): 10.4 KB per vehicle in
+/// all at 10⁵ vehicles.
+pub const DEFAULT_EXTRA_BYTES_PER_SENDER: u64 = 8 * 1024;
 
 /// What a world may use.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -19,6 +25,8 @@ pub struct MemoryBudget {
     pub available_bytes: u64,
     /// Estimated memory per vehicle \[bytes\].
     pub bytes_per_vehicle: u64,
+    /// Estimated extra memory per vehicle of a group that transmits \[bytes\].
+    pub extra_bytes_per_sender: u64,
 }
 
 impl MemoryBudget {
@@ -43,12 +51,14 @@ impl MemoryBudget {
         Some(Self {
             available_bytes,
             bytes_per_vehicle: DEFAULT_BYTES_PER_VEHICLE,
+            extra_bytes_per_sender: DEFAULT_EXTRA_BYTES_PER_SENDER,
         })
     }
 
-    /// Estimated memory of `n` vehicles \[bytes\].
-    pub fn estimate(&self, n: u64) -> u64 {
+    /// Estimated memory of `n` vehicles of which `senders` transmit \[bytes\].
+    pub fn estimate(&self, n: u64, senders: u64) -> u64 {
         n.saturating_mul(self.bytes_per_vehicle)
+            .saturating_add(senders.saturating_mul(self.extra_bytes_per_sender))
     }
 }
 
@@ -63,7 +73,13 @@ pub(super) fn check(wf: &WorldFile, budget: Option<&MemoryBudget>, v: &mut Valid
         return;
     };
     let total: u64 = wf.vehicles.iter().map(|g| g.count as u64).sum();
-    let need = b.estimate(total);
+    let senders: u64 = wf
+        .vehicles
+        .iter()
+        .filter(|g| g.behaviour.is_some() || g.agent.is_some())
+        .map(|g| g.count as u64)
+        .sum();
+    let need = b.estimate(total, senders);
     if need <= b.available_bytes {
         return;
     }
@@ -75,7 +91,9 @@ pub(super) fn check(wf: &WorldFile, budget: Option<&MemoryBudget>, v: &mut Valid
     else {
         return;
     };
-    let fits = b.available_bytes / b.bytes_per_vehicle.max(1);
+    // Vehicles that fit with this world's share of senders.
+    let each = need / total.max(1);
+    let fits = b.available_bytes / each.max(1);
     v.push(
         ProblemKind::Range,
         &FieldPath::root().key("vehicles").index(gi).key("count"),
@@ -83,7 +101,7 @@ pub(super) fn check(wf: &WorldFile, budget: Option<&MemoryBudget>, v: &mut Valid
             "{total} vehicles need about {} (≈ {:.1} KB each, estimated), but this machine has {} \
              available: at most about {fits} vehicles fit{}",
             gb(need),
-            b.bytes_per_vehicle as f64 / 1024.0,
+            each as f64 / 1024.0,
             gb(b.available_bytes),
             if wf.vehicles.len() > 1 {
                 format!(" (this group has {})", g.count)
