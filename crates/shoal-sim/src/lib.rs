@@ -20,6 +20,7 @@ pub mod output;
 pub mod parallel;
 pub mod plot;
 pub mod recorder;
+pub mod replay;
 pub mod sim;
 pub mod systems;
 pub mod view;
