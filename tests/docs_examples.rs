@@ -16,5 +16,7 @@ fn readme_world_example_loads() {
     for b in blocks {
         let w = load_str(b, Path::new("README.md")).unwrap_or_else(|e| panic!("{e}\n{b}"));
         assert!(!w.vehicles.is_empty());
+        // An example must not teach a mistake the loader warns about (e.g. vehicles that sink).
+        assert!(w.warnings.is_empty(), "{:?}\n{b}", w.warnings);
     }
 }

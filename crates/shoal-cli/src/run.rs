@@ -157,6 +157,9 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, Failure> {
 
     let steps = desc.steps();
     if !args.quiet {
+        for w in &desc.warnings {
+            eprintln!("shoal: warning: {w}");
+        }
         eprintln!(
             "shoal: building `{}` — {} vehicles",
             desc.name,
@@ -330,7 +333,9 @@ fn open_agents(
     let missing = host.wait_for_agents(wait, &mut |missing| {
         if !quiet && !shown {
             eprintln!(
-                "shoal: waiting up to {:.0} s for {} (Ctrl-C to stop)",
+                "shoal: waiting up to {:.0} s for {} to attach (Ctrl-C to stop; \
+                 `--wait-agents SECONDS` waits longer — an agent built for the first time \
+                 can take minutes to compile, so build it before starting the world)",
                 wait.as_secs_f64(),
                 missing.join(", ")
             );
@@ -386,5 +391,8 @@ pub fn check(world: &Path) -> Result<ExitCode, Failure> {
         desc.steps(),
         desc.seed
     );
+    for w in &desc.warnings {
+        println!("warning: {w}");
+    }
     Ok(ExitCode::SUCCESS)
 }

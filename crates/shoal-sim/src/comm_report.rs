@@ -289,6 +289,20 @@ pub fn write_links_csv(path: &Path, snaps: &[VehicleView<'_>]) -> Result<PathBuf
     w.commit()
 }
 
+/// The 95 % Wilson score interval of a proportion: `k` successes in `n` trials (n > 0).
+/// Unlike the normal approximation it stays within [0, 1] and is honest for k near 0 or n.
+pub fn wilson(k: u64, n: u64) -> (f64, f64) {
+    if n == 0 {
+        return (0.0, 1.0);
+    }
+    let (n, z) = (n as f64, 1.959_963_984_540_054);
+    let p = k as f64 / n;
+    let z2n = z * z / n;
+    let centre = (p + 0.5 * z2n) / (1.0 + z2n);
+    let half = z / (1.0 + z2n) * (p * (1.0 - p) / n + 0.25 * z2n / n).sqrt();
+    ((centre - half).max(0.0), (centre + half).min(1.0))
+}
+
 /// The communication plots, each with the stem of its files (drawn by the caller, one at a
 /// time, so a stop request is answered between plots).
 pub fn plots(
@@ -300,18 +314,28 @@ pub fn plots(
     let mut plots = Vec::new();
     // 1. Delivery against distance, with the on-axis link budget of the first modem for the
     //    run's mean frame length.
+    //    Observed ratios are dots with their 95 % Wilson intervals (bins of ≥ 5 attempts).
     let bits = c.mean_frame_bits.round().max(1.0) as u64;
+    let bins: Vec<&DistanceBin> = c.by_distance.iter().filter(|b| b.attempts >= 5).collect();
     let mut series = vec![Series {
-        label: Some("observed (all angles)".into()),
-        points: c
-            .by_distance
+        label: Some("observed (all angles), 95 % Wilson interval".into()),
+        points: bins
             .iter()
-            .filter(|b| b.attempts >= 5)
             .map(|b| (0.5 * (b.from_m + b.to_m), b.ratio))
             .collect(),
         color: 0,
+        dots: true,
         ..Default::default()
     }];
+    for b in &bins {
+        let (lo, hi) = wilson(b.delivered, b.attempts);
+        let d = 0.5 * (b.from_m + b.to_m);
+        series.push(Series {
+            points: vec![(d, lo), (d, hi)],
+            color: 0,
+            ..Default::default()
+        });
+    }
     if let Some(m) = snaps.iter().find_map(|s| s.model.params.modems.first()) {
         let pts = (1..=120)
             .map(|k| {
@@ -395,7 +419,8 @@ pub fn plots(
         });
     }
     let last = conn.samples.last();
-    let margin = 0.05 * pool.x.max(pool.y);
+    let (east, north, size) =
+        crate::plot::map_view((pool.x, pool.y), snaps.iter().map(|s| pos(s.id)), 800);
     plots.push((
         "connectivity",
         Plot {
@@ -411,9 +436,9 @@ pub fn plots(
             y_label: "north x [m]".into(),
             series,
             outlines,
-            x_range: Some((-margin, pool.y + margin)),
-            y_range: Some((-margin, pool.x + margin)),
-            size: (800, 800),
+            x_range: Some(east),
+            y_range: Some(north),
+            size,
             ..Default::default()
         },
     ));
@@ -445,4 +470,30 @@ pub fn plots(
         ));
     }
     plots
+}
+
+#[cfg(test)]
+mod tests {
+    use super::wilson;
+
+    #[test]
+    fn wilson_interval_matches_hand_values() {
+        // 8 of 10: Wilson 95 % = [0.4902, 0.9433] (Newcombe 1998, method 3).
+        let (lo, hi) = wilson(8, 10);
+        assert!(
+            (lo - 0.4902).abs() < 1e-4 && (hi - 0.9433).abs() < 1e-4,
+            "{lo} {hi}"
+        );
+        // 0 of 20: the lower end is 0, the upper 0.1611; all of 20: mirrored.
+        let (lo, hi) = wilson(0, 20);
+        assert!(lo == 0.0 && (hi - 0.1611).abs() < 1e-4, "{lo} {hi}");
+        let (lo, hi) = wilson(20, 20);
+        assert!(
+            (lo - 0.8389).abs() < 1e-4 && (hi - 1.0).abs() < 1e-12,
+            "{lo} {hi}"
+        );
+        // It narrows as 1/√n around the ratio.
+        let (lo, hi) = wilson(5000, 10000);
+        assert!((hi - lo - 2.0 * 1.96 * 0.005).abs() < 1e-4);
+    }
 }

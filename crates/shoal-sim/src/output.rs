@@ -62,9 +62,29 @@ struct VehicleAcc {
     distance: f64,
     max_depth: f64,
     max_speed: f64,
-    /// Points for the plots (only for the vehicles drawn): t, x, y, depth reading, depth
-    /// setpoint.
-    plot: Vec<(f64, f64, f64, f64, f64)>,
+    /// Points for the plots (only for the vehicles drawn).
+    plot: Vec<PlotPoint>,
+    /// Whether the vehicle was ever in a mode that controls its heading.
+    steered: bool,
+}
+
+/// One kept sample of a vehicle for the plots.
+#[derive(Clone, Copy, Debug, Default)]
+struct PlotPoint {
+    /// Time \[s\].
+    t: f64,
+    /// North \[m\].
+    x: f64,
+    /// East \[m\].
+    y: f64,
+    /// Depth reading \[m\].
+    depth: f64,
+    /// Depth setpoint \[m\].
+    depth_sp: f64,
+    /// Heading \[rad\].
+    yaw: f64,
+    /// Heading setpoint \[rad\].
+    yaw_sp: f64,
 }
 
 /// Streams a run's outputs into a folder.
@@ -204,14 +224,20 @@ impl RunOutput {
         let speed = (row[col::U].powi(2) + row[col::U + 1].powi(2) + row[col::W].powi(2)).sqrt();
         a.max_speed = a.max_speed.max(speed);
         if keep {
-            a.plot.push((
-                row[col::T],
-                row[col::X],
-                row[col::Y],
-                row[col::DEPTH_READING],
-                row[col::DEPTH_SP],
-            ));
+            a.plot.push(PlotPoint {
+                t: row[col::T],
+                x: row[col::X],
+                y: row[col::Y],
+                depth: row[col::DEPTH_READING],
+                depth_sp: row[col::DEPTH_SP],
+                yaw: row[col::YAW],
+                yaw_sp: row[col::YAW_SP],
+            });
         }
+        a.steered |= matches!(
+            mode_of_code(row[col::MODE]),
+            Mode::Turning | Mode::Drift | Mode::Auto
+        );
         a.rows += 1;
         a.last = Some(here);
     }
@@ -243,6 +269,9 @@ impl RunOutput {
             }
             plots.push(("depth", self.depth_plot(desc)));
             plots.push(("top", self.top_plot(desc)));
+            if self.acc.iter().any(|a| a.steered) {
+                plots.push(("heading", self.heading_plot(desc)));
+            }
         }
         let RunOutput {
             dir,
@@ -310,7 +339,7 @@ impl RunOutput {
             let a = &self.acc[i];
             series.push(Series {
                 label: (!labelled[g]).then(|| desc.groups[g].clone()),
-                points: a.plot.iter().map(|p| (p.0, p.3)).collect(),
+                points: a.plot.iter().map(|p| (p.t, p.depth)).collect(),
                 color: g,
                 ..Default::default()
             });
@@ -323,7 +352,7 @@ impl RunOutput {
             if !done[g] {
                 done[g] = true;
                 series.push(Series {
-                    points: self.acc[i].plot.iter().map(|p| (p.0, p.4)).collect(),
+                    points: self.acc[i].plot.iter().map(|p| (p.t, p.depth_sp)).collect(),
                     color: g,
                     dashed: true,
                     ..Default::default()
@@ -349,6 +378,60 @@ impl RunOutput {
         }
     }
 
+    /// Heading against time with the setpoint, for the vehicles drawn (degrees in (−180, 180];
+    /// a line is broken where it wraps).
+    fn heading_plot(&self, desc: &WorldDesc) -> Plot {
+        let wrapped = |pts: &mut dyn Iterator<Item = (f64, f64)>| {
+            let mut out: Vec<(f64, f64)> = Vec::new();
+            for (t, a) in pts {
+                let d = wrap_pi(a).to_degrees();
+                if let Some(&(_, prev)) = out.last()
+                    && (d - prev).abs() > 180.0
+                {
+                    out.push((f64::NAN, f64::NAN));
+                }
+                out.push((t, d));
+            }
+            out
+        };
+        let shown = self.shown();
+        let mut series = Vec::new();
+        let mut labelled = vec![false; desc.groups.len()];
+        let mut done = vec![false; desc.groups.len()];
+        for &i in &shown {
+            let g = desc.vehicles[i].group;
+            let a = &self.acc[i];
+            if !a.steered {
+                continue;
+            }
+            series.push(Series {
+                label: (!labelled[g]).then(|| desc.groups[g].clone()),
+                points: wrapped(&mut a.plot.iter().map(|p| (p.t, p.yaw))),
+                color: g,
+                ..Default::default()
+            });
+            labelled[g] = true;
+            if !done[g] {
+                done[g] = true;
+                series.push(Series {
+                    points: wrapped(&mut a.plot.iter().map(|p| (p.t, p.yaw_sp))),
+                    color: g,
+                    dashed: true,
+                    ..Default::default()
+                });
+            }
+        }
+        Plot {
+            title: format!("{}: heading (solid) and setpoint (dashed)", desc.name),
+            x_label: "time [s]".into(),
+            y_label: "heading [°]".into(),
+            series,
+            x_range: Some((0.0, desc.duration)),
+            y_range: Some((-180.0, 180.0)),
+            ..Default::default()
+        }
+    }
+
     fn top_plot(&self, desc: &WorldDesc) -> Plot {
         let pool = desc.geometry.pool;
         // Map view: east to the right, north up.
@@ -368,14 +451,14 @@ impl RunOutput {
             });
         }
         let mut labelled = vec![false; desc.groups.len()];
-        let series = self
+        let series: Vec<Series> = self
             .shown()
             .into_iter()
             .map(|i| {
                 let g = desc.vehicles[i].group;
                 let s = Series {
                     label: (!labelled[g]).then(|| desc.groups[g].clone()),
-                    points: self.acc[i].plot.iter().map(|p| (p.2, p.1)).collect(),
+                    points: self.acc[i].plot.iter().map(|p| (p.y, p.x)).collect(),
                     color: g,
                     mark_start: true,
                     ..Default::default()
@@ -384,19 +467,23 @@ impl RunOutput {
                 s
             })
             .collect();
-        let margin = 0.05 * pool.x.max(pool.y);
-        let h = 700u32;
-        let w = ((f64::from(h) - 60.0) * (pool.y + 2.0 * margin) / (pool.x + 2.0 * margin) + 80.0)
-            .clamp(560.0, 1800.0) as u32;
+        // Zoomed to where the vehicles went.
+        let (east, north, size) = crate::plot::map_view(
+            (pool.x, pool.y),
+            series
+                .iter()
+                .flat_map(|s: &Series| s.points.iter().copied()),
+            700,
+        );
         Plot {
             title: format!("{}: tracks from above (dot = start)", desc.name),
             x_label: "east y [m]".into(),
             y_label: "north x [m]".into(),
             series,
             outlines,
-            x_range: Some((-margin, pool.y + margin)),
-            y_range: Some((-margin, pool.x + margin)),
-            size: (w, h),
+            x_range: Some(east),
+            y_range: Some(north),
+            size,
             ..Default::default()
         }
     }

@@ -90,6 +90,9 @@ pub struct WorldDesc {
     pub output: OutputDesc,
     /// External agents.
     pub agents: AgentsDesc,
+    /// Advice on what the file says but probably does not mean (e.g. vehicles far from
+    /// neutral buoyancy); the world is valid.
+    pub warnings: Vec<String>,
 }
 
 impl WorldDesc {

@@ -2,14 +2,16 @@
 //! presets, validate every number against its allowed range, expand vehicle groups, place
 //! them, and reject overlaps and vehicles outside the pool. User input never panics: every
 //! problem becomes a [`Problem`] naming the file, line/column and field.
-
 //!
-//! One module per concern: [`messages`] (serde/TOML problems made readable), [`validator`]
-//! (located problems, range checks), [`world`] (top level, pool, water, agents, output),
-//! [`obstacles`], [`vehicle`] (a model: preset + overrides, every parameter), [`behaviour`],
-//! [`mission`], [`placement`], [`ranges`] (the allowed range of every number) (groups, placement, overlaps), [`names`] (service names) and
-//! [`export`] (a model back to a world file).
+//! One module per concern: `messages` (serde/TOML problems made readable), `validator`
+//! (located problems, range checks), [`ranges`] (the allowed range of every number), `world`
+//! (top level, pool, water, agents, output), `obstacles`, `vehicle` (a model: preset +
+//! overrides, every parameter), `behaviour`, `mission`, `placement` (groups, placement,
+//! overlaps), `memory` (the estimate that refuses what cannot fit), `advice` (warnings on
+//! what is valid but probably not meant), `names` (service names) and `export` (a model back
+//! to a world file).
 
+mod advice;
 mod behaviour;
 mod export;
 mod memory;

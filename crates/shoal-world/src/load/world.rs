@@ -1,6 +1,7 @@
 //! The whole world: top-level fields, pool, water, agents and output are checked, then the
 //! obstacles, then every vehicle group; the result is a [`WorldDesc`].
 
+use super::advice::advice;
 use super::memory::{self, MemoryBudget};
 use super::messages::suggest;
 use super::names::{service_word, valid_service_word};
@@ -173,7 +174,9 @@ pub(super) fn build(
         pace: wf.agents.pace,
         names: agent_names,
     };
+    let warnings = advice(&vehicles, &groups, &env);
     Ok(Some(WorldDesc {
+        warnings,
         agents,
         name,
         source: PathBuf::from(file),
