@@ -1,0 +1,181 @@
+//! The spatial index of the medium: a dense uniform grid of points, rebuilt every step by a
+//! counting sort and queried by boxes.
+
+use shoal_model::math::Vec3;
+
+/// A dense uniform grid of points (compressed rows: ids sorted by cell), rebuilt every step by
+/// a counting sort; box queries index it directly.
+#[derive(Clone, Debug, Default)]
+pub struct Grid {
+    origin: Vec3,
+    cell: f64,
+    dims: [usize; 3],
+    start: Vec<u32>,
+    ids: Vec<u32>,
+}
+
+impl Grid {
+    fn coord(&self, p: &Vec3) -> [usize; 3] {
+        let c =
+            |v: f64, o: f64, n: usize| (((v - o) / self.cell).floor().max(0.0) as usize).min(n - 1);
+        [
+            c(p.x, self.origin.x, self.dims[0]),
+            c(p.y, self.origin.y, self.dims[1]),
+            c(p.z, self.origin.z, self.dims[2]),
+        ]
+    }
+
+    fn flat(&self, c: [usize; 3]) -> usize {
+        (c[0] * self.dims[1] + c[1]) * self.dims[2] + c[2]
+    }
+
+    /// Rebuilds the grid over `points` (index = id) with cells of about `cell` \[m\] (larger if
+    /// the points spread so far that the grid would exceed a few cells per point).
+    pub fn rebuild(&mut self, cell: f64, points: &[Vec3]) {
+        let (mut lo, mut hi) = (Vec3::repeat(f64::INFINITY), Vec3::repeat(f64::NEG_INFINITY));
+        for p in points {
+            lo = lo.inf(p);
+            hi = hi.sup(p);
+        }
+        if points.is_empty() {
+            lo = Vec3::zeros();
+            hi = Vec3::zeros();
+        }
+        let mut cell = cell.max(1e-3);
+        let budget = 4 * points.len() + 4096;
+        let dims = |cell: f64| {
+            let n = |a: f64, b: f64| ((b - a) / cell).floor() as usize + 1;
+            [n(lo.x, hi.x), n(lo.y, hi.y), n(lo.z, hi.z)]
+        };
+        while dims(cell).iter().product::<usize>() > budget {
+            cell *= 1.5;
+        }
+        self.origin = lo;
+        self.cell = cell;
+        self.dims = dims(cell);
+        let cells = self.dims.iter().product::<usize>();
+        self.start.clear();
+        self.start.resize(cells + 1, 0);
+        for p in points {
+            let k = self.flat(self.coord(p));
+            self.start[k + 1] += 1;
+        }
+        for k in 0..cells {
+            self.start[k + 1] += self.start[k];
+        }
+        self.ids.clear();
+        self.ids.resize(points.len(), 0);
+        let mut fill = self.start.clone();
+        for (i, p) in points.iter().enumerate() {
+            let k = self.flat(self.coord(p));
+            self.ids[fill[k] as usize] = i as u32;
+            fill[k] += 1;
+        }
+    }
+
+    /// Calls `f` with every id whose cell overlaps the box `lo … hi` \[m\] (a superset of the
+    /// points inside it); stops early when `f` returns `false`. Returns whether it ran to the end.
+    pub fn each_in_box(&self, lo: &Vec3, hi: &Vec3, mut f: impl FnMut(u32) -> bool) -> bool {
+        if self.dims[0] == 0 {
+            return true;
+        }
+        let (a, b) = (self.coord(lo), self.coord(hi));
+        for x in a[0]..=b[0] {
+            for y in a[1]..=b[1] {
+                let row = self.flat([x, y, 0]);
+                let (s, e) = (
+                    self.start[row + a[2]] as usize,
+                    self.start[row + b[2] + 1] as usize,
+                );
+                for &id in &self.ids[s..e] {
+                    if !f(id) {
+                        return false;
+                    }
+                }
+            }
+        }
+        true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A box query yields each point of the cells the box overlaps, once: every point inside
+    /// the box, the points of those cells outside it (within one cell of the box), and no
+    /// other point — checked against brute force for boxes inside, across and beyond the
+    /// points, on a grid whose cell was enlarged to fit the budget and one that was not.
+    #[test]
+    fn dense_grid_box_query_finds_exactly_the_points_inside() {
+        use std::collections::BTreeSet;
+        let pts: Vec<Vec3> = (0..500)
+            .map(|i| {
+                let f = i as f64;
+                Vec3::new((f * 0.37) % 9.0, (f * 0.61) % 7.0, (f * 0.13) % 2.0)
+            })
+            .collect();
+        let boxes = [
+            (Vec3::new(2.0, 1.5, 0.3), Vec3::new(5.5, 4.0, 1.2)),
+            (Vec3::new(0.0, 0.0, 0.0), Vec3::new(0.9, 0.9, 0.9)),
+            // Beyond the points on every side: clamped to the outer cells.
+            (Vec3::new(-3.0, 5.9, -1.0), Vec3::new(1.1, 9.0, 0.5)),
+            (Vec3::new(8.2, -2.0, 1.7), Vec3::new(12.0, 0.4, 5.0)),
+            // Thinner than a cell.
+            (Vec3::new(4.0, 3.0, 1.0), Vec3::new(4.05, 3.05, 1.05)),
+        ];
+        for cell in [0.8, 0.05] {
+            let mut g = Grid::default();
+            g.rebuild(cell, &pts);
+            assert!(g.cell >= cell);
+            for (lo, hi) in &boxes {
+                let mut found = Vec::new();
+                assert!(g.each_in_box(lo, hi, |id| {
+                    found.push(id);
+                    true
+                }));
+                let set: BTreeSet<u32> = found.iter().copied().collect();
+                assert_eq!(set.len(), found.len(), "no duplicates");
+                // Brute force: the points whose cell lies in the box's range of cells.
+                let (a, b) = (g.coord(lo), g.coord(hi));
+                let in_cells: BTreeSet<u32> = (0..pts.len() as u32)
+                    .filter(|&i| {
+                        let c = g.coord(&pts[i as usize]);
+                        (0..3).all(|k| a[k] <= c[k] && c[k] <= b[k])
+                    })
+                    .collect();
+                assert_eq!(set, in_cells, "box {lo:?} … {hi:?}, cell {}", g.cell);
+                // Independently of the cells: every point inside is found, and nothing more
+                // than one cell outside the box on any axis.
+                let within = |p: &Vec3, margin: f64| {
+                    (0..3).all(|k| p[k] >= lo[k] - margin && p[k] <= hi[k] + margin)
+                };
+                let inside: BTreeSet<u32> = (0..pts.len() as u32)
+                    .filter(|&i| within(&pts[i as usize], 0.0))
+                    .collect();
+                assert!(
+                    inside.is_subset(&set),
+                    "missed {:?}",
+                    inside.difference(&set)
+                );
+                let far: Vec<u32> = set
+                    .iter()
+                    .copied()
+                    .filter(|&i| !within(&pts[i as usize], g.cell))
+                    .collect();
+                assert!(far.is_empty(), "found points far outside the box: {far:?}");
+                assert!(
+                    set.len() < pts.len(),
+                    "box {lo:?} … {hi:?} yields every point"
+                );
+            }
+        }
+        // The first box holds points, and points lie outside it.
+        let (lo, hi) = boxes[0];
+        let n_in = pts
+            .iter()
+            .filter(|p| (0..3).all(|k| p[k] >= lo[k] && p[k] <= hi[k]))
+            .count();
+        assert!(n_in > 10 && n_in < 250, "{n_in} points inside");
+    }
+}

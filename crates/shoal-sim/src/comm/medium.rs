@@ -1,0 +1,450 @@
+//! The optical medium itself: frames on the air ([`Transmission`]), the link budget with
+//! precomputed constants ([`ModemConsts`], [`received_power`], [`cutoff_range`]) and the
+//! [`Medium`] resource with its power bounds and hull-occlusion tests.
+
+use super::grid::Grid;
+use super::stats::{DIST_BINS, LAT_BINS};
+use bevy_ecs::prelude::*;
+use shoal_model::math::{Quat, Vec3};
+use shoal_model::optics::{
+    Ambient, LinkGeometry, ModemParams, ModemPose, channel_gain, lambertian_order, noise_variance,
+    reception,
+};
+use shoal_model::vehicle::VehicleModel;
+use shoal_world::geometry::segment_hits_hull;
+use std::collections::HashMap;
+use std::sync::Arc;
+use std::sync::atomic::AtomicU64;
+use std::sync::atomic::Ordering::Relaxed;
+
+/// A frame on the air.
+#[derive(Clone, Debug)]
+pub struct Transmission {
+    /// Unique id in the run.
+    pub id: u64,
+    /// Sending vehicle.
+    pub tx: u32,
+    /// Sending modem.
+    pub modem: usize,
+    /// Start and end of the transmission \[s\].
+    pub start: f64,
+    /// End \[s\].
+    pub end: f64,
+    /// Sender's sequence number (copies on several modems share it).
+    pub seq: u32,
+    /// Time the frame was handed over \[s\].
+    pub sent: f64,
+    /// Payload.
+    pub payload: Arc<[u8]>,
+    /// Bits on the line.
+    pub bits: u64,
+    /// Where the sending modem was.
+    pub pose: ModemPose,
+}
+
+/// A frame as the receivers see it: all copies of one sender's frame that started together.
+pub(super) struct Logical<'a> {
+    pub(super) copies: Vec<&'a Transmission>,
+    /// Other transmissions overlapping this frame in time (possible interferers).
+    pub(super) overlap: Vec<&'a Transmission>,
+    /// Received power below which this frame fails with probability > 1 − 10⁻¹² at every
+    /// receiver design in the world (no ambient light, no interference) [W].
+    pub(super) p_dead: f64,
+}
+
+impl Logical<'_> {
+    pub(super) fn first(&self) -> &Transmission {
+        self.copies[0]
+    }
+}
+
+/// Per-modem constants of the link budget, precomputed once per design.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ModemConsts {
+    /// P_t (m+1)/(2π) of the LED \[W\].
+    pub coef: f64,
+    /// Lambertian order m.
+    pub order: f64,
+    /// cos of the receiver's field of view.
+    pub cos_fov: f64,
+    /// Photodiode area \[m²\].
+    pub area: f64,
+}
+
+impl ModemConsts {
+    /// The constants of a modem.
+    pub fn of(m: &ModemParams) -> Self {
+        let order = lambertian_order(m.led.half_angle);
+        Self {
+            coef: m.led.power * (order + 1.0) / (2.0 * std::f64::consts::PI),
+            order,
+            cos_fov: m.rx.fov.cos(),
+            area: m.rx.area,
+        }
+    }
+}
+
+/// Received optical power \[W\]: `P_t · H` of [`shoal_model::optics::channel_gain`] with the
+/// constants precomputed.
+#[inline]
+pub fn received_power(
+    tx: &ModemConsts,
+    rx: &ModemConsts,
+    g: &LinkGeometry,
+    attenuation: f64,
+) -> f64 {
+    if g.cos_tx <= 0.0 || g.cos_rx < rx.cos_fov || g.distance <= 0.0 {
+        return 0.0;
+    }
+    let ct = if (tx.order - 1.0).abs() < 1e-9 {
+        g.cos_tx
+    } else {
+        g.cos_tx.powf(tx.order)
+    };
+    tx.coef / (g.distance * g.distance)
+        * ct
+        * rx.area
+        * g.cos_rx
+        * (-attenuation * g.distance).exp()
+}
+
+/// The optical medium of a world.
+#[derive(Resource)]
+pub struct Medium {
+    /// Beam attenuation of the water [1/m].
+    pub attenuation: f64,
+    /// Ambient light.
+    pub ambient: Ambient,
+    /// Beyond this distance no frame can be decoded and no interference matters \[m\].
+    pub r_cut: f64,
+    /// Model of every vehicle, by id.
+    pub kinds: Vec<Arc<VehicleModel>>,
+    /// Body position and attitude of every vehicle this step, by id.
+    pub poses: Vec<(Vec3, Quat)>,
+    /// Transmissions still relevant (active, or ended recently enough to overlap a frame that
+    /// is still to end), in start order.
+    pub txs: Vec<Transmission>,
+    /// Vehicles by position.
+    pub grid: Grid,
+    /// Link-budget constants of every vehicle's modems, by id.
+    pub consts: Vec<Arc<[ModemConsts]>>,
+    /// Squared bounding-sphere radius of every vehicle's hull, by id [m²].
+    hull_r2: Vec<f64>,
+    pub(super) next_id: u64,
+    pub(super) max_airtime: f64,
+    /// Deliveries so far (whole world), for progress and tests.
+    pub delivered: u64,
+    /// Transmissions started so far, and their total line bits (for the mean frame length).
+    pub started: (u64, u64),
+    /// Largest hull bounding-sphere radius [m].
+    pub(super) max_hull_radius: f64,
+    /// Attempts and deliveries by distance between sender and receiver
+    /// ([`DIST_BIN`](super::DIST_BIN) bins).
+    pub(super) by_distance: Vec<(AtomicU64, AtomicU64)>,
+    /// Latency histogram of deliveries (see [`LAT_BINS`]).
+    pub(super) latency_hist: Vec<AtomicU64>,
+    /// Distinct receivers in the world (for [`Medium::dead_distance`]).
+    receivers: Vec<shoal_model::optics::Receiver>,
+    dead_cache: std::sync::Mutex<HashMap<u64, f64>>,
+}
+
+/// Distance at which the best LED on axis gives the most sensitive receiver an SNR of 0.25
+/// (thermal and dark noise only): beyond it no frame is decodable and interference is below a
+/// quarter of the noise.
+pub fn cutoff_range(modems: &[&ModemParams], attenuation: f64) -> f64 {
+    let mut r: f64 = 0.0;
+    for tx in modems {
+        for rx in modems {
+            let snr = |d: f64| {
+                let p = tx.led.power
+                    * channel_gain(&tx.led, &rx.rx, &LinkGeometry::on_axis(d), attenuation);
+                let i = rx.rx.responsivity * p;
+                i * i / noise_variance(&rx.rx, 0.0, 0.0, 0.0)
+            };
+            let (mut lo, mut hi): (f64, f64) = (1e-3, 1e4);
+            for _ in 0..100 {
+                let mid = (lo * hi).sqrt();
+                if snr(mid) > 0.25 {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            r = r.max(hi);
+        }
+    }
+    r
+}
+
+impl Medium {
+    /// The medium of a world whose vehicles (by id) have these models.
+    pub fn new(kinds: Vec<Arc<VehicleModel>>, attenuation: f64, ambient: Ambient) -> Self {
+        // Distinct modem designs (vehicles of a kind share their model).
+        let mut modems: Vec<&ModemParams> = Vec::new();
+        for m in kinds.iter().flat_map(|k| k.params.modems.iter()) {
+            if !modems.iter().any(|x| x.led == m.led && x.rx == m.rx) {
+                modems.push(m);
+            }
+        }
+        let r_cut = if modems.is_empty() {
+            0.0
+        } else {
+            cutoff_range(&modems, attenuation)
+        };
+        let max_airtime = modems
+            .iter()
+            .map(|m| m.airtime(m.max_payload))
+            .fold(0.0, f64::max);
+        let n = kinds.len();
+        let mut receivers: Vec<shoal_model::optics::Receiver> = Vec::new();
+        for m in &modems {
+            if !receivers.contains(&m.rx) {
+                receivers.push(m.rx.clone());
+            }
+        }
+        let max_hull_radius = kinds
+            .iter()
+            .map(|k| 0.5 * k.params.body.hull_size.norm())
+            .fold(0.0, f64::max);
+        let hull_r2 = kinds
+            .iter()
+            .map(|k| 0.25 * k.params.body.hull_size.norm_squared())
+            .collect();
+        let mut by_kind: HashMap<*const VehicleModel, Arc<[ModemConsts]>> = HashMap::new();
+        let consts = kinds
+            .iter()
+            .map(|k| {
+                by_kind
+                    .entry(Arc::as_ptr(k))
+                    .or_insert_with(|| k.params.modems.iter().map(ModemConsts::of).collect())
+                    .clone()
+            })
+            .collect();
+        Self {
+            attenuation,
+            ambient,
+            r_cut,
+            kinds,
+            poses: vec![(Vec3::zeros(), Quat::identity()); n],
+            txs: Vec::new(),
+            grid: Grid::default(),
+            consts,
+            hull_r2,
+            next_id: 0,
+            max_airtime,
+            delivered: 0,
+            started: (0, 0),
+            max_hull_radius,
+            by_distance: (0..DIST_BINS)
+                .map(|_| (AtomicU64::new(0), AtomicU64::new(0)))
+                .collect(),
+            latency_hist: (0..LAT_BINS).map(|_| AtomicU64::new(0)).collect(),
+            receivers,
+            dead_cache: std::sync::Mutex::new(HashMap::new()),
+        }
+    }
+
+    /// Optical power [W] that transmission `x` delivers to a receiving modem at `rx` with
+    /// constants `rc` (no occlusion test); cheap rejections come before any root or exponential.
+    #[inline]
+    pub(super) fn power_between(&self, x: &Transmission, rx: &ModemPose, rc: &ModemConsts) -> f64 {
+        let d = rx.position - x.pose.position;
+        let along = x.pose.axis.dot(&d);
+        if along <= 0.0 {
+            return 0.0; // behind the LED
+        }
+        let d2 = d.norm_squared();
+        if d2 > self.r_cut * self.r_cut || d2 <= 0.0 {
+            return 0.0;
+        }
+        let dist = d2.sqrt();
+        let cos_rx = -rx.axis.dot(&d) / dist;
+        if cos_rx < rc.cos_fov {
+            return 0.0; // outside the receiver's field of view
+        }
+        let g = LinkGeometry {
+            distance: dist,
+            cos_tx: along / dist,
+            cos_rx,
+        };
+        received_power(
+            &self.consts[x.tx as usize][x.modem],
+            rc,
+            &g,
+            self.attenuation,
+        )
+    }
+
+    /// Received optical power [W] below which a frame of `bits` line bits fails with
+    /// probability > 1 − 10⁻¹² at every receiver design in the world, without ambient light or
+    /// interference (noise only grows from there).
+    pub(super) fn dead_power(&self, bits: u64) -> f64 {
+        if let Some(p) = self
+            .dead_cache
+            .lock()
+            .ok()
+            .and_then(|c| c.get(&bits).copied())
+        {
+            return p;
+        }
+        let dark = Ambient {
+            surface_irradiance: 0.0,
+            diffuse_attenuation: 0.0,
+        };
+        let p = self
+            .receivers
+            .iter()
+            .map(|rx| {
+                // Bisection on log power: FER falls monotonically with power.
+                let (mut lo, mut hi): (f64, f64) = (1e-30, 1.0);
+                for _ in 0..200 {
+                    let mid = (lo * hi).sqrt();
+                    if reception(rx, mid, &dark, 1.0, 0.0, bits).fer > 1.0 - 1e-12 {
+                        lo = mid;
+                    } else {
+                        hi = mid;
+                    }
+                }
+                lo
+            })
+            .fold(f64::INFINITY, f64::min);
+        if let Ok(mut c) = self.dead_cache.lock() {
+            c.insert(bits, p);
+        }
+        p
+    }
+
+    /// An upper bound of the power that frame `l` can deliver to any modem of vehicle `me`:
+    /// every copy's LED gain taken at the most favourable direction within the receiver's
+    /// hull, the photodiode on axis, the shortest possible distance.
+    pub(super) fn power_bound(&self, l: &Logical<'_>, me: u32, rx_area: f64) -> f64 {
+        let (pos, _) = self.poses[me as usize];
+        let r = self.hull_r2[me as usize].sqrt();
+        l.copies
+            .iter()
+            .map(|c| {
+                let d = pos - c.pose.position;
+                let dist = d.norm();
+                if dist <= r {
+                    return f64::INFINITY;
+                }
+                let cos_phi = (c.pose.axis.dot(&d) / dist).clamp(-1.0, 1.0);
+                let sin_delta = r / dist;
+                let cos_delta = (1.0 - sin_delta * sin_delta).sqrt();
+                // cos(φ − δ), or 1 when the cone of directions contains the LED axis.
+                let sin_phi = (1.0 - cos_phi * cos_phi).sqrt();
+                let cos_best = if cos_phi >= cos_delta {
+                    1.0
+                } else {
+                    cos_phi * cos_delta + sin_phi * sin_delta
+                };
+                if cos_best <= 0.0 {
+                    return 0.0;
+                }
+                let k = &self.consts[c.tx as usize][c.modem];
+                let ct = if (k.order - 1.0).abs() < 1e-9 {
+                    cos_best
+                } else {
+                    cos_best.powf(k.order)
+                };
+                let near = dist - r;
+                k.coef * ct * rx_area * (-self.attenuation * near).exp() / (near * near)
+            })
+            .sum()
+    }
+
+    /// Attempts and deliveries by distance ([`DIST_BIN`](super::DIST_BIN) bins), whole world.
+    pub fn delivery_by_distance(&self) -> Vec<(u64, u64)> {
+        self.by_distance
+            .iter()
+            .map(|(a, d)| (a.load(Relaxed), d.load(Relaxed)))
+            .collect()
+    }
+
+    /// Latency histogram of deliveries (see [`LAT_BINS`]), whole world.
+    pub fn latency_histogram(&self) -> Vec<u64> {
+        self.latency_hist.iter().map(|h| h.load(Relaxed)).collect()
+    }
+
+    /// Whether any vehicle has a modem.
+    pub fn active(&self) -> bool {
+        self.r_cut > 0.0
+    }
+
+    /// Whether the straight segment between two points passes through no hull other than
+    /// those of `skip` (the vehicles at its ends).
+    fn hulls_clear(&self, a: &Vec3, b: &Vec3, skip: (u32, u32)) -> bool {
+        let r = self.max_hull_radius;
+        let d = b - a;
+        let len2 = d.norm_squared();
+        self.grid.each_in_box(
+            &(a.inf(b) - Vec3::repeat(r)),
+            &(a.sup(b) + Vec3::repeat(r)),
+            |id| {
+                if id == skip.0 || id == skip.1 {
+                    return true;
+                }
+                let (p, q) = &self.poses[id as usize];
+                // Bounding sphere first (squared distances, no roots).
+                let s = if len2 > 0.0 {
+                    ((p - a).dot(&d) / len2).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                if (a + d * s - p).norm_squared() > self.hull_r2[id as usize] {
+                    return true;
+                }
+                !segment_hits_hull(a, b, &self.kinds[id as usize].params.body.hull_size, p, q)
+            },
+        )
+    }
+
+    /// Hull occlusion between two vehicles, judged on the line between their centres: the
+    /// modems sit on the hulls, within a hull radius of those centres, and the hulls of the two
+    /// vehicles themselves are not counted.
+    pub(super) fn vehicles_clear(&self, from: u32, to: u32) -> bool {
+        self.hulls_clear(
+            &self.poses[from as usize].0,
+            &self.poses[to as usize].0,
+            (from, to),
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use shoal_model::optics::Led;
+    use shoal_model::presets::uauv2_modem;
+
+    #[test]
+    fn precomputed_power_equals_the_link_budget() {
+        let mut narrow = uauv2_modem();
+        narrow.led = Led {
+            power: 0.2,
+            half_angle: 25f64.to_radians(),
+        };
+        for tx in [uauv2_modem(), narrow] {
+            let rx = uauv2_modem();
+            for (d, ct, cr) in [
+                (1.0, 1.0, 1.0),
+                (2.3, 0.8, 0.6),
+                (3.1, 0.2, 0.51),
+                (0.5, 0.95, 0.49),
+                (1.0, -0.1, 1.0),
+            ] {
+                let g = LinkGeometry {
+                    distance: d,
+                    cos_tx: ct,
+                    cos_rx: cr,
+                };
+                let want = tx.led.power * channel_gain(&tx.led, &rx.rx, &g, 0.1);
+                let got = received_power(&ModemConsts::of(&tx), &ModemConsts::of(&rx), &g, 0.1);
+                assert!(
+                    (got - want).abs() <= 1e-12 * want.abs().max(1e-30),
+                    "{got} vs {want}"
+                );
+            }
+        }
+    }
+}

@@ -1,0 +1,38 @@
+//! The shared optical medium: frames take airtime, modems are half-duplex, overlapping frames
+//! collide unless one is `capture_ratio` times stronger, transmit queues are bounded, access is
+//! unslotted ALOHA or carrier sense, the LED→photodiode ray can be blocked by walls, obstacles
+//! and other hulls, and every reception is decided by the link budget of
+//! [`shoal_model::optics`] with a draw from the *receiver's* random stream.
+//!
+//! One step runs three systems in order (all in [`crate::systems::StepSet::Comm`]):
+//! 1. [`comm_snapshot_system`]: modem poses and a spatial grid of the vehicles, pruning of old
+//!    transmissions;
+//! 2. [`comm_transmit_system`]: frames handed to modems (from behaviours or agents) enter the
+//!    bounded queues; idle modems start transmitting in time order within the step, so carrier
+//!    sense sees exactly the transmissions that started before it;
+//! 3. [`comm_deliver_system`]: every frame whose transmission ended in this step is evaluated
+//!    at each candidate receiver — in parallel over receivers, each using only its own state
+//!    and random stream — so delivery never depends on system order or thread count.
+//!
+//! The code is split by concern:
+//! - `frames`: outboxes, inboxes and received frames, the modems' transmit queues and the
+//!   vehicles' random streams for the medium;
+//! - `stats`: reception counters per link and vehicle, and the distance and latency bins;
+//! - `grid`: the dense spatial grid used for range and occlusion queries;
+//! - `medium`: the [`Medium`] resource, frames on the air and the precomputed link budget;
+//! - `systems`: the three step systems above and the decision of one reception.
+
+mod frames;
+mod grid;
+mod medium;
+mod stats;
+mod systems;
+
+pub use frames::{CommRng, Inbox, ModemPort, Modems, OutFrame, Outbox, Received, comm_rng};
+pub use grid::Grid;
+pub use medium::{Medium, ModemConsts, Transmission, cutoff_range, received_power};
+pub use stats::{
+    CommStats, DIST_BIN, DIST_BINS, IdHasher, LAT_BINS, LinkMap, LinkStats, latency_bin,
+    latency_bin_centre,
+};
+pub use systems::{comm_deliver_system, comm_snapshot_system, comm_transmit_system};

@@ -1,0 +1,174 @@
+//! Communication statistics: reception outcomes per receiver and sender ([`LinkStats`],
+//! [`CommStats`], keyed through [`IdHasher`]) and the bins of the world-wide delivery-by-distance
+//! and latency histograms.
+
+use bevy_ecs::prelude::*;
+use serde::Serialize;
+use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
+
+/// A fixed multiplicative hash for vehicle ids: fast, and the same in every run.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct IdHasher(u64);
+
+impl Hasher for IdHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for b in bytes {
+            self.0 = (self.0.rotate_left(8) ^ u64::from(*b)).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+        }
+    }
+    fn write_u32(&mut self, i: u32) {
+        self.0 = (u64::from(i) ^ self.0).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+    }
+}
+
+/// Per-sender statistics of one receiver (iterate in sorted order for output).
+pub type LinkMap = HashMap<u32, LinkStats, BuildHasherDefault<IdHasher>>;
+
+/// How receptions of one sender's frames at one receiver ended.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct LinkStats {
+    /// Frames whose sender was within the cut-off range.
+    pub attempts: u64,
+    /// Frames delivered.
+    pub delivered: u64,
+    /// Lost to range, angle (outside the LED's beam or the receiver's field of view) or bit
+    /// errors.
+    pub lost_range: u64,
+    /// Lost because walls, obstacles, another hull or the water surface blocked the ray.
+    pub lost_occlusion: u64,
+    /// Lost to an overlapping frame that was not weak enough to capture over.
+    pub lost_collision: u64,
+    /// Lost because the receiving modem was transmitting.
+    pub lost_half_duplex: u64,
+    /// Sum of hand-over-to-delivery latencies of delivered frames \[s\].
+    pub latency_sum_s: f64,
+    /// Time of the last delivery \[s\] (−∞ if none).
+    #[serde(skip)]
+    pub last_delivery: f64,
+}
+
+impl LinkStats {
+    /// Adds another set of counters to this one.
+    pub fn add(&mut self, o: &LinkStats) {
+        self.attempts += o.attempts;
+        self.delivered += o.delivered;
+        self.lost_range += o.lost_range;
+        self.lost_occlusion += o.lost_occlusion;
+        self.lost_collision += o.lost_collision;
+        self.lost_half_duplex += o.lost_half_duplex;
+        self.latency_sum_s += o.latency_sum_s;
+    }
+
+    fn record(&mut self, outcome: Outcome, latency: f64, t: f64) {
+        self.attempts += 1;
+        match outcome {
+            Outcome::Delivered => {
+                self.delivered += 1;
+                self.latency_sum_s += latency;
+                self.last_delivery = t;
+            }
+            Outcome::Range => self.lost_range += 1,
+            Outcome::Occluded => self.lost_occlusion += 1,
+            Outcome::Collision => self.lost_collision += 1,
+            Outcome::HalfDuplex => self.lost_half_duplex += 1,
+        }
+    }
+}
+
+/// Width of a distance bin of the delivery histogram \[m\].
+pub const DIST_BIN: f64 = 0.1;
+/// Number of distance bins.
+pub const DIST_BINS: usize = 80;
+/// Latency histogram: 20 bins per decade from 0.1 ms to 100 s; bin `k` holds latencies in
+/// [10^(k/20 − 4), 10^((k+1)/20 − 4)) s.
+pub const LAT_BINS: usize = 120;
+
+/// Communication counters of one vehicle.
+#[derive(Component, Clone, Debug, Default)]
+pub struct CommStats {
+    /// Frames put on the air (copies on several modems count once).
+    pub sent: u64,
+    /// Frames dropped because a transmit queue was full.
+    pub queue_overflow: u64,
+    /// Frames dropped because the payload was longer than the modem allows.
+    pub oversize: u64,
+    /// Carrier-sense deferrals.
+    pub cs_deferrals: u64,
+    /// Receptions, all senders together.
+    pub rx: LinkStats,
+    links: LinkMap,
+    /// Reception outcomes not yet folded into `links` (appending is cheap; the map is updated
+    /// in batches, while it is in cache).
+    pending: Vec<LinkEvent>,
+}
+
+#[derive(Clone, Copy, Debug)]
+struct LinkEvent {
+    from: u32,
+    outcome: Outcome,
+    latency: f64,
+    t: f64,
+}
+
+/// Events gathered before they are folded into the per-sender map.
+const FOLD_BATCH: usize = 32;
+
+impl CommStats {
+    pub(super) fn record(&mut self, from: u32, outcome: Outcome, latency: f64, t: f64) {
+        self.rx.record(outcome, latency, t);
+        self.pending.push(LinkEvent {
+            from,
+            outcome,
+            latency,
+            t,
+        });
+        if self.pending.len() >= FOLD_BATCH {
+            self.fold();
+        }
+    }
+
+    /// Folds buffered outcomes into the per-sender statistics.
+    pub fn fold(&mut self) {
+        for e in self.pending.drain(..) {
+            self.links
+                .entry(e.from)
+                .or_insert_with(|| LinkStats {
+                    last_delivery: f64::NEG_INFINITY,
+                    ..Default::default()
+                })
+                .record(e.outcome, e.latency, e.t);
+        }
+    }
+
+    /// Receptions by sender (complete after [`CommStats::fold`]; snapshots are folded).
+    pub fn links(&self) -> &LinkMap {
+        &self.links
+    }
+}
+
+/// Latency histogram bin of a latency \[s\].
+pub fn latency_bin(l: f64) -> usize {
+    ((l.max(1e-4).log10() + 4.0) * 20.0)
+        .floor()
+        .clamp(0.0, (LAT_BINS - 1) as f64) as usize
+}
+
+/// Geometric centre of a latency bin \[s\] (within ±6 % of any latency in it).
+pub fn latency_bin_centre(k: usize) -> f64 {
+    10f64.powf((k as f64 + 0.5) / 20.0 - 4.0)
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub(super) enum Outcome {
+    // Ordered by how close the frame came to arriving (the best one is reported when a
+    // vehicle has several modems).
+    Range,
+    Occluded,
+    HalfDuplex,
+    Collision,
+    Delivered,
+}

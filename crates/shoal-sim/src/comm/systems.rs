@@ -1,0 +1,561 @@
+//! The three step systems of the medium: [`comm_snapshot_system`] (poses, grid, pruning),
+//! [`comm_transmit_system`] (queues, access, carrier sense) and [`comm_deliver_system`] (every
+//! reception decided at its receiver).
+
+use super::frames::{CommRng, Inbox, Modems, Outbox, Queued, Received};
+use super::grid::Grid;
+use super::medium::{Logical, Medium, Transmission, received_power};
+use super::stats::{CommStats, DIST_BIN, DIST_BINS, Outcome, latency_bin};
+use crate::components::{Kind, Physics, StaticGeometry, VehicleId};
+use crate::parallel::Parallel;
+use crate::sim::VehicleRng;
+use bevy_ecs::prelude::*;
+use rand::RngExt;
+use shoal_model::math::Vec3;
+use shoal_model::optics::{
+    Access, LinkGeometry, ModemPose, background_current, ber_ook, frame_error_rate, noise_variance,
+};
+use shoal_model::vehicle::VehicleModel;
+use std::collections::{BinaryHeap, HashMap};
+use std::sync::Arc;
+use std::sync::atomic::AtomicU64;
+use std::sync::atomic::Ordering::Relaxed;
+
+/// Step phase 1: snapshot poses, rebuild the grid, prune old transmissions.
+pub fn comm_snapshot_system(
+    clock: Res<crate::components::Clock>,
+    mut medium: ResMut<Medium>,
+    q: Query<(&VehicleId, &Physics, &Modems, &Outbox)>,
+) {
+    if !medium.active() {
+        return;
+    }
+    // Nothing on the air and nothing waiting to go: the medium has no work this step.
+    let idle = medium.txs.is_empty()
+        && q.iter().all(|(_, _, modems, out)| {
+            out.0.is_empty() && modems.ports.iter().all(|p| p.queue.is_empty())
+        });
+    if idle {
+        return;
+    }
+    let m = &mut *medium;
+    for (id, p, _, _) in &q {
+        m.poses[id.0 as usize] = (p.state.rigid.position, p.state.rigid.attitude);
+    }
+    // `near` covers ±1 cell, so a cell of r_cut finds everything within r_cut; the occlusion
+    // query at a segment's midpoint needs r_cut/2 + a hull, also covered.
+    // Cells of about a metre: small enough that an occlusion query along a link touches a few
+    // dozen vehicles, large enough that a range query stays a few hundred cells.
+    let cell = (2.0 * m.max_hull_radius).max(m.r_cut / 4.0);
+    let points: Vec<Vec3> = m.poses.iter().map(|(p, _)| *p).collect();
+    m.grid.rebuild(cell, &points);
+    // A frame ending in the coming steps started at most `max_airtime` before its end; what
+    // ended before that can no longer overlap it.
+    let horizon = clock.t() - m.max_airtime - clock.dt;
+    m.txs.retain(|t| t.end > horizon);
+}
+
+/// Received optical power at a modem from every transmission active at time `t` except
+/// those of vehicle `me` [W] (for carrier sense).
+fn sensed_power(
+    medium: &Medium,
+    geo: &shoal_world::geometry::Geometry,
+    me: u32,
+    k: usize,
+    pose: &ModemPose,
+    t: f64,
+) -> f64 {
+    let rx = &medium.consts[me as usize][k];
+    medium
+        .txs
+        .iter()
+        .filter(|x| x.tx != me && x.start <= t && x.end > t)
+        .map(|x| {
+            let g = LinkGeometry::between(&x.pose, pose);
+            if g.distance > medium.r_cut {
+                return 0.0;
+            }
+            let p = received_power(
+                &medium.consts[x.tx as usize][x.modem],
+                rx,
+                &g,
+                medium.attenuation,
+            );
+            if p > 0.0
+                && geo.line_of_sight(&x.pose.position, &pose.position)
+                && medium.vehicles_clear(x.tx, me)
+            {
+                p
+            } else {
+                0.0
+            }
+        })
+        .sum()
+}
+
+#[derive(PartialEq)]
+struct StartEvent {
+    t: f64,
+    vehicle: u32,
+    modem: usize,
+}
+
+impl Eq for StartEvent {}
+impl PartialOrd for StartEvent {
+    fn partial_cmp(&self, o: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(o))
+    }
+}
+impl Ord for StartEvent {
+    // Earliest first in a max-heap; ties by vehicle, then modem.
+    fn cmp(&self, o: &Self) -> std::cmp::Ordering {
+        o.t.total_cmp(&self.t)
+            .then(o.vehicle.cmp(&self.vehicle))
+            .then(o.modem.cmp(&self.modem))
+    }
+}
+
+/// Step phase 2: queue handed-over frames and start transmissions in time order.
+pub fn comm_transmit_system(
+    clock: Res<crate::components::Clock>,
+    geo: Res<StaticGeometry>,
+    mut medium: ResMut<Medium>,
+    mut q: Query<(
+        &VehicleId,
+        &Kind,
+        &mut Outbox,
+        &mut Modems,
+        &mut CommRng,
+        &mut CommStats,
+    )>,
+) {
+    if !medium.active() {
+        return;
+    }
+    let pending = |out: &Outbox, modems: &Modems| {
+        !out.0.is_empty() || modems.ports.iter().any(|p| !p.queue.is_empty())
+    };
+    if !q
+        .iter()
+        .any(|(_, _, out, modems, _, _)| pending(out, modems))
+    {
+        return;
+    }
+    let t_end = clock.t() + clock.dt;
+    let mut items: Vec<_> = q.iter_mut().filter(|it| pending(&it.2, &it.3)).collect();
+    items.sort_by_key(|it| it.0.0);
+    let mut heap = BinaryHeap::new();
+    for (id, kind, outbox, modems, _, stats) in &mut items {
+        let params = &kind.0.params.modems;
+        let modems = &mut **modems;
+        for f in outbox.0.drain(..) {
+            let targets: Vec<usize> = match f.modem {
+                Some(k) if k < params.len() => vec![k],
+                Some(_) => continue,
+                None => (0..params.len()).collect(),
+            };
+            if targets
+                .iter()
+                .any(|&k| f.payload.len() > params[k].max_payload)
+            {
+                stats.oversize += 1;
+                continue;
+            }
+            let seq = modems.next_seq;
+            modems.next_seq = modems.next_seq.wrapping_add(1);
+            let payload: Arc<[u8]> = f.payload.into();
+            let mut queued_any = false;
+            for k in targets {
+                let port = &mut modems.ports[k];
+                if port.queue.len() >= params[k].queue_frames {
+                    stats.queue_overflow += 1;
+                } else {
+                    port.queue.push_back(Queued {
+                        payload: payload.clone(),
+                        ready: f.ready,
+                        seq,
+                    });
+                    queued_any = true;
+                }
+            }
+            if queued_any {
+                stats.sent += 1;
+            }
+        }
+        for (k, port) in modems.ports.iter().enumerate() {
+            if let Some(front) = port.queue.front() {
+                let start = front.ready.max(port.busy_until).max(clock.t());
+                if start < t_end {
+                    heap.push(StartEvent {
+                        t: start,
+                        vehicle: id.0,
+                        modem: k,
+                    });
+                }
+            }
+        }
+    }
+    let index: HashMap<u32, usize> = items
+        .iter()
+        .enumerate()
+        .map(|(i, it)| (it.0.0, i))
+        .collect();
+    let m = &mut *medium;
+    let mut backoffs: HashMap<(u32, u64), f64> = HashMap::new();
+    while let Some(ev) = heap.pop() {
+        let (_, kind, _, modems, rng, stats) = &mut items[index[&ev.vehicle]];
+        let params = &kind.0.params.modems[ev.modem];
+        let (pos, att) = m.poses[ev.vehicle as usize];
+        let pose = ModemPose::of(params, &pos, &att);
+        // Carrier sense listens with all of the vehicle's photodiodes, and all modems of a
+        // vehicle that defer at the same moment share one back-off, so that copies of a frame
+        // on several modems stay in sync.
+        if let Access::CarrierSense {
+            threshold,
+            backoff_max,
+        } = params.access
+            && kind.0.params.modems.iter().enumerate().any(|(k, rxm)| {
+                sensed_power(
+                    m,
+                    &geo.0,
+                    ev.vehicle,
+                    k,
+                    &ModemPose::of(rxm, &pos, &att),
+                    ev.t,
+                ) > threshold
+            })
+        {
+            let retry = *backoffs
+                .entry((ev.vehicle, ev.t.to_bits()))
+                .or_insert_with(|| {
+                    stats.cs_deferrals += 1;
+                    ev.t + rng.0.random::<f64>() * backoff_max
+                });
+            modems.ports[ev.modem].busy_until = retry;
+            if retry < t_end {
+                heap.push(StartEvent { t: retry, ..ev });
+            }
+            continue;
+        }
+        let port = &mut modems.ports[ev.modem];
+        let Some(frame) = port.queue.pop_front() else {
+            continue;
+        };
+        let end = ev.t + params.airtime(frame.payload.len());
+        port.busy_until = end;
+        // Own transmissions that ended before any frame still on the air began are no longer
+        // needed for half-duplex checks.
+        let horizon = ev.t - m.max_airtime - clock.dt;
+        while port.tx_log.front().is_some_and(|&(_, e)| e <= horizon) {
+            port.tx_log.pop_front();
+        }
+        port.tx_log.push_back((ev.t, end));
+        m.txs.push(Transmission {
+            id: m.next_id,
+            tx: ev.vehicle,
+            modem: ev.modem,
+            start: ev.t,
+            end,
+            seq: frame.seq,
+            sent: frame.ready,
+            bits: params.frame_bits(frame.payload.len()),
+            payload: frame.payload,
+            pose,
+        });
+        m.next_id += 1;
+        m.started.0 += 1;
+        m.started.1 += m.txs.last().map_or(0, |t| t.bits);
+        if let Some(next) = port.queue.front() {
+            let start = next.ready.max(end);
+            if start < t_end {
+                heap.push(StartEvent {
+                    t: start,
+                    vehicle: ev.vehicle,
+                    modem: ev.modem,
+                });
+            }
+        }
+    }
+}
+
+/// Step phase 3: decide every reception of frames that ended in this step.
+pub fn comm_deliver_system(
+    clock: Res<crate::components::Clock>,
+    par: Res<Parallel>,
+    geo: Res<StaticGeometry>,
+    mut medium: ResMut<Medium>,
+    mut q: Query<(
+        &VehicleId,
+        &Kind,
+        &Modems,
+        &mut Inbox,
+        &mut CommRng,
+        &mut CommStats,
+    )>,
+) {
+    if !medium.active() {
+        return;
+    }
+    let (t0, t_end) = (clock.t(), clock.t() + clock.dt);
+    let m = &*medium;
+    // Frames ending in (t0, t_end], grouped into logical frames, in (end, id) order.
+    let mut ended: Vec<&Transmission> = m
+        .txs
+        .iter()
+        .filter(|x| x.end > t0 && x.end <= t_end)
+        .collect();
+    ended.sort_by(|a, b| a.end.total_cmp(&b.end).then(a.id.cmp(&b.id)));
+    let mut logical: Vec<Logical<'_>> = Vec::new();
+    let mut by_key: HashMap<(u32, u32, u64), usize> = HashMap::new();
+    for t in ended {
+        let key = (t.tx, t.seq, t.start.to_bits());
+        match by_key.get(&key) {
+            Some(&i) => logical[i].copies.push(t),
+            None => {
+                by_key.insert(key, logical.len());
+                logical.push(Logical {
+                    copies: vec![t],
+                    overlap: Vec::new(),
+                    p_dead: 0.0,
+                });
+            }
+        }
+    }
+    if logical.is_empty() {
+        return;
+    }
+    for l in &mut logical {
+        l.p_dead = m.dead_power(l.first().bits);
+    }
+    // Possible interferers of each frame: overlapping in time, and close enough to the sender
+    // to reach a receiver that could hear the sender (within 2 r_cut). Transmissions are
+    // indexed by position for this.
+    let near = 2.0 * (m.r_cut + m.max_hull_radius);
+    let tx_points: Vec<Vec3> = m.txs.iter().map(|x| x.pose.position).collect();
+    let mut tx_grid = Grid::default();
+    tx_grid.rebuild(near / 2.0, &tx_points);
+    for l in &mut logical {
+        let f = l.copies[0];
+        let p = m.poses[f.tx as usize].0;
+        let mut overlap = Vec::new();
+        tx_grid.each_in_box(&(p - Vec3::repeat(near)), &(p + Vec3::repeat(near)), |k| {
+            let x = &m.txs[k as usize];
+            if x.start < f.end
+                && x.end > f.start
+                && !(x.tx == f.tx && x.seq == f.seq)
+                && (x.pose.position - p).norm_squared() <= near * near
+            {
+                overlap.push(x);
+            }
+            true
+        });
+        // Grid order is spatial; keep the medium's order so results do not depend on it.
+        overlap.sort_unstable_by_key(|x| x.id);
+        l.overlap = overlap;
+    }
+    // Candidate receivers of each logical frame (vehicles within the cut-off range), as
+    // (receiver, frame) pairs counting-sorted by receiver.
+    let n = m.poses.len();
+    let reach = m.r_cut + m.max_hull_radius;
+    let mut pairs: Vec<(u32, u32)> = Vec::new();
+    for (i, l) in logical.iter().enumerate() {
+        let f = l.first();
+        let p = m.poses[f.tx as usize].0;
+        m.grid.each_in_box(
+            &(p - Vec3::repeat(reach)),
+            &(p + Vec3::repeat(reach)),
+            |id| {
+                if id != f.tx && (m.poses[id as usize].0 - p).norm_squared() <= reach * reach {
+                    pairs.push((id, i as u32));
+                }
+                true
+            },
+        );
+    }
+    let mut start = vec![0u32; n + 1];
+    for &(r, _) in &pairs {
+        start[r as usize + 1] += 1;
+    }
+    for k in 0..n {
+        start[k + 1] += start[k];
+    }
+    let mut frames_of = vec![0u32; pairs.len()];
+    let mut fill = start.clone();
+    // `pairs` is in frame order, so each receiver's frames stay in (end, id) order.
+    for &(r, i) in &pairs {
+        frames_of[fill[r as usize] as usize] = i;
+        fill[r as usize] += 1;
+    }
+    let mut items: Vec<_> = q
+        .iter_mut()
+        .filter(|it| start[it.0.0 as usize + 1] > start[it.0.0 as usize])
+        .collect();
+    let geo = &geo.0;
+    let delivered = AtomicU64::new(0);
+    par.for_each(&mut items, |(id, kind, modems, inbox, rng, stats)| {
+        let frames = &frames_of[start[id.0 as usize] as usize..start[id.0 as usize + 1] as usize];
+        let mut scratch = Scratch::default();
+        for &i in frames {
+            let l = &logical[i as usize];
+            if receive(
+                m,
+                geo,
+                id.0,
+                &kind.0,
+                modems,
+                l,
+                &mut rng.0,
+                stats,
+                inbox,
+                &mut scratch,
+            ) {
+                delivered.fetch_add(1, Relaxed);
+            }
+        }
+    });
+    medium.delivered += delivered.into_inner();
+}
+
+/// Buffers reused across the receptions of one receiver.
+#[derive(Default)]
+struct Scratch<'a> {
+    interferers: Vec<&'a Transmission>,
+    hulls: Vec<(u32, bool)>,
+}
+
+/// Decides one logical frame at one receiver; returns whether it was delivered.
+#[allow(clippy::too_many_arguments)]
+fn receive<'a>(
+    m: &Medium,
+    geo: &shoal_world::geometry::Geometry,
+    me: u32,
+    kind: &VehicleModel,
+    modems: &Modems,
+    l: &Logical<'a>,
+    rng: &mut VehicleRng,
+    stats: &mut CommStats,
+    inbox: &mut Inbox,
+    scratch: &mut Scratch<'a>,
+) -> bool {
+    let f = l.first();
+    let (pos, att) = m.poses[me as usize];
+    let latency = f.end - f.sent;
+    let distance = (m.poses[f.tx as usize].0 - pos).norm();
+    let area = m.consts[me as usize]
+        .iter()
+        .map(|c| c.area)
+        .fold(0.0, f64::max);
+    if m.power_bound(l, me, area) < l.p_dead {
+        // Undecodable even in the best case (P(delivery) < 1e-12): lost to range.
+        stats.record(f.tx, Outcome::Range, latency, f.end);
+        let bin = ((distance / DIST_BIN) as usize).min(DIST_BINS - 1);
+        m.by_distance[bin].0.fetch_add(1, Relaxed);
+        return false;
+    }
+    let my = &m.consts[me as usize];
+    let mut best = Outcome::Range;
+    let mut got: Option<(usize, f64, f64)> = None;
+    // Hull occlusion per other vehicle, computed once for this reception.
+    let hulls = &mut scratch.hulls;
+    hulls.clear();
+    let mut clear_of_hulls = |other: u32| -> bool {
+        if let Some(&(_, c)) = hulls.iter().find(|h| h.0 == other) {
+            return c;
+        }
+        let c = m.vehicles_clear(other, me);
+        hulls.push((other, c));
+        c
+    };
+    let path_clear = |a: &ModemPose, b: &ModemPose| {
+        a.position.z > 0.0 && b.position.z > 0.0 && geo.line_of_sight(&a.position, &b.position)
+    };
+    // Interferers within range of this receiver.
+    let reach = m.r_cut + m.max_hull_radius;
+    let interferers = &mut scratch.interferers;
+    interferers.clear();
+    interferers.extend(
+        l.overlap
+            .iter()
+            .copied()
+            .filter(|x| x.tx != me && (x.pose.position - pos).norm_squared() <= reach * reach),
+    );
+    for (k, rxm) in kind.params.modems.iter().enumerate() {
+        let pose = ModemPose::of(rxm, &pos, &att);
+        // Signal: the sum of the copies this modem can see.
+        let mut p_sig = 0.0;
+        let mut outcome = Outcome::Range;
+        for c in &l.copies {
+            let p = m.power_between(c, &pose, &my[k]);
+            if p <= 0.0 {
+                continue;
+            }
+            if path_clear(&c.pose, &pose) && clear_of_hulls(c.tx) {
+                p_sig += p;
+            } else {
+                outcome = outcome.max(Outcome::Occluded);
+            }
+        }
+        if p_sig <= 0.0 {
+            best = best.max(outcome);
+            continue;
+        }
+        if modems
+            .ports
+            .get(k)
+            .is_some_and(|p| p.transmitting_during(f.start, f.end))
+        {
+            best = best.max(Outcome::HalfDuplex);
+            continue;
+        }
+        // Interference: other transmissions overlapping this frame in time.
+        let (mut p_int, mut p_max) = (0.0f64, 0.0f64);
+        for x in interferers.iter() {
+            let p = m.power_between(x, &pose, &my[k]);
+            if p <= 0.0 || !path_clear(&x.pose, &pose) || !clear_of_hulls(x.tx) {
+                continue;
+            }
+            p_int += p;
+            p_max = p_max.max(p);
+        }
+        if p_max * rxm.capture_ratio > p_sig {
+            best = best.max(Outcome::Collision);
+            continue;
+        }
+        // Delivered when a uniform draw is at least the frame error rate. The Chernoff bound
+        // FER ≤ n·BER ≤ n·½·e^(−SNR/2) settles most draws without the error function; the
+        // decision is exactly the one the full rate gives.
+        let i_s = rxm.rx.responsivity * p_sig;
+        let i_bg = background_current(&rxm.rx, &m.ambient, pose.position.z);
+        let snr = i_s * i_s / noise_variance(&rxm.rx, i_s, i_bg, p_int);
+        let u = rng.random::<f64>();
+        let bound = f.bits as f64 * 0.5 * (-0.5 * snr).exp();
+        if u < bound && u < frame_error_rate(ber_ook(snr), f.bits) {
+            best = best.max(Outcome::Range);
+            continue;
+        }
+        best = Outcome::Delivered;
+        if got.is_none_or(|g| p_sig > g.1) {
+            got = Some((k, p_sig, snr));
+        }
+    }
+    stats.record(f.tx, best, latency, f.end);
+    let bin = ((distance / DIST_BIN) as usize).min(DIST_BINS - 1);
+    m.by_distance[bin].0.fetch_add(1, Relaxed);
+    if let Some((modem, power, snr)) = got {
+        m.by_distance[bin].1.fetch_add(1, Relaxed);
+        m.latency_hist[latency_bin(latency)].fetch_add(1, Relaxed);
+        inbox.0.push(Received {
+            t: f.end,
+            from: f.tx,
+            seq: f.seq,
+            modem,
+            power,
+            snr,
+            sent: f.sent,
+            payload: f.payload.clone(),
+        });
+        true
+    } else {
+        false
+    }
+}
