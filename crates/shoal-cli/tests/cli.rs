@@ -300,7 +300,11 @@ fn a_world_with_traffic_writes_link_statistics_and_plots() {
     );
     for f in [
         "links.csv",
+        "connectivity.csv",
+        "link_pairs.csv",
         "delivery_vs_distance.png",
+        "links_over_time.png",
+        "connectivity_over_time.png",
         "connectivity.png",
         "gossip.png",
         "gossip.svg",
@@ -313,18 +317,19 @@ fn a_world_with_traffic_writes_link_statistics_and_plots() {
             "missing {f}"
         );
     }
-    let links = std::fs::read_to_string(out.join("links.csv")).unwrap();
-    let header = links.lines().next().unwrap();
+    let pairs = std::fs::read_to_string(out.join("link_pairs.csv")).unwrap();
+    let header = pairs.lines().next().unwrap();
     assert_eq!(
         header,
         "sender,receiver,attempts,delivered,lost_range,lost_occlusion,lost_collision,lost_half_duplex,mean_latency_s"
     );
     // Every row adds up: attempts = delivered + losses.
-    for row in links.lines().skip(1) {
+    for row in pairs.lines().skip(1) {
         let v: Vec<&str> = row.split(',').collect();
         let n = |i: usize| v[i].parse::<u64>().unwrap();
         assert_eq!(n(2), n(3) + n(4) + n(5) + n(6) + n(7), "{row}");
     }
+    assert_link_tables_match_the_summary(&out, 65);
     let s: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     let c = &s["comm"];
@@ -760,4 +765,83 @@ fn effect_catalogue_table_matches_the_docs() {
         blue.contains("does not apply: the vehicle has no buoyancy tank"),
         "{blue}"
     );
+}
+
+/// `links.csv` (per second) and `connectivity.csv` (per second) against the summary: the
+/// per-second counts add up to the summary's reception totals, every row adds up, and the
+/// connectivity rows are the summary's samples.
+fn assert_link_tables_match_the_summary(out: &Path, vehicles: u64) {
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let rx = &s["comm"]["receptions"];
+    let total = |k: &str| rx[k].as_u64().unwrap();
+    let links = std::fs::read_to_string(out.join("links.csv")).unwrap();
+    let mut lines = links.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        "t_start_s,attempted,delivered,collided,occluded,out_of_budget,half_duplex,delivery_ratio"
+    );
+    let mut sums = [0u64; 6];
+    let mut seconds = 0;
+    for (k, row) in lines.enumerate() {
+        let v: Vec<&str> = row.split(',').collect();
+        assert_eq!(v[0], k.to_string(), "one row per second: {row}");
+        let n: Vec<u64> = v[1..7].iter().map(|x| x.parse().unwrap()).collect();
+        assert_eq!(n[0], n[1..].iter().sum::<u64>(), "{row}");
+        for (a, b) in sums.iter_mut().zip(&n) {
+            *a += b;
+        }
+        seconds += 1;
+    }
+    assert!(seconds as f64 >= s["simulated_s"].as_f64().unwrap().floor());
+    assert_eq!(sums[0], total("attempts"));
+    assert_eq!(sums[1], total("delivered"));
+    assert_eq!(sums[2], total("lost_collision"));
+    assert_eq!(sums[3], total("lost_occlusion"));
+    assert_eq!(sums[4], total("lost_range"));
+    assert_eq!(sums[5], total("lost_half_duplex"));
+    let conn = std::fs::read_to_string(out.join("connectivity.csv")).unwrap();
+    let mut lines = conn.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        "t_s,components,largest_component,largest_fraction,edges,mean_degree"
+    );
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    let samples = s["comm"]["connectivity"].as_array().unwrap();
+    assert_eq!(rows.len(), samples.len());
+    for (r, c) in rows.iter().zip(samples) {
+        assert_eq!(r[0], c["t"].as_f64().unwrap());
+        assert_eq!(r[1], c["components"].as_f64().unwrap());
+        assert_eq!(r[2], c["largest"].as_f64().unwrap());
+        assert!((r[3] - r[2] / vehicles as f64).abs() < 1e-6);
+        assert!((r[5] - 2.0 * r[4] / vehicles as f64).abs() < 1e-6);
+    }
+}
+
+#[test]
+fn the_default_world_talks_and_its_link_tables_add_up() {
+    let out = tmp("default_talks");
+    let o = shoal()
+        .args(["run", "--quiet", "--duration", "30", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let (stdout, stderr) = text(&o);
+    assert!(o.status.success(), "{stdout}\n{stderr}");
+    assert!(stdout.contains("optical link:"), "{stdout}");
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let rx = &s["comm"]["receptions"];
+    // 12 vehicles beaconing twice a second for 30 s; most frames reach someone, and the pillar
+    // between the lanes blocks some.
+    assert!(
+        s["comm"]["frames_sent"].as_u64().unwrap() > 600,
+        "{}",
+        s["comm"]
+    );
+    assert!(rx["delivered"].as_u64().unwrap() > 1000, "{rx}");
+    assert!(rx["lost_occlusion"].as_u64().unwrap() > 0, "{rx}");
+    assert_link_tables_match_the_summary(&out, 12);
 }

@@ -1,9 +1,11 @@
-//! Run outputs of the optical medium: the communication section of `summary.json`,
-//! `links.csv` (one row per sender → receiver pair), and plots: delivery ratio against
-//! distance with the link-budget curve, the communication graph at the end, and — when the
-//! world floods a value — how many vehicles knew it over time.
+//! Run outputs of the optical medium: the communication section of `summary.json`, the tables
+//! `links.csv` (per second: reception attempts by outcome), `connectivity.csv` (per second:
+//! components, largest component, mean degree of the communication graph) and
+//! `link_pairs.csv` (per sender → receiver), and plots: delivery ratio against distance with
+//! the link-budget curve, link outcomes and connectivity over time, the communication graph at
+//! the end, and — when the world floods a value — how many vehicles knew it over time.
 
-use crate::comm::{DIST_BIN, LinkStats, latency_bin_centre};
+use crate::comm::{DIST_BIN, LinkStats, Outcome, latency_bin_centre};
 use crate::files::FileError;
 use crate::plot::{Outline, Plot, Series};
 use crate::sim::Sim;
@@ -249,9 +251,112 @@ fn gossip_summary(desc: &WorldDesc, snaps: &[VehicleView<'_>]) -> Option<GossipS
     })
 }
 
-/// Writes `links.csv` (whole, through [`crate::files`]): one row per (sender, receiver)
-/// with at least one attempt.
-pub fn write_links_csv(path: &Path, snaps: &[VehicleView<'_>]) -> Result<PathBuf, FileError> {
+/// Most vehicles for which `link_pairs.csv` is written (it has up to one row per pair of
+/// vehicles within range: ≈ 40 per vehicle in a dense beaconing swarm).
+pub const PAIRS_MAX_VEHICLES: usize = 10_000;
+
+/// The communication tables of a run with `vehicles` vehicles, in the order
+/// [`write_tables`] writes them.
+pub fn table_names(vehicles: usize) -> Vec<&'static str> {
+    let mut t = vec!["links.csv", "connectivity.csv"];
+    if vehicles <= PAIRS_MAX_VEHICLES {
+        t.push("link_pairs.csv");
+    }
+    t
+}
+
+/// Writes the communication tables into `dir` (each whole, through [`crate::files`]),
+/// adding each to `written` when complete: `links.csv` (per second of the run: reception
+/// attempts by outcome), `connectivity.csv` (per second: the communication graph) and, for
+/// up to [`PAIRS_MAX_VEHICLES`] vehicles, `link_pairs.csv` (per sender → receiver).
+pub fn write_tables(
+    dir: &Path,
+    sim: &Sim,
+    snaps: &[VehicleView<'_>],
+    written: &mut Vec<PathBuf>,
+) -> Result<(), FileError> {
+    written.push(write_links_csv(&dir.join("links.csv"), sim)?);
+    written.push(write_connectivity_csv(
+        &dir.join("connectivity.csv"),
+        sim,
+        snaps.len(),
+    )?);
+    if snaps.len() <= PAIRS_MAX_VEHICLES {
+        written.push(write_link_pairs_csv(&dir.join("link_pairs.csv"), snaps)?);
+    }
+    Ok(())
+}
+
+/// `links.csv`: one row per second of the run, `[t_start_s, t_start_s + 1)`, with the
+/// reception attempts of frames that ended in it, by outcome. The columns add up to the
+/// summary's `comm.receptions`.
+pub fn write_links_csv(path: &Path, sim: &Sim) -> Result<PathBuf, FileError> {
+    let mut w = crate::files::CsvFile::create(path)?;
+    w.write_record([
+        "t_start_s",
+        "attempted",
+        "delivered",
+        "collided",
+        "occluded",
+        "out_of_budget",
+        "half_duplex",
+        "delivery_ratio",
+    ])?;
+    let seconds = (sim.time().ceil() as usize).max(sim.medium().per_second.len());
+    for k in 0..seconds {
+        let c = sim.medium().per_second.get(k).copied().unwrap_or([0; 5]);
+        let n = |o: Outcome| c[o.index()];
+        let attempted: u64 = c.iter().sum();
+        w.write_record([
+            k.to_string(),
+            attempted.to_string(),
+            n(Outcome::Delivered).to_string(),
+            n(Outcome::Collision).to_string(),
+            n(Outcome::Occluded).to_string(),
+            n(Outcome::Range).to_string(),
+            n(Outcome::HalfDuplex).to_string(),
+            if attempted > 0 {
+                format!("{:.6}", n(Outcome::Delivered) as f64 / attempted as f64)
+            } else {
+                String::new()
+            },
+        ])?;
+    }
+    w.commit()
+}
+
+/// `connectivity.csv`: one row per sample of the communication graph (every second): an
+/// edge joins two vehicles when a frame was delivered either way within the window (2 s).
+pub fn write_connectivity_csv(
+    path: &Path,
+    sim: &Sim,
+    vehicles: usize,
+) -> Result<PathBuf, FileError> {
+    let mut w = crate::files::CsvFile::create(path)?;
+    w.write_record([
+        "t_s",
+        "components",
+        "largest_component",
+        "largest_fraction",
+        "edges",
+        "mean_degree",
+    ])?;
+    let n = vehicles.max(1) as f64;
+    for s in &sim.connectivity().samples {
+        w.write_record([
+            format!("{}", s.t),
+            s.components.to_string(),
+            s.largest.to_string(),
+            format!("{:.6}", s.largest as f64 / n),
+            s.edges.to_string(),
+            format!("{:.6}", 2.0 * s.edges as f64 / n),
+        ])?;
+    }
+    w.commit()
+}
+
+/// `link_pairs.csv`: one row per (sender, receiver) with at least one attempt.
+pub fn write_link_pairs_csv(path: &Path, snaps: &[VehicleView<'_>]) -> Result<PathBuf, FileError> {
     let mut w = crate::files::CsvFile::create(path)?;
     w.write_record([
         "sender",
@@ -442,7 +547,77 @@ pub fn plots(
             ..Default::default()
         },
     ));
-    // 3. Flooding progress.
+    // 3. Link outcomes per second, and the communication graph over time.
+    let per_second = &sim.medium().per_second;
+    let outcome_series = |o: Outcome, label: &str, color: usize| Series {
+        label: Some(label.into()),
+        points: per_second
+            .iter()
+            .enumerate()
+            .map(|(k, c)| (k as f64 + 0.5, c[o.index()] as f64))
+            .collect(),
+        color,
+        ..Default::default()
+    };
+    plots.push((
+        "links_over_time",
+        Plot {
+            title: format!("{}: reception attempts per second by outcome", desc.name),
+            x_label: "time [s]".into(),
+            y_label: "receptions per second".into(),
+            series: vec![
+                outcome_series(Outcome::Delivered, "delivered", 2),
+                outcome_series(
+                    Outcome::Range,
+                    "out of budget (range, angle, bit errors)",
+                    7,
+                ),
+                outcome_series(Outcome::Occluded, "occluded", 4),
+                outcome_series(Outcome::Collision, "collided", 3),
+                outcome_series(Outcome::HalfDuplex, "receiver transmitting", 1),
+            ],
+            x_range: Some((0.0, desc.duration)),
+            ..Default::default()
+        },
+    ));
+    let n = snaps.len().max(1) as f64;
+    let conn_samples = &sim.connectivity().samples;
+    plots.push((
+        "connectivity_over_time",
+        Plot {
+            title: format!(
+                "{}: communication graph over time (edge: a frame delivered within {} s)",
+                desc.name,
+                sim.connectivity().window
+            ),
+            x_label: "time [s]".into(),
+            y_label: "fraction of the vehicles".into(),
+            series: vec![
+                Series {
+                    label: Some("largest connected group".into()),
+                    points: conn_samples
+                        .iter()
+                        .map(|s| (s.t, s.largest as f64 / n))
+                        .collect(),
+                    color: 0,
+                    ..Default::default()
+                },
+                Series {
+                    label: Some("mean degree / (vehicles − 1)".into()),
+                    points: conn_samples
+                        .iter()
+                        .map(|s| (s.t, 2.0 * s.edges as f64 / n / (n - 1.0).max(1.0)))
+                        .collect(),
+                    color: 1,
+                    ..Default::default()
+                },
+            ],
+            x_range: Some((0.0, desc.duration)),
+            y_range: Some((0.0, 1.05)),
+            ..Default::default()
+        },
+    ));
+    // 4. Flooding progress.
     if let Some(g) = &c.gossip {
         let mut pts = vec![(g.start_s, 0.0)];
         pts.extend(g.informed_over_time.iter().map(|(t, n)| (*t, *n as f64)));

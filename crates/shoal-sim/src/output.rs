@@ -11,7 +11,7 @@
 //! removed and the error names the file with the operating system's reason.
 //!
 //! **Order.** [`RunOutput::finish`] writes `summary.json` first, then the tables
-//! (`trajectories.csv`, `links.csv`), then the plots, so when a later file fails (a full
+//! (`trajectories.csv`, `vehicles.csv`, the communication tables), then the plots, so when a later file fails (a full
 //! disk, a file-size limit) the summary is already there. The first summary lists the files
 //! the run is about to write; if fewer were written (a failure, or plots skipped after a stop
 //! request) it is written again with the files that exist, the error and the stop request.
@@ -282,14 +282,19 @@ impl RunOutput {
             ..
         } = self;
         let json_path = dir.join("summary.json");
-        let links_path = comm.as_ref().map(|_| dir.join("links.csv"));
         let vehicles_path = dir.join("vehicles.csv");
         let mut planned = vec![
             json_path.clone(),
             csv.path().to_path_buf(),
             vehicles_path.clone(),
         ];
-        planned.extend(links_path.clone());
+        if comm.is_some() {
+            planned.extend(
+                crate::comm_report::table_names(snaps.len())
+                    .into_iter()
+                    .map(|t| dir.join(t)),
+            );
+        }
         for (stem, _) in &plots {
             let stem = dir.join(stem);
             planned.extend([stem.with_extension("png"), stem.with_extension("svg")]);
@@ -308,7 +313,7 @@ impl RunOutput {
                 &summary.vehicle_details,
                 summary.comm.as_ref().map(|c| c.vehicles.as_slice()),
             ),
-            links_path.as_deref(),
+            summary.comm.is_some().then_some(sim),
             &snaps,
             &plots,
             &dir,
@@ -512,12 +517,12 @@ fn write_summary(path: &Path, summary: &Summary) -> Result<PathBuf, FileError> {
 }
 
 /// The part of [`RunOutput::finish`] after the summary: commits the trajectories, writes
-/// `links.csv` (when there is one) and draws the plots until `skip_plots` says so, adding
-/// each file to `written` as it is complete.
+/// `vehicles.csv` and the communication tables (when there was traffic) and draws the plots
+/// until `skip_plots` says so, adding each file to `written` as it is complete.
 fn write_tables_and_plots(
     trajectories: CsvFile,
     vehicles: (&Path, &[VehicleSummary], Option<&[VehicleComm]>),
-    links: Option<&Path>,
+    comm: Option<&Sim>,
     snaps: &[VehicleView<'_>],
     plots: &[(&'static str, Plot)],
     dir: &Path,
@@ -526,8 +531,8 @@ fn write_tables_and_plots(
 ) -> Result<(), OutputError> {
     written.push(trajectories.commit()?);
     written.push(write_vehicles_csv(vehicles.0, vehicles.1, vehicles.2)?);
-    if let Some(p) = links {
-        written.push(crate::comm_report::write_links_csv(p, snaps)?);
+    if let Some(sim) = comm {
+        crate::comm_report::write_tables(dir, sim, snaps, written)?;
     }
     for (stem, plot) in plots {
         if skip_plots() {

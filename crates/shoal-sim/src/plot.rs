@@ -117,6 +117,13 @@ pub struct Plot {
     pub size: (u32, u32),
 }
 
+/// Colour `i` of the palette every plot, the replay and the GIF use for groups and series
+/// (red, green, blue).
+pub fn rgb(i: usize) -> (u8, u8, u8) {
+    let c = color(i);
+    (c.0, c.1, c.2)
+}
+
 fn color(i: usize) -> RGBColor {
     const C: [RGBColor; 10] = [
         RGBColor(31, 119, 180),

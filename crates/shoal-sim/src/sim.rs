@@ -389,6 +389,37 @@ impl Sim {
         }
     }
 
+    /// Starts gathering the replay of this run (see [`crate::replay`]): poses every frame,
+    /// panel values every second, and every reception attempt, which the medium logs from now
+    /// on.
+    pub fn enable_replay(&mut self, desc: &WorldDesc) {
+        let range = self.world.resource::<Medium>().r_cut;
+        let has_modems = desc
+            .vehicles
+            .iter()
+            .any(|v| !v.model.params.modems.is_empty());
+        self.world
+            .insert_resource(crate::replay::capture::ReplayRecorder::new(
+                desc,
+                if has_modems { range } else { 0.0 },
+            ));
+        self.world.resource_mut::<Medium>().log_links = true;
+    }
+
+    /// The replay gathered since [`Self::enable_replay`] (and stops gathering it).
+    pub fn take_replay(&mut self) -> Option<crate::replay::ReplayData> {
+        let rec = self
+            .world
+            .remove_resource::<crate::replay::capture::ReplayRecorder>()?;
+        self.world.resource_mut::<Medium>().log_links = false;
+        let t = self.time();
+        Some(rec.finish(
+            t,
+            self.world.resource::<Medium>(),
+            self.world.resource::<Connectivity>(),
+        ))
+    }
+
     /// Borrowed views of all vehicles in id order (see [`crate::view`]). Call
     /// [`Self::fold_comm`] first when the per-sender link statistics are needed.
     pub fn views(&self) -> Vec<VehicleView<'_>> {

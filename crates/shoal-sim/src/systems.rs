@@ -82,7 +82,11 @@ pub fn build_schedule(detect_ambiguity: bool) -> Schedule {
         )
             .chain()
             .in_set(StepSet::Comm),
-        (record_system, connectivity_system)
+        (
+            record_system,
+            connectivity_system,
+            crate::replay::capture::replay_system,
+        )
             .chain()
             .in_set(StepSet::Record),
     ));

@@ -143,7 +143,13 @@ pub struct Medium {
     pub(super) by_distance: Vec<(AtomicU64, AtomicU64)>,
     /// Latency histogram of deliveries (see [`LAT_BINS`]).
     pub(super) latency_hist: Vec<AtomicU64>,
-    /// Distinct receivers in the world (for [`Medium::dead_distance`]).
+    /// Reception attempts by second of the run (entry `k`: frames that ended in
+    /// `[k, k + 1)` s) and outcome (index [`super::Outcome::index`]).
+    pub per_second: Vec<[u64; 5]>,
+    /// Whether every reception attempt is also logged in the receiver's
+    /// [`super::CommStats::heard`] (the replay drains them).
+    pub log_links: bool,
+    /// Distinct receivers in the world (for [`Medium::dead_power`]).
     receivers: Vec<shoal_model::optics::Receiver>,
     dead_cache: std::sync::Mutex<HashMap<u64, f64>>,
 }
@@ -239,6 +245,8 @@ impl Medium {
                 .map(|_| (AtomicU64::new(0), AtomicU64::new(0)))
                 .collect(),
             latency_hist: (0..LAT_BINS).map(|_| AtomicU64::new(0)).collect(),
+            per_second: Vec::new(),
+            log_links: false,
             receivers,
             dead_cache: std::sync::Mutex::new(HashMap::new()),
         }

@@ -32,7 +32,7 @@ pub use frames::{CommRng, Inbox, ModemPort, Modems, OutFrame, Outbox, Received, 
 pub use grid::Grid;
 pub use medium::{Medium, ModemConsts, Transmission, cutoff_range, received_power};
 pub use stats::{
-    CommStats, DIST_BIN, DIST_BINS, IdHasher, LAT_BINS, LinkMap, LinkStats, latency_bin,
-    latency_bin_centre,
+    CommStats, DIST_BIN, DIST_BINS, Heard, IdHasher, LAT_BINS, LinkMap, LinkStats, Outcome,
+    latency_bin, latency_bin_centre,
 };
 pub use systems::{comm_deliver_system, comm_snapshot_system, comm_transmit_system};

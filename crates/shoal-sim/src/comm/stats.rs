@@ -104,6 +104,20 @@ pub struct CommStats {
     /// Reception outcomes not yet folded into `links` (appending is cheap; the map is updated
     /// in batches, while it is in cache).
     pending: Vec<LinkEvent>,
+    /// Every reception attempt since the last drain, when the medium logs them
+    /// ([`crate::comm::Medium::log_links`], for the replay).
+    pub heard: Vec<Heard>,
+}
+
+/// One reception attempt at a vehicle.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Heard {
+    /// End of the frame \[s\].
+    pub t: f64,
+    /// Sending vehicle.
+    pub from: u32,
+    /// What happened.
+    pub outcome: Outcome,
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -118,8 +132,11 @@ struct LinkEvent {
 const FOLD_BATCH: usize = 32;
 
 impl CommStats {
-    pub(super) fn record(&mut self, from: u32, outcome: Outcome, latency: f64, t: f64) {
+    pub(super) fn record(&mut self, from: u32, outcome: Outcome, latency: f64, t: f64, log: bool) {
         self.rx.record(outcome, latency, t);
+        if log {
+            self.heard.push(Heard { t, from, outcome });
+        }
         self.pending.push(LinkEvent {
             from,
             outcome,
@@ -162,13 +179,34 @@ pub fn latency_bin_centre(k: usize) -> f64 {
     10f64.powf((k as f64 + 0.5) / 20.0 - 4.0)
 }
 
+/// What became of a frame at one receiver. Ordered by how close the frame came to arriving
+/// (the best one is reported when a vehicle has several modems).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
-pub(super) enum Outcome {
-    // Ordered by how close the frame came to arriving (the best one is reported when a
-    // vehicle has several modems).
+pub enum Outcome {
+    /// Out of the link budget: range, angle or bit errors.
     Range,
+    /// The line of sight was blocked (wall, obstacle, hull).
     Occluded,
+    /// The receiver was transmitting.
     HalfDuplex,
+    /// Lost to interference from overlapping frames.
     Collision,
+    /// Received.
     Delivered,
+}
+
+impl Outcome {
+    /// Every outcome, in order.
+    pub const ALL: [Outcome; 5] = [
+        Outcome::Range,
+        Outcome::Occluded,
+        Outcome::HalfDuplex,
+        Outcome::Collision,
+        Outcome::Delivered,
+    ];
+
+    /// Position in [`Outcome::ALL`].
+    pub fn index(self) -> usize {
+        self as usize
+    }
 }

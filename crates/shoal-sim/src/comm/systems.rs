@@ -391,13 +391,16 @@ pub fn comm_deliver_system(
         .filter(|it| start[it.0.0 as usize + 1] > start[it.0.0 as usize])
         .collect();
     let geo = &geo.0;
-    let delivered = AtomicU64::new(0);
+    // Outcomes by second (a step reaches into the next second at most) and kind.
+    let second0 = t0.floor();
+    let counts: [[AtomicU64; 5]; 2] = Default::default();
     par.for_each(&mut items, |(id, kind, modems, inbox, rng, stats)| {
         let frames = &frames_of[start[id.0 as usize] as usize..start[id.0 as usize + 1] as usize];
         let mut scratch = Scratch::default();
+        let mut mine = [[0u64; 5]; 2];
         for &i in frames {
             let l = &logical[i as usize];
-            if receive(
+            let o = receive(
                 m,
                 geo,
                 id.0,
@@ -408,12 +411,32 @@ pub fn comm_deliver_system(
                 stats,
                 inbox,
                 &mut scratch,
-            ) {
-                delivered.fetch_add(1, Relaxed);
+            );
+            let s = usize::from(l.first().end.floor() > second0);
+            mine[s][o.index()] += 1;
+        }
+        for (c, m) in counts.iter().zip(&mine) {
+            for (a, k) in c.iter().zip(m) {
+                if *k > 0 {
+                    a.fetch_add(*k, Relaxed);
+                }
             }
         }
     });
-    medium.delivered += delivered.into_inner();
+    for (s, c) in counts.iter().enumerate() {
+        let c: [u64; 5] = std::array::from_fn(|k| c[k].load(Relaxed));
+        if c.iter().all(|k| *k == 0) {
+            continue;
+        }
+        let second = second0 as usize + s;
+        if medium.per_second.len() <= second {
+            medium.per_second.resize(second + 1, [0; 5]);
+        }
+        for (a, k) in medium.per_second[second].iter_mut().zip(c) {
+            *a += k;
+        }
+        medium.delivered += c[Outcome::Delivered.index()];
+    }
 }
 
 /// Buffers reused across the receptions of one receiver.
@@ -436,7 +459,7 @@ fn receive<'a>(
     stats: &mut CommStats,
     inbox: &mut Inbox,
     scratch: &mut Scratch<'a>,
-) -> bool {
+) -> Outcome {
     let f = l.first();
     let (pos, att) = m.poses[me as usize];
     let latency = f.end - f.sent;
@@ -447,10 +470,10 @@ fn receive<'a>(
         .fold(0.0, f64::max);
     if m.power_bound(l, me, area) < l.p_dead {
         // Undecodable even in the best case (P(delivery) < 1e-12): lost to range.
-        stats.record(f.tx, Outcome::Range, latency, f.end);
+        stats.record(f.tx, Outcome::Range, latency, f.end, m.log_links);
         let bin = ((distance / DIST_BIN) as usize).min(DIST_BINS - 1);
         m.by_distance[bin].0.fetch_add(1, Relaxed);
-        return false;
+        return Outcome::Range;
     }
     let my = &m.consts[me as usize];
     let mut best = Outcome::Range;
@@ -538,7 +561,7 @@ fn receive<'a>(
             got = Some((k, p_sig, snr));
         }
     }
-    stats.record(f.tx, best, latency, f.end);
+    stats.record(f.tx, best, latency, f.end, m.log_links);
     let bin = ((distance / DIST_BIN) as usize).min(DIST_BINS - 1);
     m.by_distance[bin].0.fetch_add(1, Relaxed);
     if let Some((modem, power, snr)) = got {
@@ -554,8 +577,6 @@ fn receive<'a>(
             sent: f.sent,
             payload: f.payload.clone(),
         });
-        true
-    } else {
-        false
     }
+    best
 }

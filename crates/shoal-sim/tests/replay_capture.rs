@@ -1,0 +1,98 @@
+//! The replay gathered while a world runs holds what the run did: one pose per vehicle and
+//! frame (quantised within the pool, matching the final state), the panel once a second,
+//! every reception attempt (under the budget) and a timeline that adds up to the medium's
+//! totals.
+
+use shoal_sim::prelude::*;
+use shoal_sim::replay::{Outcome, PANEL, capture::frame_dt};
+use std::path::Path;
+
+#[test]
+fn the_replay_of_the_default_world_matches_the_run() {
+    let mut desc = shoal_world::load::load_file(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("../../worlds/default.toml"),
+    )
+    .unwrap();
+    desc.duration = 10.0;
+    let mut sim = Sim::new(
+        &desc,
+        SimOptions {
+            threads: 2,
+            record: false,
+        },
+    );
+    sim.enable_replay(&desc);
+    sim.run(desc.steps());
+    let r = sim.take_replay().expect("enabled");
+    let m = &r.meta;
+    let n = desc.vehicles.len();
+    assert_eq!(m.vehicles, n);
+    // 12 vehicles are far below the pose budget: the full frame rate, 20 per second.
+    assert!((m.frame_dt - 0.05).abs() < 1e-12, "{}", m.frame_dt);
+    assert_eq!(m.frame_dt, frame_dt(n, 10.0, 0.01));
+    assert_eq!(
+        m.frames, 201,
+        "frames at t = dt, 0.05, 0.10, …, 10.0 s (the first is t ≈ 0)"
+    );
+    assert_eq!(r.pos.len(), m.frames * n * 3);
+    assert_eq!(r.att.len(), r.pos.len());
+    assert_eq!(r.panel.len(), 10 * n * PANEL.len());
+    // The last frame is the final state, within the quantisation (pool / 65535 ≈ 0.1 mm).
+    for i in 0..n {
+        let v = sim.vehicle(i);
+        let p = v.state.rigid.position;
+        let k = ((m.frames - 1) * n + i) * 3;
+        for (a, span) in m.pool.iter().enumerate() {
+            let x = f64::from(r.pos[k + a]) / 65535.0 * span;
+            assert!(
+                (x - p[a]).abs() <= 0.5 * span / 65535.0 + 1e-9,
+                "{i} axis {a}"
+            );
+        }
+        let yaw = f64::from(r.att[k + 2]) * std::f64::consts::PI / 32767.0;
+        let true_yaw = v.state.rigid.attitude.euler_angles().2;
+        assert!(shoal_model::math::wrap_pi(yaw - true_yaw).abs() < 1e-4);
+        // The panel's last row: the depth reading and the frames sent.
+        let row = &r.panel[(9 * n + i) * PANEL.len()..(9 * n + i + 1) * PANEL.len()];
+        assert_eq!(row[0], v.sensors.depth as f32);
+        assert_eq!(row[4], v.comm.sent as f32);
+    }
+    // Every reception attempt is there (far below the budget), and the per-second timeline
+    // adds up to the medium's totals.
+    let rx = sim
+        .vehicles()
+        .iter()
+        .fold(0u64, |a, v| a + v.comm.rx.attempts);
+    assert!(rx > 1000, "the default world talks: {rx}");
+    assert_eq!(m.links_total, rx);
+    assert_eq!(r.links.len() as u64, rx);
+    assert_eq!(m.timeline.attempted.iter().sum::<u64>(), rx);
+    let delivered = r
+        .links
+        .iter()
+        .filter(|e| e.outcome == Outcome::Delivered)
+        .count() as u64;
+    assert_eq!(m.timeline.delivered.iter().sum::<u64>(), delivered);
+    assert!(r.links.iter().any(|e| e.outcome == Outcome::Occluded));
+    assert!(r.links.windows(2).all(|w| w[0].t <= w[1].t));
+    assert!(
+        r.links
+            .iter()
+            .all(|e| (e.from as usize) < n && (e.to as usize) < n && e.from != e.to)
+    );
+    assert_eq!(m.timeline.largest_fraction.len(), 10);
+    // The pillar is described for the viewer.
+    assert_eq!(m.obstacles.len(), 1);
+    assert_eq!(m.obstacles[0].kind, "cylinder");
+    assert_eq!(m.obstacles[0].radius, Some(0.25));
+    assert_eq!(m.obstacles[0].height, Some(2.0));
+}
+
+#[test]
+fn a_large_swarm_lowers_the_frame_rate_to_the_budget() {
+    // 12 bytes per vehicle and frame within 12 MiB: 1,000 vehicles × 100 s keep 10 frames/s
+    // (0.1 s), 10,000 vehicles 1 frame/s.
+    assert!((frame_dt(1000, 100.0, 0.01) - 0.1).abs() < 1e-12);
+    assert!((frame_dt(10_000, 100.0, 0.01) - 0.96).abs() < 1e-12);
+    assert!((frame_dt(1, 100.0, 0.01) - 0.05).abs() < 1e-12);
+}
