@@ -20,6 +20,8 @@
 
 use serde::Serialize;
 
+pub mod gif;
+
 /// Bytes of pose data (`pos` + `att`) a replay may hold before the frame rate is lowered.
 pub const POSE_BUDGET_BYTES: usize = 12 << 20;
 /// Most frames per second of a replay.
