@@ -25,7 +25,7 @@ use std::sync::Once;
 static FONT: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
 static REGISTER: Once = Once::new();
 
-fn register_font() {
+pub(crate) fn register_font() {
     REGISTER.call_once(|| {
         // The embedded font is known to be valid; a failure would only lose text in plots.
         let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, FONT);
@@ -124,7 +124,7 @@ pub fn rgb(i: usize) -> (u8, u8, u8) {
     (c.0, c.1, c.2)
 }
 
-fn color(i: usize) -> RGBColor {
+pub(crate) fn color(i: usize) -> RGBColor {
     const C: [RGBColor; 10] = [
         RGBColor(31, 119, 180),
         RGBColor(255, 127, 14),

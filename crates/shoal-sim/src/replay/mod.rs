@@ -21,6 +21,7 @@
 use serde::Serialize;
 
 pub mod capture;
+pub mod gif;
 
 /// Bytes of pose data (`pos` + `att`) a replay may hold before the frame rate is lowered.
 pub const POSE_BUDGET_BYTES: usize = 12 << 20;
