@@ -31,5 +31,6 @@ export {
   DirectionalLight,
   DynamicDrawUsage,
   DoubleSide,
+  BackSide,
 } from 'three';
 export { OrbitControls } from 'three/addons/controls/OrbitControls.js';

@@ -18,7 +18,10 @@
 //! link events beyond [`LINK_BUDGET`] are thinned evenly (every k-th kept; the timeline
 //! counts all of them).
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
+
+pub mod demo;
+pub mod html;
 
 /// Bytes of pose data (`pos` + `att`) a replay may hold before the frame rate is lowered.
 pub const POSE_BUDGET_BYTES: usize = 12 << 20;
@@ -38,7 +41,7 @@ pub const PANEL: [&str; 7] = [
 ];
 
 /// Outcome of a link attempt as coded in the `links` array.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[repr(u32)]
 pub enum Outcome {
     /// Received.
@@ -53,8 +56,69 @@ pub enum Outcome {
     HalfDuplex = 4,
 }
 
+impl Outcome {
+    /// Every outcome, in code order.
+    pub const ALL: [Outcome; 5] = [
+        Outcome::Delivered,
+        Outcome::Collided,
+        Outcome::Occluded,
+        Outcome::OutOfBudget,
+        Outcome::HalfDuplex,
+    ];
+
+    /// The outcome of the code `code` in the `links` array, if there is one.
+    pub fn from_code(code: u32) -> Option<Outcome> {
+        Self::ALL.get(usize::try_from(code).ok()?).copied()
+    }
+
+    /// Its code in the `links` array.
+    pub fn code(self) -> u32 {
+        self as u32
+    }
+}
+
+/// Bytes of pose data per vehicle and frame: `pos` (3 × u16) and `att` (3 × i16).
+pub const POSE_BYTES_PER_VEHICLE_FRAME: usize = 12;
+
+/// Frame intervals a replay may use \[s\], finest first: `1 / MAX_FPS` and round values
+/// above it (so a frame falls on a whole number of simulation steps for the usual steps).
+const FRAME_DTS: [f64; 12] = [
+    0.05, 0.1, 0.2, 0.25, 0.5, 1.0, 2.0, 5.0, 10.0, 20.0, 30.0, 60.0,
+];
+
+/// Frames of a replay of `duration_s` sampled every `frame_dt` s: t = 0, `frame_dt`, …,
+/// up to `duration_s` (inclusive, with a 1e-9 relative tolerance).
+pub fn frame_count(duration_s: f64, frame_dt: f64) -> usize {
+    if !(duration_s > 0.0 && frame_dt > 0.0 && duration_s.is_finite()) {
+        return 1;
+    }
+    // Truncation intended: the last whole frame interval within the duration.
+    (duration_s / frame_dt * (1.0 + 1e-9)).floor() as usize + 1
+}
+
+/// The time between frames \[s\] of a replay of `vehicles` over `duration_s` s: the finest of
+/// `1 / MAX_FPS` (0.05 s), 0.1, 0.2, 0.25, 0.5, 1, 2, 5, 10, 20, 30, 60 s (then whole minutes)
+/// whose pose arrays ([`frame_count`] × `vehicles` × [`POSE_BYTES_PER_VEHICLE_FRAME`]) fit in
+/// [`POSE_BUDGET_BYTES`]. 12 vehicles × 60 s: 0.05 s (20 fps); 1,000 × 100 s: 0.1 s;
+/// 10,000 × 100 s: 1 s.
+pub fn frame_dt(vehicles: usize, duration_s: f64) -> f64 {
+    let fits = |dt: f64| {
+        frame_count(duration_s, dt)
+            .saturating_mul(vehicles.saturating_mul(POSE_BYTES_PER_VEHICLE_FRAME))
+            <= POSE_BUDGET_BYTES
+    };
+    if let Some(dt) = FRAME_DTS.iter().copied().find(|&dt| fits(dt)) {
+        return dt;
+    }
+    let mut dt = 120.0;
+    while !fits(dt) && dt < 1e12 {
+        dt += 60.0;
+    }
+    dt
+}
+
 /// The JSON header of a replay.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Meta {
     /// Format version (1).
     pub version: u32,
@@ -99,7 +163,7 @@ pub struct Meta {
 }
 
 /// An obstacle, as three.js draws it.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ObstacleMeta {
     /// Name.
     pub name: String,
@@ -123,7 +187,7 @@ pub struct ObstacleMeta {
 }
 
 /// A vehicle group.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct GroupMeta {
     /// Name.
     pub name: String,
@@ -134,7 +198,7 @@ pub struct GroupMeta {
 }
 
 /// Per-second series; entry `k` covers `[k, k + 1)` s.
-#[derive(Clone, Debug, Default, Serialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Timeline {
     /// Link attempts (receptions in range tried).
     pub attempted: Vec<u64>,
@@ -157,7 +221,7 @@ pub struct Timeline {
 }
 
 /// Everything a replay holds.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct ReplayData {
     /// The header.
     pub meta: Meta,
@@ -182,4 +246,100 @@ pub struct LinkEvent {
     pub to: u32,
     /// What happened.
     pub outcome: Outcome,
+}
+
+impl ReplayData {
+    /// Whether the arrays agree with the header: `pos` and `att` hold `frames × vehicles × 3`
+    /// values, `panel` whole rows of `meta.panel.len()` values per vehicle, every vehicle has
+    /// a name and an existing group, every group a hull, link events name existing vehicles,
+    /// `links_kept` counts them and the timeline's series have one length. The error says
+    /// what disagrees.
+    pub fn check(&self) -> Result<(), String> {
+        let m = &self.meta;
+        let poses = m
+            .frames
+            .checked_mul(m.vehicles)
+            .and_then(|n| n.checked_mul(3));
+        if poses != Some(self.pos.len()) || poses != Some(self.att.len()) {
+            return Err(format!(
+                "{} frames × {} vehicles × 3 do not match pos ({} values) and att ({} values)",
+                m.frames,
+                m.vehicles,
+                self.pos.len(),
+                self.att.len()
+            ));
+        }
+        if m.frames > 1 && !(m.frame_dt > 0.0 && m.frame_dt.is_finite()) {
+            return Err(format!("frame_dt {} s is not positive", m.frame_dt));
+        }
+        if !m.pool.iter().all(|v| v.is_finite() && *v > 0.0) {
+            return Err(format!("pool {:?} m is not positive", m.pool));
+        }
+        let row = m.vehicles * m.panel.len();
+        if (row == 0 && !self.panel.is_empty())
+            || (row > 0 && !self.panel.len().is_multiple_of(row))
+        {
+            return Err(format!(
+                "panel holds {} values, not whole seconds of {} vehicles × {} values",
+                self.panel.len(),
+                m.vehicles,
+                m.panel.len()
+            ));
+        }
+        if m.names.len() != m.vehicles || m.group_of.len() != m.vehicles {
+            return Err(format!(
+                "{} vehicles but {} names and {} group numbers",
+                m.vehicles,
+                m.names.len(),
+                m.group_of.len()
+            ));
+        }
+        if let Some(g) = m.group_of.iter().find(|&&g| g as usize >= m.groups.len()) {
+            return Err(format!("group {g} of {} groups", m.groups.len()));
+        }
+        if m.hull.len() != m.groups.len() {
+            return Err(format!(
+                "{} groups but {} hulls",
+                m.groups.len(),
+                m.hull.len()
+            ));
+        }
+        let n = m.vehicles as u64;
+        if let Some(e) = self
+            .links
+            .iter()
+            .find(|e| u64::from(e.from) >= n || u64::from(e.to) >= n || !e.t.is_finite())
+        {
+            return Err(format!("link event {e:?} of {} vehicles", m.vehicles));
+        }
+        if m.links_kept != self.links.len() {
+            return Err(format!(
+                "links_kept {} but {} link events",
+                m.links_kept,
+                self.links.len()
+            ));
+        }
+        let t = &m.timeline;
+        let lens = [
+            t.attempted.len(),
+            t.delivered.len(),
+            t.collided.len(),
+            t.occluded.len(),
+            t.out_of_budget.len(),
+            t.half_duplex.len(),
+            t.components.len(),
+            t.largest_fraction.len(),
+            t.mean_degree.len(),
+        ];
+        if lens.iter().any(|&l| l != lens[0]) {
+            return Err(format!("timeline series of different lengths {lens:?}"));
+        }
+        Ok(())
+    }
+
+    /// Seconds of panel values (`panel.len() / (vehicles × meta.panel.len())`).
+    pub fn panel_seconds(&self) -> usize {
+        let row = self.meta.vehicles * self.meta.panel.len();
+        self.panel.len().checked_div(row).unwrap_or(0)
+    }
 }
