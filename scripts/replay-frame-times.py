@@ -1,15 +1,18 @@
 #!/usr/bin/env python3
 """Frame times of replay.html pages in headless Chromium, in real time (not in CI).
 
-Usage: scripts/replay-frame-times.py [--seconds S] [--size 1280x720] PAGE.html [PAGE.html ...]
+Usage: scripts/replay-frame-times.py [--seconds S] [--size 1280x720] PAGE.html[#state] ...
+
+(#state: the viewer's address fragment, e.g. #aa=0 for no antialiasing; see replay.js.)
 
 For each page: starts headless Chromium (software WebGL, SwiftShader) with the Chrome DevTools
 Protocol on a pipe (--remote-debugging-pipe: requests on fd 3, replies on fd 4, NUL-terminated
 JSON), opens the page from file://, waits for the viewer's first status report (time to the
-first frame), lets it play for S seconds (default 10) and reads the viewer's counters on <html>:
-frames rendered in that window (→ mean frame interval), data-mean-update-ms (the viewer's own
-JavaScript per frame: poses, links, trails, panel) and the renderer. Python standard library
-only; prints one Markdown table row per page.
+first frame), lets it play for S seconds (default 10) and reads the viewer's counters
+(window.shoalReplayStats, updated every frame): frames rendered in that window, their mean
+interval, the viewer's own JavaScript per frame in it (poses, links, trails, panel, timeline)
+and the renderer. Python standard library only; prints one Markdown table row per page.
+The viewport is what headless Chromium gives the page for --window-size (1280×720 → 1280×577).
 """
 import argparse
 import json
@@ -96,12 +99,13 @@ class Cdp:
 
 
 STATUS = "JSON.stringify(Object.assign({}, document.documentElement.dataset, " \
-         "{w: innerWidth, h: innerHeight, now: performance.now()}))"
+         "window.shoalReplayStats || {}, {w: innerWidth, h: innerHeight}))"
 
 
 def measure(page, seconds, size):
     start = time.monotonic()
-    cdp = Cdp("file://" + os.path.abspath(page), size)
+    path, _, fragment = page.partition("#")
+    cdp = Cdp("file://" + os.path.abspath(path) + ("#" + fragment if fragment else ""), size)
     try:
         cdp.attach_page()
         first = None
@@ -119,11 +123,13 @@ def measure(page, seconds, size):
         a = json.loads(cdp.eval(STATUS))
         time.sleep(seconds)
         b = json.loads(cdp.eval(STATUS))
-        frames = int(b["framesRendered"]) - int(a["framesRendered"])
-        ms = (b["now"] - a["now"]) / max(frames, 1)
-        return {"page": page, "mb": os.path.getsize(page) / 1e6, "vehicles": b["vehicles"],
+        # The viewer's exact counters at its last frame (window.shoalReplayStats).
+        frames = b["frames"] - a["frames"]
+        ms = (b["now"] - a["now"]) / frames if frames > 0 else float("nan")
+        update = (b["updateMsSum"] - a["updateMsSum"]) / frames if frames > 0 else float("nan")
+        return {"page": page, "mb": os.path.getsize(path) / 1e6, "vehicles": b["vehicles"],
                 "first_s": first, "frames": frames, "frame_ms": ms,
-                "update_ms": float(b["meanUpdateMs"]), "viewport": f"{b['w']}×{b['h']}",
+                "update_ms": update, "viewport": f"{b['w']}×{b['h']}",
                 "renderer": b.get("glRenderer", "")}
     finally:
         cdp.close()

@@ -16,7 +16,10 @@ fn main() {
     let data = demo(n, seconds);
     let b64 = |bytes: usize| bytes.div_ceil(3) * 4;
     let m = &data.meta;
-    let path = match html::write(&out, &data) {
+    let start = std::time::Instant::now();
+    let written = html::write(&out, &data);
+    let write_s = start.elapsed().as_secs_f64();
+    let path = match written {
         Ok(p) => p,
         Err(e) => {
             eprintln!("replay_demo: {e}");
@@ -26,7 +29,8 @@ fn main() {
     let total = std::fs::metadata(&path).map(|m| m.len()).unwrap_or(0);
     let mb = |b: usize| b as f64 / 1e6;
     println!(
-        "{}: {n} vehicles × {seconds} s, frame_dt {} s ({} frames), {} of {} link events kept",
+        "{}: {n} vehicles × {seconds} s, frame_dt {} s ({} frames), {} of {} link events kept, \
+         written in {write_s:.2} s",
         path.display(),
         m.frame_dt,
         m.frames,

@@ -103,14 +103,23 @@
     // Unit body: length, width, height 1 along body x, y, z; each instance is scaled by its
     // group's hull size.
     var cap = Math.max(N, 1);
-    // Fewer triangles per vehicle for bigger swarms (596, 216 and 106 per vehicle).
-    var lod = N <= 300 ? [6, 16, 12, 8] : N <= 3000 ? [3, 10, 8, 5] : [2, 7, 6, 3];
-    var hullGeo = new THREE.CapsuleGeometry(0.5, 0.5, lod[0], lod[1]);
-    hullGeo.rotateZ(-Math.PI / 2);             // capsule axis y → body x (forward)
-    hullGeo.scale(1 / 1.5, 1, 1);              // total length 1
+    // Fewer triangles per vehicle for bigger swarms: detail 0–3 = 596, 216, 106 and 36
+    // triangles (3: box hull and bow); #lod=N in the address overrides the choice.
+    var lodHash = /(^#|&)lod=([0-3])(&|$)/.exec(location.hash || '');
+    var lod = lodHash ? +lodHash[2] : N <= 300 ? 0 : N <= 2000 ? 1 : N <= 5000 ? 2 : 3;
+    var LOD = [[6, 16, 12, 8], [3, 10, 8, 5], [2, 7, 6, 3]][lod];
+    var hullGeo, noseGeo;
+    if (LOD) {
+      hullGeo = new THREE.CapsuleGeometry(0.5, 0.5, LOD[0], LOD[1]);
+      hullGeo.rotateZ(-Math.PI / 2);           // capsule axis y → body x (forward)
+      hullGeo.scale(1 / 1.5, 1, 1);            // total length 1
+      noseGeo = new THREE.SphereGeometry(0.2, LOD[2], LOD[3]);
+    } else {
+      hullGeo = new THREE.BoxGeometry(1, 0.9, 0.9);
+      noseGeo = new THREE.BoxGeometry(0.2, 0.45, 0.45);
+    }
     var hull = new THREE.InstancedMesh(hullGeo,
       new THREE.MeshStandardMaterial({ color: 0xffffff, roughness: 0.45, metalness: 0.1 }), cap);
-    var noseGeo = new THREE.SphereGeometry(0.2, lod[2], lod[3]);
     noseGeo.translate(0.5, 0, 0);              // the bow
     var nose = new THREE.InstancedMesh(noseGeo, new THREE.MeshBasicMaterial({ color: 0xfff2a8 }), cap);
     var finGeo = new THREE.BoxGeometry(0.4, 0.08, 0.3);
@@ -593,8 +602,8 @@
       var names = Object.keys(heard).map(function (j) { return meta.names[j] || ('#' + j); }).sort();
       var count = pv('neighbours');
       var shown = names.length > 12 ? names.slice(0, 12).join(', ') + ', … (' + names.length + ')' : names.join(', ');
-      text('p-neighbours', (names.length ? shown : 'none') +
-        (isFinite(count) && count !== names.length ? ' · ' + count + ' in second ' + sec : ''));
+      text('p-neighbours', (names.length ? shown : 'none') + ' (last 1 s' +
+        (isFinite(count) && count !== names.length ? '; ' + count + ' in second ' + sec : '') + ')');
       text('p-note', PANEL_SECONDS > 0 ? 'panel values of second ' + sec + (thinned ? '; neighbours from a sample of the link events' : '') : 'no panel values');
     }
 
@@ -618,6 +627,8 @@
     var framesRendered = 0, lastNow = -1, frameSum = 0, frameCount = 0, updSum = 0, updCount = 0;
     var lastInfo = -1e9, lastFollow = null;
     var glRenderer = rendererName();
+    // Exact counters for measuring tools (scripts/replay-frame-times.py), every frame.
+    var stats = window.shoalReplayStats = { frames: 0, updateMsSum: 0, now: 0 };
     function resize() {
       var w = Math.max(view.clientWidth, 1), h = Math.max(view.clientHeight, 1);
       renderer.setSize(w, h, false);
@@ -676,6 +687,7 @@
       controls.update();
       renderer.render(scene, camera);
       framesRendered++;
+      stats.frames = framesRendered; stats.updateMsSum = updSum; stats.now = performance.now();
       if (hashClicks) clickFromHash();
       if (framesRendered === 1 || framesRendered % 10 === 0) report();
     }
@@ -696,7 +708,7 @@
     /** Initial state from the address's #fragment, e.g. replay.html#t=12.5&view=top&select=auv03&paused:
      * t [s], speed, paused, view (top|side|follow), select (name or index), ranges (off|selected|all),
      * trails (0|1), delivered (delivered only), size (1|2|4); aa=0 (no antialiasing) is read at start;
-     * click and tlclick (see clickFromHash). */
+     * lod=0..3 (detail of the hulls) is read at start; click and tlclick (see clickFromHash). */
     function applyHash() {
       var h = (location.hash || '').replace(/^#/, '');
       if (!h) return;

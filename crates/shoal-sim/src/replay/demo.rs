@@ -16,7 +16,7 @@
 //! receiver sending itself during the frame → half-duplex; another of the receiver's
 //! neighbours sending during the frame → collided; otherwise delivered. The timeline counts
 //! every attempt (components and degrees from the frames delivered in each second), the
-//! `links` array keeps every k-th one beyond [`LINK_BUDGET`](super::LINK_BUDGET), and the panel
+//! `links` array keeps every k-th one beyond [`LINK_BUDGET`], and the panel
 //! holds each second's depth (with 1 cm noise), setpoints, mode, cumulative frames sent and
 //! received and the senders heard in that second. Deterministic (no RNG state: a hash of the
 //! indices).

@@ -8,8 +8,8 @@
 //! (`replay.js`). All of them are embedded in the binary with `include_str!`; nothing is
 //! loaded from anywhere when the page opens.
 //!
-//! [`write`] streams the page through an [`AtomicFile`] (the arrays are converted and
-//! base64-encoded in small chunks, never copied whole); [`read`] parses a page back, for
+//! [`write()`] streams the page through an [`AtomicFile`] (the arrays are converted and
+//! base64-encoded in small chunks, never copied whole); [`read()`] parses a page back, for
 //! tools that draw a replay without a browser.
 
 use std::io::{self, BufWriter, Write};
@@ -152,7 +152,7 @@ pub struct ReadError {
     pub what: String,
 }
 
-/// Reads the replay page `path` (as [`write`] writes it) back into its data.
+/// Reads the replay page `path` (as [`write()`] writes it) back into its data.
 pub fn read(path: &Path) -> Result<ReplayData, ReadError> {
     let fail = |what: String| ReadError {
         path: path.to_path_buf(),
@@ -348,6 +348,11 @@ mod tests {
                 page.replacen(" id=\"shoal-att\">", " id=\"shoal-att\">AAAA", 1),
             ),
             ("unclosed", page[..links_at + 10].to_string()),
+            (
+                "huge vehicle count",
+                page.replacen("\"vehicles\":3,", "\"vehicles\":18446744073709551615,", 1)
+                    .replacen("\"frames\":41,", "\"frames\":0,", 1),
+            ),
             ("bad outcome", {
                 // The first link event's outcome code (bytes 12..16) → 9.
                 let mut p = page.clone();

@@ -13,10 +13,33 @@
 //! | `panel` | f32 | seconds × vehicles × [`PANEL`] | once per second: the values of the vehicle panel |
 //! | `links` | f32/u32 | events × 4 | link attempts: t \[s\] (f32), sender, receiver, outcome ([`Outcome`] code) (u32) |
 //!
-//! Frames are sampled every [`Meta::frame_dt`] seconds, chosen so that the pose arrays stay
-//! within [`POSE_BUDGET_BYTES`] (so a 1,000-vehicle, 100-s run keeps 10 frames per second);
-//! link events beyond [`LINK_BUDGET`] are thinned evenly (every k-th kept; the timeline
-//! counts all of them).
+//! Frames are sampled every [`Meta::frame_dt`] seconds ([`frame_dt`]: the finest of 0.05, 0.1,
+//! 0.2, 0.25, 0.5, 1, 2, 5 … s whose pose arrays stay within [`POSE_BUDGET_BYTES`], so a
+//! 1,000-vehicle, 100-s run keeps 10 frames per second); frame `k` is at `t = k · frame_dt`.
+//! Link events (in time order) beyond [`LINK_BUDGET`] are thinned evenly (every k-th kept;
+//! the timeline counts all of them). The `panel` holds whole seconds: row `s` describes
+//! second `s` (the page shows row `⌊t⌋`). [`ReplayData::check`] says whether the arrays agree
+//! with the header; [`html::write`] refuses data that does not.
+//!
+//! **Size budget** (base64 adds a third; measured with [`demo::demo`] and
+//! `examples/replay_demo.rs`; see `docs/replay.md`):
+//!
+//! | part | bytes in the page |
+//! |---|---|
+//! | page, style, viewer, three.js | 0.63 MB, fixed |
+//! | poses | frames × vehicles × 12 × 4/3, at most [`POSE_BUDGET_BYTES`] · 4/3 = 16.8 MB |
+//! | panel | seconds × vehicles × 7 × 4 × 4/3 = 37 B per vehicle-second, unbounded |
+//! | links | events × 16 × 4/3, at most [`LINK_BUDGET`] · 21.3 B = 4.3 MB |
+//! | header | ≈ 15 B per vehicle (name, group) + 100 B per second (timeline) |
+//!
+//! | demo | frame_dt | file | poses | panel | links (kept of all) |
+//! |---|---|---|---|---|---|
+//! | 12 vehicles × 60 s | 0.05 s | 0.93 MB | 0.23 MB | 0.03 MB | 0.04 MB (1,810 of 1,810) |
+//! | 1,000 × 100 s | 0.1 s | 23.4 MB | 16.0 MB | 3.7 MB | 3.0 MB (140,184 of 420,551) |
+//! | 10,000 × 100 s | 1 s | 58.3 MB | 16.2 MB | 37.3 MB | 4.1 MB (191,374 of 4.4 M) |
+//!
+//! Beyond about 450,000 vehicle-seconds (4,500 vehicles × 100 s) the panel outgrows the poses;
+//! it is the part to shrink next (a coarser panel or a compressed array) if replays of large swarms must stay small.
 
 use serde::{Deserialize, Serialize};
 
@@ -29,7 +52,12 @@ pub const POSE_BUDGET_BYTES: usize = 12 << 20;
 pub const MAX_FPS: f64 = 20.0;
 /// Most link events kept for the page (thinned evenly beyond).
 pub const LINK_BUDGET: usize = 200_000;
-/// Values per vehicle and second in the `panel` array, in this order.
+/// Values per vehicle and second in the `panel` array, in this order: depth reading \[m\],
+/// depth setpoint \[m\], heading (yaw) setpoint \[rad\], mode (code into [`Meta::modes`]),
+/// frames sent and frames received since the start of the run, and neighbours (distinct
+/// senders delivered to the vehicle in that second). NaN where a value does not exist (no
+/// setpoint in this mode): the page shows "—". The page finds the values by these names in
+/// [`Meta::panel`], so a header may list others.
 pub const PANEL: [&str; 7] = [
     "depth_reading_m",
     "depth_setpoint_m",
@@ -275,7 +303,10 @@ impl ReplayData {
         if !m.pool.iter().all(|v| v.is_finite() && *v > 0.0) {
             return Err(format!("pool {:?} m is not positive", m.pool));
         }
-        let row = m.vehicles * m.panel.len();
+        let row = m
+            .vehicles
+            .checked_mul(m.panel.len())
+            .ok_or_else(|| format!("{} vehicles are too many", m.vehicles))?;
         if (row == 0 && !self.panel.is_empty())
             || (row > 0 && !self.panel.len().is_multiple_of(row))
         {
@@ -339,7 +370,7 @@ impl ReplayData {
 
     /// Seconds of panel values (`panel.len() / (vehicles × meta.panel.len())`).
     pub fn panel_seconds(&self) -> usize {
-        let row = self.meta.vehicles * self.meta.panel.len();
+        let row = self.meta.vehicles.saturating_mul(self.meta.panel.len());
         self.panel.len().checked_div(row).unwrap_or(0)
     }
 }
