@@ -106,6 +106,8 @@ fn the_replay_renders_in_headless_chromium() {
     assert!(frames >= 1, "frames rendered: {frames}");
     assert_eq!(attr("data-vehicles"), Some(VEHICLES.to_string()));
     assert_eq!(attr("data-three-revision").as_deref(), Some("187"));
+    // Chromium 156 has Uint8Array.fromBase64 (the click test covers the fallback).
+    assert_eq!(attr("data-decoder").as_deref(), Some("fromBase64"));
     assert!(attr("data-gl-renderer").is_some_and(|r| !r.is_empty()));
     assert!(
         dom.contains("<title>shoal replay: "),
@@ -146,8 +148,9 @@ fn a_click_selects_a_vehicle_and_the_timeline_seeks() {
     let d = dir("click");
     let page = demo_page(&d);
     // The page clicks, as DOM events, where auv05 is drawn (from above, 4× size, so nothing
-    // hides it) and at the middle of the timeline strip.
-    let fragment = "#t=3&paused&view=top&size=4&ranges=off&click=auv05&tlclick=0.5";
+    // hides it) and at the middle of the timeline strip; it decodes its arrays with atob (the
+    // fallback for browsers without Uint8Array.fromBase64).
+    let fragment = "#t=3&paused&view=top&size=4&ranges=off&click=auv05&tlclick=0.5&atob";
     let out = chromium(
         &page,
         fragment,
@@ -166,6 +169,7 @@ fn a_click_selects_a_vehicle_and_the_timeline_seeks() {
         !panel_tag.contains("hidden"),
         "the panel is hidden: {panel_tag}"
     );
+    assert_eq!(html_attr(&dom, "data-decoder").as_deref(), Some("atob"));
     assert_eq!(
         text_of(&dom, "p-name"),
         Some("auv05"),

@@ -848,7 +848,12 @@
   }
   function decode(b64) {
     b64 = b64.trim();
-    if (typeof Uint8Array.fromBase64 === 'function') return Uint8Array.fromBase64(b64);
+    // #atob in the address forces the fallback (so tests on new browsers exercise it too).
+    if (typeof Uint8Array.fromBase64 === 'function' && !/(^#|&)atob(&|$)/.test(location.hash || '')) {
+      document.documentElement.dataset.decoder = 'fromBase64';
+      return Uint8Array.fromBase64(b64);
+    }
+    document.documentElement.dataset.decoder = 'atob';
     var s = atob(b64), n = s.length, out = new Uint8Array(n);
     for (var i = 0; i < n; i++) out[i] = s.charCodeAt(i);
     return out;
