@@ -18,7 +18,8 @@
  *
  * Status for headless tests: every 10 rendered frames (and after the first) <html> gets
  * data-status="ok" data-frames-rendered data-vehicles data-mean-frame-ms data-mean-update-ms
- * data-gl-renderer data-three-revision, and document.title says how many frames were rendered.
+ * data-gl-renderer data-three-revision, and document.title says how many frames were rendered;
+ * data-decoder says how the base64 was decoded (fromBase64 or atob).
  * Failures are recorded by the guard script in <head> (data-status="error", data-errors).
  */
 (function () {

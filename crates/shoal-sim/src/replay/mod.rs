@@ -128,21 +128,26 @@ pub fn frame_count(duration_s: f64, frame_dt: f64) -> usize {
 /// `1 / MAX_FPS` (0.05 s), 0.1, 0.2, 0.25, 0.5, 1, 2, 5, 10, 20, 30, 60 s (then whole minutes)
 /// whose pose arrays ([`frame_count`] × `vehicles` × [`POSE_BYTES_PER_VEHICLE_FRAME`]) fit in
 /// [`POSE_BUDGET_BYTES`]. 12 vehicles × 60 s: 0.05 s (20 fps); 1,000 × 100 s: 0.1 s;
-/// 10,000 × 100 s: 1 s.
+/// 10,000 × 100 s: 1 s. When not even two frames fit (over a million vehicles), the
+/// duration: the first and the last frame only.
 pub fn frame_dt(vehicles: usize, duration_s: f64) -> f64 {
-    let fits = |dt: f64| {
-        frame_count(duration_s, dt)
-            .saturating_mul(vehicles.saturating_mul(POSE_BYTES_PER_VEHICLE_FRAME))
-            <= POSE_BUDGET_BYTES
-    };
+    let per_frame = vehicles.saturating_mul(POSE_BYTES_PER_VEHICLE_FRAME).max(1);
+    let max_frames = POSE_BUDGET_BYTES / per_frame;
+    let fits = |dt: f64| frame_count(duration_s, dt) <= max_frames;
     if let Some(dt) = FRAME_DTS.iter().copied().find(|&dt| fits(dt)) {
         return dt;
     }
-    let mut dt = 120.0;
-    while !fits(dt) && dt < 1e12 {
-        dt += 60.0;
+    if max_frames < 2 || !duration_s.is_finite() {
+        // Not even the first and the last frame fit: those two, over budget.
+        return if duration_s.is_finite() {
+            duration_s.max(FRAME_DTS[0])
+        } else {
+            FRAME_DTS[0]
+        };
     }
-    dt
+    // Whole minutes (the rounding of frame_count may need one more).
+    let dt = (duration_s / (max_frames - 1) as f64 / 60.0).ceil() * 60.0;
+    if fits(dt) { dt } else { dt + 60.0 }
 }
 
 /// The JSON header of a replay.
@@ -372,5 +377,47 @@ impl ReplayData {
     pub fn panel_seconds(&self) -> usize {
         let row = self.meta.vehicles.saturating_mul(self.meta.panel.len());
         self.panel.len().checked_div(row).unwrap_or(0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn pose_bytes(vehicles: usize, duration_s: f64) -> usize {
+        frame_count(duration_s, frame_dt(vehicles, duration_s)) * vehicles * 12
+    }
+
+    #[test]
+    fn the_frame_rate_follows_the_pose_budget() {
+        assert_eq!(frame_dt(12, 60.0), 0.05);
+        assert_eq!(frame_count(60.0, 0.05), 1201);
+        assert_eq!(frame_dt(1000, 100.0), 0.1);
+        assert_eq!(frame_dt(10_000, 100.0), 1.0);
+        assert_eq!(frame_dt(0, 100.0), 0.05);
+        assert_eq!(frame_dt(5, f64::NAN), 0.05);
+        for (n, s) in [
+            (1000, 100.0),
+            (3000, 700.0),
+            (100, 86_400.0),
+            (50_000, 3600.0),
+        ] {
+            let dt = frame_dt(n, s);
+            assert!(pose_bytes(n, s) <= POSE_BUDGET_BYTES, "{n} × {s}: dt {dt}");
+            let finer = FRAME_DTS.iter().rev().find(|&&d| d < dt).copied();
+            if let Some(f) = finer {
+                assert!(
+                    frame_count(s, f) * n * 12 > POSE_BUDGET_BYTES,
+                    "{n} × {s}: {f} fits"
+                );
+            }
+        }
+        // A day of 1,000 vehicles: whole minutes (the finest that fits).
+        assert_eq!(frame_dt(1000, 86_400.0), 120.0);
+        assert!(pose_bytes(1000, 86_400.0) <= POSE_BUDGET_BYTES);
+        assert!(frame_count(86_400.0, 60.0) * 1000 * 12 > POSE_BUDGET_BYTES);
+        // More vehicles than one frame's budget: first and last frame, quickly.
+        assert_eq!(frame_dt(2_000_000, 100.0), 100.0);
+        assert_eq!(frame_count(100.0, 100.0), 2);
     }
 }
