@@ -5,9 +5,12 @@
 #    builds its own venv in target/pyvenv and installs python/requirements.txt from PyPI):
 #    installed from Debian's packages when missing and this runs as root with apt-get; otherwise
 #    those tests fail and say what is missing.
-# 2. cargo test --workspace: every test (unit, integration, doc); it builds the examples too.
-# 3. cargo test --workspace --bench '*': every criterion bench, compiled and run once (test mode).
-# 4. Each root example once, on a short setting, into a temporary folder.
+# 2. Chromium, for the replay's headless-browser tests (crates/shoal-sim/tests/replay_browser.rs):
+#    scripts/install-chromium.sh installs Debian's package when it is missing and this runs as
+#    root with apt-get; otherwise those tests fail and say what is missing.
+# 3. cargo test --workspace: every test (unit, integration, doc); it builds the examples too.
+# 4. cargo test --workspace --bench '*': every criterion bench, compiled and run once (test mode).
+# 5. Each root example once, on a short setting, into a temporary folder.
 #
 # Idempotent: run it as often as you like.
 set -eu
@@ -26,13 +29,16 @@ if ! python3 -c 'import venv, ensurepip' >/dev/null 2>&1; then
     fi
 fi
 
-# 2. The tests.
+# 2. Chromium (the script says what it did; without root or apt-get it only warns here).
+scripts/install-chromium.sh || echo "scripts/test.sh: the replay browser tests will fail" >&2
+
+# 3. The tests.
 cargo test --workspace
 
-# 3. The benches, once each.
+# 4. The benches, once each.
 cargo test --workspace --bench '*'
 
-# 4. The root examples, from the binaries step 2 built, on short settings.
+# 5. The root examples, from the binaries step 3 built, on short settings.
 target=$(cargo metadata --format-version 1 --no-deps |
     sed -n 's/.*"target_directory":"\([^"]*\)".*/\1/p')
 examples="$target/debug/examples"

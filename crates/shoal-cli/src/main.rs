@@ -16,6 +16,7 @@
 
 mod alloc;
 mod bench;
+mod render;
 mod run;
 mod signals;
 mod validate;
@@ -45,6 +46,8 @@ enum Command {
         /// The world file.
         world: PathBuf,
     },
+    /// Draw an animated GIF of a finished run from its replay.html (no browser needed).
+    Render(render::RenderArgs),
     /// Print a scaling table: vehicles × threads → vehicle-steps/s, real-time factor, memory.
     Bench(bench::BenchArgs),
     /// Compare measured runs with the vehicle model: what it gets wrong, which catalogue
@@ -84,6 +87,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Run(a) => run::run(&a),
+        Command::Render(a) => render::render(&a),
         Command::Check { world } => run::check(&world),
         Command::Preset { name } => run::preset(&name),
         Command::Validate(a) => validate::validate(&a),

@@ -43,6 +43,9 @@ pub struct RunArgs {
     /// Skip plots.
     #[arg(long)]
     pub no_plots: bool,
+    /// Skip `replay.html`, the interactive 3D replay (also `[output] replay = false`).
+    #[arg(long)]
+    pub no_replay: bool,
     /// Print only the summary (no progress bar).
     #[arg(long, short)]
     pub quiet: bool,
@@ -177,6 +180,9 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, Failure> {
     let Ok(mut sim) = built else {
         return Ok(stopped_before_start(&cancel, "building the world"));
     };
+    if !args.no_replay && desc.output.replay {
+        sim.enable_replay(&desc);
+    }
     let mut out = RunOutput::create(&out_dir, &desc)
         .with_context(|| format!("cannot create outputs in {}", out_dir.display()))?;
     let pb = if args.quiet {
@@ -264,6 +270,7 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, Failure> {
         });
         drop(h);
     }
+    out.replay = sim.take_replay();
     // The error names the file that could not be written and why; the files before it stay.
     let summary = out
         .finish(&desc, &mut sim, wall, &cancel)

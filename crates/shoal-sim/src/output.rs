@@ -11,7 +11,8 @@
 //! removed and the error names the file with the operating system's reason.
 //!
 //! **Order.** [`RunOutput::finish`] writes `summary.json` first, then the tables
-//! (`trajectories.csv`, `vehicles.csv`, the communication tables), then the plots, so when a later file fails (a full
+//! (`trajectories.csv`, `vehicles.csv`, the communication tables), then `replay.html` (when
+//! the run driver set [`RunOutput::replay`]), then the plots, so when a later file fails (a full
 //! disk, a file-size limit) the summary is already there. The first summary lists the files
 //! the run is about to write; if fewer were written (a failure, or plots skipped after a stop
 //! request) it is written again with the files that exist, the error and the stop request.
@@ -105,6 +106,9 @@ pub struct RunOutput {
     csv_rows: u64,
     /// External agents' part of the summary (set by the run driver before `finish`).
     pub agents: Option<crate::agents::AgentsSummary>,
+    /// The replay to write as `replay.html` (set by the run driver before `finish`, e.g.
+    /// from [`Sim::take_replay`]).
+    pub replay: Option<crate::replay::ReplayData>,
 }
 
 impl RunOutput {
@@ -162,6 +166,7 @@ impl RunOutput {
             plot_stride: desc.vehicles.len().div_ceil(PLOT_VEHICLES).max(1),
             csv_rows: 0,
             agents: None,
+            replay: None,
         })
     }
 
@@ -279,6 +284,7 @@ impl RunOutput {
             acc,
             csv_rows,
             agents,
+            replay,
             ..
         } = self;
         let json_path = dir.join("summary.json");
@@ -294,6 +300,10 @@ impl RunOutput {
                     .into_iter()
                     .map(|t| dir.join(t)),
             );
+        }
+        let replay_path = dir.join("replay.html");
+        if replay.is_some() {
+            planned.push(replay_path.clone());
         }
         for (stem, _) in &plots {
             let stem = dir.join(stem);
@@ -314,6 +324,7 @@ impl RunOutput {
                 summary.comm.as_ref().map(|c| c.vehicles.as_slice()),
             ),
             summary.comm.is_some().then_some(sim),
+            replay.as_ref().map(|r| (replay_path.as_path(), r)),
             &snaps,
             &plots,
             &dir,
@@ -517,12 +528,15 @@ fn write_summary(path: &Path, summary: &Summary) -> Result<PathBuf, FileError> {
 }
 
 /// The part of [`RunOutput::finish`] after the summary: commits the trajectories, writes
-/// `vehicles.csv` and the communication tables (when there was traffic) and draws the plots
-/// until `skip_plots` says so, adding each file to `written` as it is complete.
+/// `vehicles.csv`, the communication tables (when there was traffic) and the replay, and
+/// draws the plots until `skip_plots` says so, adding each file to `written` as it is
+/// complete.
+#[allow(clippy::too_many_arguments)]
 fn write_tables_and_plots(
     trajectories: CsvFile,
     vehicles: (&Path, &[VehicleSummary], Option<&[VehicleComm]>),
     comm: Option<&Sim>,
+    replay: Option<(&Path, &crate::replay::ReplayData)>,
     snaps: &[VehicleView<'_>],
     plots: &[(&'static str, Plot)],
     dir: &Path,
@@ -533,6 +547,9 @@ fn write_tables_and_plots(
     written.push(write_vehicles_csv(vehicles.0, vehicles.1, vehicles.2)?);
     if let Some(sim) = comm {
         crate::comm_report::write_tables(dir, sim, snaps, written)?;
+    }
+    if let Some((path, data)) = replay {
+        written.push(crate::replay::html::write(path, data)?);
     }
     for (stem, plot) in plots {
         if skip_plots() {

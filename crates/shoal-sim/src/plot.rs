@@ -117,27 +117,29 @@ pub struct Plot {
     pub size: (u32, u32),
 }
 
-/// Colour `i` of the palette every plot, the replay and the GIF use for groups and series
-/// (red, green, blue).
+/// The colours of lines and groups, in order (matplotlib's "tab10"); the replay's groups use
+/// the same ones.
+pub const PALETTE: [(u8, u8, u8); 10] = [
+    (31, 119, 180),
+    (255, 127, 14),
+    (44, 160, 44),
+    (214, 39, 40),
+    (148, 103, 189),
+    (140, 86, 75),
+    (227, 119, 194),
+    (127, 127, 127),
+    (188, 189, 34),
+    (23, 190, 207),
+];
+
+/// Colour `i` of [`PALETTE`], wrapping around (red, green, blue).
 pub fn rgb(i: usize) -> (u8, u8, u8) {
-    let c = color(i);
-    (c.0, c.1, c.2)
+    PALETTE[i % PALETTE.len()]
 }
 
 pub(crate) fn color(i: usize) -> RGBColor {
-    const C: [RGBColor; 10] = [
-        RGBColor(31, 119, 180),
-        RGBColor(255, 127, 14),
-        RGBColor(44, 160, 44),
-        RGBColor(214, 39, 40),
-        RGBColor(148, 103, 189),
-        RGBColor(140, 86, 75),
-        RGBColor(227, 119, 194),
-        RGBColor(127, 127, 127),
-        RGBColor(188, 189, 34),
-        RGBColor(23, 190, 207),
-    ];
-    C[i % C.len()]
+    let (r, g, b) = rgb(i);
+    RGBColor(r, g, b)
 }
 
 /// Relative margin added on each side of an autoscaled axis.

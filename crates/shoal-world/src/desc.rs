@@ -57,6 +57,8 @@ pub struct OutputDesc {
     pub record_hz: f64,
     /// Write plots.
     pub plots: bool,
+    /// Write `replay.html`.
+    pub replay: bool,
 }
 
 /// A validated world.

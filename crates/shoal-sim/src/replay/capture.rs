@@ -7,8 +7,7 @@
 //! nothing.
 
 use super::{
-    GroupMeta, LINK_BUDGET, LinkEvent, MAX_FPS, Meta, ObstacleMeta, Outcome, PANEL,
-    POSE_BUDGET_BYTES, ReplayData, Timeline,
+    GroupMeta, LINK_BUDGET, LinkEvent, Meta, ObstacleMeta, Outcome, PANEL, ReplayData, Timeline,
 };
 use crate::comm::{CommStats, Medium, Outcome as CommOutcome};
 use crate::components::{Clock, Control, Physics, Sensors, VehicleId};
@@ -19,13 +18,15 @@ use shoal_model::control::Mode;
 use shoal_world::desc::WorldDesc;
 
 /// The time between replay frames for `vehicles` vehicles over `duration_s` seconds \[s\]:
-/// as many frames as [`POSE_BUDGET_BYTES`] allows (12 bytes per vehicle and frame), at most
-/// [`MAX_FPS`] per second, a whole number of physics steps `dt` \[s\].
+/// [`super::frame_dt`] (the pose budget), rounded up to a whole number of physics steps
+/// `dt` \[s\].
 pub fn frame_dt(vehicles: usize, duration_s: f64, dt: f64) -> f64 {
-    let per_frame = 12.0 * vehicles.max(1) as f64;
-    let frames = (POSE_BUDGET_BYTES as f64 / per_frame).max(1.0);
-    let want = (duration_s / frames).max(1.0 / MAX_FPS);
-    (want / dt).ceil().max(1.0) * dt
+    let want = super::frame_dt(vehicles, duration_s);
+    if !(dt > 0.0 && dt.is_finite()) {
+        return want;
+    }
+    // A 1e-9 relative tolerance so 0.1 / 0.01 stays 10 steps.
+    (want / dt * (1.0 - 1e-9)).ceil().max(1.0) * dt
 }
 
 impl From<CommOutcome> for Outcome {
@@ -142,6 +143,33 @@ impl ReplayRecorder {
             tl.largest_fraction.push(s.largest as f64 / n);
             tl.mean_degree.push(2.0 * s.edges as f64 / n);
         }
+        // One length for every series: seconds without an attempt count none; a final
+        // partial second without a graph sample shows the graph as last sampled.
+        let len = tl.attempted.len().max(tl.components.len());
+        for v in [
+            &mut tl.attempted,
+            &mut tl.delivered,
+            &mut tl.collided,
+            &mut tl.occluded,
+            &mut tl.out_of_budget,
+            &mut tl.half_duplex,
+        ] {
+            v.resize(len, 0);
+        }
+        if let Some(&c) = tl.components.last() {
+            tl.components.resize(len, c);
+            let (f, d) = (
+                tl.largest_fraction[tl.largest_fraction.len() - 1],
+                tl.mean_degree[tl.mean_degree.len() - 1],
+            );
+            tl.largest_fraction.resize(len, f);
+            tl.mean_degree.resize(len, d);
+        } else {
+            // No graph sampled (no active medium, so no attempts either).
+            tl.components.resize(len, 0);
+            tl.largest_fraction.resize(len, 0.0);
+            tl.mean_degree.resize(len, 0.0);
+        }
         self.data
     }
 
@@ -155,7 +183,7 @@ impl ReplayRecorder {
         for e in self.scratch.drain(..) {
             self.data.meta.links_total += 1;
             self.seen += 1;
-            if self.seen % self.stride != 0 {
+            if !self.seen.is_multiple_of(self.stride) {
                 continue;
             }
             self.data.links.push(e);
@@ -238,7 +266,8 @@ pub fn replay_system(
     let rec = &mut *rec;
     let next = clock.step + 1;
     let frame = next == 1 || next.is_multiple_of(rec.frame_every);
-    let second = next.is_multiple_of(rec.second_every);
+    // Panel row 0 describes the start, row s second s.
+    let second = next == 1 || next.is_multiple_of(rec.second_every);
     if !frame && !second {
         return;
     }
@@ -252,8 +281,8 @@ pub fn replay_system(
             let i = base + 3 * id.0 as usize;
             let r = &p.state.rigid;
             let (roll, pitch, yaw) = r.attitude.euler_angles();
-            for k in 0..3 {
-                rec.data.pos[i + k] = q_pos(r.position[k], pool[k]);
+            for (k, span) in pool.iter().enumerate() {
+                rec.data.pos[i + k] = q_pos(r.position[k], *span);
             }
             rec.data.att[i..i + 3].copy_from_slice(&[q_angle(roll), q_angle(pitch), q_angle(yaw)]);
             for h in stats.heard.drain(..) {

@@ -13,12 +13,38 @@
 //! | `panel` | f32 | seconds × vehicles × [`PANEL`] | once per second: the values of the vehicle panel |
 //! | `links` | f32/u32 | events × 4 | link attempts: t \[s\] (f32), sender, receiver, outcome ([`Outcome`] code) (u32) |
 //!
-//! Frames are sampled every [`Meta::frame_dt`] seconds, chosen so that the pose arrays stay
-//! within [`POSE_BUDGET_BYTES`] (so a 1,000-vehicle, 100-s run keeps 10 frames per second);
-//! link events beyond [`LINK_BUDGET`] are thinned evenly (every k-th kept; the timeline
-//! counts all of them).
+//! Frames are sampled every [`Meta::frame_dt`] seconds ([`frame_dt`]: the finest of 0.05, 0.1,
+//! 0.2, 0.25, 0.5, 1, 2, 5 … s whose pose arrays stay within [`POSE_BUDGET_BYTES`], so a
+//! 1,000-vehicle, 100-s run keeps 10 frames per second); frame `k` is at `t = k · frame_dt`.
+//! Link events (in time order) beyond [`LINK_BUDGET`] are thinned evenly (every k-th kept;
+//! the timeline counts all of them). The `panel` holds whole seconds: row `s` describes
+//! second `s` (the page shows row `⌊t⌋`). [`ReplayData::check`] says whether the arrays agree
+//! with the header; [`html::write`] refuses data that does not.
+//!
+//! **Size budget** (base64 adds a third; measured with [`demo::demo`] and
+//! `examples/replay_demo.rs`; see `docs/replay.md`):
+//!
+//! | part | bytes in the page |
+//! |---|---|
+//! | page, style, viewer, three.js | 0.63 MB, fixed |
+//! | poses | frames × vehicles × 12 × 4/3, at most [`POSE_BUDGET_BYTES`] · 4/3 = 16.8 MB |
+//! | panel | seconds × vehicles × 7 × 4 × 4/3 = 37 B per vehicle-second, unbounded |
+//! | links | events × 16 × 4/3, at most [`LINK_BUDGET`] · 21.3 B = 4.3 MB |
+//! | header | ≈ 15 B per vehicle (name, group) + 100 B per second (timeline) |
+//!
+//! | demo | frame_dt | file | poses | panel | links (kept of all) |
+//! |---|---|---|---|---|---|
+//! | 12 vehicles × 60 s | 0.05 s | 0.93 MB | 0.23 MB | 0.03 MB | 0.04 MB (1,810 of 1,810) |
+//! | 1,000 × 100 s | 0.1 s | 23.4 MB | 16.0 MB | 3.7 MB | 3.0 MB (140,184 of 420,551) |
+//! | 10,000 × 100 s | 1 s | 58.3 MB | 16.2 MB | 37.3 MB | 4.1 MB (191,374 of 4.4 M) |
+//!
+//! Beyond about 450,000 vehicle-seconds (4,500 vehicles × 100 s) the panel outgrows the poses;
+//! it is the part to shrink next (a coarser panel or a compressed array) if replays of large swarms must stay small.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
+
+pub mod demo;
+pub mod html;
 
 pub mod capture;
 pub mod gif;
@@ -29,7 +55,12 @@ pub const POSE_BUDGET_BYTES: usize = 12 << 20;
 pub const MAX_FPS: f64 = 20.0;
 /// Most link events kept for the page (thinned evenly beyond).
 pub const LINK_BUDGET: usize = 200_000;
-/// Values per vehicle and second in the `panel` array, in this order.
+/// Values per vehicle and second in the `panel` array, in this order: depth reading \[m\],
+/// depth setpoint \[m\], heading (yaw) setpoint \[rad\], mode (code into [`Meta::modes`]),
+/// frames sent and frames received since the start of the run, and neighbours (distinct
+/// senders delivered to the vehicle in that second). NaN where a value does not exist (no
+/// setpoint in this mode): the page shows "—". The page finds the values by these names in
+/// [`Meta::panel`], so a header may list others.
 pub const PANEL: [&str; 7] = [
     "depth_reading_m",
     "depth_setpoint_m",
@@ -41,7 +72,7 @@ pub const PANEL: [&str; 7] = [
 ];
 
 /// Outcome of a link attempt as coded in the `links` array.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[repr(u32)]
 pub enum Outcome {
     /// Received.
@@ -56,8 +87,74 @@ pub enum Outcome {
     HalfDuplex = 4,
 }
 
+impl Outcome {
+    /// Every outcome, in code order.
+    pub const ALL: [Outcome; 5] = [
+        Outcome::Delivered,
+        Outcome::Collided,
+        Outcome::Occluded,
+        Outcome::OutOfBudget,
+        Outcome::HalfDuplex,
+    ];
+
+    /// The outcome of the code `code` in the `links` array, if there is one.
+    pub fn from_code(code: u32) -> Option<Outcome> {
+        Self::ALL.get(usize::try_from(code).ok()?).copied()
+    }
+
+    /// Its code in the `links` array.
+    pub fn code(self) -> u32 {
+        self as u32
+    }
+}
+
+/// Bytes of pose data per vehicle and frame: `pos` (3 × u16) and `att` (3 × i16).
+pub const POSE_BYTES_PER_VEHICLE_FRAME: usize = 12;
+
+/// Frame intervals a replay may use \[s\], finest first: `1 / MAX_FPS` and round values
+/// above it (so a frame falls on a whole number of simulation steps for the usual steps).
+const FRAME_DTS: [f64; 12] = [
+    0.05, 0.1, 0.2, 0.25, 0.5, 1.0, 2.0, 5.0, 10.0, 20.0, 30.0, 60.0,
+];
+
+/// Frames of a replay of `duration_s` sampled every `frame_dt` s: t = 0, `frame_dt`, …,
+/// up to `duration_s` (inclusive, with a 1e-9 relative tolerance).
+pub fn frame_count(duration_s: f64, frame_dt: f64) -> usize {
+    if !(duration_s > 0.0 && frame_dt > 0.0 && duration_s.is_finite()) {
+        return 1;
+    }
+    // Truncation intended: the last whole frame interval within the duration.
+    (duration_s / frame_dt * (1.0 + 1e-9)).floor() as usize + 1
+}
+
+/// The time between frames \[s\] of a replay of `vehicles` over `duration_s` s: the finest of
+/// `1 / MAX_FPS` (0.05 s), 0.1, 0.2, 0.25, 0.5, 1, 2, 5, 10, 20, 30, 60 s (then whole minutes)
+/// whose pose arrays ([`frame_count`] × `vehicles` × [`POSE_BYTES_PER_VEHICLE_FRAME`]) fit in
+/// [`POSE_BUDGET_BYTES`]. 12 vehicles × 60 s: 0.05 s (20 fps); 1,000 × 100 s: 0.1 s;
+/// 10,000 × 100 s: 1 s. When not even two frames fit (over a million vehicles), the
+/// duration: the first and the last frame only.
+pub fn frame_dt(vehicles: usize, duration_s: f64) -> f64 {
+    let per_frame = vehicles.saturating_mul(POSE_BYTES_PER_VEHICLE_FRAME).max(1);
+    let max_frames = POSE_BUDGET_BYTES / per_frame;
+    let fits = |dt: f64| frame_count(duration_s, dt) <= max_frames;
+    if let Some(dt) = FRAME_DTS.iter().copied().find(|&dt| fits(dt)) {
+        return dt;
+    }
+    if max_frames < 2 || !duration_s.is_finite() {
+        // Not even the first and the last frame fit: those two, over budget.
+        return if duration_s.is_finite() {
+            duration_s.max(FRAME_DTS[0])
+        } else {
+            FRAME_DTS[0]
+        };
+    }
+    // Whole minutes (the rounding of frame_count may need one more).
+    let dt = (duration_s / (max_frames - 1) as f64 / 60.0).ceil() * 60.0;
+    if fits(dt) { dt } else { dt + 60.0 }
+}
+
 /// The JSON header of a replay.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Meta {
     /// Format version (1).
     pub version: u32,
@@ -102,7 +199,7 @@ pub struct Meta {
 }
 
 /// An obstacle, as three.js draws it.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ObstacleMeta {
     /// Name.
     pub name: String,
@@ -126,7 +223,7 @@ pub struct ObstacleMeta {
 }
 
 /// A vehicle group.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct GroupMeta {
     /// Name.
     pub name: String,
@@ -137,7 +234,7 @@ pub struct GroupMeta {
 }
 
 /// Per-second series; entry `k` covers `[k, k + 1)` s.
-#[derive(Clone, Debug, Default, Serialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Timeline {
     /// Link attempts (receptions in range tried).
     pub attempted: Vec<u64>,
@@ -160,7 +257,7 @@ pub struct Timeline {
 }
 
 /// Everything a replay holds.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct ReplayData {
     /// The header.
     pub meta: Meta,
@@ -185,4 +282,145 @@ pub struct LinkEvent {
     pub to: u32,
     /// What happened.
     pub outcome: Outcome,
+}
+
+impl ReplayData {
+    /// Whether the arrays agree with the header: `pos` and `att` hold `frames × vehicles × 3`
+    /// values, `panel` whole rows of `meta.panel.len()` values per vehicle, every vehicle has
+    /// a name and an existing group, every group a hull, link events name existing vehicles,
+    /// `links_kept` counts them and the timeline's series have one length. The error says
+    /// what disagrees.
+    pub fn check(&self) -> Result<(), String> {
+        let m = &self.meta;
+        let poses = m
+            .frames
+            .checked_mul(m.vehicles)
+            .and_then(|n| n.checked_mul(3));
+        if poses != Some(self.pos.len()) || poses != Some(self.att.len()) {
+            return Err(format!(
+                "{} frames × {} vehicles × 3 do not match pos ({} values) and att ({} values)",
+                m.frames,
+                m.vehicles,
+                self.pos.len(),
+                self.att.len()
+            ));
+        }
+        if m.frames > 1 && !(m.frame_dt > 0.0 && m.frame_dt.is_finite()) {
+            return Err(format!("frame_dt {} s is not positive", m.frame_dt));
+        }
+        if !m.pool.iter().all(|v| v.is_finite() && *v > 0.0) {
+            return Err(format!("pool {:?} m is not positive", m.pool));
+        }
+        let row = m
+            .vehicles
+            .checked_mul(m.panel.len())
+            .ok_or_else(|| format!("{} vehicles are too many", m.vehicles))?;
+        if (row == 0 && !self.panel.is_empty())
+            || (row > 0 && !self.panel.len().is_multiple_of(row))
+        {
+            return Err(format!(
+                "panel holds {} values, not whole seconds of {} vehicles × {} values",
+                self.panel.len(),
+                m.vehicles,
+                m.panel.len()
+            ));
+        }
+        if m.names.len() != m.vehicles || m.group_of.len() != m.vehicles {
+            return Err(format!(
+                "{} vehicles but {} names and {} group numbers",
+                m.vehicles,
+                m.names.len(),
+                m.group_of.len()
+            ));
+        }
+        if let Some(g) = m.group_of.iter().find(|&&g| g as usize >= m.groups.len()) {
+            return Err(format!("group {g} of {} groups", m.groups.len()));
+        }
+        if m.hull.len() != m.groups.len() {
+            return Err(format!(
+                "{} groups but {} hulls",
+                m.groups.len(),
+                m.hull.len()
+            ));
+        }
+        let n = m.vehicles as u64;
+        if let Some(e) = self
+            .links
+            .iter()
+            .find(|e| u64::from(e.from) >= n || u64::from(e.to) >= n || !e.t.is_finite())
+        {
+            return Err(format!("link event {e:?} of {} vehicles", m.vehicles));
+        }
+        if m.links_kept != self.links.len() {
+            return Err(format!(
+                "links_kept {} but {} link events",
+                m.links_kept,
+                self.links.len()
+            ));
+        }
+        let t = &m.timeline;
+        let lens = [
+            t.attempted.len(),
+            t.delivered.len(),
+            t.collided.len(),
+            t.occluded.len(),
+            t.out_of_budget.len(),
+            t.half_duplex.len(),
+            t.components.len(),
+            t.largest_fraction.len(),
+            t.mean_degree.len(),
+        ];
+        if lens.iter().any(|&l| l != lens[0]) {
+            return Err(format!("timeline series of different lengths {lens:?}"));
+        }
+        Ok(())
+    }
+
+    /// Seconds of panel values (`panel.len() / (vehicles × meta.panel.len())`).
+    pub fn panel_seconds(&self) -> usize {
+        let row = self.meta.vehicles.saturating_mul(self.meta.panel.len());
+        self.panel.len().checked_div(row).unwrap_or(0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn pose_bytes(vehicles: usize, duration_s: f64) -> usize {
+        frame_count(duration_s, frame_dt(vehicles, duration_s)) * vehicles * 12
+    }
+
+    #[test]
+    fn the_frame_rate_follows_the_pose_budget() {
+        assert_eq!(frame_dt(12, 60.0), 0.05);
+        assert_eq!(frame_count(60.0, 0.05), 1201);
+        assert_eq!(frame_dt(1000, 100.0), 0.1);
+        assert_eq!(frame_dt(10_000, 100.0), 1.0);
+        assert_eq!(frame_dt(0, 100.0), 0.05);
+        assert_eq!(frame_dt(5, f64::NAN), 0.05);
+        for (n, s) in [
+            (1000, 100.0),
+            (3000, 700.0),
+            (100, 86_400.0),
+            (50_000, 3600.0),
+        ] {
+            let dt = frame_dt(n, s);
+            assert!(pose_bytes(n, s) <= POSE_BUDGET_BYTES, "{n} × {s}: dt {dt}");
+            let finer = FRAME_DTS.iter().rev().find(|&&d| d < dt).copied();
+            if let Some(f) = finer {
+                assert!(
+                    frame_count(s, f) * n * 12 > POSE_BUDGET_BYTES,
+                    "{n} × {s}: {f} fits"
+                );
+            }
+        }
+        // A day of 1,000 vehicles: whole minutes (the finest that fits).
+        assert_eq!(frame_dt(1000, 86_400.0), 120.0);
+        assert!(pose_bytes(1000, 86_400.0) <= POSE_BUDGET_BYTES);
+        assert!(frame_count(86_400.0, 60.0) * 1000 * 12 > POSE_BUDGET_BYTES);
+        // More vehicles than one frame's budget: first and last frame, quickly.
+        assert_eq!(frame_dt(2_000_000, 100.0), 100.0);
+        assert_eq!(frame_count(100.0, 100.0), 2);
+    }
 }

@@ -199,6 +199,7 @@ pub(super) fn build(
         output: OutputDesc {
             record_hz: wf.output.record_hz,
             plots: wf.output.plots,
+            replay: wf.output.replay,
         },
     }))
 }

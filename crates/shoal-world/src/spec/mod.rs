@@ -101,6 +101,9 @@ pub struct OutputSpec {
     /// Write PNG/SVG plots.
     #[serde(default = "d_true")]
     pub plots: bool,
+    /// Write `replay.html`, the run's interactive 3D replay.
+    #[serde(default = "d_true")]
+    pub replay: bool,
 }
 
 impl Default for OutputSpec {
@@ -108,6 +111,7 @@ impl Default for OutputSpec {
         Self {
             record_hz: d_record_hz(),
             plots: true,
+            replay: true,
         }
     }
 }
