@@ -149,7 +149,7 @@ def main():
     for page in args.pages:
         r = measure(page, args.seconds, size)
         renderer = r["renderer"]
-        print(f"| {os.path.basename(r['page'])} | {r['mb']:.1f} | {r['vehicles']} | {r['first_s']:.1f} | "
+        print(f"| {os.path.join(os.path.basename(os.path.dirname(r['page'])), os.path.basename(r['page']))} | {r['mb']:.1f} | {r['vehicles']} | {r['first_s']:.1f} | "
               f"{r['frames']} | {r['frame_ms']:.0f} | {r['update_ms']:.2f} | {r['viewport']} |",
               flush=True)
     print(f"\nrenderer: {renderer}", file=sys.stderr)

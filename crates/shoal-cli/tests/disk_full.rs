@@ -9,8 +9,9 @@ mod common;
 use std::path::Path;
 use std::process::{Command, Output};
 
-/// Runs `shoal run --quiet --out <dir>/out <world>` with files limited to `limit` bytes.
-fn run_limited(dir: &Path, world: &Path, limit: u64, ignore_xfsz: bool) -> Output {
+/// Runs `shoal run --quiet <extra> --out <dir>/out <world>` with files limited to `limit`
+/// bytes.
+fn run_limited(dir: &Path, world: &Path, limit: u64, ignore_xfsz: bool, extra: &[&str]) -> Output {
     let trap = if ignore_xfsz { "trap '' XFSZ; " } else { "" };
     Command::new("sh")
         .args([
@@ -19,7 +20,9 @@ fn run_limited(dir: &Path, world: &Path, limit: u64, ignore_xfsz: bool) -> Outpu
             "sh",
         ])
         .arg(env!("CARGO_BIN_EXE_shoal"))
-        .args(["run", "--quiet", "--out"])
+        .args(["run", "--quiet"])
+        .args(extra)
+        .arg("--out")
         .arg(dir.join("out"))
         .arg(world)
         .output()
@@ -50,21 +53,23 @@ fn errors(o: &Output) -> Vec<String> {
         .collect()
 }
 
-/// A 2 s run: the summary (≈ 1 kB) and 21 trajectory rows (≈ 5 kB) fit under 20 kB, the first
-/// plot (≈ 100 kB) does not.
-fn plot_over_the_limit(ignore_xfsz: bool) {
-    let dir = common::tmp("disk-full", &format!("plot-{ignore_xfsz}"));
-    let o = run_limited(&dir, &world(&dir, 2.0), 20_000, ignore_xfsz);
+/// A 2 s run: the summary (≈ 1 kB) and 21 trajectory rows (≈ 5 kB) fit under 20 kB, the
+/// next file does not: `replay.html` (≈ 0.7 MB), or with `--no-replay` the first plot
+/// (≈ 100 kB).
+fn next_file_over_the_limit(ignore_xfsz: bool, replay: bool) {
+    let dir = common::tmp("disk-full", &format!("{ignore_xfsz}-{replay}"));
+    let extra: &[&str] = if replay { &[] } else { &["--no-replay"] };
+    let o = run_limited(&dir, &world(&dir, 2.0), 20_000, ignore_xfsz, extra);
     let out = dir.join("out");
     let errs = errors(&o);
     assert_eq!(o.status.code(), Some(1), "{errs:?}");
     assert_eq!(errs.len(), 1, "{errs:?}");
-    let depth_png = out.join("depth.png");
+    let failed = if replay { "replay.html" } else { "depth.png" };
     assert_eq!(
         errs[0],
         format!(
             "error: cannot write {}: File too large (os error 27)",
-            depth_png.display()
+            out.join(failed).display()
         )
     );
     // The summary was written first, whole, and then told what exists.
@@ -76,7 +81,7 @@ fn plot_over_the_limit(ignore_xfsz: bool) {
     assert!(
         s["output_error"]
             .as_str()
-            .is_some_and(|e| e.contains("depth.png") && e.contains("File too large")),
+            .is_some_and(|e| e.contains(failed) && e.contains("File too large")),
         "{s}"
     );
     assert_eq!(
@@ -88,7 +93,7 @@ fn plot_over_the_limit(ignore_xfsz: bool) {
         ]
     );
     assert_eq!(common::whole_csv_rows(&out.join("trajectories.csv")), 21);
-    // Nothing else: no truncated plot under its name, no temporaries.
+    // Nothing else: no truncated page or plot under its name, no temporaries.
     let mut present: Vec<String> = std::fs::read_dir(&out)
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
@@ -102,12 +107,17 @@ fn plot_over_the_limit(ignore_xfsz: bool) {
 
 #[test]
 fn plot_over_the_file_size_limit_is_named_and_the_summary_stays() {
-    plot_over_the_limit(false);
+    next_file_over_the_limit(false, false);
 }
 
 #[test]
 fn plot_over_the_file_size_limit_with_sigxfsz_ignored() {
-    plot_over_the_limit(true);
+    next_file_over_the_limit(true, false);
+}
+
+#[test]
+fn replay_over_the_file_size_limit_is_named_and_leaves_no_partial_page() {
+    next_file_over_the_limit(false, true);
 }
 
 /// The trajectories outgrow the limit while the world runs (60 s: 601 rows ≈ 150 kB): the
@@ -115,7 +125,7 @@ fn plot_over_the_file_size_limit_with_sigxfsz_ignored() {
 #[test]
 fn trajectories_over_the_file_size_limit_leave_no_partial_table() {
     let dir = common::tmp("disk-full", "trajectories");
-    let o = run_limited(&dir, &world(&dir, 60.0), 20_000, false);
+    let o = run_limited(&dir, &world(&dir, 60.0), 20_000, false, &[]);
     let out = dir.join("out");
     let errs = errors(&o);
     assert_eq!(o.status.code(), Some(1), "{errs:?}");

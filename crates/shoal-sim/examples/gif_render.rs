@@ -112,6 +112,7 @@ fn formation(
         seed: 1,
         duration_s: duration,
         frame_dt: dt,
+        panel_dt: 1.0,
         frames,
         vehicles: n,
         pool,

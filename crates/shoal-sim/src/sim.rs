@@ -390,7 +390,7 @@ impl Sim {
     }
 
     /// Starts gathering the replay of this run (see [`crate::replay`]): poses every frame,
-    /// panel values every second, and every reception attempt, which the medium logs from now
+    /// panel values every `panel_dt` (1 s unless the swarm is large), and every reception attempt, which the medium logs from now
     /// on.
     pub fn enable_replay(&mut self, desc: &WorldDesc) {
         let range = self.world.resource::<Medium>().r_cut;

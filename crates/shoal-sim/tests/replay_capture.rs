@@ -97,3 +97,35 @@ fn a_large_swarm_lowers_the_frame_rate_to_the_budget() {
     assert!((frame_dt(10_000, 100.0, 0.01) - 1.0).abs() < 1e-12);
     assert!((frame_dt(1, 100.0, 0.01) - 0.05).abs() < 1e-12);
 }
+
+#[test]
+fn a_large_swarm_samples_its_panel_less_often() {
+    // 3,000 vehicles planned for 1,000 s: a panel row is 84 kB, so the 6 MiB panel budget
+    // allows 74 rows, and the finest interval that fits is 20 s (51 rows). The capture takes
+    // rows at t ≈ 0 and every 20 s: after 20 s, two.
+    let text = "name = \"big\"\nduration = 1000.0\n[pool]\nsize = [70.0, 70.0, 3.0]\n\
+                [[vehicles]]\nname = \"g\"\ncount = 3000\n\
+                grid = { origin = [1.0, 1.0, 1.5], spacing = [1.2, 1.2], columns = 55 }\n\
+                mission = [{ t = 0, mode = \"auto\", depth = 1.5, yaw_deg = 0 }]\n";
+    let desc = shoal_world::load::load_str(text, Path::new("big.toml")).unwrap();
+    let mut sim = Sim::new(
+        &desc,
+        SimOptions {
+            threads: 2,
+            record: false,
+        },
+    );
+    sim.enable_replay(&desc);
+    sim.run(2000);
+    let r = sim.take_replay().expect("enabled");
+    assert_eq!(r.meta.panel_dt, 20.0);
+    assert_eq!(r.meta.panel_dt, shoal_sim::replay::panel_dt(3000, 1000.0));
+    assert_eq!(r.panel_rows(), 2);
+    // The second row is the state at t = 20 s: the depth readings of the vehicles.
+    let w = PANEL.len();
+    for i in [0, 1234, 2999] {
+        let depth = r.panel[(3000 + i) * w];
+        assert_eq!(depth, sim.vehicle(i).sensors.depth as f32, "vehicle {i}");
+    }
+    r.check().unwrap();
+}

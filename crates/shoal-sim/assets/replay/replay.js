@@ -4,7 +4,7 @@
  * Data (see crates/shoal-sim/src/replay/mod.rs): the JSON header #shoal-meta and four
  * little-endian arrays as base64 — #shoal-pos (u16, frames × vehicles × 3, x = q/65535·pool.x),
  * #shoal-att (i16, frames × vehicles × 3: roll, pitch, yaw = q·π/32767), #shoal-panel (f32,
- * seconds × vehicles × meta.panel.length) and #shoal-links (events × 16 bytes: t f32, sender
+ * rows × vehicles × meta.panel.length, a row every meta.panel_dt s) and #shoal-links (events × 16 bytes: t f32, sender
  * u32, receiver u32, outcome u32). They are decoded once and their elements removed.
  *
  * Coordinates. The data is NED: x north, y east, z down, surface at z = 0, pool corner at the
@@ -44,7 +44,8 @@
         ' values, not frames × vehicles × 3 = ' + F * N * 3);
     }
     var PW = (meta.panel || []).length;
-    var PANEL_SECONDS = N > 0 && PW > 0 ? Math.floor(panel.length / (N * PW)) : 0;
+    var PANEL_ROWS = N > 0 && PW > 0 ? Math.floor(panel.length / (N * PW)) : 0;
+    var PANEL_DT = meta.panel_dt > 0 ? meta.panel_dt : 1;
     var col = {};
     (meta.panel || []).forEach(function (name, i) { col[name] = i; });
     var tl = meta.timeline || {};
@@ -195,7 +196,7 @@
     // ---------------------------------------------------------------- state
     var state = {
       t: 0, playing: true, speed: 1, selected: -1, follow: false,
-      onlyDelivered: false, ranges: N <= 50 && RANGE > 0 ? 'all' : 'off',
+      onlyDelivered: false, ranges: RANGE > 0 ? 'selected' : 'off',
       trails: N <= 200 && trailFrames >= 2, size: 1
     };
     var cur = new Float32Array(cap * 6);    // current x, y, z, roll, pitch, yaw of every vehicle
@@ -577,11 +578,12 @@
       var g = meta.group_of[i] | 0;
       text('p-name', meta.names[i] || ('vehicle ' + i));
       text('p-group', (meta.groups[g] ? meta.groups[g].name : String(g)));
-      var sec = Math.min(Math.floor(t), PANEL_SECONDS - 1);
+      var row = Math.min(Math.floor(t / PANEL_DT + 1e-9), PANEL_ROWS - 1);
+      var rowT = fmt(row * PANEL_DT, 0) + ' s';
       function pv(name) {
         var k = col[name];
-        if (sec < 0 || k === undefined) return NaN;
-        return panel[(sec * N + i) * PW + k];
+        if (row < 0 || k === undefined) return NaN;
+        return panel[(row * N + i) * PW + k];
       }
       var reading = pv('depth_reading_m');
       text('p-depth', fmt(cur[c + 2], 2) + ' m' + (isFinite(reading) ? ' (sensor ' + fmt(reading, 2) + ' m)' : ''));
@@ -604,8 +606,8 @@
       var count = pv('neighbours');
       var shown = names.length > 12 ? names.slice(0, 12).join(', ') + ', … (' + names.length + ')' : names.join(', ');
       text('p-neighbours', (names.length ? shown : 'none') + ' (last 1 s' +
-        (isFinite(count) && count !== names.length ? '; ' + count + ' in second ' + sec : '') + ')');
-      text('p-note', PANEL_SECONDS > 0 ? 'panel values of second ' + sec + (thinned ? '; neighbours from a sample of the link events' : '') : 'no panel values');
+        (isFinite(count) && count !== names.length ? '; ' + count + ' at t = ' + rowT : '') + ')');
+      text('p-note', PANEL_ROWS > 0 ? 'panel values at t = ' + rowT + (thinned ? '; neighbours from a sample of the link events' : '') : 'no panel values');
     }
 
     var thinned = meta.links_total > links.length;

@@ -1,5 +1,5 @@
 //! Gathers a [`ReplayData`] while the world runs: an ECS system at the end of every step
-//! samples the vehicles' poses every frame, the panel values every second, and drains the
+//! samples the vehicles' poses every frame, the panel values every [`super::Meta::panel_dt`] s, and drains the
 //! reception attempts the medium logged ([`crate::comm::CommStats::heard`]).
 //!
 //! It is switched on by [`crate::sim::Sim::enable_replay`] (which also makes the medium log
@@ -47,8 +47,8 @@ pub struct ReplayRecorder {
     data: ReplayData,
     /// Physics steps between frames.
     frame_every: u64,
-    /// Physics steps per second (panel rows), at least 1.
-    second_every: u64,
+    /// Physics steps between panel rows, at least 1.
+    panel_every: u64,
     /// Keep every `stride`-th link event (doubles when the budget is reached).
     stride: u64,
     /// Link events seen so far.
@@ -62,6 +62,7 @@ impl ReplayRecorder {
     pub fn new(desc: &WorldDesc, modem_range_m: f64) -> Self {
         let n = desc.vehicles.len();
         let fdt = frame_dt(n, desc.duration, desc.dt);
+        let pdt = super::panel_dt(n, desc.duration);
         let pool = desc.geometry.pool;
         let obstacles = desc.geometry.obstacles.iter().map(obstacle_meta).collect();
         let mut groups: Vec<GroupMeta> = desc
@@ -90,6 +91,7 @@ impl ReplayRecorder {
             duration_s: 0.0,
             frame_dt: fdt,
             frames: 0,
+            panel_dt: pdt,
             vehicles: n,
             pool: [pool.x, pool.y, pool.z],
             obstacles,
@@ -113,7 +115,7 @@ impl ReplayRecorder {
                 links: Vec::new(),
             },
             frame_every: (fdt / desc.dt).round().max(1.0) as u64,
-            second_every: (1.0 / desc.dt).round().max(1.0) as u64,
+            panel_every: (pdt / desc.dt).round().max(1.0) as u64,
             stride: 1,
             seen: 0,
             scratch: Vec::new(),
@@ -266,8 +268,8 @@ pub fn replay_system(
     let rec = &mut *rec;
     let next = clock.step + 1;
     let frame = next == 1 || next.is_multiple_of(rec.frame_every);
-    // Panel row 0 describes the start, row s second s.
-    let second = next == 1 || next.is_multiple_of(rec.second_every);
+    // Panel row 0 describes the start, row k the time k · panel_dt.
+    let second = next == 1 || next.is_multiple_of(rec.panel_every);
     if !frame && !second {
         return;
     }

@@ -25,7 +25,7 @@ use std::f64::consts::{PI, TAU};
 
 use super::{
     GroupMeta, LINK_BUDGET, LinkEvent, Meta, ObstacleMeta, Outcome, PANEL, ReplayData, Timeline,
-    frame_count, frame_dt,
+    frame_count, frame_dt, panel_dt,
 };
 
 /// Cut-off range of the demo's modems \[m\].
@@ -57,6 +57,7 @@ pub fn demo(n_vehicles: usize, seconds: f64) -> ReplayData {
     let rings = Rings::new(n);
     let dt = frame_dt(n, seconds);
     let frames = frame_count(seconds, dt);
+    let pdt = panel_dt(n, seconds);
 
     // Poses.
     let mut pos = Vec::with_capacity(frames * n * 3);
@@ -202,6 +203,10 @@ pub fn demo(n_vehicles: usize, seconds: f64) -> ReplayData {
             let p = rings.pose(i, t);
             let ahead = rings.pose(i, t + 1.0);
             let noise = (hash01(i as u64, sec as u64, 7) - 0.5) * 0.02;
+            if (sec as f64) % pdt != 0.0 {
+                // Not a panel row (large swarms: a row every panel_dt s).
+                continue;
+            }
             panel.extend_from_slice(&[
                 (p.pos[2] + noise) as f32,
                 rings.depth(i) as f32,
@@ -229,6 +234,7 @@ pub fn demo(n_vehicles: usize, seconds: f64) -> ReplayData {
             duration_s: seconds,
             frame_dt: dt,
             frames,
+            panel_dt: pdt,
             vehicles: n,
             pool: POOL,
             obstacles: vec![ObstacleMeta {
@@ -526,7 +532,7 @@ mod tests {
             assert_eq!(d.meta.links_total, t.attempted.iter().sum::<u64>());
             assert_eq!(d.links.len() as u64, d.meta.links_total); // none thinned
             assert!(d.links.windows(2).all(|w| w[0].t <= w[1].t));
-            assert_eq!(d.panel_seconds(), if n > 0 { t.attempted.len() } else { 0 });
+            assert_eq!(d.panel_rows(), if n > 0 { t.attempted.len() } else { 0 });
         }
     }
 

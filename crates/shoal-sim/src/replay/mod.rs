@@ -10,15 +10,16 @@
 //! |---|---|---|---|
 //! | `pos` | u16 | frames × vehicles × 3 | position, `x = q / 65535 · pool.x` (likewise y, z; NED, z down) |
 //! | `att` | i16 | frames × vehicles × 3 | roll, pitch, yaw, `angle = q · π / 32767` |
-//! | `panel` | f32 | seconds × vehicles × [`PANEL`] | once per second: the values of the vehicle panel |
+//! | `panel` | f32 | rows × vehicles × [`PANEL`] | every [`Meta::panel_dt`] s: the values of the vehicle panel |
 //! | `links` | f32/u32 | events × 4 | link attempts: t \[s\] (f32), sender, receiver, outcome ([`Outcome`] code) (u32) |
 //!
 //! Frames are sampled every [`Meta::frame_dt`] seconds ([`frame_dt`]: the finest of 0.05, 0.1,
 //! 0.2, 0.25, 0.5, 1, 2, 5 … s whose pose arrays stay within [`POSE_BUDGET_BYTES`], so a
 //! 1,000-vehicle, 100-s run keeps 10 frames per second); frame `k` is at `t = k · frame_dt`.
 //! Link events (in time order) beyond [`LINK_BUDGET`] are thinned evenly (every k-th kept;
-//! the timeline counts all of them). The `panel` holds whole seconds: row `s` describes
-//! second `s` (the page shows row `⌊t⌋`). [`ReplayData::check`] says whether the arrays agree
+//! the timeline counts all of them). The `panel` holds a row every [`Meta::panel_dt`]
+//! seconds ([`panel_dt`]: 1 s, or 2, 5, 10 … s when [`PANEL_BUDGET_BYTES`] requires it): row
+//! `k` describes `t = k · panel_dt` (the page shows row `⌊t / panel_dt⌋`). [`ReplayData::check`] says whether the arrays agree
 //! with the header; [`html::write`] refuses data that does not.
 //!
 //! **Size budget** (base64 adds a third; measured with [`demo::demo`] and
@@ -28,7 +29,7 @@
 //! |---|---|
 //! | page, style, viewer, three.js | 0.63 MB, fixed |
 //! | poses | frames × vehicles × 12 × 4/3, at most [`POSE_BUDGET_BYTES`] · 4/3 = 16.8 MB |
-//! | panel | seconds × vehicles × 7 × 4 × 4/3 = 37 B per vehicle-second, unbounded |
+//! | panel | rows × vehicles × 7 × 4 × 4/3 = 37 B per vehicle and row, at most [`PANEL_BUDGET_BYTES`] · 4/3 = 8.4 MB |
 //! | links | events × 16 × 4/3, at most [`LINK_BUDGET`] · 21.3 B = 4.3 MB |
 //! | header | ≈ 15 B per vehicle (name, group) + 100 B per second (timeline) |
 //!
@@ -36,10 +37,10 @@
 //! |---|---|---|---|---|---|
 //! | 12 vehicles × 60 s | 0.05 s | 0.93 MB | 0.23 MB | 0.03 MB | 0.04 MB (1,810 of 1,810) |
 //! | 1,000 × 100 s | 0.1 s | 23.4 MB | 16.0 MB | 3.7 MB | 3.0 MB (140,184 of 420,551) |
-//! | 10,000 × 100 s | 1 s | 58.3 MB | 16.2 MB | 37.3 MB | 4.1 MB (191,374 of 4.4 M) |
+//! | 10,000 × 100 s | 1 s | 28.5 MB | 16.2 MB | 7.5 MB (every 5 s) | 4.1 MB (191,374 of 4.4 M) |
 //!
-//! Beyond about 450,000 vehicle-seconds (4,500 vehicles × 100 s) the panel outgrows the poses;
-//! it is the part to shrink next (a coarser panel or a compressed array) if replays of large swarms must stay small.
+//! Every array is bounded, so a page stays under ≈ 30 MB for any swarm and duration, plus its
+//! header (≈ 15 B per vehicle and 100 B per second).
 
 use serde::{Deserialize, Serialize};
 
@@ -55,10 +56,13 @@ pub const POSE_BUDGET_BYTES: usize = 12 << 20;
 pub const MAX_FPS: f64 = 20.0;
 /// Most link events kept for the page (thinned evenly beyond).
 pub const LINK_BUDGET: usize = 200_000;
-/// Values per vehicle and second in the `panel` array, in this order: depth reading \[m\],
+/// Bytes of panel values a replay may hold before the panel is sampled less often than once
+/// a second ([`panel_dt`]).
+pub const PANEL_BUDGET_BYTES: usize = 6 << 20;
+/// Values per vehicle and panel row in the `panel` array, in this order: depth reading \[m\],
 /// depth setpoint \[m\], heading (yaw) setpoint \[rad\], mode (code into [`Meta::modes`]),
 /// frames sent and frames received since the start of the run, and neighbours (distinct
-/// senders delivered to the vehicle in that second). NaN where a value does not exist (no
+/// senders delivered to the vehicle in the second before the row's time). NaN where a value does not exist (no
 /// setpoint in this mode): the page shows "—". The page finds the values by these names in
 /// [`Meta::panel`], so a header may list others.
 pub const PANEL: [&str; 7] = [
@@ -117,6 +121,9 @@ const FRAME_DTS: [f64; 12] = [
     0.05, 0.1, 0.2, 0.25, 0.5, 1.0, 2.0, 5.0, 10.0, 20.0, 30.0, 60.0,
 ];
 
+/// Panel intervals a replay may use \[s\], finest first: whole seconds.
+const PANEL_DTS: [f64; 7] = [1.0, 2.0, 5.0, 10.0, 20.0, 30.0, 60.0];
+
 /// Frames of a replay of `duration_s` sampled every `frame_dt` s: t = 0, `frame_dt`, …,
 /// up to `duration_s` (inclusive, with a 1e-9 relative tolerance).
 pub fn frame_count(duration_s: f64, frame_dt: f64) -> usize {
@@ -135,22 +142,40 @@ pub fn frame_count(duration_s: f64, frame_dt: f64) -> usize {
 /// duration: the first and the last frame only.
 pub fn frame_dt(vehicles: usize, duration_s: f64) -> f64 {
     let per_frame = vehicles.saturating_mul(POSE_BYTES_PER_VEHICLE_FRAME).max(1);
-    let max_frames = POSE_BUDGET_BYTES / per_frame;
-    let fits = |dt: f64| frame_count(duration_s, dt) <= max_frames;
-    if let Some(dt) = FRAME_DTS.iter().copied().find(|&dt| fits(dt)) {
+    sample_interval(&FRAME_DTS, duration_s, POSE_BUDGET_BYTES / per_frame)
+}
+
+/// The time between panel rows \[s\] of a replay of `vehicles` over `duration_s` s: the
+/// finest of 1, 2, 5, 10, 20, 30, 60 s (then whole minutes) whose panel array (rows ×
+/// `vehicles` × [`PANEL`] × 4 bytes) fits in [`PANEL_BUDGET_BYTES`]. 1,000 vehicles × 100 s:
+/// 1 s; 10,000 × 100 s: 5 s.
+pub fn panel_dt(vehicles: usize, duration_s: f64) -> f64 {
+    let per_row = vehicles.saturating_mul(PANEL.len() * 4).max(1);
+    sample_interval(&PANEL_DTS, duration_s, PANEL_BUDGET_BYTES / per_row)
+}
+
+/// The finest of `candidates` (ascending, \[s\]), then of whole minutes, at which at most
+/// `max_samples` samples ([`frame_count`]) cover `duration_s`; when not even two fit, the
+/// duration (the first and the last sample only, over budget).
+fn sample_interval(candidates: &[f64], duration_s: f64, max_samples: usize) -> f64 {
+    let fits = |dt: f64| frame_count(duration_s, dt) <= max_samples;
+    if let Some(dt) = candidates.iter().copied().find(|&dt| fits(dt)) {
         return dt;
     }
-    if max_frames < 2 || !duration_s.is_finite() {
-        // Not even the first and the last frame fit: those two, over budget.
+    if max_samples < 2 || !duration_s.is_finite() {
         return if duration_s.is_finite() {
-            duration_s.max(FRAME_DTS[0])
+            duration_s.max(candidates[0])
         } else {
-            FRAME_DTS[0]
+            candidates[0]
         };
     }
     // Whole minutes (the rounding of frame_count may need one more).
-    let dt = (duration_s / (max_frames - 1) as f64 / 60.0).ceil() * 60.0;
+    let dt = (duration_s / (max_samples - 1) as f64 / 60.0).ceil() * 60.0;
     if fits(dt) { dt } else { dt + 60.0 }
+}
+
+fn one_second() -> f64 {
+    1.0
 }
 
 /// The JSON header of a replay.
@@ -168,6 +193,10 @@ pub struct Meta {
     pub frame_dt: f64,
     /// Number of frames.
     pub frames: usize,
+    /// Time between panel rows \[s\]: row `k` holds the values at `t = k · panel_dt`
+    /// ([`panel_dt`]; 1 s in pages written before it existed).
+    #[serde(default = "one_second")]
+    pub panel_dt: f64,
     /// Number of vehicles.
     pub vehicles: usize,
     /// Pool length (x, north), width (y, east), depth (z, down) \[m\]; corner at the origin,
@@ -376,8 +405,9 @@ impl ReplayData {
         Ok(())
     }
 
-    /// Seconds of panel values (`panel.len() / (vehicles × meta.panel.len())`).
-    pub fn panel_seconds(&self) -> usize {
+    /// Rows of panel values (`panel.len() / (vehicles × meta.panel.len())`), one every
+    /// [`Meta::panel_dt`] s.
+    pub fn panel_rows(&self) -> usize {
         let row = self.meta.vehicles.saturating_mul(self.meta.panel.len());
         self.panel.len().checked_div(row).unwrap_or(0)
     }
@@ -422,5 +452,25 @@ mod tests {
         // More vehicles than one frame's budget: first and last frame, quickly.
         assert_eq!(frame_dt(2_000_000, 100.0), 100.0);
         assert_eq!(frame_count(100.0, 100.0), 2);
+    }
+
+    #[test]
+    fn the_panel_rate_follows_the_panel_budget() {
+        let bytes = |n: usize, s: f64| frame_count(s, panel_dt(n, s)) * n * PANEL.len() * 4;
+        assert_eq!(panel_dt(12, 100.0), 1.0);
+        assert_eq!(panel_dt(1000, 100.0), 1.0);
+        // 10,000 × 100 s: 21 rows of 280 kB (5.9 MB), where 2 s would take 51 rows.
+        assert_eq!(panel_dt(10_000, 100.0), 5.0);
+        assert_eq!(panel_dt(1000, 600.0), 5.0);
+        for (n, s) in [
+            (10_000, 100.0),
+            (1000, 600.0),
+            (100, 86_400.0),
+            (100_000, 60.0),
+        ] {
+            assert!(bytes(n, s) <= PANEL_BUDGET_BYTES, "{n} × {s}");
+        }
+        // A million vehicles: more than a row's budget, the first and the last row.
+        assert_eq!(panel_dt(1_000_000, 100.0), 100.0);
     }
 }
