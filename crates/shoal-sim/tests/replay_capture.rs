@@ -1,11 +1,28 @@
 //! The replay gathered while a world runs holds what the run did: one pose per vehicle and
-//! frame (quantised within the pool, matching the final state), the panel once a second,
+//! frame (quantised within the pool, matching the final state), the panel once a second (less
+//! often for large swarms),
 //! every reception attempt (under the budget) and a timeline that adds up to the medium's
 //! totals.
 
 use shoal_sim::prelude::*;
-use shoal_sim::replay::{Outcome, PANEL, capture::frame_dt};
+use shoal_sim::replay::{Outcome, PANEL, ReplayData, capture::frame_dt};
 use std::path::Path;
+
+/// `desc` run for `steps` steps on two threads with the replay gathered: the simulation and
+/// its replay.
+fn run_with_replay(desc: &shoal_world::desc::WorldDesc, steps: u64) -> (Sim, ReplayData) {
+    let mut sim = Sim::new(
+        desc,
+        SimOptions {
+            threads: 2,
+            record: false,
+        },
+    );
+    sim.enable_replay(desc);
+    sim.run(steps);
+    let r = sim.take_replay().expect("enabled");
+    (sim, r)
+}
 
 #[test]
 fn the_replay_of_the_default_world_matches_the_run() {
@@ -14,16 +31,7 @@ fn the_replay_of_the_default_world_matches_the_run() {
     )
     .unwrap();
     desc.duration = 10.0;
-    let mut sim = Sim::new(
-        &desc,
-        SimOptions {
-            threads: 2,
-            record: false,
-        },
-    );
-    sim.enable_replay(&desc);
-    sim.run(desc.steps());
-    let r = sim.take_replay().expect("enabled");
+    let (sim, r) = run_with_replay(&desc, desc.steps());
     let m = &r.meta;
     let n = desc.vehicles.len();
     assert_eq!(m.vehicles, n);
@@ -108,16 +116,7 @@ fn a_large_swarm_samples_its_panel_less_often() {
                 grid = { origin = [1.0, 1.0, 1.5], spacing = [1.2, 1.2], columns = 55 }\n\
                 mission = [{ t = 0, mode = \"auto\", depth = 1.5, yaw_deg = 0 }]\n";
     let desc = shoal_world::load::load_str(text, Path::new("big.toml")).unwrap();
-    let mut sim = Sim::new(
-        &desc,
-        SimOptions {
-            threads: 2,
-            record: false,
-        },
-    );
-    sim.enable_replay(&desc);
-    sim.run(2000);
-    let r = sim.take_replay().expect("enabled");
+    let (sim, r) = run_with_replay(&desc, 2000);
     assert_eq!(r.meta.panel_dt, 20.0);
     assert_eq!(r.meta.panel_dt, shoal_sim::replay::panel_dt(3000, 1000.0));
     assert_eq!(r.panel_rows(), 2);

@@ -151,36 +151,34 @@
     selBox.visible = false;
     ned.add(selBox);
 
-    // Link lines: one LineSegments, preallocated, RGBA vertex colours (alpha fades).
-    var linkGeo = new THREE.BufferGeometry();
-    var linkPos = new THREE.BufferAttribute(new Float32Array(MAX_LINES * 6), 3);
-    var linkCol = new THREE.BufferAttribute(new Float32Array(MAX_LINES * 8), 4);
-    linkPos.setUsage(THREE.DynamicDrawUsage);
-    linkCol.setUsage(THREE.DynamicDrawUsage);
-    linkGeo.setAttribute('position', linkPos);
-    linkGeo.setAttribute('color', linkCol);
-    linkGeo.setDrawRange(0, 0);
-    var linkLines = new THREE.LineSegments(linkGeo, new THREE.LineBasicMaterial({
-      vertexColors: true, transparent: true, depthWrite: false }));
-    linkLines.frustumCulled = false;
-    ned.add(linkLines);
+    /* `segments` line segments, preallocated and updated in place, with RGBA vertex colours
+     * (alpha fades), added to the scene: { geo, pos, col, lines }. */
+    function dynamicSegments(segments) {
+      var geo = new THREE.BufferGeometry();
+      var pos = new THREE.BufferAttribute(new Float32Array(segments * 6), 3);
+      var col = new THREE.BufferAttribute(new Float32Array(segments * 8), 4);
+      pos.setUsage(THREE.DynamicDrawUsage);
+      col.setUsage(THREE.DynamicDrawUsage);
+      geo.setAttribute('position', pos);
+      geo.setAttribute('color', col);
+      geo.setDrawRange(0, 0);
+      var lines = new THREE.LineSegments(geo, new THREE.LineBasicMaterial({
+        vertexColors: true, transparent: true, depthWrite: false }));
+      lines.frustumCulled = false;
+      ned.add(lines);
+      return { geo: geo, pos: pos, col: col, lines: lines };
+    }
+
+    // Link lines: one LineSegments of MAX_LINES.
+    var linkSeg = dynamicSegments(MAX_LINES);
+    var linkGeo = linkSeg.geo, linkPos = linkSeg.pos, linkCol = linkSeg.col;
 
     // Trails: one LineSegments, at most MAX_TRAIL_SEGMENTS segments for the whole swarm.
     var trailFrames = N > 0 ? Math.min(Math.round(TRAIL_S / DT), Math.floor(MAX_TRAIL_SEGMENTS / N)) : 0;
     var trailStep = trailFrames > 0 ? Math.max(1, Math.round(TRAIL_S / DT / trailFrames)) : 1;
-    var trailGeo = new THREE.BufferGeometry();
-    var trailCap = Math.max(trailFrames * N, 1);
-    var trailPos = new THREE.BufferAttribute(new Float32Array(trailCap * 6), 3);
-    var trailCol = new THREE.BufferAttribute(new Float32Array(trailCap * 8), 4);
-    trailPos.setUsage(THREE.DynamicDrawUsage);
-    trailCol.setUsage(THREE.DynamicDrawUsage);
-    trailGeo.setAttribute('position', trailPos);
-    trailGeo.setAttribute('color', trailCol);
-    trailGeo.setDrawRange(0, 0);
-    var trails = new THREE.LineSegments(trailGeo, new THREE.LineBasicMaterial({
-      vertexColors: true, transparent: true, depthWrite: false }));
-    trails.frustumCulled = false;
-    ned.add(trails);
+    var trailSeg = dynamicSegments(Math.max(trailFrames * N, 1));
+    var trailGeo = trailSeg.geo, trailPos = trailSeg.pos, trailCol = trailSeg.col;
+    var trails = trailSeg.lines;
 
     // Modem range spheres (radius meta.modem_range_m).
     var RANGE = meta.modem_range_m > 0 ? meta.modem_range_m : 0;
