@@ -7,7 +7,8 @@
 //! nothing.
 
 use super::{
-    GroupMeta, LINK_BUDGET, LinkEvent, Meta, ObstacleMeta, Outcome, PANEL, ReplayData, Timeline,
+    GroupMeta, LINK_BUDGET, LinkEvent, Meta, ObstacleMeta, Outcome, PANEL, PANEL_BUDGET_BYTES,
+    ReplayData, Timeline,
 };
 use crate::comm::{CommStats, Medium, Outcome as CommOutcome};
 use crate::components::{Clock, Control, Physics, Sensors, VehicleId};
@@ -49,6 +50,9 @@ pub struct ReplayRecorder {
     frame_every: u64,
     /// Physics steps between panel rows, at least 1.
     panel_every: u64,
+    /// Whether a panel row fits in [`PANEL_BUDGET_BYTES`] at all (not for swarms of more than
+    /// about 225,000 vehicles: their pages have no panel).
+    panel: bool,
     /// Keep every `stride`-th link event (doubles when the budget is reached).
     stride: u64,
     /// Link events seen so far.
@@ -116,6 +120,7 @@ impl ReplayRecorder {
             },
             frame_every: (fdt / desc.dt).round().max(1.0) as u64,
             panel_every: (pdt / desc.dt).round().max(1.0) as u64,
+            panel: n.saturating_mul(PANEL.len() * 4) <= PANEL_BUDGET_BYTES,
             stride: 1,
             seen: 0,
             scratch: Vec::new(),
@@ -269,7 +274,7 @@ pub fn replay_system(
     let next = clock.step + 1;
     let frame = next == 1 || next.is_multiple_of(rec.frame_every);
     // Panel row 0 describes the start, row k the time k · panel_dt.
-    let second = next == 1 || next.is_multiple_of(rec.panel_every);
+    let second = rec.panel && (next == 1 || next.is_multiple_of(rec.panel_every));
     if !frame && !second {
         return;
     }
