@@ -1,8 +1,9 @@
 //! One step of the world as a chained sequence of system sets (see ARCHITECTURE.md):
-//! Ingest → Control → Actuate → Dynamics → Collide → Sense → Comm → Record.
-//! Systems are thin wrappers over shoal-model functions; per-vehicle work runs in parallel on
-//! the world's [`Parallel`] pool and never reads another vehicle's data, so the order of
-//! vehicles and the number of threads cannot change the result.
+//! Ingest → Vehicle (control → actuation → dynamics → collisions → sensors, fused into one
+//! pass per vehicle) → Comm → Record. Systems are thin wrappers over shoal-model functions;
+//! per-vehicle work runs in parallel on the world's [`Parallel`] pool and never reads another
+//! vehicle's data, so the order of vehicles and the number of threads cannot change the
+//! result.
 
 use crate::agents::External;
 use crate::behaviour::{Behave, BehaviourIo};
@@ -26,16 +27,11 @@ use std::sync::atomic::Ordering;
 pub enum StepSet {
     /// Commands from missions (and, later, external agents) become setpoints.
     Ingest,
-    /// Built-in controllers turn setpoints and sensor readings into actuator commands.
-    Control,
-    /// Pumps, tilt drives and thrusters turn commands into forces.
-    Actuate,
-    /// Each vehicle's rigid body is integrated.
-    Dynamics,
-    /// Hulls are kept out of walls, floor and obstacles.
-    Collide,
-    /// Sensors are sampled.
-    Sense,
+    /// Each vehicle in one pass: built-in controllers turn setpoints and sensor readings into
+    /// actuator commands, pumps, tilt drives and thrusters turn commands into forces, the
+    /// rigid body is integrated, the hull is kept out of walls, floor and obstacles, and the
+    /// sensors are sampled.
+    Vehicle,
     /// Optical communication (airtime, collisions, delivery).
     Comm,
     /// Trajectories are recorded.
@@ -56,11 +52,7 @@ pub fn build_schedule(detect_ambiguity: bool) -> Schedule {
     s.configure_sets(
         (
             StepSet::Ingest,
-            StepSet::Control,
-            StepSet::Actuate,
-            StepSet::Dynamics,
-            StepSet::Collide,
-            StepSet::Sense,
+            StepSet::Vehicle,
             StepSet::Comm,
             StepSet::Record,
         )
@@ -70,11 +62,7 @@ pub fn build_schedule(detect_ambiguity: bool) -> Schedule {
         (mission_system, behaviour_system, inbox_clear_system)
             .chain()
             .in_set(StepSet::Ingest),
-        control_system.in_set(StepSet::Control),
-        actuate_system.in_set(StepSet::Actuate),
-        dynamics_system.in_set(StepSet::Dynamics),
-        collide_system.in_set(StepSet::Collide),
-        sense_system.in_set(StepSet::Sense),
+        vehicle_system.in_set(StepSet::Vehicle),
         (
             comm_snapshot_system,
             comm_transmit_system,
@@ -257,77 +245,99 @@ pub fn connectivity_system(
     conn.last_edges = edges;
 }
 
-/// Runs each vehicle's controller on its control period.
-pub fn control_system(
+/// One step of every vehicle in a single pass: control (on its control tick) → actuation →
+/// rigid-body integration → collisions with the static geometry → sensors (just before its
+/// next control tick). Each vehicle's update reads only its own components and the world's
+/// constants, so the vehicles run in parallel chunks on the world's [`Parallel`] pool with
+/// results independent of the thread count; fusing the phases walks the vehicles once per
+/// step instead of five times.
+///
+/// A state that is no longer finite after integration is put back to the last finite one
+/// and recorded ([`crate::fault`]); the run is then stopped by its caller.
+#[allow(clippy::type_complexity)]
+pub fn vehicle_system(
     clock: Res<Clock>,
     par: Res<Parallel>,
-    mut q: Query<(&Kind, &Sensors, &mut Control, &mut Actuation)>,
+    phys: Res<Physical>,
+    geo: Res<StaticGeometry>,
+    flag: Res<FaultFlag>,
+    mut q: Query<(
+        &Kind,
+        &mut Sensors,
+        &mut Control,
+        &mut Actuation,
+        &mut Physics,
+        &mut ContactStats,
+        &mut SensorRng,
+    )>,
 ) {
     let step = clock.step;
-    // Only the vehicles whose control tick is now (usually all or none of them).
-    let mut items: Vec<_> = q
-        .iter_mut()
-        .filter(|it| step.is_multiple_of(it.2.every))
-        .collect();
-    par.for_each(&mut items, |(kind, sensors, control, act)| {
-        let m = &kind.0;
-        let c = &mut **control;
-        c.state.update(
-            &m.params.control,
-            m.uauv2.as_ref(),
-            &m.params.thrusters,
-            &sensors.0,
-            &c.setpoints,
-            &mut act.0,
-        );
-    });
-}
-
-/// Pump, tilt drives and thrusters → generalised force.
-pub fn actuate_system(
-    clock: Res<Clock>,
-    par: Res<Parallel>,
-    phys: Res<Physical>,
-    mut q: Query<(&Kind, &Actuation, &mut Physics)>,
-) {
-    let dt = clock.dt;
-    let env = phys.env;
-    let mut items: Vec<_> = q.iter_mut().collect();
-    par.for_each(&mut items, |(kind, act, p)| {
-        actuate_vehicle(&kind.0, &mut p.state, &act.0, &env, dt);
-    });
-}
-
-/// Integrates every rigid body over one step.
-///
-/// A state that is no longer finite afterwards is put back to the last finite one and
-/// recorded ([`crate::fault`]); the run is then stopped by its caller.
-pub fn dynamics_system(
-    clock: Res<Clock>,
-    par: Res<Parallel>,
-    phys: Res<Physical>,
-    flag: Res<FaultFlag>,
-    mut q: Query<(&Kind, &mut Physics)>,
-) {
     let dt = clock.dt;
     let t_end = clock.t() + dt;
     let (env, integ) = (phys.env, phys.integrator);
+    let geo = &geo.0;
     let mut items: Vec<_> = q.iter_mut().collect();
-    par.for_each(&mut items, |(kind, p)| {
-        p.prev_position = p.state.rigid.position;
-        let before = p.state.rigid.clone();
-        integrate_vehicle(&kind.0, &mut p.state, &env, integ, dt);
-        if !p.state.rigid.is_finite() {
-            p.state.rigid = before.clone();
-            if p.fault.is_none() {
-                p.fault = Some(Box::new(NonFinite {
-                    time: t_end,
-                    last: before,
-                }));
+    par.for_each(
+        &mut items,
+        |(kind, sensors, control, act, p, stats, rng)| {
+            let m = &kind.0;
+            if step.is_multiple_of(control.every) {
+                control_vehicle(m, &sensors.0, control, &mut act.0);
             }
-            flag.0.store(true, Ordering::Relaxed);
-        }
-    });
+            actuate_vehicle(m, &mut p.state, &act.0, &env, dt);
+            if integrate_checked(m, p, &env, integ, dt, t_end) {
+                flag.0.store(true, Ordering::Relaxed);
+            }
+            collide_vehicle(m, geo, &env, p, stats);
+            if (step + 1).is_multiple_of(control.every) {
+                sense(m, &mut p.state, &env, &mut rng.0, &mut sensors.0);
+            }
+        },
+    );
+}
+
+/// The vehicle's controller: setpoints and sensor readings → actuator commands.
+fn control_vehicle(
+    m: &VehicleModel,
+    sensors: &SensorReadings,
+    c: &mut Control,
+    act: &mut ActuatorCommands,
+) {
+    c.state.update(
+        &m.params.control,
+        m.uauv2.as_ref(),
+        &m.params.thrusters,
+        sensors,
+        &c.setpoints,
+        act,
+    );
+}
+
+/// Integrates the vehicle's rigid body over one step; a state that is no longer finite is
+/// put back to the last finite one and recorded in `p.fault` (the first time). True when
+/// that happened.
+fn integrate_checked(
+    m: &VehicleModel,
+    p: &mut Physics,
+    env: &Environment,
+    integ: Integrator,
+    dt: f64,
+    t_end: f64,
+) -> bool {
+    p.prev_position = p.state.rigid.position;
+    let before = p.state.rigid.clone();
+    integrate_vehicle(m, &mut p.state, env, integ, dt);
+    if p.state.rigid.is_finite() {
+        return false;
+    }
+    p.state.rigid = before.clone();
+    if p.fault.is_none() {
+        p.fault = Some(Box::new(NonFinite {
+            time: t_end,
+            last: before,
+        }));
+    }
+    true
 }
 
 /// A hull closer than this to a surface is in contact with it [m].
@@ -337,64 +347,62 @@ const CONTACT_MARGIN: f64 = 1e-3;
 /// rests just short of the surface it hit.
 const BACKOFF: f64 = 1e-4;
 
-/// Keeps hulls out of walls, floor and obstacles: a swept test along the step's displacement
-/// (no tunnelling through thin obstacles at any speed), then penetration removal along the
-/// contact normals and removal of the velocity component into the surface (inelastic).
-pub fn collide_system(
-    par: Res<Parallel>,
-    geo: Res<StaticGeometry>,
-    phys: Res<Physical>,
-    mut q: Query<(&Kind, &mut Physics, &mut ContactStats)>,
+/// Keeps the vehicle's hull out of walls, floor and obstacles: a swept test along the step's
+/// displacement (no tunnelling through thin obstacles at any speed), then penetration
+/// removal along the contact normals and removal of the velocity component into the surface
+/// (inelastic); contacts are counted in `stats`.
+fn collide_vehicle(
+    m: &VehicleModel,
+    geo: &shoal_world::geometry::Geometry,
+    env: &Environment,
+    p: &mut Physics,
+    stats: &mut ContactStats,
 ) {
-    let geo = &geo.0;
-    let mut items: Vec<_> = q.iter_mut().collect();
-    par.for_each(&mut items, |(kind, p, stats)| {
-        let current = kind.0.environment(&phys.env).current;
-        let hull = hull_shape(&kind.0.params.body.hull_size);
-        let prev = p.prev_position;
-        let rigid = &mut p.state.rigid;
-        let mut touched = false;
-        let mut max_depth: f64 = 0.0;
-        let delta = rigid.position - prev;
-        let min_half = 0.5 * kind.0.params.body.hull_size.min();
-        if delta.norm() > 0.25 * min_half {
-            let from = to_pose(&prev, &rigid.attitude);
-            if let Some((toi, n)) = geo.first_hit(&hull, &from, &delta) {
-                rigid.position = prev + delta * (toi - BACKOFF).max(0.0);
-                remove_inward_velocity(rigid, &n, &current);
-                touched = true;
-            }
-        }
-        let mut contacts = Vec::new();
-        for _ in 0..4 {
-            contacts.clear();
-            let pose = to_pose(&rigid.position, &rigid.attitude);
-            geo.contacts(&hull, &pose, CONTACT_MARGIN, &mut contacts);
-            if contacts.is_empty() {
-                break;
-            }
-            // Within the margin counts as touching; only penetration is corrected.
+    let current = m.environment(env).current;
+    let hull = hull_shape(&m.params.body.hull_size);
+    let prev = p.prev_position;
+    let rigid = &mut p.state.rigid;
+    let mut touched = false;
+    let mut max_depth: f64 = 0.0;
+    let delta = rigid.position - prev;
+    let min_half = 0.5 * m.params.body.hull_size.min();
+    if delta.norm() > 0.25 * min_half {
+        let from = to_pose(&prev, &rigid.attitude);
+        if let Some((toi, n)) = geo.first_hit(&hull, &from, &delta) {
+            rigid.position = prev + delta * (toi - BACKOFF).max(0.0);
+            remove_inward_velocity(rigid, &n, &current);
             touched = true;
-            let mut moved = false;
-            for c in contacts.iter().filter(|c| c.depth > 0.0) {
-                rigid.position += c.normal * c.depth;
-                max_depth = max_depth.max(c.depth);
-                remove_inward_velocity(rigid, &c.normal, &current);
-                moved = true;
-            }
-            if !moved {
-                break;
-            }
         }
-        if touched {
-            stats.steps_in_contact += 1;
-            if !stats.touching {
-                stats.impacts += 1;
-            }
-            stats.max_depth = stats.max_depth.max(max_depth);
+    }
+    let mut contacts = Vec::new();
+    for _ in 0..4 {
+        contacts.clear();
+        let pose = to_pose(&rigid.position, &rigid.attitude);
+        geo.contacts(&hull, &pose, CONTACT_MARGIN, &mut contacts);
+        if contacts.is_empty() {
+            break;
         }
-        stats.touching = touched;
-    });
+        // Within the margin counts as touching; only penetration is corrected.
+        touched = true;
+        let mut moved = false;
+        for c in contacts.iter().filter(|c| c.depth > 0.0) {
+            rigid.position += c.normal * c.depth;
+            max_depth = max_depth.max(c.depth);
+            remove_inward_velocity(rigid, &c.normal, &current);
+            moved = true;
+        }
+        if !moved {
+            break;
+        }
+    }
+    if touched {
+        stats.steps_in_contact += 1;
+        if !stats.touching {
+            stats.impacts += 1;
+        }
+        stats.max_depth = stats.max_depth.max(max_depth);
+    }
+    stats.touching = touched;
 }
 
 /// Removes the component of the ground velocity that points into a surface with outward
@@ -408,24 +416,6 @@ fn remove_inward_velocity(rigid: &mut RigidState, n: &Vec3, current: &Vec3) {
         let v_rel = rigid.attitude.inverse_transform_vector(&(v_new - current));
         rigid.nu.fixed_rows_mut::<3>(0).copy_from(&v_rel);
     }
-}
-
-/// Samples sensors just before each control tick.
-pub fn sense_system(
-    clock: Res<Clock>,
-    par: Res<Parallel>,
-    phys: Res<Physical>,
-    mut q: Query<(&Kind, &mut Physics, &Control, &mut SensorRng, &mut Sensors)>,
-) {
-    let next = clock.step + 1;
-    let env = phys.env;
-    let mut items: Vec<_> = q
-        .iter_mut()
-        .filter(|it| next.is_multiple_of(it.2.every))
-        .collect();
-    par.for_each(&mut items, |(kind, p, _, rng, sensors)| {
-        sense(&kind.0, &mut p.state, &env, &mut rng.0, &mut sensors.0);
-    });
 }
 
 /// Appends a trajectory row every `RecordConfig::every` steps.

@@ -36,12 +36,12 @@ fn schedule_has_no_ambiguous_system_pairs() {
 
 #[test]
 fn a_conflicting_unordered_system_is_detected() {
-    // A second writer of the actuator commands in the Control set, unordered with the
-    // controller: exactly what the detector must refuse.
+    // A second writer of the actuator commands in the Vehicle set, unordered with the
+    // vehicle pass: exactly what the detector must refuse.
     fn rogue(_q: Query<&mut Actuation>) {}
     let mut world = World::new();
     let mut schedule = build_schedule(true);
-    schedule.add_systems(rogue.in_set(StepSet::Control));
+    schedule.add_systems(rogue.in_set(StepSet::Vehicle));
     assert!(schedule.initialize(&mut world).is_err());
 }
 
