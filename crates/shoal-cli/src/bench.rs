@@ -17,15 +17,25 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Stdio};
 use std::time::{Duration, Instant};
 
+/// 1, 2, 4, … below `cores`, then `cores`: the scaling from one thread to every core.
+fn default_threads(cores: usize) -> Vec<usize> {
+    let mut t: Vec<usize> = std::iter::successors(Some(1usize), |&k| Some(k * 2))
+        .take_while(|&k| k < cores)
+        .collect();
+    t.push(cores.max(1));
+    t
+}
+
 /// Arguments of `shoal bench`.
 #[derive(clap::Args, Debug)]
 pub struct BenchArgs {
     /// Vehicle counts [default: 1,10,100,1000,10000; with --agents 1,100,1000].
     #[arg(long, value_delimiter = ',')]
     pub vehicles: Option<Vec<usize>>,
-    /// Thread counts.
-    #[arg(long, value_delimiter = ',', default_values_t = [1usize, 2])]
-    pub threads: Vec<usize>,
+    /// Thread counts [default: 1, 2, 4, … up to every core of this machine, and that
+    /// count].
+    #[arg(long, value_delimiter = ',')]
+    pub threads: Option<Vec<usize>>,
     /// Least wall time measured per cell [s].
     #[arg(long, default_value_t = 1.0)]
     pub seconds: f64,
@@ -107,7 +117,7 @@ pub fn bench(a: &BenchArgs) -> anyhow::Result<()> {
         "--vehicles: each 1 … 1000000"
     );
     anyhow::ensure!(
-        a.threads.iter().all(|t| (1..=256).contains(t)),
+        a.threads.iter().flatten().all(|t| (1..=256).contains(t)),
         "--threads: each 1 … 256"
     );
     if cfg!(debug_assertions) {
@@ -122,6 +132,10 @@ pub fn bench(a: &BenchArgs) -> anyhow::Result<()> {
         .vehicles
         .clone()
         .unwrap_or_else(|| vec![1, 10, 100, 1000, 10000]);
+    let threads = a
+        .threads
+        .clone()
+        .unwrap_or_else(|| default_threads(crate::all_cores()));
     let mut json = Vec::new();
     println!(
         "shoal bench — μAUV² swarm on a 0.6 m grid in auto mode, dt = 0.01 s, RK4, recording off"
@@ -140,7 +154,7 @@ pub fn bench(a: &BenchArgs) -> anyhow::Result<()> {
     for &n in &vehicles {
         let desc = swarm_spaced(n, 1, SPACING, false);
         let mut base: Option<f64> = None;
-        for &t in &a.threads {
+        for &t in &threads {
             let c = measure(&desc, t, a.seconds, 20);
             let speedup = base.map_or(1.0, |b| c.vehicle_steps_per_s / b);
             base.get_or_insert(c.vehicle_steps_per_s);
@@ -181,7 +195,7 @@ pub fn bench(a: &BenchArgs) -> anyhow::Result<()> {
         for &n in &vehicles {
             let desc = swarm_spaced(n, 1, TRAFFIC_SPACING, true);
             let silent = swarm_spaced(n, 1, TRAFFIC_SPACING, false);
-            for &t in &a.threads {
+            for &t in &threads {
                 // 1.5 s of warm-up: every beacon has started.
                 let c = measure(&desc, t, a.seconds, 150);
                 let q = measure(&silent, t, a.seconds, 150).vehicle_steps_per_s;
@@ -434,4 +448,17 @@ fn agents(a: &BenchArgs) -> anyhow::Result<()> {
         println!("{}", serde_json::to_string_pretty(&json)?);
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::default_threads;
+
+    #[test]
+    fn the_default_threads_run_from_one_to_every_core() {
+        assert_eq!(default_threads(1), [1]);
+        assert_eq!(default_threads(2), [1, 2]);
+        assert_eq!(default_threads(6), [1, 2, 4, 6]);
+        assert_eq!(default_threads(8), [1, 2, 4, 8]);
+    }
 }

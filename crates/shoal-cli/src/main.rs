@@ -69,6 +69,11 @@ enum Command {
     },
 }
 
+/// Working threads of this machine (1 when unknown).
+pub fn all_cores() -> usize {
+    std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
+}
+
 /// Why the program stops early.
 pub enum Failure {
     /// Bad user input (exit 2); the message is complete.

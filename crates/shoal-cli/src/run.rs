@@ -31,9 +31,10 @@ pub struct RunArgs {
     /// Output folder [default: out/<world name>].
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Working threads for per-vehicle loops.
-    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u16).range(1..=256))]
-    pub threads: u16,
+    /// Working threads for per-vehicle loops [default: every core of this machine]. The
+    /// results are the same for any number.
+    #[arg(long, value_parser = clap::value_parser!(u16).range(1..=256))]
+    pub threads: Option<u16>,
     /// Override the world's seed.
     #[arg(long)]
     pub seed: Option<u64>,
@@ -169,10 +170,11 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, Failure> {
             desc.vehicles.len()
         );
     }
+    let threads = args.threads.map_or_else(crate::all_cores, usize::from);
     let built = Sim::new_until(
         &desc,
         SimOptions {
-            threads: usize::from(args.threads),
+            threads,
             record: true,
         },
         &cancel,
@@ -203,7 +205,7 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, Failure> {
             desc.vehicles.len(),
             desc.duration,
             desc.dt,
-            args.threads,
+            threads,
             out_dir.display()
         );
     }
