@@ -7,6 +7,7 @@
 //! the world's end of the bridge.
 
 use crate::alloc::live_bytes;
+use crate::bench_rows::{Bench, Machine, Row};
 use anyhow::Context;
 use shoal_bridge::host::{Flow, Host};
 use shoal_sim::bench::{SPACING, TRAFFIC_SPACING, swarm_spaced};
@@ -42,9 +43,16 @@ pub struct BenchArgs {
     /// Skip the second table (optical traffic).
     #[arg(long)]
     pub no_comm: bool,
-    /// Print the tables as JSON as well.
-    #[arg(long)]
-    pub json: bool,
+    /// Write the rows as JSON to FILE (`-` or no FILE: print them after the table). Per row:
+    /// vehicles, threads, traffic, vehicle_steps_per_s, realtime_factor, medium_share,
+    /// peak_rss_bytes, cycles_per_vehicle_step (when the CPU clock is known).
+    #[arg(long, value_name = "FILE", num_args = 0..=1, default_missing_value = "-")]
+    pub json: Option<PathBuf>,
+    /// Measure every row of this binary and of OTHER (another `shoal` binary, e.g. an older
+    /// build) one after the other, and print their ratio.
+    #[arg(long, value_name = "OTHER")]
+    pub compare: Option<PathBuf>,
+
     /// Instead of the scaling tables: the lock-step round trip to an external agent process
     /// written in these languages (`rust`: the goto_agent example; `python`:
     /// python/examples/goto.py).
@@ -136,6 +144,11 @@ pub fn bench(a: &BenchArgs) -> anyhow::Result<()> {
         .threads
         .clone()
         .unwrap_or_else(|| default_threads(crate::all_cores()));
+    // A row's child (the variable is set) measures here; anyone else measures each row in a
+    // child process of its own.
+    if std::env::var_os(crate::bench_rows::CHILD_ENV).is_none() {
+        return scaling(a, &vehicles, &threads);
+    }
     let mut json = Vec::new();
     println!(
         "shoal bench — μAUV² swarm on a 0.6 m grid in auto mode, dt = 0.01 s, RK4, recording off"
@@ -172,7 +185,8 @@ pub fn bench(a: &BenchArgs) -> anyhow::Result<()> {
             json.push(serde_json::json!({
                 "table": "quiet", "vehicles": n, "threads": t, "steps": c.steps, "wall_s": c.wall_s,
                 "vehicle_steps_per_s": c.vehicle_steps_per_s, "real_time_factor": c.real_time,
-                "speed_up": speedup, "bytes_per_vehicle": c.bytes_per_vehicle
+                "speed_up": speedup, "bytes_per_vehicle": c.bytes_per_vehicle,
+                "peak_rss_bytes": peak_rss_bytes()
             }));
         }
     }
@@ -217,13 +231,135 @@ pub fn bench(a: &BenchArgs) -> anyhow::Result<()> {
                     "table": "traffic", "vehicles": n, "threads": t, "steps": c.steps, "wall_s": c.wall_s,
                     "vehicle_steps_per_s": c.vehicle_steps_per_s, "real_time_factor": c.real_time,
                     "frames_per_s": c.frames_per_s, "deliveries_per_s": c.deliveries_per_s, "medium_share": share,
-                    "bytes_per_vehicle": c.bytes_per_vehicle
+                    "bytes_per_vehicle": c.bytes_per_vehicle, "peak_rss_bytes": peak_rss_bytes()
                 }));
             }
         }
     }
-    if a.json {
-        println!("{}", serde_json::to_string_pretty(&json)?);
+    if let Some(path) = &a.json {
+        write_json(path, &serde_json::to_string_pretty(&json)?)?;
+    }
+    Ok(())
+}
+
+/// Prints `text` (`-`) or writes it whole to `path`.
+fn write_json(path: &Path, text: &str) -> anyhow::Result<()> {
+    if path == Path::new("-") {
+        println!("{text}");
+        return Ok(());
+    }
+    shoal_sim::files::write_whole(path, format!("{text}\n").as_bytes())?;
+    eprintln!("shoal bench: wrote {}", path.display());
+    Ok(())
+}
+
+/// Peak resident memory of this process so far (`VmHWM`) \[bytes\].
+fn peak_rss_bytes() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let kb: u64 = status
+        .lines()
+        .find_map(|l| l.strip_prefix("VmHWM:"))?
+        .split_whitespace()
+        .next()?
+        .parse()
+        .ok()?;
+    Some(kb * 1024)
+}
+
+/// The scaling table, each row measured in a child process of this binary (and of
+/// `--compare OTHER` right after it).
+fn scaling(a: &BenchArgs, vehicles: &[usize], threads: &[usize]) -> anyhow::Result<()> {
+    let machine = Machine::here();
+    let this = Bench::new(
+        std::env::current_exe().context("cannot locate this binary")?,
+        "this",
+    )?;
+    let other = a
+        .compare
+        .clone()
+        .map(|p| Bench::new(p, "other"))
+        .transpose()?;
+    let clock = machine
+        .clock_hz
+        .map_or_else(String::new, |hz| format!(", {:.2} GHz", hz / 1e9));
+    println!(
+        "shoal bench — {}, {} cores{clock}; μAUV² swarms in auto mode, dt = 0.01 s, RK4, recording off",
+        machine.cpu, machine.cores
+    );
+    println!(
+        "quiet: a {SPACING} m grid; traffic: a {TRAFFIC_SPACING} m grid, every vehicle with 4 modems beaconing a 32-byte frame once a second;\nmedium = 1 − rate with traffic / rate of the same swarm without; each row in its own process"
+    );
+    let mut head = format!(
+        "{:>8} {:>7} {:>7} {:>16} {:>12} {:>9} {:>8} {:>12} {:>14}",
+        "vehicles",
+        "threads",
+        "traffic",
+        "vehicle-steps/s",
+        "real-time ×",
+        "speed-up",
+        "medium",
+        "peak RSS MB",
+        "cycles/v-step"
+    );
+    if other.is_some() {
+        head += &format!(" {:>16} {:>12}", "other v-steps/s", "this/other");
+    }
+    println!("{head}");
+    let mut rows: Vec<Row> = Vec::new();
+    for &n in vehicles {
+        for &t in threads {
+            let mine = this.rows(n, t, a.seconds, !a.no_comm, &machine)?;
+            let theirs = match &other {
+                Some(o) => o.rows(n, t, a.seconds, !a.no_comm, &machine)?,
+                None => Vec::new(),
+            };
+            for r in &mine {
+                let first = rows
+                    .iter()
+                    .find(|b| b.binary == "this" && b.vehicles == n && b.traffic == r.traffic)
+                    .map_or(r.vehicle_steps_per_s, |b| b.vehicle_steps_per_s);
+                let mut line = format!(
+                    "{:>8} {:>7} {:>7} {:>16.0} {:>12.2} {:>9.2} {:>8} {:>12} {:>14}",
+                    r.vehicles,
+                    r.threads,
+                    if r.traffic { "yes" } else { "no" },
+                    r.vehicle_steps_per_s,
+                    r.realtime_factor,
+                    r.vehicle_steps_per_s / first,
+                    r.medium_share
+                        .map_or_else(|| "—".into(), |m| format!("{:.0}%", 100.0 * m)),
+                    r.peak_rss_bytes
+                        .map_or_else(|| "—".into(), |b| format!("{:.0}", b as f64 / 1e6)),
+                    r.cycles_per_vehicle_step
+                        .map_or_else(|| "—".into(), |c| format!("{c:.0}")),
+                );
+                if other.is_some() {
+                    match theirs.iter().find(|o| o.traffic == r.traffic) {
+                        Some(o) => {
+                            line += &format!(
+                                " {:>16.0} {:>12.2}",
+                                o.vehicle_steps_per_s,
+                                r.vehicle_steps_per_s / o.vehicle_steps_per_s
+                            );
+                        }
+                        None => line += &format!(" {:>16} {:>12}", "—", "—"),
+                    }
+                }
+                println!("{line}");
+            }
+            rows.extend(mine);
+            rows.extend(theirs);
+        }
+    }
+    if let Some(path) = &a.json {
+        let doc = serde_json::json!({
+            "machine": machine,
+            "seconds_per_cell": a.seconds,
+            "this": std::env::current_exe().ok(),
+            "other": a.compare,
+            "rows": rows,
+        });
+        write_json(path, &serde_json::to_string_pretty(&doc)?)?;
     }
     Ok(())
 }
@@ -444,8 +580,8 @@ fn agents(a: &BenchArgs) -> anyhow::Result<()> {
             }));
         }
     }
-    if a.json {
-        println!("{}", serde_json::to_string_pretty(&json)?);
+    if let Some(path) = &a.json {
+        write_json(path, &serde_json::to_string_pretty(&json)?)?;
     }
     Ok(())
 }

@@ -16,6 +16,7 @@
 
 mod alloc;
 mod bench;
+mod bench_rows;
 mod render;
 mod run;
 mod signals;

@@ -226,7 +226,9 @@ fn one_and_two_threads_give_the_same_digest() {
 }
 
 #[test]
-fn bench_prints_a_row_per_cell() {
+fn bench_prints_a_row_per_cell_and_writes_them_as_json() {
+    let dir = tmp("bench");
+    let json = dir.join("rows.json");
     let o = shoal()
         .args([
             "bench",
@@ -238,47 +240,79 @@ fn bench_prints_a_row_per_cell() {
             "0.05",
             "--json",
         ])
+        .arg(&json)
         .output()
         .unwrap();
     let (stdout, stderr) = text(&o);
     assert!(o.status.success(), "{stderr}");
-    assert!(
-        stdout.contains("vehicle-steps/s")
-            && stdout.contains("bytes/vehicle")
-            && stdout.contains("medium share"),
-        "{stdout}"
-    );
-    let json_start = stdout.find("\n[").expect("json table") + 1;
-    let rows: serde_json::Value = serde_json::from_str(&stdout[json_start..]).unwrap();
-    let rows = rows.as_array().unwrap();
-    let table = |name: &str| rows.iter().filter(|r| r["table"] == name).count();
-    assert_eq!((table("quiet"), table("traffic")), (4, 4));
-    for r in rows {
-        assert!(r["vehicle_steps_per_s"].as_f64().unwrap() > 0.0);
-        assert!(r["bytes_per_vehicle"].as_f64().unwrap() > 0.0);
+    for column in [
+        "vehicle-steps/s",
+        "real-time ×",
+        "medium",
+        "peak RSS MB",
+        "cycles/v-step",
+    ] {
+        assert!(stdout.contains(column), "{column}: {stdout}");
     }
-    // Twenty beaconing vehicles on a 1.5 m grid hear each other.
-    assert!(
-        rows.iter()
-            .filter(|r| r["table"] == "traffic" && r["vehicles"] == 20)
-            .all(|r| r["deliveries_per_s"].as_f64().unwrap() > 0.0)
-    );
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert!(doc["machine"]["cores"].as_u64().unwrap() >= 1);
+    let clock_known = doc["machine"]["clock_hz"].is_number();
+    let rows = doc["rows"].as_array().unwrap();
+    let count = |traffic: bool| rows.iter().filter(|r| r["traffic"] == traffic).count();
+    assert_eq!((count(false), count(true)), (4, 4));
+    for r in rows {
+        assert_eq!(r["binary"], "this");
+        assert!(r["vehicle_steps_per_s"].as_f64().unwrap() > 0.0, "{r}");
+        assert!(r["realtime_factor"].as_f64().unwrap() > 0.0, "{r}");
+        // Each row is measured in a process of its own: its peak memory is a few MB.
+        let rss = r["peak_rss_bytes"].as_u64().unwrap();
+        assert!((1_000_000..2_000_000_000).contains(&rss), "{r}");
+        assert_eq!(r["medium_share"].is_number(), r["traffic"] == true, "{r}");
+        assert_eq!(r["cycles_per_vehicle_step"].is_number(), clock_known, "{r}");
+    }
+    // Without the traffic table; side by side with another binary (here: itself).
     let o = shoal()
         .args([
             "bench",
             "--vehicles",
-            "1",
+            "10",
             "--threads",
             "1",
             "--seconds",
             "0.02",
             "--no-comm",
         ])
+        .arg("--compare")
+        .arg(env!("CARGO_BIN_EXE_shoal"))
+        .arg("--json")
+        .arg(&json)
         .output()
         .unwrap();
-    assert!(o.status.success() && !text(&o).0.contains("medium share"));
+    let (stdout, stderr) = text(&o);
+    assert!(o.status.success(), "{stderr}");
+    assert!(
+        stdout.contains("this/other") && !stdout.contains(" yes "),
+        "{stdout}"
+    );
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let binaries: Vec<&str> = doc["rows"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r["binary"].as_str().unwrap())
+        .collect();
+    assert_eq!(binaries, ["this", "other"]);
+    let o = shoal()
+        .args(["bench", "--vehicles", "1", "--compare", "/no/such/shoal"])
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    assert!(text(&o).1.contains("/no/such/shoal"), "{}", text(&o).1);
     let o = shoal().args(["bench", "--vehicles", "0"]).output().unwrap();
     assert!(!o.status.success());
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
