@@ -12,19 +12,11 @@
 use crate::comm::{Inbox, OutFrame, Outbox, Received};
 use crate::components::*;
 use crate::sim::Sim;
-use bevy_ecs::prelude::*;
 use shoal_model::math::{euler_rpy, wrap_pi};
 use shoal_model::prelude::*;
 use shoal_world::spec::FallbackSpec;
 
-/// Marks a vehicle driven by an external agent.
-#[derive(Component, Clone, Debug)]
-pub struct External {
-    /// Index of its agent in [`shoal_world::desc::AgentsDesc::names`].
-    pub agent: usize,
-    /// Whether the fallback is in force (the agent is absent, hung or dead).
-    pub fallback: bool,
-}
+pub use crate::components::External;
 
 /// What an agent sees of one vehicle on a control tick: only what the vehicle could sense.
 #[derive(Clone, Debug)]

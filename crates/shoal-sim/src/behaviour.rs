@@ -8,7 +8,7 @@
 //! and signal strengths: a flock that keeps optical contact).
 
 use crate::comm::{OutFrame, Received};
-use crate::sim::VehicleRng;
+use crate::rng::VehicleRng;
 use bevy_ecs::prelude::*;
 use rand::RngExt;
 use shoal_model::control::{SensorReadings, Setpoints};

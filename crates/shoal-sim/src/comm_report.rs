@@ -6,10 +6,10 @@
 //! the end, and — when the world floods a value — how many vehicles knew it over time.
 
 use crate::comm::{DIST_BIN, LinkStats, Outcome, latency_bin_centre};
+use crate::connectivity::ConnSample;
 use crate::files::FileError;
 use crate::plot::{Outline, Plot, Series};
 use crate::sim::Sim;
-use crate::systems::ConnSample;
 use crate::view::VehicleView;
 use serde::Serialize;
 use shoal_model::optics::{LinkGeometry, budget};

@@ -54,7 +54,7 @@ pub struct Sensors(pub SensorReadings);
 
 /// The vehicle's own random stream for sensor noise (derived from the world seed and its id).
 #[derive(Component, Clone, Debug)]
-pub struct SensorRng(pub crate::sim::VehicleRng);
+pub struct SensorRng(pub crate::rng::VehicleRng);
 
 /// Hull contacts with the static world.
 #[derive(Component, Clone, Copy, Debug, Default, PartialEq)]
@@ -108,4 +108,13 @@ pub struct StaticGeometry(pub Geometry);
 pub struct RecordConfig {
     /// Record every this many steps (0 = never).
     pub every: u64,
+}
+
+/// Marks a vehicle driven by an external agent.
+#[derive(Component, Clone, Debug)]
+pub struct External {
+    /// Index of its agent in [`shoal_world::desc::AgentsDesc::names`].
+    pub agent: usize,
+    /// Whether the fallback is in force (the agent is absent, hung or dead).
+    pub fallback: bool,
 }

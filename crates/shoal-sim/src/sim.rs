@@ -1,18 +1,16 @@
 //! The simulated world: a bevy_ecs [`World`] with one entity per vehicle, driven one fixed step
 //! at a time by the schedule of [`crate::systems`].
 
-use crate::agents::External;
 use crate::behaviour::{self, Behave};
 use crate::comm::{CommStats, Inbox, Medium, Modems, Outbox, comm_rng};
 use crate::components::*;
+use crate::connectivity::Connectivity;
 use crate::fault::{FaultFlag, SimFault};
 use crate::parallel::Parallel;
 use crate::recorder::{self, RecordBatch};
-use crate::systems::Connectivity;
 use crate::systems::build_schedule;
 use crate::view::VehicleView;
 use bevy_ecs::prelude::*;
-use rand::SeedableRng;
 use shoal_model::prelude::*;
 use shoal_world::cancel::{Cancel, Interrupted};
 use shoal_world::desc::WorldDesc;
@@ -36,38 +34,7 @@ impl Default for SimOptions {
     }
 }
 
-/// Random-stream purposes; each vehicle gets stream `id · 16 + purpose` of the world seed.
-pub mod stream {
-    /// Sensor noise.
-    pub const SENSORS: u64 = 0;
-    /// The optical medium (back-offs, reception draws).
-    pub const COMM: u64 = 1;
-    /// Built-in behaviours.
-    pub const BEHAVIOUR: u64 = 2;
-}
-
-/// The generator of every per-vehicle random stream: xoshiro256++ (rand's named, portable
-/// generator: the same numbers on every platform and release), 32 bytes of state — a
-/// ChaCha stream with its block buffer takes ten times that, 0.6 GB for the two streams of
-/// a million vehicles.
-pub type VehicleRng = rand::rngs::Xoshiro256PlusPlus;
-
-/// The RNG of vehicle `id` for `purpose`, derived from the world seed only: its 256-bit
-/// state is SplitMix64's expansion of the world seed mixed with the stream number
-/// `id · 16 + purpose`, so streams of different vehicles, purposes and seeds start at
-/// unrelated points of the 2²⁵⁶ − 1 period.
-pub fn vehicle_rng(seed: u64, id: u32, purpose: u64) -> VehicleRng {
-    let stream = u64::from(id) * 16 + purpose;
-    VehicleRng::seed_from_u64(splitmix64(seed ^ splitmix64(stream)))
-}
-
-/// One SplitMix64 output for `x` (Steele, Lea & Flood 2014): a bijective 64-bit mixer.
-fn splitmix64(x: u64) -> u64 {
-    let mut z = x.wrapping_add(0x9e37_79b9_7f4a_7c15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    z ^ (z >> 31)
-}
+pub use crate::rng::{VehicleRng, stream, vehicle_rng};
 
 /// A read-only copy of one vehicle.
 #[derive(Clone, Debug)]

@@ -2,7 +2,7 @@
 //! frames received ([`Received`], [`Inbox`]), the per-modem transmit queues ([`ModemPort`],
 //! [`Modems`]) and the vehicle's random stream for the medium ([`CommRng`], [`comm_rng`]).
 
-use crate::sim::VehicleRng;
+use crate::rng::VehicleRng;
 use bevy_ecs::prelude::*;
 use std::collections::VecDeque;
 use std::sync::Arc;
@@ -96,7 +96,7 @@ impl Modems {
 #[derive(Component, Clone, Debug)]
 pub struct CommRng(pub VehicleRng);
 
-/// RNG stream of a vehicle's medium draws (see [`crate::sim::vehicle_rng`]).
+/// RNG stream of a vehicle's medium draws (see [`crate::rng::vehicle_rng`]).
 pub fn comm_rng(seed: u64, id: u32) -> CommRng {
-    CommRng(crate::sim::vehicle_rng(seed, id, crate::sim::stream::COMM))
+    CommRng(crate::rng::vehicle_rng(seed, id, crate::rng::stream::COMM))
 }

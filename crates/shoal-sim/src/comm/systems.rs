@@ -8,7 +8,7 @@ use super::medium::{Logical, Medium, Transmission, received_power};
 use super::stats::{CommStats, DIST_BIN, DIST_BINS, Outcome, latency_bin};
 use crate::components::{Kind, Physics, StaticGeometry, VehicleId};
 use crate::parallel::Parallel;
-use crate::sim::VehicleRng;
+use crate::rng::VehicleRng;
 use bevy_ecs::prelude::*;
 use rand::RngExt;
 use shoal_model::math::Vec3;

@@ -12,8 +12,8 @@ use super::{
 };
 use crate::comm::{CommStats, Medium, Outcome as CommOutcome};
 use crate::components::{Clock, Control, Physics, Sensors, VehicleId};
+use crate::connectivity::Connectivity;
 use crate::recorder::mode_code;
-use crate::systems::Connectivity;
 use bevy_ecs::prelude::*;
 use shoal_model::control::Mode;
 use shoal_world::desc::WorldDesc;

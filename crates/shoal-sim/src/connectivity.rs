@@ -1,0 +1,106 @@
+//! The communication graph over time: which vehicles heard each other (a frame delivered
+//! either way within a window), sampled every second, with its components, largest component
+//! and edges — the connectivity table, plots, summary and replay timeline read it.
+
+use crate::comm::{CommStats, Medium};
+use crate::components::{Clock, VehicleId};
+use bevy_ecs::prelude::*;
+
+/// One sample of the communication graph.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct ConnSample {
+    /// Time \[s\].
+    pub t: f64,
+    /// Vehicles in the largest connected component.
+    pub largest: usize,
+    /// Connected components (isolated vehicles count as components).
+    pub components: usize,
+    /// Undirected edges (a frame delivered either way within the window).
+    pub edges: usize,
+}
+
+/// The communication graph over time: an edge joins two vehicles if a frame was delivered
+/// between them (either way) within the last `window` seconds; sampled every `every` seconds.
+#[derive(Resource, Clone, Debug)]
+pub struct Connectivity {
+    /// Sample interval \[s\].
+    pub every: f64,
+    /// Window \[s\].
+    pub window: f64,
+    /// Samples.
+    pub samples: Vec<ConnSample>,
+    /// Edges of the last sample.
+    pub last_edges: Vec<(u32, u32)>,
+    dt: f64,
+}
+
+impl Connectivity {
+    /// Samples every second over a 2 s window.
+    pub fn new(dt: f64) -> Self {
+        Self {
+            every: 1.0,
+            window: 2.0,
+            samples: Vec::new(),
+            last_edges: Vec::new(),
+            dt,
+        }
+    }
+}
+
+/// Samples the communication graph.
+pub fn connectivity_system(
+    clock: Res<Clock>,
+    medium: Res<Medium>,
+    mut conn: ResMut<Connectivity>,
+    mut q: Query<(&VehicleId, &mut CommStats)>,
+) {
+    if !medium.active() {
+        return;
+    }
+    let every = (conn.every / conn.dt).round().max(1.0) as u64;
+    let next = clock.step + 1;
+    if !next.is_multiple_of(every) {
+        return;
+    }
+    let t = next as f64 * clock.dt;
+    let n = medium.kinds.len();
+    let mut edges: Vec<(u32, u32)> = Vec::new();
+    for (id, mut s) in &mut q {
+        s.fold();
+        for (from, l) in s.links() {
+            if t - l.last_delivery <= conn.window {
+                edges.push(((*from).min(id.0), (*from).max(id.0)));
+            }
+        }
+    }
+    edges.sort_unstable();
+    edges.dedup();
+    let mut parent: Vec<u32> = (0..n as u32).collect();
+    fn find(p: &mut [u32], mut x: u32) -> u32 {
+        while p[x as usize] != x {
+            p[x as usize] = p[p[x as usize] as usize];
+            x = p[x as usize];
+        }
+        x
+    }
+    for &(a, b) in &edges {
+        let (ra, rb) = (find(&mut parent, a), find(&mut parent, b));
+        if ra != rb {
+            parent[ra.max(rb) as usize] = ra.min(rb);
+        }
+    }
+    let mut size = vec![0usize; n];
+    for i in 0..n as u32 {
+        let r = find(&mut parent, i);
+        size[r as usize] += 1;
+    }
+    let largest = size.iter().copied().max().unwrap_or(0);
+    let components = size.iter().filter(|s| **s > 0).count();
+    conn.samples.push(ConnSample {
+        t,
+        largest,
+        components,
+        edges: edges.len(),
+    });
+    conn.last_edges = edges;
+}
