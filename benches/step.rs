@@ -11,14 +11,23 @@ use shoal::sim::bench::{TRAFFIC_SPACING, swarm, swarm_spaced};
 use shoal::sim::prelude::*;
 use std::hint::black_box;
 
-fn vehicle_step(c: &mut Criterion) {
-    let model = VehicleModel::new(presets::uauv2(), 1000.0);
-    let env = Environment::default();
+/// The μAUV² preset, still water and a command that runs all three thrusters and tilts one
+/// drive.
+fn uauv2_setup() -> (VehicleModel, Environment, ActuatorCommands) {
     let cmd = ActuatorCommands {
         thrusters: vec![20.0, 40.0, 35.0],
         tilts: vec![0.0, -0.6],
         pump: Pump::Off,
     };
+    (
+        VehicleModel::new(presets::uauv2(), 1000.0),
+        Environment::default(),
+        cmd,
+    )
+}
+
+fn vehicle_step(c: &mut Criterion) {
+    let (model, env, cmd) = uauv2_setup();
     let mut g = c.benchmark_group("vehicle_step");
     for (name, integ) in [
         ("rk4", Integrator::Rk4),
@@ -66,13 +75,7 @@ fn world_step(c: &mut Criterion) {
 /// Actuation and integration of one vehicle, and integration of a chunk of 256 vehicles
 /// (throughput: vehicles).
 fn parts(c: &mut Criterion) {
-    let model = VehicleModel::new(presets::uauv2(), 1000.0);
-    let env = Environment::default();
-    let cmd = ActuatorCommands {
-        thrusters: vec![20.0, 40.0, 35.0],
-        tilts: vec![0.0, -0.6],
-        pump: Pump::Off,
-    };
+    let (model, env, cmd) = uauv2_setup();
     let state = |i: usize| {
         VehicleState::new(
             &model,

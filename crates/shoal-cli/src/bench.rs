@@ -186,7 +186,7 @@ pub fn bench(a: &BenchArgs) -> anyhow::Result<()> {
                 "table": "quiet", "vehicles": n, "threads": t, "steps": c.steps, "wall_s": c.wall_s,
                 "vehicle_steps_per_s": c.vehicle_steps_per_s, "real_time_factor": c.real_time,
                 "speed_up": speedup, "bytes_per_vehicle": c.bytes_per_vehicle,
-                "peak_rss_bytes": peak_rss_bytes()
+                "peak_rss_bytes": shoal_sim::output::peak_memory_bytes()
             }));
         }
     }
@@ -231,7 +231,7 @@ pub fn bench(a: &BenchArgs) -> anyhow::Result<()> {
                     "table": "traffic", "vehicles": n, "threads": t, "steps": c.steps, "wall_s": c.wall_s,
                     "vehicle_steps_per_s": c.vehicle_steps_per_s, "real_time_factor": c.real_time,
                     "frames_per_s": c.frames_per_s, "deliveries_per_s": c.deliveries_per_s, "medium_share": share,
-                    "bytes_per_vehicle": c.bytes_per_vehicle, "peak_rss_bytes": peak_rss_bytes()
+                    "bytes_per_vehicle": c.bytes_per_vehicle, "peak_rss_bytes": shoal_sim::output::peak_memory_bytes()
                 }));
             }
         }
@@ -251,19 +251,6 @@ fn write_json(path: &Path, text: &str) -> anyhow::Result<()> {
     shoal_sim::files::write_whole(path, format!("{text}\n").as_bytes())?;
     eprintln!("shoal bench: wrote {}", path.display());
     Ok(())
-}
-
-/// Peak resident memory of this process so far (`VmHWM`) \[bytes\].
-fn peak_rss_bytes() -> Option<u64> {
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let kb: u64 = status
-        .lines()
-        .find_map(|l| l.strip_prefix("VmHWM:"))?
-        .split_whitespace()
-        .next()?
-        .parse()
-        .ok()?;
-    Some(kb * 1024)
 }
 
 /// The scaling table, each row measured in a child process of this binary (and of

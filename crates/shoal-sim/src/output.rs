@@ -506,7 +506,7 @@ impl RunOutput {
 }
 
 /// Peak resident memory of this process (`VmHWM` of `/proc/self/status`) \[bytes\].
-fn peak_memory_bytes() -> Option<u64> {
+pub fn peak_memory_bytes() -> Option<u64> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
     let kb: u64 = status
         .lines()
