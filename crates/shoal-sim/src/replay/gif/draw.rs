@@ -331,11 +331,15 @@ impl<'s> Dynamic<'s> {
                     }
                 }
             }
-            // Bodies.
+            // Bodies: enlarged to MIN_BODY_PX, or in a crowded map to 0.6 × the side of each
+            // vehicle's share of the panel (at least 2 px), so a dense swarm does not merge
+            // into one blot.
+            let share = f64::from(p.rect.2) * f64::from(p.rect.3) / n.max(1) as f64;
+            let min_px = MIN_BODY_PX.min((CROWDED_BODY_SHARE * share.sqrt()).max(2.0));
             for v in 0..n {
                 let g = scene.group_of[v];
                 let hull = scene.groups[g].hull;
-                let grow = (MIN_BODY_PX / (hull[0] * p.scale)).max(1.0);
+                let grow = (min_px / (hull[0] * p.scale)).max(1.0);
                 let [roll, pitch, yaw] = scene.att(f, v);
                 let r = Rotation3::from_euler_angles(roll, pitch, yaw);
                 let c = Vector3::from(scene.pos(f, v));

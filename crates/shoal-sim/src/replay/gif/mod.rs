@@ -16,7 +16,8 @@
 //! image would get too tall or too flat one range is widened about its centre). On it: water,
 //! pool walls and surface, obstacles (filled, their true outline from their shape and pose),
 //! each vehicle as a pointed body of its group's hull size turned by its attitude (never
-//! smaller than [`MIN_BODY_PX`]), its trail of the last [`GifOptions::trail_s`] seconds, and
+//! smaller than [`MIN_BODY_PX`], less in a crowded map: [`CROWDED_BODY_SHARE`]), its trail
+//! of the last [`GifOptions::trail_s`] seconds, and
 //! the link attempts of the last [`LINK_WINDOW_S`] s (or of the time between two GIF frames
 //! when longer) as lines coloured by outcome, losses drawn over deliveries. A title (world,
 //! `t = 12.3 s`, playback speed) and a legend (groups, link outcomes) frame the maps.
@@ -181,6 +182,10 @@ pub enum RenderError {
 pub const LINK_WINDOW_S: f64 = 0.3;
 /// Smallest drawn length of a vehicle's body \[px\]: smaller hulls are drawn enlarged.
 pub const MIN_BODY_PX: f64 = 9.0;
+/// In a crowded map the least drawn length is this fraction of the side of each vehicle's
+/// share of the panel (`√(panel area / vehicles)`), at least 2 px: 10,000 vehicles on a
+/// 560-px map are drawn ≈ 3 px long instead of merging at [`MIN_BODY_PX`].
+pub const CROWDED_BODY_SHARE: f64 = 0.6;
 /// The last frame is held this much longer before the GIF loops \[s\].
 pub const END_HOLD_S: f64 = 2.0;
 /// Most GIF frame rate \[1/s\]: delays below 2/100 s are played as 1/10 s by browsers.

@@ -594,3 +594,54 @@ fn obstacle_outlines_follow_shape_and_pose() {
     no_r.radius = None;
     assert!(obstacle_outline(&no_r, PanelKind::Top).is_none());
 }
+
+#[test]
+fn a_crowded_swarm_is_drawn_as_separate_vehicles() {
+    // 2,500 vehicles on a 1.2 m grid in a 62 × 62 m pool, on a 240-px map (≈ 3 px/m): grid
+    // neighbours are ≈ 3.5 px apart, so at MIN_BODY_PX (9 px) the swarm would merge into one
+    // blot. Drawn at 0.6 × the side of each vehicle's share of the map (≈ 2 px), water stays
+    // visible between them.
+    let mut data = crate::replay::demo::demo(2500, 1.0);
+    let pool = [62.0, 62.0, 3.0];
+    data.meta.pool = pool;
+    data.meta.obstacles.clear();
+    for k in 0..data.meta.frames {
+        for v in 0..2500 {
+            let (x, y) = (1.0 + 1.2 * (v % 50) as f64, 1.0 + 1.2 * (v / 50) as f64);
+            let i = (k * 2500 + v) * 3;
+            data.pos[i] = (x / pool[0] * 65535.0).round() as u16;
+            data.pos[i + 1] = (y / pool[1] * 65535.0).round() as u16;
+            data.pos[i + 2] = (1.5 / pool[2] * 65535.0).round() as u16;
+        }
+    }
+    let d = dir("crowded");
+    let path = d.join("crowded.gif");
+    let opts = GifOptions {
+        view: View::Top,
+        width_px: 240,
+        trail_s: 0.0,
+        links: false,
+        ..GifOptions::default()
+    };
+    render(&data, &path, &opts).unwrap();
+    let gif = decode(&path);
+    let scene = Scene::new(&data, &path).unwrap();
+    let lay = Layout::new(&scene, &opts);
+    let top = lay.panels[0];
+    let (x0, y0, w, h) = top.rect;
+    let (mut water, mut all) = (0usize, 0usize);
+    for y in y0..y0 + h {
+        for x in x0..x0 + w {
+            all += 1;
+            if gif.rgb(0, (x, y)) == [WATER.0, WATER.1, WATER.2] {
+                water += 1;
+            }
+        }
+    }
+    eprintln!("crowded: {water} of {all} map pixels show water");
+    assert!(
+        water * 5 > all,
+        "only {water} of {all} map pixels show water between the vehicles"
+    );
+    let _ = std::fs::remove_dir_all(&d);
+}
