@@ -26,7 +26,7 @@ duration = 100.0
 dt = 0.01
 
 [pool]
-size = [$(echo "$cols * 1.2 + 6" | bc), $(echo "$rows * 1.2 + 2" | bc), 3.0]
+size = [$(awk "BEGIN { print $cols * 1.2 + 6 }"), $(awk "BEGIN { print $rows * 1.2 + 2 }"), 3.0]
 
 [[vehicles]]
 name = "grid"
@@ -54,7 +54,7 @@ for w in default grid1000 grid10000; do
     "$shoal" run $world --quiet --no-plots --out "$tmp/$w" >"$tmp/$w.txt"
     end=$(date +%s)
     bytes=$(stat -c %s "$tmp/$w/replay.html")
-    echo "$w: run $((end - start)) s, replay.html $(echo "scale=2; $bytes / 1000000" | bc) MB"
+    echo "$w: run $((end - start)) s, replay.html $(awk "BEGIN { printf \"%.2f\", $bytes / 1e6 }") MB"
     pages="$pages $tmp/$w/replay.html"
 done
 # shellcheck disable=SC2086
