@@ -6,6 +6,7 @@
 //! `cargo bench --bench step`; compare ratios within one run.
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use shoal::model::lanes::{DynConsts, LANES, Lanes, rk4};
 use shoal::model::prelude::*;
 use shoal::sim::bench::{TRAFFIC_SPACING, swarm, swarm_spaced};
 use shoal::sim::prelude::*;
@@ -15,8 +16,8 @@ use std::hint::black_box;
 /// drive.
 fn uauv2_setup() -> (VehicleModel, Environment, ActuatorCommands) {
     let cmd = ActuatorCommands {
-        thrusters: vec![20.0, 40.0, 35.0],
-        tilts: vec![0.0, -0.6],
+        thrusters: vec![20.0, 40.0, 35.0].into(),
+        tilts: vec![0.0, -0.6].into(),
         pump: Pump::Off,
     };
     (
@@ -72,8 +73,8 @@ fn world_step(c: &mut Criterion) {
     g.finish();
 }
 
-/// Actuation and integration of one vehicle, and integration of a chunk of 256 vehicles
-/// (throughput: vehicles).
+/// Actuation of one vehicle, and RK4 integration of a chunk of 256 vehicles one by one and
+/// four lanes at a time (throughput: vehicles).
 fn parts(c: &mut Criterion) {
     let (model, env, cmd) = uauv2_setup();
     let state = |i: usize| {
@@ -99,6 +100,23 @@ fn parts(c: &mut Criterion) {
         b.iter(|| {
             for st in chunk.iter_mut() {
                 integrate_vehicle(&model, st, &env, Integrator::Rk4, 0.01);
+            }
+        })
+    });
+    // The same chunk as the world integrates it: groups of four lanes sharing one set of
+    // constants (the state is loaded into and stored from the lanes, as the world does).
+    let consts = DynConsts::new(&model.params.body, &chunk[0].mass, &env);
+    g.bench_function("integrate_rk4_lanes_chunk_256", |b| {
+        b.iter(|| {
+            for group in chunk.chunks_mut(LANES) {
+                let mut x = Lanes::<LANES>::default();
+                for (l, st) in group.iter().enumerate() {
+                    x.load(l, &st.rigid, &st.tau);
+                }
+                rk4(black_box(&consts), &mut x, 0.01);
+                for (l, st) in group.iter_mut().enumerate() {
+                    x.store(l, &mut st.rigid);
+                }
             }
         })
     });

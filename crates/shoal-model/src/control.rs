@@ -10,7 +10,7 @@
 //! clockwise seen from above (about body z, which points down).
 
 use crate::ballast::Pump;
-use crate::math::{Quat, Vec3, euler_rpy, wrap_pi};
+use crate::math::{PerActuator, Quat, Vec3, euler_rpy, wrap_pi};
 use crate::thruster::{ThrusterParams, TiltParams};
 
 /// Operating mode of the built-in controller.
@@ -74,9 +74,9 @@ impl Mode {
 #[derive(Clone, Debug, PartialEq, Default)]
 pub struct ActuatorCommands {
     /// Command per thruster [% of full scale, −100…100].
-    pub thrusters: Vec<f64>,
+    pub thrusters: PerActuator,
     /// Target angle per tilt drive \[rad\].
-    pub tilts: Vec<f64>,
+    pub tilts: PerActuator,
     /// Pump command.
     pub pump: Pump,
 }
@@ -85,8 +85,8 @@ impl ActuatorCommands {
     /// All zero for a vehicle with `n_thrusters` thrusters and `n_tilts` tilt drives.
     pub fn zeros(n_thrusters: usize, n_tilts: usize) -> Self {
         Self {
-            thrusters: vec![0.0; n_thrusters],
-            tilts: vec![0.0; n_tilts],
+            thrusters: PerActuator::from_elem(0.0, n_thrusters),
+            tilts: PerActuator::from_elem(0.0, n_tilts),
             pump: Pump::Off,
         }
     }
@@ -291,7 +291,7 @@ pub struct SensorReadings {
     /// Specific force from the accelerometer [m/s²].
     pub accel: Vec3,
     /// Tilt angles from the potentiometers \[rad\].
-    pub tilts: Vec<f64>,
+    pub tilts: PerActuator,
     /// The tank's full switch.
     pub tank_full: bool,
 }
@@ -304,7 +304,7 @@ impl SensorReadings {
             attitude: Quat::identity(),
             gyro: Vec3::zeros(),
             accel: Vec3::zeros(),
-            tilts: vec![0.0; n_tilts],
+            tilts: PerActuator::from_elem(0.0, n_tilts),
             tank_full: false,
         }
     }

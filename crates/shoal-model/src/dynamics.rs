@@ -5,9 +5,9 @@
 //! the current: ṗ = R(q) v_r + v_c, q̇ = ½ q ⊗ (0, ω). With no current ν_r is the ordinary body
 //! velocity.
 
+use crate::lanes::{DynConsts, Lanes, rk4};
 use crate::math::{Quat, Vec3, Vec6, split6};
 use crate::rigid_body::{BodyParams, Environment, MassProperties};
-use nalgebra::Quaternion;
 
 /// Position, attitude and velocity of one hull.
 #[derive(Clone, Debug, PartialEq)]
@@ -74,36 +74,6 @@ pub fn acceleration(
     mp.m_inv * rhs
 }
 
-#[inline]
-fn quat_rate(q: &Quaternion<f64>, omega: &Vec3) -> Quaternion<f64> {
-    q * Quaternion::from_parts(0.0, *omega) * 0.5
-}
-
-struct Deriv {
-    p: Vec3,
-    q: Quaternion<f64>,
-    nu: Vec6,
-}
-
-#[inline]
-fn deriv(
-    body: &BodyParams,
-    mp: &MassProperties,
-    env: &Environment,
-    p: &Vec3,
-    q: &Quaternion<f64>,
-    nu: &Vec6,
-    tau: &Vec6,
-) -> Deriv {
-    let att = Quat::new_normalize(*q);
-    let (v, w) = split6(nu);
-    Deriv {
-        p: att * v + env.current,
-        q: quat_rate(q, &w),
-        nu: acceleration(body, mp, env, p, &att, nu, tau),
-    }
-}
-
 /// Advances `state` by `dt` \[s\] with the force `tau` held constant over the step.
 pub fn integrate(
     integrator: Integrator,
@@ -116,42 +86,13 @@ pub fn integrate(
 ) {
     match integrator {
         Integrator::Rk4 => {
-            let p0 = state.position;
-            let q0 = *state.attitude.quaternion();
-            let n0 = state.nu;
-            let k1 = deriv(body, mp, env, &p0, &q0, &n0, tau);
-            let h = 0.5 * dt;
-            let k2 = deriv(
-                body,
-                mp,
-                env,
-                &(p0 + k1.p * h),
-                &(q0 + k1.q * h),
-                &(n0 + k1.nu * h),
-                tau,
-            );
-            let k3 = deriv(
-                body,
-                mp,
-                env,
-                &(p0 + k2.p * h),
-                &(q0 + k2.q * h),
-                &(n0 + k2.nu * h),
-                tau,
-            );
-            let k4 = deriv(
-                body,
-                mp,
-                env,
-                &(p0 + k3.p * dt),
-                &(q0 + k3.q * dt),
-                &(n0 + k3.nu * dt),
-                tau,
-            );
-            let s = dt / 6.0;
-            state.position = p0 + (k1.p + (k2.p + k3.p) * 2.0 + k4.p) * s;
-            state.attitude = Quat::new_normalize(q0 + (k1.q + (k2.q + k3.q) * 2.0 + k4.q) * s);
-            state.nu = n0 + (k1.nu + (k2.nu + k3.nu) * 2.0 + k4.nu) * s;
+            // The swarm's lane kernel with one lane, so that a hull integrated alone and one
+            // in a swarm give the same result.
+            let c = DynConsts::new(body, mp, env);
+            let mut x = Lanes::<1>::default();
+            x.load(0, state, tau);
+            rk4(&c, &mut x, dt);
+            x.store(0, state);
         }
         Integrator::SemiImplicitEuler => {
             let a = acceleration(

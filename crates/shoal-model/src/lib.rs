@@ -13,6 +13,7 @@ pub mod ballast;
 pub mod control;
 pub mod dynamics;
 pub mod effects;
+pub mod lanes;
 pub mod math;
 pub mod optics;
 pub mod presets;
@@ -29,7 +30,7 @@ pub mod prelude {
         Mode, PdDesign, SensorReadings, Setpoints,
     };
     pub use crate::dynamics::{Integrator, RigidState};
-    pub use crate::math::{Mat3, Mat6, Quat, Vec3, Vec6, quat_from_rpy, wrap_pi};
+    pub use crate::math::{Mat3, Mat6, PerActuator, Quat, Vec3, Vec6, quat_from_rpy, wrap_pi};
     pub use crate::presets;
     pub use crate::rigid_body::{BodyParams, Environment, MassProperties};
     pub use crate::sensors::{ImuParams, PressureSensorParams};

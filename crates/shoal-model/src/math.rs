@@ -17,6 +17,11 @@ pub type Mat6 = Matrix6<f64>;
 /// Unit quaternion (attitude: body → world).
 pub type Quat = UnitQuaternion<f64>;
 
+/// One value per actuator of a vehicle (per thruster or per tilt drive), stored inline for up
+/// to four and on the heap beyond: a swarm's actuator data then lies in its vehicles' own
+/// component rows instead of in small heap blocks of its own.
+pub type PerActuator = smallvec::SmallVec<[f64; 4]>;
+
 /// Standard gravitational acceleration [m/s²].
 pub const GRAVITY: f64 = 9.81;
 

@@ -1,7 +1,7 @@
 //! Thrusters and tilt drives: thrust curves, tilting directions with rate limits, an optional
 //! first-order thrust lag, and the generalised force τ they produce on the hull.
 
-use crate::math::{Quat, Vec3, Vec6, join6};
+use crate::math::{PerActuator, Quat, Vec3, Vec6, join6};
 use nalgebra::Unit;
 
 /// Static thrust as a function of the command.
@@ -191,12 +191,12 @@ impl ThrusterParams {
 #[derive(Clone, Debug, PartialEq, Default)]
 pub struct ActuatorState {
     /// Current tilt angle of each tilt drive \[rad\].
-    pub tilt: Vec<f64>,
+    pub tilt: PerActuator,
     /// Actual thrust of each thruster after the lag, at the end of the last step \[N\].
-    pub thrust: Vec<f64>,
+    pub thrust: PerActuator,
     /// Output of the first stage of a two-stage lag, at the end of the last step \[N\] (empty
     /// or unused for single-stage lags).
-    pub stage: Vec<f64>,
+    pub stage: PerActuator,
 }
 
 /// Advances tilt drives and thrust lags by `dt` \[s\] and returns the generalised force τ
@@ -235,9 +235,13 @@ pub fn actuate_with(
     static_thrust: impl Fn(&ThrusterParams, f64, &Vec3) -> f64,
     dt: f64,
 ) -> Vec6 {
+    // Each drive's rotation once, however many thrusters it turns.
+    let mut rotations: smallvec::SmallVec<[Option<Quat>; 4]> = smallvec::SmallVec::new();
     for (i, tp) in tilts.iter().enumerate() {
         let target = tilt_targets.get(i).copied().unwrap_or(0.0);
-        state.tilt[i] = tp.advance(state.tilt[i], target, dt);
+        let angle = tp.advance(state.tilt[i], target, dt);
+        state.tilt[i] = angle;
+        rotations.push((angle != 0.0).then(|| Quat::from_axis_angle(&tp.axis, angle)));
     }
     let mut force = Vec3::zeros();
     let mut moment = Vec3::zeros();
@@ -247,11 +251,11 @@ pub fn actuate_with(
             .copied()
             .unwrap_or(0.0)
             .clamp(-th.max_command, th.max_command);
-        let (axis, angle) = match th.tilt {
-            Some(k) => (Some(&tilts[k].axis), state.tilt[k]),
-            None => (None, 0.0),
+        // As `th.direction_at(axis, angle)`, with the drive's rotation computed once.
+        let dir = match th.tilt.and_then(|k| rotations[k]) {
+            Some(r) => r * th.direction.into_inner(),
+            None => th.direction.into_inner(),
         };
-        let dir = th.direction_at(axis, angle);
         let f_static = if submerged(&th.position) {
             static_thrust(th, n, &dir)
         } else {
@@ -359,9 +363,9 @@ mod tests {
             lag_stages: 1,
         };
         let mut st = ActuatorState {
-            tilt: vec![],
-            thrust: vec![0.0],
-            stage: vec![],
+            tilt: PerActuator::new(),
+            thrust: PerActuator::from_elem(0.0, 1),
+            stage: PerActuator::new(),
         };
         let dt = 0.001;
         let mut t = 0.0;

@@ -9,7 +9,7 @@ use crate::control::{
 };
 use crate::dynamics::{Integrator, RigidState, integrate};
 use crate::effects::{Effects, ForceContext};
-use crate::math::{Vec3, Vec6, split6};
+use crate::math::{PerActuator, Vec3, Vec6, split6};
 use crate::optics::ModemParams;
 use crate::rigid_body::{BodyParams, Environment, MassProperties};
 use crate::sensors::{ImuParams, PressureSensorParams};
@@ -182,9 +182,9 @@ impl VehicleState {
         Self {
             rigid,
             actuators: ActuatorState {
-                tilt: vec![0.0; p.tilts.len()],
-                thrust: vec![0.0; p.thrusters.len()],
-                stage: vec![0.0; p.thrusters.len()],
+                tilt: PerActuator::from_elem(0.0, p.tilts.len()),
+                thrust: PerActuator::from_elem(0.0, p.thrusters.len()),
+                stage: PerActuator::from_elem(0.0, p.thrusters.len()),
             },
             ballast_volume: vol,
             mass: if env.density == model.density {
@@ -202,6 +202,14 @@ impl VehicleState {
     /// Replaces the mass properties (in place when this vehicle already has its own copy).
     pub fn set_mass(&mut self, mass: MassProperties) {
         *Arc::make_mut(&mut self.mass) = mass;
+    }
+
+    /// Books a completed rigid-body step of `dt` \[s\] that started with velocity `nu0`:
+    /// the mean acceleration over the step and the vehicle's clock.
+    #[inline]
+    pub fn finish_step(&mut self, nu0: &Vec6, dt: f64) {
+        self.accel = (self.rigid.nu - nu0) / dt;
+        self.time += dt;
     }
 
     /// Depth of a body-frame point \[m\].
@@ -229,7 +237,12 @@ pub fn actuate_vehicle(
         }
     }
     let rigid = &state.rigid;
-    let submerged = |r: &Vec3| rigid.position.z + rigid.attitude.transform_vector(r).z > 0.0;
+    // A point within |r| of a body origin deeper than |r| is under water whatever the
+    // attitude; only vehicles near the surface need the rotation.
+    let z = rigid.position.z;
+    let submerged = |r: &Vec3| {
+        (z > 0.0 && z * z > r.norm_squared()) || z + rigid.attitude.transform_vector(r).z > 0.0
+    };
     if model.effects.is_empty() {
         state.tau = actuate(
             &p.thrusters,
@@ -288,8 +301,7 @@ pub fn integrate_vehicle(
         &state.tau,
         dt,
     );
-    state.accel = (state.rigid.nu - nu0) / dt;
-    state.time += dt;
+    state.finish_step(&nu0, dt);
 }
 
 /// Advances one vehicle by `dt` \[s\]: pump, tilt drives and thrusters (→ τ), then the rigid

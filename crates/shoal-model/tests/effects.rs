@@ -27,8 +27,8 @@ fn with(effects: &[(&str, &[f64])]) -> VehicleModel {
 
 fn diving(n: f64) -> ActuatorCommands {
     ActuatorCommands {
-        thrusters: vec![0.0, n, n],
-        tilts: vec![0.0, -FRAC_PI_2],
+        thrusters: vec![0.0, n, n].into(),
+        tilts: vec![0.0, -FRAC_PI_2].into(),
         pump: Pump::Off,
     }
 }
@@ -257,8 +257,8 @@ fn record(v: &VehicleParams, effects: Vec<EffectInstance>, phases: &[Phase]) -> 
     let mut k = 0usize;
     for ph in phases {
         let cmd = ActuatorCommands {
-            thrusters: ph.n.to_vec(),
-            tilts: vec![0.0, ph.beta],
+            thrusters: ph.n.to_vec().into(),
+            tilts: vec![0.0, ph.beta].into(),
             pump: ph.pump,
         };
         st.actuators.tilt.clone_from(&cmd.tilts);

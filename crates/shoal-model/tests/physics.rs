@@ -39,8 +39,8 @@ fn heave_terminal_speed_follows_damping_law() {
     let m = model();
     for n in [30.0, 50.0, 70.0, 100.0] {
         let cmd = ActuatorCommands {
-            thrusters: vec![0.0, n, n],
-            tilts: vec![0.0, -FRAC_PI_2],
+            thrusters: vec![0.0, n, n].into(),
+            tilts: vec![0.0, -FRAC_PI_2].into(),
             pump: Pump::Off,
         };
         let st = run_raw(&m, 1.0, &cmd, 40.0);
@@ -69,8 +69,8 @@ fn yaw_terminal_rate_follows_damping_law() {
     for n in [20.0, 40.0, 60.0] {
         // Balanced commands: port forward, starboard reverse with equal force → pure torque.
         let cmd = ActuatorCommands {
-            thrusters: vec![0.0, n, -n * ratio],
-            tilts: vec![0.0, 0.0],
+            thrusters: vec![0.0, n, -n * ratio].into(),
+            tilts: vec![0.0, 0.0].into(),
             pump: Pump::Off,
         };
         let st = run_raw(&m, 1.0, &cmd, 60.0);

@@ -15,8 +15,11 @@ use crate::recorder;
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::SingleThreadedExecutor;
 use bevy_ecs::schedule::{LogLevel, ScheduleBuildSettings};
+use shoal_model::dynamics::integrate;
+use shoal_model::lanes::{DynConsts, LANES, Lanes, rk4};
 use shoal_model::prelude::*;
 use shoal_world::geometry::{hull_shape, to_pose};
+use std::sync::Arc;
 use std::sync::atomic::Ordering;
 
 /// The phases of one step, run in this order.
@@ -143,12 +146,15 @@ pub fn inbox_clear_system(mut q: Query<&mut Inbox, (Without<Behave>, Without<Ext
     }
 }
 
-/// One step of every vehicle in a single pass: control (on its control tick) → actuation →
-/// rigid-body integration → collisions with the static geometry → sensors (just before its
-/// next control tick). Each vehicle's update reads only its own components and the world's
-/// constants, so the vehicles run in parallel chunks on the world's [`Parallel`] pool with
-/// results independent of the thread count; fusing the phases walks the vehicles once per
-/// step instead of five times.
+/// One step of every vehicle in a single pass over groups of [`LANES`] vehicles: control (on
+/// its control tick) and actuation per vehicle → the rigid bodies of the group integrated
+/// together by the lane kernel ([`shoal_model::lanes`], RK4; vehicles of one kind in one
+/// ballast state share its constants) → per vehicle, collisions with the static geometry and
+/// the sensors (just before the next control tick). Each vehicle's update reads only its own
+/// components and the world's constants, and the lane kernel gives every lane the same
+/// result as a vehicle alone, so the groups run in parallel chunks on the world's
+/// [`Parallel`] pool with results independent of the thread count; fusing the phases walks
+/// the vehicles once per step instead of five times.
 ///
 /// A state that is no longer finite after integration is put back to the last finite one
 /// and recorded ([`crate::fault`]); the run is then stopped by its caller.
@@ -174,24 +180,121 @@ pub fn vehicle_system(
     let t_end = clock.t() + dt;
     let (env, integ) = (phys.env, phys.integrator);
     let geo = &geo.0;
-    let mut items: Vec<_> = q.iter_mut().collect();
-    par.for_each(
-        &mut items,
-        |(kind, sensors, control, act, p, stats, rng)| {
-            let m = &kind.0;
-            if step.is_multiple_of(control.every) {
-                control_vehicle(m, &sensors.0, control, &mut act.0);
+    // The vehicles in batches of a bounded size, so that the step's working memory does not
+    // grow with the swarm.
+    let mut vehicles = q.iter_mut();
+    let mut items = Vec::with_capacity(BATCH.min(vehicles.len()));
+    loop {
+        items.extend(vehicles.by_ref().take(BATCH));
+        if items.is_empty() {
+            break;
+        }
+        let mut groups: Vec<_> = items.chunks_mut(LANES).collect();
+        par.for_each(&mut groups, |group| {
+            let mut before: [Option<RigidState>; LANES] = Default::default();
+            let mut nu0 = [Vec6::zeros(); LANES];
+            for (i, (kind, sensors, control, act, p, _, _)) in group.iter_mut().enumerate() {
+                let m = &kind.0;
+                if step.is_multiple_of(control.every) {
+                    control_vehicle(m, &sensors.0, control, &mut act.0);
+                }
+                actuate_vehicle(m, &mut p.state, &act.0, &env, dt);
+                p.prev_position = p.state.rigid.position;
+                nu0[i] = p.state.rigid.nu;
+                before[i] = Some(p.state.rigid.clone());
             }
-            actuate_vehicle(m, &mut p.state, &act.0, &env, dt);
-            if integrate_checked(m, p, &env, integ, dt, t_end) {
-                flag.0.store(true, Ordering::Relaxed);
+            match integ {
+                Integrator::Rk4 => integrate_group(group, &env, dt),
+                _ => {
+                    for (kind, _, _, _, p, _, _) in group.iter_mut() {
+                        let s = &mut p.state;
+                        integrate(
+                            integ,
+                            &kind.0.params.body,
+                            &s.mass,
+                            &kind.0.environment(&env),
+                            &mut s.rigid,
+                            &s.tau,
+                            dt,
+                        );
+                    }
+                }
             }
-            collide_vehicle(m, geo, &env, p, stats);
-            if (step + 1).is_multiple_of(control.every) {
-                sense(m, &mut p.state, &env, &mut rng.0, &mut sensors.0);
+            for (i, (kind, sensors, control, _, p, stats, rng)) in group.iter_mut().enumerate() {
+                let m = &kind.0;
+                p.state.finish_step(&nu0[i], dt);
+                if !p.state.rigid.is_finite()
+                    && let Some(last) = before[i].take()
+                {
+                    restore_finite(p, last, t_end);
+                    flag.0.store(true, Ordering::Relaxed);
+                }
+                collide_vehicle(m, geo, &env, p, stats);
+                if (step + 1).is_multiple_of(control.every) {
+                    sense(m, &mut p.state, &env, &mut rng.0, &mut sensors.0);
+                }
             }
-        },
-    );
+        });
+        drop(groups);
+        items.clear();
+    }
+}
+
+/// Vehicles per batch of [`vehicle_system`]: enough for every thread to get several chunks,
+/// few enough that the batch's list of component references stays a few megabytes.
+const BATCH: usize = 8192;
+
+/// RK4 for a group of at most [`LANES`] vehicles: each run of consecutive vehicles of one
+/// kind with the same mass properties is integrated in the lanes of one kernel call with
+/// their shared constants (unused lanes repeat the run's first vehicle and are dropped).
+#[allow(clippy::type_complexity)]
+fn integrate_group(
+    group: &mut [(
+        &Kind,
+        Mut<Sensors>,
+        Mut<Control>,
+        Mut<Actuation>,
+        Mut<Physics>,
+        Mut<ContactStats>,
+        Mut<SensorRng>,
+    )],
+    env: &Environment,
+    dt: f64,
+) {
+    let mut i = 0;
+    while i < group.len() {
+        let (kind, mass) = (group[i].0.0.clone(), group[i].4.state.mass.clone());
+        let mut j = i + 1;
+        while j < group.len()
+            && Arc::ptr_eq(&group[j].0.0, &kind)
+            && Arc::ptr_eq(&group[j].4.state.mass, &mass)
+        {
+            j += 1;
+        }
+        let consts = DynConsts::new(&kind.params.body, &mass, &kind.environment(env));
+        let mut x = Lanes::<LANES>::default();
+        for l in 0..LANES {
+            let s = &group[i + l.min(j - i - 1)].4.state;
+            x.load(l, &s.rigid, &s.tau);
+        }
+        rk4(&consts, &mut x, dt);
+        for l in 0..j - i {
+            x.store(l, &mut group[i + l].4.state.rigid);
+        }
+        i = j;
+    }
+}
+
+/// Puts a state that stopped being finite back to `last` (finite, from the start of the
+/// step) and records the first such event in `p.fault`.
+fn restore_finite(p: &mut Physics, last: RigidState, t_end: f64) {
+    if p.fault.is_none() {
+        p.fault = Some(Box::new(NonFinite {
+            time: t_end,
+            last: last.clone(),
+        }));
+    }
+    p.state.rigid = last;
 }
 
 /// The vehicle's controller: setpoints and sensor readings → actuator commands.
@@ -209,33 +312,6 @@ fn control_vehicle(
         &c.setpoints,
         act,
     );
-}
-
-/// Integrates the vehicle's rigid body over one step; a state that is no longer finite is
-/// put back to the last finite one and recorded in `p.fault` (the first time). True when
-/// that happened.
-fn integrate_checked(
-    m: &VehicleModel,
-    p: &mut Physics,
-    env: &Environment,
-    integ: Integrator,
-    dt: f64,
-    t_end: f64,
-) -> bool {
-    p.prev_position = p.state.rigid.position;
-    let before = p.state.rigid.clone();
-    integrate_vehicle(m, &mut p.state, env, integ, dt);
-    if p.state.rigid.is_finite() {
-        return false;
-    }
-    p.state.rigid = before.clone();
-    if p.fault.is_none() {
-        p.fault = Some(Box::new(NonFinite {
-            time: t_end,
-            last: before,
-        }));
-    }
-    true
 }
 
 /// A hull closer than this to a surface is in contact with it [m].

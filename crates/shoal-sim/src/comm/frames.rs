@@ -59,18 +59,12 @@ pub(super) struct Queued {
 pub struct ModemPort {
     pub(super) queue: VecDeque<Queued>,
     pub(super) busy_until: f64,
-    /// Own transmissions (start, end) [s] still relevant for half-duplex checks.
-    pub(super) tx_log: VecDeque<(f64, f64)>,
 }
 
 impl ModemPort {
     /// Frames waiting.
     pub fn queued(&self) -> usize {
         self.queue.len()
-    }
-
-    pub(super) fn transmitting_during(&self, start: f64, end: f64) -> bool {
-        self.tx_log.iter().any(|&(s, e)| s < end && e > start)
     }
 }
 
@@ -80,6 +74,9 @@ pub struct Modems {
     /// One port per modem.
     pub ports: Vec<ModemPort>,
     pub(super) next_seq: u32,
+    /// Frames waiting in all ports' queues (kept beside the ports, so that finding the
+    /// vehicles with work for the medium reads no port).
+    pub(super) queued: u32,
 }
 
 impl Modems {
@@ -88,7 +85,13 @@ impl Modems {
         Self {
             ports: vec![ModemPort::default(); n],
             next_seq: 0,
+            queued: 0,
         }
+    }
+
+    /// Frames waiting in all ports' queues.
+    pub fn queued(&self) -> usize {
+        self.queued as usize
     }
 }
 

@@ -17,6 +17,11 @@ use std::sync::Arc;
 use std::sync::atomic::AtomicU64;
 use std::sync::atomic::Ordering::Relaxed;
 
+/// How far a vehicle may move before the medium's spatial grid is rebuilt \[m\] (see
+/// [`Medium::update_grid`]): at a swarm's speeds of a few dm/s, a rebuild every few dozen
+/// steps instead of every step, for query boxes a quarter metre wider.
+pub const GRID_SKIN: f64 = 0.25;
+
 /// A frame on the air.
 #[derive(Clone, Debug)]
 pub struct Transmission {
@@ -124,8 +129,14 @@ pub struct Medium {
     /// Transmissions still relevant (active, or ended recently enough to overlap a frame that
     /// is still to end), in start order.
     pub txs: Vec<Transmission>,
-    /// Vehicles by position.
+    /// Vehicles by position, as they were at the grid's last rebuild (see
+    /// [`Medium::update_grid`]).
     pub grid: Grid,
+    /// Vehicle positions when the grid was last rebuilt, by id \[m\].
+    grid_points: Vec<Vec3>,
+    /// Largest distance any vehicle has moved since the grid was last rebuilt \[m\] (at most
+    /// [`GRID_SKIN`]); every query box is widened by it.
+    grid_slack: f64,
     /// Link-budget constants of every vehicle's modems, by id.
     pub consts: Vec<Arc<[ModemConsts]>>,
     /// Squared bounding-sphere radius of every vehicle's hull, by id [m²].
@@ -234,6 +245,8 @@ impl Medium {
             poses: vec![(Vec3::zeros(), Quat::identity()); n],
             txs: Vec::new(),
             grid: Grid::default(),
+            grid_points: Vec::new(),
+            grid_slack: 0.0,
             consts,
             hull_r2,
             next_id: 0,
@@ -374,6 +387,43 @@ impl Medium {
         self.latency_hist.iter().map(|h| h.load(Relaxed)).collect()
     }
 
+    /// Brings the spatial grid up to date with [`Medium::poses`], incrementally: the grid is
+    /// rebuilt only when some vehicle has moved more than [`GRID_SKIN`] since the last
+    /// rebuild; until then queries widen their boxes by the largest such move, so they still
+    /// find every vehicle (a superset, which the callers' exact distance tests trim). Which
+    /// grid is used never changes a result, only the work of finding candidates.
+    pub fn update_grid(&mut self) {
+        let moved2 = if self.grid_points.len() == self.poses.len() {
+            self.poses
+                .iter()
+                .zip(&self.grid_points)
+                .map(|((p, _), q)| (p - q).norm_squared())
+                .fold(0.0, f64::max)
+        } else {
+            f64::INFINITY
+        };
+        if moved2 <= GRID_SKIN * GRID_SKIN {
+            self.grid_slack = moved2.sqrt();
+            return;
+        }
+        self.grid_points.clear();
+        self.grid_points.extend(self.poses.iter().map(|(p, _)| *p));
+        // `near` covers ±1 cell, so a cell of r_cut finds everything within r_cut; the
+        // occlusion query at a segment's midpoint needs r_cut/2 + a hull, also covered.
+        // Cells of about a metre: small enough that an occlusion query along a link touches a
+        // few dozen vehicles, large enough that a range query stays a few hundred cells.
+        let cell = (2.0 * self.max_hull_radius).max(self.r_cut / 4.0);
+        self.grid.rebuild(cell, &self.grid_points);
+        self.grid_slack = 0.0;
+    }
+
+    /// Calls `f` with every vehicle within the box `lo … hi` \[m\] (and possibly others
+    /// nearby); stops early when `f` returns `false`. Returns whether it ran to the end.
+    pub fn each_near(&self, lo: &Vec3, hi: &Vec3, f: impl FnMut(u32) -> bool) -> bool {
+        let s = Vec3::repeat(self.grid_slack);
+        self.grid.each_in_box(&(lo - s), &(hi + s), f)
+    }
+
     /// Whether any vehicle has a modem.
     pub fn active(&self) -> bool {
         self.r_cut > 0.0
@@ -385,7 +435,7 @@ impl Medium {
         let r = self.max_hull_radius;
         let d = b - a;
         let len2 = d.norm_squared();
-        self.grid.each_in_box(
+        self.each_near(
             &(a.inf(b) - Vec3::repeat(r)),
             &(a.sup(b) + Vec3::repeat(r)),
             |id| {

@@ -30,7 +30,7 @@ mod systems;
 
 pub use frames::{CommRng, Inbox, ModemPort, Modems, OutFrame, Outbox, Received, comm_rng};
 pub use grid::Grid;
-pub use medium::{Medium, ModemConsts, Transmission, cutoff_range, received_power};
+pub use medium::{GRID_SKIN, Medium, ModemConsts, Transmission, cutoff_range, received_power};
 pub use stats::{
     CommStats, DIST_BIN, DIST_BINS, Heard, IdHasher, LAT_BINS, LinkMap, LinkStats, Outcome,
     latency_bin, latency_bin_centre,

@@ -32,9 +32,8 @@ pub fn comm_snapshot_system(
     }
     // Nothing on the air and nothing waiting to go: the medium has no work this step.
     let idle = medium.txs.is_empty()
-        && q.iter().all(|(_, _, modems, out)| {
-            out.0.is_empty() && modems.ports.iter().all(|p| p.queue.is_empty())
-        });
+        && q.iter()
+            .all(|(_, _, modems, out)| out.0.is_empty() && modems.queued == 0);
     if idle {
         return;
     }
@@ -42,13 +41,7 @@ pub fn comm_snapshot_system(
     for (id, p, _, _) in &q {
         m.poses[id.0 as usize] = (p.state.rigid.position, p.state.rigid.attitude);
     }
-    // `near` covers ±1 cell, so a cell of r_cut finds everything within r_cut; the occlusion
-    // query at a segment's midpoint needs r_cut/2 + a hull, also covered.
-    // Cells of about a metre: small enough that an occlusion query along a link touches a few
-    // dozen vehicles, large enough that a range query stays a few hundred cells.
-    let cell = (2.0 * m.max_hull_radius).max(m.r_cut / 4.0);
-    let points: Vec<Vec3> = m.poses.iter().map(|(p, _)| *p).collect();
-    m.grid.rebuild(cell, &points);
+    m.update_grid();
     // A frame ending in the coming steps started at most `max_airtime` before its end; what
     // ended before that can no longer overlap it.
     let horizon = clock.t() - m.max_airtime - clock.dt;
@@ -132,9 +125,7 @@ pub fn comm_transmit_system(
     if !medium.active() {
         return;
     }
-    let pending = |out: &Outbox, modems: &Modems| {
-        !out.0.is_empty() || modems.ports.iter().any(|p| !p.queue.is_empty())
-    };
+    let pending = |out: &Outbox, modems: &Modems| !out.0.is_empty() || modems.queued > 0;
     if !q
         .iter()
         .any(|(_, _, out, modems, _, _)| pending(out, modems))
@@ -175,6 +166,7 @@ pub fn comm_transmit_system(
                         ready: f.ready,
                         seq,
                     });
+                    modems.queued += 1;
                     queued_any = true;
                 }
             }
@@ -237,19 +229,13 @@ pub fn comm_transmit_system(
             }
             continue;
         }
-        let port = &mut modems.ports[ev.modem];
-        let Some(frame) = port.queue.pop_front() else {
+        let Some(frame) = modems.ports[ev.modem].queue.pop_front() else {
             continue;
         };
+        modems.queued -= 1;
+        let port = &mut modems.ports[ev.modem];
         let end = ev.t + params.airtime(frame.payload.len());
         port.busy_until = end;
-        // Own transmissions that ended before any frame still on the air began are no longer
-        // needed for half-duplex checks.
-        let horizon = ev.t - m.max_airtime - clock.dt;
-        while port.tx_log.front().is_some_and(|&(_, e)| e <= horizon) {
-            port.tx_log.pop_front();
-        }
-        port.tx_log.push_back((ev.t, end));
         m.txs.push(Transmission {
             id: m.next_id,
             tx: ev.vehicle,
@@ -284,14 +270,7 @@ pub fn comm_deliver_system(
     par: Res<Parallel>,
     geo: Res<StaticGeometry>,
     mut medium: ResMut<Medium>,
-    mut q: Query<(
-        &VehicleId,
-        &Kind,
-        &Modems,
-        &mut Inbox,
-        &mut CommRng,
-        &mut CommStats,
-    )>,
+    mut q: Query<(&VehicleId, &Kind, &mut Inbox, &mut CommRng, &mut CommStats)>,
 ) {
     if !medium.active() {
         return;
@@ -361,7 +340,7 @@ pub fn comm_deliver_system(
     for (i, l) in logical.iter().enumerate() {
         let f = l.first();
         let p = m.poses[f.tx as usize].0;
-        m.grid.each_in_box(
+        m.each_near(
             &(p - Vec3::repeat(reach)),
             &(p + Vec3::repeat(reach)),
             |id| {
@@ -386,6 +365,14 @@ pub fn comm_deliver_system(
         frames_of[fill[r as usize] as usize] = i;
         fill[r as usize] += 1;
     }
+    // The medium's transmissions by sender, for the half-duplex test (a receiver's own
+    // frames overlapping the one it would receive): everything that can overlap a frame
+    // ending now is still in `txs`.
+    let mut own: Vec<(u32, u32)> = (0..m.txs.len() as u32)
+        .map(|k| (m.txs[k as usize].tx, k))
+        .collect();
+    own.sort_unstable();
+    let own = Own { m, by_sender: own };
     let mut items: Vec<_> = q
         .iter_mut()
         .filter(|it| start[it.0.0 as usize + 1] > start[it.0.0 as usize])
@@ -394,7 +381,7 @@ pub fn comm_deliver_system(
     // Outcomes by second (a step reaches into the next second at most) and kind.
     let second0 = t0.floor();
     let counts: [[AtomicU64; 5]; 2] = Default::default();
-    par.for_each(&mut items, |(id, kind, modems, inbox, rng, stats)| {
+    par.for_each(&mut items, |(id, kind, inbox, rng, stats)| {
         let frames = &frames_of[start[id.0 as usize] as usize..start[id.0 as usize + 1] as usize];
         let mut scratch = Scratch::default();
         let mut mine = [[0u64; 5]; 2];
@@ -405,7 +392,7 @@ pub fn comm_deliver_system(
                 geo,
                 id.0,
                 &kind.0,
-                modems,
+                &own,
                 l,
                 &mut rng.0,
                 stats,
@@ -439,6 +426,25 @@ pub fn comm_deliver_system(
     }
 }
 
+/// The medium's transmissions sorted by sender.
+struct Own<'a> {
+    m: &'a Medium,
+    /// (sender, index into `m.txs`), sorted.
+    by_sender: Vec<(u32, u32)>,
+}
+
+impl Own<'_> {
+    /// Whether modem `modem` of vehicle `v` was transmitting at some time in (start, end).
+    fn transmitting_during(&self, v: u32, modem: usize, start: f64, end: f64) -> bool {
+        let from = self.by_sender.partition_point(|&(s, _)| s < v);
+        self.by_sender[from..]
+            .iter()
+            .take_while(|&&(s, _)| s == v)
+            .map(|&(_, k)| &self.m.txs[k as usize])
+            .any(|x| x.modem == modem && x.start < end && x.end > start)
+    }
+}
+
 /// Buffers reused across the receptions of one receiver.
 #[derive(Default)]
 struct Scratch<'a> {
@@ -453,7 +459,7 @@ fn receive<'a>(
     geo: &shoal_world::geometry::Geometry,
     me: u32,
     kind: &VehicleModel,
-    modems: &Modems,
+    own: &Own<'_>,
     l: &Logical<'a>,
     rng: &mut VehicleRng,
     stats: &mut CommStats,
@@ -522,11 +528,7 @@ fn receive<'a>(
             best = best.max(outcome);
             continue;
         }
-        if modems
-            .ports
-            .get(k)
-            .is_some_and(|p| p.transmitting_during(f.start, f.end))
-        {
+        if own.transmitting_during(me, k, f.start, f.end) {
             best = best.max(Outcome::HalfDuplex);
             continue;
         }
