@@ -6,7 +6,7 @@
 //! `cargo bench --bench step`; compare ratios within one run.
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use shoal::model::lanes::{DynConsts, LANES, Lanes, rk4};
+use shoal::model::lanes::{DynConsts, LANES, Lanes, rk4_group};
 use shoal::model::prelude::*;
 use shoal::sim::bench::{TRAFFIC_SPACING, swarm, swarm_spaced};
 use shoal::sim::prelude::*;
@@ -113,7 +113,7 @@ fn parts(c: &mut Criterion) {
                 for (l, st) in group.iter().enumerate() {
                     x.load(l, &st.rigid, &st.tau);
                 }
-                rk4(black_box(&consts), &mut x, 0.01);
+                rk4_group(black_box(&consts), &mut x, 0.01);
                 for (l, st) in group.iter_mut().enumerate() {
                     x.store(l, &mut st.rigid);
                 }

@@ -16,7 +16,7 @@ use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::SingleThreadedExecutor;
 use bevy_ecs::schedule::{LogLevel, ScheduleBuildSettings};
 use shoal_model::dynamics::integrate;
-use shoal_model::lanes::{DynConsts, LANES, Lanes, rk4};
+use shoal_model::lanes::{DynConsts, LANES, Lanes, rk4_group};
 use shoal_model::prelude::*;
 use shoal_world::geometry::{hull_shape, to_pose};
 use std::sync::Arc;
@@ -277,7 +277,7 @@ fn integrate_group(
             let s = &group[i + l.min(j - i - 1)].4.state;
             x.load(l, &s.rigid, &s.tau);
         }
-        rk4(&consts, &mut x, dt);
+        rk4_group(&consts, &mut x, dt);
         for l in 0..j - i {
             x.store(l, &mut group[i + l].4.state.rigid);
         }
