@@ -221,7 +221,7 @@ pub enum Ran {
     /// The run started; its outputs are written.
     Finished {
         /// What `summary.json` says.
-        summary: Summary,
+        summary: Box<Summary>,
         /// How it ended.
         ending: Ending,
     },
@@ -382,7 +382,10 @@ pub fn execute(desc: &WorldDesc, out_dir: &Path, opts: &Execute<'_>) -> Result<R
     } else {
         Ending::Complete
     };
-    Ok(Ran::Finished { summary, ending })
+    Ok(Ran::Finished {
+        summary: Box::new(summary),
+        ending,
+    })
 }
 
 /// Opens the world's agent services (when a vehicle group names an agent) and waits for the

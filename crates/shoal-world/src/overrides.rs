@@ -7,12 +7,12 @@
 //! loads it with [`crate::load::load_str`]: unknown fields, wrong types, values out of range
 //! and vehicles that no longer fit are found exactly as in a hand-written world file.
 //!
-//! Problems are traced back to the override that caused them ([`Located::by`]): the one
-//! whose path shares the longest leading part with the problem's field. A problem inside the
-//! overridden field, or at the table that holds it, or at a sibling (a group whose `count`
-//! grew no longer fits its `grid`) goes to that override. When the base world is valid by
-//! itself, every problem comes from the overrides, so this names the culprit; a caller with
-//! the overrides' own source lines (a sweep file) can then point at them.
+//! Problems are traced back to the override that caused them ([`Located::by`]) by loading the
+//! base world again with each override alone: the first override that brings the problem
+//! back by itself is its cause, however far apart the fields are (`duration = 20` makes a
+//! mission step at `t = 70` invalid). A problem that only a combination of overrides causes
+//! names none. A caller with the overrides' own source lines (a sweep file) can then point at
+//! them. The extra loading happens only for a world that fails.
 
 use crate::desc::WorldDesc;
 use crate::error::{FieldPath, Problem, Seg};
@@ -31,33 +31,37 @@ pub struct Override {
 /// A world problem after the overrides, with the override it belongs to.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Located {
-    /// Index into the overrides given to [`apply`]: the override whose path shares the
-    /// longest leading part (at least its first key) with the problem's field.
+    /// Index into the overrides given to [`apply`]: the first override that causes the
+    /// problem when it is applied alone to the base world (`None`: only a combination does).
     pub by: Option<usize>,
     /// The problem as the world loader reported it. Its line and column refer to the written
     /// world text, not to a file the user wrote, so they are cleared.
     pub problem: Problem,
 }
 
+/// An override whose path does not lead anywhere in the base world (an array entry it does
+/// not have, a field inside a plain value) or is not a dotted path at all.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PathProblem {
+    /// Index into the overrides given to [`apply`].
+    pub index: usize,
+    /// The path as given.
+    pub path: String,
+    /// What is wrong, with what exists there.
+    pub message: String,
+}
+
 /// Why overrides could not be applied.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum OverrideError {
-    /// A path that does not lead anywhere in the base world (an array entry it does not have,
-    /// a field inside a plain value) or is not a dotted path at all.
-    #[error("`{path}`: {message}")]
-    Path {
-        /// Index into the overrides given to [`apply`].
-        index: usize,
-        /// The path as given.
-        path: String,
-        /// What is wrong, with what exists there.
-        message: String,
-    },
-    /// The changed world is not a valid world.
-    #[error("the changed world is invalid: {}", problems.iter().map(|p| p.problem.message.as_str()).collect::<Vec<_>>().join("; "))]
-    World {
-        /// Every problem found.
-        problems: Vec<Located>,
+    /// Overrides that lead nowhere, and the problems of the world with the other overrides
+    /// applied (so one pass reports everything).
+    #[error("{}", .paths.iter().map(|p| format!("`{}`: {}", p.path, p.message)).chain(.world.iter().map(|p| p.problem.message.clone())).collect::<Vec<_>>().join("; "))]
+    Problems {
+        /// Overrides whose path leads nowhere (not applied).
+        paths: Vec<PathProblem>,
+        /// Problems of the changed world.
+        world: Vec<Located>,
     },
     /// The changed document cannot be written as TOML (a value TOML cannot hold).
     #[error("cannot write the changed world as TOML: {0}")]
@@ -151,59 +155,79 @@ fn descend<'a>(v: &'a mut toml::Value, at: &FieldPath) -> Result<TableOrArray<'a
         toml::Value::Table(t) => Ok(TableOrArray::Table(t)),
         toml::Value::Array(a) => Ok(TableOrArray::Array(a)),
         other => Err(format!(
-            "`{at}` is a value ({other}) in the base world, not a table or a list, so nothing \
-             inside it can be set"
+            "`{at}` is a value ({other}), not a table or a list, so nothing inside it can be \
+             set"
         )),
     }
 }
 
-/// How many leading segments two paths share.
-fn common(a: &FieldPath, b: &FieldPath) -> usize {
-    a.0.iter().zip(&b.0).take_while(|(x, y)| x == y).count()
+/// The problems of `base` with `overrides` applied (`None`: a path leads nowhere or the text
+/// cannot be written).
+fn problems_with(base: &toml::Table, overrides: &[&Override], file: &Path) -> Option<Vec<Problem>> {
+    let mut doc = base.clone();
+    for o in overrides {
+        set(&mut doc, &o.path, o.value.clone()).ok()?;
+    }
+    let text = toml::to_string(&doc).ok()?;
+    Some(
+        load_str(&text, file)
+            .err()
+            .map_or_else(Vec::new, |e| e.problems),
+    )
 }
 
 /// Applies `overrides` in order to `base` (a parsed world file) and validates the result as
-/// the world file `file` (a name for messages). Of several overrides sharing as much with a
-/// problem's field, the first is named.
+/// the world file `file` (a name for messages). Overrides whose path leads nowhere are
+/// reported and left out, and the world is still loaded with the others, so every problem is
+/// found at once.
 pub fn apply(
     base: &toml::Table,
     overrides: &[Override],
     file: &Path,
 ) -> Result<Applied, OverrideError> {
     let mut doc = base.clone();
-    let mut fields = Vec::with_capacity(overrides.len());
+    let mut applied = Vec::with_capacity(overrides.len());
+    let mut paths = Vec::new();
     for (index, o) in overrides.iter().enumerate() {
-        let field = set(&mut doc, &o.path, o.value.clone()).map_err(|message| {
-            OverrideError::Path {
+        match set(&mut doc, &o.path, o.value.clone()) {
+            Ok(_) => applied.push(index),
+            Err(message) => paths.push(PathProblem {
                 index,
                 path: o.path.clone(),
                 message,
-            }
-        })?;
-        fields.push(field);
+            }),
+        }
     }
     let text = toml::to_string(&doc).map_err(|e| OverrideError::Write(e.to_string()))?;
     match load_str(&text, file) {
-        Ok(desc) => Ok(Applied { text, desc }),
-        Err(e) => Err(OverrideError::World {
-            problems: e
-                .problems
-                .into_iter()
-                .map(|mut problem| {
-                    let by = problem.field.as_ref().and_then(|f| {
-                        let (i, n) = fields
-                            .iter()
-                            .enumerate()
-                            .map(|(i, o)| (i, common(o, f)))
-                            // The first of the longest: `max_by_key` keeps the last.
-                            .fold((0, 0), |best, c| if c.1 > best.1 { c } else { best });
-                        (n > 0).then_some(i)
-                    });
-                    problem.line_col = None;
-                    Located { by, problem }
-                })
-                .collect(),
+        Ok(desc) if paths.is_empty() => Ok(Applied { text, desc }),
+        Ok(_) => Err(OverrideError::Problems {
+            paths,
+            world: Vec::new(),
         }),
+        Err(e) => {
+            // Each override alone, loaded once, to see which problems it causes by itself.
+            let alone: Vec<(usize, Vec<Problem>)> = applied
+                .iter()
+                .filter_map(|&i| Some((i, problems_with(base, &[&overrides[i]], file)?)))
+                .collect();
+            let same = |a: &Problem, b: &Problem| a.field == b.field && a.message == b.message;
+            Err(OverrideError::Problems {
+                paths,
+                world: e
+                    .problems
+                    .into_iter()
+                    .map(|mut problem| {
+                        let by = alone
+                            .iter()
+                            .find(|(_, ps)| ps.iter().any(|p| same(p, &problem)))
+                            .map(|(i, _)| *i);
+                        problem.line_col = None;
+                        Located { by, problem }
+                    })
+                    .collect(),
+            })
+        }
     }
 }
 
@@ -275,25 +299,36 @@ position = [5.0, 5.0, 1.0]
 
     #[test]
     fn a_path_that_leads_nowhere_is_refused_with_what_is_there() {
-        let e = apply(&base(), &[ov("vehicles.2.count", 1)], Path::new("t"));
-        let Err(OverrideError::Path { index, message, .. }) = e else {
-            panic!("{e:?}")
+        let path_problem = |o: Override| {
+            let e = apply(&base(), &[ov("name", "x"), o], Path::new("t"));
+            let Err(OverrideError::Problems { paths, world }) = e else {
+                panic!("{e:?}")
+            };
+            assert!(world.is_empty(), "{world:?}");
+            assert_eq!(paths.len(), 1);
+            assert_eq!(paths[0].index, 1);
+            paths[0].message.clone()
         };
-        assert_eq!(index, 0);
+        let m = path_problem(ov("vehicles.2.count", 1));
         assert!(
-            message.contains("`vehicles` has 2 entries in the base world (0 … 1)"),
-            "{message}"
+            m.contains("`vehicles` has 2 entries in the base world (0 … 1)"),
+            "{m}"
         );
-        let e = apply(&base(), &[ov("duration.x", 1)], Path::new("t"));
-        let Err(OverrideError::Path { message, .. }) = e else {
+        let m = path_problem(ov("duration.x", 1));
+        assert!(m.contains("`duration` is a value (5.0)"), "{m}");
+        let m = path_problem(ov("vehicles.first.count", 1));
+        assert!(m.contains("must be an entry number (0 … 1)"), "{m}");
+        // A path that leads nowhere does not hide the world's problems.
+        let e = apply(
+            &base(),
+            &[ov("vehicles.5.count", 1), ov("dt", -1.0)],
+            Path::new("t"),
+        );
+        let Err(OverrideError::Problems { paths, world }) = e else {
             panic!("{e:?}")
         };
-        assert!(message.contains("`duration` is a value (5.0)"), "{message}");
-        let e = apply(&base(), &[ov("vehicles.first.count", 1)], Path::new("t"));
-        let Err(OverrideError::Path { message, .. }) = e else {
-            panic!("{e:?}")
-        };
-        assert!(message.contains("must be an entry number (0 … 1)"), "{message}");
+        assert_eq!(paths.len(), 1);
+        assert!(world.iter().any(|p| p.by == Some(1)), "{world:?}");
         assert!(split_path("a..b").is_err() && split_path("").is_err());
     }
 
@@ -309,7 +344,10 @@ position = [5.0, 5.0, 1.0]
             ],
             Path::new("t"),
         );
-        let Err(OverrideError::World { problems }) = e else {
+        let Err(OverrideError::Problems {
+            world: problems, ..
+        }) = e
+        else {
             panic!("{e:?}")
         };
         let unknown = problems
@@ -324,7 +362,10 @@ position = [5.0, 5.0, 1.0]
         );
         assert!(problems.iter().all(|p| p.problem.line_col.is_none()));
         let e = apply(&base(), &[ov("dt", -1.0)], Path::new("t"));
-        let Err(OverrideError::World { problems }) = e else {
+        let Err(OverrideError::Problems {
+            world: problems, ..
+        }) = e
+        else {
             panic!("{e:?}")
         };
         assert!(
@@ -333,9 +374,36 @@ position = [5.0, 5.0, 1.0]
                 .any(|p| p.by == Some(0) && p.problem.kind == ProblemKind::Range),
             "{problems:?}"
         );
+        // A problem far from the override that causes it: a shorter duration makes a mission
+        // step too late.
+        let mut b = base();
+        set(
+            &mut b,
+            "vehicles.0.mission",
+            toml::Value::Array(vec![toml::Value::Table(
+                toml::from_str("t = 4.0\nmode = \"diving\"").unwrap(),
+            )]),
+        )
+        .unwrap();
+        let e = apply(
+            &b,
+            &[ov("vehicles.0.count", 2), ov("duration", 3.0)],
+            Path::new("t"),
+        );
+        let Err(OverrideError::Problems {
+            world: problems, ..
+        }) = e
+        else {
+            panic!("{e:?}")
+        };
+        assert_eq!(problems.len(), 1, "{problems:?}");
+        assert_eq!(problems[0].by, Some(1), "{problems:?}");
         // 40 vehicles on a 2-column grid at 1 m run out of the 10 m pool.
         let e = apply(&base(), &[ov("vehicles.0.count", 40)], Path::new("t"));
-        let Err(OverrideError::World { problems }) = e else {
+        let Err(OverrideError::Problems {
+            world: problems, ..
+        }) = e
+        else {
             panic!("{e:?}")
         };
         assert!(problems.iter().any(|p| p.by == Some(0)), "{problems:?}");
