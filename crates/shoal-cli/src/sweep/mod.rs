@@ -188,7 +188,8 @@ fn sweep(a: &SweepArgs) -> Result<ExitCode, Failure> {
                 );
                 return Ok(ExitCode::SUCCESS);
             }
-            slurm::wait(&dir, &plan, &subs, &cancel, a.quiet)?;
+            // The runs still to do, whether submitted now or by an earlier call.
+            slurm::wait(&dir, &plan, &todo, &cancel, a.quiet)?;
             finish(&dir, &plan, &cancel, a.no_plots)
         }
         Engine::K8s => {

@@ -364,18 +364,25 @@ pub fn submit(
     Ok(made)
 }
 
-/// Waits until every index of `subs` has a result or no task of them is left in Slurm
+/// Waits until every run of `indices` has a result or no task for them is left in Slurm
 /// (then gives a shared filesystem 10 s to show late results). A stop request cancels the
-/// jobs and returns.
+/// jobs of this plan that hold any of them (`scancel`) and returns.
 pub fn wait(
     dir: &Path,
     plan: &Plan,
-    subs: &[Submission],
+    indices: &[usize],
     cancel: &Cancel,
     quiet: bool,
 ) -> anyhow::Result<()> {
-    let indices: Vec<usize> = subs.iter().flat_map(|s| s.indices.clone()).collect();
-    let jobs: Vec<String> = subs.iter().map(|s| s.job.clone()).collect();
+    let id = plan.id();
+    let jobs: Vec<String> = submissions(dir)
+        .into_iter()
+        .filter(|s| s.plan == id && s.indices.iter().any(|i| indices.contains(i)))
+        .map(|s| s.job)
+        .collect();
+    if jobs.is_empty() {
+        return Ok(());
+    }
     let done = || {
         indices
             .iter()
@@ -417,7 +424,7 @@ pub fn wait(
                 break;
             }
         } else if Instant::now() >= next_ask {
-            let busy = active(dir, &plan.id())?;
+            let busy = active(dir, &id)?;
             if indices.iter().all(|i| !busy.contains(i)) {
                 gone = Some(Instant::now());
             }
