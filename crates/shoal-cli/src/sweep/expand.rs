@@ -1,10 +1,10 @@
 //! A sweep file → numbered runs, each a complete world file.
 //!
 //! Run `index = point × seeds + seed_number`: points in the design's order (a grid's first
-//! parameter varies slowest), seeds innermost. Each run's world is the base world with, in
-//! order, the sweep's defaults for runs (no plots, no replay — unless `[set]` says otherwise),
-//! `[set]`, the point's values and the seed, applied with [`shoal_world::overrides`] and
-//! loaded like any world file. So every value of every run is validated before anything runs,
+//! parameter varies slowest), seeds innermost. Each run's world is the base world with its
+//! seed and, in order, the sweep's defaults for runs (no plots, no replay — unless `[set]`
+//! says otherwise), `[set]` and the point's values, applied with [`shoal_world::overrides`]
+//! and loaded like any world file. So every value of every run is validated before anything runs,
 //! and each problem is reported at the line of the sweep file that caused it (an unknown path,
 //! a value out of range, a count that no longer fits the pool). Worlds are loaded on several
 //! threads; the result does not depend on how many.
@@ -45,8 +45,6 @@ struct Source {
     path: String,
     value: toml::Value,
     loc: Loc,
-    /// Whether it is the run's seed.
-    seed: bool,
 }
 
 /// Expands `sweep` (with `jobs` threads loading worlds). `sweep_file` is the sweep file as
@@ -75,14 +73,12 @@ pub fn expand(sweep: &SweepFile, sweep_file: &str, jobs: usize) -> Result<Expand
             path: (*path).to_string(),
             value: toml::Value::Boolean(*v),
             loc: None,
-            seed: false,
         })
         .collect();
     fixed.extend(sweep.set.iter().map(|q: &Param| Source {
         path: q.path.clone(),
         value: q.values[0].clone(),
         loc: q.loc,
-        seed: false,
     }));
     let params = sweep.design.params();
     let combos = sweep.design.combinations();
@@ -99,29 +95,21 @@ pub fn expand(sweep: &SweepFile, sweep_file: &str, jobs: usize) -> Result<Expand
                     path: f.path.clone(),
                     value: f.value.clone(),
                     loc: f.loc,
-                    seed: false,
                 })
                 .collect();
             sources.extend(params.iter().zip(combo).map(|(q, v)| Source {
                 path: q.path.clone(),
                 value: v.clone(),
                 loc: q.loc,
-                seed: false,
             }));
-            sources.push(Source {
-                path: "seed".into(),
-                value: toml::Value::Integer(i64::try_from(seed).unwrap_or(i64::MAX)),
-                loc: sweep.seeds_loc,
-                seed: true,
-            });
             (sources, combo, seed)
         })
         .collect();
     let outcomes = apply_all(&base, &runs, &base_name, jobs);
     let mut worlds = Vec::with_capacity(n);
     let mut planned = Vec::with_capacity(n);
-    let mut listed = 0usize;
-    let mut more = 0usize;
+    // Distinct problems (the same one in many runs is one); the first MAX_LISTED are listed.
+    let mut seen: Vec<(Loc, String)> = Vec::new();
     for (index, ((sources, combo, seed), outcome)) in runs.iter().zip(outcomes).enumerate() {
         match outcome {
             Ok(text) => {
@@ -146,12 +134,12 @@ pub fn expand(sweep: &SweepFile, sweep_file: &str, jobs: usize) -> Result<Expand
                 worlds.push(world);
             }
             Err(e) => {
-                for (loc, message) in describe(&e, sources, index, params, combo, *seed) {
-                    if listed < MAX_LISTED {
-                        p.at(loc, message);
-                        listed += 1;
-                    } else {
-                        more += 1;
+                for problem in describe(&e, sources, index, params, combo, *seed) {
+                    if !seen.contains(&problem) {
+                        if seen.len() < MAX_LISTED {
+                            p.at(problem.0, problem.1.clone());
+                        }
+                        seen.push(problem);
                     }
                 }
             }
@@ -159,6 +147,7 @@ pub fn expand(sweep: &SweepFile, sweep_file: &str, jobs: usize) -> Result<Expand
     }
     if !p.is_empty() {
         let mut report = p.report();
+        let more = seen.len().saturating_sub(MAX_LISTED);
         if more > 0 {
             report.push_str(&format!("\n… and {more} more problems"));
         }
@@ -176,14 +165,16 @@ pub fn expand(sweep: &SweepFile, sweep_file: &str, jobs: usize) -> Result<Expand
     })
 }
 
-/// Applies each run's changes to the base world on `jobs` threads; results in run order.
+/// Applies each run's changes to the base world with the run's seed, on `jobs` threads;
+/// results in run order. (The seed is part of the base each change is tried alone on, so a
+/// random placement that fails is traced to the change that made it fail.)
 fn apply_all(
     base: &toml::Table,
     runs: &[(Vec<Source>, &Vec<toml::Value>, u64)],
     file: &Path,
     jobs: usize,
 ) -> Vec<Result<String, OverrideError>> {
-    let one = |sources: &Vec<Source>| {
+    let one = |(sources, _, seed): &(Vec<Source>, &Vec<toml::Value>, u64)| {
         let overrides: Vec<Override> = sources
             .iter()
             .map(|s| Override {
@@ -191,14 +182,19 @@ fn apply_all(
                 value: s.value.clone(),
             })
             .collect();
-        apply(base, &overrides, file).map(|a| a.text)
+        let mut seeded = base.clone();
+        seeded.insert(
+            "seed".into(),
+            toml::Value::Integer(i64::try_from(*seed).unwrap_or(i64::MAX)),
+        );
+        apply(&seeded, &overrides, file).map(|a| a.text)
     };
     let jobs = jobs.clamp(1, runs.len().max(1));
     let chunk = runs.len().div_ceil(jobs).max(1);
     std::thread::scope(|s| {
         let handles: Vec<_> = runs
             .chunks(chunk)
-            .map(|part| s.spawn(move || part.iter().map(|r| one(&r.0)).collect::<Vec<_>>()))
+            .map(|part| s.spawn(move || part.iter().map(one).collect::<Vec<_>>()))
             .collect();
         handles
             .into_iter()
@@ -230,20 +226,17 @@ fn describe(
                 .collect::<String>()
         )
     };
-    let what = |s: &Source| {
-        if s.seed {
-            format!("seed {}", s.value)
-        } else {
-            format!("`{}` = {}", s.path, s.value)
-        }
-    };
+    let what = |s: &Source| format!("`{}` = {}", s.path, s.value);
+    // A path that leads nowhere is wrong whatever its value: named without it, so that the
+    // problem is one line, not one per value.
+    let path_of = |s: &Source| format!("`{}`", s.path);
     match e {
         OverrideError::Write(m) => vec![(None, format!("{}: {m}", run()))],
         OverrideError::Problems { paths, world } => paths
             .iter()
             .map(|p| {
                 let s = &sources[p.index];
-                (s.loc, format!("{}: {}", what(s), p.message))
+                (s.loc, format!("{}: {}", path_of(s), p.message))
             })
             .chain(world.iter().map(|Located { by, problem }| {
                 let field = problem.field.as_ref().map(dotted);
@@ -262,11 +255,15 @@ fn describe(
                     _ => String::new(),
                 };
                 match source {
-                    // A problem that only some seeds have (a random placement that fails)
-                    // names its run.
-                    Some(s) if !s.seed && matches!(problem.kind, ProblemKind::Overlap) => (
+                    Some(s) if problem.kind == ProblemKind::UnknownField => (
                         s.loc,
-                        format!("{} ({}): {at}{}", what(s), run(), problem.message),
+                        format!("{}: {at}{}", path_of(s), problem.message),
+                    ),
+                    // A problem that depends on the seed (a random placement that fails)
+                    // names it.
+                    Some(s) if matches!(problem.kind, ProblemKind::Overlap) => (
+                        s.loc,
+                        format!("{} (seed {seed}): {at}{}", what(s), problem.message),
                     ),
                     Some(s) => (s.loc, format!("{}: {at}{}", what(s), problem.message)),
                     None => (None, format!("{}: {at}{}", run(), problem.message)),
@@ -357,13 +354,13 @@ grid = { origin = [1.0, 1.0, 1.0], spacing = [1.0, 1.0], columns = 2 }
             .unwrap_err();
         assert!(
             e.contains(
-                "s.toml:4:7: `water.attenuaton` = \"pool\": unknown field `attenuaton` — did \
-                 you mean `attenuation`?"
+                "s.toml:4:7: `water.attenuaton`: unknown field `attenuaton` — did you mean \
+                 `attenuation`?"
             ),
             "{e}"
         );
         assert!(
-            e.contains("s.toml:5:12: `vehicles.3.count` = 1: `vehicles` has 1 entry"),
+            e.contains("s.toml:5:12: `vehicles.3.count`: `vehicles` has 1 entry"),
             "{e}"
         );
         // A count that no longer fits the pool, only for the value that does not.

@@ -123,10 +123,8 @@ pub struct SweepFile {
     pub name: String,
     /// The base world.
     pub base: Base,
-    /// The seeds (`None`: each run keeps the base world's seed); with where `seeds` is written.
+    /// The seeds (`None`: each run keeps the base world's seed).
     pub seeds: Option<Vec<u64>>,
-    /// Where `seeds` is written.
-    pub seeds_loc: Loc,
     /// Changes made in every run (each with one value).
     pub set: Vec<Param>,
     /// The varied parameters.
@@ -356,7 +354,6 @@ pub fn parse(text: &str, file: &Path) -> Result<SweepFile, String> {
             name,
             base,
             seeds,
-            seeds_loc,
             set,
             design,
             metrics,

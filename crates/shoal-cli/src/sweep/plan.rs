@@ -79,7 +79,27 @@ impl Plan {
                 dir.display()
             )
         })?;
-        serde_json::from_str(&text).with_context(|| format!("{} is damaged", path.display()))
+        let plan: Plan =
+            serde_json::from_str(&text).with_context(|| format!("{} is damaged", path.display()))?;
+        // Every run has its place and a value per parameter; a run's folder name is a hash.
+        for (i, r) in plan.runs.iter().enumerate() {
+            if r.index != i
+                || r.values.len() != plan.parameters.len()
+                || r.run.len() != 16
+                || !r.run.chars().all(|c| c.is_ascii_hexdigit())
+            {
+                anyhow::bail!(
+                    "{} is damaged: run {i} does not fit the plan (index {}, {} values for {} \
+                     parameters, folder `{}`)",
+                    path.display(),
+                    r.index,
+                    r.values.len(),
+                    plan.parameters.len(),
+                    r.run
+                );
+            }
+        }
+        Ok(plan)
     }
 
     /// Writes DIR/plan.json (whole), unless it already says the same.
