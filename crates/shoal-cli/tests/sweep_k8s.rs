@@ -119,7 +119,9 @@ fn the_manifest_is_an_indexed_job_whose_pods_run_one_run_each() {
     let status: Vec<&str> = rows.iter().map(|r| r["status"].as_str()).collect();
     assert_eq!(
         status,
-        ["missing", "missing", "missing", "missing", "missing", "missing", "ok", "missing"]
+        [
+            "missing", "missing", "missing", "missing", "missing", "missing", "ok", "missing"
+        ]
     );
     assert_eq!(rows[6]["vehicles.0.count"], "4");
     assert_eq!(rows[6]["water.attenuation"], "turbid_harbour");

@@ -114,7 +114,10 @@ fn a_slurm_job_array_gives_the_local_table_and_resubmits_only_what_is_missing_or
 
     // Run 3 cannot write its summary (a folder stands where the file goes): its task fails.
     let out = dir.join("slurm-out");
-    let planted = out.join("runs").join(&reference[3]["run"]).join("summary.json");
+    let planted = out
+        .join("runs")
+        .join(&reference[3]["run"])
+        .join("summary.json");
     std::fs::create_dir_all(planted.join("in-the-way")).unwrap();
     let o = cluster.shoal(&[
         "sweep",
@@ -180,8 +183,12 @@ fn a_slurm_job_array_gives_the_local_table_and_resubmits_only_what_is_missing_or
 
     // A run whose result went missing is re-submitted alone; without --wait the command
     // returns at once and `collect` builds the table from whatever is done.
-    std::fs::remove_file(out.join("runs").join(&reference[5]["run"]).join("result.json"))
-        .unwrap();
+    std::fs::remove_file(
+        out.join("runs")
+            .join(&reference[5]["run"])
+            .join("result.json"),
+    )
+    .unwrap();
     let o = cluster.shoal(&[
         "sweep",
         smoke,

@@ -255,10 +255,9 @@ fn describe(
                     _ => String::new(),
                 };
                 match source {
-                    Some(s) if problem.kind == ProblemKind::UnknownField => (
-                        s.loc,
-                        format!("{}: {at}{}", path_of(s), problem.message),
-                    ),
+                    Some(s) if problem.kind == ProblemKind::UnknownField => {
+                        (s.loc, format!("{}: {at}{}", path_of(s), problem.message))
+                    }
                     // A problem that depends on the seed (a random placement that fails)
                     // names it.
                     Some(s) if matches!(problem.kind, ProblemKind::Overlap) => (

@@ -79,8 +79,8 @@ impl Plan {
                 dir.display()
             )
         })?;
-        let plan: Plan =
-            serde_json::from_str(&text).with_context(|| format!("{} is damaged", path.display()))?;
+        let plan: Plan = serde_json::from_str(&text)
+            .with_context(|| format!("{} is damaged", path.display()))?;
         // Every run has its place and a value per parameter; a run's folder name is a hash.
         for (i, r) in plan.runs.iter().enumerate() {
             if r.index != i
