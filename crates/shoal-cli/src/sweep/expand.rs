@@ -371,4 +371,36 @@ grid = { origin = [1.0, 1.0, 1.0], spacing = [1.0, 1.0], columns = 2 }
         assert!(e.contains("s.toml:3:1: `dt` = -1.0: "), "{e}");
         assert!(!e.contains("0.01"), "{e}");
     }
+
+    /// The shipped sweeps expand, and so does every complete sweep file of docs/sweeps.md
+    /// (read as if it were in worlds/sweeps/): the documentation cannot drift from the format.
+    #[test]
+    fn the_shipped_and_documented_sweeps_expand() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+        for (file, runs) in [("smoke.toml", 8), ("study.toml", 160)] {
+            let path = root.join("worlds/sweeps").join(file);
+            let s = super::super::file::read(&path).unwrap();
+            let ex = expand(&s, file, 2).unwrap_or_else(|e| panic!("{e}"));
+            assert_eq!(ex.plan.runs.len(), runs, "{file}");
+        }
+        let docs = std::fs::read_to_string(root.join("docs/sweeps.md")).unwrap();
+        let blocks: Vec<&str> = docs
+            .split("```toml")
+            .skip(1)
+            .map(|b| b.split("```").next().unwrap_or(""))
+            .collect();
+        let mut complete = 0;
+        for b in blocks {
+            if b.contains("[metrics]") {
+                let s = parse(b, &root.join("worlds/sweeps/docs.toml"))
+                    .unwrap_or_else(|e| panic!("{e}\n{b}"));
+                expand(&s, "docs.toml", 2).unwrap_or_else(|e| panic!("{e}\n{b}"));
+                complete += 1;
+            } else {
+                // A fragment: valid TOML at least.
+                toml::from_str::<toml::Table>(b).unwrap_or_else(|e| panic!("{e}\n{b}"));
+            }
+        }
+        assert!(complete >= 1);
+    }
 }
