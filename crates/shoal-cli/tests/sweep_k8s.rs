@@ -3,6 +3,7 @@
 //! looked at), and the command its pods run is run here, as a pod would run it with its
 //! completion index, against the folder the volume would hold.
 
+mod common;
 mod sweep_common;
 
 use serde_json::Value;

@@ -3,6 +3,7 @@
 //! the same whatever `--jobs`, a stop leaves a consistent table that the next call completes,
 //! and a mistake in the sweep file is an error at its line.
 
+mod common;
 mod sweep_common;
 
 use std::process::{Command, Stdio};

@@ -9,6 +9,7 @@
 //! (not root, no Debian packages), the test fails with the script's reason: it is never
 //! skipped.
 
+mod common;
 mod sweep_common;
 
 use std::path::{Path, PathBuf};

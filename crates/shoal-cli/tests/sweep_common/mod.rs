@@ -1,16 +1,12 @@
-//! Helpers of the sweep tests: running `shoal sweep`, reading results.csv, and the smoke
-//! sweep's expected parameter rows.
+//! Helpers of the sweep tests (with those of `common`): running `shoal sweep`, reading
+//! results.csv, and the smoke sweep's expected parameter rows.
 
 #![allow(dead_code)]
 
+pub use crate::common::repo;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
-
-/// The repository root.
-pub fn repo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
 
 /// worlds/sweeps/smoke.toml.
 pub fn smoke() -> PathBuf {
@@ -19,10 +15,7 @@ pub fn smoke() -> PathBuf {
 
 /// A fresh temporary folder for one test.
 pub fn tmp(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("shoal-sweep-{tag}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    crate::common::tmp("sweep", tag)
 }
 
 /// Runs the shoal binary with `args`.
