@@ -36,7 +36,8 @@ pub struct SlurmArgs {
     /// Time limit of each task (`sbatch --time`: minutes, MM:SS, HH:MM:SS, D-HH:MM, …).
     #[arg(long)]
     pub time: Option<String>,
-    /// Most tasks of the array running at once (`--array=…%K`).
+    /// Most runs at once on the cluster (Slurm: `--array=…%K`; Kubernetes: the Job's
+    /// `parallelism`).
     #[arg(long, value_name = "K", value_parser = clap::value_parser!(u32).range(1..))]
     pub max_parallel: Option<u32>,
     /// Wait until the submitted runs are done, then write the table and plots.
