@@ -8,6 +8,10 @@
 # 2. Chromium, for the replay's headless-browser tests (crates/shoal-sim/tests/replay_browser.rs):
 #    scripts/install-chromium.sh installs Debian's package when it is missing and this runs as
 #    root with apt-get; otherwise those tests fail and say what is missing.
+# 2b. A single-node Slurm cluster for the sweep test (crates/shoal-cli/tests/sweep_slurm.rs):
+#    .ci/slurm-up installs Debian's slurm-wlm and munge when missing (root, apt-get), tears down
+#    a cluster a crashed earlier run left behind, and starts one; .ci/slurm-down stops it when
+#    this script ends. When it cannot start, the Slurm test fails and says why.
 # 3. cargo test --workspace: every test (unit, integration, doc); it builds the examples too.
 # 4. cargo test --workspace --bench '*': every criterion bench, compiled and run once (test mode).
 # 5. Each root example once, on a short setting, into a temporary folder.
@@ -32,6 +36,21 @@ fi
 # 2. Chromium (the script says what it did; without root or apt-get it only warns here).
 scripts/install-chromium.sh || echo "scripts/test.sh: the replay browser tests will fail" >&2
 
+# 2b. Slurm, for the sweep test; stopped (with the examples' folder removed) on exit.
+slurm_up=0
+cleanup() {
+    if [ "$slurm_up" = 1 ]; then .ci/slurm-down; fi
+    rm -rf "${tmp:-}"
+}
+trap cleanup EXIT
+if slurm_out=$(.ci/slurm-up); then
+    SHOAL_SLURM_CONF=$(printf '%s\n' "$slurm_out" | sed -n 's/^SLURM_CONF=//p')
+    export SHOAL_SLURM_CONF
+    slurm_up=1
+else
+    echo "scripts/test.sh: no Slurm cluster (above: why); the Slurm sweep test will fail" >&2
+fi
+
 # 3. The tests.
 cargo test --workspace
 
@@ -42,8 +61,7 @@ cargo test --workspace --bench '*'
 target=$(cargo metadata --format-version 1 --no-deps |
     sed -n 's/.*"target_directory":"\([^"]*\)".*/\1/p')
 examples="$target/debug/examples"
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
+tmp=$(mktemp -d) # removed by cleanup (2b)
 need() {
     for f in "$@"; do
         [ -s "$f" ] || { echo "scripts/test.sh: $f was not written" >&2; exit 1; }

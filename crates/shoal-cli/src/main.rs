@@ -13,6 +13,9 @@
 //! - 129, 130, 143: `shoal run` stopped by SIGHUP, SIGINT (Ctrl-C) or SIGTERM (128 + the
 //!   signal number); outputs up to that step are written, or nothing when the signal came
 //!   while the world was being loaded or built.
+//!
+//! `shoal sweep` exits 1 also when some of its runs failed or are missing (results.csv lists
+//! them), and 128 + n when a signal stopped it (the table holds the runs that finished).
 
 mod alloc;
 mod bench;
@@ -20,6 +23,7 @@ mod bench_rows;
 mod render;
 mod run;
 mod signals;
+mod sweep;
 mod validate;
 
 use clap::{Parser, Subcommand};
@@ -62,6 +66,9 @@ enum Command {
         #[arg(long, value_name = "FILE")]
         vehicle: Option<PathBuf>,
     },
+    /// Run a sweep: many runs of a world with parameters varied, one table (locally, as a
+    /// Slurm job array, or as a Kubernetes Indexed Job); see docs/sweeps.md.
+    Sweep(sweep::SweepCmd),
     /// Print a built-in vehicle model as a runnable world file (every number, to copy and edit).
     Preset {
         /// Preset name.
@@ -96,6 +103,7 @@ fn main() -> ExitCode {
         Command::Render(a) => render::render(&a),
         Command::Check { world } => run::check(&world),
         Command::Preset { name } => run::preset(&name),
+        Command::Sweep(a) => sweep::main(&a),
         Command::Validate(a) => validate::validate(&a),
         Command::Effects { vehicle } => validate::effects_table(vehicle.as_deref()),
         Command::Bench(a) => bench::bench(&a)

@@ -12,7 +12,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use shoal_bridge::host::{Flow, Host};
 use shoal_sim::agents::AgentsSummary;
 use shoal_sim::prelude::*;
-use shoal_world::cancel::Cancel;
+use shoal_world::cancel::{Cancel, Cause};
 use shoal_world::desc::WorldDesc;
 use shoal_world::load::{DEFAULT_WORLD, EMBEDDED_NAME, LoadError, load_file_until, load_str_until};
 use std::path::{Path, PathBuf};
@@ -64,7 +64,7 @@ pub struct RunArgs {
 }
 
 /// Loads the world file (or the embedded default world) until `cancel` asks for a stop.
-fn load(world: Option<&Path>, cancel: &Cancel) -> Result<WorldDesc, LoadError> {
+pub fn load(world: Option<&Path>, cancel: &Cancel) -> Result<WorldDesc, LoadError> {
     match world {
         Some(p) => load_file_until(p, cancel),
         None => load_str_until(DEFAULT_WORLD, Path::new(EMBEDDED_NAME), cancel),
@@ -158,9 +158,100 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, Failure> {
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from("out").join(slug(&desc.name)));
+    let threads = args.threads.map_or_else(crate::all_cores, usize::from);
+    let ran = execute(
+        &desc,
+        &out_dir,
+        &Execute {
+            threads,
+            replay: !args.no_replay,
+            quiet: args.quiet,
+            cancel: &cancel,
+        },
+    )?;
+    let (summary, ending) = match ran {
+        Ran::StoppedBeforeStart(code) => return Ok(code),
+        Ran::Finished { summary, ending } => (summary, ending),
+    };
+    println!("{}", summary.to_text());
+    if let Ending::Fault { time, message } = &ending {
+        eprintln!(
+            "error: the run stopped at t = {time} s: {message}. The outputs up to that step \
+             are written; summary.json says `failed`."
+        );
+    }
+    Ok(ending.exit_code())
+}
 
+/// How a run that started ended (its outputs are written either way).
+#[derive(Clone, Debug)]
+pub enum Ending {
+    /// Every planned step ran.
+    Complete,
+    /// The world's agent fallback `stop` ended it early (the outputs are complete).
+    AgentsStopped,
+    /// A vehicle's state became non-finite.
+    Fault {
+        /// Time of the last finite state \[s\].
+        time: f64,
+        /// Which vehicle, when, its last finite state.
+        message: String,
+    },
+    /// A stop request (a signal) ended it at a step boundary.
+    Interrupted(Cause),
+}
+
+impl Ending {
+    /// The exit code of `shoal run` for this ending (docs/exit-codes.md).
+    pub fn exit_code(&self) -> ExitCode {
+        match self {
+            Ending::Complete => ExitCode::SUCCESS,
+            Ending::AgentsStopped => ExitCode::from(3),
+            Ending::Fault { .. } => ExitCode::from(4),
+            Ending::Interrupted(cause) => signals::exit_code(*cause),
+        }
+    }
+}
+
+/// What [`execute`] did.
+pub enum Ran {
+    /// A stop request came while the world was being built: nothing was written; the exit
+    /// code of the signal.
+    StoppedBeforeStart(ExitCode),
+    /// The run started; its outputs are written.
+    Finished {
+        /// What `summary.json` says.
+        summary: Box<Summary>,
+        /// How it ended.
+        ending: Ending,
+    },
+}
+
+/// How [`execute`] runs a world.
+pub struct Execute<'a> {
+    /// Working threads for per-vehicle loops (results do not depend on it).
+    pub threads: usize,
+    /// Write `replay.html` when the world asks for it.
+    pub replay: bool,
+    /// No progress bar and no messages on standard error.
+    pub quiet: bool,
+    /// The stop request that ends the run early.
+    pub cancel: &'a Arc<Cancel>,
+}
+
+/// Builds the world `desc`, runs it to its duration (or a stop, an agent fallback `stop`, a
+/// non-finite state) and writes its outputs into `out_dir`: the one run path shared by
+/// `shoal run` and each run of `shoal sweep`. Errors are failures to write outputs or to
+/// open agent services.
+pub fn execute(desc: &WorldDesc, out_dir: &Path, opts: &Execute<'_>) -> Result<Ran, Failure> {
+    let Execute {
+        threads,
+        replay,
+        quiet,
+        cancel,
+    } = *opts;
     let steps = desc.steps();
-    if !args.quiet {
+    if !quiet {
         for w in &desc.warnings {
             eprintln!("shoal: warning: {w}");
         }
@@ -170,24 +261,26 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, Failure> {
             desc.vehicles.len()
         );
     }
-    let threads = args.threads.map_or_else(crate::all_cores, usize::from);
     let built = Sim::new_until(
-        &desc,
+        desc,
         SimOptions {
             threads,
             record: true,
         },
-        &cancel,
+        cancel,
     );
     let Ok(mut sim) = built else {
-        return Ok(stopped_before_start(&cancel, "building the world"));
+        return Ok(Ran::StoppedBeforeStart(stopped_before_start(
+            cancel,
+            "building the world",
+        )));
     };
-    if !args.no_replay && desc.output.replay {
-        sim.enable_replay(&desc);
+    if replay && desc.output.replay {
+        sim.enable_replay(desc);
     }
-    let mut out = RunOutput::create(&out_dir, &desc)
+    let mut out = RunOutput::create(out_dir, desc)
         .with_context(|| format!("cannot create outputs in {}", out_dir.display()))?;
-    let pb = if args.quiet {
+    let pb = if quiet {
         ProgressBar::hidden()
     } else {
         ProgressBar::new(steps)
@@ -198,7 +291,7 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, Failure> {
         )
         .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
-    if !args.quiet {
+    if !quiet {
         eprintln!(
             "shoal: running `{}` — {} vehicles, {:.1} s at dt = {} s, {} thread(s) → {}",
             desc.name,
@@ -209,7 +302,7 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, Failure> {
             out_dir.display()
         );
     }
-    let mut host = open_agents(&desc, args.quiet, &cancel)?;
+    let mut host = open_agents(desc, quiet, cancel)?;
     let mut stopped: Option<String> = None;
     // Steps between progress updates and trajectory writes: at most 500 and at most
     // CHUNK_WORK vehicle-steps, so a stop request (seen at every step) is followed by little
@@ -227,7 +320,7 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, Failure> {
         match host.as_mut() {
             // A stop request ends the chunk at a step boundary; the loop condition sees it.
             None => {
-                let _ = sim.run_until(n, &cancel);
+                let _ = sim.run_until(n, cancel);
             }
             Some(h) => {
                 for _ in 0..n {
@@ -275,24 +368,23 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, Failure> {
     out.replay = sim.take_replay();
     // The error names the file that could not be written and why; the files before it stay.
     let summary = out
-        .finish(&desc, &mut sim, wall, &cancel)
+        .finish(desc, &mut sim, wall, cancel)
         .map_err(|e| Failure::Other(e.into()))?;
-    println!("{}", summary.to_text());
-    if let Some(f) = sim.fault() {
-        eprintln!(
-            "error: the run stopped at t = {} s: {f}. The outputs up to that step are written; \
-             summary.json says `failed`.",
-            f.state.time
-        );
-        return Ok(ExitCode::from(4));
-    }
-    Ok(if let Some(cause) = cancel.cause() {
-        signals::exit_code(cause)
+    let ending = if let Some(f) = sim.fault() {
+        Ending::Fault {
+            time: f.state.time,
+            message: f.to_string(),
+        }
+    } else if let Some(cause) = cancel.cause() {
+        Ending::Interrupted(cause)
     } else if summary.agents.as_ref().is_some_and(|a| a.stopped.is_some()) {
-        // The world's agent fallback `stop` ended the run early (outputs are complete).
-        ExitCode::from(3)
+        Ending::AgentsStopped
     } else {
-        ExitCode::SUCCESS
+        Ending::Complete
+    };
+    Ok(Ran::Finished {
+        summary: Box::new(summary),
+        ending,
     })
 }
 

@@ -2,8 +2,9 @@
 //!
 //! The simulated world of shoal: one bevy_ecs entity per vehicle ([`components`]), a fixed-step
 //! schedule of chained system sets ([`systems`]) run by [`sim::Sim`], per-world parallel loops
-//! ([`parallel`]), a trajectory recorder ([`recorder`]) and run outputs ([`output`], [`plot`]),
-//! each file written whole or not at all ([`files`]); external agents, independent of their
+//! ([`parallel`]), a trajectory recorder ([`recorder`]) and run outputs ([`output`], [`plot`];
+//! [`ci_plot`]: means with confidence intervals, for parameter studies), each file written
+//! whole or not at all ([`files`]); external agents, independent of their
 //! transport ([`agents`]). Long work (building a world, running it, drawing plots) can be
 //! stopped early through a [`shoal_world::cancel::Cancel`].
 
@@ -11,6 +12,7 @@ pub mod agents;
 pub mod analysis;
 pub mod behaviour;
 pub mod bench;
+pub mod ci_plot;
 pub mod comm;
 pub mod comm_report;
 pub mod components;

@@ -13,6 +13,7 @@ pub mod desc;
 pub mod error;
 pub mod geometry;
 pub mod load;
+pub mod overrides;
 pub mod spec;
 
 /// The commonly used types.
