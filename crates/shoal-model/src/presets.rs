@@ -137,6 +137,8 @@ pub fn uauv2() -> VehicleParams {
         lag: 0.0,
         lag_down: -1.0,
         lag_stages: 1,
+        // No slew-rate limit.
+        ramp: 0.0,
     };
     VehicleParams {
         name: "uauv2".into(),

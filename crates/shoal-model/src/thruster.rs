@@ -147,6 +147,10 @@ pub struct ThrusterParams {
     /// Lag stages in series, each with the time constant above (1: first order, 2: critically
     /// damped second order, as a motor whose speed and current both lag).
     pub lag_stages: u8,
+    /// Time the motor command takes to ramp through 100 % of command \[s\]: a slew-rate limit
+    /// of 100/`ramp` %/s on the command the thrust curve sees (an ESC with a soft start or a
+    /// current limit); 0 = none.
+    pub ramp: f64,
 }
 
 /// Exact response of a first-order lag with time constant `tau` \[s\] from `x0` towards the
@@ -197,6 +201,9 @@ pub struct ActuatorState {
     /// Output of the first stage of a two-stage lag, at the end of the last step \[N\] (empty
     /// or unused for single-stage lags).
     pub stage: PerActuator,
+    /// The command each motor applies after its slew-rate limit ([`ThrusterParams::ramp`]),
+    /// at the end of the last step [%] (empty or unused without a limit).
+    pub command: PerActuator,
 }
 
 /// Advances tilt drives and thrust lags by `dt` \[s\] and returns the generalised force τ
@@ -251,6 +258,19 @@ pub fn actuate_with(
             .copied()
             .unwrap_or(0.0)
             .clamp(-th.max_command, th.max_command);
+        // A slew-rate limit: the motor's command moves towards the commanded one by at most
+        // 100/ramp %/s and holds for the step.
+        let n = if th.ramp > 0.0 {
+            if state.command.len() < thrusters.len() {
+                state.command.resize(thrusters.len(), 0.0);
+            }
+            let step = 100.0 / th.ramp * dt;
+            let c = state.command[i] + (n - state.command[i]).clamp(-step, step);
+            state.command[i] = c;
+            c
+        } else {
+            n
+        };
         // As `th.direction_at(axis, angle)`, with the drive's rotation computed once.
         let dir = match th.tilt.and_then(|k| rotations[k]) {
             Some(r) => r * th.direction.into_inner(),
@@ -346,27 +366,40 @@ mod tests {
         assert_eq!(t.advance(0.2, 0.25, 0.1), 0.25);
     }
 
-    #[test]
-    fn lag_is_first_order() {
-        let th = ThrusterParams {
+    /// A thruster without tilt drive, C⁺ = 1e-4 N/%², C⁻ = `ct_neg`, with a lag `lag` \[s\]
+    /// and a slew-rate limit `ramp` \[s per 100 %\].
+    fn plain(ct_neg: f64, lag: f64, ramp: f64) -> ThrusterParams {
+        ThrusterParams {
             name: "a".into(),
             position: Vec3::zeros(),
             direction: Vec3::x_axis(),
             tilt: None,
             curve: ThrustCurve::Quadratic {
                 ct_pos: 1e-4,
-                ct_neg: 1e-4,
+                ct_neg,
             },
             max_command: 100.0,
-            lag: 0.5,
+            lag,
             lag_down: -1.0,
             lag_stages: 1,
-        };
-        let mut st = ActuatorState {
+            ramp,
+        }
+    }
+
+    /// One thruster's state at rest.
+    fn at_rest() -> ActuatorState {
+        ActuatorState {
             tilt: PerActuator::new(),
             thrust: PerActuator::from_elem(0.0, 1),
             stage: PerActuator::new(),
-        };
+            command: PerActuator::new(),
+        }
+    }
+
+    #[test]
+    fn lag_is_first_order() {
+        let th = plain(1e-4, 0.5, 0.0);
+        let mut st = at_rest();
         let dt = 0.001;
         let mut t = 0.0;
         while t < 0.5 - 1e-12 {
@@ -387,5 +420,45 @@ mod tests {
             "{}",
             st.thrust[0]
         );
+    }
+
+    #[test]
+    fn slew_rate_limit_turns_a_step_into_a_ramp_whose_length_grows_with_the_step() {
+        // 0.8 s per 100 %: 125 %/s. A step to 50 % arrives after 0.4 s, one to 100 % after
+        // 0.8 s; on the way the thrust is the curve's at the ramped command.
+        let th = plain(2e-4, 0.0, 0.8);
+        let dt = 0.01;
+        for (step, arrival) in [(50.0, 0.4), (100.0, 0.8), (-100.0, 0.8)] {
+            let mut st = at_rest();
+            for k in 1..=100 {
+                let tau = actuate(
+                    std::slice::from_ref(&th),
+                    &[],
+                    &mut st,
+                    &[step],
+                    &[],
+                    |_| true,
+                    dt,
+                );
+                let t = k as f64 * dt;
+                let n = if t < arrival {
+                    125.0 * t * f64::signum(step)
+                } else {
+                    step
+                };
+                let ct = if n >= 0.0 { 1e-4 } else { 2e-4 };
+                let f = ct * n * n.abs();
+                assert!(
+                    (st.command[0] - n).abs() < 1e-9,
+                    "t {t}: {} %",
+                    st.command[0]
+                );
+                assert!(
+                    (tau[0] - f).abs() < 1e-12,
+                    "t {t}: {} N, expected {f}",
+                    tau[0]
+                );
+            }
+        }
     }
 }

@@ -185,6 +185,8 @@ impl VehicleState {
                 tilt: PerActuator::from_elem(0.0, p.tilts.len()),
                 thrust: PerActuator::from_elem(0.0, p.thrusters.len()),
                 stage: PerActuator::from_elem(0.0, p.thrusters.len()),
+                // Filled on the first step of a thruster with a slew-rate limit.
+                command: PerActuator::new(),
             },
             ballast_volume: vol,
             mass: if env.density == model.density {

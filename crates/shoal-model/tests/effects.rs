@@ -54,6 +54,18 @@ fn terminal(f: f64) -> f64 {
     f.signum() * (-b + (b * b + 4.0 * a * f.abs()).sqrt()) / (2.0 * a)
 }
 
+/// Asserts that the run `st` ended under water (more than 0.5 m deep: a rise from 3 m stopped
+/// short of the surface) at the terminal heave speed for the net downward force `f` [N].
+fn assert_terminal(st: &VehicleState, f: f64) {
+    assert!(st.rigid.position.z > 0.5, "{}", st.rigid.position.z);
+    assert!(
+        (st.rigid.nu[2] - terminal(f)).abs() < 1e-6,
+        "{} vs {}",
+        st.rigid.nu[2],
+        terminal(f)
+    );
+}
+
 #[test]
 fn catalogue_is_complete_and_consistent() {
     let want = [
@@ -418,7 +430,7 @@ fn thrust_effects_set_terminal_heave_speeds() {
     // Reverse thrust is scaled by k_rev.
     let st = run(&with(&[("thrust_asymmetry", &[0.5])]), &diving(-70.0), 30.0);
     let f = -0.5 * 2.0 * UAUV2_CT_NEG * n * n;
-    assert!((st.rigid.nu[2] - terminal(f)).abs() < 1e-6);
+    assert_terminal(&st, f);
     // Below the dead band nothing happens.
     let st = run(&with(&[("thruster_deadband", &[10.0])]), &diving(8.0), 5.0);
     assert!(st.rigid.nu[2].abs() < 1e-12, "{}", st.rigid.nu[2]);
@@ -446,29 +458,16 @@ fn shaped_forms_follow_their_laws() {
         40.0,
     );
     let f = 1.2 * (70.0_f64 / 50.0).powf(0.3) * f0;
-    assert!(
-        (st.rigid.nu[2] - terminal(f)).abs() < 1e-6,
-        "{}",
-        st.rigid.nu[2]
-    );
+    assert_terminal(&st, f);
     // Direction-dependent drag, diving (w > 0): the drag law × k₊, so the terminal speed is
     // the baseline's for the force / k₊; rising (w < 0) it is × k₋.
     // (Rising from 3 m, the run stops well before the surface.)
     let m = with_form("damping_error", "direction", &[1.5, 2.0]);
     let st = run(&m, &diving(n), 40.0);
-    assert!(
-        (st.rigid.nu[2] - terminal(f0 / 1.5)).abs() < 1e-6,
-        "{}",
-        st.rigid.nu[2]
-    );
+    assert_terminal(&st, f0 / 1.5);
     let st = run(&m, &diving(-n), 12.0);
     let fr = -2.0 * UAUV2_CT_NEG * n * n;
-    assert!(st.rigid.position.z > 0.5, "{}", st.rigid.position.z);
-    assert!(
-        (st.rigid.nu[2] - terminal(fr / 2.0)).abs() < 1e-6,
-        "{}",
-        st.rigid.nu[2]
-    );
+    assert_terminal(&st, fr / 2.0);
     // Asymmetric dead band (4 % forward, 12 % reverse): 8 % pushes, −8 % does nothing, and
     // −40 % acts like −100·(40 − 12)/88.
     let m = with_form("thruster_deadband", "asymmetric", &[4.0, 12.0]);
@@ -478,13 +477,35 @@ fn shaped_forms_follow_their_laws() {
     assert!(st.rigid.nu[2] > 1e-4, "{}", st.rigid.nu[2]);
     let st = run(&m, &diving(-40.0), 60.0);
     let fr = -2.0 * UAUV2_CT_NEG * (100.0 * 28.0 / 88.0_f64).powi(2);
-    assert!(st.rigid.position.z > 0.5, "{}", st.rigid.position.z);
-    assert!(
-        (st.rigid.nu[2] - terminal(fr)).abs() < 1e-6,
-        "{} vs {}",
-        st.rigid.nu[2],
-        terminal(fr)
-    );
+    assert_terminal(&st, fr);
+    // Asymmetric saturation (40 % of the forward maximum, 60 % of the reverse one): full
+    // command dives at the speed of 0.4 · the forward maximum and rises at that of 0.6 · the
+    // reverse maximum.
+    let m = with_form("thrust_saturation", "asymmetric", &[0.4, 0.6]);
+    let st = run(&m, &diving(100.0), 40.0);
+    let f = 2.0 * 0.4 * UAUV2_CT_POS * 100.0 * 100.0;
+    assert_terminal(&st, f);
+    let st = run(&m, &diving(-100.0), 20.0);
+    let fr = -2.0 * 0.6 * UAUV2_CT_NEG * 100.0 * 100.0;
+    assert_terminal(&st, fr);
+    // Inflow loss as a power of the speed: at the terminal speed w each thruster gives
+    // f0·(1 − k·(w/0.1 m/s)^p), which the drag Z_w·w + Z_w|w|·w² balances.
+    for (k, p) in [(0.3, 0.5), (0.2, 2.0)] {
+        let st = run(
+            &with_form("inflow_thrust_loss", "power", &[k, p]),
+            &diving(n),
+            40.0,
+        );
+        let w = st.rigid.nu[2];
+        let f1 = UAUV2_CT_POS * n * n;
+        let thrust = 2.0 * f1 * (1.0 - k * (w / 0.1).powf(p));
+        let drag = UAUV2_ZW * w + UAUV2_ZWW * w * w;
+        assert!(w > 0.0 && w < terminal(f0), "{w}");
+        assert!(
+            (thrust - drag).abs() < 1e-6 * f0,
+            "k {k}, p {p}: {thrust} vs {drag}"
+        );
+    }
     // Power sag: after t the thrust is 1 − a·(t/100 s)^p of the static thrust (t the start
     // of the last step).
     let st = run(
@@ -536,7 +557,7 @@ fn lag_damping_and_added_mass_change_the_response() {
         40.0,
     );
     let f = 2.0 * f0 / 2.0;
-    assert!((st.rigid.nu[2] - terminal(f)).abs() < 1e-6);
+    assert_terminal(&st, f);
     // Added mass ×2: same terminal speed, slower start (ẇ(0) = F/(m + 2A₃₃)).
     let m2 = with(&[("added_mass_error", &[2.0])]);
     let st = run(&m2, &diving(70.0), 0.01);

@@ -101,9 +101,6 @@ fn development_null_logs_give_an_empty_verdict() {
 }
 
 #[test]
-#[ignore = "acceptance gate not met yet (issue 12): 14 of 16 exact (saturation is named as \
-            inflow loss, inflow loss as direction-dependent drag); run with \
-            `cargo test --release -p shoal-sysid --test validation_dev -- --ignored --nocapture`"]
 fn development_logs_get_exact_verdicts() {
     let dir = folder();
     let expected = std::fs::read_to_string(dir.join("expected.json")).unwrap_or_else(|e| {

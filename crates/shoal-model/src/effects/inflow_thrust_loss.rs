@@ -90,3 +90,60 @@ impl Effect for InflowThrustLossLinear {
         if g * f < 0.0 { 0.0 } else { g }
     }
 }
+
+/// Inflow speed the `power` form's loss is quoted at \[m/s\]: a typical μAUV² heave or surge
+/// speed.
+pub const INFLOW_REF: f64 = 0.1;
+
+/// The `power` form: the relative loss grows as a power of the inflow speed,
+/// `f = f_static − k·|f_static|·sign(u_a)·(|u_a|/u_ref)^p` with u_ref = [`INFLOW_REF`]; the
+/// shape `p` spans a loss that sets in with the first cm/s and then hardly grows (p ≪ 1),
+/// the `linear` form (p = 1) and a loss growing with the square of the inflow (p = 2).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct InflowThrustLossPower;
+
+impl Effect for InflowThrustLossPower {
+    fn name(&self) -> &'static str {
+        "inflow_thrust_loss"
+    }
+    fn form(&self) -> &'static str {
+        "power"
+    }
+    fn summary(&self) -> &'static str {
+        "thrust falls by a fraction of itself growing as a power of the inflow speed"
+    }
+    fn explanation(&self) -> &'static str {
+        "Propeller inflow whose loss is not linear in the speed: moving along the thrust \
+         direction lowers the thrust by k·(u_a/u_ref)^p of itself (u_ref = 0.1 m/s)."
+    }
+    fn params(&self, _vehicle: &VehicleParams) -> Vec<ParamInfo> {
+        vec![
+            ParamInfo {
+                name: "k",
+                unit: "-",
+                lo: 0.0,
+                hi: 2.0,
+                null: 0.0,
+                typical: 0.2,
+                doc: "fraction of the thrust lost at 0.1 m/s of inflow",
+                shape: false,
+            },
+            ParamInfo {
+                name: "p",
+                unit: "-",
+                lo: 0.1,
+                hi: 3.0,
+                null: 1.0,
+                typical: 1.0,
+                doc: "exponent of the inflow speed",
+                shape: true,
+            },
+        ]
+    }
+    fn thrust(&self, p: &[f64], ctx: &ThrustContext<'_>, f: f64) -> f64 {
+        let u = ctx.inflow;
+        let rel = p[0] * u.signum() * (u.abs() / INFLOW_REF).powf(p[1]);
+        let g = f - rel * f.abs();
+        if g * f < 0.0 { 0.0 } else { g }
+    }
+}

@@ -42,16 +42,17 @@ pub use battery_sag::{BatterySag, BatterySagExponential, BatterySagPower};
 pub use buoyancy_offset::BuoyancyOffset;
 pub use damping_error::{DampingError, DampingErrorDirection};
 pub use depth_sensor_bias::{DepthSensorBias, DepthSensorBiasPower, DepthSensorBiasSettling};
-pub use inflow_thrust_loss::{InflowThrustLoss, InflowThrustLossLinear};
+pub use inflow_thrust_loss::{InflowThrustLoss, InflowThrustLossLinear, InflowThrustLossPower};
 pub use sensor_delay::SensorDelay;
-pub use thrust_asymmetry::ThrustAsymmetry;
+pub use thrust_asymmetry::{ThrustAsymmetry, ThrustAsymmetryCurve};
 pub use thrust_coupling::ThrustCoupling;
 pub use thrust_gain::{ThrustGain, ThrustGainCurve};
-pub use thrust_saturation::{ThrustSaturation, ThrustSaturationSmooth};
+pub use thrust_saturation::{ThrustSaturation, ThrustSaturationAsymmetric, ThrustSaturationSmooth};
 pub use thruster_deadband::{
     ThrusterDeadband, ThrusterDeadbandAsymmetric, ThrusterDeadbandGate, ThrusterDeadbandSoft,
+    ThrusterDeadbandSoftAsymmetric,
 };
-pub use thruster_lag::{ThrusterLag, ThrusterLagSecondOrder, ThrusterLagUpDown};
+pub use thruster_lag::{ThrusterLag, ThrusterLagSecondOrder, ThrusterLagSlew, ThrusterLagUpDown};
 pub use water_current::WaterCurrent;
 
 use crate::dynamics::RigidState;
@@ -207,18 +208,22 @@ pub fn catalogue() -> Vec<Arc<dyn Effect>> {
         Arc::new(ThrusterLag),
         Arc::new(ThrusterLagSecondOrder),
         Arc::new(ThrusterLagUpDown),
+        Arc::new(ThrusterLagSlew),
         Arc::new(ThrustGain),
         Arc::new(ThrustGainCurve),
         Arc::new(ThrustAsymmetry),
+        Arc::new(ThrustAsymmetryCurve),
         Arc::new(ThrusterDeadband),
         Arc::new(ThrusterDeadbandSoft),
         Arc::new(ThrusterDeadbandGate),
         Arc::new(ThrusterDeadbandAsymmetric),
+        Arc::new(ThrusterDeadbandSoftAsymmetric),
         Arc::new(BatterySag),
         Arc::new(BatterySagExponential),
         Arc::new(BatterySagPower),
         Arc::new(InflowThrustLoss),
         Arc::new(InflowThrustLossLinear),
+        Arc::new(InflowThrustLossPower),
         Arc::new(BuoyancyOffset),
         Arc::new(BallastMass),
         Arc::new(DampingError),
@@ -232,6 +237,7 @@ pub fn catalogue() -> Vec<Arc<dyn Effect>> {
         Arc::new(ThrustCoupling),
         Arc::new(ThrustSaturation),
         Arc::new(ThrustSaturationSmooth),
+        Arc::new(ThrustSaturationAsymmetric),
     ]
 }
 

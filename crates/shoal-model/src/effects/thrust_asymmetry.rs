@@ -6,7 +6,11 @@
 //! change sign with the command.
 //!
 //! Modelled as `f = k_rev · f_static` for negative thrust; forward thrust is unchanged.
+//!
+//! A `curve` form competes: reverse thrust scaled by `k_rev·(|n|/50 %)^e`, a reverse thrust
+//! curve with an exponent of its own.
 
+use super::thrust_gain::command_factor;
 use super::{Effect, ParamInfo, ThrustContext};
 use crate::vehicle::VehicleParams;
 
@@ -39,5 +43,51 @@ impl Effect for ThrustAsymmetry {
     }
     fn thrust(&self, p: &[f64], _ctx: &ThrustContext<'_>, f: f64) -> f64 {
         if f < 0.0 { p[0] * f } else { f }
+    }
+}
+
+/// The `curve` form: reverse thrust scaled by `k_rev·(|n|/50 %)^e` — a reverse thrust curve
+/// whose exponent differs from the forward one's (a propeller pitched for forward thrust that
+/// stalls at small reverse commands, or loses more at large ones); forward thrust unchanged.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ThrustAsymmetryCurve;
+
+impl Effect for ThrustAsymmetryCurve {
+    fn name(&self) -> &'static str {
+        "thrust_asymmetry"
+    }
+    fn form(&self) -> &'static str {
+        "curve"
+    }
+    fn summary(&self) -> &'static str {
+        "reverse thrust scaled by k_rev·(|n|/50 %)^e, a reverse curve of its own exponent"
+    }
+    fn explanation(&self) -> &'static str {
+        "The propeller works differently in reverse, and by how much depends on the command: \
+         negative thrust is scaled by k_rev at half command and by a factor that grows or \
+         shrinks with the command (exponent e); forward thrust is unchanged."
+    }
+    fn params(&self, vehicle: &VehicleParams) -> Vec<ParamInfo> {
+        let mut p = ThrustAsymmetry.params(vehicle);
+        p[0].doc = "scale factor on reverse thrust at half command";
+        p.push(ParamInfo {
+            name: "e",
+            unit: "-",
+            lo: -1.0,
+            hi: 1.0,
+            null: 0.0,
+            typical: 0.2,
+            doc: "exponent of the reverse factor's change with the command",
+            // Not a shape: with e ≠ 0 reverse thrust differs from the baseline even at k_rev = 1.
+            shape: false,
+        });
+        p
+    }
+    fn thrust(&self, p: &[f64], ctx: &ThrustContext<'_>, f: f64) -> f64 {
+        if f < 0.0 {
+            p[0] * command_factor(ctx.command, p[1]) * f
+        } else {
+            f
+        }
     }
 }

@@ -55,6 +55,13 @@ impl Effect for ThrustGain {
 /// Command at which the `curve` form's gain is k [%].
 const CURVE_N_REF: f64 = 50.0;
 
+/// (|n|/50 %)^e for the command `n` [%]: how a gain that changes with the command scales the
+/// thrust (the `curve` forms of `thrust_gain` and `thrust_asymmetry`).
+pub(super) fn command_factor(n: f64, e: f64) -> f64 {
+    // Below 1 % the thrust is negligible; the floor keeps a negative exponent finite.
+    (n.abs().max(1.0) / CURVE_N_REF).powf(e)
+}
+
 /// The `curve` form: `f = k·(|n|/50 %)^e · f_static` — the gain k at half command, changing
 /// with the command by the exponent e (0 is the standard form; both are tested against null).
 #[derive(Clone, Copy, Debug, Default)]
@@ -92,8 +99,6 @@ impl Effect for ThrustGainCurve {
         ]
     }
     fn thrust(&self, p: &[f64], ctx: &ThrustContext<'_>, f: f64) -> f64 {
-        // Below 1 % the thrust is negligible; the floor keeps a negative exponent finite.
-        let r = (ctx.command.abs().max(1.0) / CURVE_N_REF).powf(p[1]);
-        p[0] * r * f
+        p[0] * command_factor(ctx.command, p[1]) * f
     }
 }

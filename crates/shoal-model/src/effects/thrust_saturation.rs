@@ -8,7 +8,11 @@
 //! same direction. Applied after every other thrust effect.
 
 //!
-//! A `smooth` form competes with the hard clamp: `f' = F·tanh(f/F)`, F = f_max/c.
+//! Two forms compete with the hard clamp: `smooth`, `f' = f/(1 + |f/F|^p)^(1/p)` with
+//! F = f_max/c and a fitted sharpness p (p = 1 a knee from the first newton on, p ≈ 2 close
+//! to F·tanh(f/F), p → ∞ the hard clamp), and `asymmetric`, a hard clamp at its own fraction
+//! of each direction's maximum (an ESC whose current limit binds earlier one way than the
+//! other).
 use super::{Effect, ParamInfo, Stage, ThrustContext};
 use crate::vehicle::VehicleParams;
 
@@ -31,16 +35,9 @@ impl Effect for ThrustSaturation {
          maximum in either direction; small commands are unaffected."
     }
     fn params(&self, _vehicle: &VehicleParams) -> Vec<ParamInfo> {
-        vec![ParamInfo {
-            name: "fraction",
-            unit: "-",
-            lo: 0.1,
-            hi: 1.0,
-            null: 1.0,
-            typical: 0.8,
-            doc: "largest thrust as a fraction of the curve's maximum",
-            shape: false,
-        }]
+        vec![fraction_param(
+            "largest thrust as a fraction of the curve's maximum",
+        )]
     }
     fn stage(&self) -> Stage {
         Stage::Limit
@@ -51,8 +48,10 @@ impl Effect for ThrustSaturation {
     }
 }
 
-/// The `smooth` form: thrust bends over smoothly towards a cap, `f' = F·tanh(f/F)` with
-/// F = f_max/c, so that small thrusts are unaffected and large ones approach F.
+/// The `smooth` form: thrust bends over towards a cap, `f' = f/(1 + |f/F|^p)^(1/p)` with
+/// F = f_max/c: small thrusts are unaffected and large ones approach F. The sharpness p is
+/// fitted (1: the thrust bends over from the first newton on; ≈ 2: close to F·tanh(f/F);
+/// large: the hard clamp), so one form covers a limiter of any softness.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct ThrustSaturationSmooth;
 
@@ -64,23 +63,36 @@ impl Effect for ThrustSaturationSmooth {
         "smooth"
     }
     fn summary(&self) -> &'static str {
-        "thrust bends smoothly towards a cap f_max/c"
+        "thrust bends towards a cap f_max/c, sharpness fitted"
     }
     fn explanation(&self) -> &'static str {
-        "Current limit acting gradually (a supply that sags under load): thrust grows less \
-         and less with the command and approaches f_max/c."
+        "Current limit acting gradually (a supply that sags under load, a limiter that folds \
+         back): thrust grows less and less with the command and approaches f_max/c, through a \
+         knee whose sharpness is fitted."
     }
     fn params(&self, _vehicle: &VehicleParams) -> Vec<ParamInfo> {
-        vec![ParamInfo {
-            name: "c",
-            unit: "-",
-            lo: 0.0,
-            hi: 10.0,
-            null: 0.0,
-            typical: 1.25,
-            doc: "inverse of the cap as a fraction of the curve's maximum (0: no cap)",
-            shape: false,
-        }]
+        vec![
+            ParamInfo {
+                name: "c",
+                unit: "-",
+                lo: 0.0,
+                hi: 10.0,
+                null: 0.0,
+                typical: 1.25,
+                doc: "inverse of the cap as a fraction of the curve's maximum (0: no cap)",
+                shape: false,
+            },
+            ParamInfo {
+                name: "sharpness",
+                unit: "-",
+                lo: 1.0,
+                hi: 12.0,
+                null: 2.0,
+                typical: 2.0,
+                doc: "exponent p of the knee (1: gradual from zero, large: a hard clamp)",
+                shape: true,
+            },
+        ]
     }
     fn stage(&self) -> Stage {
         Stage::Limit
@@ -95,6 +107,59 @@ impl Effect for ThrustSaturationSmooth {
         if cap <= 0.0 {
             return f;
         }
-        cap * (f / cap).tanh()
+        let sharp = p[1];
+        f / (1.0 + (f / cap).abs().powf(sharp)).powf(1.0 / sharp)
+    }
+}
+
+/// The cap's parameter: a fraction of the curve's maximum thrust, 0.1 … 1 (1: no cap).
+fn fraction_param(doc: &'static str) -> ParamInfo {
+    ParamInfo {
+        name: "fraction",
+        unit: "-",
+        lo: 0.1,
+        hi: 1.0,
+        null: 1.0,
+        typical: 0.8,
+        doc,
+        shape: false,
+    }
+}
+
+/// The `asymmetric` form: a hard clamp at `fraction · f_max⁺` forward and at
+/// `fraction_rev · f_max⁻` in reverse, each a fraction of that direction's maximum.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ThrustSaturationAsymmetric;
+
+impl Effect for ThrustSaturationAsymmetric {
+    fn name(&self) -> &'static str {
+        "thrust_saturation"
+    }
+    fn form(&self) -> &'static str {
+        "asymmetric"
+    }
+    fn summary(&self) -> &'static str {
+        "thrust capped at its own fraction of the maximum in each direction"
+    }
+    fn explanation(&self) -> &'static str {
+        "Current limit that binds earlier in one direction (ESC limits, a propeller less \
+         efficient in reverse): forward thrust cannot exceed one fraction of the forward \
+         maximum, reverse thrust another of the reverse maximum."
+    }
+    fn params(&self, _vehicle: &VehicleParams) -> Vec<ParamInfo> {
+        vec![
+            fraction_param("largest forward thrust as a fraction of the forward maximum"),
+            ParamInfo {
+                name: "fraction_rev",
+                ..fraction_param("largest reverse thrust as a fraction of the reverse maximum")
+            },
+        ]
+    }
+    fn stage(&self) -> Stage {
+        Stage::Limit
+    }
+    fn thrust(&self, p: &[f64], ctx: &ThrustContext<'_>, f: f64) -> f64 {
+        let (fwd, rev) = ctx.thruster.curve.limits(ctx.thruster.max_command);
+        f.clamp(-p[1] * rev, p[0] * fwd)
     }
 }

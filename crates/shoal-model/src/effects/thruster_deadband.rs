@@ -16,6 +16,7 @@
 //! unchanged curve well outside it, with a fitted sharpness p.
 //! An `asymmetric` form: the hard cut with its own width for forward (d₀) and reverse (d_rev)
 //! commands — an ESC whose neutral point is off centre.
+//! A `soft_asymmetric` form: the soft knee with its own width for each direction.
 
 use super::{Effect, ParamInfo};
 use crate::thruster::ThrusterParams;
@@ -95,6 +96,35 @@ impl Effect for ThrusterDeadbandSoft {
             return n;
         }
         n - d0 * (n / d0).tanh()
+    }
+}
+
+/// The `soft_asymmetric` form: the `soft` band with its own width for forward (d₀) and reverse
+/// (d_rev) commands — friction that fades in, and more of it one way (a propeller less
+/// efficient and a motor with more cogging in reverse).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ThrusterDeadbandSoftAsymmetric;
+
+impl Effect for ThrusterDeadbandSoftAsymmetric {
+    fn name(&self) -> &'static str {
+        "thruster_deadband"
+    }
+    fn form(&self) -> &'static str {
+        "soft_asymmetric"
+    }
+    fn summary(&self) -> &'static str {
+        "little thrust for commands in (−d_rev, d₀), with a smooth knee on each side"
+    }
+    fn explanation(&self) -> &'static str {
+        "Static friction that fades in, stronger one way: small commands give almost no \
+         thrust, larger ones the thrust of a command d₀ (forward) or d_rev (reverse) smaller."
+    }
+    fn params(&self, vehicle: &VehicleParams) -> Vec<ParamInfo> {
+        ThrusterDeadbandAsymmetric.params(vehicle)
+    }
+    fn command(&self, p: &[f64], thruster: &ThrusterParams, n: f64) -> f64 {
+        let d = if n >= 0.0 { p[0] } else { p[1] };
+        ThrusterDeadbandSoft.command(&[d], thruster, n)
     }
 }
 

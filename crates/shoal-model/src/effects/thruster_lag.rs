@@ -12,9 +12,10 @@
 //! [`ThrusterParams::lag`]: crate::thruster::ThrusterParams::lag
 
 //!
-//! Two more forms of the family compete with the first-order lag: `second_order` (two equal
-//! stages in series, an S-shaped spin-up) and `up_down` (different time constants spinning up
-//! and down).
+//! Three more forms of the family compete with the first-order lag: `second_order` (two equal
+//! stages in series, an S-shaped spin-up), `up_down` (different time constants spinning up
+//! and down) and `slew` (the motor command ramps at a limited rate: a step becomes a ramp
+//! whose length grows with the step — an ESC with a soft start or a current limit).
 use super::{Effect, ParamInfo};
 use crate::vehicle::VehicleParams;
 
@@ -140,6 +141,45 @@ impl Effect for ThrusterLagUpDown {
             let base = th.lag;
             th.lag = base + p[0];
             th.lag_down = base + p[1];
+        }
+    }
+}
+
+/// The `slew` form: the command reaching the motor changes by at most 100/T %/s (T: the time
+/// to ramp through 100 % of command), so a command step becomes a ramp whose length grows
+/// with the step — unlike a lag, whose settling time does not depend on the step's size.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ThrusterLagSlew;
+
+impl Effect for ThrusterLagSlew {
+    fn name(&self) -> &'static str {
+        "thruster_lag"
+    }
+    fn form(&self) -> &'static str {
+        "slew"
+    }
+    fn summary(&self) -> &'static str {
+        "the motor command ramps at most 100 % per T seconds (slew-rate limit)"
+    }
+    fn explanation(&self) -> &'static str {
+        "An ESC with a soft start or a current limit: the motor's command follows a step as a \
+         ramp of limited slope, so large steps take longer to reach than small ones."
+    }
+    fn params(&self, _vehicle: &VehicleParams) -> Vec<ParamInfo> {
+        vec![ParamInfo {
+            name: "ramp_s",
+            unit: "s",
+            lo: 0.0,
+            hi: 5.0,
+            null: 0.0,
+            typical: 0.5,
+            doc: "time the motor command takes to ramp through 100 % (0: no limit)",
+            shape: false,
+        }]
+    }
+    fn configure(&self, p: &[f64], vehicle: &mut VehicleParams) {
+        for th in &mut vehicle.thrusters {
+            th.ramp += p[0];
         }
     }
 }

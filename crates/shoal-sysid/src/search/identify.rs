@@ -9,7 +9,7 @@
 //! "A or B" with the manoeuvre that would separate them.
 
 use super::orchestrate::Search;
-use super::rules::{delta_bic_eff, judge};
+use super::rules::delta_bic_eff;
 use super::{Ambiguity, Fit, par_map};
 use crate::blocks::heldout_t;
 
@@ -37,12 +37,12 @@ pub(super) fn ambiguities(
         }
     }
     let found: Vec<Option<Ambiguity>> = par_map(&tries, opts.threads, |(name, reduced, alt)| {
-        let (fit, _) = s.add(reduced, alt)?;
+        let c = s.candidate(0, reduced, alt)?;
         progress(&format!("{alt} in place of {name}"));
-        let c = judge(0, alt, reduced, fit.clone(), opts, false, &s.baseline.eval);
         if !c.significant {
             return None;
         }
+        let fit = c.fit?;
         let g = super::gain(&stepwise.eval, &fit.eval);
         let t = heldout_t(&stepwise.eval, &fit.eval, opts.block_s, None);
         // The estimation data must not tell them apart either: the effective BIC of the two

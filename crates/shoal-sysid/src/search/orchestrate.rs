@@ -44,10 +44,11 @@ pub(super) struct Search<'a> {
 
 impl Search<'_> {
     /// `cur` with the family `name` added: every excited form fitted on top (from its round-1
-    /// values and from null), the lowest BIC wins. Returns the fit and every form's score.
-    pub fn add(&self, cur: &Fit, name: &str) -> Option<(Fit, Vec<FormScore>)> {
+    /// values and from null). Returns every form's fit and score (`None`: no form could be
+    /// replayed); [`choose`] picks the form.
+    pub fn add_forms(&self, cur: &Fit, name: &str) -> Option<(Vec<Fit>, Vec<FormScore>)> {
         let infos = self.forms.get(name)?;
-        let mut best: Option<Fit> = None;
+        let mut fits: Vec<Fit> = Vec::new();
         let mut scores = Vec::new();
         for fi in infos {
             let params = fi.effect.params(self.ctx.base);
@@ -69,11 +70,24 @@ impl Search<'_> {
                 gain: super::gain(&cur.eval, &fit.eval),
                 k: fit.k - cur.k,
             });
-            if best.as_ref().is_none_or(|f| b < bic(&f.eval, f.k)) {
-                best = Some(fit);
-            }
+            fits.push(fit);
         }
-        best.map(|f| (f, scores))
+        (!fits.is_empty()).then_some((fits, scores))
+    }
+
+    /// The candidate of family `name` added to `base` ([`choose`] over [`Search::add_forms`]).
+    pub fn candidate(&self, round: usize, base: &Fit, name: &str) -> Option<Candidate> {
+        let (fits, scores) = self.add_forms(base, name)?;
+        let opts = self.ctx.opts;
+        Some(choose(
+            round,
+            name,
+            base,
+            fits,
+            scores,
+            opts,
+            &self.baseline.eval,
+        ))
     }
 
     /// Families worth adding to `cur` (not in it, not excluded), best score first, at most
@@ -103,6 +117,34 @@ impl Search<'_> {
             .map(|(_, n)| n)
             .collect()
     }
+}
+
+/// The candidate of family `name` on top of `base`, given each of its forms' `fits`: the form
+/// of lowest BIC among those that earn their place by the rules of [`judge`] (held-out gain,
+/// block test, …), or the form of lowest BIC when none does. A form that fits the estimation
+/// data best but fails on data the fit did not see must not hide a form of the same family
+/// that holds there: the family is judged by its best form that generalises.
+pub(super) fn choose(
+    round: usize,
+    name: &str,
+    base: &Fit,
+    fits: Vec<Fit>,
+    scores: Vec<FormScore>,
+    opts: &SearchOptions,
+    baseline: &crate::data::Evaluation,
+) -> Candidate {
+    let mut judged: Vec<(f64, Candidate)> = fits
+        .into_iter()
+        .map(|f| {
+            let b = bic(&f.eval, f.k);
+            (b, judge(round, name, base, f, opts, false, baseline))
+        })
+        .collect();
+    judged.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let at = judged.iter().position(|(_, c)| c.significant).unwrap_or(0);
+    let mut c = judged.swap_remove(at).1;
+    c.forms = scores;
+    c
 }
 
 /// One round-1 fit: (family index, form, the fit with its excitation or why there is none).
@@ -172,7 +214,7 @@ pub fn search(
     let mut forms: BTreeMap<String, Vec<FormInfo>> = BTreeMap::new();
     for (fi, (name, _)) in fams.iter().enumerate() {
         let mine: Vec<&RoundOne> = fitted.iter().filter(|(i, _, _)| *i == fi).collect();
-        let mut best: Option<&Fit> = None;
+        let mut fits: Vec<Fit> = Vec::new();
         let mut scores = Vec::new();
         let mut why = None;
         for (_, e, r) in &mine {
@@ -191,20 +233,15 @@ pub fn search(
                         first: Some(fit.effects[0].params.iter().map(|p| p.value).collect()),
                         bic: b,
                     });
-                    if best.is_none_or(|f| b < bic(&f.eval, f.k)) {
-                        best = Some(fit);
-                    }
+                    fits.push(fit.clone());
                 }
                 Err(w) => why = why.or(Some(w.clone())),
             }
         }
-        let c = match best {
-            Some(fit) => {
-                let mut c = judge(1, name, &baseline, fit.clone(), opts, false, &baseline.eval);
-                c.forms = scores;
-                c
-            }
-            None => skipped(1, name, why.unwrap_or_else(|| "no form applies".into())),
+        let c = if fits.is_empty() {
+            skipped(1, name, why.unwrap_or_else(|| "no form applies".into()))
+        } else {
+            choose(1, name, &baseline, fits, scores, opts, &baseline.eval)
         };
         candidates.push(c);
     }
@@ -239,14 +276,9 @@ pub fn search(
         }
         let cur = &current;
         let next: Vec<Candidate> = par_map(&tries, opts.threads, |name| {
-            let c = match s.add(cur, name) {
-                Some((fit, scores)) => {
-                    let mut c = judge(round, name, cur, fit, opts, false, &baseline.eval);
-                    c.forms = scores;
-                    c
-                }
-                None => skipped(round, name, "the replay failed for every start".into()),
-            };
+            let c = s.candidate(round, cur, name).unwrap_or_else(|| {
+                skipped(round, name, "the replay failed for every start".into())
+            });
             progress(name);
             c
         });
@@ -313,10 +345,8 @@ pub fn search(
             .collect();
         let swapped: Vec<Option<(Candidate, f64)>> =
             par_map(&pairs, opts.threads, |(out, r, alt)| {
-                let (fit, scores) = s.add(r, alt)?;
-                let b = bic(&fit.eval, fit.k);
-                let mut c = judge(round + 1, alt, r, fit, opts, false, &baseline.eval);
-                c.forms = scores;
+                let mut c = s.candidate(round + 1, r, alt)?;
+                let b = c.fit.as_ref().map_or(f64::INFINITY, |f| bic(&f.eval, f.k));
                 c.note = format!("swap for {out}: {}", c.note);
                 progress(alt);
                 Some((c, b))

@@ -6,11 +6,16 @@
 //!   vortex sheds as soon as it advances).
 //! * `inflow_thrust_loss/quadratic` — f − c·u_a·|u_a|·|f|: the loss grows with the square of
 //!   the inflow (a ducted propeller whose duct loses its suction at speed).
+//! * `inflow_thrust_loss/forward_only` — f − k·max(u_a, 0)·|f|: the loss of advancing, but no
+//!   gain while the propeller brakes the vehicle (a thrust coefficient flat for negative
+//!   advance ratios).
+//!
+//! The `power` fitting form (exponent fitted) has since matched `quadratic`.
 //!
 //! u_a is the axial inflow: the thruster's speed through the water along its thrust direction.
 //! The thrust never changes sign through the loss.
 
-use super::{ExpKind, FormParam, Part, TruthForm};
+use super::{ExpKind, FormParam, Part, TruthForm, truth_effect_meta};
 use shoal_model::effects::{Effect, ThrustContext};
 use std::sync::Arc;
 
@@ -18,6 +23,8 @@ const PROPORTIONAL: &str = "inflow_thrust_loss/saturating";
 const PROPORTIONAL_LAW: &str = "thrust f − k·u₀·tanh(u_a/u₀)·|f|, u₀ = 0.05 m/s";
 const QUADRATIC: &str = "inflow_thrust_loss/quadratic";
 const QUADRATIC_LAW: &str = "thrust f − c·u_a·|u_a|·|f|";
+const FORWARD: &str = "inflow_thrust_loss/forward_only";
+const FORWARD_LAW: &str = "thrust f − k·max(u_a, 0)·|f|";
 
 /// Inflow speed at which the saturating loss levels off \[m/s\].
 const SATURATION_SPEED: f64 = 0.05;
@@ -51,6 +58,20 @@ pub(super) fn forms() -> Vec<TruthForm> {
             )],
             excites: &[ExpKind::Heave, ExpKind::Yaw],
             build: |p| Part::Effect(Arc::new(Loss { k: p[0], power: 2 })),
+        },
+        TruthForm {
+            name: FORWARD,
+            family: "inflow_thrust_loss",
+            law: FORWARD_LAW,
+            params: vec![FormParam::magnitude(
+                "k_s_m",
+                "s/m",
+                3.0,
+                6.0,
+                "relative thrust lost per m/s of inflow while advancing",
+            )],
+            excites: &[ExpKind::Heave, ExpKind::Yaw],
+            build: |p| Part::Effect(Arc::new(ForwardOnly { k: p[0] })),
         },
     ]
 }
@@ -96,6 +117,21 @@ impl Effect for Loss {
             u * u.abs()
         };
         let g = f - self.k * shape * f.abs();
+        if g * f < 0.0 { 0.0 } else { g }
+    }
+}
+
+/// See the module documentation.
+#[derive(Debug)]
+struct ForwardOnly {
+    /// Loss coefficient \[s/m\].
+    k: f64,
+}
+
+impl Effect for ForwardOnly {
+    truth_effect_meta!(FORWARD, FORWARD_LAW);
+    fn thrust(&self, _p: &[f64], ctx: &ThrustContext<'_>, f: f64) -> f64 {
+        let g = f - self.k * ctx.inflow.max(0.0) * f.abs();
         if g * f < 0.0 { 0.0 } else { g }
     }
 }

@@ -281,8 +281,14 @@ impl TruthForm {
 
 /// The truth forms whose law a fitting form of their family has: (truth form, fitting form).
 /// They stay in the test set; the other forms of each family differ from every fitting form.
-pub const MATCHED: [(&str, &str); 5] = [
+pub const MATCHED: [(&str, &str); 11] = [
+    ("thruster_deadband/asymmetric_soft", "soft_asymmetric"),
+    ("thrust_asymmetry/reverse_exponent", "curve"),
+    ("inflow_thrust_loss/quadratic", "power"),
+    ("thruster_lag/slew_rate", "slew"),
     ("thrust_gain/command_dependent", "curve"),
+    ("thrust_saturation/asymmetric_caps", "asymmetric"),
+    ("thrust_saturation/algebraic_soft", "smooth"),
     ("thruster_deadband/asymmetric", "asymmetric"),
     ("battery_sag/quadratic", "power"),
     ("damping_error/direction_dependent", "direction"),

@@ -7,6 +7,12 @@
 //! * `thrust_asymmetry/reverse_per_thruster` — each propeller's reverse thrust is scaled by its
 //!   own factor (port k_p, starboard k_s, top their mean): propellers of one type but
 //!   mounted with different clearances to the hull.
+//! * `thrust_asymmetry/reverse_hull_wash` — in reverse the propeller's jet washes along the
+//!   hull and drags on it: the reverse thrust loses a share growing with itself,
+//!   f·(1 − a·|f|/f_max⁻), forward unchanged.
+//!
+//! The catalogue's `curve` form (reverse factor k_rev·(|n|/50 %)^e) has since matched
+//! `reverse_exponent`.
 
 use super::{ExpKind, FormParam, Part, TruthForm, truth_effect_meta};
 use shoal_model::effects::{Effect, ThrustContext};
@@ -14,6 +20,8 @@ use std::sync::Arc;
 
 const REVERSE_EXPONENT: &str = "thrust_asymmetry/reverse_exponent";
 const REVERSE_EXPONENT_LAW: &str = "reverse thrust −C⁻·n_max²·(|n|/n_max)^p, forward unchanged";
+const HULL_WASH: &str = "thrust_asymmetry/reverse_hull_wash";
+const HULL_WASH_LAW: &str = "reverse thrust f·(1 − a·|f|/f_max⁻), forward unchanged";
 const PER_THRUSTER: &str = "thrust_asymmetry/reverse_per_thruster";
 const PER_THRUSTER_LAW: &str =
     "reverse thrust × k_p on port, × k_s on starboard, × (k_p + k_s)/2 on top";
@@ -56,7 +64,42 @@ pub(super) fn forms() -> Vec<TruthForm> {
                 }))
             },
         },
+        TruthForm {
+            name: HULL_WASH,
+            family: "thrust_asymmetry",
+            law: HULL_WASH_LAW,
+            params: vec![FormParam::magnitude(
+                "a",
+                "-",
+                0.25,
+                0.45,
+                "share of the full reverse thrust lost to the jet's drag on the hull",
+            )],
+            excites: &[ExpKind::Heave, ExpKind::Yaw],
+            build: |p| Part::Effect(Arc::new(ReverseHullWash { a: p[0] })),
+        },
     ]
+}
+
+/// See the module documentation.
+#[derive(Debug)]
+struct ReverseHullWash {
+    /// Share of the full reverse thrust lost \[-\].
+    a: f64,
+}
+
+impl Effect for ReverseHullWash {
+    truth_effect_meta!(HULL_WASH, HULL_WASH_LAW);
+    fn thrust(&self, _p: &[f64], ctx: &ThrustContext<'_>, f: f64) -> f64 {
+        if f >= 0.0 {
+            return f;
+        }
+        let (_, rev) = ctx.thruster.curve.limits(ctx.thruster.max_command);
+        if rev <= 0.0 {
+            return f;
+        }
+        f * (1.0 - self.a * (f.abs() / rev).min(1.0))
+    }
 }
 
 /// See the module documentation.

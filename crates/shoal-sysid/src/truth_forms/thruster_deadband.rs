@@ -10,10 +10,14 @@
 //! * `thruster_deadband/asymmetric_soft` — friction that fades in, stronger in reverse: each
 //!   side is a soft knee n' = n − d·tanh(n/d) with its own width (d₊ forward, d₋ > d₊ reverse),
 //!   so small commands give almost no thrust and larger ones the thrust of a command d smaller
-//!   (a propeller that is less efficient and a motor with more cogging in reverse).
+//!   (a propeller that is less efficient and a motor with more cogging in reverse). The
+//!   catalogue's `soft_asymmetric` form has this law: the form is matched.
+//! * `thruster_deadband/exponential_onset` — the share of the command that gets through grows
+//!   as 1 − e^(−(|n|/d)²): nothing at the smallest commands, the unchanged curve well above d,
+//!   a Gaussian-shaped onset between (friction that a turning motor sheds gradually).
 
 use super::{ExpKind, FormParam, Part, TruthForm, truth_effect_meta};
-use shoal_model::effects::{Effect, ThrusterDeadbandAsymmetric, ThrusterDeadbandSoft};
+use shoal_model::effects::{Effect, ThrusterDeadbandAsymmetric, ThrusterDeadbandSoftAsymmetric};
 use shoal_model::thruster::ThrusterParams;
 use std::sync::Arc;
 
@@ -25,6 +29,8 @@ const ASYMMETRIC_LAW: &str =
     "hard dead band d₊ forward and d₋ reverse, curve stretched on each side";
 const ASYMMETRIC_SOFT: &str = "thruster_deadband/asymmetric_soft";
 const ASYMMETRIC_SOFT_LAW: &str = "command n − d·tanh(n/d), d = d₊ for n ≥ 0 and d₋ for n < 0";
+const ONSET: &str = "thruster_deadband/exponential_onset";
+const ONSET_LAW: &str = "command n·(1 − e^(−(|n|/d)²))";
 
 pub(super) fn forms() -> Vec<TruthForm> {
     vec![
@@ -76,7 +82,35 @@ pub(super) fn forms() -> Vec<TruthForm> {
                 }))
             },
         },
+        TruthForm {
+            name: ONSET,
+            family: "thruster_deadband",
+            law: ONSET_LAW,
+            params: vec![FormParam::magnitude(
+                "d_pct",
+                "%",
+                10.0,
+                16.0,
+                "command at which 63 % of it gets through",
+            )],
+            excites: &[ExpKind::Heave, ExpKind::Yaw],
+            build: |p| Part::Effect(Arc::new(ExponentialOnset { d: p[0] })),
+        },
     ]
+}
+
+/// See the module documentation.
+#[derive(Debug)]
+struct ExponentialOnset {
+    /// Onset width [%].
+    d: f64,
+}
+
+impl Effect for ExponentialOnset {
+    truth_effect_meta!(ONSET, ONSET_LAW);
+    fn command(&self, _p: &[f64], _thruster: &ThrusterParams, n: f64) -> f64 {
+        n * (1.0 - (-(n / self.d).powi(2)).exp())
+    }
 }
 
 /// See the module documentation.
@@ -131,9 +165,8 @@ struct AsymmetricSoft {
 impl Effect for AsymmetricSoft {
     truth_effect_meta!(ASYMMETRIC_SOFT, ASYMMETRIC_SOFT_LAW);
     fn command(&self, _p: &[f64], thruster: &ThrusterParams, n: f64) -> f64 {
-        // Each side is the catalogue's soft knee with its own width.
-        let d = if n >= 0.0 { self.d_fwd } else { self.d_rev };
-        ThrusterDeadbandSoft.command(&[d], thruster, n)
+        // The catalogue's `soft_asymmetric` form has this law (the form is matched).
+        ThrusterDeadbandSoftAsymmetric.command(&[self.d_fwd, self.d_rev], thruster, n)
     }
 }
 

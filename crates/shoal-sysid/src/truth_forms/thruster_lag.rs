@@ -6,9 +6,13 @@
 //!   n̈ = ω²(n_cmd − n) − 2ζω ṅ and overshoots after every step; the other motors follow at once.
 //! * `thruster_lag/slew_rate` — every ESC ramps its output toward the command at no more than
 //!   R %/s (a current-limited or soft-start ESC): a step becomes a ramp whose length grows with
-//!   the step.
+//!   the step. The catalogue's `slew` form has this law: the form is matched.
+//! * `thruster_lag/speed_dependent` — every motor's speed follows the command through a
+//!   first-order lag whose time constant falls as the motor speeds up, τ = τ₅₀·50 %/max(|n|,
+//!   10 %) (the propeller's load torque grows with the square of its speed, so a spinning
+//!   motor settles faster than one starting from rest).
 //!
-//! Both act on the command the thrust curve sees (the motor speed, ∝ command); the log keeps
+//! All act on the command the thrust curve sees (the motor speed, ∝ command); the log keeps
 //! the commanded values.
 
 use super::{ExpKind, FormParam, Part, TruthForm};
@@ -62,7 +66,53 @@ pub(super) fn forms() -> Vec<TruthForm> {
                 }))
             },
         },
+        TruthForm {
+            name: "thruster_lag/speed_dependent",
+            family: "thruster_lag",
+            law: "every motor speed: τ(n)·ṅ = n_cmd − n with τ = τ₅₀·50 %/max(|n|, 10 %)",
+            params: vec![FormParam::magnitude(
+                "tau50_s",
+                "s",
+                0.15,
+                0.35,
+                "time constant of a motor running at 50 % command",
+            )],
+            excites: &[ExpKind::Heave, ExpKind::Yaw],
+            build: |p| {
+                Part::Hook(Box::new(SpeedDependent {
+                    tau50: p[0],
+                    speed: Vec::new(),
+                }))
+            },
+        },
     ]
+}
+
+/// See the module documentation.
+struct SpeedDependent {
+    /// Time constant at 50 % command \[s\].
+    tau50: f64,
+    /// Each motor's speed [%] (starts at zero: the run starts at rest).
+    speed: Vec<f64>,
+}
+
+impl TruthHook for SpeedDependent {
+    fn before_actuate(
+        &mut self,
+        _model: &VehicleModel,
+        _state: &mut VehicleState,
+        cmd: &mut ActuatorCommands,
+        _env: &mut Environment,
+        dt: f64,
+    ) {
+        self.speed.resize(cmd.thrusters.len(), 0.0);
+        for (n, c) in self.speed.iter_mut().zip(cmd.thrusters.iter_mut()) {
+            let tau = self.tau50 * 50.0 / n.abs().max(10.0);
+            // Exact over the step for the time constant at its start.
+            *n = *c + (*n - *c) * (-dt / tau).exp();
+            *c = *n;
+        }
+    }
 }
 
 /// See the module documentation.

@@ -348,6 +348,7 @@ impl VehicleSpec {
                     lag: t.lag,
                     lag_down: -1.0,
                     lag_stages: 1,
+                    ramp: 0.0,
                 })
                 .collect(),
             tilts: self
