@@ -569,10 +569,11 @@ fn fallback_stop_ends_the_run_early_and_says_why() {
 
 #[test]
 fn fallback_stop_ends_a_free_running_run_when_its_agent_is_killed() {
-    // 60 s simulated at 20× real time.
+    // 600 s simulated at 20× real time (30 s of wall time): the kill lands long before the
+    // end even when a loaded machine lets the test thread lag the world by seconds.
     let s = start(
         "stop-killed",
-        60.0,
+        600.0,
         "timing = \"free\"\npace = 20.0\nfallback = \"stop\"",
         "",
     );
@@ -589,13 +590,13 @@ fn fallback_stop_ends_a_free_running_run_when_its_agent_is_killed() {
     );
     let ev = f.events();
     assert_eq!(f.names(), ["attached", "gone"], "{ev:?}");
-    // The run ended on the tick the death was noticed, long before its 60 s.
+    // The run ended on the tick the death was noticed, long before its 600 s.
     let t_end = f.summary["simulated_s"].as_f64().unwrap();
     assert!(
         ev[1].1 >= alive.t && (ev[1].1 - t_end).abs() < 1e-9,
         "{ev:?}, end {t_end}"
     );
-    assert!(t_end < 60.0);
+    assert!(t_end < 600.0);
     assert!(f.last().t <= t_end + 1e-9);
     // Its last command was in force to the end.
     let first_cmd = first_command(&f, 1.5);
