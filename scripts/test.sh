@@ -1,8 +1,7 @@
 #!/usr/bin/env sh
 # The whole test suite: README's test command, and exactly what CI runs (.ci/run).
 #
-# 1. Python 3 with venv and pip, for the Python agent tests (crates/shoal-cli/tests/python_agent.rs
-#    builds its own venv in target/pyvenv and installs python/requirements.txt from PyPI):
+# 1. Python 3 with venv and pip, for the Python tests (the project's venv .venv, see step P):
 #    installed from Debian's packages when missing and this runs as root with apt-get; otherwise
 #    those tests fail and say what is missing.
 # 2. Chromium, for the replay's headless-browser tests (crates/shoal-sim/tests/replay_browser.rs):
@@ -15,6 +14,10 @@
 # 3. cargo test --workspace: every test (unit, integration, doc); it builds the examples too.
 # 4. cargo test --workspace --bench '*': every criterion bench, compiled and run once (test mode).
 # 5. Each root example once, on a short setting, into a temporary folder.
+# P. The Python package (python/, built with maturin from crates/shoal-py): before step 3,
+#    scripts/python-env.sh makes .venv (from PyPI: maturin, numpy, iceoryx2, PettingZoo,
+#    Gymnasium, pytest) and builds and installs the package (release; incremental); after
+#    step 5, pytest runs python/tests against it and the `shoal` binary step 3 built.
 #
 # Idempotent: run it as often as you like.
 set -eu
@@ -51,6 +54,10 @@ else
     echo "scripts/test.sh: no Slurm cluster (above: why); the Slurm sweep test will fail" >&2
 fi
 
+# P (before the tests). The Python package in the project's venv (.venv).
+echo "scripts/test.sh: building the Python package into .venv (scripts/python-env.sh)"
+python=$(scripts/python-env.sh)
+
 # 3. The tests.
 cargo test --workspace
 
@@ -79,4 +86,9 @@ need "$tmp/link_budget.png" "$tmp/link_budget.svg"
 need "$tmp/out/hidden/dive_a.csv" "$tmp/out/hidden/dive_b.csv"
 # The medium's profile, on a 30-vehicle swarm instead of 1,000.
 "$examples/profile_comm" 30
+
+# P (after the tests). The Python tests, against the debug `shoal` binary of step 3.
+echo "scripts/test.sh: the Python tests (pytest python/tests)"
+SHOAL_BIN="$target/debug/shoal" "$python" -m pytest -q -p no:cacheprovider python/tests
+
 echo "scripts/test.sh: tests, benches and examples passed ($root)"

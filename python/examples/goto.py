@@ -15,15 +15,9 @@ Rust example does. Exit status 0 when the world ended the run,
 
 import math
 import sys
-from pathlib import Path
 
-try:
-    import shoal_agent
-except ImportError:  # run from a checkout without PYTHONPATH=python
-    sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-    import shoal_agent
-
-from shoal_agent import Agent, flags, mode
+from shoal import agent as shoal_agent
+from shoal.agent import Agent, flags, mode
 
 
 class Goto(Agent):

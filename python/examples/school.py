@@ -15,15 +15,9 @@ the run, 1 when it fell silent or could not be reached, 130 on Ctrl-C.
 import math
 import struct
 import sys
-from pathlib import Path
 
-try:
-    import shoal_agent
-except ImportError:  # run from a checkout without PYTHONPATH=python
-    sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-    import shoal_agent
-
-from shoal_agent import ALL_MODEMS, Agent, mode
+from shoal import agent as shoal_agent
+from shoal.agent import ALL_MODEMS, Agent, mode
 
 #: Frame tag of a school beacon.
 TAG = 0x5C

@@ -1,64 +1,13 @@
-"""shoal_agent: external swarm agents for the shoal simulator in Python, over iceoryx2 shared
-memory. `protocol` holds the wire structs (generated from the Rust ones); `agent` the link to
-a running world and helpers for commands and frames. See python/README.md.
+"""Alias of :mod:`shoal.agent`, the shared-memory agent API, under its former name: code that
+imports ``shoal_agent`` (or ``shoal_agent.agent``, ``shoal_agent.protocol``) keeps working.
+New code should import ``shoal.agent``.
 """
 
-from .agent import (
-    Agent,
-    AgentLink,
-    AgentTaken,
-    BridgeError,
-    Ended,
-    NoWorld,
-    keep,
-    main,
-    received,
-    run,
-    send,
-    service_name,
-    set_mode,
-)
-from .protocol import (
-    ALL_MODEMS,
-    FRAME_BYTES,
-    MAX_RX_FRAMES,
-    MAX_THRUSTERS,
-    MAX_TILTS,
-    MAX_TX_FRAMES,
-    PROTOCOL_VERSION,
-    Command,
-    Frame,
-    Observation,
-    flags,
-    kind,
-    mode,
-)
+import sys
 
-__all__ = [
-    "ALL_MODEMS",
-    "Agent",
-    "AgentLink",
-    "AgentTaken",
-    "BridgeError",
-    "Command",
-    "Ended",
-    "FRAME_BYTES",
-    "Frame",
-    "MAX_RX_FRAMES",
-    "MAX_THRUSTERS",
-    "MAX_TILTS",
-    "MAX_TX_FRAMES",
-    "NoWorld",
-    "Observation",
-    "PROTOCOL_VERSION",
-    "flags",
-    "keep",
-    "main",
-    "kind",
-    "mode",
-    "received",
-    "run",
-    "send",
-    "service_name",
-    "set_mode",
-]
+from shoal.agent import *  # noqa: F401,F403 (the alias re-exports everything)
+from shoal.agent import __all__  # noqa: F401
+from shoal.agent import agent, protocol
+
+sys.modules[__name__ + ".agent"] = agent
+sys.modules[__name__ + ".protocol"] = protocol

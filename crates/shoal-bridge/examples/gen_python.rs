@@ -1,9 +1,9 @@
-//! Generates the Python mirror of the wire protocol, `python/shoal_agent/protocol.py`, from
+//! Generates the Python mirror of the wire protocol, `python/shoal/agent/protocol.py`, from
 //! [`shoal_bridge::protocol::layout`] and the protocol's constants (values taken from the
 //! Rust constants, never retyped):
 //!
 //! ```sh
-//! cargo run -p shoal-bridge --example gen_python -- python/shoal_agent/protocol.py
+//! cargo run -p shoal-bridge --example gen_python -- python/shoal/agent/protocol.py
 //! ```
 //! Without an argument the module is printed. `crates/shoal-cli/tests/python_agent.rs` checks
 //! that the committed file equals this output and that its ctypes offsets equal the Rust ones.

@@ -12,7 +12,7 @@
 //! [`flags::END`] set: agents then leave (the world waits briefly for them, an acknowledged
 //! shutdown). All numbers are SI (m, rad, s, N, W); angles in radians.
 //!
-//! The Python package (`python/shoal_agent/protocol.py`) is generated from [`layout`] by
+//! The Python package (`python/shoal/agent/protocol.py`) is generated from [`layout`] by
 //! `cargo run -p shoal-bridge --example gen_python`, and a test compares its ctypes offsets with
 //! these structs'. iceoryx2 matches types across languages only by name, size and alignment,
 //! so the layout is checked field by field, never trusted.

@@ -61,8 +61,8 @@ pub struct BenchArgs {
     /// The Rust agent executable [default: examples/goto_agent next to this binary].
     #[arg(long, value_name = "PATH")]
     pub rust_agent: Option<PathBuf>,
-    /// The Python interpreter with iceoryx2 0.10 installed [default: target/pyvenv/bin/python
-    /// of the checkout if it exists, else python3].
+    /// The Python interpreter with the `shoal` package installed [default: .venv/bin/python
+    /// of the checkout (made by scripts/python-env.sh) if it exists, else python3].
     #[arg(long, value_name = "PATH")]
     pub python: Option<PathBuf>,
 }
@@ -352,12 +352,12 @@ fn scaling(a: &BenchArgs, vehicles: &[usize], threads: &[usize]) -> anyhow::Resu
 }
 
 /// The checkout this binary was built in, or the current directory's, if any: the directory
-/// holding `python/shoal_agent`.
+/// holding `python/shoal/agent`.
 fn checkout() -> Option<PathBuf> {
     let starts = [std::env::current_exe().ok(), std::env::current_dir().ok()];
     starts.into_iter().flatten().find_map(|s| {
         s.ancestors()
-            .find(|d| d.join("python/shoal_agent/__init__.py").is_file())
+            .find(|d| d.join("python/shoal/agent/__init__.py").is_file())
             .map(Path::to_path_buf)
     })
 }
@@ -385,7 +385,7 @@ fn agent_command(a: &BenchArgs, lang: &str) -> anyhow::Result<std::process::Comm
         "cannot find the checkout's python/ directory (run from inside the shoal repository)",
     )?;
     let python = a.python.clone().unwrap_or_else(|| {
-        let venv = repo.join("target/pyvenv/bin/python");
+        let venv = repo.join(".venv/bin/python");
         if venv.is_file() {
             venv
         } else {
@@ -394,7 +394,6 @@ fn agent_command(a: &BenchArgs, lang: &str) -> anyhow::Result<std::process::Comm
     });
     let mut c = std::process::Command::new(python);
     c.arg(repo.join("python/examples/goto.py"))
-        .env("PYTHONPATH", repo.join("python"))
         .env("PYTHONDONTWRITEBYTECODE", "1");
     Ok(c)
 }
@@ -472,7 +471,7 @@ fn measure_agent(a: &BenchArgs, lang: &str, n: usize) -> anyhow::Result<AgentCel
             "the {lang} agent did not attach: {}{}",
             child.stderr(),
             if lang == "python" {
-                "\n(the interpreter needs iceoryx2 0.10: python3 -m venv target/pyvenv && target/pyvenv/bin/pip install -r python/requirements.txt)"
+                "\n(the interpreter needs the shoal package with iceoryx2 0.10: scripts/python-env.sh makes .venv)"
             } else {
                 ""
             }

@@ -1,14 +1,15 @@
-//! The Python agent package (`python/shoal_agent`) against the Rust side: its generated ctypes
-//! structs have the Rust layout field by field and equal the generator's output, and the
-//! Python `school` example drives `worlds/agents_school.toml` in lock-step — reproducibly, and
-//! to the same state digest as the Rust `school_agent` example.
+//! The Python agent package (`shoal.agent`, in `python/shoal/agent`) against the Rust side: its
+//! generated ctypes structs have the Rust layout field by field and equal the generator's
+//! output, and the Python `school` example drives `worlds/agents_school.toml` in lock-step —
+//! reproducibly, and to the same state digest as the Rust `school_agent` example.
 //!
 //! These tests need `python3` on the PATH with its `venv` module and pip (Debian:
-//! `python3-venv`), and PyPI: they create a venv in `target/pyvenv` and install
-//! `python/requirements.txt` into it (once; it is reused while it has iceoryx2 0.10.0). Without
-//! python3, venv or PyPI they fail and say which is missing: they never pass unrun. Creating the
-//! venv holds an exclusive lock on `target/pyvenv.lock`, so test processes started side by
-//! side do not build it twice or use it half-built.
+//! `python3-venv`), cargo and PyPI: they use the project's venv (`.venv`), which
+//! `scripts/python-env.sh` creates and keeps current (the `shoal` package of this checkout with
+//! iceoryx2 0.10; it builds the extension module with cargo the first time, which takes
+//! minutes). Without python3, venv or PyPI they fail and say which is missing: they never pass
+//! unrun. The script holds an exclusive lock meanwhile, so test processes started side by side
+//! do not build it twice or use it half-built.
 
 mod common;
 
@@ -19,8 +20,6 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, ExitStatus, Stdio};
 use std::time::{Duration, Instant};
 
-/// The iceoryx2 version of the Python package (must match the Rust crate's).
-const ICEORYX2: &str = "0.10.0";
 /// Simulated seconds per school run.
 const SCHOOL_S: f64 = 10.0;
 /// Vehicles of the school world's agent.
@@ -108,7 +107,7 @@ fn element(t: CType) -> String {
 #[test]
 fn python_protocol_matches_rust_layout() {
     let py = python3();
-    let module = repo().join("python/shoal_agent/protocol.py");
+    let module = repo().join("python/shoal/agent/protocol.py");
     let o = Command::new(py)
         .env("PYTHONDONTWRITEBYTECODE", "1")
         .arg("-c")
@@ -170,7 +169,7 @@ fn python_protocol_matches_rust_layout() {
     assert_eq!(consts.len(), expected.len(), "constants: {consts:?}");
 
     // The committed module is the generator's output (regenerate it after changing the
-    // protocol: `cargo run -p shoal-bridge --example gen_python -- python/shoal_agent/protocol.py`).
+    // protocol: `cargo run -p shoal-bridge --example gen_python -- python/shoal/agent/protocol.py`).
     let o = Command::new(cargo())
         .args(["run", "-q", "-p", "shoal-bridge", "--example", "gen_python"])
         .current_dir(repo())
@@ -184,80 +183,46 @@ fn python_protocol_matches_rust_layout() {
     let generated = String::from_utf8(o.stdout).unwrap();
     assert!(
         generated == read(&module),
-        "python/shoal_agent/protocol.py is stale: regenerate it with \
-         `cargo run -p shoal-bridge --example gen_python -- python/shoal_agent/protocol.py`"
+        "python/shoal/agent/protocol.py is stale: regenerate it with \
+         `cargo run -p shoal-bridge --example gen_python -- python/shoal/agent/protocol.py`"
     );
 }
 
-/// The venv's interpreter, creating the venv (`target/pyvenv`) and installing
-/// `python/requirements.txt` unless it already has iceoryx2 [`ICEORYX2`]. Holds an exclusive
-/// lock on `target/pyvenv.lock` meanwhile: another test process waits, then finds it ready.
-fn venv(py: &str) -> PathBuf {
-    let dir = repo().join("target/pyvenv");
-    std::fs::create_dir_all(dir.parent().unwrap()).unwrap();
-    let lock_path = dir.with_extension("lock");
-    let lock = std::fs::File::create(&lock_path)
-        .unwrap_or_else(|e| panic!("cannot create {}: {e}", lock_path.display()));
-    lock.lock()
-        .unwrap_or_else(|e| panic!("cannot lock {}: {e}", lock_path.display()));
-    let python = if cfg!(windows) {
-        dir.join("Scripts/python.exe")
-    } else {
-        dir.join("bin/python")
-    };
-    let installed = || {
-        Command::new(&python)
-            .args([
-                "-c",
-                "import importlib.metadata as m; print(m.version('iceoryx2'))",
-            ])
-            .output()
-            .is_ok_and(|o| {
-                o.status.success() && String::from_utf8_lossy(&o.stdout).trim() == ICEORYX2
-            })
-    };
-    if installed() {
-        return python;
-    }
+/// The project venv's interpreter, made current by `scripts/python-env.sh` (which prints it).
+fn venv() -> PathBuf {
     let t = Instant::now();
-    let o = Command::new(py)
-        .args(["-m", "venv", "--clear"])
-        .arg(&dir)
+    let o = Command::new(repo().join("scripts/python-env.sh"))
+        .current_dir(repo())
+        .stdin(Stdio::null())
         .output()
-        .unwrap();
+        .unwrap_or_else(|e| panic!("cannot run scripts/python-env.sh: {e}"));
     assert!(
         o.status.success(),
-        "`python3 -m venv {}` failed: {}\nThe Python agent tests need python3's venv module \
-         with pip (Debian: apt-get install python3-venv).",
-        dir.display(),
-        String::from_utf8_lossy(&o.stderr)
-    );
-    let o = Command::new(&python)
-        .args([
-            "-m",
-            "pip",
-            "install",
-            "--disable-pip-version-check",
-            "-q",
-            "-r",
-        ])
-        .arg(repo().join("python/requirements.txt"))
-        .output()
-        .unwrap();
-    assert!(
-        o.status.success(),
-        "pip install -r python/requirements.txt failed (the Python agent tests need PyPI \
-         access to install iceoryx2 {ICEORYX2}):\n{}\n{}",
+        "scripts/python-env.sh failed (the Python agent tests need python3 with venv and pip — \
+         Debian: apt-get install python3-venv — cargo, and PyPI access):\n{}\n{}",
         String::from_utf8_lossy(&o.stdout),
         String::from_utf8_lossy(&o.stderr)
     );
-    assert!(installed(), "iceoryx2 {ICEORYX2} missing after pip install");
+    let python = PathBuf::from(String::from_utf8_lossy(&o.stdout).trim());
+    let agent = Command::new(&python)
+        .args([
+            "-c",
+            "import importlib.metadata as m, shoal.agent; print(m.version('iceoryx2'))",
+        ])
+        .output()
+        .unwrap();
+    let version = String::from_utf8_lossy(&agent.stdout);
+    assert!(
+        agent.status.success() && version.trim().starts_with("0.10."),
+        "{}: shoal.agent with iceoryx2 0.10 expected, got {version:?}: {}",
+        python.display(),
+        String::from_utf8_lossy(&agent.stderr)
+    );
     println!(
-        "created {} in {:.1} s",
-        dir.display(),
+        "venv {} ready in {:.1} s",
+        python.display(),
         t.elapsed().as_secs_f64()
     );
-    // (The lock is released when `lock` is dropped.)
     python
 }
 
@@ -266,11 +231,13 @@ fn rust_school_agent() -> PathBuf {
     common::example_agent("school_agent")
 }
 
-/// The venv, created once per test process (the tests run in parallel).
-fn shared_venv(py: &str) -> PathBuf {
+/// The venv, made current once per test process (the tests run in parallel). Checks first
+/// that python3 runs, for a clear message when it is missing.
+fn shared_venv() -> PathBuf {
+    python3();
     static VENV: std::sync::Mutex<Option<PathBuf>> = std::sync::Mutex::new(None);
     let mut v = VENV.lock().unwrap_or_else(|e| e.into_inner());
-    v.get_or_insert_with(|| venv(py)).clone()
+    v.get_or_insert_with(venv).clone()
 }
 
 /// The first vehicle's last depth reading [m] and heading [rad] in a trajectories.csv.
@@ -417,14 +384,12 @@ fn run_world(
 
 #[test]
 fn python_agent_drives_the_school_in_lockstep() {
-    let py = python3();
     let t = Instant::now();
-    let python = shared_venv(py);
+    let python = shared_venv();
     println!("venv ready in {:.1} s", t.elapsed().as_secs_f64());
     let school_py = || {
         let mut c = Command::new(&python);
         c.arg(repo().join("python/examples/school.py"))
-            .env("PYTHONPATH", repo().join("python"))
             .env("PYTHONDONTWRITEBYTECODE", "1");
         c
     };
@@ -476,12 +441,10 @@ fn python_agent_drives_the_school_in_lockstep() {
 
 #[test]
 fn python_agent_drives_a_vehicle_to_depth_and_heading_reproducibly() {
-    let py = python3();
-    let python = shared_venv(py);
+    let python = shared_venv();
     let goto_py = || {
         let mut c = Command::new(&python);
         c.arg(repo().join("python/examples/goto.py"))
-            .env("PYTHONPATH", repo().join("python"))
             .env("PYTHONDONTWRITEBYTECODE", "1");
         c
     };
@@ -515,15 +478,13 @@ fn python_agent_drives_a_vehicle_to_depth_and_heading_reproducibly() {
 
 #[test]
 fn bench_measures_the_round_trip_to_a_python_agent() {
-    let py = python3();
-    let python = shared_venv(py);
+    let python = shared_venv();
     common::check_agent_bench("python", &["--python".as_ref(), python.as_os_str()]);
 }
 
 #[test]
 fn python_agent_interrupted_with_ctrl_c_says_goodbye() {
-    let py = python3();
-    let python = shared_venv(py);
+    let python = shared_venv();
     let dir = tmp("ctrl-c");
     let prefix = format!("pytest-{}-ctrl-c", std::process::id());
     // Free-running at 10× real time: 60 s simulated take 6 s.
@@ -549,7 +510,6 @@ fn python_agent_interrupted_with_ctrl_c_says_goodbye() {
     let agent = Command::new(&python)
         .arg(repo().join("python/examples/goto.py"))
         .args([&prefix, "pilot", "1.5", "90", "--log"])
-        .env("PYTHONPATH", repo().join("python"))
         .env("PYTHONDONTWRITEBYTECODE", "1")
         .stdout(log("agent.out"))
         .stderr(log("agent.err"))

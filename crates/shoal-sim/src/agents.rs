@@ -9,6 +9,7 @@
 //! control tick as a built-in behaviour's setpoints would, and a lock-step run is as
 //! reproducible as one without agents.
 
+use crate::batch::{check_frame, force_limit};
 use crate::comm::{Inbox, OutFrame, Outbox, Received};
 use crate::components::*;
 use crate::sim::Sim;
@@ -196,19 +197,6 @@ pub struct AgentsSummary {
     pub agents: Vec<AgentReport>,
 }
 
-/// Largest |surge| or |sway| an agent may ask for [N]: the sum of every thruster's larger
-/// thrust limit (more than the vehicle can produce in any direction).
-fn force_limit(m: &VehicleModel) -> f64 {
-    m.params
-        .thrusters
-        .iter()
-        .map(|t| {
-            let (a, b) = t.curve.limits(t.max_command);
-            a.max(b)
-        })
-        .sum()
-}
-
 impl Sim {
     /// Whether any agent-driven vehicle has its control tick at the coming step.
     pub fn agent_tick_due(&mut self) -> bool {
@@ -348,15 +336,7 @@ impl Sim {
         };
         let mut frames = Vec::new();
         for f in &cmd.frames {
-            let ok_modem = match f.modem {
-                Some(k) => k < p.modems.len(),
-                None => !p.modems.is_empty(),
-            };
-            let max = match f.modem {
-                Some(k) => p.modems.get(k).map_or(0, |m| m.max_payload),
-                None => p.modems.iter().map(|m| m.max_payload).min().unwrap_or(0),
-            };
-            if !ok_modem || f.payload.is_empty() || f.payload.len() > max || !f.delay.is_finite() {
+            if check_frame(&p.modems, f).is_err() {
                 rej.bad_frames += 1;
                 continue;
             }

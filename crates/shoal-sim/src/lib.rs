@@ -5,11 +5,13 @@
 //! ([`parallel`]), a trajectory recorder ([`recorder`]) and run outputs ([`output`], [`plot`];
 //! [`ci_plot`]: means with confidence intervals, for parameter studies), each file written
 //! whole or not at all ([`files`]); external agents, independent of their
-//! transport ([`agents`]). Long work (building a world, running it, drawing plots) can be
+//! transport ([`agents`]); whole-swarm reads and commands through flat arrays ([`batch`]).
+//! Long work (building a world, running it, drawing plots) can be
 //! stopped early through a [`shoal_world::cancel::Cancel`].
 
 pub mod agents;
 pub mod analysis;
+pub mod batch;
 pub mod behaviour;
 pub mod bench;
 pub mod ci_plot;

@@ -2,6 +2,7 @@
 //! field of view, airtime, half-duplex, collisions and capture, occlusion by obstacles and
 //! hulls, water type, carrier sense, and identical statistics on 1 and 2 threads.
 
+mod support;
 use shoal_model::optics::{Ambient, LinkGeometry, budget};
 use shoal_model::presets::uauv2_modem;
 use shoal_sim::behaviour::{Behave, Behaviour, BehaviourIo};
@@ -11,17 +12,7 @@ use shoal_world::geometry::Geometry;
 use shoal_world::load::load_str;
 use std::path::Path;
 use std::sync::{Arc, Mutex};
-
-fn world(text: &str) -> Sim {
-    let desc = load_str(text, Path::new("test.toml")).unwrap_or_else(|e| panic!("{e}\n{text}"));
-    Sim::new(
-        &desc,
-        SimOptions {
-            threads: 1,
-            record: false,
-        },
-    )
-}
+use support::world::world;
 
 fn stats(sim: &Sim, id: usize) -> CommStats {
     sim.vehicle(id).comm

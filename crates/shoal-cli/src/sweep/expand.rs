@@ -302,13 +302,20 @@ count = 2
 grid = { origin = [1.0, 1.0, 1.0], spacing = [1.0, 1.0], columns = 2 }
 "#;
 
+    /// Expands a sweep over `BASE`, in a folder of its own (tests run in parallel threads of
+    /// one process: a shared base file could be read while another test rewrites it).
     fn sweep(body: &str) -> Result<Expanded, String> {
-        let dir = std::env::temp_dir().join(format!("shoal_expand_{}", std::process::id()));
+        static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+        let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        let dir = std::env::temp_dir().join(format!("shoal_expand_{}_{call}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         std::fs::write(dir.join("base.toml"), BASE).unwrap();
         let text = format!("world = \"base.toml\"\n{body}\n[metrics]\nv = \"vehicles\"\n");
-        let s = parse(&text, &dir.join("s.toml")).map_err(|e| format!("parse: {e}"))?;
-        expand(&s, "s.toml", 2)
+        let out = parse(&text, &dir.join("s.toml"))
+            .map_err(|e| format!("parse: {e}"))
+            .and_then(|s| expand(&s, "s.toml", 2));
+        let _ = std::fs::remove_dir_all(&dir);
+        out
     }
 
     #[test]

@@ -2,7 +2,7 @@
 control tick's observations of its vehicles, answer with one command per vehicle. Mirrors
 `crates/shoal-bridge/src/agent.rs`::
 
-    from shoal_agent import Agent, mode, run, set_mode
+    from shoal.agent import Agent, mode, run, set_mode
 
     class Dive(Agent):
         '''Every vehicle dives to 1.5 m and turns north-east.'''

@@ -1,0 +1,572 @@
+//! Commands for many vehicles at once: setpoints ([`Sim::set_setpoints`]), raw actuator
+//! commands ([`Sim::set_actuators`]) and frames ([`Sim::queue_frames`]), every value checked
+//! before anything changes; the frames delivered in a step ([`Sim::collect_received`]); and the
+//! limits shared with the agents' commands ([`force_limit`], [`check_frame`]).
+
+use super::{Column, CommandError, Rows};
+use crate::agents::FrameOrder;
+use crate::comm::{Inbox, OutFrame, Outbox, Received};
+use crate::components::*;
+use crate::sim::Sim;
+use shoal_model::math::wrap_pi;
+use shoal_model::optics::ModemParams;
+use shoal_model::prelude::*;
+use std::f64::consts::PI;
+use std::fmt;
+use std::sync::Arc;
+
+/// Largest |surge| or |sway| force a command may ask for \[N\]: the sum of every thruster's
+/// larger thrust limit (more than the vehicle can produce in any direction).
+pub fn force_limit(m: &VehicleModel) -> f64 {
+    m.params
+        .thrusters
+        .iter()
+        .map(|t| {
+            let (a, b) = t.curve.limits(t.max_command);
+            a.max(b)
+        })
+        .sum()
+}
+
+/// Why a frame cannot be sent by a vehicle (see [`check_frame`]).
+#[derive(Clone, Debug, PartialEq)]
+pub enum FrameProblem {
+    /// The vehicle has no modem.
+    NoModem,
+    /// The modem index is not one of the vehicle's (it has `count`).
+    UnknownModem {
+        /// The index asked for.
+        modem: usize,
+        /// The vehicle's number of modems.
+        count: usize,
+    },
+    /// The payload is empty or longer than the modem(s) carry.
+    Length {
+        /// Payload length \[bytes\].
+        len: usize,
+        /// Longest payload of the modem (all modems: the smallest limit) \[bytes\].
+        max: usize,
+    },
+    /// The delay is NaN or infinite.
+    Delay,
+}
+
+impl fmt::Display for FrameProblem {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::NoModem => write!(f, "the vehicle has no modem"),
+            Self::UnknownModem { modem, count } => write!(
+                f,
+                "modem {modem} does not exist (the vehicle has {count}: 0 … {})",
+                count.saturating_sub(1)
+            ),
+            Self::Length { len, max } => write!(
+                f,
+                "payload of {len} bytes: allowed 1 … {max} bytes for this modem"
+            ),
+            Self::Delay => write!(f, "the delay is not a finite number of seconds"),
+        }
+    }
+}
+
+/// Checks that a vehicle with modems `modems` can send `frame` (the rules of agents' frames).
+pub fn check_frame(modems: &[ModemParams], frame: &FrameOrder) -> Result<(), FrameProblem> {
+    if modems.is_empty() {
+        return Err(FrameProblem::NoModem);
+    }
+    let max = match frame.modem {
+        Some(k) => match modems.get(k) {
+            Some(m) => m.max_payload,
+            None => {
+                return Err(FrameProblem::UnknownModem {
+                    modem: k,
+                    count: modems.len(),
+                });
+            }
+        },
+        None => modems.iter().map(|m| m.max_payload).min().unwrap_or(0),
+    };
+    if frame.payload.is_empty() || frame.payload.len() > max {
+        return Err(FrameProblem::Length {
+            len: frame.payload.len(),
+            max,
+        });
+    }
+    if !frame.delay.is_finite() {
+        return Err(FrameProblem::Delay);
+    }
+    Ok(())
+}
+
+/// Longest delay of a frame after the moment it is queued \[s\] (agents' frames are clamped
+/// to it).
+pub const MAX_FRAME_DELAY: f64 = 1.0;
+
+/// The controller modes a command may ask for, by code (the agent protocol's codes).
+pub const MODES: [Mode; 6] = [
+    Mode::Off,
+    Mode::Diving,
+    Mode::Buoyancy,
+    Mode::Turning,
+    Mode::Drift,
+    Mode::Auto,
+];
+
+/// The code of `mode` in [`MODES`]; [`Mode::Raw`] (raw actuator commands) is 6.
+pub fn mode_code(mode: Mode) -> i64 {
+    MODES
+        .iter()
+        .position(|m| *m == mode)
+        .map_or(6, |i| i as i64)
+}
+/// New setpoints for the built-in controller; a field left `None` keeps each vehicle's
+/// current value.
+#[derive(Clone, Copy, Debug)]
+pub struct SetpointOrder<'a> {
+    /// Mode codes ([`MODES`]).
+    pub mode: Column<'a, i64>,
+    /// Depth [m, positive down], 0 … the pool's depth.
+    pub depth: Option<Column<'a, f64>>,
+    /// Heading \[rad\], any finite value (one outside [−π, π] is wrapped into (−π, π]).
+    pub yaw: Option<Column<'a, f64>>,
+    /// Surge force \[N\], |surge| ≤ [`force_limit`].
+    pub surge: Option<Column<'a, f64>>,
+    /// Sway force \[N\], |sway| ≤ [`force_limit`].
+    pub sway: Option<Column<'a, f64>>,
+}
+
+/// Raw actuator commands (mode raw); a field left `None` keeps each vehicle's current raw
+/// command. Columns beyond a vehicle's own thrusters or tilt drives must be 0.
+#[derive(Clone, Copy, Debug)]
+pub struct ActuatorOrder<'a> {
+    /// Per thruster [% of full scale], within ± the thruster's `max_command`.
+    pub thrusters: Option<Rows<'a>>,
+    /// Per tilt drive \[rad\], within the drive's range.
+    pub tilts: Option<Rows<'a>>,
+    /// Pump: −1 empty, 0 off, +1 fill (only 0 for a vehicle without a tank).
+    pub pump: Option<Column<'a, i64>>,
+}
+/// The world's delivery count ([`crate::comm::Medium::delivered`]) at the last
+/// [`Sim::collect_received`].
+#[derive(bevy_ecs::prelude::Resource)]
+struct Collected(u64);
+
+/// The setpoints a command asks of one vehicle.
+struct Wanted {
+    mode: Mode,
+    depth: f64,
+    yaw: f64,
+    surge: f64,
+    sway: f64,
+}
+
+/// [`force_limit`] of the model last asked about (the vehicles of a group share theirs).
+#[derive(Default)]
+struct ForceLimits(Option<(*const VehicleModel, f64)>);
+
+impl ForceLimits {
+    /// The force limit of `m` \[N\].
+    fn of(&mut self, m: &Arc<VehicleModel>) -> f64 {
+        let p = Arc::as_ptr(m);
+        match self.0 {
+            Some((q, f)) if q == p => f,
+            _ => {
+                let f = force_limit(m);
+                self.0 = Some((p, f));
+                f
+            }
+        }
+    }
+}
+
+impl Sim {
+    /// Row of each vehicle in a command for `ids` (all vehicles in id order when `None`):
+    /// `u32::MAX` for vehicles not commanded. Errors for an unknown or repeated id.
+    fn command_rows(&self, ids: Option<&[usize]>) -> Result<(usize, Vec<u32>), CommandError> {
+        let n = self.len();
+        let Some(ids) = ids else {
+            return Ok((n, (0..n as u32).collect()));
+        };
+        let mut rows = vec![u32::MAX; n];
+        for (r, &id) in ids.iter().enumerate() {
+            if id >= n {
+                return Err(CommandError::field(
+                    "vehicles",
+                    format!(
+                        "vehicle {id} does not exist (the world has 0 … {})",
+                        n.max(1) - 1
+                    ),
+                ));
+            }
+            if rows[id] != u32::MAX {
+                return Err(CommandError::field(
+                    "vehicles",
+                    format!("vehicle {id} is given twice"),
+                ));
+            }
+            rows[id] = r as u32;
+        }
+        Ok((ids.len(), rows))
+    }
+
+    /// `e` completed with vehicle `id`'s id and name.
+    fn at_vehicle(&self, id: usize, mut e: CommandError) -> CommandError {
+        e.vehicle = Some(id);
+        e.name = self
+            .world()
+            .get::<VehicleName>(self.vehicle_entity(id))
+            .map(|n| n.0.clone());
+        e
+    }
+
+    /// Sets the setpoints of vehicles `ids` (all, in id order, when `None`; the columns have
+    /// one value per listed vehicle). Every value is checked first and nothing changes on an
+    /// error: NaN or infinite values and unknown mode codes always fail; values outside their
+    /// range fail unless `clip`, which clamps them to it.
+    pub fn set_setpoints(
+        &mut self,
+        ids: Option<&[usize]>,
+        order: &SetpointOrder<'_>,
+        clip: bool,
+    ) -> Result<(), CommandError> {
+        let (count, rows) = self.command_rows(ids)?;
+        order.mode.check_len("mode", count)?;
+        for (name, col) in [
+            ("depth", &order.depth),
+            ("yaw", &order.yaw),
+            ("surge", &order.surge),
+            ("sway", &order.sway),
+        ] {
+            if let Some(c) = col {
+                c.check_len(name, count)?;
+            }
+        }
+        let pool_depth = self.pool_size().z;
+        // Each listed vehicle's new setpoints (its force limit given), or the problem.
+        let new = |r: usize, force: f64, sp: &Setpoints| -> Result<Wanted, CommandError> {
+            let code = order.mode.get(r);
+            let mode = usize::try_from(code)
+                .ok()
+                .and_then(|i| MODES.get(i))
+                .copied()
+                .ok_or_else(|| {
+                    CommandError::field(
+                        "mode",
+                        format!(
+                            "code {code} is not a mode: allowed 0 … 5 ({})",
+                            MODES.map(Mode::name).join(", ")
+                        ),
+                    )
+                })?;
+            let value = |name: &str,
+                         col: &Option<Column<'_, f64>>,
+                         current: f64,
+                         lo: f64,
+                         hi: f64,
+                         unit: &str| {
+                let Some(c) = col else { return Ok(current) };
+                let x = c.get(r);
+                if !x.is_finite() {
+                    return Err(CommandError::field(
+                        name,
+                        format!("{x} is not a number: allowed {lo} … {hi} {unit}"),
+                    ));
+                }
+                if clip {
+                    Ok(x.clamp(lo, hi))
+                } else if x < lo || x > hi {
+                    Err(CommandError::field(
+                        name,
+                        format!("{x} {unit} is outside the allowed {lo} … {hi} {unit}"),
+                    ))
+                } else {
+                    Ok(x)
+                }
+            };
+            let yaw = match order.yaw {
+                None => sp.yaw,
+                Some(c) => {
+                    let x = c.get(r);
+                    if !x.is_finite() {
+                        return Err(CommandError::field(
+                            "yaw",
+                            format!("{x} is not a number: allowed any finite heading in rad"),
+                        ));
+                    }
+                    // In range it is kept bit for bit (as a mission's heading is).
+                    if (-PI..=PI).contains(&x) {
+                        x
+                    } else {
+                        wrap_pi(x)
+                    }
+                }
+            };
+            Ok(Wanted {
+                mode,
+                depth: value("depth", &order.depth, sp.depth, 0.0, pool_depth, "m")?,
+                yaw,
+                surge: value("surge", &order.surge, sp.surge, -force, force, "N")?,
+                sway: value("sway", &order.sway, sp.sway, -force, force, "N")?,
+            })
+        };
+        let mut force = ForceLimits::default();
+        self.check_then_apply(
+            &rows,
+            |r, k, c| new(r, force.of(k), &c.setpoints),
+            |s, _, _, c| {
+                let sp = &mut c.setpoints;
+                sp.mode = s.mode;
+                sp.depth = s.depth;
+                sp.yaw = s.yaw;
+                sp.surge = s.surge;
+                sp.sway = s.sway;
+            },
+        )
+    }
+
+    /// Sets raw actuator commands (mode raw) of vehicles `ids` (see [`Self::set_setpoints`]
+    /// for `ids`, checking and `clip`). A vehicle with fewer thrusters or tilt drives than the
+    /// rows have columns needs 0 in the extra columns; a vehicle without a tank needs pump 0.
+    pub fn set_actuators(
+        &mut self,
+        ids: Option<&[usize]>,
+        order: &ActuatorOrder<'_>,
+        clip: bool,
+    ) -> Result<(), CommandError> {
+        let (count, rows) = self.command_rows(ids)?;
+        if let Some(t) = &order.thrusters {
+            t.check_len("thrusters", count)?;
+        }
+        if let Some(t) = &order.tilts {
+            t.check_len("tilts", count)?;
+        }
+        if let Some(p) = &order.pump {
+            p.check_len("pump", count)?;
+        }
+        let check = |r: usize, m: &VehicleModel| -> Result<(), CommandError> {
+            let p = &m.params;
+            // Each column of a rows matrix against the vehicle's `count` actuators' ranges.
+            let ranges = |name: &str,
+                          rows: &Option<Rows<'_>>,
+                          count: usize,
+                          limit: &dyn Fn(usize) -> (f64, f64),
+                          unit: &str| {
+                let Some(rs) = rows else { return Ok(()) };
+                for (i, &x) in rs.row(r).iter().enumerate() {
+                    let field = format!("{name}[{i}]");
+                    if !x.is_finite() {
+                        return Err(CommandError::field(field, format!("{x} is not a number")));
+                    }
+                    if i >= count {
+                        if x != 0.0 {
+                            return Err(CommandError::field(
+                                field,
+                                format!(
+                                    "{x} {unit}, but the vehicle has {count} {name}: must be 0"
+                                ),
+                            ));
+                        }
+                        continue;
+                    }
+                    let (lo, hi) = limit(i);
+                    if !clip && (x < lo || x > hi) {
+                        return Err(CommandError::field(
+                            field,
+                            format!("{x} {unit} is outside the allowed {lo} … {hi} {unit}"),
+                        ));
+                    }
+                }
+                Ok(())
+            };
+            let th = |i: usize| (-p.thrusters[i].max_command, p.thrusters[i].max_command);
+            let tl = |i: usize| (p.tilts[i].min, p.tilts[i].max);
+            ranges("thrusters", &order.thrusters, p.thrusters.len(), &th, "%")?;
+            ranges("tilts", &order.tilts, p.tilts.len(), &tl, "rad")?;
+            if let Some(pump) = &order.pump {
+                let x = pump.get(r);
+                if !(-1..=1).contains(&x) {
+                    return Err(CommandError::field(
+                        "pump",
+                        format!("{x}: allowed −1 (empty), 0 (off), +1 (fill)"),
+                    ));
+                }
+                if x != 0 && p.ballast.is_none() {
+                    return Err(CommandError::field(
+                        "pump",
+                        format!("{x}, but the vehicle has no tank: must be 0"),
+                    ));
+                }
+            }
+            Ok(())
+        };
+        self.check_then_apply(
+            &rows,
+            |r, k, _| check(r, k),
+            |(), r, k, c| {
+                let p = &k.params;
+                let sp = &mut c.setpoints;
+                sp.mode = Mode::Raw;
+                if let Some(rs) = &order.thrusters {
+                    for ((out, x), t) in
+                        sp.raw.thrusters.iter_mut().zip(rs.row(r)).zip(&p.thrusters)
+                    {
+                        *out = x.clamp(-t.max_command, t.max_command);
+                    }
+                }
+                if let Some(rs) = &order.tilts {
+                    for ((out, x), t) in sp.raw.tilts.iter_mut().zip(rs.row(r)).zip(&p.tilts) {
+                        *out = x.clamp(t.min, t.max);
+                    }
+                }
+                if let Some(pump) = &order.pump {
+                    sp.raw.pump = Pump::from_sign(pump.get(r) as f64);
+                }
+            },
+        )
+    }
+
+    /// The commanded vehicles (`rows[vehicle id]` is the vehicle's row, `u32::MAX` for a
+    /// vehicle not commanded) checked by `check` before any is changed — on an error, the
+    /// first failing row's, nothing changes — and then each given `apply` with its checked
+    /// value; a vehicle driven by an agent no longer falls back to its mission.
+    fn check_then_apply<T>(
+        &mut self,
+        rows: &[u32],
+        mut check: impl FnMut(usize, &Arc<VehicleModel>, &Control) -> Result<T, CommandError>,
+        mut apply: impl FnMut(T, usize, &VehicleModel, &mut Control),
+    ) -> Result<(), CommandError> {
+        let mut first: Option<(usize, usize, CommandError)> = None;
+        {
+            let mut q = self.world_mut().query::<(&VehicleId, &Kind, &Control)>();
+            for (id, k, c) in q.iter(self.world()) {
+                let r = rows[id.0 as usize];
+                if r == u32::MAX || first.as_ref().is_some_and(|f| f.0 < r as usize) {
+                    continue;
+                }
+                if let Err(e) = check(r as usize, &k.0, c) {
+                    first = Some((r as usize, id.0 as usize, e));
+                }
+            }
+        }
+        if let Some((_, id, e)) = first {
+            return Err(self.at_vehicle(id, e));
+        }
+        let mut q = self
+            .world_mut()
+            .query::<(&VehicleId, &Kind, &mut Control, Option<&mut External>)>();
+        for (id, k, mut c, ext) in q.iter_mut(self.world_mut()) {
+            let r = rows[id.0 as usize];
+            if r == u32::MAX {
+                continue;
+            }
+            if let Ok(v) = check(r as usize, &k.0, &c) {
+                apply(v, r as usize, &k.0, &mut c);
+            }
+            if let Some(mut x) = ext {
+                x.fallback = false;
+            }
+        }
+        Ok(())
+    }
+
+    /// Hands frames to vehicles' modems: `(vehicle id, frame)`, the delay counted from now
+    /// \[s\], 0 … [`MAX_FRAME_DELAY`] (clamped to it when `clip`). Every frame is checked first
+    /// ([`check_frame`]); nothing is queued on an error.
+    pub fn queue_frames(
+        &mut self,
+        frames: &[(usize, FrameOrder)],
+        clip: bool,
+    ) -> Result<(), CommandError> {
+        let n = self.len();
+        for (i, (id, f)) in frames.iter().enumerate() {
+            if *id >= n {
+                return Err(CommandError::field(
+                    format!("frames[{i}].vehicle"),
+                    format!(
+                        "vehicle {id} does not exist (the world has 0 … {})",
+                        n.max(1) - 1
+                    ),
+                ));
+            }
+            let e = self.vehicle_entity(*id);
+            let kind = self.world().get::<Kind>(e).map(|k| k.0.clone());
+            let Some(kind) = kind else { continue };
+            let problem = check_frame(&kind.params.modems, f)
+                .err()
+                .map(|p| p.to_string())
+                .or_else(|| {
+                    (!clip && !(0.0..=MAX_FRAME_DELAY).contains(&f.delay)).then(|| {
+                        format!(
+                            "delay {} s is outside the allowed 0 … {MAX_FRAME_DELAY} s",
+                            f.delay
+                        )
+                    })
+                });
+            if let Some(message) = problem {
+                return Err(
+                    self.at_vehicle(*id, CommandError::field(format!("frames[{i}]"), message))
+                );
+            }
+        }
+        let t = self.time();
+        for (id, f) in frames {
+            let e = self.vehicle_entity(*id);
+            if let Some(mut out) = self.world_mut().get_mut::<Outbox>(e) {
+                out.0.push(OutFrame {
+                    modem: f.modem,
+                    payload: f.payload.clone(),
+                    ready: t + f.delay.clamp(0.0, MAX_FRAME_DELAY),
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Appends to `out` every frame delivered after time `since` \[s\] (call it after each
+    /// step with the time before the step: a step delivers the frames whose reception ended
+    /// in it), as (receiving vehicle id, frame), in id order and, per vehicle, in order of
+    /// arrival. Vehicles driven by an external agent keep their frames until the agent takes
+    /// them; with `drain_agents` (there is no agent host: the caller acts for the agents)
+    /// their inboxes are emptied here instead. With `out` = `None` only that is done.
+    pub fn collect_received(
+        &mut self,
+        since: f64,
+        mut out: Option<&mut Vec<(u32, Received)>>,
+        drain_agents: bool,
+    ) {
+        // Nothing was delivered since the last call: nothing to copy or to empty.
+        let delivered = self.medium().delivered;
+        if self
+            .world()
+            .get_resource::<Collected>()
+            .is_some_and(|c| c.0 == delivered)
+        {
+            return;
+        }
+        self.world_mut().insert_resource(Collected(delivered));
+        let start = out.as_ref().map_or(0, |o| o.len());
+        let mut q = self
+            .world_mut()
+            .query::<(&VehicleId, &mut Inbox, Option<&External>)>();
+        for (id, mut inbox, ext) in q.iter_mut(self.world_mut()) {
+            if inbox.0.is_empty() {
+                continue;
+            }
+            if let Some(out) = out.as_deref_mut() {
+                out.extend(
+                    inbox
+                        .0
+                        .iter()
+                        .filter(|r| r.t > since)
+                        .map(|r| (id.0, r.clone())),
+                );
+            }
+            if drain_agents && ext.is_some() {
+                inbox.0.clear();
+            }
+        }
+        if let Some(out) = out {
+            out[start..].sort_by_key(|(id, _)| *id);
+        }
+    }
+}

@@ -1,0 +1,39 @@
+"""shoal: a swarm simulator for tiny AUVs (DFKI μAUV²) with optical modems, in Python.
+
+- :class:`World` — a whole shoal world in this process (the Rust simulator, no shared
+  memory): ``reset``, ``step``, ``run``, and every vehicle's state, sensor readings, setpoints,
+  received frames and modem counters as numpy arrays over all vehicles at once;
+- :mod:`shoal.rl` — a PettingZoo ``ParallelEnv`` (``SwarmEnv``, one agent per vehicle) and a
+  Gymnasium env (``VehicleEnv``, one vehicle) for training (``pip install "shoal[rl]"``);
+- :mod:`shoal.agent` — agents in a separate process attached to ``shoal run`` over iceoryx2
+  shared memory.
+
+Units are SI, angles in radians, depth positive down (north-east-down world frame). Errors:
+:class:`WorldError` (a world that cannot be loaded), :class:`CommandError` (a bad command,
+naming the vehicle and field; both are ``ValueError``) and :class:`SimulationError` (a
+vehicle's state stopped being finite). See python/README.md.
+"""
+
+from ._shoal import (
+    MAX_FRAME_DELAY,
+    MODES,
+    QUANTITIES,
+    CommandError,
+    SimulationError,
+    World,
+    WorldError,
+    __version__,
+    plot,
+)
+
+__all__ = [
+    "MAX_FRAME_DELAY",
+    "MODES",
+    "QUANTITIES",
+    "CommandError",
+    "SimulationError",
+    "World",
+    "WorldError",
+    "__version__",
+    "plot",
+]
