@@ -15,12 +15,15 @@ pub fn repo() -> PathBuf {
 }
 
 /// Builds the shoal-bridge example `name` (same profile as the `shoal` binary under test)
-/// and returns its path.
+/// and returns its path. Built with `--workspace`, so its features resolve as in
+/// `cargo test --workspace`, which has built it already: `-p shoal-bridge` would resolve
+/// them differently and build a second copy of shoal-sim, iceoryx2 and bevy_ecs (minutes
+/// and a gigabyte of disk on a fresh machine).
 pub fn example_agent(name: &str) -> PathBuf {
     let bin_dir = Path::new(env!("CARGO_BIN_EXE_shoal")).parent().unwrap();
     let mut build = Command::new(std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into()));
     build
-        .args(["build", "-q", "-p", "shoal-bridge", "--example", name])
+        .args(["build", "-q", "--workspace", "--example", name])
         .current_dir(repo());
     if bin_dir.ends_with("release") {
         build.arg("--release");
