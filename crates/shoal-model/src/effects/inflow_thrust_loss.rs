@@ -49,8 +49,7 @@ impl Effect for InflowThrustLoss {
         }]
     }
     fn thrust(&self, p: &[f64], ctx: &ThrustContext<'_>, f: f64) -> f64 {
-        let g = f - p[0] * f.abs().sqrt() * ctx.inflow;
-        if g * f < 0.0 { 0.0 } else { g }
+        reduced(f, p[0] * f.abs().sqrt() * ctx.inflow)
     }
 }
 
@@ -86,9 +85,17 @@ impl Effect for InflowThrustLossLinear {
         }]
     }
     fn thrust(&self, p: &[f64], ctx: &ThrustContext<'_>, f: f64) -> f64 {
-        let g = f - p[0] * f.abs() * ctx.inflow;
-        if g * f < 0.0 { 0.0 } else { g }
+        reduced(f, p[0] * f.abs() * ctx.inflow)
     }
+}
+
+/// Static thrust `f` \[N\] less the inflow loss `loss` \[N\] (signed along `f`: negative
+/// when the vehicle moves against its thrust, a gain): an inflow slows the propeller's thrust
+/// to zero at most, never reverses it. Shared by every form of the family (and by the test
+/// set's truth forms).
+pub fn reduced(f: f64, loss: f64) -> f64 {
+    let g = f - loss;
+    if g * f < 0.0 { 0.0 } else { g }
 }
 
 /// Inflow speed the `power` form's loss is quoted at \[m/s\]: a typical μAUV² heave or surge
@@ -143,7 +150,6 @@ impl Effect for InflowThrustLossPower {
     fn thrust(&self, p: &[f64], ctx: &ThrustContext<'_>, f: f64) -> f64 {
         let u = ctx.inflow;
         let rel = p[0] * u.signum() * (u.abs() / INFLOW_REF).powf(p[1]);
-        let g = f - rel * f.abs();
-        if g * f < 0.0 { 0.0 } else { g }
+        reduced(f, rel * f.abs())
     }
 }

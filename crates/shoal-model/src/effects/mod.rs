@@ -42,7 +42,9 @@ pub use battery_sag::{BatterySag, BatterySagExponential, BatterySagPower};
 pub use buoyancy_offset::BuoyancyOffset;
 pub use damping_error::{DampingError, DampingErrorDirection};
 pub use depth_sensor_bias::{DepthSensorBias, DepthSensorBiasPower, DepthSensorBiasSettling};
-pub use inflow_thrust_loss::{InflowThrustLoss, InflowThrustLossLinear, InflowThrustLossPower};
+pub use inflow_thrust_loss::{
+    InflowThrustLoss, InflowThrustLossLinear, InflowThrustLossPower, reduced as inflow_reduced,
+};
 pub use sensor_delay::SensorDelay;
 pub use thrust_asymmetry::{ThrustAsymmetry, ThrustAsymmetryCurve};
 pub use thrust_coupling::ThrustCoupling;

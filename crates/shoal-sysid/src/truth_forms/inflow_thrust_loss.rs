@@ -16,7 +16,7 @@
 //! The thrust never changes sign through the loss.
 
 use super::{ExpKind, FormParam, Part, TruthForm, truth_effect_meta};
-use shoal_model::effects::{Effect, ThrustContext};
+use shoal_model::effects::{Effect, ThrustContext, inflow_reduced as reduced};
 use std::sync::Arc;
 
 const PROPORTIONAL: &str = "inflow_thrust_loss/saturating";
@@ -116,8 +116,7 @@ impl Effect for Loss {
         } else {
             u * u.abs()
         };
-        let g = f - self.k * shape * f.abs();
-        if g * f < 0.0 { 0.0 } else { g }
+        reduced(f, self.k * shape * f.abs())
     }
 }
 
@@ -131,7 +130,6 @@ struct ForwardOnly {
 impl Effect for ForwardOnly {
     truth_effect_meta!(FORWARD, FORWARD_LAW);
     fn thrust(&self, _p: &[f64], ctx: &ThrustContext<'_>, f: f64) -> f64 {
-        let g = f - self.k * ctx.inflow.max(0.0) * f.abs();
-        if g * f < 0.0 { 0.0 } else { g }
+        reduced(f, self.k * ctx.inflow.max(0.0) * f.abs())
     }
 }

@@ -15,11 +15,15 @@
 //! All act on the command the thrust curve sees (the motor speed, ∝ command); the log keeps
 //! the commanded values.
 
-use super::{ExpKind, FormParam, Part, TruthForm};
+use super::{ExpKind, FormParam, Part, TruthForm, truth_effect_meta};
 use crate::synth::TruthHook;
 use shoal_model::control::ActuatorCommands;
+use shoal_model::effects::{Effect, ThrusterLagSlew};
 use shoal_model::rigid_body::Environment;
-use shoal_model::vehicle::{VehicleModel, VehicleState};
+use shoal_model::vehicle::{VehicleModel, VehicleParams, VehicleState};
+use std::sync::Arc;
+
+const SLEW_LAW: &str = "every motor command ramps toward its target at most R %/s";
 
 pub(super) fn forms() -> Vec<TruthForm> {
     vec![
@@ -50,7 +54,7 @@ pub(super) fn forms() -> Vec<TruthForm> {
         TruthForm {
             name: "thruster_lag/slew_rate",
             family: "thruster_lag",
-            law: "every motor command ramps toward its target at most R %/s",
+            law: SLEW_LAW,
             params: vec![FormParam::deficit(
                 "rate_pct_s",
                 "%/s",
@@ -59,12 +63,7 @@ pub(super) fn forms() -> Vec<TruthForm> {
                 "largest rate of change of the motor command (a 60 % step takes 60/R s)",
             )],
             excites: &[ExpKind::Heave, ExpKind::Yaw],
-            build: |p| {
-                Part::Hook(Box::new(SlewRate {
-                    rate: p[0],
-                    applied: Vec::new(),
-                }))
-            },
+            build: |p| Part::Effect(Arc::new(SlewRate { rate: p[0] })),
         },
         TruthForm {
             name: "thruster_lag/speed_dependent",
@@ -157,27 +156,16 @@ impl TruthHook for Underdamped {
 }
 
 /// See the module documentation.
+#[derive(Debug)]
 struct SlewRate {
     /// Largest rate of change of a motor command [%/s].
     rate: f64,
-    /// The command each motor applies [%] (starts at zero: the run starts at rest).
-    applied: Vec<f64>,
 }
 
-impl TruthHook for SlewRate {
-    fn before_actuate(
-        &mut self,
-        _model: &VehicleModel,
-        _state: &mut VehicleState,
-        cmd: &mut ActuatorCommands,
-        _env: &mut Environment,
-        dt: f64,
-    ) {
-        self.applied.resize(cmd.thrusters.len(), 0.0);
-        let step = self.rate * dt;
-        for (a, c) in self.applied.iter_mut().zip(cmd.thrusters.iter_mut()) {
-            *a += (*c - *a).clamp(-step, step);
-            *c = *a;
-        }
+impl Effect for SlewRate {
+    truth_effect_meta!("thruster_lag/slew_rate", SLEW_LAW);
+    fn configure(&self, _p: &[f64], vehicle: &mut VehicleParams) {
+        // The catalogue's `slew` form has this law (the form is matched): 100 % in 100/R s.
+        ThrusterLagSlew.configure(&[100.0 / self.rate], vehicle);
     }
 }
