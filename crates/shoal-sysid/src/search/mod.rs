@@ -56,9 +56,11 @@
 //!
 //! **Stability selection** (`stability.rs`). The chosen model is refitted on block-bootstrap
 //! resamples of the log (estimation and validation blocks drawn with replacement), and on each
-//! the backward test is repeated. An effect is named in `verdict.effects` only if it is
-//! selected in at least `stability_threshold` (default 70 %) of the resamples; otherwise it is
-//! listed as *possible* with its evidence.
+//! the backward test is repeated — ΔBIC, held-out gain, block test and materiality, on the
+//! resample's blocks. An effect is named in `verdict.effects` only if it is selected in at
+//! least `stability_threshold` (default 70 %) of the resamples; otherwise it is listed as
+//! *possible* with its evidence. (An effect that only soaks up another's form mismatch tends to
+//! sit near the materiality limit and fails it on many resamples.)
 //!
 //! **Unexplained structure.** When the final model's held-out residuals stay structured
 //! (Ljung–Box fails and their RMS is well above the noise floor estimated from sample-to-sample

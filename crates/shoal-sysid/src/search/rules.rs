@@ -6,6 +6,8 @@ use super::fit::z_of;
 use super::{Candidate, Fit, SearchOptions};
 use crate::blocks::{Resample, heldout_t, part_sse};
 use crate::data::Evaluation;
+use crate::run::ChannelKind;
+use std::collections::BTreeMap;
 
 /// Mean over the channels `b` changes of 1 − RMSE_b/RMSE_a on validation data. A channel the
 /// change does not touch (a heave effect's yaw channel) is left out: the gain of an effect
@@ -113,19 +115,47 @@ pub fn delta_bic_eff(a: &Fit, b: &Fit, rs: Option<&Resample>) -> f64 {
     d + (b.k as f64 - a.k as f64) * ntot.max(2.0).ln()
 }
 
+/// Held-out RMSE per channel kind: the evaluation's own, or on the validation blocks of a
+/// resample (weighted as drawn).
+fn heldout_rmse(eval: &Evaluation, rs: Option<&Resample>) -> BTreeMap<ChannelKind, f64> {
+    match rs {
+        None => eval.metrics.iter().map(|(k, m)| (*k, m.rmse)).collect(),
+        Some(r) => part_sse(eval, false, Some(r), r.len)
+            .into_iter()
+            .filter(|(_, (_, n))| *n > 0.0)
+            .map(|(k, (s, n))| (k, (s / n).sqrt()))
+            .collect(),
+    }
+}
+
 /// How much going from `a` to `b` lowers the held-out RMSE, as a fraction of the baseline's
 /// held-out RMSE (mean over the channels the change touches): an effect that only trims what is left after the
 /// others — a form mismatch being soaked up — moves little of the error the user started
 /// with.
 pub fn material(baseline: &Evaluation, a: &Evaluation, b: &Evaluation) -> f64 {
+    material_rs(baseline, a, b, None)
+}
+
+/// [`material`] on the validation blocks of a resample.
+pub fn material_rs(
+    baseline: &Evaluation,
+    a: &Evaluation,
+    b: &Evaluation,
+    rs: Option<&Resample>,
+) -> f64 {
+    let (r0, ra, rb) = (
+        heldout_rmse(baseline, rs),
+        heldout_rmse(a, rs),
+        heldout_rmse(b, rs),
+    );
     let mut s = 0.0;
     let mut n = 0;
-    for (k, m0) in &baseline.metrics {
-        if let (Some(ma), Some(mb)) = (a.metrics.get(k), b.metrics.get(k))
-            && m0.rmse > 0.0
-            && touched(ma.rmse, mb.rmse)
+    for (k, m0) in &r0 {
+        if let (Some(ma), Some(mb)) = (ra.get(k), rb.get(k))
+            && *m0 > 0.0
+            && touched(*ma, *mb)
         {
-            s += (ma.rmse - mb.rmse) / m0.rmse;
+            s += (ma - mb) / m0;
             n += 1;
         }
     }
@@ -134,7 +164,7 @@ pub fn material(baseline: &Evaluation, a: &Evaluation, b: &Evaluation) -> f64 {
 
 /// The noise floor of a channel's held-out residuals: the RMS of their first differences over
 /// √2 — what is left of white sensor noise when every smooth structure is taken out.
-pub fn noise_floor(eval: &Evaluation, kind: crate::run::ChannelKind) -> f64 {
+pub fn noise_floor(eval: &Evaluation, kind: ChannelKind) -> f64 {
     let mut diffs = Vec::new();
     for r in &eval.runs {
         for c in r.channels.iter().filter(|c| c.kind == kind) {
@@ -160,16 +190,23 @@ pub const STRUCTURE_RATIO: f64 = 2.0;
 /// [`STRUCTURE_RATIO`] of its floor: what is left there is mostly noise, and closing such a gap
 /// says nothing).
 pub fn closure(a: &Evaluation, b: &Evaluation) -> f64 {
+    closure_rs(a, b, None)
+}
+
+/// [`closure`] on the validation blocks of a resample (the noise floor stays the full log's:
+/// it is the sensor's, not the resample's).
+pub fn closure_rs(a: &Evaluation, b: &Evaluation, rs: Option<&Resample>) -> f64 {
+    let (ra, rb) = (heldout_rmse(a, rs), heldout_rmse(b, rs));
     let mut s = 0.0;
     let mut n = 0;
-    for (k, ma) in &a.metrics {
-        if let Some(mb) = b.metrics.get(k)
-            && touched(ma.rmse, mb.rmse)
+    for (k, ma) in &ra {
+        if let Some(mb) = rb.get(k)
+            && touched(*ma, *mb)
         {
             let floor = noise_floor(a, *k);
-            let gap = ma.rmse - floor;
-            s += if ma.rmse > STRUCTURE_RATIO * floor && gap > 0.0 {
-                ((ma.rmse - mb.rmse) / gap).min(1.0)
+            let gap = ma - floor;
+            s += if *ma > STRUCTURE_RATIO * floor && gap > 0.0 {
+                ((ma - mb) / gap).min(1.0)
             } else {
                 0.0
             };

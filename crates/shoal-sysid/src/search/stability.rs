@@ -4,12 +4,14 @@
 //! ([`crate::blocks::Resample`]: estimation and validation blocks drawn with replacement, a
 //! warm start from the full-data fit with a few Levenberg–Marquardt iterations), and on each the
 //! backward test is repeated with the resample's statistics: ΔBIC on the resampled
-//! estimation blocks, held-out gain and block test on the resampled validation blocks. An
-//! effect's selection frequency is the share of resamples on which it passes.
+//! estimation blocks; held-out gain, block test and materiality (share of the baseline's
+//! held-out error, or of the gap to the noise floor, that the effect removes) on the
+//! resampled validation blocks. An effect's selection frequency is the share of resamples on
+//! which it passes.
 
 use super::fit::Ctx;
 use super::orchestrate::Search;
-use super::rules::{bic_rs, gain_rs};
+use super::rules::{bic_rs, closure_rs, gain_rs, material_rs};
 use super::{Fit, par_map};
 use crate::blocks::{Resample, heldout_t};
 use crate::lm::LmOptions;
@@ -63,6 +65,9 @@ pub(super) fn frequencies(
                         && gain_rs(&red.eval, &full.eval, Some(&rs)) >= opts.min_gain
                         && heldout_t(&red.eval, &full.eval, opts.block_s, Some(&rs))
                             >= opts.t_threshold
+                        && (material_rs(&s.baseline.eval, &red.eval, &full.eval, Some(&rs))
+                            >= opts.min_material
+                            || closure_rs(&red.eval, &full.eval, Some(&rs)) >= opts.min_closure)
                 })
             })
             .collect()
