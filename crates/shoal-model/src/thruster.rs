@@ -179,6 +179,14 @@ impl ThrusterParams {
         }
     }
 
+    /// Largest thrust magnitude \[N\] the curve gives at the largest command in the
+    /// direction of the thrust `f` \[N\]: forward for f ≥ 0, reverse otherwise.
+    #[inline]
+    pub fn max_thrust_towards(&self, f: f64) -> f64 {
+        let (fwd, rev) = self.curve.limits(self.max_command);
+        if f >= 0.0 { fwd } else { rev }
+    }
+
     /// Thrust direction [unit, body frame] when the thruster's tilt drive stands at `angle` \[rad\].
     #[inline]
     pub fn direction_at(&self, axis: Option<&Unit<Vec3>>, angle: f64) -> Vec3 {

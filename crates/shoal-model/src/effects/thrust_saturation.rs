@@ -102,8 +102,7 @@ impl Effect for ThrustSaturationSmooth {
         if c <= 0.0 {
             return f;
         }
-        let (fwd, rev) = ctx.thruster.curve.limits(ctx.thruster.max_command);
-        let cap = if f >= 0.0 { fwd } else { rev } / c;
+        let cap = ctx.thruster.max_thrust_towards(f) / c;
         if cap <= 0.0 {
             return f;
         }

@@ -94,7 +94,7 @@ impl Effect for ReverseHullWash {
         if f >= 0.0 {
             return f;
         }
-        let (_, rev) = ctx.thruster.curve.limits(ctx.thruster.max_command);
+        let rev = ctx.thruster.max_thrust_towards(f);
         if rev <= 0.0 {
             return f;
         }

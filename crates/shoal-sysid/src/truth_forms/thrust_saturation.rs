@@ -195,7 +195,6 @@ impl Effect for CommandLimit {
 /// The level F = c·f_max of thrust `f`'s direction \[N\] (`None`: the thruster has no
 /// thrust that way).
 fn level(c: f64, ctx: &ThrustContext<'_>, f: f64) -> Option<f64> {
-    let (fwd, rev) = ctx.thruster.curve.limits(ctx.thruster.max_command);
-    let big = c * if f >= 0.0 { fwd } else { rev };
+    let big = c * ctx.thruster.max_thrust_towards(f);
     (big > 0.0).then_some(big)
 }
