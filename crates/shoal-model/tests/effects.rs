@@ -6,7 +6,9 @@
 
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-use shoal_model::effects::{EffectInstance, Effects, by_name, by_name_form, catalogue, names};
+use shoal_model::effects::{
+    EffectInstance, Effects, ForceContext, by_name, by_name_form, catalogue, names,
+};
 use shoal_model::prelude::*;
 use shoal_model::presets::{UAUV2_CT_NEG, UAUV2_CT_POS, UAUV2_ZW, UAUV2_ZWW};
 use shoal_model::vehicle::VehicleParams;
@@ -179,9 +181,10 @@ fn scenario(name: &str) -> Vec<Phase> {
         "buoyancy_offset" | "water_current" => vec![dive(20.0, 0.0)],
         // Depth readings over a while (bias and drift) and while moving (delay).
         "depth_sensor_bias" | "sensor_delay" => vec![dive(10.0, 0.0), dive(10.0, 70.0)],
-        // Vertical thrust, then surge thrust.
+        // Vertical thrust down and up, then surge thrust.
         "thrust_coupling" => vec![
             dive(5.0, 70.0),
+            dive(5.0, -70.0),
             Phase {
                 beta: 0.0,
                 ..dive(5.0, 60.0)
@@ -708,5 +711,108 @@ fn sensors_are_biased_and_delayed() {
             "the vehicle moved meanwhile: {:?} {then:?}",
             truth[i]
         );
+    }
+}
+
+/// The force of one form on a hull level at depth `z` [m], moving with `nu`, `t` seconds into
+/// the run, under a thruster force `thrust` (body frame) [N].
+fn form_force(name: &str, form: &str, p: &[f64], t: f64, z: f64, nu: Vec6, thrust: Vec3) -> Vec6 {
+    let effect = by_name_form(name, Some(form)).unwrap_or_else(|| panic!("{name}/{form}"));
+    let mut rigid = RigidState::at_rest(Vec3::new(0.0, 0.0, z), Quat::identity());
+    rigid.nu = nu;
+    let vehicle = presets::uauv2();
+    let ctx = ForceContext {
+        t,
+        rigid: &rigid,
+        thrust_force: thrust,
+        thrust_moment: Vec3::zeros(),
+        vehicle: &vehicle,
+        gravity: 9.81,
+    };
+    effect.force(p, &ctx)
+}
+
+/// The buoyancy forms that vary (in time, with depth), the power-law drag and the
+/// direction-dependent coupling: their forces by hand, and the states they lead to.
+#[test]
+fn varying_buoyancy_power_drag_and_directional_coupling_follow_their_laws() {
+    let zero = Vec6::zeros();
+    // Drift: ΔF₀ + r·t along the vertical of a level hull, at any depth.
+    let f = form_force(
+        "buoyancy_offset",
+        "drift",
+        &[0.002, 1e-4],
+        50.0,
+        2.0,
+        zero,
+        Vec3::zeros(),
+    );
+    assert!((f[2] - (0.002 + 1e-4 * 50.0)).abs() < 1e-15, "{f}");
+    // Depth: ΔF₀ + k·z, and no extra force above the surface.
+    let f = form_force(
+        "buoyancy_offset",
+        "depth",
+        &[-0.01, 0.004],
+        80.0,
+        2.5,
+        zero,
+        Vec3::zeros(),
+    );
+    assert!((f[2] - (-0.01 + 0.004 * 2.5)).abs() < 1e-15, "{f}");
+    // With ΔF₀ = −0.1 N and k = 0.05 N/m the idle vehicle is neutral at 2 m only, and that
+    // trim is unstable (a compressible hull): a centimetre deeper it sinks, a centimetre
+    // higher it rises.
+    let m = with_form("buoyancy_offset", "depth", &[-0.1, 0.05]);
+    let from = |z: f64| {
+        let env = Environment::default();
+        let mut st = VehicleState::new(
+            &m,
+            RigidState::at_rest(Vec3::new(0.0, 0.0, z), Quat::identity()),
+            &env,
+        );
+        st.actuators.tilt.clone_from(&diving(0.0).tilts);
+        for _ in 0..3000 {
+            step(&m, &mut st, &diving(0.0), &env, Integrator::Rk4, DT);
+        }
+        st
+    };
+    let st = from(2.0);
+    assert!(
+        (st.rigid.position.z - 2.0).abs() < 1e-9,
+        "{}",
+        st.rigid.position.z
+    );
+    let (deeper, higher) = (from(2.01), from(1.99));
+    assert!(deeper.rigid.position.z > 2.05 && deeper.rigid.nu[2] > 0.0);
+    assert!(higher.rigid.position.z < 1.95 && higher.rigid.nu[2] < 0.0);
+    // Power drag: diving at 70 %, the terminal speed balances thrust with the baseline's drag
+    // plus s·Z_w|w|·ν_ref²·(w/ν_ref)^p (ν_ref = 0.1 m/s in heave).
+    let (s, p) = (0.6, 3.0);
+    let n = 70.0;
+    let thrust = 2.0 * UAUV2_CT_POS * n * n;
+    let st = run(
+        &with_form("damping_error", "power", &[s, p]),
+        &diving(n),
+        60.0,
+    );
+    let w = st.rigid.nu[2];
+    let drag = UAUV2_ZW * w + UAUV2_ZWW * w * w + s * UAUV2_ZWW * 0.01 * (w / 0.1).powf(p);
+    assert!(w > 0.0 && w < terminal(thrust), "{w}");
+    assert!((drag - thrust).abs() < 1e-6 * thrust, "{drag} vs {thrust}");
+    // Direction-dependent coupling: the vertical arm k₊ pushing down, k₋ pushing up, plus
+    // k_x·F_x.
+    let k = [0.02, -0.005, 0.01];
+    for (fz, arm) in [(0.3, k[0]), (-0.2, k[1])] {
+        let f = form_force(
+            "thrust_coupling",
+            "direction",
+            &k,
+            0.0,
+            2.0,
+            zero,
+            Vec3::new(0.1, 0.0, fz),
+        );
+        assert!((f[5] - (arm * fz + k[2] * 0.1)).abs() < 1e-15, "{f}");
+        assert!(f.rows(0, 5).iter().all(|x| *x == 0.0), "{f}");
     }
 }

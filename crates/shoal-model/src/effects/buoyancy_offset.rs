@@ -7,6 +7,12 @@
 //!
 //! Modelled as a force of ΔF along world z (down, NED) acting at the centre of buoyancy:
 //! ΔF > 0 makes the vehicle heavier (it sinks), ΔF < 0 lighter.
+//!
+//! A `drift` form competes: ΔF(t) = ΔF₀ + r·t, a trim that changes during the run — water
+//! seeping into the hull, air escaping from a foam or a cable gland, a pump compartment that
+//! slowly floods. A constant offset fitted to the first part of such a log mispredicts the
+//! rest by more and more. A `depth` form ΔF(z) = ΔF₀ + k·z stands for a compressible hull,
+//! foam or air pocket that the water pressure squeezes: heavier the deeper it dives.
 
 use super::{Effect, ForceContext, ParamInfo};
 use crate::math::{Vec6, join6};
@@ -45,11 +51,97 @@ impl Effect for BuoyancyOffset {
         }]
     }
     fn force(&self, p: &[f64], ctx: &ForceContext<'_>) -> Vec6 {
-        let f = ctx
-            .rigid
-            .attitude
-            .inverse_transform_vector(&crate::math::Vec3::new(0.0, 0.0, p[0]));
-        let m = ctx.vehicle.body.cob.cross(&f);
-        join6(&f, &m)
+        vertical_force(p[0], ctx)
+    }
+}
+
+/// A force `df` along the world vertical (down, NED), acting at the centre of buoyancy, as a
+/// body-frame wrench.
+fn vertical_force(df: f64, ctx: &ForceContext<'_>) -> Vec6 {
+    let f = ctx
+        .rigid
+        .attitude
+        .inverse_transform_vector(&crate::math::Vec3::new(0.0, 0.0, df));
+    let m = ctx.vehicle.body.cob.cross(&f);
+    join6(&f, &m)
+}
+
+/// The `drift` form: the net vertical force changes linearly during the run,
+/// ΔF(t) = ΔF₀ + r·t (t from the start of the run).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct BuoyancyOffsetDrift;
+
+impl Effect for BuoyancyOffsetDrift {
+    fn name(&self) -> &'static str {
+        "buoyancy_offset"
+    }
+    fn form(&self) -> &'static str {
+        "drift"
+    }
+    fn summary(&self) -> &'static str {
+        "net vertical force that changes during the run, ΔF(t) = ΔF₀ + r·t"
+    }
+    fn explanation(&self) -> &'static str {
+        "Trim that changes during the run: water seeping in, air escaping, a compartment \
+         slowly flooding; the idle vehicle sinks or rises faster and faster."
+    }
+    fn params(&self, vehicle: &VehicleParams) -> Vec<ParamInfo> {
+        let mut p = BuoyancyOffset.params(vehicle);
+        // Up to a tenth of the weight gained or lost in 100 s.
+        let w = vehicle.body.mass * G;
+        p.push(ParamInfo {
+            name: "rate_n_s",
+            unit: "N/s",
+            lo: -1e-3 * w,
+            hi: 1e-3 * w,
+            null: 0.0,
+            typical: 2e-6 * w,
+            doc: "change of the net downward force per second",
+            shape: false,
+        });
+        p
+    }
+    fn force(&self, p: &[f64], ctx: &ForceContext<'_>) -> Vec6 {
+        vertical_force(p[0] + p[1] * ctx.t, ctx)
+    }
+}
+
+/// The `depth` form: the net vertical force grows with depth, ΔF(z) = ΔF₀ + k·z — a hull,
+/// a foam or an air pocket compressed by the water pressure (z below the surface).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct BuoyancyOffsetDepth;
+
+impl Effect for BuoyancyOffsetDepth {
+    fn name(&self) -> &'static str {
+        "buoyancy_offset"
+    }
+    fn form(&self) -> &'static str {
+        "depth"
+    }
+    fn summary(&self) -> &'static str {
+        "net vertical force that grows with depth, ΔF(z) = ΔF₀ + k·z"
+    }
+    fn explanation(&self) -> &'static str {
+        "A compressible hull, foam or air pocket squeezed by the water pressure: the vehicle \
+         grows heavier the deeper it dives."
+    }
+    fn params(&self, vehicle: &VehicleParams) -> Vec<ParamInfo> {
+        let mut p = BuoyancyOffset.params(vehicle);
+        let w = vehicle.body.mass * G;
+        p.push(ParamInfo {
+            name: "k_n_m",
+            unit: "N/m",
+            lo: 0.0,
+            hi: 0.05 * w,
+            null: 0.0,
+            typical: 0.0005 * w,
+            doc: "growth of the net downward force per metre of depth (compression only makes \
+                  a hull heavier)",
+            shape: false,
+        });
+        p
+    }
+    fn force(&self, p: &[f64], ctx: &ForceContext<'_>) -> Vec6 {
+        vertical_force(p[0] + p[1] * ctx.rigid.position.z.max(0.0), ctx)
     }
 }

@@ -15,6 +15,11 @@ use super::{Effect, ForceContext, ParamInfo};
 use crate::math::Vec6;
 use crate::vehicle::VehicleParams;
 
+/// Reference speeds per degree of freedom for laws that depend on speed: translations
+/// [m/s], rotations \[rad/s\] — a small vehicle's typical cruise (the μAUV²'s heave speed at
+/// 60 % command, its yaw rate at 35 %).
+pub const NU_REF: [f64; 6] = [0.1, 0.1, 0.1, 1.0, 1.0, 1.0];
+
 /// See the module documentation.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct DampingError;
@@ -102,6 +107,60 @@ impl Effect for DampingErrorDirection {
         Vec6::from_fn(|i, _| {
             let k = if nu[i] >= 0.0 { p[0] } else { p[1] };
             -(k - 1.0) * drag[i]
+        })
+    }
+}
+
+/// The `power` form: an extra drag term of a fitted power p of the speed, s times the
+/// quadratic drag at the reference speed [`NU_REF`]: −s·d_quad·ν_ref²·|x|^(p−1)·x with
+/// x = ν/ν_ref, per degree of freedom.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct DampingErrorPower;
+
+impl Effect for DampingErrorPower {
+    fn name(&self) -> &'static str {
+        "damping_error"
+    }
+    fn form(&self) -> &'static str {
+        "power"
+    }
+    fn summary(&self) -> &'static str {
+        "extra drag growing as a fitted power p of the speed"
+    }
+    fn explanation(&self) -> &'static str {
+        "An appendage, a tether or separated flow: a drag that does not grow with the square \
+         of the speed, added to the identified law."
+    }
+    fn params(&self, _vehicle: &VehicleParams) -> Vec<ParamInfo> {
+        vec![
+            ParamInfo {
+                name: "s",
+                unit: "-",
+                lo: -0.9,
+                hi: 10.0,
+                null: 0.0,
+                typical: 0.5,
+                doc: "extra drag at the reference speed, relative to the quadratic drag there",
+                shape: false,
+            },
+            ParamInfo {
+                name: "p",
+                unit: "-",
+                lo: 1.0,
+                hi: 4.0,
+                null: 2.0,
+                typical: 3.0,
+                doc: "power of the speed",
+                shape: true,
+            },
+        ]
+    }
+    fn force(&self, p: &[f64], ctx: &ForceContext<'_>) -> Vec6 {
+        let nu = &ctx.rigid.nu;
+        let d = &ctx.vehicle.body.damping_quadratic;
+        Vec6::from_fn(|i, _| {
+            let x = nu[i] / NU_REF[i];
+            -p[0] * d[i] * NU_REF[i] * NU_REF[i] * x.abs().powf(p[1] - 1.0) * x
         })
     }
 }

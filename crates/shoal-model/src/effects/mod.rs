@@ -39,15 +39,15 @@ mod water_current;
 pub use added_mass_error::AddedMassError;
 pub use ballast_mass::BallastMass;
 pub use battery_sag::{BatterySag, BatterySagExponential, BatterySagPower};
-pub use buoyancy_offset::BuoyancyOffset;
-pub use damping_error::{DampingError, DampingErrorDirection};
+pub use buoyancy_offset::{BuoyancyOffset, BuoyancyOffsetDepth, BuoyancyOffsetDrift};
+pub use damping_error::{DampingError, DampingErrorDirection, DampingErrorPower, NU_REF};
 pub use depth_sensor_bias::{DepthSensorBias, DepthSensorBiasPower, DepthSensorBiasSettling};
 pub use inflow_thrust_loss::{
     InflowThrustLoss, InflowThrustLossLinear, InflowThrustLossPower, reduced as inflow_reduced,
 };
 pub use sensor_delay::SensorDelay;
 pub use thrust_asymmetry::{ThrustAsymmetry, ThrustAsymmetryCurve};
-pub use thrust_coupling::ThrustCoupling;
+pub use thrust_coupling::{ThrustCoupling, ThrustCouplingDirection};
 pub use thrust_gain::{ThrustGain, ThrustGainCurve};
 pub use thrust_saturation::{ThrustSaturation, ThrustSaturationAsymmetric, ThrustSaturationSmooth};
 pub use thruster_deadband::{
@@ -227,9 +227,12 @@ pub fn catalogue() -> Vec<Arc<dyn Effect>> {
         Arc::new(InflowThrustLossLinear),
         Arc::new(InflowThrustLossPower),
         Arc::new(BuoyancyOffset),
+        Arc::new(BuoyancyOffsetDrift),
+        Arc::new(BuoyancyOffsetDepth),
         Arc::new(BallastMass),
         Arc::new(DampingError),
         Arc::new(DampingErrorDirection),
+        Arc::new(DampingErrorPower),
         Arc::new(AddedMassError),
         Arc::new(WaterCurrent),
         Arc::new(DepthSensorBias),
@@ -237,6 +240,7 @@ pub fn catalogue() -> Vec<Arc<dyn Effect>> {
         Arc::new(DepthSensorBiasPower),
         Arc::new(SensorDelay),
         Arc::new(ThrustCoupling),
+        Arc::new(ThrustCouplingDirection),
         Arc::new(ThrustSaturation),
         Arc::new(ThrustSaturationSmooth),
         Arc::new(ThrustSaturationAsymmetric),

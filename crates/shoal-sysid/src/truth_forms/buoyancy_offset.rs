@@ -1,14 +1,19 @@
-//! `buoyancy_offset` truth forms — weight and buoyancy differ, but not by a constant ΔF or
-//! ΔF + k·depth as the fitting side assumes:
+//! `buoyancy_offset` truth forms — weight and buoyancy differ, but not by a constant ΔF, a
+//! steady drift ΔF₀ + r·t or a linear growth with depth ΔF₀ + k·z as the fitting side assumes:
 //!
 //! * `buoyancy_offset/gas_compression` — the vehicle was trimmed neutral at the surface with
 //!   air trapped in the hull; the air compresses with depth (Boyle), so the vehicle grows
 //!   heavier as it dives: ΔF(z) = B_g·(1 − 1/(1 + z/H)), B_g the air's buoyancy at the surface,
-//!   H = p_atm/(ρg) ≈ 10.33 m of fresh water.
+//!   H = p_atm/(ρg) ≈ 10.33 m of fresh water. Close to the catalogue's `depth` form near the
+//!   surface, it bends away from it with depth (at 2 m, 16 % below the tangent line).
 //! * `buoyancy_offset/slow_leak` — a float or a seal leaks slowly: ΔF(t) = ΔF₀ + r·t, a trim
-//!   error plus water seeping in at a steady rate.
+//!   error plus water seeping in at a steady rate. The catalogue's `drift` form has this law:
+//!   the form is matched.
+//! * `buoyancy_offset/venting_air` — air trapped under a free-flooding fairing escapes through
+//!   a small vent after the dive starts, and water takes its place: the vehicle grows heavier
+//!   and levels off, ΔF(t) = ΔF₀ + A·(1 − e^(−t/τ)).
 //!
-//! Both act as the catalogue's force along the world vertical at the centre of buoyancy
+//! All act as the catalogue's force along the world vertical at the centre of buoyancy
 //! (positive: heavier), with the value of the moment.
 
 use super::{ExpKind, FormParam, Part, TruthForm, truth_effect_meta};
@@ -23,6 +28,8 @@ const GAS: &str = "buoyancy_offset/gas_compression";
 const GAS_LAW: &str = "ΔF(z) = B_g·(1 − 1/(1 + z/10.33 m)), neutral at the surface";
 const LEAK: &str = "buoyancy_offset/slow_leak";
 const LEAK_LAW: &str = "ΔF(t) = ΔF₀ + r·t";
+const VENT: &str = "buoyancy_offset/venting_air";
+const VENT_LAW: &str = "ΔF(t) = ΔF₀ + A·(1 − e^(−t/τ))";
 
 pub(super) fn forms() -> Vec<TruthForm> {
     vec![
@@ -62,6 +69,30 @@ pub(super) fn forms() -> Vec<TruthForm> {
                 }))
             },
         },
+        TruthForm {
+            name: VENT,
+            family: "buoyancy_offset",
+            law: VENT_LAW,
+            params: vec![
+                FormParam::shape("delta_f0_n", "N", -0.001, 0.001, "trim error at the start"),
+                FormParam::magnitude(
+                    "a_n",
+                    "N",
+                    0.003,
+                    0.006,
+                    "weight gained once the air has vented (0.3–0.6 ml of air)",
+                ),
+                FormParam::shape("tau_s", "s", 20.0, 60.0, "time constant of the venting"),
+            ],
+            excites: &[ExpKind::Heave, ExpKind::Yaw],
+            build: |p| {
+                Part::Effect(Arc::new(VentingAir {
+                    delta_f0: p[0],
+                    a: p[1],
+                    tau: p[2],
+                }))
+            },
+        },
     ]
 }
 
@@ -94,5 +125,24 @@ impl Effect for SlowLeak {
     truth_effect_meta!(LEAK, LEAK_LAW);
     fn force(&self, _p: &[f64], ctx: &ForceContext<'_>) -> Vec6 {
         BuoyancyOffset.force(&[self.delta_f0 + self.rate * ctx.t], ctx)
+    }
+}
+
+/// See the module documentation.
+#[derive(Debug)]
+struct VentingAir {
+    /// Net downward force at the start \[N\].
+    delta_f0: f64,
+    /// Weight gained once the air has vented \[N\].
+    a: f64,
+    /// Time constant of the venting \[s\].
+    tau: f64,
+}
+
+impl Effect for VentingAir {
+    truth_effect_meta!(VENT, VENT_LAW);
+    fn force(&self, _p: &[f64], ctx: &ForceContext<'_>) -> Vec6 {
+        let df = self.delta_f0 + self.a * (1.0 - (-ctx.t / self.tau).exp());
+        BuoyancyOffset.force(&[df], ctx)
     }
 }

@@ -8,17 +8,22 @@
 //! * `damping_error/speed_exponent` — an extra drag term of another power of the speed, as
 //!   from an appendage in turbulent flow: −s·d_quad·ν_ref^(2−p)·|ν|^(p−1)·ν per degree of
 //!   freedom, i.e. s times the quadratic damping at the reference speed ν_ref (0.1 m/s,
-//!   1 rad/s) and growing faster above it.
+//!   1 rad/s) and growing faster above it. The catalogue's `power` form has this law: the
+//!   form is matched.
 //! * `damping_error/quadratic_direction` — only the quadratic (form, or pressure) drag depends
 //!   on the direction of motion: the pressure drag follows the shape the flow meets (a blunt
 //!   dome one way, a tapered tail the other), the skin friction behind the linear term does
 //!   not. The quadratic term is scaled by k₊ > 1 while the velocity component is positive and
 //!   by k₋ < 1 while it is negative; the linear term is the baseline's.
+//! * `damping_error/transition` — the boundary layer turns turbulent above a critical speed:
+//!   the quadratic drag coefficient rises by a factor 1 + s across a transition speed ν_t,
+//!   smoothly, d_quad·(1 + s·r⁴/(1 + r⁴)) with r = |ν|/ν_t; slow motion keeps the baseline's
+//!   drag, fast motion meets more. Neither a scale factor nor a single power of the speed.
 //!
 //! All are forces on the hull computed from its velocity through the water.
 
 use super::{ExpKind, FormParam, NU_REF, Part, TruthForm, truth_effect_meta};
-use shoal_model::effects::{DampingErrorDirection, Effect, ForceContext};
+use shoal_model::effects::{DampingErrorDirection, DampingErrorPower, Effect, ForceContext};
 use shoal_model::math::Vec6;
 use std::sync::Arc;
 
@@ -29,6 +34,8 @@ const EXPONENT_LAW: &str = "extra drag s·d_quad·ν_ref^(2−p)·|ν|^(p−1)·
 const QUAD_DIRECTION: &str = "damping_error/quadratic_direction";
 const QUAD_DIRECTION_LAW: &str =
     "quadratic damping × k₊ for ν > 0, × k₋ for ν < 0, linear damping unchanged";
+const TRANSITION: &str = "damping_error/transition";
+const TRANSITION_LAW: &str = "quadratic damping × (1 + s·r⁴/(1 + r⁴)), r = |ν|/ν_t";
 
 pub(super) fn forms() -> Vec<TruthForm> {
     vec![
@@ -81,6 +88,34 @@ pub(super) fn forms() -> Vec<TruthForm> {
                 }))
             },
         },
+        TruthForm {
+            name: TRANSITION,
+            family: "damping_error",
+            law: TRANSITION_LAW,
+            params: vec![
+                FormParam::magnitude(
+                    "s",
+                    "-",
+                    0.6,
+                    1.2,
+                    "rise of the quadratic drag coefficient across the transition",
+                ),
+                FormParam::shape(
+                    "nu_t_rel",
+                    "-",
+                    0.5,
+                    1.0,
+                    "transition speed as a fraction of the reference speed",
+                ),
+            ],
+            excites: &[ExpKind::Heave, ExpKind::Yaw],
+            build: |p| {
+                Part::Effect(Arc::new(Transition {
+                    s: p[0],
+                    nu_t_rel: p[1],
+                }))
+            },
+        },
     ]
 }
 
@@ -113,12 +148,8 @@ struct SpeedExponent {
 impl Effect for SpeedExponent {
     truth_effect_meta!(EXPONENT, EXPONENT_LAW);
     fn force(&self, _p: &[f64], ctx: &ForceContext<'_>) -> Vec6 {
-        let nu = &ctx.rigid.nu;
-        let d = &ctx.vehicle.body.damping_quadratic;
-        Vec6::from_fn(|i, _| {
-            let x = nu[i] / NU_REF[i];
-            -self.s * d[i] * NU_REF[i] * NU_REF[i] * x.abs().powf(self.p - 1.0) * x
-        })
+        // The catalogue's `power` form has this law (the form is matched).
+        DampingErrorPower.force(&[self.s, self.p], ctx)
     }
 }
 
@@ -195,5 +226,26 @@ mod tests {
         };
         let nu = Vec6::new(0.02, -0.03, 0.1, 0.2, -0.1, 0.8);
         assert_eq!(drag(&null, nu), body.damping(&nu));
+    }
+}
+
+/// See the module documentation.
+#[derive(Debug)]
+struct Transition {
+    /// Rise of the quadratic drag coefficient across the transition \[-\].
+    s: f64,
+    /// Transition speed as a fraction of [`NU_REF`] \[-\].
+    nu_t_rel: f64,
+}
+
+impl Effect for Transition {
+    truth_effect_meta!(TRANSITION, TRANSITION_LAW);
+    fn force(&self, _p: &[f64], ctx: &ForceContext<'_>) -> Vec6 {
+        let nu = &ctx.rigid.nu;
+        let d = &ctx.vehicle.body.damping_quadratic;
+        Vec6::from_fn(|i, _| {
+            let r4 = (nu[i] / (self.nu_t_rel * NU_REF[i])).powi(4);
+            -self.s * r4 / (1.0 + r4) * d[i] * nu[i].abs() * nu[i]
+        })
     }
 }

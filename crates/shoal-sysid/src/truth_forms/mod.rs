@@ -50,10 +50,9 @@ use shoal_model::vehicle::{VehicleModel, VehicleParams, VehicleState};
 use std::fmt;
 use std::sync::Arc;
 
-/// Typical speeds of the designed experiments per degree of freedom, a reference for forms
-/// whose law depends on speed: translations [m/s] (the heave speed at 60 % command),
-/// rotations \[rad/s\] (the yaw rate at 35 % command).
-pub const NU_REF: [f64; 6] = [0.1, 0.1, 0.1, 1.0, 1.0, 1.0];
+/// Typical speeds of the designed experiments per degree of freedom, the reference for forms
+/// whose law depends on speed (the catalogue's, [`shoal_model::effects::NU_REF`]).
+pub use shoal_model::effects::NU_REF;
 
 /// Which designed μAUV² experiment ([`crate::design`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -281,7 +280,7 @@ impl TruthForm {
 
 /// The truth forms whose law a fitting form of their family has: (truth form, fitting form).
 /// They stay in the test set; the other forms of each family differ from every fitting form.
-pub const MATCHED: [(&str, &str); 11] = [
+pub const MATCHED: [(&str, &str); 14] = [
     ("thruster_deadband/asymmetric_soft", "soft_asymmetric"),
     ("thrust_asymmetry/reverse_exponent", "curve"),
     ("inflow_thrust_loss/quadratic", "power"),
@@ -293,6 +292,9 @@ pub const MATCHED: [(&str, &str); 11] = [
     ("battery_sag/quadratic", "power"),
     ("damping_error/direction_dependent", "direction"),
     ("depth_sensor_bias/quadratic_drift", "power_drift"),
+    ("buoyancy_offset/slow_leak", "drift"),
+    ("damping_error/speed_exponent", "power"),
+    ("thrust_coupling/direction_dependent", "direction"),
 ];
 
 /// The fitting form whose law truth form `name` (`family/form`) has, if any ([`MATCHED`]).
