@@ -43,8 +43,9 @@
 //! 5. its parameters are jointly `z_threshold` (default 3) standard deviations from their null
 //!    values (Wald test; shape parameters excluded).
 //!
-//! *Forward*: the family with the lowest BIC among those that pass joins the model, then each
-//! promising remaining family is fitted together with the chosen ones, and so on. *Backward*:
+//! *Forward*: of the families that pass, the one whose model predicts the held-out data best
+//! (largest held-out gain) joins the model, then each promising remaining family is fitted
+//! together with the chosen ones, and so on. *Backward*:
 //! every chosen effect must still pass against the model without it (refitted); the weakest
 //! failing one is removed and the test repeated; swaps of one effect for another that lower the
 //! BIC are tried.

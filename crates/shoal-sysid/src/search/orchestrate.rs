@@ -254,14 +254,13 @@ pub fn search(
     let mut round = 1;
     // Forward.
     loop {
+        // Of the families that pass, the one that predicts the held-out data best joins (the
+        // estimation data's BIC already gated each; ranking by it prefers a flexible law that
+        // follows the fitted stretch over the physics that carries on beyond it).
         let best = candidates
             .iter()
             .filter(|c| c.round == round && !c.backward && c.significant)
-            .min_by(|a, b| {
-                let ba = a.fit.as_ref().map_or(f64::INFINITY, |f| bic(&f.eval, f.k));
-                let bb = b.fit.as_ref().map_or(f64::INFINITY, |f| bic(&f.eval, f.k));
-                ba.total_cmp(&bb)
-            });
+            .max_by(|a, b| a.gain.total_cmp(&b.gain));
         let Some(fit) = best.and_then(|c| c.fit.clone()) else {
             break;
         };
