@@ -44,7 +44,8 @@
 //!    values (Wald test; shape parameters excluded).
 //!
 //! *Forward*: of the families that pass, the one whose model predicts the held-out data best
-//! (largest held-out gain) joins the model, then each promising remaining family is fitted
+//! ([`rules::heldout_ratio`]: held-out RMSE relative to the current model's, averaged over every
+//! channel) joins the model, then each promising remaining family is fitted
 //! together with the chosen ones, and so on. *Backward*:
 //! every chosen effect must still pass against the model without it (refitted); the weakest
 //! failing one is removed and the test repeated; swaps of one effect for another that lower the

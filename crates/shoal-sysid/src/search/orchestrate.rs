@@ -2,7 +2,7 @@
 //! rounds, backward checks and swaps, then identifiability, stability and the verdict.
 
 use super::fit::Ctx;
-use super::rules::{bic, judge, skipped};
+use super::rules::{bic, heldout_ratio, judge, skipped};
 use super::{
     Candidate, Fit, FormScore, Outcome, SearchOptions, identify, par_map, stability, verdict,
 };
@@ -256,11 +256,20 @@ pub fn search(
     loop {
         // Of the families that pass, the one that predicts the held-out data best joins (the
         // estimation data's BIC already gated each; ranking by it prefers a flexible law that
-        // follows the fitted stretch over the physics that carries on beyond it).
+        // follows the fitted stretch over the physics that carries on beyond it). Judged over
+        // every channel, so a family that improves four channels is not ranked below one
+        // that improves only the two it touches.
+        let base = &current;
         let best = candidates
             .iter()
             .filter(|c| c.round == round && !c.backward && c.significant)
-            .max_by(|a, b| a.gain.total_cmp(&b.gain));
+            .filter_map(|c| {
+                c.fit
+                    .as_ref()
+                    .map(|f| (c, heldout_ratio(&base.eval, &f.eval)))
+            })
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .map(|(c, _)| c);
         let Some(fit) = best.and_then(|c| c.fit.clone()) else {
             break;
         };

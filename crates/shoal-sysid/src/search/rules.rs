@@ -162,6 +162,23 @@ pub fn material_rs(
     if n > 0 { s / n as f64 } else { 0.0 }
 }
 
+/// `b`'s held-out RMSE relative to `a`'s, averaged over every channel of `a` (1: no change,
+/// below 1: `b` predicts the held-out data better). Unlike the gain of a candidate (averaged
+/// over the channels it touches), comparable between candidates that touch different channels.
+pub fn heldout_ratio(a: &Evaluation, b: &Evaluation) -> f64 {
+    let (ra, rb) = (heldout_rmse(a, None), heldout_rmse(b, None));
+    let ratios: Vec<f64> = ra
+        .iter()
+        .filter(|(_, m)| **m > 0.0)
+        .map(|(k, m)| rb.get(k).map_or(1.0, |r| r / m))
+        .collect();
+    if ratios.is_empty() {
+        1.0
+    } else {
+        ratios.iter().sum::<f64>() / ratios.len() as f64
+    }
+}
+
 /// The noise floor of a channel's held-out residuals: the RMS of their first differences over
 /// √2 — what is left of white sensor noise when every smooth structure is taken out.
 pub fn noise_floor(eval: &Evaluation, kind: ChannelKind) -> f64 {
