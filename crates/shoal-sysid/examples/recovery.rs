@@ -16,7 +16,7 @@
 //! contains TEXT (`null` for the null runs), `--out FILE` also write the table there.
 //!
 //! Every draw is one full catalogue search (seconds to tens of seconds): the default grid is
-//! 36 rows × 6 cells × 10 draws ≈ 2 200 searches, hours on two cores. Not run in CI.
+//! 45 rows × 6 cells × 10 draws ≈ 2 700 searches, hours on two cores. Not run in CI.
 
 use shoal_sysid::recovery::{Tally, judge};
 use shoal_sysid::testset::{Conditions, null, single};

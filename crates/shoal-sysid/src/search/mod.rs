@@ -45,11 +45,10 @@
 //!
 //! *Forward*: of the families that pass, the one whose model predicts the held-out data best
 //! ([`rules::heldout_ratio`]: held-out RMSE relative to the current model's, averaged over every
-//! channel) joins the model, then each promising remaining family is fitted
-//! together with the chosen ones, and so on. *Backward*:
-//! every chosen effect must still pass against the model without it (refitted); the weakest
-//! failing one is removed and the test repeated; swaps of one effect for another that lower the
-//! BIC are tried.
+//! channel) joins the model, then each promising remaining family is fitted together with the
+//! chosen ones, and so on. *Backward*: every chosen effect must still pass against the model
+//! without it (refitted); the weakest failing one is removed and the test repeated; swaps of one
+//! effect for another that lower the BIC are tried.
 //!
 //! **Identifiability** (`identify.rs`). For each chosen effect, the best alternative families
 //! are fitted in its place. When an alternative explains the held-out data as well (the block
