@@ -36,10 +36,15 @@ fn diving(n: f64) -> ActuatorCommands {
 }
 
 fn run(model: &VehicleModel, cmd: &ActuatorCommands, seconds: f64) -> VehicleState {
+    run_from(model, cmd, seconds, 3.0)
+}
+
+/// As [`run`], starting at rest `z` metres deep.
+fn run_from(model: &VehicleModel, cmd: &ActuatorCommands, seconds: f64, z: f64) -> VehicleState {
     let env = Environment::default();
     let mut st = VehicleState::new(
         model,
-        RigidState::at_rest(Vec3::new(0.0, 0.0, 3.0), Quat::identity()),
+        RigidState::at_rest(Vec3::new(0.0, 0.0, z), Quat::identity()),
         &env,
     );
     st.actuators.tilt.clone_from(&cmd.tilts);
@@ -727,7 +732,7 @@ fn form_force(name: &str, form: &str, p: &[f64], t: f64, z: f64, nu: Vec6, thrus
         thrust_force: thrust,
         thrust_moment: Vec3::zeros(),
         vehicle: &vehicle,
-        gravity: 9.81,
+        gravity: shoal_model::math::GRAVITY,
     };
     effect.force(p, &ctx)
 }
@@ -763,19 +768,7 @@ fn varying_buoyancy_power_drag_and_directional_coupling_follow_their_laws() {
     // trim is unstable (a compressible hull): a centimetre deeper it sinks, a centimetre
     // higher it rises.
     let m = with_form("buoyancy_offset", "depth", &[-0.1, 0.05]);
-    let from = |z: f64| {
-        let env = Environment::default();
-        let mut st = VehicleState::new(
-            &m,
-            RigidState::at_rest(Vec3::new(0.0, 0.0, z), Quat::identity()),
-            &env,
-        );
-        st.actuators.tilt.clone_from(&diving(0.0).tilts);
-        for _ in 0..3000 {
-            step(&m, &mut st, &diving(0.0), &env, Integrator::Rk4, DT);
-        }
-        st
-    };
+    let from = |z: f64| run_from(&m, &diving(0.0), 30.0, z);
     let st = from(2.0);
     assert!(
         (st.rigid.position.z - 2.0).abs() < 1e-9,

@@ -17,7 +17,7 @@
 //! (positive: heavier), with the value of the moment.
 
 use super::{ExpKind, FormParam, Part, TruthForm, truth_effect_meta};
-use shoal_model::effects::{BuoyancyOffset, Effect, ForceContext};
+use shoal_model::effects::{BuoyancyOffset, BuoyancyOffsetDrift, Effect, ForceContext};
 use shoal_model::math::Vec6;
 use std::sync::Arc;
 
@@ -124,7 +124,8 @@ struct SlowLeak {
 impl Effect for SlowLeak {
     truth_effect_meta!(LEAK, LEAK_LAW);
     fn force(&self, _p: &[f64], ctx: &ForceContext<'_>) -> Vec6 {
-        BuoyancyOffset.force(&[self.delta_f0 + self.rate * ctx.t], ctx)
+        // The catalogue's `drift` form has this law (the form is matched).
+        BuoyancyOffsetDrift.force(&[self.delta_f0, self.rate], ctx)
     }
 }
 

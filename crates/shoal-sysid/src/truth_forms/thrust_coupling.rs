@@ -142,10 +142,8 @@ struct SaturatingWash {
 impl Effect for SaturatingWash {
     truth_effect_meta!(SATURATING, SATURATING_LAW);
     fn force(&self, _p: &[f64], ctx: &ForceContext<'_>) -> Vec6 {
-        let fz = ctx.thrust_force.z;
-        let n = self.k * self.f0 * (fz / self.f0).tanh();
-        // As the catalogue's moment with the arm that gives n at this thrust.
-        let arm = if fz.abs() > 1e-12 { n / fz } else { self.k };
-        ThrustCoupling.force(&[arm, 0.0], ctx)
+        let mut f = Vec6::zeros();
+        f[5] = self.k * self.f0 * (ctx.thrust_force.z / self.f0).tanh();
+        f
     }
 }
