@@ -10,7 +10,9 @@
 //! An `exponential` form competes with the linear one: k(t) = 1 − a·(1 − e^(−t/τ)), a sag
 //! that levels off; a `power` form k(t) = 1 − a·(t/100 s)^p has a shape exponent p for a sag
 //! that accelerates (p > 1: a cell nearing the knee of its discharge curve) or slows (p < 1).
-use super::{Effect, POWER_T_REF, ParamInfo, ThrustContext, time_exponent_param};
+use super::{
+    Effect, POWER_T_REF, ParamInfo, ThrustContext, settled, settling_tau_param, time_exponent_param,
+};
 use crate::vehicle::VehicleParams;
 
 /// The fraction a of the thrust a sag takes (the exponential and power forms).
@@ -85,21 +87,11 @@ impl Effect for BatterySagExponential {
     fn params(&self, _vehicle: &VehicleParams) -> Vec<ParamInfo> {
         vec![
             fraction_param("fraction of thrust lost in the end"),
-            ParamInfo {
-                name: "tau_s",
-                unit: "s",
-                lo: 5.0,
-                hi: 1000.0,
-                null: 60.0,
-                typical: 60.0,
-                doc: "time constant of the sag",
-                shape: true,
-            },
+            settling_tau_param(5.0, 1000.0, "time constant of the sag"),
         ]
     }
     fn thrust(&self, p: &[f64], ctx: &ThrustContext<'_>, f: f64) -> f64 {
-        let tau = p[1].max(1e-3);
-        (1.0 - p[0] * (1.0 - (-ctx.t / tau).exp())).max(0.0) * f
+        (1.0 - p[0] * settled(ctx.t, p[1])).max(0.0) * f
     }
 }
 

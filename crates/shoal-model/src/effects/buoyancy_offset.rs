@@ -12,9 +12,12 @@
 //! seeping into the hull, air escaping from a foam or a cable gland, a pump compartment that
 //! slowly floods. A constant offset fitted to the first part of such a log mispredicts the
 //! rest by more and more. A `depth` form ΔF(z) = ΔF₀ + k·z stands for a compressible hull,
-//! foam or air pocket that the water pressure squeezes: heavier the deeper it dives.
+//! foam or air pocket that the water pressure squeezes: heavier the deeper it dives. A
+//! `settling` form ΔF(t) = ΔF₀ + ΔF₁·(1 − e^(−t/τ)) is a change that levels off (air that
+//! escapes until it is gone): the same three time laws — constant, drifting, settling — as
+//! the depth sensor's bias and the battery's sag.
 
-use super::{Effect, ForceContext, ParamInfo};
+use super::{Effect, ForceContext, ParamInfo, settled, settling_tau_param};
 use crate::math::{Vec6, join6};
 use crate::vehicle::VehicleParams;
 
@@ -143,5 +146,51 @@ impl Effect for BuoyancyOffsetDepth {
     }
     fn force(&self, p: &[f64], ctx: &ForceContext<'_>) -> Vec6 {
         vertical_force(p[0] + p[1] * ctx.rigid.position.z.max(0.0), ctx)
+    }
+}
+
+/// The `settling` form: the net vertical force moves by ΔF₁ towards a new value with time
+/// constant τ and levels off, ΔF(t) = ΔF₀ + ΔF₁·(1 − e^(−t/τ)) — air escaping from a
+/// free-flooding fairing or a foam until it is gone, a hull taking up water until it is
+/// soaked. (For τ much longer than the run it is the `drift` form's straight line.)
+#[derive(Clone, Copy, Debug, Default)]
+pub struct BuoyancyOffsetSettling;
+
+impl Effect for BuoyancyOffsetSettling {
+    fn name(&self) -> &'static str {
+        "buoyancy_offset"
+    }
+    fn form(&self) -> &'static str {
+        "settling"
+    }
+    fn summary(&self) -> &'static str {
+        "net vertical force that changes and levels off, ΔF(t) = ΔF₀ + ΔF₁·(1 − e^(−t/τ))"
+    }
+    fn explanation(&self) -> &'static str {
+        "Trim that changes during the run and then holds: air escaping from a fairing or a \
+         foam, a hull soaking up water; the idle vehicle's drift changes and settles."
+    }
+    fn params(&self, vehicle: &VehicleParams) -> Vec<ParamInfo> {
+        let mut p = BuoyancyOffset.params(vehicle);
+        let w = vehicle.body.mass * G;
+        p.push(ParamInfo {
+            name: "delta_f1_n",
+            unit: "N",
+            lo: -0.1 * w,
+            hi: 0.1 * w,
+            null: 0.0,
+            typical: 0.002 * w,
+            doc: "change of the net downward force once settled",
+            shape: false,
+        });
+        p.push(settling_tau_param(
+            5.0,
+            1000.0,
+            "time constant of the change",
+        ));
+        p
+    }
+    fn force(&self, p: &[f64], ctx: &ForceContext<'_>) -> Vec6 {
+        vertical_force(p[0] + p[1] * settled(ctx.t, p[2]), ctx)
     }
 }

@@ -12,7 +12,7 @@
 //! A `settling` form competes: `b₀ + Δ·(1 − e^(−t/τ))`, a drift that levels off; and a
 //! `power_drift` form `b₀ + d·(t/100 s)^p` whose exponent p shapes a drift that accelerates
 //! (p > 1, a sensor warming ever faster) or slows (p < 1).
-use super::{Effect, POWER_T_REF, ParamInfo, time_exponent_param};
+use super::{Effect, POWER_T_REF, ParamInfo, settled, settling_tau_param, time_exponent_param};
 use crate::vehicle::VehicleParams;
 
 /// The reading's constant offset b₀ \[m\], shared by both forms.
@@ -99,20 +99,11 @@ impl Effect for DepthSensorBiasSettling {
                 doc: "change of the offset once settled",
                 shape: false,
             },
-            ParamInfo {
-                name: "tau_s",
-                unit: "s",
-                lo: 20.0,
-                hi: 1000.0,
-                null: 60.0,
-                typical: 60.0,
-                doc: "time constant of the settling",
-                shape: true,
-            },
+            settling_tau_param(20.0, 1000.0, "time constant of the settling"),
         ]
     }
     fn depth_offset(&self, p: &[f64], t: f64) -> f64 {
-        p[0] + p[1] * (1.0 - (-t / p[2].max(1e-3)).exp())
+        p[0] + p[1] * settled(t, p[2])
     }
 }
 

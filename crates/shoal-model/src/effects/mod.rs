@@ -39,7 +39,9 @@ mod water_current;
 pub use added_mass_error::AddedMassError;
 pub use ballast_mass::BallastMass;
 pub use battery_sag::{BatterySag, BatterySagExponential, BatterySagPower};
-pub use buoyancy_offset::{BuoyancyOffset, BuoyancyOffsetDepth, BuoyancyOffsetDrift};
+pub use buoyancy_offset::{
+    BuoyancyOffset, BuoyancyOffsetDepth, BuoyancyOffsetDrift, BuoyancyOffsetSettling,
+};
 pub use damping_error::{DampingError, DampingErrorDirection, DampingErrorPower, NU_REF};
 pub use depth_sensor_bias::{DepthSensorBias, DepthSensorBiasPower, DepthSensorBiasSettling};
 pub use inflow_thrust_loss::{
@@ -76,6 +78,27 @@ pub(crate) fn time_exponent_param(doc: &'static str) -> ParamInfo {
         hi: 4.0,
         null: 2.0,
         typical: 2.0,
+        doc,
+        shape: true,
+    }
+}
+
+/// The fraction of a settling change reached at time `t` \[s\] with time constant `tau`
+/// \[s\], 1 − e^(−t/τ): the law of every `settling` or `exponential` form (a quantity that
+/// moves towards a new value and levels off).
+pub(crate) fn settled(t: f64, tau: f64) -> f64 {
+    1.0 - (-t.max(0.0) / tau.max(1e-3)).exp()
+}
+
+/// The time constant τ of a `settling` law, a shape parameter from `lo` to `hi` seconds.
+pub(crate) fn settling_tau_param(lo: f64, hi: f64, doc: &'static str) -> ParamInfo {
+    ParamInfo {
+        name: "tau_s",
+        unit: "s",
+        lo,
+        hi,
+        null: 60.0,
+        typical: 60.0,
         doc,
         shape: true,
     }
@@ -229,6 +252,7 @@ pub fn catalogue() -> Vec<Arc<dyn Effect>> {
         Arc::new(BuoyancyOffset),
         Arc::new(BuoyancyOffsetDrift),
         Arc::new(BuoyancyOffsetDepth),
+        Arc::new(BuoyancyOffsetSettling),
         Arc::new(BallastMass),
         Arc::new(DampingError),
         Arc::new(DampingErrorDirection),

@@ -1,5 +1,6 @@
 //! `buoyancy_offset` truth forms — weight and buoyancy differ, but not by a constant ΔF, a
-//! steady drift ΔF₀ + r·t or a linear growth with depth ΔF₀ + k·z as the fitting side assumes:
+//! steady drift ΔF₀ + r·t, a change that settles ΔF₀ + ΔF₁·(1 − e^(−t/τ)) or a linear growth
+//! with depth ΔF₀ + k·z as the fitting side assumes:
 //!
 //! * `buoyancy_offset/gas_compression` — the vehicle was trimmed neutral at the surface with
 //!   air trapped in the hull; the air compresses with depth (Boyle), so the vehicle grows
@@ -11,13 +12,20 @@
 //!   the form is matched.
 //! * `buoyancy_offset/venting_air` — air trapped under a free-flooding fairing escapes through
 //!   a small vent after the dive starts, and water takes its place: the vehicle grows heavier
-//!   and levels off, ΔF(t) = ΔF₀ + A·(1 − e^(−t/τ)).
+//!   and levels off, ΔF(t) = ΔF₀ + A·(1 − e^(−t/τ)). The catalogue's `settling` form has this
+//!   law: the form is matched.
+//! * `buoyancy_offset/leaking_bubble` — the vehicle was trimmed neutral at the surface with an
+//!   air bubble in the hull that both compresses with depth (Boyle) and escapes through a
+//!   leak: ΔF(z, t) = B_g·(1 − e^(−t/τ)/(1 + z/H)). Depth and time act together, which no
+//!   single fitting form has.
 //!
 //! All act as the catalogue's force along the world vertical at the centre of buoyancy
 //! (positive: heavier), with the value of the moment.
 
 use super::{ExpKind, FormParam, Part, TruthForm, truth_effect_meta};
-use shoal_model::effects::{BuoyancyOffset, BuoyancyOffsetDrift, Effect, ForceContext};
+use shoal_model::effects::{
+    BuoyancyOffset, BuoyancyOffsetDrift, BuoyancyOffsetSettling, Effect, ForceContext,
+};
 use shoal_model::math::Vec6;
 use std::sync::Arc;
 
@@ -30,6 +38,8 @@ const LEAK: &str = "buoyancy_offset/slow_leak";
 const LEAK_LAW: &str = "ΔF(t) = ΔF₀ + r·t";
 const VENT: &str = "buoyancy_offset/venting_air";
 const VENT_LAW: &str = "ΔF(t) = ΔF₀ + A·(1 − e^(−t/τ))";
+const BUBBLE: &str = "buoyancy_offset/leaking_bubble";
+const BUBBLE_LAW: &str = "ΔF(z, t) = B_g·(1 − e^(−t/τ)/(1 + z/10.33 m)), neutral at the surface";
 
 pub(super) fn forms() -> Vec<TruthForm> {
     vec![
@@ -93,6 +103,28 @@ pub(super) fn forms() -> Vec<TruthForm> {
                 }))
             },
         },
+        TruthForm {
+            name: BUBBLE,
+            family: "buoyancy_offset",
+            law: BUBBLE_LAW,
+            params: vec![
+                FormParam::magnitude(
+                    "b_gas_n",
+                    "N",
+                    0.01,
+                    0.025,
+                    "buoyancy of the bubble at the surface (1–2.5 ml of air)",
+                ),
+                FormParam::shape("tau_s", "s", 40.0, 150.0, "time constant of the leak"),
+            ],
+            excites: &[ExpKind::Heave, ExpKind::Yaw],
+            build: |p| {
+                Part::Effect(Arc::new(LeakingBubble {
+                    b_gas: p[0],
+                    tau: p[1],
+                }))
+            },
+        },
     ]
 }
 
@@ -143,7 +175,25 @@ struct VentingAir {
 impl Effect for VentingAir {
     truth_effect_meta!(VENT, VENT_LAW);
     fn force(&self, _p: &[f64], ctx: &ForceContext<'_>) -> Vec6 {
-        let df = self.delta_f0 + self.a * (1.0 - (-ctx.t / self.tau).exp());
-        BuoyancyOffset.force(&[df], ctx)
+        // The catalogue's `settling` form has this law (the form is matched).
+        BuoyancyOffsetSettling.force(&[self.delta_f0, self.a, self.tau], ctx)
+    }
+}
+
+/// See the module documentation.
+#[derive(Debug)]
+struct LeakingBubble {
+    /// Buoyancy of the bubble at the surface at the start \[N\].
+    b_gas: f64,
+    /// Time constant of the leak \[s\].
+    tau: f64,
+}
+
+impl Effect for LeakingBubble {
+    truth_effect_meta!(BUBBLE, BUBBLE_LAW);
+    fn force(&self, _p: &[f64], ctx: &ForceContext<'_>) -> Vec6 {
+        let z = ctx.rigid.position.z.max(0.0);
+        let left = (-ctx.t.max(0.0) / self.tau).exp() / (1.0 + z / ATMOSPHERE_HEAD);
+        BuoyancyOffset.force(&[self.b_gas * (1.0 - left)], ctx)
     }
 }
