@@ -49,6 +49,9 @@ pub struct Dataset {
     pub env: Environment,
     /// Replay settings.
     pub replay: ReplayOptions,
+    /// Resolution of each channel kind's measurements (the coarsest over the runs; 0: not
+    /// quantised), see [`stats::resolution`].
+    pub resolution: BTreeMap<ChannelKind, f64>,
 }
 
 /// How to build a [`Dataset`].
@@ -146,11 +149,20 @@ impl Dataset {
             .collect();
         kinds.sort();
         kinds.dedup();
+        let mut resolution: BTreeMap<ChannelKind, f64> = BTreeMap::new();
+        for r in &runs {
+            for &i in &r.channels {
+                let c = &r.run.channels[i];
+                let q = resolution.entry(c.kind).or_insert(0.0);
+                *q = q.max(stats::resolution(&c.values));
+            }
+        }
         let ds = Dataset {
             runs,
             kinds,
             env,
             replay: opts.replay,
+            resolution,
         };
         for k in &ds.kinds {
             let (ne, nv) = ds.counts(*k);
@@ -223,7 +235,7 @@ impl Dataset {
                 }
             })
             .collect();
-        Evaluation::new(runs, &self.kinds)
+        Evaluation::new(runs, &self.kinds, &self.resolution)
     }
 }
 
@@ -349,6 +361,8 @@ pub struct ChannelMetrics {
     /// Ljung–Box whiteness test of the validation residuals (first run with validation
     /// samples of this channel… pooled by concatenation).
     pub ljung_box: stats::LjungBox,
+    /// Resolution of the measurements (quantisation step, channel unit; 0: not quantised).
+    pub resolution: f64,
 }
 
 /// A model compared with all runs.
@@ -361,7 +375,11 @@ pub struct Evaluation {
 }
 
 impl Evaluation {
-    fn new(runs: Vec<RunResult>, kinds: &[ChannelKind]) -> Self {
+    fn new(
+        runs: Vec<RunResult>,
+        kinds: &[ChannelKind],
+        resolution: &BTreeMap<ChannelKind, f64>,
+    ) -> Self {
         let mut metrics = BTreeMap::new();
         for &k in kinds {
             let mut est_r = Vec::new();
@@ -395,6 +413,7 @@ impl Evaluation {
                     fit_pct: stats::fit_pct(&val_r, &val_dev),
                     rmse_est: stats::rms(&est_r),
                     ljung_box: stats::ljung_box(&val_r, 20),
+                    resolution: resolution.get(&k).copied().unwrap_or(0.0),
                 },
             );
         }

@@ -13,8 +13,11 @@
 //! parameters are fitted by maximum likelihood with unknown per-channel noise: bounded
 //! Levenberg–Marquardt ([`crate::lm`]) on the estimation residuals of all channels, each
 //! channel weighted by the inverse of the fit's own residual variance, the weights updated and
-//! the fit repeated until they settle. It starts from several points: the null values, typical
-//! values, the best points of a coarse scan, and earlier fits. Parameters that the data cannot
+//! the fit repeated until they settle. It starts from the best two of several points: the null
+//! values, typical values, earlier fits, and a scan of the new effect's parameters — a line
+//! from the null values towards the far bounds and a space-filling Halton design over their
+//! whole box (`fit.rs`): threshold laws have no gradient where they do not bind, and
+//! an output-error cost has valleys far from the null values. Parameters that the data cannot
 //! see are detected by a probe and kept at their null values.
 //!
 //! **Uncertainty.** From the Jacobian at the optimum: `sigma_white`, the Gauss–Newton value for
@@ -43,12 +46,19 @@
 //! 5. its parameters are jointly `z_threshold` (default 3) standard deviations from their null
 //!    values (Wald test; shape parameters excluded).
 //!
+//! The gains of 2–4 are averaged over the channels the effect visibly changes: its held-out
+//! prediction must move by at least one step of the channel's resolution (a quantised
+//! sensor's step, read from the data; [`crate::stats::resolution`]) — below that, a change
+//! cannot be told from the quantisation itself.
+//!
 //! *Forward*: of the families that pass, the one whose model predicts the held-out data best
 //! ([`rules::heldout_ratio`]: held-out RMSE relative to the current model's, averaged over every
 //! channel) joins the model, then each promising remaining family is fitted together with the
-//! chosen ones, and so on. *Backward*: every chosen effect must still pass against the model
-//! without it (refitted); the weakest failing one is removed and the test repeated; swaps of one
-//! effect for another that lower the BIC are tried.
+//! chosen ones, and so on. When no family passes alone while structure is left, the round's
+//! most promising families are fitted in pairs (`pairs.rs`): two effects hidden together can
+//! each be a compromise that fails on the held-out part alone. *Backward*: every chosen effect
+//! must still pass against the model without it (refitted); the weakest failing one is removed
+//! and the test repeated; swaps of one effect for another that lower the BIC are tried.
 //!
 //! **Identifiability** (`identify.rs`). For each chosen effect, the best alternative families
 //! are fitted in its place. When an alternative explains the held-out data as well (the block
@@ -74,6 +84,7 @@
 mod fit;
 mod identify;
 mod orchestrate;
+mod pairs;
 mod par;
 pub mod rules;
 mod stability;

@@ -4,7 +4,7 @@
 use super::fit::Ctx;
 use super::rules::{bic, heldout_ratio, judge, skipped};
 use super::{
-    Candidate, Fit, FormScore, Outcome, SearchOptions, identify, par_map, stability, verdict,
+    Candidate, Fit, FormScore, Outcome, SearchOptions, identify, pairs, par_map, stability, verdict,
 };
 use crate::data::Dataset;
 use shoal_model::effects::{Effect, Effects};
@@ -203,7 +203,7 @@ pub fn search(
                     infos.iter().map(|p| p.null).collect(),
                     infos.iter().map(|p| p.typical).collect(),
                 ];
-                ctx.fit(std::slice::from_ref(e), &excited, &starts, true)
+                ctx.fit(std::slice::from_ref(e), &excited, &starts, Some(0))
                     .map(|f| (f, excited))
                     .ok_or_else(|| "the replay failed for every start".to_string())
             }
@@ -252,6 +252,7 @@ pub fn search(
     };
     let mut current = baseline.clone();
     let mut round = 1;
+    let mut paired = 0;
     // Forward.
     loop {
         // Of the families that pass, the one that predicts the held-out data best joins (the
@@ -271,6 +272,21 @@ pub fn search(
             .min_by(|a, b| a.1.total_cmp(&b.1))
             .map(|(c, _)| c);
         let Some(fit) = best.and_then(|c| c.fit.clone()) else {
+            // No family passes alone: while structure is left and there is room for two,
+            // the round's most promising families are tried in pairs (see `pairs.rs`).
+            if paired < round
+                && current.effects.len() + 2 <= opts.max_effects
+                && !verdict::unexplained(&current).is_empty()
+            {
+                paired = round;
+                let this: Vec<&Candidate> = candidates
+                    .iter()
+                    .filter(|c| c.round == round && !c.backward)
+                    .collect();
+                let found = pairs::pair_candidates(&s, round, &current, &this, progress);
+                candidates.extend(found);
+                continue;
+            }
             break;
         };
         current = fit;

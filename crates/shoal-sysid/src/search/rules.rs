@@ -24,7 +24,7 @@ pub fn gain_rs(a: &Evaluation, b: &Evaluation, rs: Option<&Resample>) -> f64 {
         for (k, ma) in &a.metrics {
             if let Some(mb) = b.metrics.get(k)
                 && ma.rmse > 0.0
-                && touched(ma.rmse, mb.rmse)
+                && counts(a, b, *k, ma.rmse, mb.rmse)
             {
                 s += 1.0 - mb.rmse / ma.rmse;
                 n += 1;
@@ -42,7 +42,7 @@ pub fn gain_rs(a: &Evaluation, b: &Evaluation, rs: Option<&Resample>) -> f64 {
             && *sa > 0.0
             && *na > 0.0
             && *nb > 0.0
-            && touched(*sa, *sb)
+            && counts(a, b, *k, *sa, *sb)
         {
             s += 1.0 - ((sb / nb) / (sa / na)).sqrt();
             n += 1;
@@ -54,6 +54,40 @@ pub fn gain_rs(a: &Evaluation, b: &Evaluation, rs: Option<&Resample>) -> f64 {
 /// Whether a channel's error measure moved from `a` to `b` by more than rounding.
 fn touched(a: f64, b: f64) -> bool {
     (a - b).abs() > 1e-9 * a.abs().max(b.abs())
+}
+
+/// RMS difference of the held-out predictions of channel `kind` between `a` and `b`
+/// (channel unit).
+pub fn moved(a: &Evaluation, b: &Evaluation, kind: ChannelKind) -> f64 {
+    let mut ss = 0.0;
+    let mut n = 0usize;
+    for (ra, rb) in a.runs.iter().zip(&b.runs) {
+        for (ca, cb) in ra.channels.iter().zip(&rb.channels) {
+            if ca.kind != kind || cb.kind != kind {
+                continue;
+            }
+            for ((pa, pb), e) in ca.predicted.iter().zip(&cb.predicted).zip(&ca.est) {
+                if !*e {
+                    ss += (pb - pa) * (pb - pa);
+                    n += 1;
+                }
+            }
+        }
+    }
+    if n > 0 { (ss / n as f64).sqrt() } else { 0.0 }
+}
+
+/// Whether going from `a` to `b` changes channel `kind` in a way its sensor can show: its
+/// error measure moves (`ea` → `eb`, [`touched`]) and its held-out prediction moves by at
+/// least one step of the sensor's resolution (RMS): a change smaller than one bit of a
+/// quantised sensor is indistinguishable from the quantisation itself (a "bias" of a
+/// millimetre on a 1.8 mm pressure sensor whose vehicle hardly moves), so it is no evidence
+/// for an effect.
+fn counts(a: &Evaluation, b: &Evaluation, kind: ChannelKind, ea: f64, eb: f64) -> bool {
+    touched(ea, eb)
+        && a.metrics
+            .get(&kind)
+            .is_none_or(|m| m.resolution <= 0.0 || moved(a, b, kind) >= m.resolution)
 }
 
 /// BIC of an evaluation with `k` free parameters: Σ_ch n_ch·ln(SSE_ch/n_ch) + k·ln n over the
@@ -153,7 +187,7 @@ pub fn material_rs(
     for (k, m0) in &r0 {
         if let (Some(ma), Some(mb)) = (ra.get(k), rb.get(k))
             && *m0 > 0.0
-            && touched(*ma, *mb)
+            && counts(a, b, *k, *ma, *mb)
         {
             s += (ma - mb) / m0;
             n += 1;
@@ -180,8 +214,17 @@ pub fn heldout_ratio(a: &Evaluation, b: &Evaluation) -> f64 {
 }
 
 /// The noise floor of a channel's held-out residuals: the RMS of their first differences over
-/// √2 — what is left of white sensor noise when every smooth structure is taken out.
+/// √2 — what is left of white sensor noise when every smooth structure is taken out — and
+/// never below the quantisation noise of its sensor, resolution/√12 (a vehicle that hardly
+/// moves sits on one step of a coarse sensor, and the differences of its readings are then
+/// mostly zero although the reading is up to half a step off).
 pub fn noise_floor(eval: &Evaluation, kind: ChannelKind) -> f64 {
+    let q = eval.metrics.get(&kind).map_or(0.0, |m| m.resolution);
+    differenced_floor(eval, kind).max(q / 12f64.sqrt())
+}
+
+/// The RMS of the first differences of a channel's held-out residuals over √2.
+fn differenced_floor(eval: &Evaluation, kind: ChannelKind) -> f64 {
     let mut diffs = Vec::new();
     for r in &eval.runs {
         for c in r.channels.iter().filter(|c| c.kind == kind) {
@@ -218,7 +261,7 @@ pub fn closure_rs(a: &Evaluation, b: &Evaluation, rs: Option<&Resample>) -> f64 
     let mut n = 0;
     for (k, ma) in &ra {
         if let Some(mb) = rb.get(k)
-            && touched(*ma, *mb)
+            && counts(a, b, *k, *ma, *mb)
         {
             let floor = noise_floor(a, *k);
             let gap = ma - floor;
@@ -263,11 +306,39 @@ pub fn judge(
     backward: bool,
     baseline: &Evaluation,
 ) -> Candidate {
+    judge_set(
+        round,
+        &[name.to_string()],
+        base,
+        fit,
+        opts,
+        backward,
+        baseline,
+    )
+}
+
+/// [`judge`] for the families `names` joining together (a pair, see `pairs.rs`): the same
+/// rules for the model with all of them against `base`, and every one of them far from its
+/// null values (the smallest Wald distance counts). The candidate's `effect` is the names
+/// joined by ` + `.
+pub fn judge_set(
+    round: usize,
+    names: &[String],
+    base: &Fit,
+    fit: Fit,
+    opts: &SearchOptions,
+    backward: bool,
+    baseline: &Evaluation,
+) -> Candidate {
+    let name = names.join(" + ");
     let d = delta_bic(base, &fit);
     let de = delta_bic_eff(base, &fit, None);
     let g = gain(&base.eval, &fit.eval);
     let t = heldout_t(&base.eval, &fit.eval, opts.block_s, None);
-    let z = z_of(&fit, name, true);
+    let z = names
+        .iter()
+        .map(|n| z_of(&fit, n, true))
+        .fold(f64::INFINITY, f64::min);
     // The gate is the plain ΔBIC: the effective one is reported, but while a second effect is
     // still missing the residuals stay smooth whatever the first explains, and the effective
     // count would then refuse the first effect of every pair.
@@ -317,7 +388,7 @@ pub fn judge(
     let form = fit
         .effects
         .iter()
-        .find(|e| e.effect.name() == name)
+        .find(|e| e.effect.name() == name.as_str())
         .map(|e| e.effect.form().to_string())
         .unwrap_or_default();
     let note = if significant {
@@ -333,7 +404,7 @@ pub fn judge(
     Candidate {
         round,
         backward,
-        effect: name.to_string(),
+        effect: name,
         form,
         forms: Vec::new(),
         fit: Some(fit),

@@ -141,7 +141,7 @@ pub(super) fn conclude(
 
 /// Channels of `fit` whose held-out residuals fail the Ljung–Box test and whose RMS is more
 /// than [`super::rules::STRUCTURE_RATIO`] times the noise floor.
-fn unexplained(fit: &Fit) -> Vec<Unexplained> {
+pub(super) fn unexplained(fit: &Fit) -> Vec<Unexplained> {
     let mut out = Vec::new();
     for (k, m) in &fit.eval.metrics {
         let noise = super::rules::noise_floor(&fit.eval, *k);
