@@ -59,6 +59,9 @@
 //! each be a compromise that fails on the held-out part alone. *Backward*: every chosen effect
 //! must still pass against the model without it (refitted); the weakest failing one is removed
 //! and the test repeated; swaps of one effect for another that lower the BIC are tried.
+//! *Forms again* (`refine.rs`): once the families are final, each family's forms are fitted
+//! again beside all the others, and a form that lowers the model's BIC replaces the one chosen
+//! when the family joined (then, a missing effect may have bent the choice).
 //!
 //! **Identifiability** (`identify.rs`). For each chosen effect, the best alternative families
 //! are fitted in its place. When an alternative explains the held-out data as well (the block
@@ -86,6 +89,7 @@ mod identify;
 mod orchestrate;
 mod pairs;
 mod par;
+mod refine;
 pub mod rules;
 mod stability;
 mod verdict;

@@ -4,7 +4,8 @@
 use super::fit::Ctx;
 use super::rules::{bic, heldout_ratio, judge, skipped};
 use super::{
-    Candidate, Fit, FormScore, Outcome, SearchOptions, identify, pairs, par_map, stability, verdict,
+    Candidate, Fit, FormScore, Outcome, SearchOptions, identify, pairs, par_map, refine, stability,
+    verdict,
 };
 use crate::data::Dataset;
 use shoal_model::effects::{Effect, Effects};
@@ -311,8 +312,9 @@ pub fn search(
     // Backward checks, then swaps of one effect for another where that lowers the BIC
     // (equivalent explanations with fewer parameters), then backward checks again.
     let mut swaps = 0;
+    // The model refitted without each of its families, as the last backward check left it.
+    let mut reduced: Vec<(String, Option<Fit>)> = Vec::new();
     loop {
-        let mut reduced: Vec<(String, Option<Fit>)> = Vec::new();
         while !current.effects.is_empty() {
             round += 1;
             let names = current.names();
@@ -355,8 +357,8 @@ pub fn search(
         let cur_bic = bic(&current.eval, current.k);
         let names = current.names();
         let options: Vec<(String, Fit)> = reduced
-            .into_iter()
-            .filter_map(|(n, r)| r.map(|r| (n, r)))
+            .iter()
+            .filter_map(|(n, r)| r.clone().map(|r| (n.clone(), r)))
             .collect();
         let pairs: Vec<(String, Fit, String)> = options
             .iter()
@@ -388,6 +390,9 @@ pub fn search(
         }
         candidates.push(c);
     }
+    // Each family's form chosen again beside the final others (see `refine.rs`).
+    let (current, changes) = refine::refine_forms(&s, current, reduced, round, progress);
+    candidates.extend(changes);
     let stepwise = current.clone();
     // Identifiability, stability, verdict.
     let ambiguous = identify::ambiguities(&s, &stepwise, progress);
