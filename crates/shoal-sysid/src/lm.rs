@@ -15,7 +15,11 @@ use nalgebra::{DMatrix, DVector};
 pub struct LmOptions {
     /// Largest number of accepted-or-rejected steps.
     pub max_iterations: usize,
-    /// Stop when a step lowers the cost by less than this fraction.
+    /// Stop when a step lowers the cost by less than this fraction. The search's costs are
+    /// weighted by the inverse residual variance, so the cost is about the number of
+    /// residuals n and a relative step δ moves −2 log L by about n·δ: the default 1e-6 stops
+    /// where a step gains less than 0.03 log-likelihood units on 30 000 residuals, far below
+    /// every decision the search makes on BIC differences (≥ 2).
     pub rel_tolerance: f64,
     /// Finite-difference step in scaled units.
     pub fd_step: f64,
@@ -25,7 +29,7 @@ impl Default for LmOptions {
     fn default() -> Self {
         Self {
             max_iterations: 25,
-            rel_tolerance: 1e-7,
+            rel_tolerance: 1e-6,
             fd_step: 1e-4,
         }
     }

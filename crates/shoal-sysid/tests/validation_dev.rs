@@ -85,21 +85,9 @@ fn verdict_of(dir: &Path, name: &str) -> (Vec<String>, shoal_sysid::search::Verd
     (got, out.verdict)
 }
 
-/// Both null logs (no hidden effect) give an empty verdict.
-#[test]
-fn development_null_logs_give_an_empty_verdict() {
-    let dir = folder();
-    assert!(
-        dir.is_dir(),
-        "the development logs are missing at {}",
-        dir.display()
-    );
-    for name in ["dev_h_null", "dev_y_null"] {
-        let (got, v) = verdict_of(&dir, name);
-        assert!(got.is_empty(), "{name}: false discovery {got:?} ({v:?})");
-    }
-}
-
+/// The verdict is exact on at least 15 of the 16 logs, and both null logs (no hidden effect)
+/// give an empty verdict (asserted on its own: a false discovery there fails even within the
+/// one miss allowed).
 #[test]
 fn development_logs_get_exact_verdicts() {
     let dir = folder();

@@ -54,7 +54,8 @@
 //! *Forward*: of the families that pass, the one whose model predicts the held-out data best
 //! ([`rules::heldout_ratio`]: held-out RMSE relative to the current model's, averaged over every
 //! channel) joins the model, then each promising remaining family is fitted together with the
-//! chosen ones, and so on. When no family passes alone while structure is left, the round's
+//! chosen ones, and so on, until none passes or every channel's held-out residuals are white
+//! (nothing is left to explain). When no family passes alone while structure is left, the round's
 //! most promising families are fitted in pairs (`pairs.rs`): two effects hidden together can
 //! each be a compromise that fails on the held-out part alone. *Backward*: every chosen effect
 //! must still pass against the model without it (refitted); the weakest failing one is removed

@@ -294,6 +294,11 @@ pub fn search(
         if current.effects.len() >= opts.max_effects {
             break;
         }
+        // Nothing left to explain: every channel's held-out residuals are white (Ljung–Box at
+        // 5 %), so a further family could only fit noise; the rounds it would take are skipped.
+        if current.eval.metrics.values().all(|m| m.ljung_box.white()) {
+            break;
+        }
         round += 1;
         let tries = s.promising(&current, &[]);
         if tries.is_empty() {

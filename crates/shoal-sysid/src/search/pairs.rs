@@ -18,6 +18,9 @@ use super::rules::judge_set;
 use super::{Candidate, Fit, par_map};
 use std::sync::Arc;
 
+/// A family and one of its forms.
+type FamilyForm<'a> = (&'a str, &'a str);
+
 /// How many of a round's families are paired (the pairs among them are tried).
 const PAIRED_FAMILIES: usize = 4;
 
@@ -40,7 +43,7 @@ pub(super) fn pair_candidates(
         .collect();
     ranked.sort_by(|a, b| a.2.total_cmp(&b.2));
     ranked.truncate(PAIRED_FAMILIES);
-    let mut pairs: Vec<((&str, &str), (&str, &str))> = Vec::new();
+    let mut pairs: Vec<(FamilyForm, FamilyForm)> = Vec::new();
     for i in 0..ranked.len() {
         for j in i + 1..ranked.len() {
             pairs.push(((ranked[i].0, ranked[i].1), (ranked[j].0, ranked[j].1)));
