@@ -283,16 +283,30 @@ impl Ctx<'_> {
         excited_add: &[bool],
         starts: &[Vec<f64>],
     ) -> Option<Fit> {
+        self.extend_with(cur, &[(add, excited_add)], starts)
+    }
+
+    /// `cur` with the effects `adds` (each with its excitation) fitted on top, all parameters
+    /// free, from `cur`'s values and each of `starts` for the new effects' parameters (all of
+    /// them, in the order of `adds`); the scan covers the new parameters.
+    pub fn extend_with(
+        &self,
+        cur: &Fit,
+        adds: &[(&Arc<dyn Effect>, &[bool])],
+        starts: &[Vec<f64>],
+    ) -> Option<Fit> {
         let mut effects: Vec<Arc<dyn Effect>> =
             cur.effects.iter().map(|e| e.effect.clone()).collect();
-        effects.push(add.clone());
         let mut excited: Vec<bool> = Vec::new();
         let mut held: Vec<f64> = Vec::new();
         for e in &cur.effects {
             excited.extend(e.params.iter().map(|p| p.excited));
             held.extend(e.params.iter().map(|p| p.value));
         }
-        excited.extend_from_slice(excited_add);
+        for (add, excited_add) in adds {
+            effects.push((*add).clone());
+            excited.extend_from_slice(excited_add);
+        }
         let starts: Vec<Vec<f64>> = starts
             .iter()
             .map(|s| {

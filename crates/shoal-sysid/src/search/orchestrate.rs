@@ -35,6 +35,19 @@ pub(super) struct FormInfo {
     pub bic: f64,
 }
 
+impl FormInfo {
+    /// The form's starting values on top of another model: its round-1 fit (its typical values
+    /// where round 1 did not fit it), and its null values.
+    pub fn starts(&self, base: &VehicleParams) -> [Vec<f64>; 2] {
+        let params = self.effect.params(base);
+        let first = self
+            .first
+            .clone()
+            .unwrap_or_else(|| params.iter().map(|p| p.typical).collect());
+        [first, params.iter().map(|p| p.null).collect()]
+    }
+}
+
 /// Everything the later stages of a search share.
 pub(super) struct Search<'a> {
     pub ctx: Ctx<'a>,
@@ -52,16 +65,8 @@ impl Search<'_> {
         let mut fits: Vec<Fit> = Vec::new();
         let mut scores = Vec::new();
         for fi in infos {
-            let params = fi.effect.params(self.ctx.base);
-            let null: Vec<f64> = params.iter().map(|p| p.null).collect();
-            let first = fi
-                .first
-                .clone()
-                .unwrap_or_else(|| params.iter().map(|p| p.typical).collect());
-            let Some(fit) = self
-                .ctx
-                .extend(cur, &fi.effect, &fi.excited, &[first, null])
-            else {
+            let starts = fi.starts(self.ctx.base);
+            let Some(fit) = self.ctx.extend(cur, &fi.effect, &fi.excited, &starts) else {
                 continue;
             };
             let b = bic(&fit.eval, fit.k);

@@ -16,7 +16,6 @@
 use super::orchestrate::Search;
 use super::rules::judge_set;
 use super::{Candidate, Fit, par_map};
-use std::sync::Arc;
 
 /// A family and one of its forms.
 type FamilyForm<'a> = (&'a str, &'a str);
@@ -52,35 +51,19 @@ pub(super) fn pair_candidates(
     let fitted: Vec<Option<Candidate>> = par_map(&pairs, opts.threads, |&(a, b)| {
         let fa = s.forms.get(a.0)?.iter().find(|f| f.effect.form() == a.1)?;
         let fb = s.forms.get(b.0)?.iter().find(|f| f.effect.form() == b.1)?;
-        let mut effects: Vec<Arc<dyn shoal_model::effects::Effect>> =
-            cur.effects.iter().map(|e| e.effect.clone()).collect();
-        let mut excited: Vec<bool> = cur
-            .effects
-            .iter()
-            .flat_map(|e| e.params.iter().map(|p| p.excited))
-            .collect();
-        let held: Vec<f64> = cur
-            .effects
-            .iter()
-            .flat_map(|e| e.params.iter().map(|p| p.value))
-            .collect();
-        let mut starts = vec![held.clone(), held.clone(), held];
-        for (k, fi) in [fa, fb].into_iter().enumerate() {
-            effects.push(fi.effect.clone());
-            excited.extend_from_slice(&fi.excited);
-            let infos = fi.effect.params(s.ctx.base);
-            let null: Vec<f64> = infos.iter().map(|p| p.null).collect();
-            let first = fi
-                .first
-                .clone()
-                .unwrap_or_else(|| infos.iter().map(|p| p.typical).collect());
-            // Both from their own fits alone, and each from null beside the other's.
-            starts[0].extend_from_slice(&first);
-            starts[1].extend_from_slice(if k == 0 { &null } else { &first });
-            starts[2].extend_from_slice(if k == 0 { &first } else { &null });
-        }
-        let from = cur.effects.iter().map(|e| e.params.len()).sum();
-        let fit = s.ctx.fit(&effects, &excited, &starts, Some(from))?;
+        let [first_a, null_a] = fa.starts(s.ctx.base);
+        let [first_b, null_b] = fb.starts(s.ctx.base);
+        // Both from their own fits alone, and each from null beside the other's.
+        let starts = [
+            [first_a.clone(), first_b.clone()].concat(),
+            [null_a, first_b].concat(),
+            [first_a, null_b].concat(),
+        ];
+        let adds = [
+            (&fa.effect, fa.excited.as_slice()),
+            (&fb.effect, fb.excited.as_slice()),
+        ];
+        let fit = s.ctx.extend_with(cur, &adds, &starts)?;
         progress(&format!("{} + {}", a.0, b.0));
         let set = [a.0.to_string(), b.0.to_string()];
         let mut c = judge_set(round, &set, cur, fit, opts, false, &s.baseline.eval);

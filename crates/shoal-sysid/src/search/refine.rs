@@ -7,11 +7,11 @@
 //! offset, fitted beside that lag, as a settling one. Once the families are settled, each
 //! family's forms are therefore fitted again against the model of all the *other* families
 //! (each refitted without it), and the form of lowest BIC among those that pass the rules of
-//! [`super::rules::judge`] there replaces the chosen one when it lowers the whole model's BIC.
+//! [`super::rules::judge`] there ([`Search::candidate`]) replaces the chosen one when it lowers the whole model's BIC.
 //! The best such change is made and the others are tried again on the new model, until none
 //! helps (at most one pass per family and one more).
 
-use super::orchestrate::{Search, choose};
+use super::orchestrate::Search;
 use super::rules::bic;
 use super::{Candidate, Fit, par_map};
 
@@ -37,45 +37,31 @@ pub(super) fn refine_forms(
     let mut without: Vec<(String, Option<Fit>)> = reduced;
     for _ in 0..=current.effects.len() {
         let cur_bic = bic(&current.eval, current.k);
-        let names = current.names();
-        let forms: Vec<String> = current
+        // Each family with the form it has now.
+        let chosen: Vec<(String, String)> = current
             .effects
             .iter()
-            .map(|e| e.effect.form().to_string())
+            .map(|e| (e.effect.name().to_string(), e.effect.form().to_string()))
             .collect();
         let cur = &current;
-        let tries: Vec<Option<(Candidate, f64)>> = par_map(&names, s.ctx.opts.threads, |name| {
-            let r = match without.iter().find(|(n, _)| n == name) {
-                Some((_, Some(r))) => r.clone(),
-                _ => s.ctx.without(cur, name, &s.baseline)?,
-            };
-            let (fits, scores) = s.add_forms(&r, name)?;
-            let c = choose(
-                round + 1,
-                name,
-                &r,
-                fits,
-                scores,
-                s.ctx.opts,
-                &s.baseline.eval,
-            );
-            progress(name);
-            let b = c.fit.as_ref().map_or(f64::INFINITY, |f| bic(&f.eval, f.k));
-            Some((c, b))
-        });
+        let tries: Vec<Option<(Candidate, f64, String)>> =
+            par_map(&chosen, s.ctx.opts.threads, |(name, form)| {
+                let r = match without.iter().find(|(n, _)| n == name) {
+                    Some((_, Some(r))) => r.clone(),
+                    _ => s.ctx.without(cur, name, &s.baseline)?,
+                };
+                let c = s.candidate(round + 1, &r, name)?;
+                progress(name);
+                let b = c.fit.as_ref().map_or(f64::INFINITY, |f| bic(&f.eval, f.k));
+                Some((c, b, form.clone()))
+            });
         let best = tries
             .into_iter()
             .flatten()
-            .filter(|(c, b)| {
-                let i = names.iter().position(|n| *n == c.effect);
-                c.significant
-                    && i.is_some_and(|i| forms[i] != c.form)
-                    && *b < cur_bic - MIN_IMPROVEMENT
-            })
+            .filter(|(c, b, old)| c.significant && c.form != *old && *b < cur_bic - MIN_IMPROVEMENT)
             .min_by(|a, b| a.1.total_cmp(&b.1));
-        let Some((mut c, b)) = best else { break };
+        let Some((mut c, b, old)) = best else { break };
         let Some(fit) = c.fit.clone() else { break };
-        let old = &forms[names.iter().position(|n| *n == c.effect).unwrap_or(0)];
         round += 1;
         c.round = round;
         c.note = format!(
