@@ -6,8 +6,10 @@
 mod common;
 
 use common::{Exp, channel_gains, find, measured};
-use shoal_model::effects::{Effect, ThrustContext};
+use shoal_model::effects::{Effect, EffectInstance, Effects};
 use shoal_model::presets;
+use shoal_model::vehicle::VehicleModel;
+use shoal_sysid::data::Dataset;
 use std::sync::Arc;
 
 #[test]
@@ -41,35 +43,42 @@ const PAIR_TOL: f64 = 0.2;
 /// Absolute tolerance of a delay \[s\]: the logger samples every 20 ms.
 const DELAY_TOL: f64 = 0.03;
 
-/// How far apart two forms of one family are over a two-minute log: the largest difference of
-/// their thrust factor (command 50 %, at rest) and of their depth-reading offset at 10 s steps,
-/// and the largest deviation of `truth`'s law from no effect there.
+/// How far apart two forms of one family are on the log of `ds`: the noise-weighted distance
+/// between the replays (the log's own commands, every channel) of the baseline with `truth`'s
+/// law and with `found`'s, and of the baseline with `truth`'s law from the bare baseline. Any
+/// family's law shows there, whether it acts on the thrust, the forces, the time or the
+/// sensors.
 fn law_difference(
+    ds: &Dataset,
     truth: &Arc<dyn Effect>,
     tp: &[f64],
     found: &Arc<dyn Effect>,
     fp: &[f64],
 ) -> (f64, f64) {
-    let v = presets::uauv2();
-    let (mut dev, mut diff) = (0.0_f64, 0.0_f64);
-    for i in 0..=12 {
-        let t = 10.0 * f64::from(i);
-        let ctx = ThrustContext {
-            t,
-            thruster: &v.thrusters[0],
-            command: 50.0,
-            inflow: 0.0,
-        };
-        let (a, b) = (truth.thrust(tp, &ctx, 1.0), found.thrust(fp, &ctx, 1.0));
-        let (c, d) = (truth.depth_offset(tp, t), found.depth_offset(fp, t));
-        dev = dev.max((a - 1.0).abs()).max(c.abs());
-        diff = diff.max((a - b).abs()).max((c - d).abs());
-    }
-    (dev, diff)
+    let model = |with: &[(&Arc<dyn Effect>, &[f64])]| {
+        let list = with
+            .iter()
+            .map(|(e, p)| EffectInstance {
+                effect: (*e).clone(),
+                params: p.to_vec(),
+            })
+            .collect();
+        VehicleModel::with_effects(presets::uauv2(), Effects::new(list), ds.env.density)
+    };
+    let with_truth = ds.evaluate(&model(&[(truth, tp)]));
+    let w = with_truth.ml_factors();
+    let r_truth = with_truth.weighted(&w);
+    let r_found = ds.evaluate(&model(&[(found, fp)])).weighted(&w);
+    let r_base = ds.evaluate(&model(&[])).weighted(&w);
+    let distance = |a: &[f64], b: &[f64]| {
+        assert_eq!(a.len(), b.len(), "replays of one log");
+        a.iter().zip(b).map(|(x, y)| (x - y).powi(2)).sum::<f64>().sqrt()
+    };
+    (distance(&r_truth, &r_base), distance(&r_truth, &r_found))
 }
 
 fn pair(exp: Exp, a: (&str, Vec<f64>), b: (&str, Vec<f64>), seed: u64) {
-    let (_, out) = find(measured(exp, &[a.clone(), b.clone()], seed));
+    let (ds, out) = find(measured(exp, &[a.clone(), b.clone()], seed));
     let mut names = out.chosen.names();
     names.sort();
     let mut want = vec![a.0.to_string(), b.0.to_string()];
@@ -105,7 +114,7 @@ fn pair(exp: Exp, a: (&str, Vec<f64>), b: (&str, Vec<f64>), seed: u64) {
         let default = shoal_model::effects::by_name(name).unwrap();
         if found.effect.form() != default.form() {
             let values: Vec<f64> = found.params.iter().map(|p| p.value).collect();
-            let (dev, diff) = law_difference(&default, truth, &found.effect, &values);
+            let (dev, diff) = law_difference(&ds, &default, truth, &found.effect, &values);
             assert!(
                 dev > 0.0 && diff <= PAIR_TOL * dev,
                 "{ctx}: named as form {} {:?}: its law differs from the truth's by {diff} \
