@@ -72,7 +72,11 @@ fn law_difference(
     let r_base = ds.evaluate(&model(&[])).weighted(&w);
     let distance = |a: &[f64], b: &[f64]| {
         assert_eq!(a.len(), b.len(), "replays of one log");
-        a.iter().zip(b).map(|(x, y)| (x - y).powi(2)).sum::<f64>().sqrt()
+        a.iter()
+            .zip(b)
+            .map(|(x, y)| (x - y).powi(2))
+            .sum::<f64>()
+            .sqrt()
     };
     (distance(&r_truth, &r_base), distance(&r_truth, &r_found))
 }
