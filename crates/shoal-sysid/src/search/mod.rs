@@ -74,8 +74,9 @@
 //! the backward test is repeated — ΔBIC, held-out gain, block test and materiality, on the
 //! resample's blocks. An effect is named in `verdict.effects` only if it is selected in at
 //! least `stability_threshold` (default 80 %: 7 of the 8 resamples) of the resamples;
-//! otherwise it is listed as *possible* with its evidence. (An effect that only soaks up another's form mismatch tends to
-//! sit near the materiality limit and fails it on many resamples.)
+//! otherwise it is listed as *possible* with its evidence. (An effect that only soaks up
+//! another's form mismatch tends to sit near the materiality limit and fails it on some
+//! resamples.)
 //!
 //! **Unexplained structure.** When the final model's held-out residuals stay structured
 //! (Ljung–Box fails and their RMS is well above the noise floor estimated from sample-to-sample
@@ -277,6 +278,18 @@ pub struct FormScore {
     pub gain: f64,
     /// Free parameters of the form.
     pub k: usize,
+}
+
+impl FormScore {
+    /// The score of `form`, fitted on top of `base` as `fit`.
+    fn of(form: &str, base: &Fit, fit: &Fit) -> Self {
+        Self {
+            form: form.to_string(),
+            bic: bic(&fit.eval, fit.k),
+            gain: gain(&base.eval, &fit.eval),
+            k: fit.k - base.k,
+        }
+    }
 }
 
 /// One candidate of one round.

@@ -60,7 +60,7 @@ impl Search<'_> {
     /// `cur` with the family `name` added: every excited form fitted on top (from its round-1
     /// values and from null). Returns every form's fit and score (`None`: no form could be
     /// replayed); [`choose`] picks the form.
-    pub fn add_forms(&self, cur: &Fit, name: &str) -> Option<(Vec<Fit>, Vec<FormScore>)> {
+    fn add_forms(&self, cur: &Fit, name: &str) -> Option<(Vec<Fit>, Vec<FormScore>)> {
         let infos = self.forms.get(name)?;
         let mut fits: Vec<Fit> = Vec::new();
         let mut scores = Vec::new();
@@ -69,13 +69,7 @@ impl Search<'_> {
             let Some(fit) = self.ctx.extend(cur, &fi.effect, &fi.excited, &starts) else {
                 continue;
             };
-            let b = bic(&fit.eval, fit.k);
-            scores.push(FormScore {
-                form: fi.effect.form().to_string(),
-                bic: b,
-                gain: super::gain(&cur.eval, &fit.eval),
-                k: fit.k - cur.k,
-            });
+            scores.push(FormScore::of(fi.effect.form(), cur, &fit));
             fits.push(fit);
         }
         (!fits.is_empty()).then_some((fits, scores))
@@ -226,19 +220,14 @@ pub fn search(
         for (_, e, r) in &mine {
             match r {
                 Ok((fit, excited)) => {
-                    let b = bic(&fit.eval, fit.k);
-                    scores.push(FormScore {
-                        form: e.form().to_string(),
-                        bic: b,
-                        gain: super::gain(&baseline.eval, &fit.eval),
-                        k: fit.k,
-                    });
+                    let score = FormScore::of(e.form(), &baseline, fit);
                     forms.entry(name.clone()).or_default().push(FormInfo {
                         effect: e.clone(),
                         excited: excited.clone(),
                         first: Some(fit.effects[0].params.iter().map(|p| p.value).collect()),
-                        bic: b,
+                        bic: score.bic,
                     });
+                    scores.push(score);
                     fits.push(fit.clone());
                 }
                 Err(w) => why = why.or(Some(w.clone())),

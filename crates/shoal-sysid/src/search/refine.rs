@@ -7,9 +7,9 @@
 //! offset, fitted beside that lag, as a settling one. Once the families are settled, each
 //! family's forms are therefore fitted again against the model of all the *other* families
 //! (each refitted without it), and the form of lowest BIC among those that pass the rules of
-//! [`super::rules::judge`] there ([`Search::candidate`]) replaces the chosen one when it lowers the whole model's BIC.
-//! The best such change is made and the others are tried again on the new model, until none
-//! helps (at most one pass per family and one more).
+//! [`super::rules::judge`] there ([`Search::candidate`]) replaces the chosen one when it
+//! lowers the whole model's BIC. The best such change is made and the others are tried again
+//! on the new model, until none helps (at most one pass per family and one more).
 
 use super::orchestrate::Search;
 use super::rules::bic;
