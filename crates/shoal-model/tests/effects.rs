@@ -809,3 +809,61 @@ fn varying_buoyancy_power_drag_and_directional_coupling_follow_their_laws() {
         assert!(f.rows(0, 5).iter().all(|x| *x == 0.0), "{f}");
     }
 }
+
+/// The knee gain, the sided reverse factor and the S-curve depth bias follow their laws at the
+/// hooks, and the knee gain sets the terminal heave speed its law implies.
+#[test]
+fn knee_sided_and_s_curve_forms_follow_their_laws() {
+    let v = presets::uauv2();
+    let one = |name: &str, form: &str, params: &[f64]| {
+        let effect = by_name_form(name, Some(form)).unwrap_or_else(|| panic!("{name}/{form}"));
+        Effects::new(vec![EffectInstance {
+            effect,
+            params: params.to_vec(),
+        }])
+    };
+    let by = |name: &str| v.thrusters.iter().find(|t| t.name == name).unwrap();
+    let (top, port, stbd) = (by("top"), by("port"), by("stbd"));
+    // Knee gain k = 0.8 up to 40 %, rising by s = 0.3 to full command (100 %).
+    let knee = one("thrust_gain", "knee", &[0.8, 0.3, 40.0]);
+    for (n, k) in [(20.0, 0.8), (-40.0, 0.8), (70.0, 0.95), (-100.0, 1.1)] {
+        let f0 = top.curve.thrust(n);
+        let f = knee.thrust(top, n, 0.0, 0.0);
+        assert!(
+            (f - k * f0).abs() < 1e-12 * f0.abs().max(1.0),
+            "n {n}: {f} vs {k}·{f0}"
+        );
+    }
+    let n = 70.0;
+    let st = run(
+        &with_form("thrust_gain", "knee", &[0.8, 0.3, 40.0]),
+        &diving(n),
+        40.0,
+    );
+    assert_terminal(&st, 0.95 * 2.0 * UAUV2_CT_POS * n * n);
+    // Sided reverse factor k_rev = 0.8, d = 0.1: reverse thrust × 0.72 on the port side
+    // (y < 0), × 0.88 on the starboard side, × 0.8 on the centre line; forward unchanged.
+    let sided = one("thrust_asymmetry", "sided", &[0.8, 0.1]);
+    assert!(port.position.y < 0.0 && stbd.position.y > 0.0 && top.position.y == 0.0);
+    for (th, k) in [(port, 0.72), (stbd, 0.88), (top, 0.8)] {
+        let f0 = th.curve.thrust(-60.0);
+        assert!(
+            (sided.thrust(th, -60.0, 0.0, 0.0) - k * f0).abs() < 1e-12,
+            "{}",
+            th.name
+        );
+        assert_eq!(sided.thrust(th, 60.0, 0.0, 0.0), th.curve.thrust(60.0));
+    }
+    // S-curve bias b₀ + Δ·(1 − e^(−(t/τ)^k)): flat at the start (k > 1), 63 % of Δ at τ,
+    // levelled off long after; k = 1 is the settling form.
+    let s = one("depth_sensor_bias", "s_curve", &[0.01, 0.08, 50.0, 3.0]);
+    assert!((s.depth_offset(0.0) - 0.01).abs() < 1e-15);
+    assert!((s.depth_offset(10.0) - (0.01 + 0.08 * (1.0 - (-0.008_f64).exp()))).abs() < 1e-12);
+    assert!((s.depth_offset(50.0) - (0.01 + 0.08 * (1.0 - (-1.0_f64).exp()))).abs() < 1e-12);
+    assert!((s.depth_offset(500.0) - 0.09).abs() < 1e-12);
+    let exp = one("depth_sensor_bias", "s_curve", &[0.0, 0.05, 40.0, 1.0]);
+    let settling = one("depth_sensor_bias", "settling", &[0.0, 0.05, 40.0]);
+    for t in [0.0, 7.0, 40.0, 123.0] {
+        assert!((exp.depth_offset(t) - settling.depth_offset(t)).abs() < 1e-15);
+    }
+}

@@ -11,7 +11,9 @@
 //!
 //! A `settling` form competes: `b₀ + Δ·(1 − e^(−t/τ))`, a drift that levels off; and a
 //! `power_drift` form `b₀ + d·(t/100 s)^p` whose exponent p shapes a drift that accelerates
-//! (p > 1, a sensor warming ever faster) or slows (p < 1).
+//! (p > 1, a sensor warming ever faster) or slows (p < 1); and an `s_curve` form
+//! `b₀ + Δ·(1 − e^(−(t/τ)^k))`, a settling whose start is slow (k > 1: the sensor warms through
+//! more than one thermal mass, or the vehicle crosses a thermocline).
 use super::{Effect, POWER_T_REF, ParamInfo, settled, settling_tau_param, time_exponent_param};
 use crate::vehicle::VehicleParams;
 
@@ -144,5 +146,48 @@ impl Effect for DepthSensorBiasPower {
     }
     fn depth_offset(&self, p: &[f64], t: f64) -> f64 {
         p[0] + p[1] * (t.max(0.0) / POWER_T_REF).powf(p[2])
+    }
+}
+
+/// The `s_curve` form: `b₀ + Δ·(1 − e^(−(t/τ)^k))` — a settling that starts slowly and levels
+/// off (a Weibull law; k = 1 is the `settling` form, k > 1 an S-curve): a sensor that warms
+/// through more than one thermal mass (housing, then membrane), or a reading that changes as
+/// the vehicle passes into a water layer of another temperature.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct DepthSensorBiasSCurve;
+
+impl Effect for DepthSensorBiasSCurve {
+    fn name(&self) -> &'static str {
+        "depth_sensor_bias"
+    }
+    fn form(&self) -> &'static str {
+        "s_curve"
+    }
+    fn summary(&self) -> &'static str {
+        "depth reading offset b₀ that moves by Δ along an S-curve, 1 − e^(−(t/τ)^k)"
+    }
+    fn explanation(&self) -> &'static str {
+        "Pressure-sensor zero that drifts slowly at first, then faster, then levels off (the \
+         sensor warms through more than one thermal mass, or the water's temperature changes): \
+         the reading is depth + b₀ + Δ·(1 − e^(−(t/τ)^k)) while the motion is unchanged."
+    }
+    fn params(&self, vehicle: &VehicleParams) -> Vec<ParamInfo> {
+        let mut p = DepthSensorBiasSettling.params(vehicle);
+        p[2].doc = "time at which the offset has moved by 63 % of Δ";
+        p.push(ParamInfo {
+            name: "k",
+            unit: "-",
+            lo: 1.0,
+            hi: 6.0,
+            null: 2.0,
+            typical: 2.0,
+            doc: "steepness of the S-curve (1: the settling form's exponential)",
+            shape: true,
+        });
+        p
+    }
+    fn depth_offset(&self, p: &[f64], t: f64) -> f64 {
+        let x = t.max(0.0) / p[2].max(1e-3);
+        p[0] + p[1] * (1.0 - (-x.powf(p[3])).exp())
     }
 }

@@ -43,14 +43,16 @@ pub use buoyancy_offset::{
     BuoyancyOffset, BuoyancyOffsetDepth, BuoyancyOffsetDrift, BuoyancyOffsetSettling,
 };
 pub use damping_error::{DampingError, DampingErrorDirection, DampingErrorPower, NU_REF};
-pub use depth_sensor_bias::{DepthSensorBias, DepthSensorBiasPower, DepthSensorBiasSettling};
+pub use depth_sensor_bias::{
+    DepthSensorBias, DepthSensorBiasPower, DepthSensorBiasSCurve, DepthSensorBiasSettling,
+};
 pub use inflow_thrust_loss::{
     InflowThrustLoss, InflowThrustLossLinear, InflowThrustLossPower, reduced as inflow_reduced,
 };
 pub use sensor_delay::SensorDelay;
-pub use thrust_asymmetry::{ThrustAsymmetry, ThrustAsymmetryCurve};
+pub use thrust_asymmetry::{ThrustAsymmetry, ThrustAsymmetryCurve, ThrustAsymmetrySided};
 pub use thrust_coupling::{ThrustCoupling, ThrustCouplingDirection};
-pub use thrust_gain::{ThrustGain, ThrustGainCurve};
+pub use thrust_gain::{ThrustGain, ThrustGainCurve, ThrustGainKnee};
 pub use thrust_saturation::{ThrustSaturation, ThrustSaturationAsymmetric, ThrustSaturationSmooth};
 pub use thruster_deadband::{
     ThrusterDeadband, ThrusterDeadbandAsymmetric, ThrusterDeadbandGate, ThrusterDeadbandSoft,
@@ -236,8 +238,10 @@ pub fn catalogue() -> Vec<Arc<dyn Effect>> {
         Arc::new(ThrusterLagSlew),
         Arc::new(ThrustGain),
         Arc::new(ThrustGainCurve),
+        Arc::new(ThrustGainKnee),
         Arc::new(ThrustAsymmetry),
         Arc::new(ThrustAsymmetryCurve),
+        Arc::new(ThrustAsymmetrySided),
         Arc::new(ThrusterDeadband),
         Arc::new(ThrusterDeadbandSoft),
         Arc::new(ThrusterDeadbandGate),
@@ -262,6 +266,7 @@ pub fn catalogue() -> Vec<Arc<dyn Effect>> {
         Arc::new(DepthSensorBias),
         Arc::new(DepthSensorBiasSettling),
         Arc::new(DepthSensorBiasPower),
+        Arc::new(DepthSensorBiasSCurve),
         Arc::new(SensorDelay),
         Arc::new(ThrustCoupling),
         Arc::new(ThrustCouplingDirection),

@@ -8,7 +8,10 @@
 //! Modelled as `f = k_rev · f_static` for negative thrust; forward thrust is unchanged.
 //!
 //! A `curve` form competes: reverse thrust scaled by `k_rev·(|n|/50 %)^e`, a reverse thrust
-//! curve with an exponent of its own.
+//! curve with an exponent of its own; and a `sided` form: the reverse factor differs from side
+//! to side, `k_rev·(1 + d·s)` with s = −1 for a thruster on the port side, +1 on the starboard
+//! side and 0 on the centre line (propellers of one type mounted with different clearances to
+//! the hull, or one of them nicked).
 
 use super::thrust_gain::command_factor;
 use super::{Effect, ParamInfo, ThrustContext};
@@ -86,6 +89,65 @@ impl Effect for ThrustAsymmetryCurve {
     fn thrust(&self, p: &[f64], ctx: &ThrustContext<'_>, f: f64) -> f64 {
         if f < 0.0 {
             p[0] * command_factor(ctx.command, p[1]) * f
+        } else {
+            f
+        }
+    }
+}
+
+/// Lateral offset from the centre line \[m\] within which a thruster counts as central.
+const CENTRE_LINE_M: f64 = 0.01;
+
+/// The side of a thruster at body-frame position `y` \[m\]: −1 port, +1 starboard, 0 on the
+/// centre line (body frame: y to starboard).
+pub(super) fn side(y: f64) -> f64 {
+    if y.abs() <= CENTRE_LINE_M {
+        0.0
+    } else {
+        y.signum()
+    }
+}
+
+/// The `sided` form: reverse thrust scaled by `k_rev·(1 + d·s)`, s the thruster's side
+/// (−1 port, +1 starboard, 0 on the centre line); forward thrust unchanged.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ThrustAsymmetrySided;
+
+impl Effect for ThrustAsymmetrySided {
+    fn name(&self) -> &'static str {
+        "thrust_asymmetry"
+    }
+    fn form(&self) -> &'static str {
+        "sided"
+    }
+    fn summary(&self) -> &'static str {
+        "reverse thrust scaled by k_rev·(1 + d·s), s = −1 port, +1 starboard, 0 centre line"
+    }
+    fn explanation(&self) -> &'static str {
+        "The propellers work differently in reverse, and not all alike (mounted with different \
+         clearances to the hull, one of them nicked): negative thrust is scaled by k_rev on the \
+         centre line, by k_rev·(1 − d) on the port side and k_rev·(1 + d) on the starboard \
+         side; forward thrust is unchanged."
+    }
+    fn params(&self, vehicle: &VehicleParams) -> Vec<ParamInfo> {
+        let mut p = ThrustAsymmetry.params(vehicle);
+        p[0].doc = "scale factor on reverse thrust, mean of the two sides";
+        p.push(ParamInfo {
+            name: "d",
+            unit: "-",
+            lo: -0.5,
+            hi: 0.5,
+            null: 0.0,
+            typical: 0.1,
+            doc: "relative difference of the reverse factor, starboard minus port over two",
+            // Not a shape: with d ≠ 0 reverse thrust differs from the baseline even at k_rev = 1.
+            shape: false,
+        });
+        p
+    }
+    fn thrust(&self, p: &[f64], ctx: &ThrustContext<'_>, f: f64) -> f64 {
+        if f < 0.0 {
+            p[0] * (1.0 + p[1] * side(ctx.thruster.position.y)) * f
         } else {
             f
         }

@@ -10,7 +10,9 @@
 //!
 //! A `curve` form adds an exponent to the gain: `f = k·(|n|/50 %)^e · f_static`, a gain
 //! that changes with the command — a thrust curve whose exponent is not the baseline's (an
-//! ESC whose output is not linear in its input, a propeller that loads differently).
+//! ESC whose output is not linear in its input, a propeller that loads differently). A `knee`
+//! form has the gain k up to a knee command n_k and changing linearly by s from there to full
+//! command — a throttle map with a breakpoint (n_k = 0: a gain linear in the command).
 
 use super::{Effect, ParamInfo, ThrustContext};
 use crate::vehicle::VehicleParams;
@@ -100,5 +102,69 @@ impl Effect for ThrustGainCurve {
     }
     fn thrust(&self, p: &[f64], ctx: &ThrustContext<'_>, f: f64) -> f64 {
         p[0] * command_factor(ctx.command, p[1]) * f
+    }
+}
+
+/// The `knee` form: `f = (k + s·max(0, |n| − n_k)/(n_max − n_k)) · f_static` — the gain k up
+/// to the knee command n_k (the family's shape parameter), changing linearly by s from there
+/// to full command n_max (n_k = 0: a gain linear in the command).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ThrustGainKnee;
+
+impl ThrustGainKnee {
+    /// The gain at command `n` [%] of a thruster whose largest command is `n_max` [%], for
+    /// the parameters `p` = (k, s, n_k).
+    fn gain(p: &[f64], n: f64, n_max: f64) -> f64 {
+        let span = n_max - p[2];
+        if span <= 0.0 {
+            return p[0];
+        }
+        p[0] + p[1] * ((n.abs() - p[2]).max(0.0) / span).min(1.0)
+    }
+}
+
+impl Effect for ThrustGainKnee {
+    fn name(&self) -> &'static str {
+        "thrust_gain"
+    }
+    fn form(&self) -> &'static str {
+        "knee"
+    }
+    fn summary(&self) -> &'static str {
+        "thrust scaled by k up to a knee command n_k, by a gain changing linearly by s above it"
+    }
+    fn explanation(&self) -> &'static str {
+        "The throttle map has a breakpoint (an ESC or motor whose output changes slope at some \
+         command): the thrust is off by a factor k up to the knee command n_k and by a factor \
+         that changes linearly with the command above it, by s at full command."
+    }
+    fn params(&self, _vehicle: &VehicleParams) -> Vec<ParamInfo> {
+        vec![
+            k_param("thrust scale factor up to the knee"),
+            ParamInfo {
+                name: "s",
+                unit: "-",
+                lo: -0.8,
+                hi: 0.8,
+                null: 0.0,
+                typical: 0.15,
+                doc: "change of the gain from the knee to full command",
+                // Not a shape: with s ≠ 0 the thrust differs from the baseline even at k = 1.
+                shape: false,
+            },
+            ParamInfo {
+                name: "n_k_pct",
+                unit: "%",
+                lo: 0.0,
+                hi: 80.0,
+                null: 50.0,
+                typical: 50.0,
+                doc: "knee command: the gain is k below it",
+                shape: true,
+            },
+        ]
+    }
+    fn thrust(&self, p: &[f64], ctx: &ThrustContext<'_>, f: f64) -> f64 {
+        Self::gain(p, ctx.command, ctx.thruster.max_command) * f
     }
 }

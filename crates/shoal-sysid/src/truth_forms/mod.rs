@@ -280,7 +280,7 @@ impl TruthForm {
 
 /// The truth forms whose law a fitting form of their family has: (truth form, fitting form).
 /// They stay in the test set; the other forms of each family differ from every fitting form.
-pub const MATCHED: [(&str, &str); 15] = [
+pub const MATCHED: [(&str, &str); 17] = [
     ("thruster_deadband/asymmetric_soft", "soft_asymmetric"),
     ("thrust_asymmetry/reverse_exponent", "curve"),
     ("inflow_thrust_loss/quadratic", "power"),
@@ -296,6 +296,8 @@ pub const MATCHED: [(&str, &str); 15] = [
     ("buoyancy_offset/venting_air", "settling"),
     ("damping_error/speed_exponent", "power"),
     ("thrust_coupling/direction_dependent", "direction"),
+    ("thrust_gain/two_slope", "knee"),
+    ("thrust_asymmetry/reverse_per_thruster", "sided"),
 ];
 
 /// The fitting form whose law truth form `name` (`family/form`) has, if any ([`MATCHED`]).

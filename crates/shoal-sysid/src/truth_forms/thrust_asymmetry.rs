@@ -10,9 +10,13 @@
 //! * `thrust_asymmetry/reverse_hull_wash` — in reverse the propeller's jet washes along the
 //!   hull and drags on it: the reverse thrust loses a share growing with itself,
 //!   f·(1 − a·|f|/f_max⁻), forward unchanged.
+//! * `thrust_asymmetry/reverse_separation` — in reverse the flow separates from the blades as
+//!   the propeller speeds up: the reverse thrust loses a share that grows with the command and
+//!   levels off, f·(1 − a·(1 − e^(−|n|/n₀))), forward unchanged.
 //!
 //! The catalogue's `curve` form (reverse factor k_rev·(|n|/50 %)^e) has since matched
-//! `reverse_exponent`.
+//! `reverse_exponent`, its `sided` form (reverse factor k_rev·(1 ± d) port/starboard, k_rev on
+//! the centre line) `reverse_per_thruster`.
 
 use super::{ExpKind, FormParam, Part, TruthForm, truth_effect_meta};
 use shoal_model::effects::{Effect, ThrustContext};
@@ -25,6 +29,9 @@ const HULL_WASH_LAW: &str = "reverse thrust f·(1 − a·|f|/f_max⁻), forward 
 const PER_THRUSTER: &str = "thrust_asymmetry/reverse_per_thruster";
 const PER_THRUSTER_LAW: &str =
     "reverse thrust × k_p on port, × k_s on starboard, × (k_p + k_s)/2 on top";
+
+const SEPARATION: &str = "thrust_asymmetry/reverse_separation";
+const SEPARATION_LAW: &str = "reverse thrust f·(1 − a·(1 − e^(−|n|/n₀))), forward unchanged";
 
 pub(super) fn forms() -> Vec<TruthForm> {
     vec![
@@ -78,6 +85,29 @@ pub(super) fn forms() -> Vec<TruthForm> {
             excites: &[ExpKind::Heave, ExpKind::Yaw],
             build: |p| Part::Effect(Arc::new(ReverseHullWash { a: p[0] })),
         },
+        TruthForm {
+            name: SEPARATION,
+            family: "thrust_asymmetry",
+            law: SEPARATION_LAW,
+            params: vec![
+                FormParam::magnitude(
+                    "a",
+                    "-",
+                    0.2,
+                    0.35,
+                    "share of the reverse thrust lost once the flow has separated",
+                ),
+                FormParam::shape(
+                    "n0_pct",
+                    "%",
+                    20.0,
+                    40.0,
+                    "command scale of the separation n₀",
+                ),
+            ],
+            excites: &[ExpKind::Heave, ExpKind::Yaw],
+            build: |p| Part::Effect(Arc::new(ReverseSeparation { a: p[0], n0: p[1] })),
+        },
     ]
 }
 
@@ -99,6 +129,25 @@ impl Effect for ReverseHullWash {
             return f;
         }
         f * (1.0 - self.a * (f.abs() / rev).min(1.0))
+    }
+}
+
+/// See the module documentation.
+#[derive(Debug)]
+struct ReverseSeparation {
+    /// Share of the reverse thrust lost at large commands \[-\].
+    a: f64,
+    /// Command scale [%].
+    n0: f64,
+}
+
+impl Effect for ReverseSeparation {
+    truth_effect_meta!(SEPARATION, SEPARATION_LAW);
+    fn thrust(&self, _p: &[f64], ctx: &ThrustContext<'_>, f: f64) -> f64 {
+        if f >= 0.0 {
+            return f;
+        }
+        f * (1.0 - self.a * (1.0 - (-ctx.command.abs() / self.n0).exp()))
     }
 }
 
@@ -142,5 +191,34 @@ impl Effect for ReversePerThruster {
             _ => 0.5 * (self.k_port + self.k_stbd),
         };
         k * f
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use shoal_model::presets;
+
+    #[test]
+    fn separation_loses_a_share_of_reverse_thrust_that_levels_off() {
+        let form = forms().into_iter().find(|f| f.name == SEPARATION);
+        let Part::Effect(e) = form.expect("registered").part(&[0.3, 25.0]) else {
+            panic!("an effect")
+        };
+        let th = &presets::uauv2().thrusters[1];
+        let at = |n: f64, f: f64| {
+            let ctx = ThrustContext {
+                t: 0.0,
+                thruster: th,
+                command: n,
+                inflow: 0.0,
+            };
+            e.thrust(&[], &ctx, f)
+        };
+        // Reverse: f·(1 − 0.3·(1 − e^(−|n|/25 %))); at 25 % e^−1 = 0.367879, at 100 % e^−4.
+        assert!((at(-25.0, -1.0) + (1.0 - 0.3 * (1.0 - 0.367_879))).abs() < 1e-6);
+        assert!((at(-100.0, -2.0) + 2.0 * (1.0 - 0.3 * (1.0 - (-4.0_f64).exp()))).abs() < 1e-12);
+        // Forward thrust is unchanged.
+        assert_eq!(at(60.0, 1.5), 1.5);
     }
 }

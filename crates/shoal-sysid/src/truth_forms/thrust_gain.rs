@@ -8,7 +8,10 @@
 //!   linear in its input). The catalogue's `curve` form has this law: the form is matched.
 //! * `thrust_gain/two_slope` — the gain is k₁ up to a knee command n_k and changes linearly to
 //!   k₂ at full command above it: an ESC whose throttle map has a breakpoint, so the thrust
-//!   curve has two slopes.
+//!   curve has two slopes. The catalogue's `knee` form has this law: the form is matched.
+//! * `thrust_gain/smooth_step` — the gain moves from k₁ to k₂ along a logistic curve in the
+//!   command, centred on n_c with width w: a throttle map that bends smoothly rather than at
+//!   a breakpoint (an ESC's calibration curve interpolated through a few points).
 
 use super::{ExpKind, FormParam, Part, TruthForm, truth_effect_meta};
 use shoal_model::effects::{Effect, ThrustContext};
@@ -24,6 +27,9 @@ const COMMAND_DEPENDENT_LAW: &str = "thrust × k·(|n|/50 %)^e";
 const TWO_SLOPE: &str = "thrust_gain/two_slope";
 const TWO_SLOPE_LAW: &str =
     "thrust × k₁ for |n| ≤ n_k, × k₁ + (k₂ − k₁)·(|n| − n_k)/(n_max − n_k) above";
+
+const SMOOTH_STEP: &str = "thrust_gain/smooth_step";
+const SMOOTH_STEP_LAW: &str = "thrust × (k₁ + (k₂ − k₁)·σ((|n| − n_c)/w)), σ logistic";
 
 pub(super) fn forms() -> Vec<TruthForm> {
     vec![
@@ -101,7 +107,54 @@ pub(super) fn forms() -> Vec<TruthForm> {
                 }))
             },
         },
+        TruthForm {
+            name: SMOOTH_STEP,
+            family: "thrust_gain",
+            law: SMOOTH_STEP_LAW,
+            params: vec![
+                FormParam::signed("dk1", "-", 0.12, 0.22, "gain at small commands minus one"),
+                FormParam::signed(
+                    "dk2",
+                    "-",
+                    0.15,
+                    0.3,
+                    "change of the gain across the step: k₂ = k₁ + dk2",
+                ),
+                FormParam::shape("n_c_pct", "%", 40.0, 65.0, "command at the step's middle"),
+                FormParam::shape("w_pct", "%", 6.0, 12.0, "width of the step"),
+            ],
+            excites: &[ExpKind::Heave, ExpKind::Yaw],
+            build: |p| {
+                Part::Effect(Arc::new(SmoothStep {
+                    k1: 1.0 + p[0],
+                    k2: 1.0 + p[0] + p[1],
+                    centre: p[2],
+                    width: p[3],
+                }))
+            },
+        },
     ]
+}
+
+/// See the module documentation.
+#[derive(Debug)]
+struct SmoothStep {
+    /// Gain at small commands \[-\].
+    k1: f64,
+    /// Gain at large commands \[-\].
+    k2: f64,
+    /// Command at the middle of the step [%].
+    centre: f64,
+    /// Width of the step [%].
+    width: f64,
+}
+
+impl Effect for SmoothStep {
+    truth_effect_meta!(SMOOTH_STEP, SMOOTH_STEP_LAW);
+    fn thrust(&self, _p: &[f64], ctx: &ThrustContext<'_>, f: f64) -> f64 {
+        let s = 1.0 / (1.0 + (-(ctx.command.abs() - self.centre) / self.width).exp());
+        (self.k1 + (self.k2 - self.k1) * s) * f
+    }
 }
 
 /// See the module documentation.
@@ -216,5 +269,25 @@ mod tests {
         for n in [-100.0, -20.0, 0.0, 45.0, 100.0] {
             assert_eq!(thrust(&null, n), 2.0);
         }
+    }
+
+    #[test]
+    fn smooth_step_gain_moves_from_k1_to_k2_around_the_centre() {
+        let form = forms().into_iter().find(|f| f.name == SMOOTH_STEP);
+        let Part::Effect(e) = form.expect("registered").part(&[0.2, -0.3, 50.0, 10.0]) else {
+            panic!("an effect")
+        };
+        // k₁ = 1.2, k₂ = 0.9, centre 50 %, width 10 %; σ(−5) = 0.006693, σ(2.5) = 0.924142.
+        for (n, k) in [
+            (0.0, 1.2 - 0.3 * 0.006_693),
+            (-50.0, 1.05),
+            (75.0, 1.2 - 0.3 * 0.924_142),
+        ] {
+            let f = thrust(e.as_ref(), n);
+            assert!((f - 2.0 * k).abs() < 1e-5, "n = {n}: {f}");
+        }
+        // Symmetric about the centre: k(50 + s) + k(50 − s) = 2·k(50).
+        let sum = thrust(e.as_ref(), 62.0) + thrust(e.as_ref(), 38.0);
+        assert!((sum - 2.0 * thrust(e.as_ref(), 50.0)).abs() < 1e-12);
     }
 }
