@@ -31,7 +31,7 @@ fn group(spec: &CaseSpec) -> String {
 }
 
 #[test]
-#[ignore = "acceptance gate not met yet (issue 12): 51 of 59 exact (86 %, measured with the knee, sided and s_curve forms), below 90 %; run with \
+#[ignore = "acceptance gate not met yet (issue 12): 52 of 59 exact (88 %, with the knee, sided and s_curve forms and pairs fitted in two forms per family), below 90 %; run with \
             `cargo test --release -p shoal-sysid --test misspecified_forms -- --ignored --nocapture`"]
 fn misspecified_forms_are_named_by_their_family() {
     let cond = Conditions::default();

@@ -7,15 +7,18 @@
 //! drifts away, so neither passes on its own and the search would stop with the structure
 //! unexplained. So when no single family passes while the residuals stay structured
 //! ([`super::verdict::unexplained`]), the families that explained most of the estimation data
-//! in that round (largest ΔBIC, whatever their held-out result) are fitted in pairs, each in the
-//! form it fitted best there; a pair joins when it passes every rule of
+//! in that round (largest ΔBIC, whatever their held-out result) are fitted in pairs. A family's
+//! best form alone is a compromise too, so each pair is fitted in the combinations of its
+//! families' [`PAIRED_FORMS`] best forms of that round (by BIC) and, as for a single family
+//! ([`super::orchestrate::choose`]), the combination of lowest BIC among those that pass
+//! stands for the pair. A pair joins when it passes every rule of
 //! [`super::rules::judge`] as a unit and both its members are far from their null values. The
 //! backward check then tests each member against the model with the other, and stability
 //! selection each on its own, as for any chosen effect.
 
 use super::orchestrate::Search;
 use super::rules::judge_set;
-use super::{Candidate, Fit, par_map};
+use super::{Candidate, Fit, bic, par_map};
 
 /// A family and one of its forms.
 type FamilyForm<'a> = (&'a str, &'a str);
@@ -23,8 +26,23 @@ type FamilyForm<'a> = (&'a str, &'a str);
 /// How many of a round's families are paired (the pairs among them are tried).
 const PAIRED_FAMILIES: usize = 4;
 
+/// How many forms of each paired family are tried (its best ones alone in the round, by BIC).
+const PAIRED_FORMS: usize = 2;
+
+/// The forms of round candidate `c` to pair: the form it chose first, then its other forms by
+/// BIC, [`PAIRED_FORMS`] in all.
+fn paired_forms(c: &Candidate) -> Vec<&str> {
+    let mut others: Vec<_> = c.forms.iter().filter(|f| f.form != c.form).collect();
+    others.sort_by(|a, b| a.bic.total_cmp(&b.bic));
+    std::iter::once(c.form.as_str())
+        .chain(others.into_iter().map(|f| f.form.as_str()))
+        .take(PAIRED_FORMS)
+        .collect()
+}
+
 /// The pair candidates on top of `cur` for round `round`, from that round's single-family
-/// candidates `round_candidates` (families already in `cur` are left out).
+/// candidates `round_candidates` (families already in `cur` are left out): one per pair of
+/// families, in its best combination of forms.
 pub(super) fn pair_candidates(
     s: &Search<'_>,
     round: usize,
@@ -34,21 +52,29 @@ pub(super) fn pair_candidates(
 ) -> Vec<Candidate> {
     let opts = s.ctx.opts;
     let names = cur.names();
-    let mut ranked: Vec<(&str, &str, f64)> = round_candidates
+    let mut ranked: Vec<(&Candidate, f64)> = round_candidates
         .iter()
         .filter(|c| !c.backward && c.fit.is_some() && !names.contains(&c.effect))
         .filter(|c| c.delta_bic < opts.bic_threshold)
-        .map(|c| (c.effect.as_str(), c.form.as_str(), c.delta_bic))
+        .map(|c| (*c, c.delta_bic))
         .collect();
-    ranked.sort_by(|a, b| a.2.total_cmp(&b.2));
+    ranked.sort_by(|a, b| a.1.total_cmp(&b.1));
     ranked.truncate(PAIRED_FAMILIES);
-    let mut pairs: Vec<(FamilyForm, FamilyForm)> = Vec::new();
+    // (index of the family pair, form of the first, form of the second).
+    let mut combos: Vec<(usize, FamilyForm, FamilyForm)> = Vec::new();
+    let mut pair_index = 0;
     for i in 0..ranked.len() {
         for j in i + 1..ranked.len() {
-            pairs.push(((ranked[i].0, ranked[i].1), (ranked[j].0, ranked[j].1)));
+            let (ca, cb) = (ranked[i].0, ranked[j].0);
+            for fa in paired_forms(ca) {
+                for fb in paired_forms(cb) {
+                    combos.push((pair_index, (&ca.effect, fa), (&cb.effect, fb)));
+                }
+            }
+            pair_index += 1;
         }
     }
-    let fitted: Vec<Option<Candidate>> = par_map(&pairs, opts.threads, |&(a, b)| {
+    let fitted: Vec<Option<(usize, Candidate)>> = par_map(&combos, opts.threads, |&(p, a, b)| {
         let fa = s.forms.get(a.0)?.iter().find(|f| f.effect.form() == a.1)?;
         let fb = s.forms.get(b.0)?.iter().find(|f| f.effect.form() == b.1)?;
         let [first_a, null_a] = fa.starts(s.ctx.base);
@@ -69,7 +95,19 @@ pub(super) fn pair_candidates(
         let mut c = judge_set(round, &set, cur, fit, opts, false, &s.baseline.eval);
         c.form = format!("{} + {}", a.1, b.1);
         c.note = format!("pair (neither passes alone): {}", c.note);
-        Some(c)
+        Some((p, c))
     });
-    fitted.into_iter().flatten().collect()
+    // Per pair of families: the passing combination of lowest BIC, else the lowest BIC.
+    let mut best: Vec<Option<(bool, f64, Candidate)>> = vec![None; pair_index];
+    for (p, c) in fitted.into_iter().flatten() {
+        let b = c.fit.as_ref().map_or(f64::INFINITY, |f| bic(&f.eval, f.k));
+        let better = match &best[p] {
+            None => true,
+            Some((sig, bb, _)) => (c.significant, -b) > (*sig, -bb),
+        };
+        if better {
+            best[p] = Some((c.significant, b, c));
+        }
+    }
+    best.into_iter().flatten().map(|(_, _, c)| c).collect()
 }
