@@ -187,7 +187,8 @@ impl Effect for DepthSensorBiasSCurve {
         p
     }
     fn depth_offset(&self, p: &[f64], t: f64) -> f64 {
+        // The settling law in the time variable (t/τ)^k.
         let x = t.max(0.0) / p[2].max(1e-3);
-        p[0] + p[1] * (1.0 - (-x.powf(p[3])).exp())
+        p[0] + p[1] * settled(x.powf(p[3]), 1.0)
     }
 }

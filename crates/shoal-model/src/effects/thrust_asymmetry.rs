@@ -100,7 +100,7 @@ const CENTRE_LINE_M: f64 = 0.01;
 
 /// The side of a thruster at body-frame position `y` \[m\]: −1 port, +1 starboard, 0 on the
 /// centre line (body frame: y to starboard).
-pub(super) fn side(y: f64) -> f64 {
+fn side(y: f64) -> f64 {
     if y.abs() <= CENTRE_LINE_M {
         0.0
     } else {

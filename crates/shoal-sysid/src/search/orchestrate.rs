@@ -133,18 +133,29 @@ pub(super) fn choose(
     opts: &SearchOptions,
     baseline: &crate::data::Evaluation,
 ) -> Candidate {
-    let mut judged: Vec<(f64, Candidate)> = fits
+    let judged: Vec<Candidate> = fits
         .into_iter()
-        .map(|f| {
-            let b = bic(&f.eval, f.k);
-            (b, judge(round, name, base, f, opts, false, baseline))
-        })
+        .map(|f| judge(round, name, base, f, opts, false, baseline))
         .collect();
-    judged.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let at = judged.iter().position(|(_, c)| c.significant).unwrap_or(0);
-    let mut c = judged.swap_remove(at).1;
+    let mut c = best_passing(judged).expect("choose is given at least one fit");
     c.forms = scores;
     c
+}
+
+/// Of `judged` (candidates of one family or one pair of families in different forms), the one
+/// of lowest BIC among those that pass the rules, or the one of lowest BIC when none passes;
+/// `None` when there is none.
+pub(super) fn best_passing(judged: Vec<Candidate>) -> Option<Candidate> {
+    let mut scored: Vec<(f64, Candidate)> = judged
+        .into_iter()
+        .map(|c| {
+            let b = c.fit.as_ref().map_or(f64::INFINITY, |f| bic(&f.eval, f.k));
+            (b, c)
+        })
+        .collect();
+    scored.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let at = scored.iter().position(|(_, c)| c.significant).unwrap_or(0);
+    (!scored.is_empty()).then(|| scored.swap_remove(at).1)
 }
 
 /// One round-1 fit: (family index, form, the fit with its excitation or why there is none).

@@ -9,16 +9,16 @@
 //! ([`super::verdict::unexplained`]), the families that explained most of the estimation data
 //! in that round (largest ΔBIC, whatever their held-out result) are fitted in pairs. A family's
 //! best form alone is a compromise too, so each pair is fitted in the combinations of its
-//! families' [`PAIRED_FORMS`] best forms of that round (by BIC) and, as for a single family
-//! ([`super::orchestrate::choose`]), the combination of lowest BIC among those that pass
-//! stands for the pair. A pair joins when it passes every rule of
+//! families' leading forms of that round (the chosen one and the next by BIC,
+//! [`PAIRED_FORMS`] in all) and, as for a single family ([`best_passing`]), the combination
+//! of lowest BIC among those that pass stands for the pair. A pair joins when it passes every rule of
 //! [`super::rules::judge`] as a unit and both its members are far from their null values. The
 //! backward check then tests each member against the model with the other, and stability
 //! selection each on its own, as for any chosen effect.
 
-use super::orchestrate::Search;
+use super::orchestrate::{Search, best_passing};
 use super::rules::judge_set;
-use super::{Candidate, Fit, bic, par_map};
+use super::{Candidate, Fit, par_map};
 
 /// A family and one of its forms.
 type FamilyForm<'a> = (&'a str, &'a str);
@@ -52,20 +52,20 @@ pub(super) fn pair_candidates(
 ) -> Vec<Candidate> {
     let opts = s.ctx.opts;
     let names = cur.names();
-    let mut ranked: Vec<(&Candidate, f64)> = round_candidates
+    let mut ranked: Vec<&Candidate> = round_candidates
         .iter()
+        .copied()
         .filter(|c| !c.backward && c.fit.is_some() && !names.contains(&c.effect))
         .filter(|c| c.delta_bic < opts.bic_threshold)
-        .map(|c| (*c, c.delta_bic))
         .collect();
-    ranked.sort_by(|a, b| a.1.total_cmp(&b.1));
+    ranked.sort_by(|a, b| a.delta_bic.total_cmp(&b.delta_bic));
     ranked.truncate(PAIRED_FAMILIES);
     // (index of the family pair, form of the first, form of the second).
     let mut combos: Vec<(usize, FamilyForm, FamilyForm)> = Vec::new();
     let mut pair_index = 0;
     for i in 0..ranked.len() {
         for j in i + 1..ranked.len() {
-            let (ca, cb) = (ranked[i].0, ranked[j].0);
+            let (ca, cb) = (ranked[i], ranked[j]);
             for fa in paired_forms(ca) {
                 for fb in paired_forms(cb) {
                     combos.push((pair_index, (&ca.effect, fa), (&cb.effect, fb)));
@@ -97,17 +97,9 @@ pub(super) fn pair_candidates(
         c.note = format!("pair (neither passes alone): {}", c.note);
         Some((p, c))
     });
-    // Per pair of families: the passing combination of lowest BIC, else the lowest BIC.
-    let mut best: Vec<Option<(bool, f64, Candidate)>> = vec![None; pair_index];
+    let mut per_pair: Vec<Vec<Candidate>> = vec![Vec::new(); pair_index];
     for (p, c) in fitted.into_iter().flatten() {
-        let b = c.fit.as_ref().map_or(f64::INFINITY, |f| bic(&f.eval, f.k));
-        let better = match &best[p] {
-            None => true,
-            Some((sig, bb, _)) => (c.significant, -b) > (*sig, -bb),
-        };
-        if better {
-            best[p] = Some((c.significant, b, c));
-        }
+        per_pair[p].push(c);
     }
-    best.into_iter().flatten().map(|(_, _, c)| c).collect()
+    per_pair.into_iter().filter_map(best_passing).collect()
 }

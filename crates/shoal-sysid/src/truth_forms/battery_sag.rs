@@ -14,7 +14,7 @@
 //!   mid-run and the ESCs' low-voltage protection limits their output, so the thrust holds,
 //!   drops by a within a few w around t_k and stays down (k(0) = 1).
 
-use super::{ExpKind, FormParam, Part, TruthForm, truth_effect_meta};
+use super::{ExpKind, FormParam, Part, TruthForm, logistic, truth_effect_meta};
 use crate::synth::TruthHook;
 use shoal_model::control::ActuatorCommands;
 use shoal_model::effects::{Effect, ThrustContext};
@@ -107,11 +107,6 @@ struct Knee {
     t_k: f64,
     /// Width of the drop \[s\].
     w: f64,
-}
-
-/// The logistic function 1/(1 + e^(−x)).
-fn logistic(x: f64) -> f64 {
-    1.0 / (1.0 + (-x).exp())
 }
 
 impl Knee {

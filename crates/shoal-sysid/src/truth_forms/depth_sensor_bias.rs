@@ -15,7 +15,7 @@
 //!
 //! All change only what the pressure sensor reports, not the motion.
 
-use super::{ExpKind, FormParam, Part, TruthForm, truth_effect_meta};
+use super::{ExpKind, FormParam, Part, TruthForm, logistic, truth_effect_meta};
 use shoal_model::effects::Effect;
 use std::sync::Arc;
 
@@ -142,7 +142,7 @@ struct ThermoclineStep {
 impl Effect for ThermoclineStep {
     truth_effect_meta!(STEP, STEP_LAW);
     fn depth_offset(&self, _p: &[f64], t: f64) -> f64 {
-        self.b0 + self.delta / (1.0 + (-(t - self.t_c) / self.w).exp())
+        self.b0 + self.delta * logistic((t - self.t_c) / self.w)
     }
 }
 

@@ -300,6 +300,12 @@ pub const MATCHED: [(&str, &str); 17] = [
     ("thrust_asymmetry/reverse_per_thruster", "sided"),
 ];
 
+/// The logistic function 1/(1 + e^(−x)): the S-shaped law of several truth forms (a battery's
+/// knee, a thermocline, a throttle map that bends smoothly).
+pub(super) fn logistic(x: f64) -> f64 {
+    1.0 / (1.0 + (-x).exp())
+}
+
 /// The fitting form whose law truth form `name` (`family/form`) has, if any ([`MATCHED`]).
 pub fn matched_by(name: &str) -> Option<&'static str> {
     MATCHED.iter().find(|(t, _)| *t == name).map(|(_, f)| *f)

@@ -13,8 +13,8 @@
 //!   command, centred on n_c with width w: a throttle map that bends smoothly rather than at
 //!   a breakpoint (an ESC's calibration curve interpolated through a few points).
 
-use super::{ExpKind, FormParam, Part, TruthForm, truth_effect_meta};
-use shoal_model::effects::{Effect, ThrustContext};
+use super::{ExpKind, FormParam, Part, TruthForm, logistic, truth_effect_meta};
+use shoal_model::effects::{Effect, ThrustContext, ThrustGainKnee};
 use std::sync::Arc;
 
 /// Command at which [`CommandDependent`]'s gain is k [%].
@@ -152,7 +152,7 @@ struct SmoothStep {
 impl Effect for SmoothStep {
     truth_effect_meta!(SMOOTH_STEP, SMOOTH_STEP_LAW);
     fn thrust(&self, _p: &[f64], ctx: &ThrustContext<'_>, f: f64) -> f64 {
-        let s = 1.0 / (1.0 + (-(ctx.command.abs() - self.centre) / self.width).exp());
+        let s = logistic((ctx.command.abs() - self.centre) / self.width);
         (self.k1 + (self.k2 - self.k1) * s) * f
     }
 }
@@ -207,22 +207,11 @@ struct TwoSlope {
     knee: f64,
 }
 
-impl TwoSlope {
-    /// The gain at command `n` [%] of a thruster whose largest command is `n_max` [%].
-    fn gain(&self, n: f64, n_max: f64) -> f64 {
-        let a = n.abs();
-        if a <= self.knee || n_max <= self.knee {
-            self.k1
-        } else {
-            self.k1 + (self.k2 - self.k1) * ((a - self.knee) / (n_max - self.knee)).min(1.0)
-        }
-    }
-}
-
 impl Effect for TwoSlope {
     truth_effect_meta!(TWO_SLOPE, TWO_SLOPE_LAW);
     fn thrust(&self, _p: &[f64], ctx: &ThrustContext<'_>, f: f64) -> f64 {
-        self.gain(ctx.command, ctx.thruster.max_command) * f
+        // The catalogue's `knee` form has this law (the form is matched): k = k₁, s = k₂ − k₁.
+        ThrustGainKnee.thrust(&[self.k1, self.k2 - self.k1, self.knee], ctx, f)
     }
 }
 
