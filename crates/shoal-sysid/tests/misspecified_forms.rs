@@ -9,7 +9,8 @@
 //!
 //! Required: the chosen set of effects equals the hidden families exactly (none missing, none
 //! extra) in at least 90 % of the cases, and every null run gives an empty verdict. A table of
-//! what was found per family and form is printed (`--nocapture`).
+//! what was found per family and form is printed (`--nocapture`). About 25 minutes on 2 cores:
+//! the longest test of the suite, and the acceptance gate of the search.
 
 use shoal_sysid::recovery::{Tally, Verdict, judge};
 use shoal_sysid::testset::{CaseSpec, Conditions, ci_subset};
@@ -31,8 +32,6 @@ fn group(spec: &CaseSpec) -> String {
 }
 
 #[test]
-#[ignore = "acceptance gate not met yet (issue 12): 52 of 59 exact (88 %, with the knee, sided and s_curve forms and pairs fitted in two forms per family), below 90 %; run with \
-            `cargo test --release -p shoal-sysid --test misspecified_forms -- --ignored --nocapture`"]
 fn misspecified_forms_are_named_by_their_family() {
     let cond = Conditions::default();
     let specs = ci_subset();
@@ -107,29 +106,4 @@ fn misspecified_forms_are_named_by_their_family() {
         100.0 * all.rate(),
         100.0 * REQUIRED_RATE
     );
-}
-
-/// Every null run of the CI subset (sensor noise and logger formatting only) gives an empty
-/// verdict: no false discovery. (Also checked inside the full test above.)
-#[test]
-fn null_runs_of_the_test_set_are_clean() {
-    let cond = Conditions::default();
-    let nulls: Vec<CaseSpec> = ci_subset()
-        .into_iter()
-        .filter(|s| s.hidden.is_empty())
-        .collect();
-    assert!(
-        nulls.len() >= 4,
-        "the CI subset has {} null runs",
-        nulls.len()
-    );
-    for spec in nulls {
-        let v = judge(&spec.generate(&cond), THREADS);
-        assert!(
-            v.exact(),
-            "{}: false discovery {}",
-            spec.name,
-            v.found_text()
-        );
-    }
 }

@@ -72,7 +72,8 @@ fn report(name: &str, exp: Exp, hidden: &[(&str, Vec<f64>)], seed: u64) -> PathB
         let section = &md[at..end];
         for what in [
             "| held-out gain |",
-            "| effective ΔBIC",
+            "| ΔBIC |",
+            "| effective ΔBIC |",
             "| held-out block t |",
             "| Wald z |",
             "| stability selection |",

@@ -241,6 +241,7 @@ pub(super) fn report(
             "replay_dt_s": ds.replay.dt,
             "min_validation_gain_pct": 100.0 * input.opts.min_gain,
             "bic_threshold": input.opts.bic_threshold,
+            "backward_eff_bic_threshold": input.opts.backward_eff_bic_threshold,
             "heldout_t_threshold": input.opts.t_threshold,
             "block_s": input.opts.block_s,
             "stability_draws": input.opts.stability_draws,

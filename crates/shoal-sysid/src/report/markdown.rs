@@ -167,8 +167,13 @@ fn effect_section(
             );
             let _ = writeln!(
                 s,
-                "| effective ΔBIC (plain ΔBIC) | {:.1} ({:.1}) | < {} |",
-                c.delta_bic_eff, c.delta_bic, opts.bic_threshold
+                "| ΔBIC | {:.1} | < {} |",
+                c.delta_bic, opts.bic_threshold
+            );
+            let _ = writeln!(
+                s,
+                "| effective ΔBIC | {:.1} | < {} (backward) |",
+                c.delta_bic_eff, opts.backward_eff_bic_threshold
             );
             let _ = writeln!(
                 s,
@@ -510,10 +515,11 @@ fn candidates(s: &mut String, out: &Outcome, opts: &SearchOptions) {
         s,
         "Stage *forward*: each family fitted alone on the baseline (round 1, its forms \
          competing), then added to the chosen ones; *backward*: each chosen effect tested against \
-         the model without it; *swap*: one effect exchanged for another. Significant = effective \
-         ΔBIC < {}, held-out gain ≥ {:.0} %, held-out block t ≥ {} and parameters jointly ≥ {} σ \
-         from their null values.\n",
+         the model without it; *swap*: one effect exchanged for another. Significant = ΔBIC < {} \
+         (backward also effective ΔBIC < {}), held-out gain ≥ {:.0} %, held-out block t ≥ {}, \
+         material, and parameters jointly ≥ {} σ from their null values.\n",
         opts.bic_threshold,
+        opts.backward_eff_bic_threshold,
         100.0 * opts.min_gain,
         opts.t_threshold,
         opts.z_threshold

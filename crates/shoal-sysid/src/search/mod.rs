@@ -28,9 +28,14 @@
 //! of these hold:
 //! 1. ΔBIC < −10 on the estimation data. The *effective* ΔBIC — each channel's sample count
 //!    replaced by n·(1−ρ₁)/(1+ρ₁), ρ₁ of the larger model's residuals — is reported beside it
-//!    and used where two explanations are compared (identifiability); it is not a gate,
-//!    because while a second effect is still missing the residuals stay smooth whatever the
-//!    first explains;
+//!    and used where two explanations are compared (identifiability). It is no gate for an
+//!    effect *joining* a model, because while a second effect is still missing the residuals
+//!    stay smooth whatever the first explains; in the *backward* checks, where the model is
+//!    as complete as the search can make it, an effect must also have an effective ΔBIC
+//!    below `backward_eff_bic_threshold` (default 0): counting only the independent
+//!    information in its residuals, the log must not favour the model without it. (An effect
+//!    that soaks up the form mismatch of another lowers the plain BIC by following the
+//!    smooth residual, and fails this.)
 //! 2. the *held-out* RMSE (validation blocks the fit never saw) falls by at least `min_gain`
 //!    (default 3 %), averaged over channels;
 //! 3. the held-out improvement is consistent over time blocks: the t statistic of the per-block
@@ -119,6 +124,10 @@ pub struct SearchOptions {
     pub min_gain: f64,
     /// Largest ΔBIC that counts as an improvement (default −10).
     pub bic_threshold: f64,
+    /// Largest *effective* ΔBIC (each channel's sample count reduced for the residuals'
+    /// correlation, see [`rules::delta_bic_eff`]) with which an effect survives the backward
+    /// checks of the model it is part of (default 0).
+    pub backward_eff_bic_threshold: f64,
     /// Smallest distance of a parameter from its null value in standard deviations
     /// (default 3).
     pub z_threshold: f64,
@@ -159,6 +168,7 @@ impl Default for SearchOptions {
             effects: shoal_model::effects::catalogue(),
             min_gain: 0.03,
             bic_threshold: -10.0,
+            backward_eff_bic_threshold: 0.0,
             z_threshold: 3.0,
             max_effects: 4,
             candidates_per_round: 6,

@@ -321,6 +321,12 @@ pub fn search(
     }
     // Backward checks, then swaps of one effect for another where that lowers the BIC
     // (equivalent explanations with fewer parameters), then backward checks again.
+    // A single effect left by the backward checks is swapped too, for a family that alone
+    // beats it on both counts, BIC and held-out prediction: the forward rounds may have
+    // started from a family that only stood in for the true one (a saturation for an inflow
+    // loss) and the backward checks then removed both, leaving a third. (The held-out
+    // condition keeps the round-1 choice where round 1 made it: the forward rounds chose it
+    // for predicting the held-out data best.)
     let mut swaps = 0;
     // The model refitted without each of its families, as the last backward check left it.
     let mut reduced: Vec<(String, Option<Fit>)> = Vec::new();
@@ -361,7 +367,7 @@ pub fn search(
                 None => break,
             }
         }
-        if current.effects.len() < 2 || swaps >= 2 {
+        if current.effects.is_empty() || swaps >= 2 {
             break;
         }
         let cur_bic = bic(&current.eval, current.k);
@@ -390,7 +396,14 @@ pub fn search(
         let best = swapped
             .into_iter()
             .flatten()
-            .filter(|(c, b)| c.significant && *b < cur_bic - 2.0)
+            .filter(|(c, b)| {
+                c.significant
+                    && *b < cur_bic - 2.0
+                    && (names.len() > 1
+                        || c.fit
+                            .as_ref()
+                            .is_some_and(|f| heldout_ratio(&current.eval, &f.eval) < 1.0))
+            })
             .min_by(|a, b| a.1.total_cmp(&b.1));
         let Some((c, _)) = best else { break };
         round += 1;

@@ -339,10 +339,12 @@ pub fn judge_set(
         .iter()
         .map(|n| z_of(&fit, n, true))
         .fold(f64::INFINITY, f64::min);
-    // The gate is the plain ΔBIC: the effective one is reported, but while a second effect is
-    // still missing the residuals stay smooth whatever the first explains, and the effective
-    // count would then refuse the first effect of every pair.
-    let ok_bic = d < opts.bic_threshold;
+    // The gate is the plain ΔBIC: while a second effect is still missing the residuals stay
+    // smooth whatever the first explains, and the effective count would then refuse the first
+    // effect of every pair. In a backward check the model is complete as far as the search
+    // can tell, and the effective ΔBIC must not favour the model without the effect.
+    let ok_eff = !backward || de < opts.backward_eff_bic_threshold;
+    let ok_bic = d < opts.bic_threshold && ok_eff;
     let ok_gain = g >= opts.min_gain;
     let ok_t = t >= opts.t_threshold;
     let ok_z = z >= opts.z_threshold;
@@ -351,10 +353,15 @@ pub fn judge_set(
     let ok_m = m >= opts.min_material || c >= opts.min_closure;
     let significant = ok_bic && ok_gain && ok_t && ok_z && ok_m;
     let mut why = Vec::new();
-    if !ok_bic {
+    if d >= opts.bic_threshold {
         why.push(format!(
             "ΔBIC {d:.1} ≥ {} (effective {de:.1})",
             opts.bic_threshold
+        ));
+    } else if !ok_eff {
+        why.push(format!(
+            "effective ΔBIC {de:.1} ≥ {} in the backward check (plain {d:.1})",
+            opts.backward_eff_bic_threshold
         ));
     }
     if !ok_gain {

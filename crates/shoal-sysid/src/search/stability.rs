@@ -7,7 +7,8 @@
 //! estimation blocks; held-out gain, block test and materiality (share of the baseline's
 //! held-out error, or of the gap to the noise floor, that the effect removes) on the
 //! resampled validation blocks. An effect's selection frequency is the share of resamples on
-//! which it passes.
+//! which it passes. (The backward checks' effective-ΔBIC rule is not repeated: a resample
+//! duplicates blocks, and its count of independent samples is not defined.)
 
 use super::fit::Ctx;
 use super::orchestrate::Search;
