@@ -259,6 +259,8 @@ pub fn search(
     let mut current = baseline.clone();
     let mut round = 1;
     let mut paired = 0;
+    // The family that joined alone in round 1, if one did.
+    let mut first: Option<String> = None;
     // Forward.
     loop {
         // Of the families that pass, the one that predicts the held-out data best joins (the
@@ -295,6 +297,9 @@ pub fn search(
             }
             break;
         };
+        if round == 1 && fit.effects.len() == 1 {
+            first = fit.names().pop();
+        }
         current = fit;
         if current.effects.len() >= opts.max_effects {
             break;
@@ -325,8 +330,8 @@ pub fn search(
     // beats it on both counts, BIC and held-out prediction: the forward rounds may have
     // started from a family that only stood in for the true one (a saturation for an inflow
     // loss) and the backward checks then removed both, leaving a third. (The held-out
-    // condition keeps the round-1 choice where round 1 made it: the forward rounds chose it
-    // for predicting the held-out data best.)
+    // condition: the forward rounds rank families by held-out prediction, and a swap of the
+    // only effect must not overturn that ranking by the BIC alone.)
     let mut swaps = 0;
     // The model refitted without each of its families, as the last backward check left it.
     let mut reduced: Vec<(String, Option<Fit>)> = Vec::new();
@@ -367,7 +372,10 @@ pub fn search(
                 None => break,
             }
         }
-        if current.effects.is_empty() || swaps >= 2 {
+        // A single effect that round 1 chose is not swapped: round 1 compared every family
+        // alone by the same measures already.
+        let chosen_alone = current.effects.len() == 1 && first == current.names().pop();
+        if current.effects.is_empty() || chosen_alone || swaps >= 2 {
             break;
         }
         let cur_bic = bic(&current.eval, current.k);
