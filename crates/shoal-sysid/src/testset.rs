@@ -274,7 +274,7 @@ pub fn full() -> Vec<CaseSpec> {
 /// Pairs of [`PAIRS`] in [`ci_subset`] (the first ones: twelve families, both experiments).
 pub const CI_PAIRS: usize = 8;
 
-/// The test's subset of [`full`] (59 cases, sized for a few minutes of search on two cores):
+/// The test's subset of [`full`] (59 cases, about half an hour of search on two cores):
 /// every form once with seed 3 (whole magnitude range; the first form of a family in its first
 /// experiment, the later ones in its last, so both experiments appear where both excite the
 /// family), the first [`CI_PAIRS`] pairs with seed 1, null runs in both experiments with seeds
