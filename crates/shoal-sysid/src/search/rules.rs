@@ -344,21 +344,22 @@ pub fn judge_set(
     // effect of every pair. In a backward check the model is complete as far as the search
     // can tell, and the effective ΔBIC must not favour the model without the effect.
     let ok_eff = !backward || de < opts.backward_eff_bic_threshold;
-    let ok_bic = d < opts.bic_threshold && ok_eff;
+    let ok_bic = d < opts.bic_threshold;
     let ok_gain = g >= opts.min_gain;
     let ok_t = t >= opts.t_threshold;
     let ok_z = z >= opts.z_threshold;
     let m = material(baseline, &base.eval, &fit.eval);
     let c = closure(&base.eval, &fit.eval);
     let ok_m = m >= opts.min_material || c >= opts.min_closure;
-    let significant = ok_bic && ok_gain && ok_t && ok_z && ok_m;
+    let significant = ok_bic && ok_eff && ok_gain && ok_t && ok_z && ok_m;
     let mut why = Vec::new();
-    if d >= opts.bic_threshold {
+    if !ok_bic {
         why.push(format!(
             "ΔBIC {d:.1} ≥ {} (effective {de:.1})",
             opts.bic_threshold
         ));
-    } else if !ok_eff {
+    }
+    if !ok_eff {
         why.push(format!(
             "effective ΔBIC {de:.1} ≥ {} in the backward check (plain {d:.1})",
             opts.backward_eff_bic_threshold
