@@ -85,15 +85,7 @@ pub fn integrate(
     dt: f64,
 ) {
     match integrator {
-        Integrator::Rk4 => {
-            // The swarm's lane kernel with one lane, so that a hull integrated alone and one
-            // in a swarm give the same result.
-            let c = DynConsts::new(body, mp, env);
-            let mut x = Lanes::<1>::default();
-            x.load(0, state, tau);
-            rk4(&c, &mut x, dt);
-            x.store(0, state);
-        }
+        Integrator::Rk4 => rk4_with(&DynConsts::new(body, mp, env), state, tau, dt),
         Integrator::SemiImplicitEuler => {
             let a = acceleration(
                 body,
@@ -110,4 +102,15 @@ pub fn integrate(
             state.attitude *= Quat::from_scaled_axis(w * dt);
         }
     }
+}
+
+/// One classic RK4 step of `dt` \[s\] with the force `tau` held, given the constants of the
+/// equation of motion (`DynConsts::new(body, mp, env)`, which a caller stepping one hull many
+/// times keeps while they do not change). It is the swarm's lane kernel with one lane, so that
+/// a hull integrated alone and one in a swarm give the same result.
+pub fn rk4_with(c: &DynConsts, state: &mut RigidState, tau: &Vec6, dt: f64) {
+    let mut x = Lanes::<1>::default();
+    x.load(0, state, tau);
+    rk4(c, &mut x, dt);
+    x.store(0, state);
 }

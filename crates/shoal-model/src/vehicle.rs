@@ -7,8 +7,9 @@ use crate::ballast::BallastParams;
 use crate::control::{
     ActuatorCommands, ControlParams, ControllerState, SensorReadings, Uauv2Control, Uauv2Layout,
 };
-use crate::dynamics::{Integrator, RigidState, integrate};
+use crate::dynamics::{Integrator, RigidState, integrate, rk4_with};
 use crate::effects::{Effects, ForceContext};
+use crate::lanes::DynConsts;
 use crate::math::{PerActuator, Vec3, Vec6, split6};
 use crate::optics::ModemParams;
 use crate::rigid_body::{BodyParams, Environment, MassProperties};
@@ -230,14 +231,40 @@ pub fn actuate_vehicle(
     env: &Environment,
     dt: f64,
 ) {
-    let p = &model.params;
-    if let Some(b) = &p.ballast {
-        let v = b.advance(state.ballast_volume, cmd.pump, dt);
-        if v != state.ballast_volume {
-            state.ballast_volume = v;
-            state.set_mass(p.mass_properties(v, env.density));
-        }
+    if let Some(v) = run_pump(model, state, cmd.pump, dt) {
+        state.set_mass(model.params.mass_properties(v, env.density));
     }
+    actuate_thrusters(model, state, cmd, env, dt);
+}
+
+/// The pump's part of [`actuate_vehicle`]: advances the ballast water by one step of `dt`
+/// \[s\] and returns the new volume \[m³\] when it changed — the caller then owes the vehicle
+/// its new [`VehicleState::mass`] (`mass_properties(volume, density)`, or the same values
+/// kept from an earlier step).
+pub fn run_pump(
+    model: &VehicleModel,
+    state: &mut VehicleState,
+    pump: crate::ballast::Pump,
+    dt: f64,
+) -> Option<f64> {
+    let b = model.params.ballast.as_ref()?;
+    let v = b.advance(state.ballast_volume, pump, dt);
+    (v != state.ballast_volume).then(|| {
+        state.ballast_volume = v;
+        v
+    })
+}
+
+/// The rest of [`actuate_vehicle`] after the pump: moves the tilt drives, updates the thrust
+/// lags and stores the resulting generalised force in `state.tau`.
+pub fn actuate_thrusters(
+    model: &VehicleModel,
+    state: &mut VehicleState,
+    cmd: &ActuatorCommands,
+    env: &Environment,
+    dt: f64,
+) {
+    let p = &model.params;
     let rigid = &state.rigid;
     // A point within |r| of a body origin deeper than |r| is under water whatever the
     // attitude; only vehicles near the surface need the rotation.
@@ -303,6 +330,15 @@ pub fn integrate_vehicle(
         &state.tau,
         dt,
     );
+    state.finish_step(&nu0, dt);
+}
+
+/// [`integrate_vehicle`] with classic RK4 and the constants of its equation of motion
+/// prepared by the caller: `consts` must be `DynConsts::new(&model.params.body, &state.mass,
+/// &model.environment(env))` (a replay keeps them while the ballast does not change).
+pub fn integrate_vehicle_rk4(state: &mut VehicleState, consts: &DynConsts, dt: f64) {
+    let nu0 = state.rigid.nu;
+    rk4_with(consts, &mut state.rigid, &state.tau, dt);
     state.finish_step(&nu0, dt);
 }
 

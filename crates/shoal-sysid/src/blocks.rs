@@ -29,21 +29,17 @@ pub const DEFAULT_BLOCK_S: f64 = 4.0;
 
 /// The block of each sample of a channel, in sample order.
 pub fn sample_blocks(c: &ChannelResult, len: f64) -> Vec<(bool, usize)> {
-    let first_est = c
-        .times
+    blocks_of(&c.times, &c.est, len)
+}
+
+/// The block of each sample with times `times` \[s\] and estimation flags `est`: whether it is
+/// estimation data, and the index of its `len`-second block within its part.
+pub fn blocks_of(times: &[f64], est: &[bool], len: f64) -> Vec<(bool, usize)> {
+    let first_est = times.iter().zip(est).find(|(_, e)| **e).map(|(t, _)| *t);
+    let first_val = times.iter().zip(est).find(|(_, e)| !**e).map(|(t, _)| *t);
+    times
         .iter()
-        .zip(&c.est)
-        .find(|(_, e)| **e)
-        .map(|(t, _)| *t);
-    let first_val = c
-        .times
-        .iter()
-        .zip(&c.est)
-        .find(|(_, e)| !**e)
-        .map(|(t, _)| *t);
-    c.times
-        .iter()
-        .zip(&c.est)
+        .zip(est)
         .map(|(&t, &e)| {
             let t0 = if e { first_est } else { first_val }.unwrap_or(t);
             (e, ((t - t0) / len).floor().max(0.0) as usize)

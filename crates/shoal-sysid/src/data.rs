@@ -13,13 +13,18 @@
 //! absolute position and heading (true away from the surface) this is the least-squares
 //! estimate of the initial position.
 
-use crate::replay::{InitialState, InputMap, ReplayOptions, Trace, simulate};
+use crate::blocks::{Resample, blocks_of};
+use crate::masses::MassTable;
+use crate::replay::{
+    InitialState, InputMap, ReplayOptions, Trace, grid_position, replay_steps, simulate_with,
+};
 use crate::run::{ChannelKind, MeasuredRun, RunError};
 use crate::stats;
 use shoal_model::math::wrap_pi;
 use shoal_model::rigid_body::Environment;
 use shoal_model::vehicle::{VehicleModel, VehicleParams};
 use std::collections::BTreeMap;
+use std::sync::Arc;
 
 /// One run prepared for replay.
 #[derive(Clone, Debug)]
@@ -52,6 +57,79 @@ pub struct Dataset {
     /// Resolution of each channel kind's measurements (the coarsest over the runs; 0: not
     /// quantised), see [`stats::resolution`].
     pub resolution: BTreeMap<ChannelKind, f64>,
+    /// Per run, what its comparison with a replay needs that no model changes.
+    plans: Vec<RunPlan>,
+    /// The mass properties of the ballast volumes the replays met (shared by clones).
+    masses: Arc<MassTable>,
+}
+
+/// What comparing one run with its replay needs that does not depend on the model: worked
+/// out once per dataset instead of once per replay (a search replays a log thousands of
+/// times).
+#[derive(Clone, Debug)]
+struct RunPlan {
+    /// The kinds the replay records, sorted, without repeats.
+    trace_kinds: Vec<ChannelKind>,
+    /// The compared channels, in the order of [`RunData::channels`].
+    channels: Vec<ChannelPlan>,
+}
+
+/// One compared channel of a [`RunPlan`].
+#[derive(Clone, Debug)]
+struct ChannelPlan {
+    kind: ChannelKind,
+    /// Column of `kind` in the replay's trace.
+    col: usize,
+    /// Sample times \[s\].
+    times: Vec<f64>,
+    /// Measured values, angles unwrapped (see [`ChannelResult::measured`]).
+    measured: Vec<f64>,
+    /// Whether each sample is estimation data.
+    est: Vec<bool>,
+    /// Each sample time's position on the replay's grid ([`grid_position`]), for a model
+    /// without a sensor delay.
+    grid: Vec<(usize, f64)>,
+}
+
+impl RunPlan {
+    fn new(rd: &RunData, replay: &ReplayOptions) -> Self {
+        let mut trace_kinds: Vec<ChannelKind> = rd
+            .channels
+            .iter()
+            .map(|&i| rd.run.channels[i].kind)
+            .collect();
+        trace_kinds.sort();
+        trace_kinds.dedup();
+        let n = replay_steps(&rd.run, replay.dt) + 1;
+        let t0 = rd.run.t[0];
+        let channels = rd
+            .channels
+            .iter()
+            .map(|&ci| {
+                let c = &rd.run.channels[ci];
+                let times: Vec<f64> = c.rows.iter().map(|&r| rd.run.t[r]).collect();
+                let mut measured = c.values.clone();
+                if c.kind.is_angle() {
+                    unwrap(&mut measured);
+                }
+                ChannelPlan {
+                    kind: c.kind,
+                    col: trace_kinds.iter().position(|k| *k == c.kind).unwrap_or(0),
+                    est: times.iter().map(|&t| t < rd.split_time).collect(),
+                    grid: times
+                        .iter()
+                        .map(|&t| grid_position(t0, replay.dt, n, t))
+                        .collect(),
+                    times,
+                    measured,
+                }
+            })
+            .collect();
+        Self {
+            trace_kinds,
+            channels,
+        }
+    }
 }
 
 /// How to build a [`Dataset`].
@@ -157,12 +235,15 @@ impl Dataset {
                 *q = q.max(stats::resolution(&c.values));
             }
         }
+        let plans = runs.iter().map(|r| RunPlan::new(r, &opts.replay)).collect();
         let ds = Dataset {
             runs,
             kinds,
             env,
             replay: opts.replay,
             resolution,
+            plans,
+            masses: Arc::default(),
         };
         for k in &ds.kinds {
             let (ne, nv) = ds.counts(*k);
@@ -201,101 +282,211 @@ impl Dataset {
 
     /// Replays every run on `model` and compares with the measurements.
     pub fn evaluate(&self, model: &VehicleModel) -> Evaluation {
+        self.evaluation(&self.replayed(model))
+    }
+
+    /// Replays every run on `model`: each compared channel's predictions and residuals.
+    pub fn replayed(&self, model: &VehicleModel) -> Replayed {
         let delay = model.effects.delay();
         let runs = self
             .runs
             .iter()
-            .map(|rd| {
-                let kinds: Vec<ChannelKind> = rd
-                    .channels
-                    .iter()
-                    .map(|&i| rd.run.channels[i].kind)
-                    .collect();
-                let mut trace_kinds = kinds.clone();
-                trace_kinds.sort();
-                trace_kinds.dedup();
-                let trace = simulate(
+            .zip(&self.plans)
+            .map(|(rd, plan)| {
+                let trace = simulate_with(
                     model,
                     &self.env,
                     &rd.run,
                     &rd.map,
                     &rd.init,
-                    &trace_kinds,
+                    &plan.trace_kinds,
                     &self.replay,
+                    &self.masses,
                 );
-                let channels = rd
+                plan.channels
+                    .iter()
+                    .map(|cp| {
+                        let (mut predicted, mut resid) = (Vec::new(), Vec::new());
+                        compare(cp, &trace, delay, &mut predicted, &mut resid);
+                        (predicted, resid)
+                    })
+                    .collect()
+            })
+            .collect();
+        Replayed { runs }
+    }
+
+    /// The evaluation of a replay of this dataset.
+    pub fn evaluation(&self, replayed: &Replayed) -> Evaluation {
+        let runs = self
+            .runs
+            .iter()
+            .zip(&self.plans)
+            .zip(&replayed.runs)
+            .map(|((rd, plan), channels)| RunResult {
+                name: rd.run.name.clone(),
+                holdout: rd.holdout,
+                channels: plan
                     .channels
                     .iter()
-                    .map(|&ci| compare(rd, ci, &trace, &trace_kinds, delay))
-                    .collect();
-                RunResult {
-                    name: rd.run.name.clone(),
-                    holdout: rd.holdout,
-                    channels,
-                }
+                    .zip(channels)
+                    .map(|(cp, (predicted, resid))| ChannelResult {
+                        kind: cp.kind,
+                        times: cp.times.clone(),
+                        measured: cp.measured.clone(),
+                        predicted: predicted.clone(),
+                        resid: resid.clone(),
+                        est: cp.est.clone(),
+                    })
+                    .collect(),
             })
             .collect();
         Evaluation::new(runs, &self.kinds, &self.resolution)
     }
+
+    /// The estimation residuals of a replay of this dataset, weighted as
+    /// [`Evaluation::weighted_with`] weighs them, or `None` where [`Evaluation::metrics`]
+    /// would hold a sum of squares that is not finite: the same numbers as
+    /// `evaluation(replayed).weighted_with(factor, resample)`, without the per-channel
+    /// metrics and series a fit's inner loop never looks at.
+    pub fn weighted(
+        &self,
+        replayed: &Replayed,
+        factor: &BTreeMap<ChannelKind, f64>,
+        resample: Option<&Resample>,
+    ) -> Option<Vec<f64>> {
+        let mut out = Vec::new();
+        // Per kind, the sum of squared estimation residuals, added in the order in which
+        // `Evaluation::new` adds them (run by run, channel by channel).
+        let mut sse: BTreeMap<ChannelKind, f64> = BTreeMap::new();
+        for (ri, (plan, channels)) in self.plans.iter().zip(&replayed.runs).enumerate() {
+            for (cp, (_, resid)) in plan.channels.iter().zip(channels) {
+                let s = sse.entry(cp.kind).or_insert(0.0);
+                for (r, _) in resid.iter().zip(&cp.est).filter(|(_, e)| **e) {
+                    *s += r * r;
+                }
+                push_weighted(
+                    &mut out,
+                    resid,
+                    &cp.times,
+                    &cp.est,
+                    factor[&cp.kind],
+                    resample.map(|rs| (rs, ri)),
+                );
+            }
+        }
+        sse.values().all(|s| s.is_finite()).then_some(out)
+    }
 }
 
+/// The predictions and residuals of every compared channel of a dataset's runs on one model
+/// ([`Dataset::replayed`]): what a replay yields, from which [`Dataset::evaluation`] and
+/// [`Dataset::weighted`] derive everything else.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Replayed {
+    /// Per run, per compared channel: (predicted, residual) per sample (channel units).
+    runs: Vec<Vec<(Vec<f64>, Vec<f64>)>>,
+}
+
+impl Replayed {
+    /// From its series: per run, per compared channel, (predicted, residual) per sample.
+    pub fn from_series(runs: Vec<Vec<(Vec<f64>, Vec<f64>)>>) -> Self {
+        Self { runs }
+    }
+
+    /// The bytes its series take.
+    pub fn bytes(&self) -> usize {
+        self.runs
+            .iter()
+            .flatten()
+            .map(|(p, r)| 8 * (p.len() + r.len()))
+            .sum()
+    }
+}
+
+/// Appends the estimation samples of `resid` (times `times` \[s\], estimation flags `est`) to
+/// `out`, each multiplied by `w` and, with a resample `(rs, run index)`, by the square root
+/// of its block's weight (the least-squares form of a weighted fit).
+fn push_weighted(
+    out: &mut Vec<f64>,
+    resid: &[f64],
+    times: &[f64],
+    est: &[bool],
+    w: f64,
+    resample: Option<(&Resample, usize)>,
+) {
+    match resample {
+        None => out.extend(
+            resid
+                .iter()
+                .zip(est)
+                .filter(|(_, e)| **e)
+                .map(|(r, _)| r * w),
+        ),
+        Some((rs, ri)) => out.extend(
+            resid
+                .iter()
+                .zip(blocks_of(times, est, rs.len))
+                .filter(|(_, (e, _))| *e)
+                .map(|(r, (e, b))| r * w * rs.weight((ri, e, b)).sqrt()),
+        ),
+    }
+}
+
+/// Compares one channel with a replay: its predictions (`predicted`) and residuals
+/// measured − predicted (`resid`), both replaced. The replay is read `delay` \[s\] earlier
+/// than each sample time (a sensor delay); angles are compared as continuous series whose
+/// difference starts within (−π, π] (modulo 2π, yet a model that falls behind by a turn is a
+/// turn wrong, and the fit sees a smooth cost instead of one folded at ±π); a channel with a
+/// free initial offset has the mean residual of its estimation samples removed (of all its
+/// samples in a hold-out run, which has no estimation samples).
 fn compare(
-    rd: &RunData,
-    ci: usize,
+    cp: &ChannelPlan,
     trace: &Trace,
-    trace_kinds: &[ChannelKind],
     delay: f64,
-) -> ChannelResult {
-    let c = &rd.run.channels[ci];
-    let col = trace_kinds.iter().position(|k| *k == c.kind).unwrap_or(0);
-    let angle = c.kind.is_angle();
-    let times: Vec<f64> = c.rows.iter().map(|&r| rd.run.t[r]).collect();
-    let mut predicted: Vec<f64> = times.iter().map(|&t| trace.at(col, t - delay)).collect();
-    let est: Vec<bool> = times.iter().map(|&t| t < rd.split_time).collect();
-    let mut measured = c.values.clone();
-    if angle {
-        // Angles are compared as continuous (unwrapped) series whose difference starts within
-        // (−π, π]: modulo 2π, yet a model that falls behind by a turn is a turn wrong, and the
-        // fit sees a smooth cost instead of one folded at ±π.
-        unwrap(&mut measured);
-        unwrap(&mut predicted);
+    predicted: &mut Vec<f64>,
+    resid: &mut Vec<f64>,
+) {
+    predicted.clear();
+    if delay == 0.0 {
+        predicted.extend(cp.grid.iter().map(|&g| trace.at_position(cp.col, g)));
+    } else {
+        predicted.extend(cp.times.iter().map(|&t| trace.at(cp.col, t - delay)));
+    }
+    let measured = &cp.measured;
+    if cp.kind.is_angle() {
+        unwrap(predicted);
         if let (Some(y0), Some(p0)) = (measured.first(), predicted.first()) {
             let shift = (y0 - p0) - wrap_pi(y0 - p0);
-            for p in &mut predicted {
+            for p in predicted.iter_mut() {
                 *p += shift;
             }
         }
     }
-    let mut resid: Vec<f64> = measured
-        .iter()
-        .zip(&predicted)
-        .map(|(&y, &p)| y - p)
-        .collect();
-    if c.kind.has_free_offset() {
-        let mean_of = |keep: &dyn Fn(usize) -> bool| {
-            let sel: Vec<f64> = (0..resid.len())
-                .filter(|&i| keep(i))
-                .map(|i| resid[i])
-                .collect();
-            (!sel.is_empty()).then(|| sel.iter().sum::<f64>() / sel.len() as f64)
-        };
+    resid.clear();
+    resid.extend(measured.iter().zip(predicted.iter()).map(|(&y, &p)| y - p));
+    if cp.kind.has_free_offset() {
         // Estimation samples give the offset (a hold-out run's own samples when it has none):
         // the validation part continues the replay from it, so a prediction is judged over
         // the whole held-out stretch, drift included.
-        let use_est = est.iter().any(|&e| e);
-        let off = mean_of(&|i| est[i] == use_est).unwrap_or(0.0);
-        for i in 0..resid.len() {
-            resid[i] -= off;
-            predicted[i] += off;
+        let use_est = cp.est.iter().any(|&e| e);
+        let part = || {
+            resid
+                .iter()
+                .zip(&cp.est)
+                .filter(|(_, e)| **e == use_est)
+                .map(|(r, _)| *r)
+        };
+        let n = part().count();
+        let off = if n > 0 {
+            part().sum::<f64>() / n as f64
+        } else {
+            0.0
+        };
+        for (r, p) in resid.iter_mut().zip(predicted.iter_mut()) {
+            *r -= off;
+            *p += off;
         }
-    }
-    ChannelResult {
-        kind: c.kind,
-        times,
-        measured,
-        predicted,
-        resid,
-        est,
     }
 }
 
@@ -431,28 +622,19 @@ impl Evaluation {
     pub fn weighted_with(
         &self,
         factor: &BTreeMap<ChannelKind, f64>,
-        resample: Option<&crate::blocks::Resample>,
+        resample: Option<&Resample>,
     ) -> Vec<f64> {
         let mut out = Vec::new();
         for (ri, r) in self.runs.iter().enumerate() {
             for c in &r.channels {
-                let w = factor[&c.kind];
-                match resample {
-                    None => out.extend(
-                        c.resid
-                            .iter()
-                            .zip(&c.est)
-                            .filter(|(_, e)| **e)
-                            .map(|(r, _)| r * w),
-                    ),
-                    Some(rs) => out.extend(
-                        c.resid
-                            .iter()
-                            .zip(crate::blocks::sample_blocks(c, rs.len))
-                            .filter(|(_, (e, _))| *e)
-                            .map(|(r, (e, b))| r * w * rs.weight((ri, e, b)).sqrt()),
-                    ),
-                }
+                push_weighted(
+                    &mut out,
+                    &c.resid,
+                    &c.times,
+                    &c.est,
+                    factor[&c.kind],
+                    resample.map(|rs| (rs, ri)),
+                );
             }
         }
         out

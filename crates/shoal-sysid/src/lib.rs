@@ -34,6 +34,7 @@ pub mod limits;
 mod lines;
 pub mod lm;
 pub mod logger;
+pub mod masses;
 pub mod recovery;
 pub mod replay;
 pub mod report;

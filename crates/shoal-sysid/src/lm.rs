@@ -61,6 +61,21 @@ pub fn minimise(
     scale: &[f64],
     opts: &LmOptions,
 ) -> Option<LmResult> {
+    minimise_from(residuals, x0, None, lo, hi, scale, opts)
+}
+
+/// [`minimise`] given the residuals `e0` at `x0` when the caller has them (they are used
+/// only where `x0` lies inside the bounds, so that they are the residuals the minimisation
+/// starts from; a replay saved). [`LmResult::evaluations`] counts the calls of `residuals`.
+pub fn minimise_from(
+    residuals: &dyn Fn(&[f64]) -> Option<Vec<f64>>,
+    x0: &[f64],
+    e0: Option<Vec<f64>>,
+    lo: &[f64],
+    hi: &[f64],
+    scale: &[f64],
+    opts: &LmOptions,
+) -> Option<LmResult> {
     let n = x0.len();
     let clamp = |x: &mut [f64]| {
         for j in 0..n {
@@ -69,8 +84,10 @@ pub fn minimise(
     };
     let mut x: Vec<f64> = x0.to_vec();
     clamp(&mut x);
-    let mut evaluations = 1;
-    let mut e = residuals(&x)?;
+    let (mut evaluations, mut e) = match e0 {
+        Some(e0) if x == x0 => (0, e0),
+        _ => (1, residuals(&x)?),
+    };
     let mut cost = sumsq(&e);
     let mut jac = jacobian(
         residuals,

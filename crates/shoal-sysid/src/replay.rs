@@ -15,14 +15,17 @@
 
 use crate::ingest::short;
 use crate::limits::{ClampNote, Limits};
+use crate::masses::MassTable;
 use crate::run::{ChannelKind, MeasuredRun, RunError};
 use shoal_model::ballast::Pump;
 use shoal_model::control::ActuatorCommands;
 use shoal_model::dynamics::{Integrator, RigidState};
-use shoal_model::math::{Vec3, quat_from_rpy, split6, wrap_pi};
+use shoal_model::lanes::DynConsts;
+use shoal_model::math::{Quat, Vec3, quat_from_rpy, split6, wrap_pi};
 use shoal_model::rigid_body::Environment;
 use shoal_model::vehicle::{
-    VehicleModel, VehicleParams, VehicleState, actuate_vehicle, integrate_vehicle,
+    VehicleModel, VehicleParams, VehicleState, actuate_thrusters, integrate_vehicle,
+    integrate_vehicle_rk4, run_pump,
 };
 
 /// Which input column drives which actuator.
@@ -264,22 +267,46 @@ impl Trace {
     /// The value of column `col` at time `t` \[s\] (linear interpolation, angles along the
     /// shorter arc; held constant outside the grid).
     pub fn at(&self, col: usize, t: f64) -> f64 {
+        self.at_position(col, grid_position(self.t0, self.dt, self.len(), t))
+    }
+
+    /// The value of column `col` at a grid position from [`grid_position`] for this trace's
+    /// grid (as [`Trace::at`], with the position computed once for many replays).
+    #[inline]
+    pub fn at_position(&self, col: usize, (k, f): (usize, f64)) -> f64 {
         let n = self.len();
         let stride = self.kinds.len();
-        let x = ((t - self.t0) / self.dt).max(0.0);
-        let k = (x.floor() as usize).min(n - 1);
         let a = self.values[k * stride + col];
         if k + 1 >= n {
             return a;
         }
         let b = self.values[(k + 1) * stride + col];
-        let f = x - k as f64;
         if self.kinds[col].is_angle() {
             wrap_pi(a + wrap_pi(b - a) * f)
         } else {
             a + (b - a) * f
         }
     }
+}
+
+/// Where time `t` \[s\] falls on a grid of `n` (≥ 1) points `t0 + i·dt`: the index of the
+/// point at or before it (clamped to the grid) and the fraction of the step beyond it.
+#[inline]
+pub fn grid_position(t0: f64, dt: f64, n: usize, t: f64) -> (usize, f64) {
+    let x = ((t - t0) / dt).max(0.0);
+    let k = (x.floor() as usize).min(n - 1);
+    (k, x - k as f64)
+}
+
+/// The physics steps a replay of `run` takes at `dt` \[s\] (its trace has one point more),
+/// bounded by [`MAX_REPLAY_STEPS`] whatever the run (callers check with
+/// [`ReplayOptions::steps`] first).
+pub fn replay_steps(run: &MeasuredRun, dt: f64) -> usize {
+    let t0 = run.t[0];
+    let t_end = *run.t.last().unwrap_or(&t0);
+    ((t_end - t0) / dt)
+        .ceil()
+        .clamp(0.0, MAX_REPLAY_STEPS as f64) as usize
 }
 
 /// Replays `run` on `model` in water `env` from `init` and records the `kinds`.
@@ -292,14 +319,35 @@ pub fn simulate(
     kinds: &[ChannelKind],
     opts: &ReplayOptions,
 ) -> Trace {
+    simulate_with(
+        model,
+        env,
+        run,
+        map,
+        init,
+        kinds,
+        opts,
+        &MassTable::default(),
+    )
+}
+
+/// [`simulate`], taking the mass properties of each ballast volume from `masses` (and
+/// keeping there those it computes): the same trace, without a matrix factorisation per
+/// pumping step when the table already holds the volume.
+pub fn simulate_with(
+    model: &VehicleModel,
+    env: &Environment,
+    run: &MeasuredRun,
+    map: &InputMap,
+    init: &InitialState,
+    kinds: &[ChannelKind],
+    opts: &ReplayOptions,
+    masses: &MassTable,
+) -> Trace {
     let p = &model.params;
     let dt = opts.dt;
     let t0 = run.t[0];
-    let t_end = *run.t.last().unwrap_or(&t0);
-    // Bounded whatever the run: callers check with `ReplayOptions::steps` first.
-    let steps = ((t_end - t0) / dt)
-        .ceil()
-        .clamp(0.0, MAX_REPLAY_STEPS as f64) as usize;
+    let steps = replay_steps(run, dt);
     let env_vehicle = model.environment(env);
     let mut rigid = RigidState::at_rest(
         init.position,
@@ -334,14 +382,25 @@ pub fn simulate(
     };
     set_inputs(0, &mut cmd, &mut state);
     record(model, &state, &env_vehicle, kinds, &mut values);
+    let body = masses.body(p, env.density);
+    // The constants of the equation of motion, while the ballast does not change.
+    let mut consts = DynConsts::new(&p.body, &state.mass, &env_vehicle);
     for s in 0..steps {
         let t = t0 + s as f64 * dt;
         while row + 1 < n_rows && run.t[row + 1] <= t + 1e-9 {
             row += 1;
         }
         set_inputs(row, &mut cmd, &mut state);
-        actuate_vehicle(model, &mut state, &cmd, env, dt);
-        integrate_vehicle(model, &mut state, env, opts.integrator, dt);
+        // `actuate_vehicle`, with the mass properties of a new volume from the table.
+        if let Some(v) = run_pump(model, &mut state, cmd.pump, dt) {
+            state.mass = body.at(v);
+            consts = DynConsts::new(&p.body, &state.mass, &env_vehicle);
+        }
+        actuate_thrusters(model, &mut state, &cmd, env, dt);
+        match opts.integrator {
+            Integrator::Rk4 => integrate_vehicle_rk4(&mut state, &consts, dt),
+            other => integrate_vehicle(model, &mut state, env, other, dt),
+        }
         record(model, &state, &env_vehicle, kinds, &mut values);
     }
     Trace {
@@ -362,20 +421,26 @@ fn record(
     let p = &model.params;
     let rigid = &state.rigid;
     let (v, w) = split6(&rigid.nu);
+    // Roll and pitch only when recorded (yaw alone needs less).
+    let tilted = kinds
+        .iter()
+        .any(|k| matches!(k, ChannelKind::Roll | ChannelKind::Pitch));
+    let rpy = || {
+        if tilted {
+            rigid.attitude.euler_angles()
+        } else {
+            (0.0, 0.0, yaw_of(&rigid.attitude))
+        }
+    };
     for k in kinds {
         let x = match k {
             ChannelKind::Depth => {
                 state.depth_of(&p.pressure.position).max(0.0)
                     + model.effects.depth_offset(state.time)
             }
-            ChannelKind::Roll | ChannelKind::Pitch | ChannelKind::Yaw => {
-                let (r, pi, y) = rigid.attitude.euler_angles();
-                match k {
-                    ChannelKind::Roll => r,
-                    ChannelKind::Pitch => pi,
-                    _ => y,
-                }
-            }
+            ChannelKind::Roll => rpy().0,
+            ChannelKind::Pitch => rpy().1,
+            ChannelKind::Yaw => rpy().2,
             ChannelKind::P => w.x + p.imu.gyro_bias.x,
             ChannelKind::Q => w.y + p.imu.gyro_bias.y,
             ChannelKind::R => w.z + p.imu.gyro_bias.z,
@@ -391,6 +456,18 @@ fn record(
             }
         };
         out.push(x);
+    }
+}
+
+/// The yaw of `q`'s Euler angles, bit for bit as `q.euler_angles().2` (nalgebra's rotation
+/// matrix formula) without computing the roll.
+fn yaw_of(q: &Quat) -> f64 {
+    let m = q.to_rotation_matrix();
+    if m[(2, 0)].abs() < 1.0 {
+        let c = (-m[(2, 0)].asin()).cos();
+        (m[(1, 0)] / c).atan2(m[(0, 0)] / c)
+    } else {
+        0.0
     }
 }
 
@@ -467,6 +544,28 @@ mod tests {
             );
             assert_eq!(run, before);
         }
+    }
+
+    #[test]
+    fn yaw_alone_is_the_euler_yaw() {
+        let mut n = 0;
+        for i in 0..2000 {
+            let f = i as f64;
+            let (r, p, y) = (
+                (f * 0.37).sin() * 3.2,
+                (f * 0.11).cos() * 1.58,
+                f * 0.013 - 13.0,
+            );
+            let q = quat_from_rpy(r, p, y);
+            assert_eq!(yaw_of(&q).to_bits(), q.euler_angles().2.to_bits(), "{q:?}");
+            n += 1;
+        }
+        // At the poles (pitch ±90°) too.
+        for p in [std::f64::consts::FRAC_PI_2, -std::f64::consts::FRAC_PI_2] {
+            let q = quat_from_rpy(0.3, p, 1.1);
+            assert_eq!(yaw_of(&q).to_bits(), q.euler_angles().2.to_bits());
+        }
+        assert_eq!(n, 2000);
     }
 
     #[test]

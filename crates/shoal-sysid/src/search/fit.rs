@@ -1,11 +1,12 @@
 //! Fitting one candidate model: replays, the excitation probe, bounded Levenberg–Marquardt from
 //! several starts with iterative reweighting, covariances and the Wald distance from null.
 
+use super::memo::Memo;
 use super::rules::bic_rs;
 use super::{Fit, FittedEffect, ParamEstimate, SearchOptions};
 use crate::blocks::Resample;
-use crate::data::{Dataset, Evaluation};
-use crate::lm::{LmOptions, minimise};
+use crate::data::{Dataset, Evaluation, Replayed};
+use crate::lm::{LmOptions, minimise_from};
 use crate::run::ChannelKind;
 use crate::stats;
 use nalgebra::DMatrix;
@@ -27,6 +28,8 @@ pub(super) struct Ctx<'a> {
     pub resample: Option<&'a Resample>,
     /// Levenberg–Marquardt settings (the options' own, or fewer iterations for warm refits).
     pub lm: LmOptions,
+    /// The search's latest replays (shared by every context of one search).
+    pub memo: &'a Memo,
 }
 
 impl Ctx<'_> {
@@ -44,8 +47,16 @@ impl Ctx<'_> {
         VehicleModel::with_effects(self.base.clone(), Effects::new(list), self.ds.env.density)
     }
 
+    /// The replay of the model with `effects` at `values` (from the memo when it was made
+    /// before).
+    fn replayed(&self, effects: &[Arc<dyn Effect>], values: &[f64]) -> Arc<Replayed> {
+        self.memo.get_or_replay(effects, values, || {
+            self.ds.replayed(&self.model(effects, values))
+        })
+    }
+
     pub fn eval(&self, effects: &[Arc<dyn Effect>], values: &[f64]) -> Option<Evaluation> {
-        let ev = self.ds.evaluate(&self.model(effects, values));
+        let ev = self.ds.evaluation(&self.replayed(effects, values));
         ev.metrics
             .values()
             .all(|m| m.sse_est.is_finite())
@@ -58,8 +69,8 @@ impl Ctx<'_> {
         values: &[f64],
         factors: &BTreeMap<ChannelKind, f64>,
     ) -> Option<Vec<f64>> {
-        self.eval(effects, values)
-            .map(|e| e.weighted_with(factors, self.resample))
+        self.ds
+            .weighted(&self.replayed(effects, values), factors, self.resample)
     }
 
     fn infos(&self, effects: &[Arc<dyn Effect>]) -> Vec<ParamInfo> {
@@ -152,26 +163,27 @@ impl Ctx<'_> {
             .collect();
         // Candidate starts: the given ones and, with `scan`, points from the null values
         // towards the far bounds (all free parameters together), against multimodal costs.
-        // The LM runs from the best two.
+        // The LM runs from the best two (by BIC; the earlier point first among equals), each
+        // with the evaluation that ranked it.
         let mut evaluations = 0;
-        let mut points: Vec<(f64, Vec<f64>)> = Vec::new();
-        for s in starts {
-            let x = full(&free.iter().map(|&j| s[j]).collect::<Vec<_>>(), s);
+        let mut top: Vec<(f64, Vec<f64>, Evaluation)> = Vec::with_capacity(3);
+        let mut consider = |x: Vec<f64>| {
             evaluations += 1;
             if let Some(ev) = self.eval(effects, &x) {
-                points.push((bic_rs(&ev, 0, self.resample), x));
+                let b = bic_rs(&ev, 0, self.resample);
+                let at = top.partition_point(|(t, ..)| t.total_cmp(&b).is_le());
+                top.insert(at, (b, x, ev));
+                top.truncate(2);
             }
+        };
+        for s in starts {
+            consider(full(&free.iter().map(|&j| s[j]).collect::<Vec<_>>(), s));
         }
         if let (Some(from), Some(first)) = (scan, starts.first()) {
             for x in scan_points(&infos, excited, first, from) {
-                evaluations += 1;
-                if let Some(ev) = self.eval(effects, &x) {
-                    points.push((bic_rs(&ev, 0, self.resample), x));
-                }
+                consider(x);
             }
         }
-        points.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let starts: Vec<Vec<f64>> = points.into_iter().take(2).map(|(_, x)| x).collect();
         type Best = (
             f64,
             crate::lm::LmResult,
@@ -180,19 +192,16 @@ impl Ctx<'_> {
             Evaluation,
         );
         let mut best: Option<Best> = None;
-        for s in &starts {
-            let mut x = s.clone();
-            let Some(mut ev) = self.eval(effects, &x) else {
-                continue;
-            };
-            evaluations += 1;
+        for (_, mut x, mut ev) in top {
             let mut result = None;
             // Iteratively reweighted: weights from the residuals, fit, new weights, … .
             for _ in 0..3 {
                 let factors = ev.ml_factors();
                 let x0: Vec<f64> = free.iter().map(|&j| x[j]).collect();
                 let f = |xf: &[f64]| self.weighted(effects, &full(xf, &null), &factors);
-                let Some(r) = minimise(&f, &x0, &lo, &hi, &scale, &self.lm) else {
+                // The residuals at the start are those of `ev` (x is `full(x0, null)`).
+                let e0 = ev.weighted_with(&factors, self.resample);
+                let Some(r) = minimise_from(&f, &x0, Some(e0), &lo, &hi, &scale, &self.lm) else {
                     break;
                 };
                 evaluations += r.evaluations + 1;

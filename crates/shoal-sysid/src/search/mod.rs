@@ -93,6 +93,7 @@
 
 mod fit;
 mod identify;
+mod memo;
 mod orchestrate;
 mod pairs;
 mod par;

@@ -2,6 +2,7 @@
 //! rounds, backward checks and swaps, then identifiability, stability and the verdict.
 
 use super::fit::Ctx;
+use super::memo::Memo;
 use super::rules::{bic, heldout_ratio, judge, skipped};
 use super::{
     Candidate, Fit, FormScore, Outcome, SearchOptions, identify, pairs, par_map, refine, stability,
@@ -185,6 +186,7 @@ pub fn search(
         cov: None,
         cov_white: None,
     };
+    let memo = Memo::new(Memo::BUDGET);
     let ctx = Ctx {
         ds,
         base,
@@ -192,6 +194,7 @@ pub fn search(
         opts,
         resample: None,
         lm: opts.lm,
+        memo: &memo,
     };
     let fams = families(&opts.effects);
     let mut candidates = Vec::new();

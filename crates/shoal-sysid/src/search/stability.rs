@@ -50,6 +50,7 @@ pub(super) fn frequencies(
                 max_iterations: REFIT_ITERATIONS,
                 ..opts.lm
             },
+            memo: s.ctx.memo,
         };
         // Refit everything (no effect is named "")…
         let Some(full) = ctx.without(stepwise, "", &s.baseline) else {

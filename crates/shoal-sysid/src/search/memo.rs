@@ -1,0 +1,145 @@
+//! Replays already made in one search, by model.
+//!
+//! A fit replays the log for every parameter vector it tries, and some vectors come back: the
+//! point where one Levenberg–Marquardt pass stops is where the next pass (with new weights)
+//! starts and takes its Jacobian, and a fit is evaluated in full where its minimisation
+//! ended. A replay depends only on the model — not on the residual weights, nor on a
+//! stability resample — so the search keeps its latest replays here and takes them again
+//! instead of simulating twice. The numbers are the same either way: a search's result does
+//! not depend on what the memo held, only its time does.
+
+use crate::data::Replayed;
+use shoal_model::effects::Effect;
+use std::collections::VecDeque;
+use std::sync::{Arc, Mutex};
+
+/// The replays a search keeps, most recently used last, within a memory budget.
+pub(super) struct Memo {
+    entries: Mutex<Entries>,
+    /// Most bytes of replayed series kept.
+    budget: usize,
+}
+
+#[derive(Default)]
+struct Entries {
+    list: VecDeque<(Key, Arc<Replayed>)>,
+    bytes: usize,
+}
+
+/// A model of the search: its effects (family and form) and their parameter values, bit for
+/// bit.
+#[derive(Clone, PartialEq)]
+struct Key {
+    effects: Vec<(String, String)>,
+    values: Vec<u64>,
+}
+
+impl Memo {
+    /// Default budget \[bytes\]: about a hundred replays of a two-minute, 50 Hz log with four
+    /// channels; a long log keeps fewer.
+    pub const BUDGET: usize = 64 << 20;
+
+    /// An empty memo keeping at most `budget` bytes of replays (at least the latest one).
+    pub fn new(budget: usize) -> Self {
+        Self {
+            entries: Mutex::new(Entries::default()),
+            budget,
+        }
+    }
+
+    /// The replay of the model with `effects` at `values`: the kept one, or `replay()`'s
+    /// (then kept).
+    pub fn get_or_replay(
+        &self,
+        effects: &[Arc<dyn Effect>],
+        values: &[f64],
+        replay: impl FnOnce() -> Replayed,
+    ) -> Arc<Replayed> {
+        let key = Key {
+            effects: effects
+                .iter()
+                .map(|e| (e.name().to_string(), e.form().to_string()))
+                .collect(),
+            values: values.iter().map(|v| v.to_bits()).collect(),
+        };
+        {
+            let mut e = self.lock();
+            if let Some(i) = e.list.iter().rposition(|(k, _)| *k == key) {
+                let hit = e.list.remove(i).expect("index from rposition");
+                let r = hit.1.clone();
+                e.list.push_back(hit);
+                return r;
+            }
+        }
+        // Replayed outside the lock: the other threads go on meanwhile.
+        let r = Arc::new(replay());
+        let mut e = self.lock();
+        e.bytes += r.bytes();
+        e.list.push_back((key, r.clone()));
+        while e.bytes > self.budget && e.list.len() > 1 {
+            if let Some((_, old)) = e.list.pop_front() {
+                e.bytes -= old.bytes();
+            }
+        }
+        r
+    }
+
+    fn lock(&self) -> std::sync::MutexGuard<'_, Entries> {
+        // A panic elsewhere cannot leave the list half-changed (every change is one push or
+        // pop), so a poisoned lock is still usable.
+        self.entries.lock().unwrap_or_else(|p| p.into_inner())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn replayed(n: usize) -> Replayed {
+        Replayed::from_series(vec![vec![(vec![0.0; n], vec![1.0; n])]])
+    }
+
+    #[test]
+    fn a_model_is_replayed_once_while_it_is_kept() {
+        let lag = shoal_model::effects::by_name("thruster_lag").unwrap();
+        let fx = [lag];
+        let memo = Memo::new(1 << 20);
+        let mut calls = 0;
+        for _ in 0..3 {
+            memo.get_or_replay(&fx, &[0.4], || {
+                calls += 1;
+                replayed(10)
+            });
+        }
+        assert_eq!(calls, 1);
+        // Another value (even −0.0 against 0.0) is another model.
+        for v in [0.0, -0.0, 0.41] {
+            memo.get_or_replay(&fx, &[v], || {
+                calls += 1;
+                replayed(10)
+            });
+        }
+        assert_eq!(calls, 4);
+    }
+
+    #[test]
+    fn the_budget_drops_the_least_recently_used() {
+        let fx = [shoal_model::effects::by_name("thruster_lag").unwrap()];
+        // Each replay takes 2 × 8 × 1000 bytes: the budget holds two.
+        let memo = Memo::new(40_000);
+        let calls = std::cell::Cell::new(0);
+        let get = |v: f64| {
+            memo.get_or_replay(&fx, &[v], || {
+                calls.set(calls.get() + 1);
+                replayed(1000)
+            });
+        };
+        get(1.0);
+        get(2.0);
+        get(1.0); // 1.0 used last: 2.0 goes when 3.0 comes
+        get(3.0);
+        get(1.0);
+        get(2.0);
+        assert_eq!(calls.get(), 4);
+    }
+}
