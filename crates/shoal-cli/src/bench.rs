@@ -75,6 +75,8 @@ struct Cell {
     bytes_per_vehicle: f64,
     frames_per_s: f64,
     deliveries_per_s: f64,
+    /// Loops split over the thread pool during the measured steps.
+    parallel_dispatches: u64,
 }
 
 fn measure(desc: &WorldDesc, threads: usize, seconds: f64, warmup: u64) -> Cell {
@@ -90,6 +92,7 @@ fn measure(desc: &WorldDesc, threads: usize, seconds: f64, warmup: u64) -> Cell 
     let bytes = live_bytes().saturating_sub(before) as f64 / n as f64;
     sim.run(warmup);
     let (sent0, got0) = (sim.medium().started.0, sim.medium().delivered);
+    let split0 = sim.parallel_dispatches().total();
     let start = Instant::now();
     let mut steps = 0u64;
     let mut batch = 1u64;
@@ -108,6 +111,7 @@ fn measure(desc: &WorldDesc, threads: usize, seconds: f64, warmup: u64) -> Cell 
         bytes_per_vehicle: bytes,
         frames_per_s: (sim.medium().started.0 - sent0) as f64 / sim_s,
         deliveries_per_s: (sim.medium().delivered - got0) as f64 / sim_s,
+        parallel_dispatches: sim.parallel_dispatches().total() - split0,
     }
 }
 
@@ -186,6 +190,7 @@ pub fn bench(a: &BenchArgs) -> anyhow::Result<()> {
                 "table": "quiet", "vehicles": n, "threads": t, "steps": c.steps, "wall_s": c.wall_s,
                 "vehicle_steps_per_s": c.vehicle_steps_per_s, "real_time_factor": c.real_time,
                 "speed_up": speedup, "bytes_per_vehicle": c.bytes_per_vehicle,
+                "parallel_dispatches": c.parallel_dispatches,
                 "peak_rss_bytes": shoal_sim::output::peak_memory_bytes()
             }));
         }
@@ -231,7 +236,8 @@ pub fn bench(a: &BenchArgs) -> anyhow::Result<()> {
                     "table": "traffic", "vehicles": n, "threads": t, "steps": c.steps, "wall_s": c.wall_s,
                     "vehicle_steps_per_s": c.vehicle_steps_per_s, "real_time_factor": c.real_time,
                     "frames_per_s": c.frames_per_s, "deliveries_per_s": c.deliveries_per_s, "medium_share": share,
-                    "bytes_per_vehicle": c.bytes_per_vehicle, "peak_rss_bytes": shoal_sim::output::peak_memory_bytes()
+                    "bytes_per_vehicle": c.bytes_per_vehicle, "parallel_dispatches": c.parallel_dispatches,
+                    "peak_rss_bytes": shoal_sim::output::peak_memory_bytes()
                 }));
             }
         }

@@ -40,6 +40,9 @@ pub struct Row {
     pub cycles_per_vehicle_step: Option<f64>,
     /// Memory allocated per vehicle while building the world \[bytes\] (when reported).
     pub bytes_per_vehicle: Option<f64>,
+    /// Loops split over the thread pool during the measured steps (when reported; zero on
+    /// one thread and below [`shoal_sim::parallel::MIN_PARALLEL`] vehicles).
+    pub parallel_dispatches: Option<u64>,
 }
 
 /// What the machine is, for the table's head and the JSON file.
@@ -181,6 +184,9 @@ impl Bench {
                         .filter(|_| rate > 0.0)
                         .map(|hz| hz * threads as f64 / rate),
                     bytes_per_vehicle: f("bytes_per_vehicle"),
+                    parallel_dispatches: c
+                        .get("parallel_dispatches")
+                        .and_then(serde_json::Value::as_u64),
                 }
             })
             .collect())

@@ -153,8 +153,8 @@ fn every_shipped_world_checks() {
 
 /// Vehicles of the thread test: well above the threshold below which every loop runs on the
 /// calling thread ([`shoal_sim::parallel::MIN_PARALLEL`]), and enough that the medium's
-/// reception loop has more receivers than that in some steps (measured: in 44 steps of this
-/// run; with 400 vehicles in none, the beacons being spread over 50 ms).
+/// reception loop has more receivers than that in some steps (with 400 vehicles in none, the
+/// beacons being spread over 50 ms); the summary's `parallel_dispatches` shows it.
 const THREADS_VEHICLES: usize = 600;
 
 #[test]
@@ -202,6 +202,20 @@ fn one_and_two_threads_give_the_same_digest() {
     };
     let (s1, c1) = run("1");
     let (s2, c2) = run("2");
+    // The parallel path ran on 2 threads, in every kind of loop: each step's vehicle pass
+    // (300 steps), the behaviours on each control tick (0.05 s) and the medium's deliveries
+    // in some steps. None on 1 thread.
+    let split = |s: &serde_json::Value, kind: &str| {
+        s["parallel_dispatches"][kind]
+            .as_u64()
+            .unwrap_or_else(|| panic!("summary.json has no parallel_dispatches.{kind}"))
+    };
+    for kind in ["vehicles", "behaviour", "delivery"] {
+        assert_eq!(split(&s1, kind), 0, "{kind} on 1 thread");
+    }
+    assert_eq!(split(&s2, "vehicles"), 300, "{}", s2["parallel_dispatches"]);
+    assert_eq!(split(&s2, "behaviour"), 60, "{}", s2["parallel_dispatches"]);
+    assert!(split(&s2, "delivery") > 0, "{}", s2["parallel_dispatches"]);
     // The medium ran: every vehicle beaconed (at t ≈ 1 and 2 s at least) and a frame was
     // heard by several neighbours on average.
     let comm = &s1["comm"];
@@ -233,7 +247,7 @@ fn bench_prints_a_row_per_cell_and_writes_them_as_json() {
         .args([
             "bench",
             "--vehicles",
-            "1,20",
+            "1,300",
             "--threads",
             "1,2",
             "--seconds",
@@ -270,6 +284,9 @@ fn bench_prints_a_row_per_cell_and_writes_them_as_json() {
         assert!((1_000_000..2_000_000_000).contains(&rss), "{r}");
         assert_eq!(r["medium_share"].is_number(), r["traffic"] == true, "{r}");
         assert_eq!(r["cycles_per_vehicle_step"].is_number(), clock_known, "{r}");
+        // Loops are split over the pool with 2 threads and 300 vehicles only.
+        let split = r["parallel_dispatches"].as_u64().unwrap();
+        assert_eq!(split > 0, r["threads"] == 2 && r["vehicles"] == 300, "{r}");
     }
     // Without the traffic table; side by side with another binary (here: itself).
     let o = shoal()

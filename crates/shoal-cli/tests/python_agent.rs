@@ -15,7 +15,6 @@ mod common;
 
 use serde_json::Value;
 use shoal_bridge::protocol::{self, CType, flags, kind, mode};
-use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, ExitStatus, Stdio};
 use std::time::{Duration, Instant};
@@ -28,10 +27,6 @@ const SCHOOL_VEHICLES: u64 = 8;
 const RUN_TIMEOUT: Duration = Duration::from_secs(120);
 
 use common::repo;
-
-fn cargo() -> OsString {
-    std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into())
-}
 
 /// `python3`; fails the test (with what to install) when it does not run.
 fn python3() -> &'static str {
@@ -170,8 +165,8 @@ fn python_protocol_matches_rust_layout() {
 
     // The committed module is the generator's output (regenerate it after changing the
     // protocol: `cargo run -p shoal-bridge --example gen_python -- python/shoal/agent/protocol.py`).
-    let o = Command::new(cargo())
-        .args(["run", "-q", "-p", "shoal-bridge", "--example", "gen_python"])
+    // Built with `--workspace` like the other example agents (common::example_agent).
+    let o = Command::new(common::example_agent("gen_python"))
         .current_dir(repo())
         .output()
         .unwrap();

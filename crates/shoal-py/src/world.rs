@@ -599,6 +599,19 @@ impl World {
         self.threads
     }
 
+    /// The loops split over the thread pool since the world was built or reset, per kind:
+    /// `{"behaviour": n, "vehicles": n, "delivery": n}` (as `parallel_dispatches` in
+    /// `shoal run`'s summary.json). All zero on one thread and for loops under 256 vehicles.
+    #[getter]
+    fn parallel_dispatches<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let p = self.sim.parallel_dispatches();
+        let d = PyDict::new(py);
+        d.set_item("behaviour", p.behaviour)?;
+        d.set_item("vehicles", p.vehicles)?;
+        d.set_item("delivery", p.delivery)?;
+        Ok(d)
+    }
+
     /// The world's name.
     #[getter]
     fn name(&self) -> String {

@@ -4,20 +4,77 @@
 //! pool per world instead, so a single process can run (and benchmark) worlds on 1 and 2
 //! threads. Each vehicle's update depends only on its own data, so results are identical for
 //! any thread count.
+//!
+//! The pool counts the loops it actually split, per kind of loop ([`Dispatches`]): a test
+//! comparing 1 and 2 threads reads the count to prove that the parallel path ran at all
+//! (small loops stay on the calling thread, [`MIN_PARALLEL`]).
 
 use bevy_ecs::prelude::Resource;
 use bevy_tasks::{TaskPool, TaskPoolBuilder};
+use serde::Serialize;
+use shoal_model::lanes::LANES;
+use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
 
-/// Below this many items a loop runs on the calling thread only: a vehicle's update takes
+/// Below this many vehicles a loop runs on the calling thread only: a vehicle's update takes
 /// well under a microsecond, so smaller loops lose more to task hand-off than they gain
 /// (measured with `shoal bench`: 100 vehicles ran at 0.77× on 2 threads with a threshold of 32).
 pub const MIN_PARALLEL: usize = 256;
+
+/// The loops of a step that run on the pool.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Loop {
+    /// The behaviours of the vehicles on their control tick (one item per vehicle).
+    Behaviour,
+    /// The fused vehicle pass: control, actuation, integration, collisions, sensors (one item
+    /// per group of up to [`LANES`] vehicles).
+    Vehicles,
+    /// The medium's reception decisions (one item per vehicle that may hear a frame ending in
+    /// the step).
+    Delivery,
+}
+
+impl Loop {
+    /// Vehicles in one item of the loop (at most).
+    const fn vehicles_per_item(self) -> usize {
+        match self {
+            Loop::Vehicles => LANES,
+            Loop::Behaviour | Loop::Delivery => 1,
+        }
+    }
+
+    const fn index(self) -> usize {
+        self as usize
+    }
+}
+
+/// How many loops of each kind a world split over its pool (each call of
+/// [`Parallel::for_each`] that took the parallel path counts once). Always zero on one thread.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct Dispatches {
+    /// Behaviour loops split.
+    pub behaviour: u64,
+    /// Vehicle passes split.
+    pub vehicles: u64,
+    /// Medium delivery loops split.
+    pub delivery: u64,
+}
+
+impl Dispatches {
+    /// All loops split.
+    pub fn total(&self) -> u64 {
+        self.behaviour + self.vehicles + self.delivery
+    }
+}
 
 /// The thread pool of one world.
 #[derive(Resource)]
 pub struct Parallel {
     threads: usize,
     pool: Option<TaskPool>,
+    /// The smallest loop split over the pool \[vehicles\].
+    min_parallel: usize,
+    /// Loops split, by [`Loop`].
+    dispatches: [AtomicU64; 3],
 }
 
 impl Parallel {
@@ -31,7 +88,12 @@ impl Parallel {
                 .thread_name("shoal-worker".into())
                 .build()
         });
-        Self { threads, pool }
+        Self {
+            threads,
+            pool,
+            min_parallel: MIN_PARALLEL,
+            dispatches: Default::default(),
+        }
     }
 
     /// Number of working threads.
@@ -39,10 +101,36 @@ impl Parallel {
         self.threads
     }
 
-    /// Calls `f` on every item, in parallel chunks when worthwhile.
-    pub fn for_each<T: Send>(&self, items: &mut [T], f: impl Fn(&mut T) + Sync) {
+    /// The smallest loop split over the pool \[vehicles\]: [`MIN_PARALLEL`] unless changed by
+    /// [`Parallel::set_min_parallel`].
+    pub fn min_parallel(&self) -> usize {
+        self.min_parallel
+    }
+
+    /// Splits loops of at least `vehicles` (≥ 1) vehicles over the pool. Results do not
+    /// depend on it (nor on the thread count); tests lower it to run the parallel path on
+    /// small worlds.
+    pub fn set_min_parallel(&mut self, vehicles: usize) {
+        self.min_parallel = vehicles.max(1);
+    }
+
+    /// The loops split over the pool so far.
+    pub fn dispatches(&self) -> Dispatches {
+        let [behaviour, vehicles, delivery] = [Loop::Behaviour, Loop::Vehicles, Loop::Delivery]
+            .map(|k| self.dispatches[k.index()].load(Relaxed));
+        Dispatches {
+            behaviour,
+            vehicles,
+            delivery,
+        }
+    }
+
+    /// Calls `f` on every item of the loop `kind`, in parallel chunks when the loop has at
+    /// least [`Parallel::min_parallel`] vehicles and the pool has workers.
+    pub fn for_each<T: Send>(&self, kind: Loop, items: &mut [T], f: impl Fn(&mut T) + Sync) {
         match &self.pool {
-            Some(pool) if items.len() >= MIN_PARALLEL => {
+            Some(pool) if items.len() * kind.vehicles_per_item() >= self.min_parallel => {
+                self.dispatches[kind.index()].fetch_add(1, Relaxed);
                 let chunk = items.len().div_ceil(self.threads * 4);
                 let f = &f;
                 pool.scope(|s| {
@@ -65,8 +153,38 @@ mod tests {
         for threads in [1, 2, 3] {
             let p = Parallel::new(threads);
             let mut v: Vec<u64> = (0..1000).collect();
-            p.for_each(&mut v, |x| *x = *x * 2 + 1);
+            p.for_each(Loop::Delivery, &mut v, |x| *x = *x * 2 + 1);
             assert!(v.iter().enumerate().all(|(i, x)| *x == 2 * i as u64 + 1));
+            let split = u64::from(threads > 1);
+            assert_eq!(
+                p.dispatches(),
+                Dispatches {
+                    delivery: split,
+                    ..Dispatches::default()
+                }
+            );
         }
+    }
+
+    #[test]
+    fn splits_loops_of_at_least_min_parallel_vehicles() {
+        let mut p = Parallel::new(2);
+        let mut groups = vec![0u8; MIN_PARALLEL / LANES];
+        let mut vehicles = vec![0u8; MIN_PARALLEL - 1];
+        // Groups of LANES vehicles count as LANES each; one vehicle short stays serial.
+        p.for_each(Loop::Vehicles, &mut groups, |x| *x += 1);
+        p.for_each(Loop::Behaviour, &mut vehicles, |x| *x += 1);
+        assert_eq!(
+            p.dispatches(),
+            Dispatches {
+                vehicles: 1,
+                ..Dispatches::default()
+            }
+        );
+        p.set_min_parallel(1);
+        p.for_each(Loop::Behaviour, &mut vehicles[..1], |x| *x += 1);
+        assert_eq!(p.dispatches().behaviour, 1);
+        assert_eq!(p.dispatches().total(), 2);
+        assert!(groups.iter().all(|x| *x == 1) && vehicles[0] == 2 && vehicles[1] == 1);
     }
 }

@@ -6,7 +6,7 @@ use crate::comm::{CommStats, Inbox, Medium, Modems, Outbox, comm_rng};
 use crate::components::*;
 use crate::connectivity::Connectivity;
 use crate::fault::{FaultFlag, SimFault};
-use crate::parallel::Parallel;
+use crate::parallel::{Dispatches, Parallel};
 use crate::recorder::{self, RecordBatch};
 use crate::systems::build_schedule;
 use crate::view::VehicleView;
@@ -294,6 +294,21 @@ impl Sim {
     /// Working threads.
     pub fn threads(&self) -> usize {
         self.world.resource::<Parallel>().threads()
+    }
+
+    /// The loops this world split over its thread pool since it was built, per kind: zero on
+    /// one thread, and for loops smaller than [`Parallel::min_parallel`] vehicles.
+    pub fn parallel_dispatches(&self) -> Dispatches {
+        self.world.resource::<Parallel>().dispatches()
+    }
+
+    /// Splits loops of at least `vehicles` (≥ 1) vehicles over the thread pool
+    /// ([`crate::parallel::MIN_PARALLEL`] by default). Results do not depend on it; tests
+    /// lower it to run a small world's loops on the pool.
+    pub fn set_min_parallel(&mut self, vehicles: usize) {
+        self.world
+            .resource_mut::<Parallel>()
+            .set_min_parallel(vehicles);
     }
 
     /// The ECS world (for tools that add systems or read components).

@@ -10,7 +10,7 @@ use crate::comm::{Inbox, Outbox, comm_deliver_system, comm_snapshot_system, comm
 use crate::components::*;
 use crate::connectivity::connectivity_system;
 use crate::fault::{FaultFlag, NonFinite};
-use crate::parallel::Parallel;
+use crate::parallel::{Loop, Parallel};
 use crate::recorder;
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::SingleThreadedExecutor;
@@ -113,6 +113,7 @@ pub fn behaviour_system(
         .filter(|it| it.4.behaviour.every_step() || step.is_multiple_of(it.3.every))
         .collect();
     par.for_each(
+        Loop::Behaviour,
         &mut items,
         |(id, kind, sensors, control, behave, inbox, outbox)| {
             let b = &mut **behave;
@@ -190,7 +191,7 @@ pub fn vehicle_system(
             break;
         }
         let mut groups: Vec<_> = items.chunks_mut(LANES).collect();
-        par.for_each(&mut groups, |group| {
+        par.for_each(Loop::Vehicles, &mut groups, |group| {
             let mut before: [Option<RigidState>; LANES] = Default::default();
             let mut nu0 = [Vec6::zeros(); LANES];
             for (i, (kind, sensors, control, act, p, _, _)) in group.iter_mut().enumerate() {

@@ -427,7 +427,8 @@ fn carrier_sense_avoids_collisions_that_aloha_suffers() {
 
 #[test]
 fn medium_statistics_are_identical_on_one_and_two_threads() {
-    // 300 beaconing vehicles: above the parallel threshold, so delivery runs on the pool.
+    // 300 beaconing vehicles: above the parallel threshold, and dense enough that more than
+    // that many may hear the frames ending in some steps, so delivery runs on the pool.
     // Random headings: in a grid facing one way every LED would point at the back of the
     // vehicle ahead, whose photodiode looks away.
     let t = "seed = 2\nduration = 30\n[pool]\nsize = [14.0, 14.0, 3.0]\n\
@@ -444,6 +445,15 @@ fn medium_statistics_are_identical_on_one_and_two_threads() {
             },
         );
         sim.run(500);
+        // The parallel path ran on 2 threads: every step's vehicle pass, every control tick's
+        // behaviours (0.05 s) and the medium's deliveries in some steps; on 1 thread none.
+        let split = sim.parallel_dispatches();
+        if threads == 1 {
+            assert_eq!(split.total(), 0, "{split:?}");
+        } else {
+            assert_eq!((split.vehicles, split.behaviour), (500, 100), "{split:?}");
+            assert!(split.delivery > 0, "delivery never on the pool: {split:?}");
+        }
         let s: Vec<_> = (0..300)
             .map(|i| {
                 let c = stats(&sim, i);

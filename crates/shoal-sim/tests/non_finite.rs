@@ -9,8 +9,10 @@ use shoal_sim::prelude::*;
 use shoal_world::load::load_str;
 use std::path::Path;
 
-const WORLD: &str = "dt = 0.01\n[pool]\nsize = [10.0, 10.0, 3.0]\n\
-    [[vehicles]]\nname = \"a\"\ncount = 3\ngrid = { origin = [2.0, 2.0, 1.0], spacing = [1.0, 0.0], columns = 3 }\n";
+/// 300 vehicles on a 0.5 m grid: above [`shoal_sim::parallel::MIN_PARALLEL`], so on 2 threads
+/// the vehicle pass that finds the fault runs on the pool.
+const WORLD: &str = "dt = 0.01\n[pool]\nsize = [14.0, 14.0, 3.0]\n\
+    [[vehicles]]\nname = \"a\"\ncount = 300\ngrid = { origin = [2.0, 2.0, 1.0], spacing = [0.5, 0.5], columns = 20 }\n";
 
 fn run(threads: usize) -> (Sim, u64) {
     let desc = load_str(WORLD, Path::new("test.toml")).unwrap_or_else(|e| panic!("{e}"));
@@ -41,6 +43,9 @@ fn run(threads: usize) -> (Sim, u64) {
 fn a_non_finite_state_is_reported_with_vehicle_time_and_last_finite_state() {
     for threads in [1, 2] {
         let (sim, steps) = run(threads);
+        // 26 steps: each vehicle pass split over the pool on 2 threads, none on 1.
+        let split = sim.parallel_dispatches();
+        assert_eq!(split.vehicles, 26 * (threads as u64 - 1), "{split:?}");
         let f = sim.fault().expect("the overflow must be reported");
         assert_eq!(steps, 1, "reported in the step that produced it");
         assert_eq!(f.vehicle, 1);

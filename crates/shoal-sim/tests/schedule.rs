@@ -49,7 +49,7 @@ fn a_conflicting_unordered_system_is_detected() {
 fn one_and_two_threads_give_identical_results() {
     let desc = swarm();
     assert_eq!(desc.vehicles.len(), 600);
-    assert!(desc.vehicles.len() >= shoal_sim::parallel::MIN_PARALLEL);
+    const { assert!(600 >= shoal_sim::parallel::MIN_PARALLEL) };
     let mut digests = Vec::new();
     for threads in [1, 2] {
         let mut sim = Sim::new(
@@ -61,6 +61,16 @@ fn one_and_two_threads_give_identical_results() {
         );
         assert_eq!(sim.threads(), threads);
         sim.run(1000);
+        // The parallel path ran on 2 threads: every step's vehicle pass was split over the
+        // pool (600 vehicles, one batch); nothing is split on 1 thread.
+        let split = sim.parallel_dispatches();
+        let expected = if threads == 1 { 0 } else { 1000 };
+        assert_eq!(split.vehicles, expected, "{threads} thread(s): {split:?}");
+        assert_eq!(
+            split.total(),
+            expected,
+            "no behaviours, no frames: {split:?}"
+        );
         let rows = sim.drain();
         digests.push((sim.digest(), rows.rows));
     }

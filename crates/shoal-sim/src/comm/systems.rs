@@ -7,7 +7,7 @@ use super::grid::Grid;
 use super::medium::{Logical, Medium, Transmission, received_power};
 use super::stats::{CommStats, DIST_BIN, DIST_BINS, Outcome, latency_bin};
 use crate::components::{Kind, Physics, StaticGeometry, VehicleId};
-use crate::parallel::Parallel;
+use crate::parallel::{Loop, Parallel};
 use crate::rng::VehicleRng;
 use bevy_ecs::prelude::*;
 use rand::RngExt;
@@ -381,35 +381,40 @@ pub fn comm_deliver_system(
     // Outcomes by second (a step reaches into the next second at most) and kind.
     let second0 = t0.floor();
     let counts: [[AtomicU64; 5]; 2] = Default::default();
-    par.for_each(&mut items, |(id, kind, inbox, rng, stats)| {
-        let frames = &frames_of[start[id.0 as usize] as usize..start[id.0 as usize + 1] as usize];
-        let mut scratch = Scratch::default();
-        let mut mine = [[0u64; 5]; 2];
-        for &i in frames {
-            let l = &logical[i as usize];
-            let o = receive(
-                m,
-                geo,
-                id.0,
-                &kind.0,
-                &own,
-                l,
-                &mut rng.0,
-                stats,
-                inbox,
-                &mut scratch,
-            );
-            let s = usize::from(l.first().end.floor() > second0);
-            mine[s][o.index()] += 1;
-        }
-        for (c, m) in counts.iter().zip(&mine) {
-            for (a, k) in c.iter().zip(m) {
-                if *k > 0 {
-                    a.fetch_add(*k, Relaxed);
+    par.for_each(
+        Loop::Delivery,
+        &mut items,
+        |(id, kind, inbox, rng, stats)| {
+            let frames =
+                &frames_of[start[id.0 as usize] as usize..start[id.0 as usize + 1] as usize];
+            let mut scratch = Scratch::default();
+            let mut mine = [[0u64; 5]; 2];
+            for &i in frames {
+                let l = &logical[i as usize];
+                let o = receive(
+                    m,
+                    geo,
+                    id.0,
+                    &kind.0,
+                    &own,
+                    l,
+                    &mut rng.0,
+                    stats,
+                    inbox,
+                    &mut scratch,
+                );
+                let s = usize::from(l.first().end.floor() > second0);
+                mine[s][o.index()] += 1;
+            }
+            for (c, m) in counts.iter().zip(&mine) {
+                for (a, k) in c.iter().zip(m) {
+                    if *k > 0 {
+                        a.fetch_add(*k, Relaxed);
+                    }
                 }
             }
-        }
-    });
+        },
+    );
     for (s, c) in counts.iter().enumerate() {
         let c: [u64; 5] = std::array::from_fn(|k| c[k].load(Relaxed));
         if c.iter().all(|k| *k == 0) {

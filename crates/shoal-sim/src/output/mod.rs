@@ -19,6 +19,7 @@
 
 use crate::comm_report::VehicleComm;
 use crate::files::{CsvFile, FileError, write_whole};
+use crate::parallel::Dispatches;
 use crate::plot::{Outline, Plot, PlotError, Series};
 use crate::recorder::{self, RecordBatch, col, mode_of_code};
 use crate::sim::Sim;
@@ -628,6 +629,10 @@ pub struct Summary {
     pub vehicles: usize,
     /// Working threads.
     pub threads: usize,
+    /// The loops split over the thread pool, per kind (all zero on one thread and for loops
+    /// under [`crate::parallel::MIN_PARALLEL`] vehicles): proof that a run took the parallel
+    /// path.
+    pub parallel_dispatches: Dispatches,
     /// Physics step \[s\].
     pub dt_s: f64,
     /// Steps run.
@@ -767,6 +772,7 @@ impl Summary {
             seed: desc.seed,
             vehicles: snaps.len(),
             threads: sim.threads(),
+            parallel_dispatches: sim.parallel_dispatches(),
             dt_s: desc.dt,
             steps: sim.step_count(),
             simulated_s: simulated,
