@@ -72,6 +72,21 @@ struct RunPlan {
     trace_kinds: Vec<ChannelKind>,
     /// The compared channels, in the order of [`RunData::channels`].
     channels: Vec<ChannelPlan>,
+    /// The physics steps a replay must take for the estimation samples of every channel
+    /// (the grid point after the last one, for its interpolation); `None` when the run has
+    /// no estimation samples (a hold-out run).
+    estimation_steps: Option<usize>,
+}
+
+/// Which samples a replay is made for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Part {
+    /// Every sample: the estimation and the held-out (validation) ones.
+    All,
+    /// The estimation samples only: each run is replayed up to its last estimation sample
+    /// (a free-run prediction never looks ahead, so they are the same as in a whole replay),
+    /// hold-out runs not at all. What a fit's inner loop needs.
+    Estimation,
 }
 
 /// One compared channel of a [`RunPlan`].
@@ -86,6 +101,9 @@ struct ChannelPlan {
     measured: Vec<f64>,
     /// Whether each sample is estimation data.
     est: Vec<bool>,
+    /// How many samples an estimation replay compares: the estimation samples, which come
+    /// first (samples are in time order; all of them in the unlikely case they are not).
+    n_est: usize,
     /// Each sample time's position on the replay's grid ([`grid_position`]), for a model
     /// without a sensor delay.
     grid: Vec<(usize, f64)>,
@@ -112,10 +130,18 @@ impl RunPlan {
                 if c.kind.is_angle() {
                     unwrap(&mut measured);
                 }
+                let est: Vec<bool> = times.iter().map(|&t| t < rd.split_time).collect();
+                let leading = est.iter().take_while(|&&e| e).count();
+                let n_est = if est[leading..].iter().any(|&e| e) {
+                    est.len()
+                } else {
+                    leading
+                };
                 ChannelPlan {
                     kind: c.kind,
                     col: trace_kinds.iter().position(|k| *k == c.kind).unwrap_or(0),
-                    est: times.iter().map(|&t| t < rd.split_time).collect(),
+                    est,
+                    n_est,
                     grid: times
                         .iter()
                         .map(|&t| grid_position(t0, replay.dt, n, t))
@@ -124,10 +150,19 @@ impl RunPlan {
                     measured,
                 }
             })
-            .collect();
+            .collect::<Vec<ChannelPlan>>();
+        // The grid point after the last compared sample: its interpolation reads it (a
+        // sensor delay reads earlier points only).
+        let estimation_steps = channels
+            .iter()
+            .filter(|c| c.n_est > 0)
+            .map(|c| c.grid[c.n_est - 1].0 + 1)
+            .max()
+            .map(|k| k.min(n - 1));
         Self {
             trace_kinds,
             channels,
+            estimation_steps,
         }
     }
 }
@@ -282,17 +317,27 @@ impl Dataset {
 
     /// Replays every run on `model` and compares with the measurements.
     pub fn evaluate(&self, model: &VehicleModel) -> Evaluation {
-        self.evaluation(&self.replayed(model))
+        self.evaluation(&self.replayed(model, Part::All))
     }
 
-    /// Replays every run on `model`: each compared channel's predictions and residuals.
-    pub fn replayed(&self, model: &VehicleModel) -> Replayed {
+    /// Replays every run on `model` for the samples of `part`: each compared channel's
+    /// predictions and residuals.
+    pub fn replayed(&self, model: &VehicleModel, part: Part) -> Replayed {
         let delay = model.effects.delay();
         let runs = self
             .runs
             .iter()
             .zip(&self.plans)
             .map(|(rd, plan)| {
+                let (max_steps, compared) = match part {
+                    Part::All => (usize::MAX, None),
+                    // A negative delay (none exists) would read ahead: then everything.
+                    Part::Estimation if delay >= 0.0 => match plan.estimation_steps {
+                        Some(k) => (k, Some(())),
+                        None => return vec![(Vec::new(), Vec::new()); plan.channels.len()],
+                    },
+                    Part::Estimation => (usize::MAX, Some(())),
+                };
                 let trace = simulate_with(
                     model,
                     &self.env,
@@ -302,21 +347,25 @@ impl Dataset {
                     &plan.trace_kinds,
                     &self.replay,
                     &self.masses,
+                    max_steps,
                 );
                 plan.channels
                     .iter()
                     .map(|cp| {
+                        let n = compared.map_or(cp.times.len(), |()| cp.n_est);
                         let (mut predicted, mut resid) = (Vec::new(), Vec::new());
-                        compare(cp, &trace, delay, &mut predicted, &mut resid);
+                        compare(cp, n, &trace, delay, &mut predicted, &mut resid);
                         (predicted, resid)
                     })
                     .collect()
             })
             .collect();
-        Replayed { runs }
+        Replayed { runs, part }
     }
 
-    /// The evaluation of a replay of this dataset.
+    /// The evaluation of a replay of this dataset. Of a replay of [`Part::Estimation`], it
+    /// holds the estimation samples only: its estimation metrics are those of the whole
+    /// replay, its validation metrics are of no samples.
     pub fn evaluation(&self, replayed: &Replayed) -> Evaluation {
         let runs = self
             .runs
@@ -330,13 +379,16 @@ impl Dataset {
                     .channels
                     .iter()
                     .zip(channels)
-                    .map(|(cp, (predicted, resid))| ChannelResult {
-                        kind: cp.kind,
-                        times: cp.times.clone(),
-                        measured: cp.measured.clone(),
-                        predicted: predicted.clone(),
-                        resid: resid.clone(),
-                        est: cp.est.clone(),
+                    .map(|(cp, (predicted, resid))| {
+                        let n = predicted.len();
+                        ChannelResult {
+                            kind: cp.kind,
+                            times: cp.times[..n].to_vec(),
+                            measured: cp.measured[..n].to_vec(),
+                            predicted: predicted.clone(),
+                            resid: resid.clone(),
+                            est: cp.est[..n].to_vec(),
+                        }
                     })
                     .collect(),
             })
@@ -384,14 +436,23 @@ impl Dataset {
 /// [`Dataset::weighted`] derive everything else.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Replayed {
-    /// Per run, per compared channel: (predicted, residual) per sample (channel units).
+    /// Per run, per compared channel: (predicted, residual) per sample (channel units); the
+    /// leading samples of `part` (none of a hold-out run's for [`Part::Estimation`]).
     runs: Vec<Vec<(Vec<f64>, Vec<f64>)>>,
+    /// The samples it holds.
+    part: Part,
 }
 
 impl Replayed {
-    /// From its series: per run, per compared channel, (predicted, residual) per sample.
-    pub fn from_series(runs: Vec<Vec<(Vec<f64>, Vec<f64>)>>) -> Self {
-        Self { runs }
+    /// From its series: per run, per compared channel, (predicted, residual) for the leading
+    /// samples of `part`.
+    pub fn from_series(runs: Vec<Vec<(Vec<f64>, Vec<f64>)>>, part: Part) -> Self {
+        Self { runs, part }
+    }
+
+    /// The samples it holds.
+    pub fn part(&self) -> Part {
+        self.part
     }
 
     /// The bytes its series take.
@@ -433,8 +494,9 @@ fn push_weighted(
     }
 }
 
-/// Compares one channel with a replay: its predictions (`predicted`) and residuals
-/// measured − predicted (`resid`), both replaced. The replay is read `delay` \[s\] earlier
+/// Compares the leading `n` samples of one channel with a replay (which must reach them):
+/// their predictions (`predicted`) and residuals measured − predicted (`resid`), both
+/// replaced. The replay is read `delay` \[s\] earlier
 /// than each sample time (a sensor delay); angles are compared as continuous series whose
 /// difference starts within (−π, π] (modulo 2π, yet a model that falls behind by a turn is a
 /// turn wrong, and the fit sees a smooth cost instead of one folded at ±π); a channel with a
@@ -442,6 +504,7 @@ fn push_weighted(
 /// samples in a hold-out run, which has no estimation samples).
 fn compare(
     cp: &ChannelPlan,
+    n: usize,
     trace: &Trace,
     delay: f64,
     predicted: &mut Vec<f64>,
@@ -449,11 +512,11 @@ fn compare(
 ) {
     predicted.clear();
     if delay == 0.0 {
-        predicted.extend(cp.grid.iter().map(|&g| trace.at_position(cp.col, g)));
+        predicted.extend(cp.grid[..n].iter().map(|&g| trace.at_position(cp.col, g)));
     } else {
-        predicted.extend(cp.times.iter().map(|&t| trace.at(cp.col, t - delay)));
+        predicted.extend(cp.times[..n].iter().map(|&t| trace.at(cp.col, t - delay)));
     }
-    let measured = &cp.measured;
+    let measured = &cp.measured[..n];
     if cp.kind.is_angle() {
         unwrap(predicted);
         if let (Some(y0), Some(p0)) = (measured.first(), predicted.first()) {
@@ -470,6 +533,7 @@ fn compare(
         // the validation part continues the replay from it, so a prediction is judged over
         // the whole held-out stretch, drift included.
         let use_est = cp.est.iter().any(|&e| e);
+        // (`resid` holds the leading `n` samples: all of those the offset is taken from.)
         let part = || {
             resid
                 .iter()

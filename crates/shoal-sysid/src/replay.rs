@@ -328,12 +328,14 @@ pub fn simulate(
         kinds,
         opts,
         &MassTable::default(),
+        usize::MAX,
     )
 }
 
-/// [`simulate`], taking the mass properties of each ballast volume from `masses` (and
-/// keeping there those it computes): the same trace, without a matrix factorisation per
-/// pumping step when the table already holds the volume.
+/// [`simulate`] for at most `max_steps` physics steps (the trace then ends early, and is the
+/// same as far as it goes), taking the mass properties of each ballast volume from `masses`
+/// (and keeping there those it computes): the same numbers, without a matrix factorisation
+/// per pumping step when the table already holds the volume.
 pub fn simulate_with(
     model: &VehicleModel,
     env: &Environment,
@@ -343,11 +345,12 @@ pub fn simulate_with(
     kinds: &[ChannelKind],
     opts: &ReplayOptions,
     masses: &MassTable,
+    max_steps: usize,
 ) -> Trace {
     let p = &model.params;
     let dt = opts.dt;
     let t0 = run.t[0];
-    let steps = replay_steps(run, dt);
+    let steps = replay_steps(run, dt).min(max_steps);
     let env_vehicle = model.environment(env);
     let mut rigid = RigidState::at_rest(
         init.position,

@@ -5,7 +5,7 @@ use super::memo::Memo;
 use super::rules::bic_rs;
 use super::{Fit, FittedEffect, ParamEstimate, SearchOptions};
 use crate::blocks::Resample;
-use crate::data::{Dataset, Evaluation, Replayed};
+use crate::data::{Dataset, Evaluation, Part, Replayed};
 use crate::lm::{LmOptions, minimise_from};
 use crate::run::ChannelKind;
 use crate::stats;
@@ -47,16 +47,28 @@ impl Ctx<'_> {
         VehicleModel::with_effects(self.base.clone(), Effects::new(list), self.ds.env.density)
     }
 
-    /// The replay of the model with `effects` at `values` (from the memo when it was made
-    /// before).
-    fn replayed(&self, effects: &[Arc<dyn Effect>], values: &[f64]) -> Arc<Replayed> {
-        self.memo.get_or_replay(effects, values, || {
-            self.ds.replayed(&self.model(effects, values))
+    /// The replay of the model with `effects` at `values` for the samples of `part` (from the
+    /// memo when it was made before).
+    fn replayed(&self, effects: &[Arc<dyn Effect>], values: &[f64], part: Part) -> Arc<Replayed> {
+        self.memo.get_or_replay(effects, values, part, || {
+            self.ds.replayed(&self.model(effects, values), part)
         })
     }
 
+    /// The evaluation of the model with `effects` at `values` on every sample, or `None` when
+    /// a sum of squared estimation residuals is not finite.
     pub fn eval(&self, effects: &[Arc<dyn Effect>], values: &[f64]) -> Option<Evaluation> {
-        let ev = self.ds.evaluation(&self.replayed(effects, values));
+        self.eval_part(effects, values, Part::All)
+    }
+
+    /// [`Ctx::eval`] on the samples of `part` (see [`Dataset::evaluation`]).
+    fn eval_part(
+        &self,
+        effects: &[Arc<dyn Effect>],
+        values: &[f64],
+        part: Part,
+    ) -> Option<Evaluation> {
+        let ev = self.ds.evaluation(&self.replayed(effects, values, part));
         ev.metrics
             .values()
             .all(|m| m.sse_est.is_finite())
@@ -69,8 +81,11 @@ impl Ctx<'_> {
         values: &[f64],
         factors: &BTreeMap<ChannelKind, f64>,
     ) -> Option<Vec<f64>> {
-        self.ds
-            .weighted(&self.replayed(effects, values), factors, self.resample)
+        self.ds.weighted(
+            &self.replayed(effects, values, Part::Estimation),
+            factors,
+            self.resample,
+        )
     }
 
     fn infos(&self, effects: &[Arc<dyn Effect>]) -> Vec<ParamInfo> {
@@ -164,12 +179,13 @@ impl Ctx<'_> {
         // Candidate starts: the given ones and, with `scan`, points from the null values
         // towards the far bounds (all free parameters together), against multimodal costs.
         // The LM runs from the best two (by BIC; the earlier point first among equals), each
-        // with the evaluation that ranked it.
+        // with the evaluation that ranked it. Until the LM is done, everything is decided on
+        // the estimation samples (BIC, weights, residuals): their replays stop there.
         let mut evaluations = 0;
         let mut top: Vec<(f64, Vec<f64>, Evaluation)> = Vec::with_capacity(3);
         let mut consider = |x: Vec<f64>| {
             evaluations += 1;
-            if let Some(ev) = self.eval(effects, &x) {
+            if let Some(ev) = self.eval_part(effects, &x, Part::Estimation) {
                 let b = bic_rs(&ev, 0, self.resample);
                 let at = top.partition_point(|(t, ..)| t.total_cmp(&b).is_le());
                 top.insert(at, (b, x, ev));

@@ -8,7 +8,7 @@
 //! instead of simulating twice. The numbers are the same either way: a search's result does
 //! not depend on what the memo held, only its time does.
 
-use crate::data::Replayed;
+use crate::data::{Part, Replayed};
 use shoal_model::effects::Effect;
 use std::collections::VecDeque;
 use std::sync::{Arc, Mutex};
@@ -34,6 +34,12 @@ struct Key {
     values: Vec<u64>,
 }
 
+/// Whether a kept replay of `have` serves a request for `want` (a whole replay holds the
+/// estimation samples too).
+fn serves(have: Part, want: Part) -> bool {
+    have == want || have == Part::All
+}
+
 impl Memo {
     /// Default budget \[bytes\]: about a hundred replays of a two-minute, 50 Hz log with four
     /// channels; a long log keeps fewer.
@@ -47,12 +53,13 @@ impl Memo {
         }
     }
 
-    /// The replay of the model with `effects` at `values`: the kept one, or `replay()`'s
-    /// (then kept).
+    /// The replay of the model with `effects` at `values` for the samples of `part`: a kept
+    /// one that holds them, or `replay()`'s (then kept).
     pub fn get_or_replay(
         &self,
         effects: &[Arc<dyn Effect>],
         values: &[f64],
+        part: Part,
         replay: impl FnOnce() -> Replayed,
     ) -> Arc<Replayed> {
         let key = Key {
@@ -64,7 +71,11 @@ impl Memo {
         };
         {
             let mut e = self.lock();
-            if let Some(i) = e.list.iter().rposition(|(k, _)| *k == key) {
+            if let Some(i) = e
+                .list
+                .iter()
+                .rposition(|(k, r)| *k == key && serves(r.part(), part))
+            {
                 let hit = e.list.remove(i).expect("index from rposition");
                 let r = hit.1.clone();
                 e.list.push_back(hit);
@@ -96,7 +107,7 @@ mod tests {
     use super::*;
 
     fn replayed(n: usize) -> Replayed {
-        Replayed::from_series(vec![vec![(vec![0.0; n], vec![1.0; n])]])
+        Replayed::from_series(vec![vec![(vec![0.0; n], vec![1.0; n])]], Part::All)
     }
 
     #[test]
@@ -106,7 +117,7 @@ mod tests {
         let memo = Memo::new(1 << 20);
         let mut calls = 0;
         for _ in 0..3 {
-            memo.get_or_replay(&fx, &[0.4], || {
+            memo.get_or_replay(&fx, &[0.4], Part::All, || {
                 calls += 1;
                 replayed(10)
             });
@@ -114,12 +125,25 @@ mod tests {
         assert_eq!(calls, 1);
         // Another value (even −0.0 against 0.0) is another model.
         for v in [0.0, -0.0, 0.41] {
-            memo.get_or_replay(&fx, &[v], || {
+            memo.get_or_replay(&fx, &[v], Part::All, || {
                 calls += 1;
                 replayed(10)
             });
         }
         assert_eq!(calls, 4);
+        // A whole replay serves a request for the estimation samples; not the other way.
+        memo.get_or_replay(&fx, &[0.4], Part::Estimation, || unreachable!("kept"));
+        let partial =
+            |n| Replayed::from_series(vec![vec![(vec![0.0; n], vec![1.0; n])]], Part::Estimation);
+        memo.get_or_replay(&fx, &[0.5], Part::Estimation, || {
+            calls += 1;
+            partial(5)
+        });
+        let whole = memo.get_or_replay(&fx, &[0.5], Part::All, || {
+            calls += 1;
+            replayed(10)
+        });
+        assert_eq!((calls, whole.part()), (6, Part::All));
     }
 
     #[test]
@@ -129,7 +153,7 @@ mod tests {
         let memo = Memo::new(40_000);
         let calls = std::cell::Cell::new(0);
         let get = |v: f64| {
-            memo.get_or_replay(&fx, &[v], || {
+            memo.get_or_replay(&fx, &[v], Part::All, || {
                 calls.set(calls.get() + 1);
                 replayed(1000)
             });
