@@ -824,7 +824,9 @@ fn the_effect_catalogue_is_plain_text() {
         assert!(stdout.contains(&head), "{head:?} missing:\n{stdout}");
         for p in e.params(&shoal_model::presets::uauv2()) {
             assert!(
-                stdout.lines().any(|l| l.trim_start().starts_with(p.name) && l.contains(p.doc)),
+                stdout
+                    .lines()
+                    .any(|l| l.trim_start().starts_with(p.name) && l.contains(p.doc)),
                 "{} of {} missing",
                 p.name,
                 e.name()
