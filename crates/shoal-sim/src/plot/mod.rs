@@ -716,6 +716,37 @@ mod tests {
         assert!(clip_polyline(&[(5.0, 5.0)], (0.0, 1.0), (0.0, 1.0)).is_empty());
     }
 
+    /// A title too long for the image is drawn smaller, not cut off at the image's edges.
+    #[test]
+    fn a_long_title_fits_the_image() {
+        let dir = std::env::temp_dir().join(format!("shoal_plot_title_{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let plot = Plot {
+            title: "a title far too long for a plot 600 pixels wide, written in 20-pixel \
+                    letters it would run past both edges of the image"
+                .into(),
+            series: vec![Series {
+                points: vec![(0.0, 0.0), (1.0, 1.0)],
+                ..Default::default()
+            }],
+            size: (600, 300),
+            ..Default::default()
+        };
+        plot.write(&dir.join("title")).unwrap();
+        let img = image::open(dir.join("title.png")).unwrap().to_rgb8();
+        // The caption band: some text in it, none in the outer 4 px on either side.
+        let dark = |x: u32, y: u32| img.get_pixel(x, y).0.iter().all(|&c| c < 128);
+        let inked = (0..30).flat_map(|y| (0..600).map(move |x| (x, y)));
+        assert!(inked.clone().any(|(x, y)| dark(x, y)), "no title drawn");
+        assert!(
+            !inked
+                .filter(|&(x, _)| !(4..596).contains(&x))
+                .any(|(x, y)| dark(x, y)),
+            "the title runs off the image"
+        );
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
     #[test]
     fn plots_with_legends_anywhere_are_written() {
         let dir = std::env::temp_dir().join(format!("shoal_plot_test_{}", std::process::id()));
