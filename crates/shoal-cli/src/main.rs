@@ -20,6 +20,7 @@
 mod alloc;
 mod bench;
 mod bench_rows;
+mod effects;
 mod render;
 mod run;
 mod signals;
@@ -58,13 +59,16 @@ enum Command {
     /// Compare measured runs with the vehicle model: what it gets wrong, which catalogue
     /// effects explain it, the fitted extension (vehicle.toml) and its validation gain.
     Validate(validate::ValidateArgs),
-    /// Print the effect catalogue of `validate` as a Markdown table: every parameter with its
-    /// unit, bounds (for the given vehicle) and null value.
+    /// Print the effect catalogue of `validate`: every effect and form with its parameters'
+    /// units, bounds (for the given vehicle) and null values.
     Effects {
         /// Vehicle model in the world-file format (bounds depend on it) [default: the μAUV²
         /// preset].
         #[arg(long, value_name = "FILE")]
         vehicle: Option<PathBuf>,
+        /// Print the Markdown table of docs/validation.md instead of plain text.
+        #[arg(long)]
+        markdown: bool,
     },
     /// Run a sweep: many runs of a world with parameters varied, one table (locally, as a
     /// Slurm job array, or as a Kubernetes Indexed Job); see docs/sweeps.md.
@@ -105,7 +109,7 @@ fn main() -> ExitCode {
         Command::Preset { name } => run::preset(&name),
         Command::Sweep(a) => sweep::main(&a),
         Command::Validate(a) => validate::validate(&a),
-        Command::Effects { vehicle } => validate::effects_table(vehicle.as_deref()),
+        Command::Effects { vehicle, markdown } => effects::print(vehicle.as_deref(), markdown),
         Command::Bench(a) => bench::bench(&a)
             .map(|()| ExitCode::SUCCESS)
             .map_err(Failure::Other),

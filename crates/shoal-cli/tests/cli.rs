@@ -777,11 +777,12 @@ fn bluerov_logs_are_explained_better_on_hold_out_runs() {
     assert!(o.status.success(), "{:?}", text(&o));
 }
 
-/// `shoal effects` lists every catalogue effect with its parameters, and docs/validation.md
-/// shows exactly that table for the μAUV² preset (so the docs cannot drift from the code).
+/// `shoal effects --markdown` lists every catalogue effect with its parameters, and
+/// docs/validation.md shows exactly that table for the μAUV² preset (so the docs cannot drift
+/// from the code).
 #[test]
 fn effect_catalogue_table_matches_the_docs() {
-    let o = shoal().arg("effects").output().unwrap();
+    let o = shoal().args(["effects", "--markdown"]).output().unwrap();
     let (stdout, stderr) = text(&o);
     assert!(o.status.success(), "{stderr}");
     for name in shoal_model::effects::names() {
@@ -801,11 +802,11 @@ fn effect_catalogue_table_matches_the_docs() {
         .collect();
     assert_eq!(
         doc_rows, table,
-        "docs/validation.md is out of date: paste the output of `shoal effects`"
+        "docs/validation.md is out of date: paste the output of `shoal effects --markdown`"
     );
     // Bounds follow the vehicle; the BlueROV has no tank.
     let o = shoal()
-        .args(["effects", "--vehicle"])
+        .args(["effects", "--markdown", "--vehicle"])
         .arg(repo().join("worlds/bluerov1.toml"))
         .output()
         .unwrap();
@@ -816,6 +817,41 @@ fn effect_catalogue_table_matches_the_docs() {
         blue.contains("does not apply: the vehicle has no buoyancy tank"),
         "{blue}"
     );
+}
+
+/// `shoal effects` prints plain text for people: every effect, form and parameter, and not
+/// one Markdown escape, table rule or code span.
+#[test]
+fn the_effect_catalogue_is_plain_text() {
+    let o = shoal().arg("effects").output().unwrap();
+    let (stdout, stderr) = text(&o);
+    assert!(o.status.success(), "{stderr}");
+    for markup in ["\\", "`", "|---", "**"] {
+        assert!(
+            !stdout.contains(markup),
+            "`shoal effects` prints Markdown ({markup:?}):\n{stdout}"
+        );
+    }
+    assert!(
+        !stdout.lines().any(|l| l.starts_with('|')),
+        "`shoal effects` prints a Markdown table:\n{stdout}"
+    );
+    for e in shoal_model::effects::catalogue() {
+        let head = format!("\n{} ({}): {}\n", e.name(), e.form(), e.summary());
+        assert!(stdout.contains(&head), "{head:?} missing:\n{stdout}");
+        for p in e.params(&shoal_model::presets::uauv2()) {
+            assert!(
+                stdout
+                    .lines()
+                    .any(|l| l.trim_start().starts_with(p.name) && l.contains(p.doc)),
+                "{} of {} missing",
+                p.name,
+                e.name()
+            );
+        }
+    }
+    // The summaries hold a literal |n| (a magnitude), printed as it is.
+    assert!(stdout.contains("k·(|n|/50 %)^e"), "{stdout}");
 }
 
 /// `links.csv` (per second) and `connectivity.csv` (per second) against the summary: the

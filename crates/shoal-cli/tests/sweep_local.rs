@@ -51,7 +51,10 @@ fn the_smoke_sweep_gives_the_runs_numbers_and_a_second_call_recomputes_nothing()
         );
         assert_eq!(s["simulated_s"].as_f64(), Some(20.0));
         assert_eq!(row["digest"], s["digest"].as_str().unwrap());
-        assert_eq!(row["delivery_ratio"], num(&s["comm"]["delivery_ratio"]));
+        assert_eq!(
+            row["delivery_ratio_in_range"],
+            num(&s["comm"]["delivery_ratio"])
+        );
         assert_eq!(row["frames_sent"], s["comm"]["frames_sent"].to_string());
         let n = s["vehicles"].as_f64().unwrap();
         let conn = s["comm"]["connectivity"].as_array().unwrap();
@@ -75,7 +78,7 @@ fn the_smoke_sweep_gives_the_runs_numbers_and_a_second_call_recomputes_nothing()
             .sum();
         assert_eq!(row["impacts"], impacts.to_string());
         // Real traffic: frames went out and some arrived.
-        let dr: f64 = row["delivery_ratio"].parse().unwrap();
+        let dr: f64 = row["delivery_ratio_in_range"].parse().unwrap();
         assert!(dr > 0.0 && dr <= 1.0, "{row:?}");
         assert!(row["frames_sent"].parse::<u64>().unwrap() > 100, "{row:?}");
         assert!(row["wall_s"].parse::<f64>().unwrap() > 0.0);
@@ -110,9 +113,20 @@ fn the_smoke_sweep_gives_the_runs_numbers_and_a_second_call_recomputes_nothing()
     // The aggregate table (4 points) and 5 metrics × 2 parameters figures (PNG and SVG).
     let agg = std::fs::read_to_string(out.join("aggregate.csv")).unwrap();
     assert_eq!(agg.lines().count(), 5, "{agg}");
-    assert!(agg.starts_with("vehicles.0.count,water.attenuation,runs_ok,delivery_ratio_mean,"));
+    assert!(
+        agg.starts_with("vehicles.0.count,water.attenuation,runs_ok,delivery_ratio_in_range_mean,")
+    );
     let plots = std::fs::read_dir(out.join("plots")).unwrap().count();
     assert_eq!(plots, 20);
+    // The delivery ratio rises in turbid water because it counts only receivers within the
+    // (shorter) cut-off range: its column and its axis say so.
+    let svg =
+        std::fs::read_to_string(out.join("plots/delivery_ratio_in_range_vs_water_attenuation.svg"))
+            .unwrap();
+    assert!(
+        svg.contains("delivered / receptions by vehicles within the cut-off range"),
+        "the delivery ratio's axis does not say what it counts"
+    );
 
     // Again: nothing is run, nothing is rewritten.
     let results: Vec<_> = rows

@@ -133,6 +133,7 @@ fn formation(
         links_kept: links.len(),
         links_total: links.len() as u64,
         timeline: Timeline::default(),
+        outcomes: shoal_sim::replay::outcome_key(),
     };
     ReplayData {
         meta,

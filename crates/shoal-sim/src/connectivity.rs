@@ -31,6 +31,10 @@ pub struct Connectivity {
     pub samples: Vec<ConnSample>,
     /// Edges of the last sample.
     pub last_edges: Vec<(u32, u32)>,
+    /// When the last sample has no edge but an earlier one had: the last sample that had
+    /// edges (its index in `samples`) and its edges, moved here when the graph emptied (so a
+    /// run whose traffic ended early can still show who heard whom; [`Connectivity::last_busy`]).
+    pub busy: Option<(usize, Vec<(u32, u32)>)>,
     dt: f64,
 }
 
@@ -42,7 +46,18 @@ impl Connectivity {
             window: 2.0,
             samples: Vec::new(),
             last_edges: Vec::new(),
+            busy: None,
             dt,
+        }
+    }
+
+    /// The last sample with at least one edge, and its edges: the last sample, or the last
+    /// one before the graph emptied; `None` when no frame was ever delivered.
+    pub fn last_busy(&self) -> Option<(&ConnSample, &[(u32, u32)])> {
+        match (&self.busy, self.samples.last()) {
+            (_, Some(last)) if !self.last_edges.is_empty() => Some((last, &self.last_edges)),
+            (Some((k, edges)), _) => Some((self.samples.get(*k)?, edges)),
+            _ => None,
         }
     }
 }
@@ -102,5 +117,14 @@ pub fn connectivity_system(
         components,
         edges: edges.len(),
     });
+    if edges.is_empty() {
+        if !conn.last_edges.is_empty() {
+            // The graph just emptied: keep the last edges it had (moved, not copied).
+            let k = conn.samples.len() - 2;
+            conn.busy = Some((k, std::mem::take(&mut conn.last_edges)));
+        }
+    } else {
+        conn.busy = None;
+    }
     conn.last_edges = edges;
 }

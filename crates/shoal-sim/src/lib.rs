@@ -5,7 +5,8 @@
 //! ([`parallel`]), a trajectory recorder ([`recorder`]) and run outputs ([`output`], [`plot`];
 //! [`ci_plot`]: means with confidence intervals, for parameter studies), each file written
 //! whole or not at all ([`files`]); external agents, independent of their
-//! transport ([`agents`]); whole-swarm reads and commands through flat arrays ([`batch`]).
+//! transport ([`agents`]); whole-swarm reads and commands through flat arrays ([`batch`]);
+//! one colour key for link outcomes wherever they are drawn ([`link_key`]).
 //! Long work (building a world, running it, drawing plots) can be
 //! stopped early through a [`shoal_world::cancel::Cancel`].
 
@@ -21,6 +22,7 @@ pub mod components;
 pub mod connectivity;
 pub mod fault;
 pub mod files;
+pub mod link_key;
 pub mod output;
 pub mod parallel;
 pub mod plot;

@@ -481,18 +481,8 @@ fn medium_statistics_are_identical_on_one_and_two_threads() {
 
 #[test]
 fn gossip_floods_the_swarm_hop_by_hop_at_the_pace_of_ticks_and_airtime() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../worlds/gossip.toml");
-    let desc = shoal_world::load::load_file(&path).unwrap();
+    let (desc, sim) = support::world::run_world_file("gossip");
     assert!(desc.vehicles.len() >= 50);
-    let mut sim = Sim::new(
-        &desc,
-        SimOptions {
-            threads: 1,
-            record: false,
-        },
-    );
-    sim.run(desc.steps());
-    sim.fold_comm();
     let snaps = sim.views();
     let c = shoal_sim::comm_report::summarize(&desc, &sim, &snaps).unwrap();
     let g = c.gossip.unwrap();

@@ -83,6 +83,54 @@ fn the_replay_renders_in_headless_chromium() {
     let _ = std::fs::remove_dir_all(&d);
 }
 
+/// The page draws link lines and its legend in the colours of the one key
+/// (`shoal_sim::link_key`), which it reads from the header.
+#[test]
+fn links_and_legend_wear_the_colours_of_the_one_key() {
+    let d = dir("key");
+    let page = demo_page(&d);
+    let out = chromium(
+        &page,
+        "#t=10&paused",
+        &["--virtual-time-budget=2000", "--dump-dom"],
+    );
+    let dom = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(html_attr(&dom, "data-status").as_deref(), Some("ok"));
+    let key = &shoal_sim::link_key::LINK_KEY;
+    let hex: Vec<String> = key
+        .iter()
+        .map(|k| shoal_sim::link_key::hex(k.outcome))
+        .collect();
+    // The colours the link lines are drawn in.
+    assert_eq!(html_attr(&dom, "data-link-colors"), Some(hex.join(" ")));
+    // The legend: one swatch per outcome, in its colour, with its label.
+    let at = dom.find("id=\"link-legend\"").expect("no link legend");
+    let legend = &dom[at..at + dom[at..].find("id=\"groups\"").unwrap()];
+    let swatches: Vec<(String, String)> = legend
+        .split("<div>")
+        .skip(1)
+        .map(|row| {
+            let bg = row.split("background: ").nth(1).unwrap_or("");
+            let colour = bg[..bg.find(';').unwrap_or(0)].to_string();
+            let label = row[row.find("</i>").map_or(0, |i| i + 4)..]
+                .split('<')
+                .next()
+                .unwrap_or("")
+                .to_string();
+            (label, colour)
+        })
+        .collect();
+    let want: Vec<(String, String)> = key
+        .iter()
+        .map(|k| {
+            let (r, g, b) = k.rgb;
+            (k.label.to_string(), format!("rgb({r}, {g}, {b})"))
+        })
+        .collect();
+    assert_eq!(swatches, want, "{legend}");
+    let _ = std::fs::remove_dir_all(&d);
+}
+
 /// The text of the element with the id `id` in `dom` (up to the next tag).
 fn text_of<'a>(dom: &'a str, id: &str) -> Option<&'a str> {
     let open = format!("id=\"{id}\"");

@@ -6,7 +6,7 @@
 //!
 //! ```toml
 //! [metrics]
-//! delivery_ratio = "comm.delivery_ratio"
+//! delivery_ratio_in_range = "comm.delivery_ratio"
 //! final_largest = { path = "comm.connectivity.-1.largest", divide_by = "vehicles" }
 //! mean_largest = { path = "comm.connectivity.*.largest", reduce = "mean", divide_by = "vehicles" }
 //! impacts = { path = "groups.*.impacts", reduce = "sum" }
@@ -88,6 +88,26 @@ pub const SCHEMA: &[&str] = &[
     "comm.gossip.mean_time_per_hop_s",
     "comm.gossip.informed_over_time[][]",
 ];
+
+/// What summary fields measure where their names alone would mislead, for the figures' axes:
+/// (path, meaning). The delivery ratio counts only receptions by vehicles within the water's
+/// cut-off range (`comm.cutoff_range_m`, 5.4 m in pool water, 1.4 m in a turbid harbour), so
+/// it rises in turbid water, where only the nearest neighbours are in range.
+pub const MEANINGS: &[(&str, &str)] = &[
+    (
+        "comm.delivery_ratio",
+        "delivered / receptions by vehicles within the cut-off range",
+    ),
+    (
+        "comm.receptions.attempts",
+        "receptions by vehicles within the cut-off range",
+    ),
+];
+
+/// The meaning of the summary field `path` from [`MEANINGS`], if it has one.
+pub fn meaning(path: &str) -> Option<&'static str> {
+    MEANINGS.iter().find(|(p, _)| *p == path).map(|(_, m)| *m)
+}
 
 /// How the entries selected by `*` become one value.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]

@@ -163,7 +163,9 @@ pub fn figure(plan: &Plan, rows: &[Row], m: usize, p: usize) -> CiPlot {
         (Some(r), Some(d)) => format!("{:?} of {} / {d}", r, metric.path).to_lowercase(),
         (Some(r), None) => format!("{:?} of {}", r, metric.path).to_lowercase(),
         (None, Some(d)) => format!("{} / {d}", metric.path),
-        (None, None) => metric.path.clone(),
+        // A field whose name alone misleads is named by what it counts.
+        (None, None) => super::metrics::meaning(&metric.path)
+            .map_or_else(|| metric.path.clone(), str::to_string),
     };
     CiPlot {
         title: format!(
@@ -215,6 +217,29 @@ pub fn write(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sweep::metrics::Metric;
+
+    /// The delivery ratio's axis says what it counts, whatever the sweep calls its column.
+    #[test]
+    fn the_delivery_ratio_axis_names_receptions_in_range() {
+        let plan = Plan {
+            name: "s".into(),
+            sweep_file: String::new(),
+            parameters: vec!["water.attenuation".into()],
+            metrics: vec![Metric {
+                name: "delivery_ratio".into(),
+                path: "comm.delivery_ratio".into(),
+                reduce: None,
+                divide_by: None,
+            }],
+            runs: Vec::new(),
+        };
+        let f = figure(&plan, &[], 0, 0);
+        assert_eq!(
+            f.y_label,
+            "delivery_ratio (delivered / receptions by vehicles within the cut-off range)"
+        );
+    }
 
     #[test]
     fn the_interval_is_students_t() {

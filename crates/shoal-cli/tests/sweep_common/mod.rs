@@ -91,7 +91,7 @@ pub const SMOKE_HEADER: [&str; 14] = [
     "status",
     "error",
     "digest",
-    "delivery_ratio",
+    "delivery_ratio_in_range",
     "frames_sent",
     "largest_fraction_end",
     "largest_fraction_mean",

@@ -19,6 +19,7 @@
  * Status for headless tests: every 10 rendered frames (and after the first) <html> gets
  * data-status="ok" data-frames-rendered data-vehicles data-mean-frame-ms data-mean-update-ms
  * data-gl-renderer data-three-revision, and document.title says how many frames were rendered;
+ * data-link-colors lists the colours the link lines are drawn in (from meta.outcomes);
  * data-decoder says how the base64 was decoded (fromBase64 or atob).
  * Failures are recorded by the guard script in <head> (data-status="error", data-errors).
  */
@@ -51,13 +52,23 @@
     var tl = meta.timeline || {};
     var SECONDS = (tl.attempted || []).length;
 
-    var OUTCOMES = [ // code → name, colour, alpha, how far the line reaches towards the receiver
-      { name: 'delivered', color: [0.95, 0.98, 1.0], alpha: 0.95, reach: 1.0 },
-      { name: 'collided', color: [1.0, 0.23, 0.19], alpha: 0.9, reach: 0.85 },
-      { name: 'occluded', color: [0.60, 0.63, 0.65], alpha: 0.7, reach: 0.5 },
-      { name: 'out of budget', color: [1.0, 0.69, 0.0], alpha: 0.6, reach: 0.65 },
-      { name: 'half-duplex', color: [0.82, 0.42, 1.0], alpha: 0.85, reach: 0.85 }
+    // Link outcomes by code: name and colour from the header (meta.outcomes, the one colour
+    // key of shoal_sim::link_key; no colour is written here), alpha and how far the line
+    // reaches towards the receiver from LINE_STYLE.
+    var LINE_STYLE = [
+      { alpha: 0.95, reach: 1.0 },   // delivered
+      { alpha: 0.9, reach: 0.85 },   // collided
+      { alpha: 0.7, reach: 0.5 },    // occluded
+      { alpha: 0.6, reach: 0.65 },   // out of budget
+      { alpha: 0.85, reach: 0.85 }   // half-duplex
     ];
+    var OUTCOMES = (meta.outcomes || []).map(function (o, k) {
+      var c = new THREE.Color(o.color);   // sRGB → the renderer's linear working space
+      var st = LINE_STYLE[k] || LINE_STYLE[3];
+      return { name: o.name, hex: o.color, color: [c.r, c.g, c.b], alpha: st.alpha, reach: st.reach };
+    });
+    if (OUTCOMES.length < 5) throw new Error('replay data: the header has ' + OUTCOMES.length + ' link outcomes, not 5');
+    document.documentElement.dataset.linkColors = OUTCOMES.map(function (o) { return o.hex; }).join(' ');
     var LINK_WINDOW_S = 0.3;   // link events shown this long after they happen [s]
     var MAX_LINES = 20000;     // link lines drawn at once at most
     var TRAIL_S = 4;           // trail length [s]
@@ -209,6 +220,16 @@
     scrub.max = String(T_END);
     $('trails').checked = state.trails;
     $('trails').disabled = trailFrames < 2;
+    $('link-legend').innerHTML = '';
+    OUTCOMES.forEach(function (o, k) {
+      var div = document.createElement('div');
+      var sw = document.createElement('i');
+      sw.className = k === 0 ? 'sw' : 'sw short';   // lost frames stop short
+      sw.style.background = o.hex;
+      div.appendChild(sw);
+      div.appendChild(document.createTextNode(o.name));
+      $('link-legend').appendChild(div);
+    });
     $('groups').innerHTML = '';
     (meta.groups || []).forEach(function (g, i) {
       var div = document.createElement('div');
@@ -388,12 +409,13 @@
       for (var k = 0; k < SECONDS; k++) maxCol = Math.max(maxCol, tl.collided[k] || 0);
       // Collisions per second: bars, scaled to the largest.
       if (maxCol > 0) {
-        c.fillStyle = 'rgba(255, 59, 48, 0.45)';
+        c.fillStyle = OUTCOMES[1].hex; c.globalAlpha = 0.45;
         for (k = 0; k < SECONDS; k++) {
           var bh = ph * (tl.collided[k] || 0) / maxCol;
           var xa = tlX(k, w), xb = tlX(Math.min(k + 1, T_END), w);
           c.fillRect(xa, y0 - bh, Math.max(1, xb - xa - 0.5), bh);
         }
+        c.globalAlpha = 1;
       }
       function series(values, color) {
         c.strokeStyle = color; c.lineWidth = 1.5; c.beginPath();
@@ -407,12 +429,12 @@
         }
         c.stroke();
       }
-      series(function (k) { return tl.attempted[k] > 0 ? tl.delivered[k] / tl.attempted[k] : NaN; }, '#7ee787');
+      series(function (k) { return tl.attempted[k] > 0 ? tl.delivered[k] / tl.attempted[k] : NaN; }, OUTCOMES[0].hex);
       series(function (k) { return tl.largest_fraction ? tl.largest_fraction[k] : NaN; }, '#58a6ff');
       c.font = '10px system-ui, sans-serif';
       c.textBaseline = 'top';
-      var labels = [['delivery ratio', '#7ee787'], ['largest component / vehicles', '#58a6ff'],
-        ['collisions/s (max ' + maxCol + ')', '#ff6b61']];
+      var labels = [['delivery ratio', OUTCOMES[0].hex], ['largest component / vehicles', '#58a6ff'],
+        ['collisions/s (max ' + maxCol + ')', OUTCOMES[1].hex]];
       var lx = TL_PAD.l + 2;
       labels.forEach(function (l) {
         c.fillStyle = l[1]; c.fillText(l[0], lx, 1); lx += c.measureText(l[0]).width + 14;

@@ -2,7 +2,8 @@
 //! sample, units in the column names), `summary.json` (small for any vehicle count),
 //! `vehicles.csv` (one row per vehicle), and plots (`depth.png/svg`: depth of
 //! every vehicle against time with its setpoint; `top.png/svg`: tracks seen from above with
-//! the pool and obstacles). [`Summary::to_text`] is the end-of-run report for people.
+//! the pool and obstacles; `heading.png/svg`; drawn by `plots`). [`Summary::to_text`] is the
+//! end-of-run report for people.
 //!
 //! **Whole files only.** Every file goes through [`crate::files`]: it is written under a
 //! temporary name (`.<name>.tmp`) and renamed when complete. `trajectories.csv` is streamed
@@ -20,7 +21,7 @@
 use crate::comm_report::VehicleComm;
 use crate::files::{CsvFile, FileError, write_whole};
 use crate::parallel::Dispatches;
-use crate::plot::{Outline, Plot, PlotError, Series};
+use crate::plot::{Plot, PlotError};
 use crate::recorder::{self, RecordBatch, col, mode_of_code};
 use crate::sim::Sim;
 use crate::view::VehicleView;
@@ -33,6 +34,7 @@ use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use vehicles_csv::{format_num, write_vehicles_csv};
 
+mod plots;
 mod vehicles_csv;
 
 /// An output failure (names the file).
@@ -344,168 +346,6 @@ impl RunOutput {
             let _ = write_summary(&json_path, &summary);
         }
         outcome.map(|()| summary)
-    }
-
-    fn shown(&self) -> Vec<usize> {
-        (0..self.acc.len()).step_by(self.plot_stride).collect()
-    }
-
-    fn depth_plot(&self, desc: &WorldDesc) -> Plot {
-        let shown = self.shown();
-        let mut series = Vec::new();
-        let mut labelled = vec![false; desc.groups.len()];
-        for &i in &shown {
-            let g = desc.vehicles[i].group;
-            let a = &self.acc[i];
-            series.push(Series {
-                label: (!labelled[g]).then(|| desc.groups[g].clone()),
-                points: a.plot.iter().map(|p| (p.t, p.depth)).collect(),
-                color: g,
-                ..Default::default()
-            });
-            labelled[g] = true;
-        }
-        // One setpoint line per group.
-        let mut done = vec![false; desc.groups.len()];
-        for &i in &shown {
-            let g = desc.vehicles[i].group;
-            if !done[g] {
-                done[g] = true;
-                series.push(Series {
-                    points: self.acc[i].plot.iter().map(|p| (p.t, p.depth_sp)).collect(),
-                    color: g,
-                    dashed: true,
-                    ..Default::default()
-                });
-            }
-        }
-        let note = if shown.len() < self.acc.len() {
-            format!(" ({} of {} vehicles)", shown.len(), self.acc.len())
-        } else {
-            String::new()
-        };
-        Plot {
-            title: format!(
-                "{}: depth reading (solid) and setpoint (dashed){note}",
-                desc.name
-            ),
-            x_label: "time [s]".into(),
-            y_label: "depth [m]".into(),
-            series,
-            y_down: true,
-            x_range: Some((0.0, desc.duration)),
-            ..Default::default()
-        }
-    }
-
-    /// Heading against time with the setpoint, for the vehicles drawn (degrees in (−180, 180];
-    /// a line is broken where it wraps).
-    fn heading_plot(&self, desc: &WorldDesc) -> Plot {
-        let wrapped = |pts: &mut dyn Iterator<Item = (f64, f64)>| {
-            let mut out: Vec<(f64, f64)> = Vec::new();
-            for (t, a) in pts {
-                let d = wrap_pi(a).to_degrees();
-                if let Some(&(_, prev)) = out.last()
-                    && (d - prev).abs() > 180.0
-                {
-                    out.push((f64::NAN, f64::NAN));
-                }
-                out.push((t, d));
-            }
-            out
-        };
-        let shown = self.shown();
-        let mut series = Vec::new();
-        let mut labelled = vec![false; desc.groups.len()];
-        let mut done = vec![false; desc.groups.len()];
-        for &i in &shown {
-            let g = desc.vehicles[i].group;
-            let a = &self.acc[i];
-            if !a.steered {
-                continue;
-            }
-            series.push(Series {
-                label: (!labelled[g]).then(|| desc.groups[g].clone()),
-                points: wrapped(&mut a.plot.iter().map(|p| (p.t, p.yaw))),
-                color: g,
-                ..Default::default()
-            });
-            labelled[g] = true;
-            if !done[g] {
-                done[g] = true;
-                series.push(Series {
-                    points: wrapped(&mut a.plot.iter().map(|p| (p.t, p.yaw_sp))),
-                    color: g,
-                    dashed: true,
-                    ..Default::default()
-                });
-            }
-        }
-        Plot {
-            title: format!("{}: heading (solid) and setpoint (dashed)", desc.name),
-            x_label: "time [s]".into(),
-            y_label: "heading [°]".into(),
-            series,
-            x_range: Some((0.0, desc.duration)),
-            y_range: Some((-180.0, 180.0)),
-            ..Default::default()
-        }
-    }
-
-    fn top_plot(&self, desc: &WorldDesc) -> Plot {
-        let pool = desc.geometry.pool;
-        // Map view: east to the right, north up.
-        let mut outlines = vec![Outline {
-            points: vec![(0.0, 0.0), (pool.y, 0.0), (pool.y, pool.x), (0.0, pool.x)],
-            filled: false,
-        }];
-        for ob in &desc.geometry.obstacles {
-            let points = ob
-                .top_outline(48)
-                .into_iter()
-                .map(|(x, y)| (y, x))
-                .collect();
-            outlines.push(Outline {
-                points,
-                filled: true,
-            });
-        }
-        let mut labelled = vec![false; desc.groups.len()];
-        let series: Vec<Series> = self
-            .shown()
-            .into_iter()
-            .map(|i| {
-                let g = desc.vehicles[i].group;
-                let s = Series {
-                    label: (!labelled[g]).then(|| desc.groups[g].clone()),
-                    points: self.acc[i].plot.iter().map(|p| (p.y, p.x)).collect(),
-                    color: g,
-                    mark_start: true,
-                    ..Default::default()
-                };
-                labelled[g] = true;
-                s
-            })
-            .collect();
-        // Zoomed to where the vehicles went.
-        let (east, north, size) = crate::plot::map_view(
-            (pool.x, pool.y),
-            series
-                .iter()
-                .flat_map(|s: &Series| s.points.iter().copied()),
-            700,
-        );
-        Plot {
-            title: format!("{}: tracks from above (dot = start)", desc.name),
-            x_label: "east y [m]".into(),
-            y_label: "north x [m]".into(),
-            series,
-            outlines,
-            x_range: Some(east),
-            y_range: Some(north),
-            size,
-            ..Default::default()
-        }
     }
 }
 

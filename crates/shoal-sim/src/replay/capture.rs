@@ -7,8 +7,8 @@
 //! nothing.
 
 use super::{
-    GroupMeta, LINK_BUDGET, LinkEvent, Meta, ObstacleMeta, Outcome, PANEL, PANEL_BUDGET_BYTES,
-    ReplayData, Timeline,
+    GroupMeta, LINK_BUDGET, LinkEvent, Meta, ObstacleMeta, PANEL, PANEL_BUDGET_BYTES, ReplayData,
+    Timeline,
 };
 use crate::comm::{CommStats, Medium, Outcome as CommOutcome};
 use crate::components::{Clock, Control, Physics, Sensors, VehicleId};
@@ -28,18 +28,6 @@ pub fn frame_dt(vehicles: usize, duration_s: f64, dt: f64) -> f64 {
     }
     // A 1e-9 relative tolerance so 0.1 / 0.01 stays 10 steps.
     (want / dt * (1.0 - 1e-9)).ceil().max(1.0) * dt
-}
-
-impl From<CommOutcome> for Outcome {
-    fn from(o: CommOutcome) -> Self {
-        match o {
-            CommOutcome::Delivered => Outcome::Delivered,
-            CommOutcome::Collision => Outcome::Collided,
-            CommOutcome::Occluded => Outcome::Occluded,
-            CommOutcome::Range => Outcome::OutOfBudget,
-            CommOutcome::HalfDuplex => Outcome::HalfDuplex,
-        }
-    }
 }
 
 /// The replay being gathered (an ECS resource).
@@ -109,6 +97,7 @@ impl ReplayRecorder {
             links_kept: 0,
             links_total: 0,
             timeline: Timeline::default(),
+            outcomes: super::outcome_key(),
         };
         Self {
             data: ReplayData {

@@ -277,6 +277,7 @@ pub fn demo(n_vehicles: usize, seconds: f64) -> ReplayData {
             links_kept: links.len(),
             links_total,
             timeline,
+            outcomes: super::outcome_key(),
         },
         pos,
         att,

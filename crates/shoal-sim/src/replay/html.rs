@@ -264,6 +264,28 @@ mod tests {
         let _ = std::fs::remove_dir_all(&d);
     }
 
+    /// The viewer writes no colour of a link outcome of its own: it takes them from the
+    /// header (`meta.outcomes`, the one key of `crate::link_key`).
+    #[test]
+    fn the_viewer_takes_link_colours_from_the_header() {
+        for (name, text) in [
+            ("replay.html", TEMPLATE),
+            ("replay.js", VIEWER),
+            ("replay.css", CSS),
+        ] {
+            let lower = text.to_ascii_lowercase();
+            for k in &crate::link_key::LINK_KEY {
+                let hex = crate::link_key::hex(k.outcome);
+                assert!(!lower.contains(&hex), "{name} writes {hex} ({})", k.label);
+            }
+        }
+        assert!(VIEWER.contains("meta.outcomes"));
+        assert!(
+            !TEMPLATE.contains("style=\"background"),
+            "replay.html has colour swatches of its own"
+        );
+    }
+
     #[test]
     fn every_marker_is_replaced() {
         let d = dir("markers");

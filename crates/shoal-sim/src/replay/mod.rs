@@ -75,42 +75,7 @@ pub const PANEL: [&str; 7] = [
     "neighbours",
 ];
 
-/// Outcome of a link attempt as coded in the `links` array.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[repr(u32)]
-pub enum Outcome {
-    /// Received.
-    Delivered = 0,
-    /// Lost to a collision with another frame (interference).
-    Collided = 1,
-    /// The line of sight was blocked (wall, obstacle or hull).
-    Occluded = 2,
-    /// Out of the link budget: range, angle or bit errors.
-    OutOfBudget = 3,
-    /// The receiver was transmitting (half-duplex).
-    HalfDuplex = 4,
-}
-
-impl Outcome {
-    /// Every outcome, in code order.
-    pub const ALL: [Outcome; 5] = [
-        Outcome::Delivered,
-        Outcome::Collided,
-        Outcome::Occluded,
-        Outcome::OutOfBudget,
-        Outcome::HalfDuplex,
-    ];
-
-    /// The outcome of the code `code` in the `links` array, if there is one.
-    pub fn from_code(code: u32) -> Option<Outcome> {
-        Self::ALL.get(usize::try_from(code).ok()?).copied()
-    }
-
-    /// Its code in the `links` array.
-    pub fn code(self) -> u32 {
-        self as u32
-    }
-}
+pub use crate::link_key::Outcome;
 
 /// Bytes of pose data per vehicle and frame: `pos` (3 × u16) and `att` (3 × i16).
 pub const POSE_BYTES_PER_VEHICLE_FRAME: usize = 12;
@@ -225,6 +190,31 @@ pub struct Meta {
     pub links_total: u64,
     /// Per-second link and connectivity series (the timeline strip).
     pub timeline: Timeline,
+    /// How the page shows each link outcome, by outcome code: [`outcome_key`], the one colour
+    /// key of [`crate::link_key`] (pages written before it existed get today's key).
+    #[serde(default = "outcome_key")]
+    pub outcomes: Vec<OutcomeMeta>,
+}
+
+/// How the page shows one link outcome.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct OutcomeMeta {
+    /// Legend label.
+    pub name: String,
+    /// Colour, `#rrggbb`.
+    pub color: String,
+}
+
+/// The colour key of link outcomes ([`crate::link_key::LINK_KEY`]) as the page's header
+/// carries it, by outcome code.
+pub fn outcome_key() -> Vec<OutcomeMeta> {
+    crate::link_key::LINK_KEY
+        .iter()
+        .map(|s| OutcomeMeta {
+            name: s.label.to_string(),
+            color: crate::link_key::hex(s.outcome),
+        })
+        .collect()
 }
 
 /// An obstacle, as three.js draws it.

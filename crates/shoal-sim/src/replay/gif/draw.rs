@@ -319,7 +319,7 @@ impl<'s> Dynamic<'s> {
             // Links, losses over deliveries.
             if self.opts.links {
                 let events = scene.links_in(t - self.window, t);
-                for (o, _) in OUTCOMES {
+                for o in OUTCOMES {
                     let c = outcome_color(o);
                     for e in events.iter().filter(|e| e.outcome == o) {
                         let (a, b) = (e.from as usize, e.to as usize);

@@ -182,11 +182,9 @@ impl Layout {
         let links_from = entries.len();
         if opts.links {
             entries.push(LegendEntry::Note("links:".into()));
-            entries.extend(
-                OUTCOMES
-                    .iter()
-                    .map(|(o, label)| LegendEntry::Link(outcome_color(*o), (*label).into())),
-            );
+            entries.extend(OUTCOMES.iter().map(|o| {
+                LegendEntry::Link(outcome_color(*o), crate::link_key::style(*o).label.into())
+            }));
         }
         let legend_y = top + 4;
         let mut legend = Vec::with_capacity(entries.len());

@@ -287,7 +287,7 @@ pub fn render(data: &ReplayData, path: &Path, opts: &GifOptions) -> Result<PathB
     // The palette: what matters most first (see `GifPalette::new`).
     let mut colors: Vec<RGBColor> = vec![BG, TEXT];
     colors.extend(scene.groups.iter().map(|g| g.color));
-    colors.extend(OUTCOMES.iter().map(|(o, _)| outcome_color(*o)));
+    colors.extend(OUTCOMES.iter().map(|o| outcome_color(*o)));
     colors.extend([
         TEXT_GREY,
         OUTSIDE,

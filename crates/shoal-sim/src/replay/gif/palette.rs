@@ -1,4 +1,6 @@
-//! The fixed colours of a GIF and its one palette (group, link-outcome, map colours and a grey ramp) with the lookup table that maps a drawn pixel to its nearest entry.
+//! The fixed colours of a GIF and its one palette (group, link-outcome, map colours and a grey
+//! ramp) with the lookup table that maps a drawn pixel to its nearest entry. The link-outcome
+//! colours and labels are [`crate::link_key`]'s.
 
 use super::*;
 
@@ -15,25 +17,14 @@ pub(super) const WALL: RGBColor = RGBColor(40, 40, 40);
 pub(super) const SURFACE: RGBColor = RGBColor(70, 130, 200);
 pub(super) const FRAME: RGBColor = RGBColor(128, 128, 128);
 
-/// The colour of a link outcome: deliveries in teal, losses each in their own colour.
+/// The colour of a link outcome: the one key of [`crate::link_key`].
 pub(super) fn outcome_color(o: Outcome) -> RGBColor {
-    match o {
-        Outcome::Delivered => RGBColor(0, 140, 110),
-        Outcome::Collided => RGBColor(230, 0, 230),
-        Outcome::Occluded => RGBColor(255, 180, 0),
-        Outcome::OutOfBudget => RGBColor(110, 110, 255),
-        Outcome::HalfDuplex => RGBColor(110, 60, 0),
-    }
+    let (r, g, b) = crate::link_key::style(o).rgb;
+    RGBColor(r, g, b)
 }
 
-/// Outcomes in drawing order (deliveries first, losses over them) with their legend labels.
-pub(super) const OUTCOMES: [(Outcome, &str); 5] = [
-    (Outcome::Delivered, "delivered"),
-    (Outcome::Collided, "collided"),
-    (Outcome::Occluded, "occluded"),
-    (Outcome::OutOfBudget, "out of budget"),
-    (Outcome::HalfDuplex, "half-duplex"),
-];
+/// Outcomes in drawing order (deliveries first, losses over them), as the key lists them.
+pub(super) const OUTCOMES: [Outcome; 5] = Outcome::ALL;
 
 /// `#rrggbb` as a colour.
 pub(super) fn parse_hex(s: &str) -> Option<RGBColor> {

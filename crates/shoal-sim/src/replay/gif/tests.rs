@@ -87,6 +87,7 @@ fn synthetic() -> ReplayData {
         links_kept: 4,
         links_total: 4,
         timeline: Timeline::default(),
+        outcomes: crate::replay::outcome_key(),
     };
     ReplayData {
         meta,
@@ -339,17 +340,24 @@ fn a_gif_shows_the_run_where_it_happened() {
         let (x, y) = panel.px(m);
         (-2..=2).any(|dy| (-2..=2).any(|dx| gif.rgb(last, (x + dx, y + dy)) == rgb(c)))
     };
-    let delivered = outcome_color(Outcome::Delivered);
-    let collided = outcome_color(Outcome::Collided);
+    // The colours are the one key's (crate::link_key), read from its table.
+    let key = |o: Outcome| {
+        let (r, g, b) = crate::link_key::LINK_KEY[o.code() as usize].rgb;
+        RGBColor(r, g, b)
+    };
+    let delivered = key(Outcome::Delivered);
+    let collided = key(Outcome::Collided);
     assert!(near(&top, ends[0], ends[2], delivered));
     assert!(near(&top, ends[2], ends[1], collided));
     assert!(near(&side, ends[0], ends[2], delivered));
-    assert!(!near(
-        &top,
-        ends[0],
-        ends[1],
-        outcome_color(Outcome::Occluded)
-    ));
+    assert!(!near(&top, ends[0], ends[1], key(Outcome::Occluded)));
+    // The legend shows every outcome in its key colour: each colour is on the frame.
+    let on_frame = |c: RGBColor| {
+        (0..gif.h as i32).any(|y| (0..gif.w as i32).any(|x| gif.rgb(last, (x, y)) == rgb(c)))
+    };
+    for o in Outcome::ALL {
+        assert!(on_frame(key(o)), "{o:?} is not drawn in its key colour");
+    }
     let _ = std::fs::remove_dir_all(&d);
 }
 

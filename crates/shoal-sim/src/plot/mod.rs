@@ -10,6 +10,9 @@
 //!   [`Plot::min_y_span`] sets the smallest vertical span of an autoscaled axis;
 //! * the legend never covers data: it goes into a corner that nothing drawn passes through,
 //!   or below the plot when there is none ([`legend_place`]).
+//!
+//! Dots and markers are drawn after every line, so an interval bar or a reference curve never
+//! hides a point; a map ([`Plot::equal_aspect`]) has one scale on both axes.
 
 use crate::files::{FileError, write_whole};
 use image::ColorType;
@@ -18,11 +21,20 @@ use image::codecs::png::PngEncoder;
 use plotters::coord::Shift;
 use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
-use plotters::style::text_anchor::{HPos, Pos, VPos};
 use std::path::{Path, PathBuf};
 use std::sync::Once;
 
-static FONT: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
+mod legend;
+mod map;
+
+use legend::{
+    Entry, LEGEND_FONT, LEGEND_INSET, corner_box, draw_legend_below, draw_legend_corner,
+    strip_height,
+};
+pub use legend::{LegendPlace, legend_place, touches};
+pub use map::{map_plot, map_view};
+
+static FONT: &[u8] = include_bytes!("../../assets/DejaVuSans.ttf");
 static REGISTER: Once = Once::new();
 
 pub(crate) fn register_font() {
@@ -71,15 +83,18 @@ pub struct Series {
     pub points: Vec<(f64, f64)>,
     /// Palette index of the colour.
     pub color: usize,
+    /// A colour of its own (red, green, blue) instead of the palette's, e.g. a link outcome's
+    /// from [`crate::link_key`].
+    pub rgb: Option<(u8, u8, u8)>,
     /// Dashed (for setpoints and references).
     pub dashed: bool,
     /// Mark the first point with a dot.
     pub mark_start: bool,
     /// Line width \[px\] (0: the default, 2 for solid and 1 for dashed lines); with `dots`,
-    /// the dots' radius \[px\] (0: 1 px).
+    /// the dots' radius \[px\] (0: 1 px; from 3 px on, markers with a white ring).
     pub width: u32,
-    /// Draw each point as a small dot instead of joining the points (measured samples,
-    /// scatter plots).
+    /// Draw each point as a dot instead of joining the points (measured samples, scatter
+    /// plots, markers). Dots are drawn after every line, so lines never cover them.
     pub dots: bool,
 }
 
@@ -115,6 +130,10 @@ pub struct Plot {
     pub min_y_span: f64,
     /// Image size \[px\] (the legend, when it must go below the plot, adds a strip).
     pub size: (u32, u32),
+    /// One unit is as long on screen horizontally as vertically (maps: 1 m north = 1 m
+    /// east): the axis that would be drawn at the larger scale gets a wider range about its
+    /// centre ([`Plot::ranges_drawn`]).
+    pub equal_aspect: bool,
 }
 
 /// The colours of lines and groups, in order (matplotlib's "tab10"); the replay's groups use
@@ -141,6 +160,25 @@ pub(crate) fn color(i: usize) -> RGBColor {
     let (r, g, b) = rgb(i);
     RGBColor(r, g, b)
 }
+
+impl Series {
+    /// The colour it is drawn in: its own, or the palette's.
+    pub fn drawn_rgb(&self) -> (u8, u8, u8) {
+        self.rgb.unwrap_or_else(|| rgb(self.color))
+    }
+
+    fn drawn_color(&self) -> RGBColor {
+        let (r, g, b) = self.drawn_rgb();
+        RGBColor(r, g, b)
+    }
+}
+
+/// Size of a plot's title \[px\], and the smallest it is shrunk to so that it fits.
+const TITLE_PX: u32 = 20;
+const TITLE_MIN_PX: u32 = 11;
+
+/// Dots of at least this radius \[px\] are markers, drawn with a white ring.
+const MARKER_RING_FROM: u32 = 3;
 
 /// Relative margin added on each side of an autoscaled axis.
 const PAD: f64 = 0.05;
@@ -258,115 +296,34 @@ pub fn clip_polyline(points: &[(f64, f64)], x: (f64, f64), y: (f64, f64)) -> Vec
     out
 }
 
-/// The region a map (east to the right, north up) shows: the bounding box of `points`
-/// ((east, north) \[m\]) grown by a margin (10 % of its extent, at least 0.5 m), within the
-/// pool (plus 5 % of its size, so the walls show when the vehicles are near them), with the
-/// same scale on both axes. Returns the east range, the north range and an image size
-/// \[px\] (`height` high, as wide as the aspect ratio needs, within 560 … 1800 px). Without
-/// finite points the whole pool is shown.
-pub fn map_view(
-    pool: (f64, f64),
-    points: impl IntoIterator<Item = (f64, f64)>,
-    height: u32,
-) -> ((f64, f64), (f64, f64), (u32, u32)) {
-    let (north, east) = pool;
-    let edge = 0.05 * north.max(east);
-    let (mut e0, mut e1, mut n0, mut n1) = (
-        f64::INFINITY,
-        f64::NEG_INFINITY,
-        f64::INFINITY,
-        f64::NEG_INFINITY,
-    );
-    for (e, n) in points {
-        if e.is_finite() && n.is_finite() {
-            (e0, e1, n0, n1) = (e0.min(e), e1.max(e), n0.min(n), n1.max(n));
-        }
-    }
-    let (er, nr) = if e0 <= e1 && n0 <= n1 {
-        let grow = |lo: f64, hi: f64, span: f64| {
-            let m = (0.1 * (hi - lo)).max(0.5);
-            ((lo - m).max(-edge), (hi + m).min(span + edge))
-        };
-        (grow(e0, e1, east), grow(n0, n1, north))
-    } else {
-        ((-edge, east + edge), (-edge, north + edge))
-    };
-    let w =
-        ((f64::from(height) - 60.0) * (er.1 - er.0) / (nr.1 - nr.0) + 80.0).clamp(560.0, 1800.0);
-    (er, nr, (w as u32, height))
+/// The axis ranges of a plot as drawn, and its scales ([`Plot::ranges_drawn`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RangesDrawn {
+    /// Horizontal range (min, max), data units.
+    pub x: (f64, f64),
+    /// Vertical range (min, max), data units.
+    pub y: (f64, f64),
+    /// Pixels per data unit, horizontally and vertically \[px\].
+    pub scale: (f64, f64),
+    /// The plot area's width and height \[px\].
+    pub area: (f64, f64),
+    /// The plot area's upper left corner in the image \[px\].
+    pub origin: (f64, f64),
+    /// The vertical axis grows downwards ([`Plot::y_down`]).
+    pub y_down: bool,
 }
 
-/// Where the legend goes.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum LegendPlace {
-    /// Upper right corner of the plot area.
-    UpperRight,
-    /// Upper left corner of the plot area.
-    UpperLeft,
-    /// Lower right corner of the plot area.
-    LowerRight,
-    /// Lower left corner of the plot area.
-    LowerLeft,
-    /// In a strip below the plot, outside the data.
-    Below,
-}
-
-impl LegendPlace {
-    /// The legend box of `size` in this corner, in plot-area fractions (x0, y0, x1, y1), y
-    /// from the top; `None` for [`LegendPlace::Below`].
-    pub fn rect(self, size: (f64, f64)) -> Option<(f64, f64, f64, f64)> {
-        let (w, h) = size;
-        match self {
-            LegendPlace::UpperRight => Some((1.0 - w, 0.0, 1.0, h)),
-            LegendPlace::UpperLeft => Some((0.0, 0.0, w, h)),
-            LegendPlace::LowerRight => Some((1.0 - w, 1.0 - h, 1.0, 1.0)),
-            LegendPlace::LowerLeft => Some((0.0, 1.0 - h, w, 1.0)),
-            LegendPlace::Below => None,
-        }
+impl RangesDrawn {
+    /// Where the data point `p` is drawn in the image \[px\] (x to the right, y down).
+    pub fn pixel(&self, p: (f64, f64)) -> (f64, f64) {
+        let fy = (p.1 - self.y.0) / (self.y.1 - self.y.0);
+        let fy = if self.y_down { fy } else { 1.0 - fy };
+        (
+            self.origin.0 + (p.0 - self.x.0) * self.scale.0,
+            self.origin.1 + fy * self.area.1,
+        )
     }
 }
-
-/// Largest share of the plot area's width or height a corner legend may take.
-const MAX_CORNER: f64 = 0.5;
-
-/// Whether the polyline `path` (or its single point) touches the box `r` = (x0, y0, x1, y1).
-pub fn touches(path: &[(f64, f64)], r: (f64, f64, f64, f64)) -> bool {
-    !clip_polyline(path, (r.0, r.2), (r.1, r.3)).is_empty()
-}
-
-/// Picks the legend's place: the first corner (upper right, upper left, lower right, lower
-/// left) where a box of `size` — fractions of the plot area's width and height, its margin
-/// included — touches none of `paths`, else [`LegendPlace::Below`]. `paths` are everything
-/// drawn (lines, dots as one-point paths, outlines) in plot-area fractions, (0, 0) the upper
-/// left corner and (1, 1) the lower right one.
-pub fn legend_place(paths: &[Vec<(f64, f64)>], size: (f64, f64)) -> LegendPlace {
-    if size.0 > MAX_CORNER || size.1 > MAX_CORNER {
-        return LegendPlace::Below;
-    }
-    [
-        LegendPlace::UpperRight,
-        LegendPlace::UpperLeft,
-        LegendPlace::LowerRight,
-        LegendPlace::LowerLeft,
-    ]
-    .into_iter()
-    .find(|c| {
-        let r = c.rect(size).unwrap_or((0.0, 0.0, 1.0, 1.0));
-        !paths.iter().any(|p| touches(p, r))
-    })
-    .unwrap_or(LegendPlace::Below)
-}
-
-/// Legend geometry \[px\].
-const LEGEND_FONT: u32 = 13;
-const LEGEND_ROW: i32 = 18;
-const LEGEND_SAMPLE: i32 = 24;
-const LEGEND_PAD: i32 = 6;
-/// Gap between the plot area's edge and a corner legend \[px\].
-const LEGEND_INSET: i32 = 8;
-
-/// A legend entry: label, colour, dashed, dots, line width or dot radius \[px\] (0: default).
-type Entry = (String, RGBColor, bool, bool, u32);
 
 /// How a plot is laid out, decided once and used for both the PNG and the SVG.
 #[derive(Clone, Debug)]
@@ -416,8 +373,18 @@ impl Plot {
         y: (f64, f64),
     ) -> Result<ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>, String> {
         let (ya, yb) = if self.y_down { (y.1, y.0) } else { (y.0, y.1) };
+        // The title in 20 px, smaller where that would not fit the width (never cut off).
+        let room = i64::from(area.dim_in_pixel().0) - 2 * 12;
+        let fits = |px: u32| {
+            area.estimate_text_size(&self.title, &("sans-serif", px).into_font().into())
+                .is_ok_and(|(w, _)| i64::from(w) <= room)
+        };
+        let title_px = (TITLE_MIN_PX..=TITLE_PX)
+            .rev()
+            .find(|&px| fits(px))
+            .unwrap_or(TITLE_MIN_PX);
         ChartBuilder::on(area)
-            .caption(&self.title, ("sans-serif", 20))
+            .caption(&self.title, ("sans-serif", title_px))
             .margin(12)
             .x_label_area_size(40)
             .y_label_area_size(60)
@@ -459,23 +426,61 @@ impl Plot {
         out
     }
 
+    /// The axis ranges as drawn (x, y), each `(min, max)`: [`Plot::ranges`], and with
+    /// [`Plot::equal_aspect`] one of them widened about its centre so that both axes have
+    /// the same scale; and the scales \[px per unit\] of the plot area, horizontal and
+    /// vertical.
+    pub fn ranges_drawn(&self) -> Result<RangesDrawn, String> {
+        register_font();
+        let size = self.size();
+        let mut buf = vec![0u8; size.0 as usize * size.1 as usize * 3];
+        let root = BitMapBackend::with_buffer(&mut buf, size).into_drawing_area();
+        let (x, y) = self.ranges();
+        // The plot area's size does not depend on the ranges (label areas are fixed).
+        let chart = self.chart(&root, x, y)?;
+        let (px, py) = chart.plotting_area().get_pixel_range();
+        let (pw, ph) = (f64::from(px.end - px.start), f64::from(py.end - py.start));
+        let widen = |r: (f64, f64), span: f64| {
+            let c = 0.5 * (r.0 + r.1);
+            (c - 0.5 * span, c + 0.5 * span)
+        };
+        let (mut x, mut y) = (x, y);
+        let (sx, sy) = (pw / (x.1 - x.0), ph / (y.1 - y.0));
+        if self.equal_aspect && sx.is_finite() && sy.is_finite() && sx > 0.0 && sy > 0.0 {
+            if sx > sy {
+                x = widen(x, pw / sy);
+            } else {
+                y = widen(y, ph / sx);
+            }
+        }
+        Ok(RangesDrawn {
+            x,
+            y,
+            scale: (pw / (x.1 - x.0), ph / (y.1 - y.0)),
+            area: (pw, ph),
+            origin: (f64::from(px.start), f64::from(py.start)),
+            y_down: self.y_down,
+        })
+    }
+
     /// Decides ranges and the legend's place, measuring text and the plot area on an
     /// off-screen bitmap of the final size.
     fn layout(&self) -> Result<Layout, String> {
         register_font();
-        let (x, y) = self.ranges();
+        let RangesDrawn { x, y, area, .. } = self.ranges_drawn()?;
         let entries: Vec<Entry> = self
             .series
             .iter()
             .filter_map(|s| {
                 s.label
                     .as_ref()
-                    .map(|l| (l.clone(), color(s.color), s.dashed, s.dots, s.width))
+                    .map(|l| (l.clone(), s.drawn_color(), s.dashed, s.dots, s.width))
             })
             .collect();
         let size = self.size();
-        let mut buf = vec![0u8; size.0 as usize * size.1 as usize * 3];
-        let root = BitMapBackend::with_buffer(&mut buf, size).into_drawing_area();
+        // Text is measured the same on any bitmap.
+        let mut buf = vec![0u8; 3];
+        let root = BitMapBackend::with_buffer(&mut buf, (1, 1)).into_drawing_area();
         let font: TextStyle = ("sans-serif", LEGEND_FONT).into_font().into();
         let text_w: Vec<i32> = entries
             .iter()
@@ -494,9 +499,7 @@ impl Plot {
                 strip: 0,
             });
         }
-        let chart = self.chart(&root, x, y)?;
-        let (px, py) = chart.plotting_area().get_pixel_range();
-        let (pw, ph) = (f64::from(px.end - px.start), f64::from(py.end - py.start));
+        let (pw, ph) = area;
         let (bw, bh) = corner_box(&text_w);
         // The box with its inset from the plot area's edge, as fractions.
         let frac = (
@@ -505,8 +508,7 @@ impl Plot {
         );
         let legend = legend_place(&self.paths(x, y), frac);
         let strip = if legend == LegendPlace::Below {
-            let rows = below_rows(&text_w, size.0 as i32).len() as i32;
-            (rows * LEGEND_ROW + 2 * LEGEND_PAD) as u32
+            strip_height(&text_w, size.0 as i32)
         } else {
             0
         };
@@ -564,21 +566,26 @@ impl Plot {
                 }
             }
         }
-        for s in &self.series {
+        // Lines first, then dots: a marker is never hidden under a line drawn after it (an
+        // interval bar, a reference curve).
+        let lines = self.series.iter().filter(|s| !s.dots);
+        for s in lines.chain(self.series.iter().filter(|s| s.dots)) {
             // A plot of every vehicle of a large world is a long loop: look here.
             if stop() {
                 return Err(DrawFail::Stopped);
             }
-            let c = color(s.color);
+            let c = s.drawn_color();
             if s.dots {
                 let r = s.width.max(1);
+                let pts = || s.points.iter().filter(|p| inside(p));
+                if r >= MARKER_RING_FROM {
+                    // Markers get a white ring, so they stand out from the lines under them.
+                    chart
+                        .draw_series(pts().map(|p| Circle::new(*p, r + 1, WHITE.filled())))
+                        .map_err(|e| e.to_string())?;
+                }
                 chart
-                    .draw_series(
-                        s.points
-                            .iter()
-                            .filter(|p| inside(p))
-                            .map(|p| Circle::new(*p, r, c.filled())),
-                    )
+                    .draw_series(pts().map(|p| Circle::new(*p, r, c.filled())))
                     .map_err(|e| e.to_string())?;
             } else {
                 for piece in clip_polyline(&s.points, x, y) {
@@ -667,127 +674,6 @@ impl Plot {
     }
 }
 
-/// Size of a corner legend with entries of text widths `text_w` \[px\].
-fn corner_box(text_w: &[i32]) -> (i32, i32) {
-    let w = LEGEND_SAMPLE + LEGEND_PAD + text_w.iter().copied().max().unwrap_or(0) + 2 * LEGEND_PAD;
-    let h = text_w.len() as i32 * LEGEND_ROW + LEGEND_PAD;
-    (w, h)
-}
-
-/// The entries of each row of a legend below the plot, filling rows of `width` \[px\].
-fn below_rows(text_w: &[i32], width: i32) -> Vec<Vec<usize>> {
-    let mut rows: Vec<Vec<usize>> = vec![Vec::new()];
-    let mut used = 0;
-    let avail = width - 2 * 12 - 60;
-    for (i, w) in text_w.iter().enumerate() {
-        let need = LEGEND_SAMPLE + LEGEND_PAD + w + 3 * LEGEND_PAD;
-        if used > 0 && used + need > avail {
-            rows.push(Vec::new());
-            used = 0;
-        }
-        used += need;
-        if let Some(r) = rows.last_mut() {
-            r.push(i);
-        }
-    }
-    rows
-}
-
-/// One legend entry: its sample line or dot at (x, y) (the row's vertical centre), the text
-/// after it.
-fn draw_entry<DB: DrawingBackend>(
-    area: &DrawingArea<DB, Shift>,
-    (label, c, dashed, dots, width): &Entry,
-    (x, y): (i32, i32),
-) -> Result<(), String> {
-    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
-    // As drawn in the plot, a little bolder for dots and dashes so they read at legend size.
-    if *dots {
-        area.draw(&Circle::new((x + LEGEND_SAMPLE / 2, y), 3, c.filled()))
-            .map_err(e)?;
-    } else if *dashed {
-        for k in 0..3 {
-            let a = x + k * 9;
-            area.draw(&PathElement::new(
-                vec![(a, y), ((a + 6).min(x + LEGEND_SAMPLE), y)],
-                c.stroke_width(2),
-            ))
-            .map_err(e)?;
-        }
-    } else {
-        let w = if *width == 0 { 2 } else { *width };
-        area.draw(&PathElement::new(
-            vec![(x, y), (x + LEGEND_SAMPLE, y)],
-            c.stroke_width(w),
-        ))
-        .map_err(e)?;
-    }
-    let style = ("sans-serif", LEGEND_FONT)
-        .into_font()
-        .color(&BLACK)
-        .pos(Pos::new(HPos::Left, VPos::Center));
-    area.draw(&Text::new(
-        label.clone(),
-        (x + LEGEND_SAMPLE + LEGEND_PAD, y),
-        style,
-    ))
-    .map_err(e)
-}
-
-fn draw_legend_corner<DB: DrawingBackend>(
-    area: &DrawingArea<DB, Shift>,
-    lay: &Layout,
-    px: (i32, i32),
-    py: (i32, i32),
-) -> Result<(), String> {
-    let (bw, bh) = corner_box(&lay.text_w);
-    let left = matches!(lay.legend, LegendPlace::UpperLeft | LegendPlace::LowerLeft);
-    let top = matches!(lay.legend, LegendPlace::UpperLeft | LegendPlace::UpperRight);
-    let x0 = if left {
-        px.0 + LEGEND_INSET
-    } else {
-        px.1 - LEGEND_INSET - bw
-    };
-    let y0 = if top {
-        py.0 + LEGEND_INSET
-    } else {
-        py.1 - LEGEND_INSET - bh
-    };
-    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
-    area.draw(&Rectangle::new(
-        [(x0, y0), (x0 + bw, y0 + bh)],
-        WHITE.filled(),
-    ))
-    .map_err(e)?;
-    area.draw(&Rectangle::new(
-        [(x0, y0), (x0 + bw, y0 + bh)],
-        RGBColor(160, 160, 160).stroke_width(1),
-    ))
-    .map_err(e)?;
-    for (i, entry) in lay.entries.iter().enumerate() {
-        let y = y0 + LEGEND_PAD / 2 + i as i32 * LEGEND_ROW + LEGEND_ROW / 2;
-        draw_entry(area, entry, (x0 + LEGEND_PAD, y))?;
-    }
-    Ok(())
-}
-
-fn draw_legend_below<DB: DrawingBackend>(
-    strip: &DrawingArea<DB, Shift>,
-    lay: &Layout,
-) -> Result<(), String> {
-    let width = strip.dim_in_pixel().0 as i32;
-    for (r, row) in below_rows(&lay.text_w, width).iter().enumerate() {
-        // Rows start under the plot area (right of the y label area).
-        let mut x = 12 + 60;
-        let y = LEGEND_PAD + r as i32 * LEGEND_ROW + LEGEND_ROW / 2;
-        for &i in row {
-            draw_entry(strip, &lay.entries[i], (x, y))?;
-            x += LEGEND_SAMPLE + LEGEND_PAD + lay.text_w[i] + 3 * LEGEND_PAD;
-        }
-    }
-    Ok(())
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -806,26 +692,6 @@ mod tests {
         assert!((hi - lo - 1.1 * 0.05).abs() < 1e-12);
         assert!((0.5 * (lo + hi) - 1.001).abs() < 1e-12);
         assert_eq!(data_range([f64::NAN], 1.0), (0.0, 1.0));
-    }
-
-    #[test]
-    fn map_view_zooms_to_the_points_within_the_pool() {
-        // A 100 × 60 m pool (north × east); vehicles within 2 m around (north 50, east 30).
-        let pts = [(29.0, 49.0), (31.0, 51.0), (f64::NAN, 0.0)];
-        let (e, n, (w, h)) = map_view((100.0, 60.0), pts, 700);
-        assert_eq!((e, n), ((28.5, 31.5), (48.5, 51.5)));
-        assert_eq!(h, 700);
-        assert!((560..=1800).contains(&w));
-        // Near a wall the view stops 5 % of the pool's larger side beyond it.
-        let (e, n, _) = map_view((100.0, 60.0), [(0.0, 99.0), (60.0, 90.0)], 700);
-        assert_eq!(e, (-5.0, 65.0));
-        assert!(
-            (n.0 - 89.1).abs() < 1e-12 && (n.1 - 99.9).abs() < 1e-12,
-            "{n:?}"
-        );
-        // Nothing to show: the whole pool.
-        let (e, n, _) = map_view((100.0, 60.0), std::iter::empty(), 700);
-        assert_eq!((e, n), ((-5.0, 65.0), (-5.0, 105.0)));
     }
 
     #[test]
@@ -850,46 +716,35 @@ mod tests {
         assert!(clip_polyline(&[(5.0, 5.0)], (0.0, 1.0), (0.0, 1.0)).is_empty());
     }
 
-    /// A legend in a corner never touches anything drawn; a plot full of data gets its legend
-    /// below.
+    /// A title too long for the image is drawn smaller, not cut off at the image's edges.
     #[test]
-    fn the_legend_goes_where_there_is_no_data() {
-        let size = (0.3, 0.2);
-        // A line through the upper half only: the upper corners are taken.
-        let upper: Vec<(f64, f64)> = (0..=100).map(|i| (i as f64 / 100.0, 0.1)).collect();
-        let place = legend_place(std::slice::from_ref(&upper), size);
-        assert_eq!(place, LegendPlace::LowerRight);
-        // A rising line from the lower left to the upper right: upper left is free.
-        let diag: Vec<(f64, f64)> = (0..=100)
-            .map(|i| (i as f64 / 100.0, 1.0 - i as f64 / 100.0))
-            .collect();
-        assert_eq!(
-            legend_place(std::slice::from_ref(&diag), size),
-            LegendPlace::UpperLeft
+    fn a_long_title_fits_the_image() {
+        let dir = std::env::temp_dir().join(format!("shoal_plot_title_{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let plot = Plot {
+            title: "a title far too long for a plot 600 pixels wide, written in 20-pixel \
+                    letters it would run past both edges of the image"
+                .into(),
+            series: vec![Series {
+                points: vec![(0.0, 0.0), (1.0, 1.0)],
+                ..Default::default()
+            }],
+            size: (600, 300),
+            ..Default::default()
+        };
+        plot.write(&dir.join("title")).unwrap();
+        let img = image::open(dir.join("title.png")).unwrap().to_rgb8();
+        // The caption band: some text in it, none in the outer 4 px on either side.
+        let dark = |x: u32, y: u32| img.get_pixel(x, y).0.iter().all(|&c| c < 128);
+        let inked = (0..30).flat_map(|y| (0..600).map(move |x| (x, y)));
+        assert!(inked.clone().any(|(x, y)| dark(x, y)), "no title drawn");
+        assert!(
+            !inked
+                .filter(|&(x, _)| !(4..596).contains(&x))
+                .any(|(x, y)| dark(x, y)),
+            "the title runs off the image"
         );
-        // A segment that crosses a corner box without a vertex inside it counts.
-        let cross = vec![(0.6, 0.0), (1.0, 0.4)];
-        assert_ne!(
-            legend_place(std::slice::from_ref(&cross), size),
-            LegendPlace::UpperRight
-        );
-        // A noisy signal filling the whole area: below.
-        let full: Vec<(f64, f64)> = (0..=1000)
-            .map(|i| (i as f64 / 1000.0, if i % 2 == 0 { 0.02 } else { 0.98 }))
-            .collect();
-        assert_eq!(
-            legend_place(std::slice::from_ref(&full), size),
-            LegendPlace::Below
-        );
-        // Too big for a corner: below.
-        assert_eq!(legend_place(&[], (0.6, 0.1)), LegendPlace::Below);
-        // Whatever the corner, its box touches no path.
-        for paths in [vec![upper], vec![diag], vec![cross], vec![full]] {
-            let place = legend_place(&paths, size);
-            if let Some(r) = place.rect(size) {
-                assert!(paths.iter().all(|p| !touches(p, r)), "{place:?}");
-            }
-        }
+        let _ = std::fs::remove_dir_all(&dir);
     }
 
     #[test]

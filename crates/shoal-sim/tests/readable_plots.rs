@@ -1,0 +1,233 @@
+//! The run's plots read the way they are meant to, checked on the pictures themselves (PNG
+//! decoded) where the fault was in the picture:
+//!
+//! * maps (`top.png`, `connectivity.png`) draw 1 m north as long as 1 m east: the default
+//!   world's round pillar is a circle in `top.png`, not an ellipse;
+//! * in `delivery_vs_distance.png` each observed ratio is a marker drawn over its interval bar,
+//!   and a distance bin with nothing delivered reads as 0 (a whole marker on the 0 line);
+//! * the gossip world's communication graph shows the links of its flood, which ends long
+//!   before the run does;
+//! * `links_over_time` colours each outcome by the one key of `shoal_sim::link_key`.
+
+mod support;
+
+use shoal_sim::comm_report::{self, DistanceBin};
+use shoal_sim::link_key::LINK_KEY;
+use shoal_sim::prelude::*;
+use shoal_world::cancel::Cancel;
+use std::path::{Path, PathBuf};
+
+fn world(name: &str) -> shoal_world::desc::WorldDesc {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../../worlds/{name}.toml"));
+    shoal_world::load::load_file(&path).unwrap()
+}
+
+fn dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("shoal-plots-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+/// Runs `desc` as `shoal run` does (recording, every output) into `out`; the world at the
+/// end.
+fn run_with_outputs(desc: &shoal_world::desc::WorldDesc, out: &Path) -> Sim {
+    let mut sim = Sim::new(
+        desc,
+        SimOptions {
+            threads: 1,
+            record: true,
+        },
+    );
+    let mut output = RunOutput::create(out, desc).unwrap();
+    let steps = desc.steps();
+    while sim.step_count() < steps {
+        sim.run(500.min(steps - sim.step_count()));
+        output.write(&sim.drain()).unwrap();
+    }
+    output
+        .finish(desc, &mut sim, 1.0, &Cancel::default())
+        .unwrap();
+    sim
+}
+
+/// The bounding box (x0, y0, x1, y1) of the largest connected area of colour `c` whose
+/// first pixel has a 5 × 5 neighbourhood of that colour (a filled shape, not a line of the
+/// grid), and its pixels.
+fn blob(img: &image::RgbImage, c: [u8; 3]) -> ((u32, u32, u32, u32), usize) {
+    let (w, h) = img.dimensions();
+    let is = |x: u32, y: u32| x < w && y < h && img.get_pixel(x, y).0 == c;
+    let filled = |x: u32, y: u32| {
+        x >= 2 && y >= 2 && (x - 2..=x + 2).all(|a| (y - 2..=y + 2).all(|b| is(a, b)))
+    };
+    let Some((sx, sy)) = (0..h)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .find(|&(x, y)| filled(x, y))
+    else {
+        return ((0, 0, 0, 0), 0);
+    };
+    let mut seen = vec![false; (w * h) as usize];
+    let mut stack = vec![(sx, sy)];
+    let (mut x0, mut y0, mut x1, mut y1, mut n) = (sx, sy, sx, sy, 0);
+    while let Some((x, y)) = stack.pop() {
+        if !is(x, y) || std::mem::replace(&mut seen[(y * w + x) as usize], true) {
+            continue;
+        }
+        (x0, y0, x1, y1) = (x0.min(x), y0.min(y), x1.max(x), y1.max(y));
+        n += 1;
+        stack.extend([
+            (x + 1, y),
+            (x.wrapping_sub(1), y),
+            (x, y + 1),
+            (x, y.wrapping_sub(1)),
+        ]);
+    }
+    ((x0, y0, x1, y1), n)
+}
+
+/// The filled grey of obstacles in the plots.
+const OBSTACLE_FILL: [u8; 3] = [170, 170, 170];
+
+#[test]
+fn maps_draw_north_and_east_at_one_scale() {
+    let desc = world("default");
+    let out = dir("maps");
+    let sim = run_with_outputs(&desc, &out);
+    // The default world's pillar, a vertical cylinder, in top.png.
+    let img = image::open(out.join("top.png")).unwrap().to_rgb8();
+    let ((x0, y0, x1, y1), n) = blob(&img, OBSTACLE_FILL);
+    assert!(n > 100, "top.png: the pillar is not drawn ({n} px)");
+    let (w, h) = (x1 - x0 + 1, y1 - y0 + 1);
+    eprintln!("top.png: the pillar is {w} × {h} px");
+    assert!(
+        w.abs_diff(h) <= 1,
+        "top.png: the round pillar is drawn {w} px wide and {h} px high"
+    );
+    // The communication graph (zoomed to the vehicles at the end, the pillar outside): its
+    // scales differ by less than a pixel over the whole plot.
+    let plot = comm_report::connectivity_plot(&desc, sim.connectivity(), &sim.views());
+    let at = plot.ranges_drawn().unwrap();
+    let span = (at.x.1 - at.x.0).max(at.y.1 - at.y.0);
+    assert!(
+        (at.scale.0 - at.scale.1).abs() * span < 1.0,
+        "connectivity: {:.2} px per m east, {:.2} px per m north",
+        at.scale.0,
+        at.scale.1
+    );
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+/// Bins of 0.1 m: all of 100 delivered at 0.55 m, half of 200 at 2.05 m, none of 200 at
+/// 3.55 m.
+fn bins() -> Vec<DistanceBin> {
+    [(5, 100, 100), (20, 200, 100), (35, 200, 0)]
+        .iter()
+        .map(|&(k, attempts, delivered)| DistanceBin {
+            from_m: f64::from(k) * 0.1,
+            to_m: f64::from(k + 1) * 0.1,
+            attempts,
+            delivered,
+            ratio: delivered as f64 / attempts as f64,
+        })
+        .collect()
+}
+
+#[test]
+fn a_bin_with_nothing_delivered_reads_as_zero_and_markers_are_on_top() {
+    let plot = comm_report::delivery_plot("test", &bins(), 5.4, None);
+    let d = dir("delivery");
+    std::fs::create_dir_all(&d).unwrap();
+    plot.write(&d.join("delivery")).unwrap();
+    let img = image::open(d.join("delivery.png")).unwrap().to_rgb8();
+    let at = plot.ranges_drawn().unwrap();
+    let (r, g, b) = shoal_sim::plot::rgb(0);
+    let marker = [r, g, b];
+    // A marker clearly visible: at least 3 px in radius.
+    let radius = 3.0;
+    assert!(f64::from(comm_report::DELIVERY_MARKER_PX) >= radius);
+    for bin in bins() {
+        let (cx, cy) = at.pixel((0.5 * (bin.from_m + bin.to_m), bin.ratio));
+        // The marker's pixels around where its ratio is drawn.
+        let (mut n, mut sy) = (0.0, 0.0);
+        for y in (cy - 2.0 * radius) as u32..=(cy + 2.0 * radius) as u32 {
+            for x in (cx - 2.0 * radius) as u32..=(cx + 2.0 * radius) as u32 {
+                if img.get_pixel(x, y).0 == marker {
+                    n += 1.0;
+                    sy += f64::from(y);
+                }
+            }
+        }
+        let want = std::f64::consts::PI * radius * radius;
+        eprintln!("ratio {}: a marker of {n} px", bin.ratio);
+        assert!(
+            n > 0.7 * want,
+            "ratio {}: a marker of {n} px (a whole one has ≈ {want:.0})",
+            bin.ratio
+        );
+        let centre = sy / n;
+        assert!(
+            (centre - cy).abs() <= 1.0,
+            "ratio {}: the marker is centred at y = {centre:.1} px, the ratio is at {cy:.1} px",
+            bin.ratio
+        );
+        // Its centre is the marker's colour, not its interval bar's.
+        assert_eq!(
+            img.get_pixel(cx.round() as u32, cy.round() as u32).0,
+            marker,
+            "ratio {}: the interval bar is drawn over the marker",
+            bin.ratio
+        );
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn the_gossip_graph_shows_the_links_of_its_flood() {
+    let (desc, sim) = support::world::run_world_file("gossip");
+    let snaps = sim.views();
+    // The flood is over within a second of t = 2 s, long before the end (20 s): the graph at
+    // the end is empty.
+    assert!(sim.connectivity().last_edges.is_empty());
+    let plot = comm_report::connectivity_plot(&desc, sim.connectivity(), &snaps);
+    // Edges are the two-point lines without a start mark (vehicles are marked).
+    let edges = plot
+        .series
+        .iter()
+        .filter(|s| s.points.len() == 2 && !s.mark_start)
+        .count();
+    let n = desc.vehicles.len();
+    assert!(
+        edges >= n - 1,
+        "{edges} edges drawn; every one of the {n} vehicles learned the value, so its graph \
+         connects them all"
+    );
+    assert!(
+        plot.title
+            .contains("links in t = 2–4 s, the last window with traffic")
+            && plot.title.contains(&format!("largest group {n} of {n}")),
+        "{}",
+        plot.title
+    );
+}
+
+#[test]
+fn link_outcomes_are_drawn_in_the_colours_of_the_one_key() {
+    // Second 0: 1 out of budget, 2 occluded, 3 half-duplex, 4 collided, 5 delivered (the
+    // medium's order of outcomes).
+    let per_second = [[1, 2, 3, 4, 5]; 3];
+    let want = |label: &str| match label {
+        "out of budget" => 1.0,
+        "occluded" => 2.0,
+        "half-duplex" => 3.0,
+        "collided" => 4.0,
+        "delivered" => 5.0,
+        other => panic!("unknown outcome {other}"),
+    };
+    let plot = comm_report::links_plot("test", &per_second, 3.0);
+    assert_eq!(plot.series.len(), LINK_KEY.len());
+    for (s, key) in plot.series.iter().zip(&LINK_KEY) {
+        let label = s.label.as_deref().unwrap();
+        assert!(label.starts_with(key.label), "{label} for {key:?}");
+        assert_eq!(s.drawn_rgb(), key.rgb, "{label} is not in its key colour");
+        assert!(s.points.iter().all(|p| p.1 == want(key.label)), "{label}");
+    }
+}
