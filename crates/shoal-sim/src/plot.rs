@@ -617,16 +617,17 @@ impl Plot {
     /// Writes `<stem>.png` and `<stem>.svg` (each drawn in memory, then written whole
     /// through [`crate::files`]); returns both paths.
     pub fn write(&self, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
-        self.write_until(stem, &|| false)
+        self.write_until(stem, &|| false, &|_| {})
     }
 
     /// [`Plot::write`] that gives up, between series and between the two files, once `stop`
-    /// says so; returns the files written (both, one or none). A file is never left half
-    /// written.
+    /// says so, and calls `begin` with each file's name before it draws it; returns the
+    /// files written (both, one or none). A file is never left half written.
     pub fn write_until(
         &self,
         stem: &Path,
         stop: &dyn Fn() -> bool,
+        begin: &dyn Fn(&Path),
     ) -> Result<Vec<PathBuf>, PlotError> {
         let png = stem.with_extension("png");
         let svg = stem.with_extension("svg");
@@ -644,6 +645,7 @@ impl Plot {
         let lay = self.layout().map_err(|m| err(&png, m))?;
         let (w, h) = self.size();
         let size = (w, h + lay.strip);
+        begin(&png);
         let mut pixels = vec![0u8; size.0 as usize * size.1 as usize * 3];
         let root = BitMapBackend::with_buffer(&mut pixels, size).into_drawing_area();
         if !complete(self.draw(root, &lay, stop), &png)? {
@@ -657,6 +659,7 @@ impl Plot {
         if stop() {
             return Ok(written);
         }
+        begin(&svg);
         let mut text = String::new();
         let root = SVGBackend::with_string(&mut text, size).into_drawing_area();
         if !complete(self.draw(root, &lay, stop), &svg)? {

@@ -157,6 +157,11 @@ pub fn files_ending(dir: &Path, suffix: &str) -> Vec<String> {
 /// Starts `shoal run ARGS… --out OUT WORLD` with stdout and stderr piped. With `shell`
 /// (e.g. `trap '' HUP;`), `sh` runs that first and then becomes shoal (`exec`).
 pub fn start_run(args: &[&str], out: &Path, world: &Path, shell: Option<&str>) -> Child {
+    run_command(args, out, world, shell).spawn().unwrap()
+}
+
+/// The command of [`start_run`], to add to (an environment variable) before it is spawned.
+pub fn run_command(args: &[&str], out: &Path, world: &Path, shell: Option<&str>) -> Command {
     let mut c = match shell {
         None => Command::new(env!("CARGO_BIN_EXE_shoal")),
         Some(pre) => {
@@ -172,9 +177,94 @@ pub fn start_run(args: &[&str], out: &Path, world: &Path, shell: Option<&str>) -
         .arg(out)
         .arg(world)
         .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap()
+        .stderr(std::process::Stdio::piped());
+    c
+}
+
+/// Polls (bounded by [`POLL_LIMIT`], a hang guard) until `path` holds more than `bytes`
+/// bytes; fails when `child` ends first.
+pub fn wait_for_size(path: &Path, bytes: u64, child: &mut Child) {
+    let start = Instant::now();
+    while !path.metadata().is_ok_and(|m| m.len() > bytes) {
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "shoal ended before writing {}",
+            path.display()
+        );
+        assert!(
+            start.elapsed() < POLL_LIMIT,
+            "{} did not grow past {bytes} bytes",
+            path.display()
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+/// Sends `signal` (a name such as `TERM`) to `child` with `kill`.
+pub fn kill(child: &Child, signal: &str) {
+    let status = Command::new("kill")
+        .args([format!("-{signal}"), child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(status.success(), "kill -{signal}");
+}
+
+/// A child's standard error, read line by line on a thread of its own, so a test can wait
+/// for a line (a progress marker) while the child goes on.
+pub struct StderrLines {
+    rx: std::sync::mpsc::Receiver<String>,
+    reader: std::thread::JoinHandle<()>,
+    seen: Vec<String>,
+}
+
+impl StderrLines {
+    /// Takes `child`'s piped standard error.
+    pub fn take(child: &mut Child) -> Self {
+        use std::io::BufRead;
+        let (tx, rx) = std::sync::mpsc::channel();
+        let stderr = std::io::BufReader::new(child.stderr.take().expect("piped stderr"));
+        let reader = std::thread::spawn(move || {
+            for line in stderr.lines().map_while(Result::ok) {
+                let _ = tx.send(line);
+            }
+        });
+        Self {
+            rx,
+            reader,
+            seen: Vec::new(),
+        }
+    }
+
+    /// Waits (at most `limit`, a hang guard) for a line that contains `marker`; kills
+    /// `child` and fails the test when none comes.
+    pub fn wait_for(&mut self, marker: &str, limit: Duration, child: &mut Child) {
+        let start = Instant::now();
+        loop {
+            match self.rx.recv_timeout(limit.saturating_sub(start.elapsed())) {
+                Ok(line) => {
+                    let found = line.contains(marker);
+                    self.seen.push(line);
+                    if found {
+                        return;
+                    }
+                }
+                Err(e) => {
+                    let _ = child.kill();
+                    panic!(
+                        "no `{marker}` line on stderr ({e}); it said:\n{}",
+                        self.seen.join("\n")
+                    );
+                }
+            }
+        }
+    }
+
+    /// Every line, once the child has closed its standard error (it has ended).
+    pub fn finish(mut self) -> String {
+        self.reader.join().unwrap();
+        self.seen.extend(self.rx.try_iter());
+        self.seen.join("\n")
+    }
 }
 
 /// The files a summary.json lists.
