@@ -306,9 +306,7 @@ pub fn write_links_csv(path: &Path, sim: &Sim) -> Result<PathBuf, FileError> {
         "half_duplex",
         "delivery_ratio",
     ])?;
-    let seconds = (sim.time().ceil() as usize).max(sim.medium().per_second.len());
-    for k in 0..seconds {
-        let c = sim.medium().per_second.get(k).copied().unwrap_or([0; 5]);
+    for (k, c) in per_second(sim).enumerate() {
         let n = |o: Outcome| c[o.index()];
         let attempted: u64 = c.iter().sum();
         w.write_record([
@@ -327,6 +325,14 @@ pub fn write_links_csv(path: &Path, sim: &Sim) -> Result<PathBuf, FileError> {
         ])?;
     }
     w.commit()
+}
+
+/// The reception attempts of each second of the run by outcome (indexed by
+/// [`Outcome::index`]), the seconds after the last attempt included (as zeros).
+fn per_second(sim: &Sim) -> impl Iterator<Item = [u64; 5]> + '_ {
+    let counted = &sim.medium().per_second;
+    let seconds = (sim.time().ceil() as usize).max(counted.len());
+    (0..seconds).map(|k| counted.get(k).copied().unwrap_or([0; 5]))
 }
 
 /// `connectivity.csv`: one row per sample of the communication graph (every second): an
@@ -552,11 +558,10 @@ pub fn plots(
         },
     ));
     // 3. Link outcomes per second, and the communication graph over time.
-    let per_second = &sim.medium().per_second;
+    // Every second of the run, as in links.csv (a quiet second is a zero, not a gap).
     let outcome_series = |o: Outcome, label: &str, color: usize| Series {
         label: Some(label.into()),
-        points: per_second
-            .iter()
+        points: per_second(sim)
             .enumerate()
             .map(|(k, c)| (k as f64 + 0.5, c[o.index()] as f64))
             .collect(),
