@@ -413,8 +413,7 @@ fn validate_names_a_hidden_lag_and_writes_a_runnable_model() {
     assert_eq!(report["runs"][1]["role"], "holdout");
     let md = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(md.contains("thruster_lag") && md.contains("![")); // plots embedded
-    assert!(out.join("plots/dive_b_depth.png").exists());
-    assert!(out.join("plots/acf_depth.svg").exists());
+    run_plots::assert_validate_plots(&out, &hold);
     // The extended model runs.
     let vehicle = out.join("vehicle.toml");
     let o = shoal().arg("check").arg(&vehicle).output().unwrap();

@@ -923,7 +923,23 @@ mod tests {
         assert_eq!(lay.legend, LegendPlace::Below);
         assert!(lay.strip > 0);
         let files = full.write(&dir.join("full")).unwrap();
-        assert!(files.iter().all(|f| f.exists()));
+        assert_eq!(files, [dir.join("full.png"), dir.join("full.svg")]);
+        // The PNG is the plot and the strip below it, the line drawn above the strip and its
+        // legend sample in the strip; the SVG has the same size.
+        let blue = blue_rows(&files[0], (600, 300 + lay.strip as u32));
+        assert!(
+            blue[..300].iter().sum::<usize>() > 1000,
+            "the line is not drawn"
+        );
+        assert!(
+            blue[300..].iter().sum::<usize>() >= 24,
+            "no legend in the strip"
+        );
+        let svg = std::fs::read_to_string(&files[1]).unwrap();
+        assert!(svg.starts_with(&format!(
+            "<svg width=\"600\" height=\"{}\"",
+            300 + lay.strip
+        )));
         // Room above the data: legend in a corner, image as asked.
         let roomy = Plot {
             title: "roomy".into(),
@@ -935,7 +951,24 @@ mod tests {
         let lay = roomy.layout().unwrap();
         assert_ne!(lay.legend, LegendPlace::Below);
         assert_eq!(lay.strip, 0);
-        roomy.write(&dir.join("roomy")).unwrap();
+        let files = roomy.write(&dir.join("roomy")).unwrap();
+        let blue = blue_rows(&files[0], (600, 300));
+        assert!(blue.iter().sum::<usize>() > 1000, "the line is not drawn");
         let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// Decodes the PNG `path`, checks its size and counts the pixels of palette colour 0 in
+    /// each row.
+    fn blue_rows(path: &Path, size: (u32, u32)) -> Vec<usize> {
+        let img = image::open(path).unwrap().to_rgb8();
+        assert_eq!(img.dimensions(), size, "{}", path.display());
+        let (r, g, b) = rgb(0);
+        let mut rows = vec![0; size.1 as usize];
+        for (_, y, p) in img.enumerate_pixels() {
+            if p.0 == [r, g, b] {
+                rows[y as usize] += 1;
+            }
+        }
+        rows
     }
 }

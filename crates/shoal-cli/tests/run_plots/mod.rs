@@ -6,7 +6,7 @@
 #![allow(dead_code)]
 
 #[path = "../../../shoal-sim/tests/support/plots.rs"]
-mod plots;
+pub mod plots;
 
 use plots::{Rgb, assert_png_colours, assert_svg_lines};
 use shoal_sim::plot::rgb;
@@ -155,4 +155,68 @@ pub fn assert_gossip_plots(out: &Path, vehicles: usize) {
     // origin in blue.
     assert_png_colours(&out.join("connectivity.png"), &[rgb(1)], 1000);
     assert_png_colours(&out.join("connectivity.png"), &[rgb(0)], 30);
+}
+
+/// The plots of `shoal validate` into `report` for a hold-out run `holdout` (a CSV with
+/// `t` and `y.depth`) in which the model found fits the measurement: `<run>_depth` draws the
+/// measured depth (grey, 1 px) as the CSV has it, the extended model (green) within 2 px of
+/// it everywhere and the baseline (red) at least 10 px off somewhere; `acf_depth` draws both
+/// residual autocorrelations over the same lags, each 1 at lag 0.
+pub fn assert_validate_plots(report: &Path, holdout: &Path) {
+    let name = holdout.file_stem().unwrap().to_string_lossy();
+    let measured: Vec<(f64, f64)> = table(holdout)
+        .iter()
+        .filter(|r| !r["y.depth"].is_empty())
+        .map(|r| (num(r, "t"), num(r, "y.depth")))
+        .collect();
+    let (red, green, grey) = (rgb(3), rgb(2), rgb(7));
+    let depth = report.join(format!("plots/{name}_depth.svg"));
+    plots::assert_svg_series(&depth, 1, &[(grey, measured.clone())]);
+    let svg = std::fs::read_to_string(&depth).unwrap();
+    let line = |c: Rgb, width: u32| -> Vec<(f64, f64)> {
+        let found: Vec<plots::Line> = plots::lines(&svg)
+            .into_iter()
+            .filter(|l| l.stroke == c && l.width == width && l.points.len() > 2)
+            .collect();
+        assert_eq!(found.len(), 1, "{}: lines of {c:?}", depth.display());
+        found[0].points.clone()
+    };
+    let seen = line(grey, 1);
+    let off = |c: Rgb| {
+        let l = line(c, 2);
+        assert_eq!(l.len(), seen.len(), "{c:?} against the measurement");
+        l.iter()
+            .zip(&seen)
+            .map(|(a, b)| {
+                assert_eq!(a.0, b.0, "{c:?}: another time");
+                (a.1 - b.1).abs()
+            })
+            .fold(0.0, f64::max)
+    };
+    let (found, baseline) = (off(green), off(red));
+    assert!(
+        found <= 2.0,
+        "the extended model is {found} px off the measurement"
+    );
+    assert!(
+        baseline >= 10.0,
+        "the baseline is only {baseline} px off the measurement"
+    );
+    assert_png_colours(&depth.with_extension("png"), &[red, green, grey], 300);
+
+    let acf = report.join("plots/acf_depth.svg");
+    let svg = std::fs::read_to_string(&acf).unwrap();
+    let solid = |c: Rgb| -> Vec<(f64, f64)> {
+        plots::lines(&svg)
+            .into_iter()
+            .find(|l| l.stroke == c && l.width == 2 && l.points.len() > 2)
+            .unwrap_or_else(|| panic!("{}: no line of {c:?}", acf.display()))
+            .points
+    };
+    let (before, after) = (solid(red), solid(green));
+    assert_eq!(before.len(), 61, "lags 0 … 60");
+    let xs = |l: &[(f64, f64)]| l.iter().map(|p| p.0).collect::<Vec<_>>();
+    assert_eq!(xs(&before), xs(&after), "the same lags");
+    assert_eq!(before[0].1, after[0].1, "both 1 at lag 0");
+    assert_png_colours(&acf.with_extension("png"), &[red, green, grey], 100);
 }

@@ -107,12 +107,18 @@ fn affine_miss(pairs: &[(f64, f64)]) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// Asserts that the solid (2 px) lines of the SVG `path` in the colours of `series` are
+/// Asserts that the solid lines (2 px, the default) of the SVG `path` in the colours of
+/// `series` are
 /// `series`: per colour, in order, one line per series with one point per data point, and
 /// one affine map per axis that takes every data point (data units) to its pixel within
 /// 1 px (pixels are whole numbers). Other lines (dashed, outlines, legend samples) are left
 /// alone. `series` are (colour, points), every point inside the plot's ranges.
 pub fn assert_svg_lines(path: &Path, series: &[(Rgb, Vec<(f64, f64)>)]) {
+    assert_svg_series(path, 2, series);
+}
+
+/// [`assert_svg_lines`] for lines `width` px wide.
+pub fn assert_svg_series(path: &Path, width: u32, series: &[(Rgb, Vec<(f64, f64)>)]) {
     let svg = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     assert!(
         svg.trim_end().ends_with("</svg>"),
@@ -121,7 +127,9 @@ pub fn assert_svg_lines(path: &Path, series: &[(Rgb, Vec<(f64, f64)>)]) {
     );
     let drawn: Vec<Line> = lines(&svg)
         .into_iter()
-        .filter(|l| l.width == 2 && !legend_sample(l) && series.iter().any(|(c, _)| *c == l.stroke))
+        .filter(|l| {
+            l.width == width && !legend_sample(l) && series.iter().any(|(c, _)| *c == l.stroke)
+        })
         .collect();
     let (mut xs, mut ys) = (Vec::new(), Vec::new());
     let mut used = vec![false; drawn.len()];
