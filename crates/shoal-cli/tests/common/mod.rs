@@ -5,6 +5,9 @@
 
 #![allow(dead_code)]
 
+#[path = "../../../shoal-sim/tests/support/cargo_example.rs"]
+mod cargo_example;
+
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, ExitStatus};
 use std::time::{Duration, Instant};
@@ -15,30 +18,10 @@ pub fn repo() -> PathBuf {
 }
 
 /// Builds the shoal-bridge example `name` (same profile as the `shoal` binary under test)
-/// and returns its path. Built with `--workspace`, so its features resolve as in
-/// `cargo test --workspace`, which has built it already: `-p shoal-bridge` would resolve
-/// them differently and build a second copy of shoal-sim, iceoryx2 and bevy_ecs (minutes
-/// and a gigabyte of disk on a fresh machine).
+/// and returns its path.
 pub fn example_agent(name: &str) -> PathBuf {
     let bin_dir = Path::new(env!("CARGO_BIN_EXE_shoal")).parent().unwrap();
-    let mut build = Command::new(std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into()));
-    build
-        .args(["build", "-q", "--workspace", "--example", name])
-        .current_dir(repo());
-    if bin_dir.ends_with("release") {
-        build.arg("--release");
-    }
-    let o = build.output().unwrap();
-    assert!(
-        o.status.success(),
-        "building {name} failed: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    let exe = bin_dir
-        .join("examples")
-        .join(format!("{name}{}", std::env::consts::EXE_SUFFIX));
-    assert!(exe.exists(), "{} missing", exe.display());
-    exe
+    cargo_example::build_example(&repo(), bin_dir, name)
 }
 
 /// Runs `shoal bench --agents LANG --vehicles 1,20 --json` with `extra` arguments and checks
