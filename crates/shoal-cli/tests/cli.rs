@@ -3,6 +3,7 @@
 //! timing assertions: speed belongs in benches). Signals: `signals.rs`; write errors:
 //! `disk_full.rs`.
 
+mod common;
 mod run_plots;
 
 use std::path::{Path, PathBuf};

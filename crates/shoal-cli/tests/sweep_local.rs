@@ -113,6 +113,7 @@ fn the_smoke_sweep_gives_the_runs_numbers_and_a_second_call_recomputes_nothing()
     assert!(agg.starts_with("vehicles.0.count,water.attenuation,runs_ok,delivery_ratio_mean,"));
     let plots = std::fs::read_dir(out.join("plots")).unwrap().count();
     assert_eq!(plots, 20);
+    assert_smoke_figures(&out);
 
     // Again: nothing is run, nothing is rewritten.
     let results: Vec<_> = rows

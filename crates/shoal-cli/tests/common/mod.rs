@@ -250,6 +250,24 @@ impl StderrLines {
     }
 }
 
+/// The CSV table `path`: its header, and its rows as column → text.
+pub fn read_table(path: &Path) -> (Vec<String>, Vec<std::collections::BTreeMap<String, String>>) {
+    let mut r = csv::Reader::from_path(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let header: Vec<String> = r.headers().unwrap().iter().map(String::from).collect();
+    let rows = r
+        .records()
+        .map(|rec| {
+            let rec = rec.unwrap();
+            header
+                .iter()
+                .cloned()
+                .zip(rec.iter().map(String::from))
+                .collect()
+        })
+        .collect();
+    (header, rows)
+}
+
 /// The files a summary.json lists.
 pub fn summary_files(summary: &serde_json::Value) -> Vec<PathBuf> {
     summary["files"]

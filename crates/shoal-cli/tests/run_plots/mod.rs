@@ -13,19 +13,9 @@ use shoal_sim::plot::rgb;
 use std::collections::BTreeMap;
 use std::path::Path;
 
-/// A table of `out` as rows of column → text.
+/// The rows of the CSV table `path`, as column → text.
 fn table(path: &Path) -> Vec<BTreeMap<String, String>> {
-    let mut r = csv::Reader::from_path(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let header: Vec<String> = r.headers().unwrap().iter().map(String::from).collect();
-    r.records()
-        .map(|rec| {
-            header
-                .iter()
-                .cloned()
-                .zip(rec.unwrap().iter().map(String::from))
-                .collect()
-        })
-        .collect()
+    crate::common::read_table(path).1
 }
 
 fn num(row: &BTreeMap<String, String>, col: &str) -> f64 {

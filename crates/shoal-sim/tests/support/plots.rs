@@ -207,3 +207,80 @@ pub fn assert_png_colours(path: &Path, colours: &[Rgb], min: usize) -> Vec<usize
     }
     counts
 }
+
+/// The filled circles of `svg` inside its plot area: (fill colour, centre [px]).
+pub fn dots(svg: &str) -> Vec<(Rgb, (f64, f64))> {
+    let (x0, y0, x1, y1) = plot_area(svg);
+    tags(svg, "circle")
+        .into_iter()
+        .filter_map(|t| {
+            let x: f64 = attr(t, "cx")?.parse().ok()?;
+            let y: f64 = attr(t, "cy")?.parse().ok()?;
+            let inside = (x0..=x1).contains(&x) && (y0..=y1).contains(&y);
+            inside.then_some((hex(attr(t, "fill")?)?, (x, y)))
+        })
+        .collect()
+}
+
+/// Asserts that the figure of means with 95 % intervals `path` (an SVG of
+/// `shoal_sim::ci_plot`) draws `groups`: per colour, a dot per (mean, half-width) in
+/// category order (left to right) and a vertical bar from mean − half to mean + half where
+/// the half-width is not 0, with one affine map of the vertical axis that takes every mean
+/// and every bar end to its pixel within 1 px.
+pub fn assert_ci_svg(path: &Path, groups: &[(Rgb, Vec<(f64, f64)>)]) {
+    let svg = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let all_dots = dots(&svg);
+    let all_lines = lines(&svg);
+    let mut ys = Vec::new();
+    for (colour, points) in groups {
+        let mut at: Vec<(f64, f64)> = all_dots
+            .iter()
+            .filter(|d| d.0 == *colour)
+            .map(|d| d.1)
+            .collect();
+        at.sort_by(|a, b| a.0.total_cmp(&b.0));
+        assert_eq!(
+            at.len(),
+            points.len(),
+            "{}: dots of {colour:?}",
+            path.display()
+        );
+        let mut bars: Vec<(f64, f64, f64)> = all_lines
+            .iter()
+            .filter(|l| l.stroke == *colour && l.points.len() == 2)
+            .filter(|l| l.points[0].0 == l.points[1].0 && l.points[0].1 != l.points[1].1)
+            .map(|l| {
+                let (a, b) = (l.points[0].1, l.points[1].1);
+                (l.points[0].0, a.min(b), a.max(b))
+            })
+            .collect();
+        bars.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let with_bars: Vec<usize> = (0..points.len()).filter(|&i| points[i].1 > 0.0).collect();
+        assert_eq!(
+            bars.len(),
+            with_bars.len(),
+            "{}: bars of {colour:?}",
+            path.display()
+        );
+        for ((mean, _), dot) in points.iter().zip(&at) {
+            ys.push((*mean, dot.1));
+        }
+        for (&i, bar) in with_bars.iter().zip(&bars) {
+            let (mean, half) = points[i];
+            assert!(
+                (bar.0 - at[i].0).abs() <= 1.0,
+                "{}: a bar off its dot",
+                path.display()
+            );
+            // Pixels grow downwards: the top of the bar is the upper end.
+            ys.push((mean + half, bar.1));
+            ys.push((mean - half, bar.2));
+        }
+    }
+    let miss = affine_miss(&ys);
+    assert!(
+        miss <= 1.0,
+        "{}: the dots and bars are not the means and intervals: off by up to {miss:.2} px",
+        path.display()
+    );
+}
