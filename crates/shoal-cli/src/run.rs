@@ -280,6 +280,7 @@ pub fn execute(desc: &WorldDesc, out_dir: &Path, opts: &Execute<'_>) -> Result<R
     }
     let mut out = RunOutput::create(out_dir, desc)
         .with_context(|| format!("cannot create outputs in {}", out_dir.display()))?;
+    out.before_file = signals::output_hold(cancel);
     let pb = if quiet {
         ProgressBar::hidden()
     } else {

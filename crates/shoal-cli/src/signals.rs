@@ -15,12 +15,26 @@
 //!
 //! The signals are received by a thread of signal-hook's iterator: no code of shoal runs
 //! inside a signal handler.
+//!
+//! For tests of signals that come while the outputs are written, [`output_hold`] lets the
+//! environment variable `SHOAL_HOLD_BEFORE_OUTPUT=NAME` hold `shoal run` just before it
+//! begins the output file NAME (e.g. `top.png`): it says so on standard error
+//! (`shoal: holding before NAME …`) and goes on when the next signal has come (or after
+//! [`HOLD_LIMIT`]), so a test can send that signal exactly then.
 
+use shoal_sim::output::BeforeFile;
 use shoal_world::cancel::{Cancel, Cause};
 use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM, SIGXFSZ};
 use signal_hook::iterator::Signals;
+use std::path::Path;
 use std::process::ExitCode;
 use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+/// The environment variable of [`output_hold`].
+pub const HOLD_VAR: &str = "SHOAL_HOLD_BEFORE_OUTPUT";
+/// Longest hold of [`output_hold`] (then the outputs go on without a signal).
+pub const HOLD_LIMIT: Duration = Duration::from_secs(60);
 
 /// The stop request of a signal (`None` for SIGXFSZ, which only has to be caught).
 fn cause(signal: i32) -> Option<Cause> {
@@ -75,6 +89,28 @@ pub fn install() -> std::io::Result<Arc<Cancel>> {
             }
         })?;
     Ok(cancel)
+}
+
+/// With `SHOAL_HOLD_BEFORE_OUTPUT=NAME` set, a call for each output file (see the module
+/// documentation) that holds before the file named NAME until `cancel` has one request
+/// more than when the hold began, or [`HOLD_LIMIT`] has passed.
+pub fn output_hold(cancel: &Arc<Cancel>) -> Option<Box<BeforeFile>> {
+    let name = std::env::var_os(HOLD_VAR)?;
+    let cancel = cancel.clone();
+    Some(Box::new(move |file: &Path| {
+        if file.file_name() != Some(name.as_os_str()) {
+            return;
+        }
+        let before = cancel.requests();
+        eprintln!(
+            "shoal: holding before {} until a signal comes ({HOLD_VAR})",
+            file.display()
+        );
+        let start = Instant::now();
+        while cancel.requests() == before && start.elapsed() < HOLD_LIMIT {
+            std::thread::sleep(Duration::from_millis(5));
+        }
+    }))
 }
 
 /// The exit code of a run stopped by `cause`: 128 + the signal number.

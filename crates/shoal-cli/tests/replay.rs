@@ -8,7 +8,7 @@
 #[path = "../../shoal-sim/tests/support/browser.rs"]
 mod browser;
 
-use browser::{assert_offline, chromium, html_attr};
+use browser::{assert_no_outside_requests, assert_offline, chromium_observed, html_attr};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -102,7 +102,8 @@ fn the_default_run_writes_a_replay_that_chromium_plays_and_render_draws() {
     assert_eq!(m.timeline.largest_fraction.len(), 20);
 
     // Headless Chromium plays it: rendered frames, the run's vehicle count, no error.
-    let run = chromium(&page, "", &["--virtual-time-budget=3000", "--dump-dom"]);
+    let (run, requests) =
+        chromium_observed(&page, "", &["--virtual-time-budget=3000", "--dump-dom"]);
     let dom = String::from_utf8_lossy(&run.stdout);
     assert_eq!(
         html_attr(&dom, "data-errors"),
@@ -121,6 +122,7 @@ fn the_default_run_writes_a_replay_that_chromium_plays_and_render_draws() {
         .unwrap_or(0);
     assert!(frames >= 1, "frames rendered: {frames}");
     assert!(dom.contains("default swarm"), "the page names the world");
+    assert_no_outside_requests(&requests);
     assert_offline(&std::fs::read_to_string(&page).unwrap());
 
     // `shoal render` draws it without a browser: both views for 12 vehicles, 20 s at 4× and

@@ -8,24 +8,13 @@
 mod common;
 
 use std::collections::BTreeSet;
-use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command};
-use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
 /// Longest wait for a stage of a run (a hang guard, never a timing assertion).
 const GUARD: Duration = Duration::from_secs(60);
 /// Longest wait for the exit after a signal (a hang guard).
 const EXIT_GUARD: Duration = Duration::from_secs(20);
-
-fn kill(child: &Child, signal: &str) {
-    let status = Command::new("kill")
-        .args([format!("-{signal}"), child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(status.success(), "kill -{signal}");
-}
 
 /// The shared-memory segments process `pid` has mapped (its iceoryx2 services' memory).
 fn mapped_shm(pid: u32) -> BTreeSet<PathBuf> {
@@ -59,24 +48,6 @@ fn ipc_records(prefix: &str) -> Vec<PathBuf> {
     found
 }
 
-/// Polls (bounded) until `path` holds more than `bytes` bytes.
-fn wait_for_size(path: &Path, bytes: u64, child: &mut Child) {
-    let start = Instant::now();
-    while !path.metadata().is_ok_and(|m| m.len() > bytes) {
-        assert!(
-            child.try_wait().unwrap().is_none(),
-            "shoal ended before writing {}",
-            path.display()
-        );
-        assert!(
-            start.elapsed() < GUARD,
-            "{} did not grow past {bytes} bytes",
-            path.display()
-        );
-        std::thread::sleep(Duration::from_millis(20));
-    }
-}
-
 /// A long world (10⁵ s) with a vehicle on a mission and an agent slot nobody attaches to
 /// (free-running, so the run goes on without it).
 fn agent_world(dir: &Path) -> PathBuf {
@@ -103,13 +74,13 @@ fn interrupt_mid_run(signal: &str, code: i32) {
     let prefix = format!("sig{}{}", signal.to_lowercase(), std::process::id());
     let mut child = common::start_run(&["--quiet", "--prefix", &prefix], &out, &world, None);
     // Running: rows are streamed to the trajectories' temporary.
-    wait_for_size(&out.join(".trajectories.csv.tmp"), 20_000, &mut child);
+    common::wait_for_size(&out.join(".trajectories.csv.tmp"), 20_000, &mut child);
     let shm = mapped_shm(child.id());
     let records = ipc_records(&prefix);
     assert!(!shm.is_empty(), "the world maps no shared memory");
     assert!(!records.is_empty(), "no iceoryx2 service names `{prefix}`");
 
-    kill(&child, signal);
+    common::kill(&child, signal);
     let status = common::wait(&mut child, EXIT_GUARD);
     let o = child.wait_with_output().unwrap();
     let (stdout, stderr) = (
@@ -192,32 +163,13 @@ fn interrupt_large_world(marker: &str, phase: &str) {
     .unwrap();
     let out = dir.join("out");
     let mut child = common::start_run(&[], &out, &world, None);
-    let (tx, rx) = mpsc::channel();
-    let stderr = BufReader::new(child.stderr.take().unwrap());
-    let reader = std::thread::spawn(move || {
-        for line in stderr.lines().map_while(Result::ok) {
-            let _ = tx.send(line);
-        }
-    });
-    let start = Instant::now();
-    loop {
-        let left = GUARD.saturating_sub(start.elapsed());
-        match rx.recv_timeout(left) {
-            Ok(line) if line.contains(marker) => break,
-            Ok(_) => {}
-            Err(e) => {
-                let _ = child.kill();
-                panic!("no `{marker}` line on stderr: {e}");
-            }
-        }
-    }
-    kill(&child, "TERM");
+    let mut stderr = common::StderrLines::take(&mut child);
+    stderr.wait_for(marker, GUARD, &mut child);
+    common::kill(&child, "TERM");
     let signalled = Instant::now();
     let status = common::wait(&mut child, EXIT_GUARD);
     let answered = signalled.elapsed();
-    reader.join().unwrap();
-    let rest: Vec<String> = rx.try_iter().collect();
-    let rest = rest.join("\n");
+    let rest = stderr.finish();
     eprintln!("SIGTERM while {phase} 10^6 vehicles: exited after {answered:?}");
     assert_eq!(status.code(), Some(143), "{rest}");
     assert!(
@@ -254,12 +206,12 @@ fn sighup_ignored_at_the_start_stays_ignored() {
         Some("trap '' HUP;"),
     );
     let tmp = out.join(".trajectories.csv.tmp");
-    wait_for_size(&tmp, 20_000, &mut child);
-    kill(&child, "HUP");
+    common::wait_for_size(&tmp, 20_000, &mut child);
+    common::kill(&child, "HUP");
     // Still running: the file keeps growing.
     let after_hup = tmp.metadata().unwrap().len();
-    wait_for_size(&tmp, after_hup + 20_000, &mut child);
-    kill(&child, "TERM");
+    common::wait_for_size(&tmp, after_hup + 20_000, &mut child);
+    common::kill(&child, "TERM");
     let status = common::wait(&mut child, EXIT_GUARD);
     assert_eq!(status.code(), Some(143));
     let s = common::summary(&out);

@@ -1,18 +1,35 @@
 //! `--engine k8s` writes an Indexed Job manifest. No Kubernetes cluster can run here, so the
-//! manifest is checked for its structure (parsed, every field that makes it an indexed sweep
+//! manifest is validated against the strict batch/v1 Job schema of Kubernetes v1.37
+//! (vendored in `tests/k8s-schema`, see its README: no field the API does not have, every
+//! field of its type), checked for its structure (every field that makes it an indexed sweep
 //! looked at), and the command its pods run is run here, as a pod would run it with its
 //! completion index, against the folder the volume would hold.
 
 mod common;
 mod sweep_common;
 
-use serde_json::Value;
+use serde_json::{Value, json};
+use std::path::Path;
 use sweep_common::*;
 
-#[test]
-fn the_manifest_is_an_indexed_job_whose_pods_run_one_run_each() {
-    let dir = tmp("k8s");
-    let out = dir.join("smoke-out");
+/// The vendored strict batch/v1 Job schema, compiled.
+fn job_schema() -> jsonschema::Validator {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/k8s-schema/job-batch-v1.json");
+    let schema: Value = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    jsonschema::validator_for(&schema).expect("the Job schema compiles")
+}
+
+/// Where and why `manifest` breaks the Job schema (empty: it is a valid Job).
+fn schema_errors(schema: &jsonschema::Validator, manifest: &Value) -> Vec<String> {
+    schema
+        .iter_errors(manifest)
+        .map(|e| format!("{}: {e}", e.instance_path()))
+        .collect()
+}
+
+/// Writes the smoke sweep's manifest into `out` (`--max-parallel 3`, an image and a claim
+/// named) and returns it.
+fn write_manifest(out: &Path) -> Value {
     let o = shoal(&[
         "sweep",
         smoke().to_str().unwrap(),
@@ -33,8 +50,15 @@ fn the_manifest_is_an_indexed_job_whose_pods_run_one_run_each() {
         "{}",
         text(&o)
     );
-    let m: Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("k8s/job.json")).unwrap()).unwrap();
+    serde_json::from_str(&std::fs::read_to_string(out.join("k8s/job.json")).unwrap()).unwrap()
+}
+
+#[test]
+fn the_manifest_is_an_indexed_job_whose_pods_run_one_run_each() {
+    let dir = tmp("k8s");
+    let out = dir.join("smoke-out");
+    let m = write_manifest(&out);
+    assert_eq!(schema_errors(&job_schema(), &m), Vec::<String>::new());
     assert_eq!(m["apiVersion"], "batch/v1");
     assert_eq!(m["kind"], "Job");
     let name = m["metadata"]["name"].as_str().unwrap();
@@ -134,5 +158,49 @@ fn the_manifest_is_an_indexed_job_whose_pods_run_one_run_each() {
         "{}",
         text(&o)
     );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A way to break a manifest, and where (a JSON pointer) the schema must then object.
+type Breakage = (&'static str, fn(&mut Value));
+
+/// The schema check sees what is wrong: the manifest with a misspelt field, or a field of
+/// the wrong type, at any depth, breaks the schema there.
+#[test]
+fn the_schema_check_catches_a_misspelt_field_and_a_wrong_type() {
+    let dir = tmp("k8s-schema");
+    let m = write_manifest(&dir.join("smoke-out"));
+    let schema = job_schema();
+    assert_eq!(schema_errors(&schema, &m), Vec::<String>::new());
+    let broken: [Breakage; 5] = [
+        ("/spec", |m| {
+            let spec = m["spec"].as_object_mut().unwrap();
+            let mode = spec.remove("completionMode").unwrap();
+            spec.insert("completionMod".into(), mode);
+        }),
+        ("/spec/completions", |m| {
+            m["spec"]["completions"] = json!("8")
+        }),
+        ("/spec/template/spec/containers/0", |m| {
+            let c = &mut m["spec"]["template"]["spec"]["containers"][0];
+            let mounts = c.as_object_mut().unwrap().remove("volumeMounts").unwrap();
+            c["volumeMount"] = mounts;
+        }),
+        ("/spec/template/spec/containers/0/command/0", |m| {
+            m["spec"]["template"]["spec"]["containers"][0]["command"][0] = json!(1)
+        }),
+        ("/spec/template/spec/restartPolicy", |m| {
+            m["spec"]["template"]["spec"]["restartPolicy"] = json!(["Never"])
+        }),
+    ];
+    for (at, breaks) in broken {
+        let mut bad = m.clone();
+        breaks(&mut bad);
+        let errors = schema_errors(&schema, &bad);
+        assert!(
+            errors.iter().any(|e| e.starts_with(&format!("{at}: "))),
+            "nothing found at {at}: {errors:?}"
+        );
+    }
     std::fs::remove_dir_all(&dir).ok();
 }

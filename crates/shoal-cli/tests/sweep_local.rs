@@ -127,6 +127,7 @@ fn the_smoke_sweep_gives_the_runs_numbers_and_a_second_call_recomputes_nothing()
         svg.contains("delivered / receptions by vehicles within the cut-off range"),
         "the delivery ratio's axis does not say what it counts"
     );
+    assert_smoke_figures(&out);
 
     // Again: nothing is run, nothing is rewritten.
     let results: Vec<_> = rows

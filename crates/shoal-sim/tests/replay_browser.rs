@@ -1,7 +1,8 @@
 //! `replay.html` in a real browser: headless Chromium opens a demo replay from `file://`
 //! (software WebGL, SwiftShader), and the page must report that it rendered (the status
 //! attributes its viewer sets on `<html>`), draw a picture that is not blank, and load nothing
-//! from outside the file.
+//! from outside the file — watched in Chromium's NetLog while it plays, with a leaky copy of
+//! the page to show that the watch sees what it should.
 //!
 //! Chromium is required: without it these tests fail and say how to install it
 //! (`scripts/install-chromium.sh`, which `scripts/test.sh` runs first).
@@ -9,7 +10,7 @@
 mod support;
 
 use std::path::{Path, PathBuf};
-use support::browser::{self, chromium, html_attr};
+use support::browser::{self, chromium, chromium_observed, html_attr};
 
 use shoal_sim::replay::demo::demo;
 use shoal_sim::replay::html;
@@ -258,10 +259,51 @@ fn the_screenshot_shows_the_pool_and_the_vehicles() {
     let _ = std::fs::remove_dir_all(&d);
 }
 
+/// Chromium loads and plays the page from `file://` for 3 s (virtual time) and its network
+/// stack is asked for nothing on the page's behalf; the page's text names nothing outside
+/// either.
 #[test]
 fn the_page_loads_nothing_from_outside() {
     let d = dir("offline");
+    let page = demo_page(&d);
+    let (out, requests) =
+        chromium_observed(&page, "", &["--virtual-time-budget=3000", "--dump-dom"]);
+    let dom = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(html_attr(&dom, "data-status").as_deref(), Some("ok"));
+    // It played: the clock (`t / duration s`) moved on from 0.
+    let time = text_of(&dom, "time").expect("no clock");
+    let t: f64 = time.split(" / ").next().unwrap().parse().unwrap();
+    assert!(t > 0.0, "the page did not play: {time}");
+    browser::assert_no_outside_requests(&requests);
+    browser::assert_offline(&std::fs::read_to_string(&page).unwrap());
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// The observer sees a page that does load from outside: a copy of the replay with a
+/// script from an https address (a name that cannot resolve) and an image from a loopback
+/// port is caught with exactly those two requests.
+#[test]
+fn the_network_observer_sees_a_page_that_loads_from_outside() {
+    let d = dir("leaky");
     let page = std::fs::read_to_string(demo_page(&d)).unwrap();
-    browser::assert_offline(&page);
+    let script = "https://cdn.example.invalid/three.js";
+    let img = "http://127.0.0.1:9/x.png";
+    let head = page.find("<head>").unwrap() + "<head>".len();
+    let leaky = format!(
+        "{}<script src=\"{script}\"></script><img src=\"{img}\">{}",
+        &page[..head],
+        &page[head..]
+    );
+    let path = d.join("leaky.html");
+    std::fs::write(&path, leaky).unwrap();
+    let (_, mut requests) =
+        chromium_observed(&path, "", &["--virtual-time-budget=1000", "--dump-dom"]);
+    requests.sort();
+    assert_eq!(requests, vec![img.to_string(), script.to_string()]);
+    let caught = std::panic::catch_unwind(|| browser::assert_no_outside_requests(&requests));
+    assert!(
+        caught.is_err(),
+        "assert_no_outside_requests let {requests:?} pass"
+    );
     let _ = std::fs::remove_dir_all(&d);
 }

@@ -2,7 +2,9 @@
 //! μAUV² log (cells deleted, duplicated or garbled, rows dropped or repeated, separators mixed,
 //! comments and blank lines inserted, huge or millisecond times, gaps, NaN, long lines, header
 //! names changed), fed to the reader, the gap splitter and the input limits. Each must answer
-//! `Ok` or `Err` — never panic — and what it accepts must be a consistent run.
+//! `Ok` or `Err` — never panic — and what it accepts must be a consistent run. That the
+//! harmless mutations among them are *accepted*, with the same data, is
+//! `fuzz_csv_harmless.rs`.
 //!
 //! `cargo test` runs 256 cases per property; a long run:
 //! `PROPTEST_CASES=200000 cargo test --release -p shoal-sysid --test fuzz_csv`.

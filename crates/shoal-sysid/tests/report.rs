@@ -5,10 +5,14 @@
 //! a look at the figures.
 
 mod common;
+#[path = "../../shoal-sim/tests/support/plots.rs"]
+mod plots;
 
 use common::{Exp, find, measured};
 use shoal_model::presets;
+use shoal_sim::plot::rgb;
 use shoal_sysid::report::{ReportInput, write_report};
+use shoal_sysid::run::ChannelKind;
 use shoal_sysid::search::SearchOptions;
 use shoal_world::spec::VehicleSpec;
 use std::path::PathBuf;
@@ -105,9 +109,9 @@ fn report(name: &str, exp: Exp, hidden: &[(&str, Vec<f64>)], seed: u64) -> PathB
             assert!(row.matches('[').count() >= 1 && row.contains(", "), "{row}");
         }
         // The signature plot before/after is on disk and in the page.
+        // Its residuals before (red) and after (green) drawn as dots in the plot area.
         let png = format!("plots/signature_{fam}.png");
-        assert!(dir.join(&png).is_file(), "{png} missing");
-        assert!(dir.join(format!("plots/signature_{fam}.svg")).is_file());
+        plots::assert_png_colours(&dir.join(&png), &[rgb(3), rgb(2)], 30);
         assert!(section.contains(&format!("]({png})")), "{section}");
         assert_eq!(jn["signature_plot"], png.as_str());
     }
@@ -127,15 +131,32 @@ fn report(name: &str, exp: Exp, hidden: &[(&str, Vec<f64>)], seed: u64) -> PathB
         }
         assert!(md.contains(&format!("read as: {}", rd.run.ingest)));
     }
-    // Every measured channel of every run is plotted.
+    // Every measured channel of every run is plotted: the measurement (grey, drawn last, on
+    // top) in the PNG; in the SVG the baseline (red) and the model with the named effects
+    // (green) at every sample of it, and the depth as measured, sample by sample.
     for rd in &ds.runs {
         for &c in &rd.channels {
-            let f = dir.join(format!(
-                "plots/{}_{}.png",
-                rd.run.name,
-                rd.run.channels[c].kind.name()
-            ));
-            assert!(f.is_file(), "{} missing", f.display());
+            let ch = &rd.run.channels[c];
+            let f = dir.join(format!("plots/{}_{}.png", rd.run.name, ch.kind.name()));
+            plots::assert_png_colours(&f, &[rgb(7)], 300);
+            let svg = std::fs::read_to_string(f.with_extension("svg")).unwrap();
+            for (colour, width) in [(rgb(3), 2), (rgb(2), 2), (rgb(7), 1)] {
+                let n = plots::lines(&svg)
+                    .iter()
+                    .filter(|l| l.stroke == colour && l.width == width && l.points.len() > 2)
+                    .map(|l| l.points.len())
+                    .collect::<Vec<_>>();
+                assert_eq!(n, [ch.values.len()], "{}: {colour:?}", f.display());
+            }
+            if ch.kind == ChannelKind::Depth {
+                let measured: Vec<(f64, f64)> = ch
+                    .rows
+                    .iter()
+                    .map(|&k| rd.run.t[k])
+                    .zip(ch.values.iter().copied())
+                    .collect();
+                plots::assert_svg_series(&f.with_extension("svg"), 1, &[(rgb(7), measured)]);
+            }
         }
     }
     dir

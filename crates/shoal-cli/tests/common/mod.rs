@@ -5,6 +5,9 @@
 
 #![allow(dead_code)]
 
+#[path = "../../../shoal-sim/tests/support/cargo_example.rs"]
+mod cargo_example;
+
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, ExitStatus};
 use std::time::{Duration, Instant};
@@ -15,30 +18,10 @@ pub fn repo() -> PathBuf {
 }
 
 /// Builds the shoal-bridge example `name` (same profile as the `shoal` binary under test)
-/// and returns its path. Built with `--workspace`, so its features resolve as in
-/// `cargo test --workspace`, which has built it already: `-p shoal-bridge` would resolve
-/// them differently and build a second copy of shoal-sim, iceoryx2 and bevy_ecs (minutes
-/// and a gigabyte of disk on a fresh machine).
+/// and returns its path.
 pub fn example_agent(name: &str) -> PathBuf {
     let bin_dir = Path::new(env!("CARGO_BIN_EXE_shoal")).parent().unwrap();
-    let mut build = Command::new(std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into()));
-    build
-        .args(["build", "-q", "--workspace", "--example", name])
-        .current_dir(repo());
-    if bin_dir.ends_with("release") {
-        build.arg("--release");
-    }
-    let o = build.output().unwrap();
-    assert!(
-        o.status.success(),
-        "building {name} failed: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    let exe = bin_dir
-        .join("examples")
-        .join(format!("{name}{}", std::env::consts::EXE_SUFFIX));
-    assert!(exe.exists(), "{} missing", exe.display());
-    exe
+    cargo_example::build_example(&repo(), bin_dir, name)
 }
 
 /// Runs `shoal bench --agents LANG --vehicles 1,20 --json` with `extra` arguments and checks
@@ -157,6 +140,11 @@ pub fn files_ending(dir: &Path, suffix: &str) -> Vec<String> {
 /// Starts `shoal run ARGS… --out OUT WORLD` with stdout and stderr piped. With `shell`
 /// (e.g. `trap '' HUP;`), `sh` runs that first and then becomes shoal (`exec`).
 pub fn start_run(args: &[&str], out: &Path, world: &Path, shell: Option<&str>) -> Child {
+    run_command(args, out, world, shell).spawn().unwrap()
+}
+
+/// The command of [`start_run`], to add to (an environment variable) before it is spawned.
+pub fn run_command(args: &[&str], out: &Path, world: &Path, shell: Option<&str>) -> Command {
     let mut c = match shell {
         None => Command::new(env!("CARGO_BIN_EXE_shoal")),
         Some(pre) => {
@@ -172,9 +160,112 @@ pub fn start_run(args: &[&str], out: &Path, world: &Path, shell: Option<&str>) -
         .arg(out)
         .arg(world)
         .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap()
+        .stderr(std::process::Stdio::piped());
+    c
+}
+
+/// Polls (bounded by [`POLL_LIMIT`], a hang guard) until `path` holds more than `bytes`
+/// bytes; fails when `child` ends first.
+pub fn wait_for_size(path: &Path, bytes: u64, child: &mut Child) {
+    let start = Instant::now();
+    while !path.metadata().is_ok_and(|m| m.len() > bytes) {
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "shoal ended before writing {}",
+            path.display()
+        );
+        assert!(
+            start.elapsed() < POLL_LIMIT,
+            "{} did not grow past {bytes} bytes",
+            path.display()
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+/// Sends `signal` (a name such as `TERM`) to `child` with `kill`.
+pub fn kill(child: &Child, signal: &str) {
+    let status = Command::new("kill")
+        .args([format!("-{signal}"), child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(status.success(), "kill -{signal}");
+}
+
+/// A child's standard error, read line by line on a thread of its own, so a test can wait
+/// for a line (a progress marker) while the child goes on.
+pub struct StderrLines {
+    rx: std::sync::mpsc::Receiver<String>,
+    reader: std::thread::JoinHandle<()>,
+    seen: Vec<String>,
+}
+
+impl StderrLines {
+    /// Takes `child`'s piped standard error.
+    pub fn take(child: &mut Child) -> Self {
+        use std::io::BufRead;
+        let (tx, rx) = std::sync::mpsc::channel();
+        let stderr = std::io::BufReader::new(child.stderr.take().expect("piped stderr"));
+        let reader = std::thread::spawn(move || {
+            for line in stderr.lines().map_while(Result::ok) {
+                let _ = tx.send(line);
+            }
+        });
+        Self {
+            rx,
+            reader,
+            seen: Vec::new(),
+        }
+    }
+
+    /// Waits (at most `limit`, a hang guard) for a line that contains `marker`; kills
+    /// `child` and fails the test when none comes.
+    pub fn wait_for(&mut self, marker: &str, limit: Duration, child: &mut Child) {
+        let start = Instant::now();
+        loop {
+            match self.rx.recv_timeout(limit.saturating_sub(start.elapsed())) {
+                Ok(line) => {
+                    let found = line.contains(marker);
+                    self.seen.push(line);
+                    if found {
+                        return;
+                    }
+                }
+                Err(e) => {
+                    let _ = child.kill();
+                    panic!(
+                        "no `{marker}` line on stderr ({e}); it said:\n{}",
+                        self.seen.join("\n")
+                    );
+                }
+            }
+        }
+    }
+
+    /// Every line, once the child has closed its standard error (it has ended).
+    pub fn finish(mut self) -> String {
+        self.reader.join().unwrap();
+        self.seen.extend(self.rx.try_iter());
+        self.seen.join("\n")
+    }
+}
+
+/// The CSV table `path`: its header, and its rows as column → text.
+pub fn read_table(path: &Path) -> (Vec<String>, Vec<std::collections::BTreeMap<String, String>>) {
+    let mut r = csv::Reader::from_path(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let header: Vec<String> = r.headers().unwrap().iter().map(String::from).collect();
+    let rows = r
+        .records()
+        .map(|rec| {
+            let rec = rec.unwrap();
+            header
+                .iter()
+                .cloned()
+                .zip(rec.iter().map(String::from))
+                .collect()
+        })
+        .collect();
+    (header, rows)
 }
 
 /// The files a summary.json lists.

@@ -3,6 +3,9 @@
 
 #![allow(dead_code)]
 
+#[path = "../../../shoal-sim/tests/support/plots.rs"]
+mod plots;
+
 pub use crate::common::repo;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -41,20 +44,7 @@ pub type Row = BTreeMap<String, String>;
 
 /// results.csv of `dir`: header and rows.
 pub fn table(dir: &Path) -> (Vec<String>, Vec<Row>) {
-    let mut r = csv::Reader::from_path(dir.join("results.csv")).unwrap();
-    let header: Vec<String> = r.headers().unwrap().iter().map(String::from).collect();
-    let rows = r
-        .records()
-        .map(|rec| {
-            let rec = rec.unwrap();
-            header
-                .iter()
-                .cloned()
-                .zip(rec.iter().map(String::from))
-                .collect()
-        })
-        .collect();
-    (header, rows)
+    crate::common::read_table(&dir.join("results.csv"))
 }
 
 /// The rows without the wall-clock column, which is the only one allowed to differ between
@@ -108,4 +98,56 @@ pub fn run_summary(dir: &Path, row: &Row) -> serde_json::Value {
 /// A number as results.csv writes it (Rust's shortest round-trip form).
 pub fn num(v: &serde_json::Value) -> String {
     format!("{}", v.as_f64().unwrap())
+}
+
+/// Checks every figure of the smoke sweep in `dir` (5 metrics against each of its two
+/// parameters, `vehicles.0.count` and `water.attenuation`) against aggregate.csv: in each, a
+/// line per value of the other parameter (palette colours in the order of the table), a dot
+/// at each mean and a bar over each 95 % interval; and each PNG decodes with those colours
+/// drawn in the plot area.
+pub fn assert_smoke_figures(dir: &Path) {
+    let (_, rows) = crate::common::read_table(&dir.join("aggregate.csv"));
+    let params = ["vehicles.0.count", "water.attenuation"];
+    let mut drawn = 0;
+    for metric in [
+        "delivery_ratio",
+        "frames_sent",
+        "largest_fraction_end",
+        "largest_fraction_mean",
+        "impacts",
+    ] {
+        for (p, param) in params.iter().enumerate() {
+            let other = params[1 - p];
+            // Lines: the other parameter's values; categories: this one's, in table order.
+            let mut lines: Vec<&str> = Vec::new();
+            for row in &rows {
+                if !lines.contains(&row[other].as_str()) {
+                    lines.push(&row[other]);
+                }
+            }
+            let groups: Vec<(plots::Rgb, Vec<(f64, f64)>)> = lines
+                .iter()
+                .enumerate()
+                .map(|(g, value)| {
+                    let points = rows
+                        .iter()
+                        .filter(|r| r[other] == *value)
+                        .map(|r| {
+                            let f = |c: &str| r[c].parse::<f64>().unwrap();
+                            (f(&format!("{metric}_mean")), f(&format!("{metric}_ci95")))
+                        })
+                        .collect();
+                    (shoal_sim::plot::rgb(g), points)
+                })
+                .collect();
+            let stem = dir
+                .join("plots")
+                .join(format!("{metric}_vs_{}", param.replace('.', "_")));
+            plots::assert_ci_svg(&stem.with_extension("svg"), &groups);
+            let colours: Vec<plots::Rgb> = groups.iter().map(|g| g.0).collect();
+            plots::assert_png_colours(&stem.with_extension("png"), &colours, 30);
+            drawn += 1;
+        }
+    }
+    assert_eq!(drawn, 10);
 }

@@ -304,9 +304,7 @@ pub fn write_links_csv(path: &Path, sim: &Sim) -> Result<PathBuf, FileError> {
         "half_duplex",
         "delivery_ratio",
     ])?;
-    let seconds = (sim.time().ceil() as usize).max(sim.medium().per_second.len());
-    for k in 0..seconds {
-        let c = sim.medium().per_second.get(k).copied().unwrap_or([0; 5]);
+    for (k, c) in per_second(sim).into_iter().enumerate() {
         let n = |o: Outcome| c[o.index()];
         let attempted: u64 = c.iter().sum();
         w.write_record([
@@ -325,6 +323,17 @@ pub fn write_links_csv(path: &Path, sim: &Sim) -> Result<PathBuf, FileError> {
         ])?;
     }
     w.commit()
+}
+
+/// The reception attempts of each second of the run by outcome (indexed by
+/// [`Outcome::index`]), the seconds after the last attempt included (as zeros): the rows of
+/// `links.csv` and the points of `links_over_time`.
+pub(crate) fn per_second(sim: &Sim) -> Vec<[u64; 5]> {
+    let counted = &sim.medium().per_second;
+    let seconds = (sim.time().ceil() as usize).max(counted.len());
+    (0..seconds)
+        .map(|k| counted.get(k).copied().unwrap_or([0; 5]))
+        .collect()
 }
 
 /// `connectivity.csv`: one row per sample of the communication graph (every second): an

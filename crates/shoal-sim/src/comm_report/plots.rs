@@ -52,7 +52,8 @@ pub fn plots(
         ),
         (
             "links_over_time",
-            links_plot(&desc.name, &sim.medium().per_second, desc.duration),
+            // Every second of the run, as in links.csv (a quiet second is a zero, not a gap).
+            links_plot(&desc.name, &super::per_second(sim), desc.duration),
         ),
         (
             "connectivity_over_time",

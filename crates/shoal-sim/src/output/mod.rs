@@ -115,7 +115,13 @@ pub struct RunOutput {
     /// The replay to write as `replay.html` (set by the run driver before `finish`, e.g.
     /// from [`Sim::take_replay`]).
     pub replay: Option<crate::replay::ReplayData>,
+    /// Called with each output file's final name just before [`RunOutput::finish`] begins
+    /// it (set by the run driver, e.g. to report progress).
+    pub before_file: Option<Box<BeforeFile>>,
 }
+
+/// What [`RunOutput::before_file`] holds: a call with each output file's final name.
+pub type BeforeFile = dyn Fn(&Path) + Send + Sync;
 
 impl RunOutput {
     /// Creates `dir` (and parents) and starts `trajectories.csv` (under its temporary name).
@@ -173,6 +179,7 @@ impl RunOutput {
             csv_rows: 0,
             agents: None,
             replay: None,
+            before_file: None,
         })
     }
 
@@ -257,10 +264,11 @@ impl RunOutput {
     /// plots) and returns the summary.
     ///
     /// `cancel` is the run's stop request. One made before `finish` marks the summary
-    /// interrupted (with its cause). One made while finishing — the first after a complete
-    /// run, or another after an interrupted one — skips the plots not yet drawn; the summary
-    /// and the tables are always finished. The first write error ends the outputs: it names
-    /// the file and the reason, and every file written before it stays.
+    /// interrupted (with its cause), and the plots are still drawn. A further one — a second
+    /// request, whenever it came, or the first while a complete run's outputs are written —
+    /// skips the plots not yet drawn; the summary and the tables are always finished. The
+    /// first write error ends the outputs: it names the file and the reason, and every file
+    /// written before it stays.
     pub fn finish(
         self,
         desc: &WorldDesc,
@@ -268,7 +276,8 @@ impl RunOutput {
         wall_s: f64,
         cancel: &Cancel,
     ) -> Result<Summary, OutputError> {
-        let seen = cancel.requests();
+        // The request that ended the run (if any) still has its plots; any other skips them.
+        let seen = cancel.requests().min(1);
         sim.fold_comm();
         let sim = &*sim;
         let snaps = sim.views();
@@ -291,8 +300,14 @@ impl RunOutput {
             csv_rows,
             agents,
             replay,
+            before_file,
             ..
         } = self;
+        let begin = |p: &Path| {
+            if let Some(f) = &before_file {
+                f(p);
+            }
+        };
         let json_path = dir.join("summary.json");
         let vehicles_path = dir.join("vehicles.csv");
         let mut planned = vec![
@@ -320,6 +335,7 @@ impl RunOutput {
         summary.agents = agents;
         summary.trajectory_rows = csv_rows;
         summary.files = planned.iter().map(|p| p.display().to_string()).collect();
+        begin(&json_path);
         write_summary(&json_path, &summary)?;
         let mut written = vec![json_path.clone()];
         let outcome = write_tables_and_plots(
@@ -335,6 +351,7 @@ impl RunOutput {
             &plots,
             &dir,
             || cancel.requests() > seen,
+            &begin,
             &mut written,
         );
         if outcome.is_err() || written.len() < planned.len() || cancel.requests() > seen {
@@ -373,8 +390,8 @@ fn write_summary(path: &Path, summary: &Summary) -> Result<PathBuf, FileError> {
 
 /// The part of [`RunOutput::finish`] after the summary: commits the trajectories, writes
 /// `vehicles.csv`, the communication tables (when there was traffic) and the replay, and
-/// draws the plots until `skip_plots` says so, adding each file to `written` as it is
-/// complete.
+/// draws the plots until `skip_plots` says so, calling `begin` with each file's name before
+/// it begins it and adding each file to `written` as it is complete.
 #[allow(clippy::too_many_arguments)]
 fn write_tables_and_plots(
     trajectories: CsvFile,
@@ -385,21 +402,25 @@ fn write_tables_and_plots(
     plots: &[(&'static str, Plot)],
     dir: &Path,
     skip_plots: impl Fn() -> bool,
+    begin: &dyn Fn(&Path),
     written: &mut Vec<PathBuf>,
 ) -> Result<(), OutputError> {
+    begin(trajectories.path());
     written.push(trajectories.commit()?);
+    begin(vehicles.0);
     written.push(write_vehicles_csv(vehicles.0, vehicles.1, vehicles.2)?);
     if let Some(sim) = comm {
-        crate::comm_report::write_tables(dir, sim, snaps, written)?;
+        crate::comm_report::write_tables(dir, sim, snaps, begin, written)?;
     }
     if let Some((path, data)) = replay {
+        begin(path);
         written.push(crate::replay::html::write(path, data)?);
     }
     for (stem, plot) in plots {
         if skip_plots() {
             break;
         }
-        written.extend(plot.write_until(&dir.join(stem), &skip_plots)?);
+        written.extend(plot.write_until(&dir.join(stem), &skip_plots, begin)?);
     }
     Ok(())
 }

@@ -624,16 +624,17 @@ impl Plot {
     /// Writes `<stem>.png` and `<stem>.svg` (each drawn in memory, then written whole
     /// through [`crate::files`]); returns both paths.
     pub fn write(&self, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
-        self.write_until(stem, &|| false)
+        self.write_until(stem, &|| false, &|_| {})
     }
 
     /// [`Plot::write`] that gives up, between series and between the two files, once `stop`
-    /// says so; returns the files written (both, one or none). A file is never left half
-    /// written.
+    /// says so, and calls `begin` with each file's name before it draws it; returns the
+    /// files written (both, one or none). A file is never left half written.
     pub fn write_until(
         &self,
         stem: &Path,
         stop: &dyn Fn() -> bool,
+        begin: &dyn Fn(&Path),
     ) -> Result<Vec<PathBuf>, PlotError> {
         let png = stem.with_extension("png");
         let svg = stem.with_extension("svg");
@@ -651,6 +652,7 @@ impl Plot {
         let lay = self.layout().map_err(|m| err(&png, m))?;
         let (w, h) = self.size();
         let size = (w, h + lay.strip);
+        begin(&png);
         let mut pixels = vec![0u8; size.0 as usize * size.1 as usize * 3];
         let root = BitMapBackend::with_buffer(&mut pixels, size).into_drawing_area();
         if !complete(self.draw(root, &lay, stop), &png)? {
@@ -664,6 +666,7 @@ impl Plot {
         if stop() {
             return Ok(written);
         }
+        begin(&svg);
         let mut text = String::new();
         let root = SVGBackend::with_string(&mut text, size).into_drawing_area();
         if !complete(self.draw(root, &lay, stop), &svg)? {
@@ -775,7 +778,23 @@ mod tests {
         assert_eq!(lay.legend, LegendPlace::Below);
         assert!(lay.strip > 0);
         let files = full.write(&dir.join("full")).unwrap();
-        assert!(files.iter().all(|f| f.exists()));
+        assert_eq!(files, [dir.join("full.png"), dir.join("full.svg")]);
+        // The PNG is the plot and the strip below it, the line drawn above the strip and its
+        // legend sample in the strip; the SVG has the same size.
+        let blue = blue_rows(&files[0], (600, 300 + lay.strip as u32));
+        assert!(
+            blue[..300].iter().sum::<usize>() > 1000,
+            "the line is not drawn"
+        );
+        assert!(
+            blue[300..].iter().sum::<usize>() >= 24,
+            "no legend in the strip"
+        );
+        let svg = std::fs::read_to_string(&files[1]).unwrap();
+        assert!(svg.starts_with(&format!(
+            "<svg width=\"600\" height=\"{}\"",
+            300 + lay.strip
+        )));
         // Room above the data: legend in a corner, image as asked.
         let roomy = Plot {
             title: "roomy".into(),
@@ -787,7 +806,24 @@ mod tests {
         let lay = roomy.layout().unwrap();
         assert_ne!(lay.legend, LegendPlace::Below);
         assert_eq!(lay.strip, 0);
-        roomy.write(&dir.join("roomy")).unwrap();
+        let files = roomy.write(&dir.join("roomy")).unwrap();
+        let blue = blue_rows(&files[0], (600, 300));
+        assert!(blue.iter().sum::<usize>() > 1000, "the line is not drawn");
         let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// Decodes the PNG `path`, checks its size and counts the pixels of palette colour 0 in
+    /// each row.
+    fn blue_rows(path: &Path, size: (u32, u32)) -> Vec<usize> {
+        let img = image::open(path).unwrap().to_rgb8();
+        assert_eq!(img.dimensions(), size, "{}", path.display());
+        let (r, g, b) = rgb(0);
+        let mut rows = vec![0; size.1 as usize];
+        for (_, y, p) in img.enumerate_pixels() {
+            if p.0 == [r, g, b] {
+                rows[y as usize] += 1;
+            }
+        }
+        rows
     }
 }

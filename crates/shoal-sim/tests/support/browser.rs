@@ -1,12 +1,34 @@
 //! Headless Chromium for the replay tests of shoal-sim and shoal-cli (the latter includes this
 //! file by path): run it on a page, read the status attributes the viewer sets on `<html>`,
-//! and check that a page reaches nothing outside itself.
+//! and check that a page reaches nothing outside itself — by watching what Chromium's network
+//! stack is asked for while it loads and plays the page ([`chromium_observed`], from its
+//! NetLog) and by reading the page's text ([`assert_offline`]).
+//!
+//! Chromium itself reaches out in the background (component updates, network time, account
+//! checks) even with its background networking switched off. [`chromium`] therefore resolves
+//! no host name (`--host-resolver-rules`) and sends every HTTP(S) request to a proxy on a
+//! closed loopback port: nothing leaves this machine, and every request still shows in the
+//! NetLog.
 
 #![allow(dead_code)]
 
 use std::path::Path;
 use std::process::{Command, Output};
 use std::time::Instant;
+
+/// Flags that keep Chromium's own traffic off the network (see the module documentation).
+const NO_NETWORK: [&str; 10] = [
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--disable-default-apps",
+    "--disable-domain-reliability",
+    "--no-first-run",
+    "--no-pings",
+    "--disable-features=NetworkTimeServiceQuerying",
+    "--host-resolver-rules=MAP * ~NOTFOUND",
+    "--proxy-server=127.0.0.1:1",
+];
 
 /// Runs headless Chromium on the page `page` (with the address fragment `fragment`, the
 /// viewer's initial state) with `extra` arguments (at most 120 s). Fails the test with the
@@ -32,6 +54,7 @@ pub fn chromium(page: &Path, fragment: &str, extra: &[&str]) -> Output {
             "--window-size=1280,720",
             "--hide-scrollbars",
         ])
+        .args(NO_NETWORK)
         .args(extra)
         .arg(format!("file://{}{fragment}", page.display()))
         .output()
@@ -44,6 +67,60 @@ pub fn chromium(page: &Path, fragment: &str, extra: &[&str]) -> Output {
         String::from_utf8_lossy(&out.stderr)
     );
     out
+}
+
+/// [`chromium`] with its NetLog (`--log-net-log`, written beside the page): the output and
+/// the URL of every request its network stack started on behalf of a document — a request
+/// whose initiator is an origin (a `file:` page's is `null`) or whose isolation key names
+/// `file://`. Requests Chromium makes for itself (initiator "not an origin") are left out.
+/// A page from `file://` that loads nothing from outside makes none: its own file, `data:`
+/// and `blob:` URLs never reach the network stack.
+pub fn chromium_observed(page: &Path, fragment: &str, extra: &[&str]) -> (Output, Vec<String>) {
+    let log = page.with_extension("netlog.json");
+    let _ = std::fs::remove_file(&log);
+    let flag = format!("--log-net-log={}", log.display());
+    let mut args = vec![flag.as_str()];
+    args.extend_from_slice(extra);
+    let out = chromium(page, fragment, &args);
+    let text = std::fs::read_to_string(&log)
+        .unwrap_or_else(|e| panic!("no NetLog at {}: {e}", log.display()));
+    let json: serde_json::Value = serde_json::from_str(&text).expect("the NetLog is JSON");
+    let start = json["constants"]["logEventTypes"]["URL_REQUEST_START_JOB"]
+        .as_u64()
+        .expect("the NetLog names URL_REQUEST_START_JOB");
+    let events = json["events"].as_array().expect("the NetLog's events");
+    assert!(!events.is_empty(), "the NetLog recorded nothing");
+    let mut mine = Vec::new();
+    for p in events
+        .iter()
+        .filter(|e| e["type"].as_u64() == Some(start))
+        .map(|e| &e["params"])
+    {
+        let Some(url) = p["url"].as_str() else {
+            continue; // the end of a job (its net_error)
+        };
+        let initiator = p["initiator"].as_str().unwrap_or("not an origin");
+        let key = p["network_isolation_key"].as_str().unwrap_or("");
+        if initiator != "not an origin" || key.contains("file://") {
+            mine.push(url.to_string());
+        } else {
+            eprintln!("chromium's own request (not the page's): {url}");
+        }
+    }
+    (out, mine)
+}
+
+/// Asserts that `requests` (from [`chromium_observed`]) reached nothing outside the page:
+/// only `file:`, `data:` and `blob:` URLs.
+pub fn assert_no_outside_requests(requests: &[String]) {
+    let outside: Vec<&String> = requests
+        .iter()
+        .filter(|u| !["file:", "data:", "blob:"].iter().any(|s| u.starts_with(s)))
+        .collect();
+    assert!(
+        outside.is_empty(),
+        "the page asked the network for {outside:?}"
+    );
 }
 
 /// The attribute `name` of the `<html …>` start tag in `dom`, unescaped.
