@@ -3,15 +3,20 @@
 //! limit, closed-loop commands; effects in forms that differ from the catalogue's):
 //!
 //! * they all load with the μAUV² preset: the diving logs' tilt at −1.5708 is clamped to −π/2
-//!   and counted on every row, nothing else is touched;
-//! * the verdict names exactly the hidden effects — none missing, none extra — on at least 15
-//!   of the 16 logs, and both null logs give an empty verdict.
+//!   and counted on every row, nothing else is touched (trial `logs_load_with_the_uauv2_preset`);
+//! * each log's verdict is pinned in `tests/verdicts/validation_dev.tsv` (trial `log::<name>`:
+//!   its search, compared with the pinned verdict, the difference shown when it changes);
+//! * the table (trial `table`) lists exactly the logs of `expected.json` with their hidden
+//!   effects; every verdict names exactly the hidden effects — none missing, none extra — but
+//!   on [`ALLOWED_MISS`], the one log allowed to miss; and both null logs give an empty verdict.
 //!
 //! The folder must be there (it is beside the repository on every machine of this project);
 //! a missing folder fails the tests instead of skipping them.
 
 mod common;
 
+use common::pinned::{Table, check_verdict};
+use libtest_mimic::{Arguments, Failed, Trial};
 use shoal_model::presets;
 use shoal_sysid::replay::InputMap;
 use shoal_sysid::run::MeasuredRun;
@@ -20,8 +25,7 @@ use std::collections::BTreeMap;
 use std::f64::consts::FRAC_PI_2;
 use std::path::{Path, PathBuf};
 
-#[test]
-fn every_development_log_loads_with_the_uauv2_preset() {
+fn logs_load_with_the_uauv2_preset() -> Result<(), Failed> {
     let dir = Path::new(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../../../shared/data/validation_dev"
@@ -66,6 +70,7 @@ fn every_development_log_loads_with_the_uauv2_preset() {
             assert!(map.clamped.is_empty(), "{}: {:?}", f.display(), map.clamped);
         }
     }
+    Ok(())
 }
 
 fn folder() -> PathBuf {
@@ -75,57 +80,105 @@ fn folder() -> PathBuf {
     ))
 }
 
-/// The verdict of the search on one development log (as every search test runs it:
-/// `common::find`).
-fn verdict_of(dir: &Path, name: &str) -> (Vec<String>, shoal_sysid::search::Verdict) {
-    let run = MeasuredRun::read(&dir.join(format!("{name}.csv"))).unwrap_or_else(|e| panic!("{e}"));
-    let (_, out) = common::find(run);
-    let mut got = out.verdict.effects.clone();
-    got.sort();
-    (got, out.verdict)
+/// The one log whose verdict may miss (named here, so a second miss, or a different one,
+/// fails): the inflow-loss diving log, whose inflow loss is named with an effect beside it
+/// (docs/validation.md, "Development logs").
+const ALLOWED_MISS: &str = "dev_h_inflow";
+
+fn table_path() -> PathBuf {
+    PathBuf::from(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/verdicts/validation_dev.tsv"
+    ))
 }
 
-/// The verdict is exact on at least 15 of the 16 logs, and both null logs (no hidden effect)
-/// give an empty verdict (asserted on its own: a false discovery there fails even within the
-/// one miss allowed).
-#[test]
-fn development_logs_get_exact_verdicts() {
+/// The hidden effects of each log, from `expected.json` (sorted by name).
+fn expected() -> BTreeMap<String, Vec<String>> {
     let dir = folder();
-    let expected = std::fs::read_to_string(dir.join("expected.json")).unwrap_or_else(|e| {
+    let text = std::fs::read_to_string(dir.join("expected.json")).unwrap_or_else(|e| {
         panic!(
             "the development logs are missing at {} ({e}); they belong beside the repository",
             dir.display()
         )
     });
-    let expected: BTreeMap<String, Vec<String>> =
-        serde_json::from_str(&expected).expect("expected.json parses");
-    assert_eq!(expected.len(), 16, "16 development logs");
-    let mut exact = 0;
-    let mut table = Vec::new();
-    for (name, want) in &expected {
-        let (got, verdict) = verdict_of(&dir, name);
-        let mut want = want.clone();
-        want.sort();
-        let ok = got == want;
-        exact += usize::from(ok);
-        if want.is_empty() {
-            assert!(got.is_empty(), "{name}: false discovery {got:?}");
-        }
-        table.push(format!(
-            "{name:16} {} want {want:?} got {got:?} (forms {:?}; possible {:?})",
-            if ok { "ok  " } else { "MISS" },
-            verdict.forms,
-            verdict
-                .possible
-                .iter()
-                .map(|p| p.effect.as_str())
-                .collect::<Vec<_>>()
-        ));
+    let mut map: BTreeMap<String, Vec<String>> =
+        serde_json::from_str(&text).expect("expected.json parses");
+    for v in map.values_mut() {
+        v.sort();
     }
-    eprintln!("{}", table.join("\n"));
-    assert!(
-        exact >= 15,
-        "exact verdicts on {exact} of 16 logs (need ≥ 15):\n{}",
-        table.join("\n")
+    map
+}
+
+/// The pinned table: the logs of `expected.json`, exact but for [`ALLOWED_MISS`], clean nulls.
+fn table() -> Result<(), Failed> {
+    let expected = expected();
+    assert_eq!(expected.len(), 16, "16 development logs");
+    let table = Table::read(&table_path());
+    let cases: Vec<(String, Vec<String>)> = expected.into_iter().collect();
+    table.check_cases(&cases);
+    for r in &table.rows {
+        println!(
+            "{:16} {} hidden {{{}}} found {{{}}}",
+            r.case,
+            if r.exact() { "ok  " } else { "MISS" },
+            r.expected.join(", "),
+            r.found.join(", ")
+        );
+    }
+    let null_verdicts: Vec<&str> = table
+        .rows
+        .iter()
+        .filter(|r| r.expected.is_empty() && !r.found.is_empty())
+        .map(|r| r.case.as_str())
+        .collect();
+    if !null_verdicts.is_empty() {
+        return Err(format!("false discoveries on the null logs {null_verdicts:?}").into());
+    }
+    let misses: Vec<&str> = table
+        .rows
+        .iter()
+        .filter(|r| !r.exact())
+        .map(|r| r.case.as_str())
+        .collect();
+    if misses.iter().any(|m| *m != ALLOWED_MISS) {
+        return Err(format!(
+            "verdicts miss on {misses:?}; only `{ALLOWED_MISS}` may (15 of 16 exact)"
+        )
+        .into());
+    }
+    Ok(())
+}
+
+/// One log searched as every search test runs it (`common::find`), its verdict compared with
+/// the pinned one.
+fn log(name: String) -> Result<(), Failed> {
+    let run =
+        MeasuredRun::read(&folder().join(format!("{name}.csv"))).unwrap_or_else(|e| panic!("{e}"));
+    let (_, out) = common::find(run);
+    let v = &out.verdict;
+    let detail = format!(
+        "  forms {:?}; possible {:?}",
+        v.forms,
+        v.possible
+            .iter()
+            .map(|p| p.effect.as_str())
+            .collect::<Vec<_>>()
     );
+    check_verdict(&Table::read(&table_path()), &name, &v.effects, &detail);
+    Ok(())
+}
+
+fn main() {
+    let args = Arguments::from_args();
+    let mut trials = vec![
+        Trial::test(
+            "logs_load_with_the_uauv2_preset",
+            logs_load_with_the_uauv2_preset,
+        ),
+        Trial::test("table", table),
+    ];
+    for name in expected().into_keys() {
+        trials.push(Trial::test(format!("log::{name}"), move || log(name)));
+    }
+    libtest_mimic::run(&args, trials).exit();
 }

@@ -268,23 +268,27 @@ pub fn table_names(vehicles: usize) -> Vec<&'static str> {
 }
 
 /// Writes the communication tables into `dir` (each whole, through [`crate::files`]),
-/// adding each to `written` when complete: `links.csv` (per second of the run: reception
+/// calling `begin` with each one's name before it begins it and adding each to `written`
+/// when complete: `links.csv` (per second of the run: reception
 /// attempts by outcome), `connectivity.csv` (per second: the communication graph) and, for
 /// up to [`PAIRS_MAX_VEHICLES`] vehicles, `link_pairs.csv` (per sender → receiver).
 pub fn write_tables(
     dir: &Path,
     sim: &Sim,
     snaps: &[VehicleView<'_>],
+    begin: &dyn Fn(&Path),
     written: &mut Vec<PathBuf>,
 ) -> Result<(), FileError> {
-    written.push(write_links_csv(&dir.join("links.csv"), sim)?);
-    written.push(write_connectivity_csv(
-        &dir.join("connectivity.csv"),
-        sim,
-        snaps.len(),
-    )?);
+    let links = dir.join("links.csv");
+    begin(&links);
+    written.push(write_links_csv(&links, sim)?);
+    let connectivity = dir.join("connectivity.csv");
+    begin(&connectivity);
+    written.push(write_connectivity_csv(&connectivity, sim, snaps.len())?);
     if snaps.len() <= PAIRS_MAX_VEHICLES {
-        written.push(write_link_pairs_csv(&dir.join("link_pairs.csv"), snaps)?);
+        let pairs = dir.join("link_pairs.csv");
+        begin(&pairs);
+        written.push(write_link_pairs_csv(&pairs, snaps)?);
     }
     Ok(())
 }

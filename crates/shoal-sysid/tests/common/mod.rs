@@ -66,8 +66,10 @@ pub fn find(run: MeasuredRun) -> (Dataset, Outcome) {
         },
     )
     .expect("dataset");
+    // One search thread (results do not depend on it): the test runner runs the tests side
+    // by side, one process each under cargo-nextest.
     let opts = SearchOptions {
-        threads: 2,
+        threads: 1,
         ..Default::default()
     };
     let out = search(&ds, &base, &opts, &|_| {});
@@ -148,3 +150,5 @@ pub fn channel_gains(out: &Outcome) -> Vec<(String, f64)> {
         })
         .collect()
 }
+
+pub mod pinned;
