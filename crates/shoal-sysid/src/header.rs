@@ -131,6 +131,23 @@ pub(crate) fn quote(cell: &str) -> String {
     }
 }
 
+/// The text of a cell written in quotes after a space (` "2"`, `t, "u.port"`): the csv
+/// reader takes quotes only at a cell's first byte, so with the spaces trimmed such a cell
+/// still holds its quotes. `None` for any other cell. A doubled quote inside is one quote, as
+/// in a quoted cell.
+pub(crate) fn unquote(cell: &[u8]) -> Option<Vec<u8>> {
+    let inner = cell.strip_prefix(b"\"")?.strip_suffix(b"\"")?;
+    let mut out = Vec::with_capacity(inner.len());
+    let mut bytes = inner.iter().copied().peekable();
+    while let Some(b) = bytes.next() {
+        out.push(b);
+        if b == b'"' && bytes.peek() == Some(&b'"') {
+            bytes.next();
+        }
+    }
+    Some(out)
+}
+
 /// A parsed header.
 pub(crate) struct Header {
     /// 1-based file line.
@@ -223,7 +240,12 @@ impl Header {
                     format!("the header is not valid CSV: {e}"),
                 )
             })?;
-            rec.iter().map(str::to_string).collect()
+            rec.iter()
+                .map(|c| match unquote(c.as_bytes()) {
+                    Some(u) => String::from_utf8_lossy(&u).into_owned(),
+                    None => c.to_string(),
+                })
+                .collect()
         };
         let mut trailing_separator = false;
         if names.len() > 1 && names.last().is_some_and(String::is_empty) {
@@ -371,5 +393,20 @@ impl Header {
             channels,
             extra,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_cell_quoted_after_a_space_is_read_as_its_text() {
+        assert_eq!(unquote(b"\"2\""), Some(b"2".to_vec()));
+        assert_eq!(unquote(b"\"a\"\"b\""), Some(b"a\"b".to_vec()));
+        assert_eq!(unquote(b"\"\""), Some(Vec::new()));
+        for plain in [&b"2"[..], b"\"", b"\"2", b"2\""] {
+            assert_eq!(unquote(plain), None, "{plain:?}");
+        }
     }
 }

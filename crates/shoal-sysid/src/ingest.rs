@@ -32,7 +32,7 @@
 //! Memory is the parsed columns (a few bytes per cell) plus one line; the text is never held
 //! whole.
 
-use crate::header::{Col, Header, quote};
+use crate::header::{Col, Header, quote, unquote};
 pub use crate::header::{Separator, TimeUnit};
 use crate::lines::{LineTooLong, LogLines};
 use crate::run::{MeasuredRun, RunError};
@@ -263,6 +263,15 @@ fn read_run<R: BufRead>(src: R, path: &Path, opts: &ReadOptions) -> Result<Measu
                     _ => err(line, None, format!("not valid CSV: {e}")),
                 });
             }
+        }
+        if rec.iter().any(|c| c.first() == Some(&b'"')) {
+            // A cell quoted after a space (see `unquote`): read as its text.
+            let pos = rec.position().cloned();
+            rec = rec
+                .iter()
+                .map(|c| unquote(c).unwrap_or_else(|| c.to_vec()))
+                .collect();
+            rec.set_position(pos);
         }
         // The csv reader starts after the header: its line 1 is output line 2.
         let out_line = rec.position().map_or(1, csv::Position::line) + 1;
