@@ -1,94 +1,134 @@
-#!/usr/bin/env sh
+#!/usr/bin/env bash
 # The whole test suite: README's test command, and exactly what CI runs (.ci/run).
 #
-# 1. Python 3 with venv and pip, for the Python tests (the project's venv .venv, see step P):
-#    installed from Debian's packages when missing and this runs as root with apt-get; otherwise
-#    those tests fail and say what is missing.
-# 2. Chromium, for the replay's headless-browser tests (crates/shoal-sim/tests/replay_browser.rs):
-#    scripts/install-chromium.sh installs Debian's package when it is missing and this runs as
-#    root with apt-get; otherwise those tests fail and say what is missing.
-# 2b. A single-node Slurm cluster for the sweep test (crates/shoal-cli/tests/sweep_slurm.rs):
-#    .ci/slurm-up installs Debian's slurm-wlm and munge when missing (root, apt-get), tears down
-#    a cluster a crashed earlier run left behind, and starts one; .ci/slurm-down stops it when
-#    this script ends. When it cannot start, the Slurm test fails and says why.
-# 3. cargo test --workspace: every test (unit, integration, doc); it builds the examples too.
-# 4. cargo test --workspace --bench '*': every criterion bench, compiled and run once (test mode).
-# 5. Each root example once, on a short setting, into a temporary folder.
-# P. The Python package (python/, built with maturin from crates/shoal-py): before step 3,
-#    scripts/python-env.sh makes .venv (from PyPI: maturin, numpy, iceoryx2, PettingZoo,
-#    Gymnasium, pytest) and builds and installs the package (release; incremental); after
-#    step 5, pytest runs python/tests against it and the `shoal` binary step 3 built.
+# Phases, each timed (the table at the end gives the seconds of each, so the CI budget of
+# 35 minutes on a bare 2-core machine is measured, not guessed):
+#   installs  Python 3 with venv and pip, Chromium, Slurm and munge (Debian's packages, as root
+#             with apt-get, when missing), cargo-nextest (from crates.io, when missing); a
+#             single-node Slurm cluster started (.ci/slurm-up; stopped on exit).
+#   python    the project's venv .venv with the `shoal` package of this checkout
+#             (scripts/python-env.sh: PyPI's maturin, numpy, iceoryx2, PettingZoo, Gymnasium,
+#             pytest; the extension built with cargo; incremental).
+#   build     every test binary, example and bench of the workspace (dev profile).
+#   tests     every Rust test with cargo-nextest (.config/nextest.toml: more tests than cores at
+#             once, so that waiting tests overlap the CPU-bound ones; searches, browsers and the
+#             10⁶-vehicle tests in groups), and at the same time the Python tests (pytest
+#             python/tests, against the debug `shoal` binary) — each group's own time is shown.
+#   doc+bench the doc tests (cargo test --doc) and every criterion bench once (test mode).
 #
-# Idempotent: run it as often as you like.
-set -eu
+# Without root or apt-get, what cannot be installed is said, and the tests that need it fail
+# saying what is missing; they never pass unrun. Idempotent: run it as often as you like.
+set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
+say() { echo "scripts/test.sh: $*"; }
 
-# 1. Python 3 with venv and pip.
+# Phase timing: `phase NAME` starts a phase (ending the one before); the table is printed on
+# exit, whatever the outcome.
+phases=()
+phase_name=""
+phase_start=0
+suite_start=$(date +%s)
+phase() {
+    local now
+    now=$(date +%s)
+    if [ -n "$phase_name" ]; then phases+=("$phase_name $((now - phase_start))"); fi
+    phase_name=$1
+    phase_start=$now
+    say "── $phase_name"
+}
+extra_times=()
+report() {
+    local now
+    now=$(date +%s)
+    if [ -n "$phase_name" ]; then phases+=("$phase_name $((now - phase_start))"); fi
+    phase_name=""
+    echo
+    echo "scripts/test.sh: time per phase (s)"
+    for p in "${phases[@]}" ${extra_times[@]+"${extra_times[@]}"}; do
+        printf '  %-34s %6s\n' "${p% *}" "${p##* }"
+    done
+    printf '  %-34s %6s\n' "total" "$((now - suite_start))"
+}
+
+slurm_up=0
+pytest_pid=""
+cleanup() {
+    local rc=$?
+    if [ -n "$pytest_pid" ]; then kill "$pytest_pid" 2>/dev/null || true; fi
+    if [ "$slurm_up" = 1 ]; then .ci/slurm-down >/dev/null 2>&1 || true; fi
+    report
+    exit "$rc"
+}
+trap cleanup EXIT
+
+# ── installs ──────────────────────────────────────────────────────────────────────────────
+phase installs
+as_root_apt() { command -v apt-get >/dev/null 2>&1 && [ "$(id -u)" = 0 ]; }
 if ! python3 -c 'import venv, ensurepip' >/dev/null 2>&1; then
-    if command -v apt-get >/dev/null 2>&1 && [ "$(id -u)" = 0 ]; then
-        echo "scripts/test.sh: installing python3, python3-venv and python3-pip (Debian)"
+    if as_root_apt; then
+        say "installing python3, python3-venv and python3-pip (Debian)"
         apt-get update -qq
         DEBIAN_FRONTEND=noninteractive apt-get install -y -qq python3 python3-venv python3-pip >/dev/null
     else
-        echo "scripts/test.sh: python3 with venv and pip is missing (Debian: apt-get install" \
-            "python3 python3-venv python3-pip); the Python agent tests will fail" >&2
+        say "python3 with venv and pip is missing (Debian: apt-get install python3 python3-venv" \
+            "python3-pip); the Python tests will fail" >&2
     fi
 fi
-
-# 2. Chromium (the script says what it did; without root or apt-get it only warns here).
-scripts/install-chromium.sh || echo "scripts/test.sh: the replay browser tests will fail" >&2
-
-# 2b. Slurm, for the sweep test; stopped (with the examples' folder removed) on exit.
-slurm_up=0
-cleanup() {
-    if [ "$slurm_up" = 1 ]; then .ci/slurm-down; fi
-    rm -rf "${tmp:-}"
-}
-trap cleanup EXIT
+scripts/install-chromium.sh || say "the replay browser tests will fail" >&2
+if ! cargo nextest --version >/dev/null 2>&1; then
+    say "installing cargo-nextest (crates.io; a few minutes)"
+    cargo install cargo-nextest --locked --quiet
+fi
 if slurm_out=$(.ci/slurm-up); then
     SHOAL_SLURM_CONF=$(printf '%s\n' "$slurm_out" | sed -n 's/^SLURM_CONF=//p')
     export SHOAL_SLURM_CONF
     slurm_up=1
 else
-    echo "scripts/test.sh: no Slurm cluster (above: why); the Slurm sweep test will fail" >&2
+    say "no Slurm cluster (above: why); the Slurm sweep test will fail" >&2
 fi
 
-# P (before the tests). The Python package in the project's venv (.venv).
-echo "scripts/test.sh: building the Python package into .venv (scripts/python-env.sh)"
+# ── python ────────────────────────────────────────────────────────────────────────────────
+phase python
 python=$(scripts/python-env.sh)
 
-# 3. The tests.
-cargo test --workspace
-
-# 4. The benches, once each.
-cargo test --workspace --bench '*'
-
-# 5. The root examples, from the binaries step 3 built, on short settings.
+# ── build ─────────────────────────────────────────────────────────────────────────────────
+phase build
+cargo build --workspace --tests --examples --benches --quiet
 target=$(cargo metadata --format-version 1 --no-deps |
     sed -n 's/.*"target_directory":"\([^"]*\)".*/\1/p')
-examples="$target/debug/examples"
-tmp=$(mktemp -d) # removed by cleanup (2b)
-need() {
-    for f in "$@"; do
-        [ -s "$f" ] || { echo "scripts/test.sh: $f was not written" >&2; exit 1; }
-    done
-}
-echo "scripts/test.sh: running the examples into $tmp"
-# The paper's Section 5 runs (five short worlds) and their figures and table.
-"$examples/paper_section5" "$tmp/paper"
-need "$tmp/paper/metrics.md" "$tmp/paper/diving.png" "$tmp/paper/buoyancy.svg" "$tmp/paper/turning.png"
-# The link-budget figure.
-"$examples/link_budget_curves" "$tmp/link_budget"
-need "$tmp/link_budget.png" "$tmp/link_budget.svg"
-# Two 120 s logs with a hidden effect (it writes out/hidden in the working folder).
-(cd "$tmp" && "$examples/hidden_effect")
-need "$tmp/out/hidden/dive_a.csv" "$tmp/out/hidden/dive_b.csv"
-# The medium's profile, on a 30-vehicle swarm instead of 1,000.
-"$examples/profile_comm" 30
 
-# P (after the tests). The Python tests, against the debug `shoal` binary of step 3.
-echo "scripts/test.sh: the Python tests (pytest python/tests)"
-SHOAL_BIN="$target/debug/shoal" "$python" -m pytest -q -p no:cacheprovider python/tests
+# ── tests (Rust with nextest; Python alongside) ───────────────────────────────────────────
+phase tests
+pytest_log=$(mktemp)
+pytest_start=$(date +%s)
+(
+    SHOAL_BIN="$target/debug/shoal" "$python" -m pytest -q -p no:cacheprovider python/tests \
+        >"$pytest_log" 2>&1
+    echo "exit $?" >>"$pytest_log"
+    echo "$(($(date +%s) - pytest_start))" >"$pytest_log.time"
+) &
+pytest_pid=$!
+nextest_rc=0
+cargo nextest run --workspace --no-fail-fast || nextest_rc=$?
+nextest_end=$(date +%s)
+extra_times+=("  nextest (Rust tests) $((nextest_end - phase_start))")
+wait "$pytest_pid" || true
+pytest_pid=""
+extra_times+=("  pytest (alongside) $(cat "$pytest_log.time" 2>/dev/null || echo '?')")
+say "pytest python/tests:"
+cat "$pytest_log"
+pytest_rc=$(sed -n 's/^exit //p' "$pytest_log" | tail -n 1)
+rm -f "$pytest_log" "$pytest_log.time"
 
-echo "scripts/test.sh: tests, benches and examples passed ($root)"
+# ── doc tests and benches ─────────────────────────────────────────────────────────────────
+phase "doc tests + benches"
+doc_rc=0
+cargo test --workspace --doc --quiet || doc_rc=$?
+cargo test --workspace --benches --quiet || doc_rc=$?
+
+if [ "$nextest_rc" != 0 ] || [ "${pytest_rc:-1}" != 0 ] || [ "$doc_rc" != 0 ]; then
+    say "FAILED: nextest $nextest_rc, pytest ${pytest_rc:-?}, doc tests/benches $doc_rc" >&2
+    exit 1
+fi
+say "every test passed ($root)"
