@@ -3,7 +3,9 @@
 //! the compiler turns it into vector instructions (two or four hulls per instruction,
 //! depending on the target). The constants of the equation of motion ([`DynConsts`]: M⁻¹,
 //! M_A, the restoring terms, damping) are prepared once per group of hulls that share them —
-//! in a swarm, every vehicle of a kind whose ballast is the initial one.
+//! in a swarm, every vehicle of a kind whose ballast is the initial one. Hulls of different
+//! models (a model search replaying one log for several parameter vectors) step together with
+//! one set of constants per lane ([`LaneConsts`]).
 //!
 //! Every lane does exactly the same floating-point operations in the same order whatever `N`
 //! and whichever other hulls share its group, so one hull integrated alone (`N = 1`, as
@@ -30,37 +32,69 @@ use nalgebra::Quaternion;
 /// Hulls per group in a swarm step.
 pub const LANES: usize = 4;
 
-/// The constants of the equation of motion of one hull kind in one ballast state and one
-/// water, in the form the lane kernel uses.
-#[derive(Clone, Debug, PartialEq)]
-pub struct DynConsts {
-    /// Total mass m \[kg\].
-    mass: f64,
-    /// Centre of gravity, body frame \[m\].
-    cog: [f64; 3],
-    /// Centre of buoyancy, body frame \[m\].
-    cob: [f64; 3],
-    /// Rigid-body inertia about the body origin, row-major [kg·m²].
-    inertia: [[f64; 3]; 3],
-    /// Added-mass matrix M_A, row-major [kg, kg·m, kg·m²].
-    added: [[f64; 6]; 6],
-    /// M⁻¹, row-major.
-    m_inv: [[f64; 6]; 6],
-    /// Linear damping [N·s/m, N·m·s].
-    d_lin: [f64; 6],
-    /// Quadratic damping [N·s²/m², N·m·s²].
-    d_quad: [f64; 6],
-    /// Weight m g \[N\].
-    weight: f64,
-    /// Buoyancy when fully submerged ρ g V \[N\].
-    buoyancy: f64,
-    /// Half the hull height \[m\].
-    half_h: f64,
-    /// 1 / hull height [1/m].
-    inv_h: f64,
-    /// Water current, world frame [m/s].
-    current: [f64; 3],
+/// A constant of the equation of motion as the lane kernel reads it for lane `l` of `N`:
+/// one value for every lane (`f64`, a swarm's group of hulls of one kind) or one value per
+/// lane (`[f64; N]`, hulls of different models stepped together). The kernel does the same
+/// operations either way; only where it loads the constant from differs.
+pub trait PerLane<const N: usize>: Copy {
+    /// The value for lane `l` (< `N`).
+    fn at(&self, l: usize) -> f64;
 }
+
+impl<const N: usize> PerLane<N> for f64 {
+    #[inline(always)]
+    fn at(&self, _l: usize) -> f64 {
+        *self
+    }
+}
+
+impl<const N: usize> PerLane<N> for [f64; N] {
+    #[inline(always)]
+    fn at(&self, l: usize) -> f64 {
+        self[l]
+    }
+}
+
+/// The constants of the equation of motion in the form the lane kernel uses, each stored as
+/// `S` ([`PerLane`]): [`DynConsts`] for one hull kind in one ballast state and one water,
+/// [`LaneConsts`] for a different set in each lane.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Consts<S> {
+    /// Total mass m \[kg\].
+    mass: S,
+    /// Centre of gravity, body frame \[m\].
+    cog: [S; 3],
+    /// Centre of buoyancy, body frame \[m\].
+    cob: [S; 3],
+    /// Rigid-body inertia about the body origin, row-major [kg·m²].
+    inertia: [[S; 3]; 3],
+    /// Added-mass matrix M_A, row-major [kg, kg·m, kg·m²].
+    added: [[S; 6]; 6],
+    /// M⁻¹, row-major.
+    m_inv: [[S; 6]; 6],
+    /// Linear damping [N·s/m, N·m·s].
+    d_lin: [S; 6],
+    /// Quadratic damping [N·s²/m², N·m·s²].
+    d_quad: [S; 6],
+    /// Weight m g \[N\].
+    weight: S,
+    /// Buoyancy when fully submerged ρ g V \[N\].
+    buoyancy: S,
+    /// Half the hull height \[m\].
+    half_h: S,
+    /// 1 / hull height [1/m].
+    inv_h: S,
+    /// Water current, world frame [m/s].
+    current: [S; 3],
+}
+
+/// The constants of the equation of motion of one hull kind in one ballast state and one
+/// water, shared by every lane.
+pub type DynConsts = Consts<f64>;
+
+/// One set of constants of the equation of motion per lane: `N` hulls of different models
+/// (or ballast states, or waters) stepped together.
+pub type LaneConsts<const N: usize> = Consts<[f64; N]>;
 
 fn arr3(v: &Vec3) -> [f64; 3] {
     [v.x, v.y, v.z]
@@ -85,6 +119,58 @@ impl DynConsts {
             inv_h: 1.0 / h,
             current: arr3(&env.current),
         }
+    }
+}
+
+impl<const N: usize> LaneConsts<N> {
+    /// `c` in every lane.
+    pub fn splat(c: &DynConsts) -> Self {
+        fn each<const K: usize, const N: usize>(a: &[f64; K]) -> [[f64; N]; K] {
+            a.map(|v| [v; N])
+        }
+        Self {
+            mass: [c.mass; N],
+            cog: each(&c.cog),
+            cob: each(&c.cob),
+            inertia: c.inertia.each_ref().map(each),
+            added: c.added.each_ref().map(each),
+            m_inv: c.m_inv.each_ref().map(each),
+            d_lin: each(&c.d_lin),
+            d_quad: each(&c.d_quad),
+            weight: [c.weight; N],
+            buoyancy: [c.buoyancy; N],
+            half_h: [c.half_h; N],
+            inv_h: [c.inv_h; N],
+            current: each(&c.current),
+        }
+    }
+
+    /// Puts `c` into lane `l`.
+    pub fn set(&mut self, l: usize, c: &DynConsts) {
+        fn each<const K: usize, const N: usize>(to: &mut [[f64; N]; K], from: &[f64; K], l: usize) {
+            for (t, f) in to.iter_mut().zip(from) {
+                t[l] = *f;
+            }
+        }
+        self.mass[l] = c.mass;
+        each(&mut self.cog, &c.cog, l);
+        each(&mut self.cob, &c.cob, l);
+        for (t, f) in self.inertia.iter_mut().zip(&c.inertia) {
+            each(t, f, l);
+        }
+        for (t, f) in self.added.iter_mut().zip(&c.added) {
+            each(t, f, l);
+        }
+        for (t, f) in self.m_inv.iter_mut().zip(&c.m_inv) {
+            each(t, f, l);
+        }
+        each(&mut self.d_lin, &c.d_lin, l);
+        each(&mut self.d_quad, &c.d_quad, l);
+        self.weight[l] = c.weight;
+        self.buoyancy[l] = c.buoyancy;
+        self.half_h[l] = c.half_h;
+        self.inv_h[l] = c.inv_h;
+        each(&mut self.current, &c.current, l);
     }
 }
 
@@ -167,8 +253,8 @@ fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     clippy::needless_range_loop,
     reason = "rows of R and lanes indexed together, written as the equations read"
 )]
-fn deriv<const N: usize>(
-    c: &DynConsts,
+fn deriv<const N: usize, S: PerLane<N>>(
+    c: &Consts<S>,
     pz: &[f64; N],
     q: &[[f64; N]; 4],
     nu: &[[f64; N]; 6],
@@ -180,6 +266,8 @@ fn deriv<const N: usize>(
         nu: [[0.0; N]; 6],
     };
     for l in 0..N {
+        let at3 = |a: &[S; 3]| [a[0].at(l), a[1].at(l), a[2].at(l)];
+        let (cog, cob) = (at3(&c.cog), at3(&c.cob));
         let (qw, qx, qy, qz) = (q[0][l], q[1][l], q[2][l], q[3][l]);
         let s = 2.0 / (qw * qw + qx * qx + qy * qy + qz * qz);
         // Rotation body → world of q/|q|.
@@ -194,7 +282,7 @@ fn deriv<const N: usize>(
         let v = [nu[0][l], nu[1][l], nu[2][l]];
         let w = [nu[3][l], nu[4][l], nu[5][l]];
         for k in 0..3 {
-            d.p[k][l] = r[k][0] * v[0] + r[k][1] * v[1] + r[k][2] * v[2] + c.current[k];
+            d.p[k][l] = r[k][0] * v[0] + r[k][1] * v[1] + r[k][2] * v[2] + c.current[k].at(l);
         }
         // q̇ = ½ q ⊗ (0, ω).
         d.q[0][l] = -0.5 * (qx * w[0] + qy * w[1] + qz * w[2]);
@@ -203,38 +291,40 @@ fn deriv<const N: usize>(
         d.q[3][l] = 0.5 * (qw * w[2] + qx * w[1] - qy * w[0]);
         // Restoring: the world's down axis in the body frame is the last row of R.
         let down = r[2];
-        let depth_cob = pz[l] + down[0] * c.cob[0] + down[1] * c.cob[1] + down[2] * c.cob[2];
-        let frac = ((depth_cob + c.half_h) * c.inv_h).clamp(0.0, 1.0);
-        let buoy = c.buoyancy * frac;
-        let net = c.weight - buoy;
+        let depth_cob = pz[l] + down[0] * cob[0] + down[1] * cob[1] + down[2] * cob[2];
+        let frac = ((depth_cob + c.half_h.at(l)) * c.inv_h.at(l)).clamp(0.0, 1.0);
+        let buoy = c.buoyancy.at(l) * frac;
+        let weight = c.weight.at(l);
+        let net = weight - buoy;
         let arm = [
-            c.weight * c.cog[0] - buoy * c.cob[0],
-            c.weight * c.cog[1] - buoy * c.cob[1],
-            c.weight * c.cog[2] - buoy * c.cob[2],
+            weight * cog[0] - buoy * cob[0],
+            weight * cog[1] - buoy * cob[1],
+            weight * cog[2] - buoy * cob[2],
         ];
         let g_t = cross(arm, down);
         // C_RB(ν)ν, linear-velocity-independent form.
-        let m = c.mass;
+        let m = c.mass.at(l);
         let wv = cross(w, v);
-        let wwg = cross(w, cross(w, c.cog));
+        let wwg = cross(w, cross(w, cog));
+        let i = &c.inertia;
         let iw = [
-            c.inertia[0][0] * w[0] + c.inertia[0][1] * w[1] + c.inertia[0][2] * w[2],
-            c.inertia[1][0] * w[0] + c.inertia[1][1] * w[1] + c.inertia[1][2] * w[2],
-            c.inertia[2][0] * w[0] + c.inertia[2][1] * w[1] + c.inertia[2][2] * w[2],
+            i[0][0].at(l) * w[0] + i[0][1].at(l) * w[1] + i[0][2].at(l) * w[2],
+            i[1][0].at(l) * w[0] + i[1][1].at(l) * w[1] + i[1][2].at(l) * w[2],
+            i[2][0].at(l) * w[0] + i[2][1].at(l) * w[1] + i[2][2].at(l) * w[2],
         ];
-        let g_wv = cross(c.cog, wv);
+        let g_wv = cross(cog, wv);
         let w_iw = cross(w, iw);
         // C_A(ν)ν for a symmetric M_A.
         let nul = [v[0], v[1], v[2], w[0], w[1], w[2]];
         let mut a = [0.0; 6];
         for (i, ai) in a.iter_mut().enumerate() {
             let row = &c.added[i];
-            *ai = row[0] * nul[0]
-                + row[1] * nul[1]
-                + row[2] * nul[2]
-                + row[3] * nul[3]
-                + row[4] * nul[4]
-                + row[5] * nul[5];
+            *ai = row[0].at(l) * nul[0]
+                + row[1].at(l) * nul[1]
+                + row[2].at(l) * nul[2]
+                + row[3].at(l) * nul[3]
+                + row[4].at(l) * nul[4]
+                + row[5].at(l) * nul[5];
         }
         let a1 = [a[0], a[1], a[2]];
         let a2 = [a[3], a[4], a[5]];
@@ -245,21 +335,21 @@ fn deriv<const N: usize>(
         let mut rhs = [0.0; 6];
         for k in 0..3 {
             let crb = m * wv[k] + m * wwg[k];
-            let damp = c.d_lin[k] * nul[k] + c.d_quad[k] * nul[k].abs() * nul[k];
+            let damp = c.d_lin[k].at(l) * nul[k] + c.d_quad[k].at(l) * nul[k].abs() * nul[k];
             rhs[k] = tau[k][l] - crb - ca_f[k] - damp + down[k] * net;
             let crb_t = m * g_wv[k] + w_iw[k];
             let j = k + 3;
-            let damp_t = c.d_lin[j] * nul[j] + c.d_quad[j] * nul[j].abs() * nul[j];
+            let damp_t = c.d_lin[j].at(l) * nul[j] + c.d_quad[j].at(l) * nul[j].abs() * nul[j];
             rhs[j] = tau[j][l] - crb_t - (va1[k] + wa2[k]) - damp_t + g_t[k];
         }
         for i in 0..6 {
             let row = &c.m_inv[i];
-            d.nu[i][l] = row[0] * rhs[0]
-                + row[1] * rhs[1]
-                + row[2] * rhs[2]
-                + row[3] * rhs[3]
-                + row[4] * rhs[4]
-                + row[5] * rhs[5];
+            d.nu[i][l] = row[0].at(l) * rhs[0]
+                + row[1].at(l) * rhs[1]
+                + row[2].at(l) * rhs[2]
+                + row[3].at(l) * rhs[3]
+                + row[4].at(l) * rhs[4]
+                + row[5].at(l) * rhs[5];
         }
     }
     d
@@ -295,7 +385,10 @@ fn combine<const N: usize, const K: usize>(x: &mut [[f64; N]; K], k: [&[[f64; N]
 /// x86-64 with AVX, the same code compiled for 256-bit registers (four hulls per instruction
 /// instead of two). AVX adds no fused multiply-add here, and every lane operation is an IEEE
 /// operation in either width, so the result is bit-identical to [`rk4`] on any x86-64.
-pub fn rk4_group(c: &DynConsts, x: &mut Lanes<LANES>, dt: f64) {
+///
+/// The constants are those of one hull kind ([`DynConsts`]) or one set per lane
+/// ([`LaneConsts`]); each lane's result is the same either way.
+pub fn rk4_group<S: PerLane<LANES>>(c: &Consts<S>, x: &mut Lanes<LANES>, dt: f64) {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx") {
         #[expect(
@@ -314,14 +407,14 @@ pub fn rk4_group(c: &DynConsts, x: &mut Lanes<LANES>, dt: f64) {
 /// [`rk4`] compiled for AVX.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx")]
-fn rk4_avx(c: &DynConsts, x: &mut Lanes<LANES>, dt: f64) {
+fn rk4_avx<S: PerLane<LANES>>(c: &Consts<S>, x: &mut Lanes<LANES>, dt: f64) {
     rk4(c, x, dt);
 }
 
 /// Advances the `N` hulls of `x` by one classic RK4 step of `dt` \[s\] with their forces held
 /// constant; the attitudes come out normalised.
 #[inline(always)]
-pub fn rk4<const N: usize>(c: &DynConsts, x: &mut Lanes<N>, dt: f64) {
+pub fn rk4<const N: usize, S: PerLane<N>>(c: &Consts<S>, x: &mut Lanes<N>, dt: f64) {
     let h = 0.5 * dt;
     let k1 = deriv(c, &x.p[2], &x.q, &x.nu, &x.tau);
     let p2 = axpy(&x.p, &k1.p, h);
@@ -427,7 +520,7 @@ mod tests {
     }
 
     /// A hull integrated alone and in any lane of a group of four (with the widest vectors of
-    /// this CPU) comes out bit-identical.
+    /// this CPU) comes out bit-identical, with constants shared by the group or its own.
     #[test]
     fn lanes_are_independent_and_bit_identical_to_one_hull() {
         let (body, mp, env) = setup();
@@ -456,6 +549,49 @@ mod tests {
                 let mut out = st[start + l].0.clone();
                 x.store(l, &mut out);
                 assert_eq!(out, alone[start + l], "lane {l} of group at {start}");
+            }
+        }
+        // Each lane with constants of its own (another water current, mass, damping, added
+        // mass) comes out as that hull integrated alone with its constants.
+        let consts: Vec<DynConsts> = (0..LANES)
+            .map(|l| {
+                let f = l as f64;
+                let mut b = body.clone();
+                b.damping_linear *= 1.0 + 0.3 * f;
+                b.damping_quadratic[2] *= 1.0 - 0.2 * f;
+                b.added_mass[(0, 0)] *= 1.0 + 0.1 * f;
+                b.added_mass[(5, 5)] *= 1.0 + 0.25 * f;
+                let mp = MassProperties::new(&b, 1e-5 * f, &Vec3::new(0.01, 0.0, 0.0), env.density);
+                let e = Environment {
+                    current: Vec3::new(0.05 * f, -0.02, 0.01 * f),
+                    ..env
+                };
+                DynConsts::new(&b, &mp, &e)
+            })
+            .collect();
+        let mut per_lane = LaneConsts::<LANES>::splat(&c);
+        for (l, cl) in consts.iter().enumerate() {
+            per_lane.set(l, cl);
+        }
+        let mut x = Lanes::<LANES>::default();
+        for (l, (s, tau)) in st.iter().take(LANES).enumerate() {
+            x.load(l, s, tau);
+        }
+        for _ in 0..50 {
+            rk4_group(&per_lane, &mut x, 0.01);
+        }
+        for (l, cl) in consts.iter().enumerate() {
+            let mut one = Lanes::<1>::default();
+            one.load(0, &st[l].0, &st[l].1);
+            for _ in 0..50 {
+                rk4(cl, &mut one, 0.01);
+            }
+            let (mut a, mut b) = (st[l].0.clone(), st[l].0.clone());
+            x.store(l, &mut a);
+            one.store(0, &mut b);
+            assert_eq!(a, b, "lane {l} with constants of its own");
+            if l > 0 {
+                assert_ne!(a, alone[l], "lane {l}: its constants make a difference");
             }
         }
         // The attitude stays a unit quaternion.

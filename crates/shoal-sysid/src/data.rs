@@ -16,10 +16,11 @@
 use crate::blocks::{Resample, blocks_of};
 use crate::masses::MassTable;
 use crate::replay::{
-    InitialState, InputMap, ReplayOptions, Trace, grid_position, replay_steps, simulate_with,
+    InitialState, InputMap, ReplayOptions, Trace, grid_position, replay_steps, simulate_many,
 };
 use crate::run::{ChannelKind, MeasuredRun, RunError};
 use crate::stats;
+use shoal_model::lanes::LANES;
 use shoal_model::math::wrap_pi;
 use shoal_model::rigid_body::Environment;
 use shoal_model::vehicle::{VehicleModel, VehicleParams};
@@ -163,6 +164,18 @@ impl RunPlan {
             trace_kinds,
             channels,
             estimation_steps,
+        }
+    }
+
+    /// How a model with sensor delay `delay` \[s\] is replayed for the samples of `part`:
+    /// the most physics steps and whether only the estimation samples are compared, or
+    /// `None` when the run is not replayed (a hold-out run's estimation samples: none).
+    fn bounds(&self, part: Part, delay: f64) -> Option<(usize, bool)> {
+        match part {
+            Part::All => Some((usize::MAX, false)),
+            // A negative delay (none exists) would read ahead: then everything.
+            Part::Estimation if delay >= 0.0 => self.estimation_steps.map(|k| (k, true)),
+            Part::Estimation => Some((usize::MAX, true)),
         }
     }
 }
@@ -323,23 +336,28 @@ impl Dataset {
     /// Replays every run on `model` for the samples of `part`: each compared channel's
     /// predictions and residuals.
     pub fn replayed(&self, model: &VehicleModel, part: Part) -> Replayed {
-        let delay = model.effects.delay();
-        let runs = self
-            .runs
-            .iter()
-            .zip(&self.plans)
-            .map(|(rd, plan)| {
-                let (max_steps, compared) = match part {
-                    Part::All => (usize::MAX, None),
-                    // A negative delay (none exists) would read ahead: then everything.
-                    Part::Estimation if delay >= 0.0 => match plan.estimation_steps {
-                        Some(k) => (k, Some(())),
-                        None => return vec![(Vec::new(), Vec::new()); plan.channels.len()],
-                    },
-                    Part::Estimation => (usize::MAX, Some(())),
-                };
-                let trace = simulate_with(
-                    model,
+        let mut one = self.replayed_many(std::slice::from_ref(model), part);
+        one.pop().expect("a replay per model")
+    }
+
+    /// [`Dataset::replayed`] for each of `models`, bit for bit, with [`LANES`] models
+    /// replayed together ([`simulate_many`]: one lane of the RK4 kernel each).
+    pub fn replayed_many(&self, models: &[VehicleModel], part: Part) -> Vec<Replayed> {
+        let mut out = Vec::with_capacity(models.len());
+        for group in models.chunks(LANES) {
+            let mut runs = vec![Vec::with_capacity(self.runs.len()); group.len()];
+            for (rd, plan) in self.runs.iter().zip(&self.plans) {
+                let delays: Vec<f64> = group.iter().map(|m| m.effects.delay()).collect();
+                let bounds: Vec<Option<(usize, bool)>> =
+                    delays.iter().map(|&d| plan.bounds(part, d)).collect();
+                let (simulated, max_steps): (Vec<&VehicleModel>, Vec<usize>) = group
+                    .iter()
+                    .zip(&bounds)
+                    .filter_map(|(m, b)| b.map(|(steps, _)| (m, steps)))
+                    .unzip();
+                let mut traces = simulate_many(
+                    &simulated,
+                    &max_steps,
                     &self.env,
                     &rd.run,
                     &rd.map,
@@ -347,20 +365,30 @@ impl Dataset {
                     &plan.trace_kinds,
                     &self.replay,
                     &self.masses,
-                    max_steps,
-                );
-                plan.channels
-                    .iter()
-                    .map(|cp| {
-                        let n = compared.map_or(cp.times.len(), |()| cp.n_est);
-                        let (mut predicted, mut resid) = (Vec::new(), Vec::new());
-                        compare(cp, n, &trace, delay, &mut predicted, &mut resid);
-                        (predicted, resid)
-                    })
-                    .collect()
-            })
-            .collect();
-        Replayed { runs, part }
+                )
+                .into_iter();
+                for ((series, b), &delay) in runs.iter_mut().zip(&bounds).zip(&delays) {
+                    let Some((_, est_only)) = *b else {
+                        series.push(vec![(Vec::new(), Vec::new()); plan.channels.len()]);
+                        continue;
+                    };
+                    let trace = traces.next().expect("a trace per replayed model");
+                    series.push(
+                        plan.channels
+                            .iter()
+                            .map(|cp| {
+                                let n = if est_only { cp.n_est } else { cp.times.len() };
+                                let (mut predicted, mut resid) = (Vec::new(), Vec::new());
+                                compare(cp, n, &trace, delay, &mut predicted, &mut resid);
+                                (predicted, resid)
+                            })
+                            .collect(),
+                    );
+                }
+            }
+            out.extend(runs.into_iter().map(|runs| Replayed { runs, part }));
+        }
+        out
     }
 
     /// The evaluation of a replay of this dataset. Of a replay of [`Part::Estimation`], it

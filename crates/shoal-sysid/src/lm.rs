@@ -61,14 +61,21 @@ pub fn minimise(
     scale: &[f64],
     opts: &LmOptions,
 ) -> Option<LmResult> {
-    minimise_from(residuals, x0, None, lo, hi, scale, opts)
+    let each = |xs: &[Vec<f64>]| xs.iter().map(|x| residuals(x)).collect();
+    minimise_from(&each, x0, None, lo, hi, scale, opts)
 }
 
-/// [`minimise`] given the residuals `e0` at `x0` when the caller has them (they are used
-/// only where `x0` lies inside the bounds, so that they are the residuals the minimisation
-/// starts from; a replay saved). [`LmResult::evaluations`] counts the calls of `residuals`.
+/// The residuals at each of several points (`None` where the model cannot be evaluated):
+/// the points a minimisation can try independently of each other (the finite-difference
+/// columns of a Jacobian) come in one call, for a caller that evaluates them together.
+pub type BatchResiduals<'a> = dyn Fn(&[Vec<f64>]) -> Vec<Option<Vec<f64>>> + 'a;
+
+/// [`minimise`] with the residuals of several points at once ([`BatchResiduals`]), given
+/// the residuals `e0` at `x0` when the caller has them (they are used only where `x0` lies
+/// inside the bounds, so that they are the residuals the minimisation starts from; a replay
+/// saved). [`LmResult::evaluations`] counts the points evaluated.
 pub fn minimise_from(
-    residuals: &dyn Fn(&[f64]) -> Option<Vec<f64>>,
+    residuals: &BatchResiduals,
     x0: &[f64],
     e0: Option<Vec<f64>>,
     lo: &[f64],
@@ -77,6 +84,7 @@ pub fn minimise_from(
     opts: &LmOptions,
 ) -> Option<LmResult> {
     let n = x0.len();
+    let one = |x: &[f64]| residuals(&[x.to_vec()]).pop().flatten();
     let clamp = |x: &mut [f64]| {
         for j in 0..n {
             x[j] = x[j].clamp(lo[j], hi[j]);
@@ -86,7 +94,7 @@ pub fn minimise_from(
     clamp(&mut x);
     let (mut evaluations, mut e) = match e0 {
         Some(e0) if x == x0 => (0, e0),
-        _ => (1, residuals(&x)?),
+        _ => (1, one(&x)?),
     };
     let mut cost = sumsq(&e);
     let mut jac = jacobian(
@@ -124,7 +132,7 @@ pub fn minimise_from(
                 break;
             }
             evaluations += 1;
-            match residuals(&xn) {
+            match one(&xn) {
                 Some(en) if sumsq(&en) < cost => {
                     let cn = sumsq(&en);
                     let rel = (cost - cn) / cost.max(1e-300);
@@ -165,10 +173,10 @@ fn sumsq(e: &[f64]) -> f64 {
     e.iter().map(|v| v * v).sum()
 }
 
-/// Forward differences (backward at an upper bound).
+/// Forward differences (backward at an upper bound), the columns' points evaluated together.
 #[allow(clippy::too_many_arguments)]
 fn jacobian(
-    residuals: &dyn Fn(&[f64]) -> Option<Vec<f64>>,
+    residuals: &BatchResiduals,
     x: &[f64],
     e: &[f64],
     lo: &[f64],
@@ -178,21 +186,31 @@ fn jacobian(
     evaluations: &mut usize,
 ) -> Option<DMatrix<f64>> {
     let n = x.len();
+    let h: Vec<f64> = (0..n)
+        .map(|j| {
+            let mut h = step * scale[j];
+            if x[j] + h > hi[j] {
+                h = -h;
+            }
+            if x[j] + h < lo[j] {
+                h = (hi[j] - lo[j]) * 0.5 * step;
+            }
+            h
+        })
+        .collect();
+    let points: Vec<Vec<f64>> = (0..n)
+        .map(|j| {
+            let mut xp = x.to_vec();
+            xp[j] += h[j];
+            xp
+        })
+        .collect();
+    *evaluations += n;
     let mut jac = DMatrix::zeros(e.len(), n);
-    for j in 0..n {
-        let mut h = step * scale[j];
-        if x[j] + h > hi[j] {
-            h = -h;
-        }
-        if x[j] + h < lo[j] {
-            h = (hi[j] - lo[j]) * 0.5 * step;
-        }
-        let mut xp = x.to_vec();
-        xp[j] += h;
-        *evaluations += 1;
-        let ep = residuals(&xp)?;
+    for (j, ep) in residuals(&points).into_iter().enumerate() {
+        let ep = ep?;
         for i in 0..e.len() {
-            jac[(i, j)] = (ep[i] - e[i]) / h;
+            jac[(i, j)] = (ep[i] - e[i]) / h[j];
         }
     }
     Some(jac)
@@ -240,5 +258,35 @@ mod tests {
         )
         .unwrap();
         assert_eq!(r.x[1], 0.5);
+    }
+
+    /// The columns of each Jacobian come in one batch; the result is the one of the
+    /// same residuals asked one point at a time, bit for bit.
+    #[test]
+    fn jacobian_columns_are_asked_together() {
+        let t: Vec<f64> = (0..40).map(|i| i as f64 * 0.1).collect();
+        let one = |x: &[f64]| -> Option<Vec<f64>> {
+            Some(
+                t.iter()
+                    .map(|t| x[0] * (-x[1] * t).exp() + x[2] * t - (2.0 * (-0.7 * t).exp()))
+                    .collect(),
+            )
+        };
+        let sizes = std::cell::RefCell::new(Vec::new());
+        let batch = |xs: &[Vec<f64>]| {
+            sizes.borrow_mut().push(xs.len());
+            xs.iter().map(|x| one(x)).collect()
+        };
+        let (lo, hi, scale) = ([0.0; 3], [10.0, 5.0, 1.0], [1.0; 3]);
+        let opts = LmOptions::default();
+        let r = minimise_from(&batch, &[1.0, 0.1, 0.5], None, &lo, &hi, &scale, &opts).unwrap();
+        let single = minimise(&one, &[1.0, 0.1, 0.5], &lo, &hi, &scale, &opts).unwrap();
+        assert_eq!(r, single);
+        let sizes = sizes.into_inner();
+        // One batch of three columns per Jacobian, single points otherwise.
+        let jacobians = sizes.iter().filter(|&&n| n == 3).count();
+        assert!(jacobians >= 3, "{sizes:?}");
+        assert!(sizes.iter().all(|&n| n == 1 || n == 3), "{sizes:?}");
+        assert_eq!(sizes.iter().sum::<usize>(), r.evaluations);
     }
 }

@@ -11,6 +11,7 @@ use crate::run::ChannelKind;
 use crate::stats;
 use nalgebra::DMatrix;
 use shoal_model::effects::{Effect, EffectInstance, Effects, ParamInfo};
+use shoal_model::lanes::LANES;
 use shoal_model::vehicle::{VehicleModel, VehicleParams};
 use statrs::distribution::{ChiSquared, ContinuousCDF, Normal};
 use std::collections::BTreeMap;
@@ -55,6 +56,23 @@ impl Ctx<'_> {
         })
     }
 
+    /// [`Ctx::replayed`] for the models with `effects` at each of `values` (those not in the
+    /// memo replayed together, [`Dataset::replayed_many`]).
+    fn replayed_many(
+        &self,
+        effects: &[Arc<dyn Effect>],
+        values: &[Vec<f64>],
+        part: Part,
+    ) -> Vec<Arc<Replayed>> {
+        let values: Vec<&[f64]> = values.iter().map(Vec::as_slice).collect();
+        self.memo
+            .get_or_replay_many(effects, &values, part, |missing| {
+                let models: Vec<VehicleModel> =
+                    missing.iter().map(|v| self.model(effects, v)).collect();
+                self.ds.replayed_many(&models, part)
+            })
+    }
+
     /// The evaluation of the model with `effects` at `values` on every sample, or `None` when
     /// a sum of squared estimation residuals is not finite.
     pub fn eval(&self, effects: &[Arc<dyn Effect>], values: &[f64]) -> Option<Evaluation> {
@@ -68,24 +86,35 @@ impl Ctx<'_> {
         values: &[f64],
         part: Part,
     ) -> Option<Evaluation> {
-        let ev = self.ds.evaluation(&self.replayed(effects, values, part));
-        ev.metrics
-            .values()
-            .all(|m| m.sse_est.is_finite())
-            .then_some(ev)
+        finite(self.ds.evaluation(&self.replayed(effects, values, part)))
     }
 
-    fn weighted(
+    /// [`Ctx::eval_part`] of the models with `effects` at each of `values`.
+    fn eval_parts(
         &self,
         effects: &[Arc<dyn Effect>],
-        values: &[f64],
+        values: &[Vec<f64>],
+        part: Part,
+    ) -> Vec<Option<Evaluation>> {
+        self.replayed_many(effects, values, part)
+            .iter()
+            .map(|r| finite(self.ds.evaluation(r)))
+            .collect()
+    }
+
+    /// The weighted estimation residuals ([`Dataset::weighted`] with `factors` and the
+    /// resample) of the models with `effects` at each of `values`, `None` for one whose sum
+    /// of squares is not finite.
+    fn weighted_many(
+        &self,
+        effects: &[Arc<dyn Effect>],
+        values: &[Vec<f64>],
         factors: &BTreeMap<ChannelKind, f64>,
-    ) -> Option<Vec<f64>> {
-        self.ds.weighted(
-            &self.replayed(effects, values, Part::Estimation),
-            factors,
-            self.resample,
-        )
+    ) -> Vec<Option<Vec<f64>>> {
+        self.replayed_many(effects, values, Part::Estimation)
+            .iter()
+            .map(|r| self.ds.weighted(r, factors, self.resample))
+            .collect()
     }
 
     fn infos(&self, effects: &[Arc<dyn Effect>]) -> Vec<ParamInfo> {
@@ -105,34 +134,52 @@ impl Ctx<'_> {
             .collect();
         let fx = [effect.clone()];
         let f = &self.factors;
-        let Some(e_null) = self.weighted(&fx, &null, f) else {
-            return vec![false; infos.len()];
-        };
-        let e_active = if infos.iter().any(|p| p.shape) {
-            self.weighted(&fx, &active, f)
-        } else {
-            None
-        };
-        let tol = 1e-8 * f.len() as f64;
-        (0..infos.len())
-            .map(|j| {
-                let p = &infos[j];
-                let (from, e0) = if p.shape {
-                    match &e_active {
-                        Some(e) => (&active, e),
-                        None => return false,
-                    }
-                } else {
-                    (&null, &e_null)
-                };
+        let shapes = infos.iter().any(|p| p.shape);
+        // The probes: each parameter halfway to its far bound from where it is probed.
+        let probes: Vec<Vec<f64>> = infos
+            .iter()
+            .enumerate()
+            .map(|(j, p)| {
                 let far = if (p.hi - p.null).abs() >= (p.null - p.lo).abs() {
                     p.hi
                 } else {
                     p.lo
                 };
-                let mut x = from.clone();
+                let mut x = if p.shape {
+                    active.clone()
+                } else {
+                    null.clone()
+                };
                 x[j] = p.null + 0.5 * (far - p.null);
-                self.weighted(&fx, &x, f).is_some_and(|e| {
+                x
+            })
+            .collect();
+        // Replayed together with the points they are compared with (a probe from a start
+        // that cannot be evaluated is replayed in vain: it is not looked at, as before).
+        let mut points = vec![null.clone()];
+        if shapes {
+            points.push(active.clone());
+        }
+        points.extend(probes);
+        let mut e = self.weighted_many(&fx, &points, f).into_iter();
+        let Some(e_null) = e.next().flatten() else {
+            return vec![false; infos.len()];
+        };
+        let e_active = if shapes { e.next().flatten() } else { None };
+        let tol = 1e-8 * f.len() as f64;
+        infos
+            .iter()
+            .zip(e)
+            .map(|(p, probe)| {
+                let e0 = if p.shape {
+                    match &e_active {
+                        Some(e) => e,
+                        None => return false,
+                    }
+                } else {
+                    &e_null
+                };
+                probe.is_some_and(|e| {
                     e.len() == e0.len()
                         && e.iter().zip(e0).map(|(a, b)| (a - b).powi(2)).sum::<f64>() > tol
                 })
@@ -181,23 +228,25 @@ impl Ctx<'_> {
         // The LM runs from the best two (by BIC; the earlier point first among equals), each
         // with the evaluation that ranked it. Until the LM is done, everything is decided on
         // the estimation samples (BIC, weights, residuals): their replays stop there.
-        let mut evaluations = 0;
-        let mut top: Vec<(f64, Vec<f64>, Evaluation)> = Vec::with_capacity(3);
-        let mut consider = |x: Vec<f64>| {
-            evaluations += 1;
-            if let Some(ev) = self.eval_part(effects, &x, Part::Estimation) {
-                let b = bic_rs(&ev, 0, self.resample);
-                let at = top.partition_point(|(t, ..)| t.total_cmp(&b).is_le());
-                top.insert(at, (b, x, ev));
-                top.truncate(2);
-            }
-        };
-        for s in starts {
-            consider(full(&free.iter().map(|&j| s[j]).collect::<Vec<_>>(), s));
-        }
+        let mut points: Vec<Vec<f64>> = starts
+            .iter()
+            .map(|s| full(&free.iter().map(|&j| s[j]).collect::<Vec<_>>(), s))
+            .collect();
         if let (Some(from), Some(first)) = (scan, starts.first()) {
-            for x in scan_points(&infos, excited, first, from) {
-                consider(x);
+            points.extend(scan_points(&infos, excited, first, from));
+        }
+        let mut evaluations = points.len();
+        let mut top: Vec<(f64, Vec<f64>, Evaluation)> = Vec::with_capacity(3);
+        // Evaluated LANES at a time (replayed together), ranked in their order.
+        for batch in points.chunks(LANES) {
+            let evals = self.eval_parts(effects, batch, Part::Estimation);
+            for (x, ev) in batch.iter().zip(evals) {
+                if let Some(ev) = ev {
+                    let b = bic_rs(&ev, 0, self.resample);
+                    let at = top.partition_point(|(t, ..)| t.total_cmp(&b).is_le());
+                    top.insert(at, (b, x.clone(), ev));
+                    top.truncate(2);
+                }
             }
         }
         type Best = (
@@ -214,7 +263,10 @@ impl Ctx<'_> {
             for _ in 0..3 {
                 let factors = ev.ml_factors();
                 let x0: Vec<f64> = free.iter().map(|&j| x[j]).collect();
-                let f = |xf: &[f64]| self.weighted(effects, &full(xf, &null), &factors);
+                let f = |xs: &[Vec<f64>]| {
+                    let xs: Vec<Vec<f64>> = xs.iter().map(|xf| full(xf, &null)).collect();
+                    self.weighted_many(effects, &xs, &factors)
+                };
                 // The residuals at the start are those of `ev` (x is `full(x0, null)`).
                 let e0 = ev.weighted_with(&factors, self.resample);
                 let Some(r) = minimise_from(&f, &x0, Some(e0), &lo, &hi, &scale, &self.lm) else {
@@ -382,21 +434,25 @@ impl Ctx<'_> {
             .collect();
         let infos = add.params(self.base);
         let null: Vec<f64> = infos.iter().map(|p| p.null).collect();
-        let mut cols: Vec<Vec<f64>> = Vec::new();
-        for (j, p) in infos.iter().enumerate() {
-            if !excited_add.get(j).copied().unwrap_or(false) {
-                continue;
-            }
-            let mut v = null.clone();
-            v[j] = p.typical;
-            let mut x = held.clone();
-            x.extend_from_slice(&v);
-            if let Some(e) = self.weighted(&effects, &x, &factors)
-                && e.len() == e0.len()
-            {
-                cols.push(e.iter().zip(&e0).map(|(a, b)| a - b).collect());
-            }
-        }
+        let points: Vec<Vec<f64>> = infos
+            .iter()
+            .enumerate()
+            .filter(|(j, _)| excited_add.get(*j).copied().unwrap_or(false))
+            .map(|(j, p)| {
+                let mut v = null.clone();
+                v[j] = p.typical;
+                let mut x = held.clone();
+                x.extend_from_slice(&v);
+                x
+            })
+            .collect();
+        let cols: Vec<Vec<f64>> = self
+            .weighted_many(&effects, &points, &factors)
+            .into_iter()
+            .flatten()
+            .filter(|e| e.len() == e0.len())
+            .map(|e| e.iter().zip(&e0).map(|(a, b)| a - b).collect())
+            .collect();
         if cols.is_empty() {
             return 0.0;
         }
@@ -557,6 +613,14 @@ pub(super) fn z_of(fit: &Fit, effect: &str, white: bool) -> f64 {
         return (w - (idx.len() as f64 - 1.0)).max(0.0).sqrt().max(8.0);
     }
     Normal::standard().inverse_cdf(1.0 - 0.5 * p)
+}
+
+/// `ev` when every sum of squared estimation residuals is finite.
+fn finite(ev: Evaluation) -> Option<Evaluation> {
+    ev.metrics
+        .values()
+        .all(|m| m.sse_est.is_finite())
+        .then_some(ev)
 }
 
 #[cfg(test)]

@@ -62,37 +62,78 @@ impl Memo {
         part: Part,
         replay: impl FnOnce() -> Replayed,
     ) -> Arc<Replayed> {
-        let key = Key {
-            effects: effects
-                .iter()
-                .map(|e| (e.name().to_string(), e.form().to_string()))
-                .collect(),
-            values: values.iter().map(|v| v.to_bits()).collect(),
-        };
-        {
+        let mut one = self.get_or_replay_many(effects, &[values], part, |_| vec![replay()]);
+        one.pop().expect("a replay per model")
+    }
+
+    /// [`Memo::get_or_replay`] for the models with `effects` at each of `values`: the kept
+    /// replays, and those of the others from one call of `replay` with their values (each
+    /// once, in the order of `values`; then kept).
+    pub fn get_or_replay_many(
+        &self,
+        effects: &[Arc<dyn Effect>],
+        values: &[&[f64]],
+        part: Part,
+        replay: impl FnOnce(&[&[f64]]) -> Vec<Replayed>,
+    ) -> Vec<Arc<Replayed>> {
+        let names: Vec<(String, String)> = effects
+            .iter()
+            .map(|e| (e.name().to_string(), e.form().to_string()))
+            .collect();
+        let keys: Vec<Key> = values
+            .iter()
+            .map(|v| Key {
+                effects: names.clone(),
+                values: v.iter().map(|x| x.to_bits()).collect(),
+            })
+            .collect();
+        let mut found: Vec<Option<Arc<Replayed>>> = {
             let mut e = self.lock();
-            if let Some(i) = e
-                .list
-                .iter()
-                .rposition(|(k, r)| *k == key && serves(r.part(), part))
-            {
-                let hit = e.list.remove(i).expect("index from rposition");
-                let r = hit.1.clone();
-                e.list.push_back(hit);
-                return r;
+            keys.iter()
+                .map(|key| {
+                    let i = e
+                        .list
+                        .iter()
+                        .rposition(|(k, r)| k == key && serves(r.part(), part))?;
+                    let hit = e.list.remove(i).expect("index from rposition");
+                    let r = hit.1.clone();
+                    e.list.push_back(hit);
+                    Some(r)
+                })
+                .collect()
+        };
+        // The models not kept, each once (a request may name one model twice).
+        let mut missing: Vec<usize> = Vec::new();
+        for (i, f) in found.iter().enumerate() {
+            if f.is_none() && !missing.iter().any(|&m| keys[m] == keys[i]) {
+                missing.push(i);
             }
         }
-        // Replayed outside the lock: the other threads go on meanwhile.
-        let r = Arc::new(replay());
-        let mut e = self.lock();
-        e.bytes += r.bytes();
-        e.list.push_back((key, r.clone()));
-        while e.bytes > self.budget && e.list.len() > 1 {
-            if let Some((_, old)) = e.list.pop_front() {
-                e.bytes -= old.bytes();
+        if !missing.is_empty() {
+            // Replayed outside the lock: the other threads go on meanwhile.
+            let made = replay(&missing.iter().map(|&i| values[i]).collect::<Vec<_>>());
+            assert_eq!(made.len(), missing.len(), "a replay per model");
+            let mut e = self.lock();
+            for (&m, r) in missing.iter().zip(made) {
+                let r = Arc::new(r);
+                for (f, key) in found.iter_mut().zip(&keys) {
+                    if f.is_none() && *key == keys[m] {
+                        *f = Some(r.clone());
+                    }
+                }
+                e.bytes += r.bytes();
+                e.list.push_back((keys[m].clone(), r));
+            }
+            while e.bytes > self.budget && e.list.len() > 1 {
+                if let Some((_, old)) = e.list.pop_front() {
+                    e.bytes -= old.bytes();
+                }
             }
         }
-        r
+        found
+            .into_iter()
+            .map(|f| f.expect("kept or replayed"))
+            .collect()
     }
 
     fn lock(&self) -> std::sync::MutexGuard<'_, Entries> {
@@ -144,6 +185,29 @@ mod tests {
             replayed(10)
         });
         assert_eq!((calls, whole.part()), (6, Part::All));
+    }
+
+    #[test]
+    fn a_batch_replays_the_models_not_kept_together_each_once() {
+        let fx = [shoal_model::effects::by_name("thruster_lag").unwrap()];
+        let memo = Memo::new(1 << 20);
+        memo.get_or_replay(&fx, &[0.4], Part::All, || replayed(10));
+        let mut asked: Vec<Vec<f64>> = Vec::new();
+        let got =
+            memo.get_or_replay_many(&fx, &[&[0.1], &[0.4], &[0.2], &[0.1]], Part::All, |vs| {
+                asked = vs.iter().map(|v| v.to_vec()).collect();
+                vs.iter()
+                    .map(|v| replayed((v[0] * 1000.0) as usize))
+                    .collect()
+            });
+        assert_eq!(asked, [[0.1], [0.2]]);
+        let bytes: Vec<usize> = got.iter().map(|r| r.bytes()).collect();
+        assert_eq!(bytes, [1600, 160, 3200, 1600]);
+        assert!(Arc::ptr_eq(&got[0], &got[3]));
+        // All kept now.
+        let again =
+            memo.get_or_replay_many(&fx, &[&[0.2], &[0.1]], Part::All, |_| unreachable!("kept"));
+        assert!(Arc::ptr_eq(&again[0], &got[2]) && Arc::ptr_eq(&again[1], &got[0]));
     }
 
     #[test]

@@ -13,20 +13,16 @@
 //! Quantisation and noise are not simulated: they are what the residual of a perfect model
 //! consists of.
 
+mod simulate;
+
 use crate::ingest::short;
 use crate::limits::{ClampNote, Limits};
-use crate::masses::MassTable;
 use crate::run::{ChannelKind, MeasuredRun, RunError};
-use shoal_model::ballast::Pump;
-use shoal_model::control::ActuatorCommands;
-use shoal_model::dynamics::{Integrator, RigidState};
-use shoal_model::lanes::DynConsts;
-use shoal_model::math::{Quat, Vec3, quat_from_rpy, split6, wrap_pi};
-use shoal_model::rigid_body::Environment;
-use shoal_model::vehicle::{
-    VehicleModel, VehicleParams, VehicleState, actuate_thrusters, integrate_vehicle,
-    integrate_vehicle_rk4, run_pump,
-};
+use shoal_model::dynamics::Integrator;
+use shoal_model::math::{Vec3, quat_from_rpy, wrap_pi};
+use shoal_model::vehicle::VehicleParams;
+
+pub use simulate::{simulate, simulate_many, simulate_with};
 
 /// Which input column drives which actuator.
 #[derive(Clone, Debug, PartialEq, Default)]
@@ -309,174 +305,11 @@ pub fn replay_steps(run: &MeasuredRun, dt: f64) -> usize {
         .clamp(0.0, MAX_REPLAY_STEPS as f64) as usize
 }
 
-/// Replays `run` on `model` in water `env` from `init` and records the `kinds`.
-pub fn simulate(
-    model: &VehicleModel,
-    env: &Environment,
-    run: &MeasuredRun,
-    map: &InputMap,
-    init: &InitialState,
-    kinds: &[ChannelKind],
-    opts: &ReplayOptions,
-) -> Trace {
-    simulate_with(
-        model,
-        env,
-        run,
-        map,
-        init,
-        kinds,
-        opts,
-        &MassTable::default(),
-        usize::MAX,
-    )
-}
-
-/// [`simulate`] for at most `max_steps` physics steps (the trace then ends early, and is the
-/// same as far as it goes), taking the mass properties of each ballast volume from `masses`
-/// (and keeping there those it computes): the same numbers, without a matrix factorisation
-/// per pumping step when the table already holds the volume.
-pub fn simulate_with(
-    model: &VehicleModel,
-    env: &Environment,
-    run: &MeasuredRun,
-    map: &InputMap,
-    init: &InitialState,
-    kinds: &[ChannelKind],
-    opts: &ReplayOptions,
-    masses: &MassTable,
-    max_steps: usize,
-) -> Trace {
-    let p = &model.params;
-    let dt = opts.dt;
-    let t0 = run.t[0];
-    let steps = replay_steps(run, dt).min(max_steps);
-    let env_vehicle = model.environment(env);
-    let mut rigid = RigidState::at_rest(
-        init.position,
-        quat_from_rpy(init.rpy.x, init.rpy.y, init.rpy.z),
-    );
-    rigid.nu.fixed_rows_mut::<3>(3).copy_from(&init.rates);
-    // A measured velocity is over ground; without one, the vehicle drifts with the water.
-    if let Some(v) = init.velocity {
-        let v_rel = v - rigid
-            .attitude
-            .inverse_transform_vector(&env_vehicle.current);
-        rigid.nu.fixed_rows_mut::<3>(0).copy_from(&v_rel);
-    }
-    let mut state = VehicleState::new(model, rigid, env);
-    let mut cmd = ActuatorCommands::zeros(p.thrusters.len(), p.tilts.len());
-    let stride = kinds.len();
-    let mut values = Vec::with_capacity((steps + 1) * stride);
-    let mut row = 0usize;
-    let n_rows = run.t.len();
-    let set_inputs = |row: usize, cmd: &mut ActuatorCommands, state: &mut VehicleState| {
-        for &(i, k) in &map.thrusters {
-            cmd.thrusters[i] = run.inputs[k].values[row];
-        }
-        for &(i, k) in &map.tilts {
-            let a = run.inputs[k].values[row];
-            cmd.tilts[i] = a;
-            state.actuators.tilt[i] = a;
-        }
-        if let Some(k) = map.pump {
-            cmd.pump = Pump::from_sign(run.inputs[k].values[row]);
-        }
-    };
-    set_inputs(0, &mut cmd, &mut state);
-    record(model, &state, &env_vehicle, kinds, &mut values);
-    let body = masses.body(p, env.density);
-    // The constants of the equation of motion, while the ballast does not change.
-    let mut consts = DynConsts::new(&p.body, &state.mass, &env_vehicle);
-    for s in 0..steps {
-        let t = t0 + s as f64 * dt;
-        while row + 1 < n_rows && run.t[row + 1] <= t + 1e-9 {
-            row += 1;
-        }
-        set_inputs(row, &mut cmd, &mut state);
-        // `actuate_vehicle`, with the mass properties of a new volume from the table.
-        if let Some(v) = run_pump(model, &mut state, cmd.pump, dt) {
-            state.mass = body.at(v);
-            consts = DynConsts::new(&p.body, &state.mass, &env_vehicle);
-        }
-        actuate_thrusters(model, &mut state, &cmd, env, dt);
-        match opts.integrator {
-            Integrator::Rk4 => integrate_vehicle_rk4(&mut state, &consts, dt),
-            other => integrate_vehicle(model, &mut state, env, other, dt),
-        }
-        record(model, &state, &env_vehicle, kinds, &mut values);
-    }
-    Trace {
-        t0,
-        dt,
-        kinds: kinds.to_vec(),
-        values,
-    }
-}
-
-fn record(
-    model: &VehicleModel,
-    state: &VehicleState,
-    env: &Environment,
-    kinds: &[ChannelKind],
-    out: &mut Vec<f64>,
-) {
-    let p = &model.params;
-    let rigid = &state.rigid;
-    let (v, w) = split6(&rigid.nu);
-    // Roll and pitch only when recorded (yaw alone needs less).
-    let tilted = kinds
-        .iter()
-        .any(|k| matches!(k, ChannelKind::Roll | ChannelKind::Pitch));
-    let rpy = || {
-        if tilted {
-            rigid.attitude.euler_angles()
-        } else {
-            (0.0, 0.0, yaw_of(&rigid.attitude))
-        }
-    };
-    for k in kinds {
-        let x = match k {
-            ChannelKind::Depth => {
-                state.depth_of(&p.pressure.position).max(0.0)
-                    + model.effects.depth_offset(state.time)
-            }
-            ChannelKind::Roll => rpy().0,
-            ChannelKind::Pitch => rpy().1,
-            ChannelKind::Yaw => rpy().2,
-            ChannelKind::P => w.x + p.imu.gyro_bias.x,
-            ChannelKind::Q => w.y + p.imu.gyro_bias.y,
-            ChannelKind::R => w.z + p.imu.gyro_bias.z,
-            ChannelKind::X => rigid.position.x,
-            ChannelKind::Y => rigid.position.y,
-            ChannelKind::U | ChannelKind::V | ChannelKind::W => {
-                let vg = v + rigid.attitude.inverse_transform_vector(&env.current);
-                match k {
-                    ChannelKind::U => vg.x,
-                    ChannelKind::V => vg.y,
-                    _ => vg.z,
-                }
-            }
-        };
-        out.push(x);
-    }
-}
-
-/// The yaw of `q`'s Euler angles, bit for bit as `q.euler_angles().2` (nalgebra's rotation
-/// matrix formula) without computing the roll.
-fn yaw_of(q: &Quat) -> f64 {
-    let m = q.to_rotation_matrix();
-    if m[(2, 0)].abs() < 1.0 {
-        let c = (-m[(2, 0)].asin()).cos();
-        (m[(1, 0)] / c).atan2(m[(0, 0)] / c)
-    } else {
-        0.0
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use shoal_model::rigid_body::Environment;
+    use shoal_model::vehicle::VehicleModel;
     use std::path::Path;
 
     #[test]
@@ -547,28 +380,6 @@ mod tests {
             );
             assert_eq!(run, before);
         }
-    }
-
-    #[test]
-    fn yaw_alone_is_the_euler_yaw() {
-        let mut n = 0;
-        for i in 0..2000 {
-            let f = i as f64;
-            let (r, p, y) = (
-                (f * 0.37).sin() * 3.2,
-                (f * 0.11).cos() * 1.58,
-                f * 0.013 - 13.0,
-            );
-            let q = quat_from_rpy(r, p, y);
-            assert_eq!(yaw_of(&q).to_bits(), q.euler_angles().2.to_bits(), "{q:?}");
-            n += 1;
-        }
-        // At the poles (pitch ±90°) too.
-        for p in [std::f64::consts::FRAC_PI_2, -std::f64::consts::FRAC_PI_2] {
-            let q = quat_from_rpy(0.3, p, 1.1);
-            assert_eq!(yaw_of(&q).to_bits(), q.euler_angles().2.to_bits());
-        }
-        assert_eq!(n, 2000);
     }
 
     #[test]

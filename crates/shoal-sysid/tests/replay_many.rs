@@ -1,0 +1,231 @@
+//! Replaying several models together ([`Dataset::replayed_many`], [`simulate_many`]: one lane
+//! of the RK4 kernel each, with its own constants of motion) gives each model's own replay
+//! bit for bit — for models that differ in every kind of constant the kernel reads (thrust
+//! lag, damping, added mass, the pump's flow and with it the mass properties, the water
+//! current) and in what is read from the replay (a sensor delay, a depth-sensor bias), on a
+//! diving log whose pump fills and empties the tank, for whole and estimation replays, with a
+//! hold-out run, and for replays that end at different steps.
+
+use shoal_model::effects::{EffectInstance, Effects, by_name};
+use shoal_model::presets;
+use shoal_model::rigid_body::Environment;
+use shoal_model::vehicle::VehicleModel;
+use shoal_sysid::data::{DataOptions, Dataset, Part};
+use shoal_sysid::design;
+use shoal_sysid::masses::MassTable;
+use shoal_sysid::replay::{ReplayOptions, Trace, simulate_many, simulate_with};
+use shoal_sysid::run::MeasuredRun;
+use shoal_sysid::synth::synthesize;
+use std::path::Path;
+
+/// A 30 s diving run with a thruster lag hidden in it, whose pump fills, stops, empties,
+/// stops, … from one thrust segment to the next (the experiment's own pump segments come
+/// later than 30 s).
+fn heave_run(seed: u64) -> MeasuredRun {
+    let truth = model(&[("thruster_lag", vec![0.3])]);
+    let mut exp = design::uauv2_heave(seed, 30.0);
+    let mut segment = 0;
+    for (_, name, value) in &mut exp.inputs {
+        if name == "pump" {
+            *value = [1.0, 0.0, -1.0, 0.0][segment % 4];
+            segment += 1;
+        }
+    }
+    let run = synthesize(&truth, &Environment::default(), &exp, 0.005, seed);
+    let run = MeasuredRun::parse(&run.to_csv(), Path::new(&format!("heave{seed}.csv"))).unwrap();
+    let pump = &run.input("pump").unwrap().values;
+    // Filling and emptying in the first 60 % of the run (the estimation samples) already.
+    let early = &pump[..pump.len() / 2];
+    assert!(early.contains(&1.0) && early.contains(&-1.0));
+    run
+}
+
+/// A 30 s yaw run (tilted thrusters).
+fn yaw_run(seed: u64) -> MeasuredRun {
+    let truth = model(&[]);
+    let exp = design::uauv2_yaw(seed, 30.0);
+    let run = synthesize(&truth, &Environment::default(), &exp, 0.005, seed);
+    MeasuredRun::parse(&run.to_csv(), Path::new(&format!("yaw{seed}.csv"))).unwrap()
+}
+
+fn model(effects: &[(&str, Vec<f64>)]) -> VehicleModel {
+    let list = effects
+        .iter()
+        .map(|(n, p)| EffectInstance {
+            effect: by_name(n).unwrap(),
+            params: p.clone(),
+        })
+        .collect();
+    VehicleModel::with_effects(presets::uauv2(), Effects::new(list), 1000.0)
+}
+
+/// The effect `name` at its typical values, each parameter scaled by `k` about its null.
+fn typical(name: &str, k: f64) -> (&str, Vec<f64>) {
+    let params = by_name(name).unwrap().params(&presets::uauv2());
+    (
+        name,
+        params
+            .iter()
+            .map(|p| (p.null + k * (p.typical - p.null)).clamp(p.lo, p.hi))
+            .collect(),
+    )
+}
+
+/// Nine models (two groups of four lanes and one alone): the baseline and models that differ
+/// in every kind of constant of motion and of reading.
+fn models() -> Vec<VehicleModel> {
+    vec![
+        model(&[]),
+        model(&[typical("thruster_lag", 1.0)]),
+        model(&[typical("damping_error", 1.5)]),
+        model(&[typical("added_mass_error", 1.2)]),
+        model(&[typical("ballast_mass", 2.0)]),
+        model(&[typical("water_current", 1.0), ("sensor_delay", vec![0.13])]),
+        model(&[
+            typical("ballast_mass", 0.5),
+            typical("added_mass_error", 0.7),
+            typical("damping_error", 0.8),
+        ]),
+        model(&[
+            typical("depth_sensor_bias", 1.0),
+            typical("thruster_lag", 0.4),
+        ]),
+        model(&[
+            typical("buoyancy_offset", 1.0),
+            ("sensor_delay", vec![0.05]),
+        ]),
+    ]
+}
+
+/// A 7 ms replay step: the 20 ms samples fall between grid points.
+fn options() -> DataOptions {
+    DataOptions {
+        replay: ReplayOptions {
+            dt: 0.007,
+            ..Default::default()
+        },
+        ..Default::default()
+    }
+}
+
+fn bits(t: &Trace) -> Vec<u64> {
+    t.values.iter().map(|x| x.to_bits()).collect()
+}
+
+/// `replayed_many` equals `replayed` of each model, for both parts; returns how many of the
+/// models' replays differ from the first one's (so that the models are seen to differ).
+fn same_as_one_by_one(ds: &Dataset, models: &[VehicleModel]) -> usize {
+    let mut differ = 0;
+    for part in [Part::All, Part::Estimation] {
+        let many = ds.replayed_many(models, part);
+        assert_eq!(many.len(), models.len());
+        let one: Vec<_> = models.iter().map(|m| ds.replayed(m, part)).collect();
+        for (i, (a, b)) in many.iter().zip(&one).enumerate() {
+            // Bit for bit: the weighted residuals and every series of the evaluation.
+            let (ea, eb) = (ds.evaluation(a), ds.evaluation(b));
+            let f = eb.ml_factors();
+            let wa: Vec<u64> = ea.weighted(&f).iter().map(|x| x.to_bits()).collect();
+            let wb: Vec<u64> = eb.weighted(&f).iter().map(|x| x.to_bits()).collect();
+            assert_eq!(wa, wb, "model {i}, {part:?}: weighted residuals");
+            for (ra, rb) in ea.runs.iter().zip(&eb.runs) {
+                for (ca, cb) in ra.channels.iter().zip(&rb.channels) {
+                    let pa: Vec<u64> = ca.predicted.iter().map(|x| x.to_bits()).collect();
+                    let pb: Vec<u64> = cb.predicted.iter().map(|x| x.to_bits()).collect();
+                    assert_eq!(pa, pb, "model {i}, {part:?}: {} {:?}", ra.name, ca.kind);
+                }
+            }
+            assert_eq!(a, b, "model {i}, {part:?}");
+            if i > 0 && one[0] != *b {
+                differ += 1;
+            }
+        }
+    }
+    differ
+}
+
+#[test]
+fn models_replayed_together_equal_each_replayed_alone() {
+    let ds = Dataset::new(
+        &presets::uauv2(),
+        Environment::default(),
+        vec![heave_run(1), yaw_run(2)],
+        vec![],
+        &options(),
+    )
+    .unwrap();
+    let models = models();
+    // Every model changes the replay (in both parts).
+    assert_eq!(same_as_one_by_one(&ds, &models), 2 * (models.len() - 1));
+    // Groups of two and three lanes (the rest of the lanes unused).
+    assert!(same_as_one_by_one(&ds, &models[..2]) > 0);
+    assert!(same_as_one_by_one(&ds, &models[4..7]) > 0);
+}
+
+#[test]
+fn with_a_hold_out_run_too() {
+    let ds = Dataset::new(
+        &presets::uauv2(),
+        Environment::default(),
+        vec![heave_run(1)],
+        vec![heave_run(3)],
+        &options(),
+    )
+    .unwrap();
+    let models = models();
+    assert_eq!(same_as_one_by_one(&ds, &models), 2 * (models.len() - 1));
+}
+
+/// Replays of one group that end at different steps: each is the replay alone with its own
+/// bound (the lanes whose replay has ended no longer count, the others go on).
+#[test]
+fn replays_that_end_at_different_steps() {
+    let run = heave_run(4);
+    let models = models();
+    let params = &models[0].params;
+    let mut run_mapped = run.clone();
+    let map = shoal_sysid::replay::InputMap::new(params, &mut run_mapped).unwrap();
+    let init = shoal_sysid::replay::InitialState::from_run(params, &run_mapped, 0.5);
+    let kinds = [
+        shoal_sysid::run::ChannelKind::Depth,
+        shoal_sysid::run::ChannelKind::Pitch,
+        shoal_sysid::run::ChannelKind::Yaw,
+        shoal_sysid::run::ChannelKind::W,
+    ];
+    let opts = ReplayOptions {
+        dt: 0.007,
+        ..Default::default()
+    };
+    let env = Environment::default();
+    let masses = MassTable::default();
+    let refs: Vec<&VehicleModel> = models.iter().collect();
+    let bounds = [4000, 17, usize::MAX, 0, 2500, 4001, 3999, usize::MAX, 100];
+    let many = simulate_many(
+        &refs,
+        &bounds,
+        &env,
+        &run_mapped,
+        &map,
+        &init,
+        &kinds,
+        &opts,
+        &masses,
+    );
+    for (i, (m, &n)) in models.iter().zip(&bounds).enumerate() {
+        let one = simulate_with(
+            m,
+            &env,
+            &run_mapped,
+            &map,
+            &init,
+            &kinds,
+            &opts,
+            &MassTable::default(),
+            n,
+        );
+        assert_eq!(one.len(), many[i].len(), "model {i}");
+        assert_eq!(bits(&one), bits(&many[i]), "model {i} (bound {n})");
+    }
+    // The whole run is 30 s: 4286 steps.
+    assert_eq!(many[2].len(), 4287);
+    assert_eq!(many[3].len(), 1);
+}
