@@ -6,11 +6,14 @@
 //! diving log whose pump fills and empties the tank, for whole and estimation replays, with a
 //! hold-out run, and for replays that end at different steps.
 
-use shoal_model::effects::{EffectInstance, Effects, by_name};
+mod common;
+
+use common::replays::{model, offgrid_options as options, pumping_heave_run as heave_run};
+use shoal_model::effects::by_name;
 use shoal_model::presets;
 use shoal_model::rigid_body::Environment;
 use shoal_model::vehicle::VehicleModel;
-use shoal_sysid::data::{DataOptions, Dataset, Part};
+use shoal_sysid::data::{Dataset, Part};
 use shoal_sysid::design;
 use shoal_sysid::masses::MassTable;
 use shoal_sysid::replay::{ReplayOptions, Trace, simulate_many, simulate_with};
@@ -18,45 +21,12 @@ use shoal_sysid::run::MeasuredRun;
 use shoal_sysid::synth::synthesize;
 use std::path::Path;
 
-/// A 30 s diving run with a thruster lag hidden in it, whose pump fills, stops, empties,
-/// stops, … from one thrust segment to the next (the experiment's own pump segments come
-/// later than 30 s).
-fn heave_run(seed: u64) -> MeasuredRun {
-    let truth = model(&[("thruster_lag", vec![0.3])]);
-    let mut exp = design::uauv2_heave(seed, 30.0);
-    let mut segment = 0;
-    for (_, name, value) in &mut exp.inputs {
-        if name == "pump" {
-            *value = [1.0, 0.0, -1.0, 0.0][segment % 4];
-            segment += 1;
-        }
-    }
-    let run = synthesize(&truth, &Environment::default(), &exp, 0.005, seed);
-    let run = MeasuredRun::parse(&run.to_csv(), Path::new(&format!("heave{seed}.csv"))).unwrap();
-    let pump = &run.input("pump").unwrap().values;
-    // Filling and emptying in the first 60 % of the run (the estimation samples) already.
-    let early = &pump[..pump.len() / 2];
-    assert!(early.contains(&1.0) && early.contains(&-1.0));
-    run
-}
-
 /// A 30 s yaw run (tilted thrusters).
 fn yaw_run(seed: u64) -> MeasuredRun {
     let truth = model(&[]);
     let exp = design::uauv2_yaw(seed, 30.0);
     let run = synthesize(&truth, &Environment::default(), &exp, 0.005, seed);
     MeasuredRun::parse(&run.to_csv(), Path::new(&format!("yaw{seed}.csv"))).unwrap()
-}
-
-fn model(effects: &[(&str, Vec<f64>)]) -> VehicleModel {
-    let list = effects
-        .iter()
-        .map(|(n, p)| EffectInstance {
-            effect: by_name(n).unwrap(),
-            params: p.clone(),
-        })
-        .collect();
-    VehicleModel::with_effects(presets::uauv2(), Effects::new(list), 1000.0)
 }
 
 /// The effect `name` at its typical values, each parameter scaled by `k` about its null.
@@ -95,17 +65,6 @@ fn models() -> Vec<VehicleModel> {
             ("sensor_delay", vec![0.05]),
         ]),
     ]
-}
-
-/// A 7 ms replay step: the 20 ms samples fall between grid points.
-fn options() -> DataOptions {
-    DataOptions {
-        replay: ReplayOptions {
-            dt: 0.007,
-            ..Default::default()
-        },
-        ..Default::default()
-    }
 }
 
 fn bits(t: &Trace) -> Vec<u64> {

@@ -2,58 +2,17 @@
 //! ([`Part::Estimation`]); everything it computes from that replay must be what the whole
 //! replay gives, bit for bit: the weighted residuals (with and without a block-bootstrap
 //! resample), the estimation metrics and the likelihood weights — for a model with a sensor
-//! delay (which reads the replay earlier), with a depth-sensor effect, with the pump running,
-//! and with a hold-out run (not replayed at all for estimation).
+//! delay (which reads the replay earlier), with a depth-sensor effect, on a log whose pump
+//! fills and empties the tank within the estimation part, on a 7 ms replay grid the samples
+//! fall between, and with a hold-out run (not replayed at all for estimation).
 
-use shoal_model::effects::{EffectInstance, Effects, by_name};
+mod common;
+
+use common::replays::{model, offgrid_options as options, pumping_heave_run as heave_run};
 use shoal_model::presets;
 use shoal_model::rigid_body::Environment;
-use shoal_model::vehicle::VehicleModel;
 use shoal_sysid::blocks::Resample;
-use shoal_sysid::data::{DataOptions, Dataset, Part};
-use shoal_sysid::design;
-use shoal_sysid::replay::ReplayOptions;
-use shoal_sysid::run::MeasuredRun;
-use shoal_sysid::synth::synthesize;
-use std::path::Path;
-
-/// A 40 s diving run (the pump fills and empties) with a thruster lag hidden in it.
-fn heave_run(seed: u64) -> MeasuredRun {
-    let truth = VehicleModel::with_effects(
-        presets::uauv2(),
-        Effects::new(vec![EffectInstance {
-            effect: by_name("thruster_lag").unwrap(),
-            params: vec![0.3],
-        }]),
-        1000.0,
-    );
-    let exp = design::uauv2_heave(seed, 40.0);
-    let run = synthesize(&truth, &Environment::default(), &exp, 0.005, seed);
-    MeasuredRun::parse(&run.to_csv(), Path::new(&format!("heave{seed}.csv"))).unwrap()
-}
-
-fn model(effects: &[(&str, Vec<f64>)]) -> VehicleModel {
-    let list = effects
-        .iter()
-        .map(|(n, p)| EffectInstance {
-            effect: by_name(n).unwrap(),
-            params: p.clone(),
-        })
-        .collect();
-    VehicleModel::with_effects(presets::uauv2(), Effects::new(list), 1000.0)
-}
-
-/// A 7 ms replay step: the 20 ms samples fall between grid points, so the last estimation
-/// sample is interpolated towards the grid point after it.
-fn options() -> DataOptions {
-    DataOptions {
-        replay: ReplayOptions {
-            dt: 0.007,
-            ..Default::default()
-        },
-        ..Default::default()
-    }
-}
+use shoal_sysid::data::{Dataset, Part};
 
 fn bits(v: &[f64]) -> Vec<u64> {
     v.iter().map(|x| x.to_bits()).collect()

@@ -152,3 +152,4 @@ pub fn channel_gains(out: &Outcome) -> Vec<(String, f64)> {
 }
 
 pub mod pinned;
+pub mod replays;
