@@ -125,7 +125,7 @@ rm -f "$pytest_log" "$pytest_log.time"
 phase "doc tests + benches"
 doc_rc=0
 cargo test --workspace --doc --quiet || doc_rc=$?
-cargo test --workspace --benches --quiet || doc_rc=$?
+cargo test --workspace --bench '*' --quiet || doc_rc=$?
 
 if [ "$nextest_rc" != 0 ] || [ "${pytest_rc:-1}" != 0 ] || [ "$doc_rc" != 0 ]; then
     say "FAILED: nextest $nextest_rc, pytest ${pytest_rc:-?}, doc tests/benches $doc_rc" >&2

@@ -769,7 +769,16 @@ fn free_running_world_notices_a_killed_agent_and_takes_a_new_one() {
     // died (not the 180° it was sent to), then followed the second agent.
     assert_commanded(&f, 0.5, gone - 0.05, 1.5, 180.0);
     assert_holds_short_of(&f, gone, back - 0.05, 180.0);
-    assert_commanded(&f, back + 0.2, 120.0, 1.0, 90.0);
+    // The new agent's first command takes over once its process gets to send it: free-running,
+    // the world does not wait for it, so how much simulated time passes first is the agent's
+    // scheduling delay × 10 (the pace) — a few ticks on an idle machine, more beside CPU-bound
+    // tests; within 3 s simulated (0.3 s of wall time). From then on it is in force.
+    let took = first_command(&f, 1.0);
+    assert!(
+        took >= back && took <= back + 3.0,
+        "back at {back} s, first command at {took} s"
+    );
+    assert_commanded(&f, took, 120.0, 1.0, 90.0);
     assert_on_target(&f, 1.0, 90.0);
     assert!(f.agent()["attached_at_end"].as_bool().unwrap());
     // The other agent was not disturbed.

@@ -2,36 +2,57 @@
 //! the dead node is cleaned up), the vehicle falls back to holding depth and heading, the run
 //! finishes normally, the summary says what happened, and no shared memory is left behind.
 //! Ctrl-C of the world: it ends the run, its agent is told and leaves, nothing is left.
-//! (Its own test binary: it compares /dev/shm before and after, so its tests run one at a
-//! time and nothing else may run beside them.)
+//!
+//! "Nothing left" is checked on what these processes themselves held — the shared-memory
+//! segments the world and the agent have mapped while they run (`/proc/<pid>/maps`) and
+//! iceoryx2's records naming the world's prefix — so other worlds and agents running beside
+//! the test (the test runner runs tests side by side) neither hide nor fake a leak.
 
 mod common;
 
 use std::collections::BTreeSet;
-use std::sync::Mutex;
-
-/// Held by each test: the /dev/shm comparisons must not see each other's segments.
-static ONE_AT_A_TIME: Mutex<()> = Mutex::new(());
 use std::path::PathBuf;
 use std::process::{Child, Command};
 use std::time::Duration;
 
-fn shm() -> BTreeSet<String> {
-    std::fs::read_dir("/dev/shm")
-        .map(|d| {
-            d.filter_map(|e| e.ok())
-                .map(|e| e.file_name().to_string_lossy().into_owned())
-                // iceoryx2 keeps one global management segment per machine by design.
-                .filter(|n| !n.ends_with("global_mgmt"))
-                .collect()
-        })
-        .unwrap_or_default()
+/// What a running world and its agent hold in shared memory: the segments either maps, and
+/// iceoryx2's records that name the world's prefix.
+struct Held {
+    segments: BTreeSet<PathBuf>,
+    prefix: String,
+}
+
+impl Held {
+    /// Read while both run (the agent attached).
+    fn of(world: &Child, agent: &Child, prefix: &str) -> Held {
+        let mut segments = common::mapped_shm(world.id());
+        segments.extend(common::mapped_shm(agent.id()));
+        assert!(
+            !segments.is_empty(),
+            "the world and its agent map no shared memory"
+        );
+        assert!(
+            !common::ipc_records(prefix).is_empty(),
+            "no iceoryx2 service names `{prefix}`"
+        );
+        Held {
+            segments,
+            prefix: prefix.to_string(),
+        }
+    }
+
+    /// Fails with what is left once both have exited.
+    fn assert_released(&self) {
+        let left: Vec<&PathBuf> = self.segments.iter().filter(|p| p.exists()).collect();
+        assert!(left.is_empty(), "left in /dev/shm: {left:?}");
+        assert_eq!(common::ipc_records(&self.prefix), Vec::<PathBuf>::new());
+    }
 }
 
 /// A lock-step world of `duration` s with one vehicle driven by a goto agent that takes 2 ms
 /// per tick (so the run lasts a while), both started. Returns the world, the agent, the
 /// output directory and the agent's log (`--log`: what it observes each simulated second).
-fn start(name: &str, duration: f64) -> (Child, Child, PathBuf, PathBuf) {
+fn start(name: &str, duration: f64) -> (Child, Child, PathBuf, PathBuf, String) {
     let agent_bin = common::example_agent("goto_agent");
     let dir = common::tmp("kill", name);
     let world = dir.join("world.toml");
@@ -58,17 +79,16 @@ fn start(name: &str, duration: f64) -> (Child, Child, PathBuf, PathBuf) {
         .stderr(common::log_file(&log))
         .spawn()
         .unwrap();
-    (sim, agent, out, log)
+    (sim, agent, out, log, prefix)
 }
 
 #[test]
 fn killed_agent_is_detected_its_vehicle_falls_back_and_nothing_is_left() {
-    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
-    let before = shm();
     // 120 s at 2 ms per tick: ≈ 5 s of wall time.
-    let (mut sim, mut agent, out, log) = start("kill", 120.0);
+    let (mut sim, mut agent, out, log, prefix) = start("kill", 120.0);
     // Killed once it has driven 20 s (simulated) towards its target.
     let driven = common::wait_logged(&log, 20.0);
+    let held = Held::of(&sim, &agent, &prefix);
     assert!(
         agent.try_wait().unwrap().is_none(),
         "the agent is still running"
@@ -142,19 +162,16 @@ fn killed_agent_is_detected_its_vehicle_falls_back_and_nothing_is_left() {
     let (z_gone, z_end) = (at(t_gone), rows.last().unwrap().1);
     assert!((z_end - z_gone).abs() < 0.05, "held {z_gone} m → {z_end} m");
     // Nothing left in shared memory by the world or the killed agent.
-    let after = shm();
-    let left: Vec<&String> = after.difference(&before).collect();
-    assert!(left.is_empty(), "left in /dev/shm: {left:?}");
+    held.assert_released();
 }
 
 #[test]
 fn world_interrupted_with_ctrl_c_tells_its_agent_and_leaves_nothing() {
-    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
-    let before = shm();
     // 600 s (12,000 ticks) at 2 ms per tick would take ≈ 25 s.
-    let (mut sim, mut agent, out, log) = start("ctrlc", 600.0);
+    let (mut sim, mut agent, out, log, prefix) = start("ctrlc", 600.0);
     // Interrupted once the run is under way with its agent (2 s simulated).
     common::wait_logged(&log, 2.0);
+    let held = Held::of(&sim, &agent, &prefix);
     assert!(sim.try_wait().unwrap().is_none(), "the world still runs");
     let int = Command::new("kill")
         .args(["-INT", &sim.id().to_string()])
@@ -173,6 +190,5 @@ fn world_interrupted_with_ctrl_c_tells_its_agent_and_leaves_nothing() {
     let t = s["simulated_s"].as_f64().unwrap();
     assert!(t > 1.0 && t < 600.0, "interrupted at {t} s");
     assert!(String::from_utf8_lossy(&text.stdout).contains("INTERRUPTED"));
-    let left: Vec<String> = shm().difference(&before).cloned().collect();
-    assert!(left.is_empty(), "left in /dev/shm: {left:?}");
+    held.assert_released();
 }

@@ -16,38 +16,6 @@ const GUARD: Duration = Duration::from_secs(60);
 /// Longest wait for the exit after a signal (a hang guard).
 const EXIT_GUARD: Duration = Duration::from_secs(20);
 
-/// The shared-memory segments process `pid` has mapped (its iceoryx2 services' memory).
-fn mapped_shm(pid: u32) -> BTreeSet<PathBuf> {
-    std::fs::read_to_string(format!("/proc/{pid}/maps"))
-        .unwrap_or_default()
-        .lines()
-        .filter_map(|l| l.split_whitespace().nth(5))
-        .filter(|p| p.starts_with("/dev/shm/"))
-        .map(PathBuf::from)
-        .collect()
-}
-
-/// iceoryx2's records (service and node files under /tmp/iceoryx2) that name `prefix`.
-fn ipc_records(prefix: &str) -> Vec<PathBuf> {
-    fn walk(dir: &Path, prefix: &str, found: &mut Vec<PathBuf>) {
-        let Ok(entries) = std::fs::read_dir(dir) else {
-            return;
-        };
-        for e in entries.filter_map(|e| e.ok()) {
-            let p = e.path();
-            if p.is_dir() {
-                walk(&p, prefix, found);
-            } else if std::fs::read(&p).is_ok_and(|b| String::from_utf8_lossy(&b).contains(prefix))
-            {
-                found.push(p);
-            }
-        }
-    }
-    let mut found = Vec::new();
-    walk(Path::new("/tmp/iceoryx2"), prefix, &mut found);
-    found
-}
-
 /// A long world (10⁵ s) with a vehicle on a mission and an agent slot nobody attaches to
 /// (free-running, so the run goes on without it).
 fn agent_world(dir: &Path) -> PathBuf {
@@ -75,8 +43,8 @@ fn interrupt_mid_run(signal: &str, code: i32) {
     let mut child = common::start_run(&["--quiet", "--prefix", &prefix], &out, &world, None);
     // Running: rows are streamed to the trajectories' temporary.
     common::wait_for_size(&out.join(".trajectories.csv.tmp"), 20_000, &mut child);
-    let shm = mapped_shm(child.id());
-    let records = ipc_records(&prefix);
+    let shm = common::mapped_shm(child.id());
+    let records = common::ipc_records(&prefix);
     assert!(!shm.is_empty(), "the world maps no shared memory");
     assert!(!records.is_empty(), "no iceoryx2 service names `{prefix}`");
 
@@ -129,7 +97,7 @@ fn interrupt_mid_run(signal: &str, code: i32) {
     // The agent services are gone: their memory and their records.
     let left: Vec<&PathBuf> = shm.iter().filter(|p| p.exists()).collect();
     assert!(left.is_empty(), "left in /dev/shm: {left:?}");
-    assert_eq!(ipc_records(&prefix), Vec::<PathBuf>::new());
+    assert_eq!(common::ipc_records(&prefix), Vec::<PathBuf>::new());
 }
 
 #[test]

@@ -379,3 +379,35 @@ pub fn logged_from_now(log: &Path) -> Logged {
         },
     )
 }
+
+/// The shared-memory segments process `pid` has mapped (its iceoryx2 services' memory).
+pub fn mapped_shm(pid: u32) -> std::collections::BTreeSet<PathBuf> {
+    std::fs::read_to_string(format!("/proc/{pid}/maps"))
+        .unwrap_or_default()
+        .lines()
+        .filter_map(|l| l.split_whitespace().nth(5))
+        .filter(|p| p.starts_with("/dev/shm/"))
+        .map(PathBuf::from)
+        .collect()
+}
+
+/// iceoryx2's records (service and node files under /tmp/iceoryx2) that name `prefix`.
+pub fn ipc_records(prefix: &str) -> Vec<PathBuf> {
+    fn walk(dir: &Path, prefix: &str, found: &mut Vec<PathBuf>) {
+        let Ok(entries) = std::fs::read_dir(dir) else {
+            return;
+        };
+        for e in entries.filter_map(|e| e.ok()) {
+            let p = e.path();
+            if p.is_dir() {
+                walk(&p, prefix, found);
+            } else if std::fs::read(&p).is_ok_and(|b| String::from_utf8_lossy(&b).contains(prefix))
+            {
+                found.push(p);
+            }
+        }
+    }
+    let mut found = Vec::new();
+    walk(Path::new("/tmp/iceoryx2"), prefix, &mut found);
+    found
+}

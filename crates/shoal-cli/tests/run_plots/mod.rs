@@ -9,6 +9,7 @@
 pub mod plots;
 
 use plots::{Rgb, assert_png_colours, assert_svg_lines};
+use shoal_sim::link_key;
 use shoal_sim::plot::rgb;
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -86,22 +87,27 @@ pub fn assert_depth_and_top(out: &Path, min_depth: usize, min_top: usize) {
 /// `connectivity` (of worlds/gossip.toml: one origin, 64 relays).
 pub fn assert_gossip_plots(out: &Path, vehicles: usize) {
     let links = table(&out.join("links.csv"));
-    let outcome = |col: &str, c: usize| {
+    // Each outcome in the one colour key's colour (shoal_sim::link_key), in the key's order.
+    let outcome = |col: &str, o: link_key::Outcome| {
         let pts = links
             .iter()
             .map(|r| (num(r, "t_start_s") + 0.5, num(r, col)))
             .collect();
-        (rgb(c), pts)
+        (link_key::style(o).rgb, pts)
     };
     let per_second = [
-        outcome("delivered", 2),
-        outcome("out_of_budget", 7),
-        outcome("occluded", 4),
-        outcome("collided", 3),
-        outcome("half_duplex", 1),
+        outcome("delivered", link_key::Outcome::Delivered),
+        outcome("collided", link_key::Outcome::Collided),
+        outcome("occluded", link_key::Outcome::Occluded),
+        outcome("out_of_budget", link_key::Outcome::OutOfBudget),
+        outcome("half_duplex", link_key::Outcome::HalfDuplex),
     ];
     assert_svg_lines(&out.join("links_over_time.svg"), &per_second);
-    assert_png_colours(&out.join("links_over_time.png"), &[rgb(2), rgb(7)], 500);
+    assert_png_colours(
+        &out.join("links_over_time.png"),
+        &[per_second[0].0, per_second[3].0],
+        500,
+    );
 
     let n = vehicles as f64;
     let conn = table(&out.join("connectivity.csv"));

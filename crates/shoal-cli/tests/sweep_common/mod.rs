@@ -110,7 +110,7 @@ pub fn assert_smoke_figures(dir: &Path) {
     let params = ["vehicles.0.count", "water.attenuation"];
     let mut drawn = 0;
     for metric in [
-        "delivery_ratio",
+        "delivery_ratio_in_range",
         "frames_sent",
         "largest_fraction_end",
         "largest_fraction_mean",
