@@ -11,7 +11,8 @@
 #   scripts/search-speed.sh --table BASE.csv CURRENT.csv
 #
 #   BASE_COMMIT     the commit to compare with [6ace9bd]
-#   --quick         six representative cases (a single, a pair and a null in each experiment)
+#   --quick         seven representative cases: a single, a pair and a null in each experiment,
+#                   the long log (about 10 minutes of CPU for both programs together)
 #   --case PATTERN  cases whose name contains PATTERN (repeatable; see `--list` of the program);
 #                   the 600 s log as a user has it is `long_h_thruster_lag_600s`
 #   --threads N     worker threads of each search [1]
@@ -96,7 +97,7 @@ table() {
                 tb += base_cpu[c]; tc += cur_cpu[i]
             }
             overall = (tc > 0) ? sprintf("%.2f", tb / tc) : "-"
-            printf fmt, "total (" n " cases)", sprintf("%.2f s", tb), sprintf("%.2f s", tc), \
+            printf fmt, "total (" n " case(s))", sprintf("%.2f s", tb), sprintf("%.2f s", tc), \
                 overall, differ ? differ " differ" : "all equal"
             printf "\noverall ratio (total CPU base / total CPU current): %s\n", overall
             for (i = 1; i <= n; i++)
