@@ -1,5 +1,6 @@
-//! Rigid-body state and fixed-step integrators (classic RK4, and a cheaper semi-implicit
-//! Euler) for the equation of motion of [`crate::rigid_body`].
+//! Fixed-step integrators (classic RK4, and a cheaper semi-implicit
+//! Euler) for the equation of motion of [`crate::rigid_body`], which also holds the state
+//! they advance ([`RigidState`], re-exported here).
 //!
 //! The state holds the velocity **relative to the water** ν_r (body frame); the kinematics add
 //! the current: ṗ = R(q) v_r + v_c, q̇ = ½ q ⊗ (0, ω). With no current ν_r is the ordinary body
@@ -7,42 +8,8 @@
 
 use crate::lanes::{DynConsts, Lanes, rk4};
 use crate::math::{Quat, Vec3, Vec6, split6};
+pub use crate::rigid_body::RigidState;
 use crate::rigid_body::{BodyParams, Environment, MassProperties};
-
-/// Position, attitude and velocity of one hull.
-#[derive(Clone, Debug, PartialEq)]
-pub struct RigidState {
-    /// Position of the body origin in the world (NED) frame \[m\]; `z` is depth.
-    pub position: Vec3,
-    /// Attitude (body → world).
-    pub attitude: Quat,
-    /// Velocity relative to the water, body frame: (u, v, w) [m/s], (p, q, r) [rad/s].
-    pub nu: Vec6,
-}
-
-impl RigidState {
-    /// Whether every component (position, attitude, velocities) is a finite number.
-    pub fn is_finite(&self) -> bool {
-        self.position.iter().all(|x| x.is_finite())
-            && self.attitude.coords.iter().all(|x| x.is_finite())
-            && self.nu.iter().all(|x| x.is_finite())
-    }
-
-    /// At rest at `position` \[m\] with attitude `attitude`.
-    pub fn at_rest(position: Vec3, attitude: Quat) -> Self {
-        Self {
-            position,
-            attitude,
-            nu: Vec6::zeros(),
-        }
-    }
-
-    /// Velocity over ground in the world frame [m/s].
-    pub fn world_velocity(&self, env: &Environment) -> Vec3 {
-        let (v, _) = split6(&self.nu);
-        self.attitude * v + env.current
-    }
-}
 
 /// Which fixed-step integrator to use.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Hash)]

@@ -24,9 +24,8 @@
 //! evaluated as the rotation of q/|q| (each term of R is quadratic in q, so the division by
 //! |q|² replaces the square root of a normalisation).
 
-use crate::dynamics::RigidState;
 use crate::math::{Quat, Vec3, Vec6};
-use crate::rigid_body::{BodyParams, Environment, MassProperties};
+use crate::rigid_body::{BodyParams, Environment, MassProperties, RigidState};
 use nalgebra::Quaternion;
 
 /// Hulls per group in a swarm step.

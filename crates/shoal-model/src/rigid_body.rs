@@ -1,6 +1,7 @@
 //! Rigid-body and hydrodynamic parameters of a hull and the generalised forces they produce:
 //! mass matrix M = M_RB + M_A, Coriolis–centripetal C(ν) (rigid body and added mass), linear +
-//! quadratic damping D(ν) and the restoring forces g(η) of weight and buoyancy.
+//! quadratic damping D(ν) and the restoring forces g(η) of weight and buoyancy; and the state
+//! they act on ([`RigidState`]: pose and velocity relative to the water).
 //!
 //! Equation of motion (Fossen 2011, eq. 6.1 and 8.1, relative-velocity form for a constant
 //! irrotational current):
@@ -203,6 +204,41 @@ impl BodyParams {
         let z_g = depth + att.transform_vector(&mp.cog).z;
         let z_b = depth + att.transform_vector(&self.cob).z;
         -mp.mass * env.gravity * z_g + env.density * env.gravity * self.volume * z_b
+    }
+}
+
+/// Position, attitude and velocity of one hull.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RigidState {
+    /// Position of the body origin in the world (NED) frame \[m\]; `z` is depth.
+    pub position: Vec3,
+    /// Attitude (body → world).
+    pub attitude: Quat,
+    /// Velocity relative to the water, body frame: (u, v, w) [m/s], (p, q, r) [rad/s].
+    pub nu: Vec6,
+}
+
+impl RigidState {
+    /// Whether every component (position, attitude, velocities) is a finite number.
+    pub fn is_finite(&self) -> bool {
+        self.position.iter().all(|x| x.is_finite())
+            && self.attitude.coords.iter().all(|x| x.is_finite())
+            && self.nu.iter().all(|x| x.is_finite())
+    }
+
+    /// At rest at `position` \[m\] with attitude `attitude`.
+    pub fn at_rest(position: Vec3, attitude: Quat) -> Self {
+        Self {
+            position,
+            attitude,
+            nu: Vec6::zeros(),
+        }
+    }
+
+    /// Velocity over ground in the world frame [m/s].
+    pub fn world_velocity(&self, env: &Environment) -> Vec3 {
+        let (v, _) = split6(&self.nu);
+        self.attitude * v + env.current
     }
 }
 
