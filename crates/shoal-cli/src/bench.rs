@@ -11,6 +11,7 @@ use crate::bench_rows::{Bench, Machine, Row};
 use anyhow::Context;
 use shoal_bridge::host::{Flow, Host};
 use shoal_sim::bench::{SPACING, TRAFFIC_SPACING, swarm_spaced};
+use shoal_sim::phases::Phase;
 use shoal_sim::prelude::*;
 use shoal_world::desc::WorldDesc;
 use std::io::Read;
@@ -45,7 +46,9 @@ pub struct BenchArgs {
     pub no_comm: bool,
     /// Write the rows as JSON to FILE (`-` or no FILE: print them after the table). Per row:
     /// vehicles, threads, traffic, vehicle_steps_per_s, realtime_factor, medium_share,
-    /// peak_rss_bytes, cycles_per_vehicle_step (when the CPU clock is known).
+    /// peak_rss_bytes, cycles_per_vehicle_step (when the CPU clock is known), phase_shares
+    /// (ingest, vehicles, medium_snapshot, medium_transmit, medium_delivery, recorder: shares
+    /// of the step's wall time).
     #[arg(long, value_name = "FILE", num_args = 0..=1, default_missing_value = "-")]
     pub json: Option<PathBuf>,
     /// Measure every row of this binary and of OTHER (another `shoal` binary, e.g. an older
@@ -77,6 +80,9 @@ struct Cell {
     deliveries_per_s: f64,
     /// Loops split over the thread pool during the measured steps.
     parallel_dispatches: u64,
+    /// Share of each phase of the step (order of [`Phase::ALL`]), from a timed continuation
+    /// of the measured run.
+    phase_shares: [f64; 6],
 }
 
 fn measure(desc: &WorldDesc, threads: usize, seconds: f64, warmup: u64) -> Cell {
@@ -103,15 +109,25 @@ fn measure(desc: &WorldDesc, threads: usize, seconds: f64, warmup: u64) -> Cell 
     }
     let wall = start.elapsed().as_secs_f64();
     let sim_s = steps as f64 * desc.dt;
+    let (sent, delivered) = (
+        sim.medium().started.0 - sent0,
+        sim.medium().delivered - got0,
+    );
+    let parallel_dispatches = sim.parallel_dispatches().total() - split0;
+    // The phases are timed on a continuation of a quarter of the measured steps, so that the
+    // clock reads cannot slow the measured rate (they matter in the smallest worlds).
+    sim.time_phases();
+    sim.run((steps / 4).max(10));
     Cell {
         steps,
         wall_s: wall,
         vehicle_steps_per_s: (steps * n as u64) as f64 / wall,
         real_time: sim_s / wall,
         bytes_per_vehicle: bytes,
-        frames_per_s: (sim.medium().started.0 - sent0) as f64 / sim_s,
-        deliveries_per_s: (sim.medium().delivered - got0) as f64 / sim_s,
-        parallel_dispatches: sim.parallel_dispatches().total() - split0,
+        frames_per_s: sent as f64 / sim_s,
+        deliveries_per_s: delivered as f64 / sim_s,
+        parallel_dispatches,
+        phase_shares: sim.phase_times().shares(),
     }
 }
 
@@ -191,6 +207,7 @@ pub fn bench(a: &BenchArgs) -> anyhow::Result<()> {
                 "vehicle_steps_per_s": c.vehicle_steps_per_s, "real_time_factor": c.real_time,
                 "speed_up": speedup, "bytes_per_vehicle": c.bytes_per_vehicle,
                 "parallel_dispatches": c.parallel_dispatches,
+                "phase_shares": phase_json(&c.phase_shares),
                 "peak_rss_bytes": shoal_sim::output::peak_memory_bytes()
             }));
         }
@@ -237,6 +254,7 @@ pub fn bench(a: &BenchArgs) -> anyhow::Result<()> {
                     "vehicle_steps_per_s": c.vehicle_steps_per_s, "real_time_factor": c.real_time,
                     "frames_per_s": c.frames_per_s, "deliveries_per_s": c.deliveries_per_s, "medium_share": share,
                     "bytes_per_vehicle": c.bytes_per_vehicle, "parallel_dispatches": c.parallel_dispatches,
+                    "phase_shares": phase_json(&c.phase_shares),
                     "peak_rss_bytes": shoal_sim::output::peak_memory_bytes()
                 }));
             }
@@ -246,6 +264,48 @@ pub fn bench(a: &BenchArgs) -> anyhow::Result<()> {
         write_json(path, &serde_json::to_string_pretty(&json)?)?;
     }
     Ok(())
+}
+
+/// The second table: the share of each phase of the step in this binary's rows.
+fn print_phases(rows: &[Row]) {
+    let mine: Vec<(&Row, &[f64; 6])> = rows
+        .iter()
+        .filter(|r| r.binary == "this")
+        .filter_map(|r| r.phase_shares.as_ref().map(|s| (r, s)))
+        .collect();
+    if mine.is_empty() {
+        return;
+    }
+    println!(
+        "\nwhere the time goes — share of the step's wall time per phase (medium: snapshot, transmit, delivery)"
+    );
+    let mut head = format!("{:>8} {:>7} {:>7}", "vehicles", "threads", "traffic");
+    for p in Phase::ALL {
+        head += &format!(" {:>9}", p.name().trim_start_matches("medium_"));
+    }
+    println!("{head}");
+    for (r, shares) in mine {
+        let mut line = format!(
+            "{:>8} {:>7} {:>7}",
+            r.vehicles,
+            r.threads,
+            if r.traffic { "yes" } else { "no" }
+        );
+        for s in shares {
+            line += &format!(" {:>8.1}%", 100.0 * s);
+        }
+        println!("{line}");
+    }
+}
+
+/// The phase shares as a JSON object keyed by [`Phase::name`].
+fn phase_json(shares: &[f64; 6]) -> serde_json::Value {
+    Phase::ALL
+        .iter()
+        .zip(shares)
+        .map(|(p, s)| (p.name().to_string(), serde_json::json!(s)))
+        .collect::<serde_json::Map<_, _>>()
+        .into()
 }
 
 /// Prints `text` (`-`) or writes it whole to `path`.
@@ -344,6 +404,7 @@ fn scaling(a: &BenchArgs, vehicles: &[usize], threads: &[usize]) -> anyhow::Resu
             rows.extend(theirs);
         }
     }
+    print_phases(&rows);
     if let Some(path) = &a.json {
         let doc = serde_json::json!({
             "machine": machine,

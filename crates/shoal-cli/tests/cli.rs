@@ -255,6 +255,8 @@ fn bench_prints_a_row_per_cell_and_writes_them_as_json() {
         "medium",
         "peak RSS MB",
         "cycles/v-step",
+        "where the time goes",
+        "delivery",
     ] {
         assert!(stdout.contains(column), "{column}: {stdout}");
     }
@@ -277,6 +279,24 @@ fn bench_prints_a_row_per_cell_and_writes_them_as_json() {
         // Loops are split over the pool with 2 threads and 300 vehicles only.
         let split = r["parallel_dispatches"].as_u64().unwrap();
         assert_eq!(split > 0, r["threads"] == 2 && r["vehicles"] == 300, "{r}");
+        // Every phase of the step has its share; the shares add up to the whole step, and
+        // with traffic the medium decided receptions.
+        let phases = &r["phase_shares"];
+        let names = [
+            "ingest",
+            "vehicles",
+            "medium_snapshot",
+            "medium_transmit",
+            "medium_delivery",
+            "recorder",
+        ];
+        let shares: Vec<f64> = names.iter().map(|k| phases[k].as_f64().unwrap()).collect();
+        assert!(shares.iter().all(|s| (0.0..=1.0).contains(s)), "{r}");
+        assert!((shares.iter().sum::<f64>() - 1.0).abs() < 1e-9, "{r}");
+        assert!(shares[1] > 0.0, "{r}");
+        if r["traffic"] == true {
+            assert!(shares[4] > 0.0, "{r}");
+        }
     }
     // Without the traffic table; side by side with another binary (here: itself).
     let o = shoal()

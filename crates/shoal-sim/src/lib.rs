@@ -2,7 +2,7 @@
 //!
 //! The simulated world of shoal: one bevy_ecs entity per vehicle ([`components`]), a fixed-step
 //! schedule of chained system sets ([`systems`]) run by [`sim::Sim`], per-world parallel loops
-//! ([`parallel`]), a trajectory recorder ([`recorder`]) and run outputs ([`output`], [`plot`];
+//! ([`parallel`]) and the time of each phase of a step ([`phases`]), a trajectory recorder ([`recorder`]) and run outputs ([`output`], [`plot`];
 //! [`ci_plot`]: means with confidence intervals, for parameter studies), each file written
 //! whole or not at all ([`files`]); external agents, independent of their
 //! transport ([`agents`]); whole-swarm reads and commands through flat arrays ([`batch`]);
@@ -25,6 +25,7 @@ pub mod files;
 pub mod link_key;
 pub mod output;
 pub mod parallel;
+pub mod phases;
 pub mod plot;
 pub mod recorder;
 pub mod replay;

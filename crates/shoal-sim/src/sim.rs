@@ -7,6 +7,7 @@ use crate::components::*;
 use crate::connectivity::Connectivity;
 use crate::fault::{FaultFlag, SimFault};
 use crate::parallel::{Dispatches, Parallel};
+use crate::phases::{PhaseClock, PhaseTimes};
 use crate::recorder::{self, RecordBatch};
 use crate::systems::build_schedule;
 use crate::view::VehicleView;
@@ -193,7 +194,7 @@ impl Sim {
         }
         let mut sim = Self {
             world,
-            schedule: build_schedule(false),
+            schedule: build_schedule(false, false),
             entities,
             fault: None,
         };
@@ -294,6 +295,23 @@ impl Sim {
     /// Working threads.
     pub fn threads(&self) -> usize {
         self.world.resource::<Parallel>().threads()
+    }
+
+    /// Times every phase of every step from now on ([`crate::phases`]): the schedule gains a
+    /// clock read after each phase; results are unchanged.
+    pub fn time_phases(&mut self) {
+        if !self.world.contains_resource::<PhaseClock>() {
+            self.world.insert_resource(PhaseClock::default());
+            self.schedule = build_schedule(false, true);
+        }
+    }
+
+    /// The wall time of each phase of the steps since [`Sim::time_phases`] (all zero if it was
+    /// never called).
+    pub fn phase_times(&self) -> PhaseTimes {
+        self.world
+            .get_resource::<PhaseClock>()
+            .map_or_else(PhaseTimes::default, PhaseClock::times)
     }
 
     /// The loops this world split over its thread pool since it was built, per kind: zero on

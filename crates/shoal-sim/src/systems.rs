@@ -11,6 +11,7 @@ use crate::components::*;
 use crate::connectivity::connectivity_system;
 use crate::fault::{FaultFlag, NonFinite};
 use crate::parallel::{Loop, Parallel};
+use crate::phases::{Phase, phase_end, phase_start};
 use crate::recorder;
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::SingleThreadedExecutor;
@@ -39,8 +40,9 @@ pub enum StepSet {
 }
 
 /// Builds the schedule of one step. `detect_ambiguity` turns any pair of conflicting
-/// unordered systems into a build error.
-pub fn build_schedule(detect_ambiguity: bool) -> Schedule {
+/// unordered systems into a build error; `time_phases` adds a marker after each phase that
+/// adds its wall time to the world's [`crate::phases::PhaseClock`] (which must then exist).
+pub fn build_schedule(detect_ambiguity: bool, time_phases: bool) -> Schedule {
     let mut s = Schedule::default();
     s.set_executor(SingleThreadedExecutor::new());
     if detect_ambiguity {
@@ -58,15 +60,52 @@ pub fn build_schedule(detect_ambiguity: bool) -> Schedule {
         )
             .chain(),
     );
+    if !time_phases {
+        s.add_systems((
+            (mission_system, behaviour_system, inbox_clear_system)
+                .chain()
+                .in_set(StepSet::Ingest),
+            vehicle_system.in_set(StepSet::Vehicle),
+            (
+                comm_snapshot_system,
+                comm_transmit_system,
+                comm_deliver_system,
+            )
+                .chain()
+                .in_set(StepSet::Comm),
+            (
+                record_system,
+                connectivity_system,
+                crate::replay::capture::replay_system,
+            )
+                .chain()
+                .in_set(StepSet::Record),
+        ));
+        return s;
+    }
+    const fn at(p: Phase) -> usize {
+        p as usize
+    }
     s.add_systems((
-        (mission_system, behaviour_system, inbox_clear_system)
+        (
+            phase_start,
+            mission_system,
+            behaviour_system,
+            inbox_clear_system,
+            phase_end::<{ at(Phase::Ingest) }>,
+        )
             .chain()
             .in_set(StepSet::Ingest),
-        vehicle_system.in_set(StepSet::Vehicle),
+        (vehicle_system, phase_end::<{ at(Phase::Vehicles) }>)
+            .chain()
+            .in_set(StepSet::Vehicle),
         (
             comm_snapshot_system,
+            phase_end::<{ at(Phase::MediumSnapshot) }>,
             comm_transmit_system,
+            phase_end::<{ at(Phase::MediumTransmit) }>,
             comm_deliver_system,
+            phase_end::<{ at(Phase::MediumDelivery) }>,
         )
             .chain()
             .in_set(StepSet::Comm),
@@ -74,6 +113,7 @@ pub fn build_schedule(detect_ambiguity: bool) -> Schedule {
             record_system,
             connectivity_system,
             crate::replay::capture::replay_system,
+            phase_end::<{ at(Phase::Recorder) }>,
         )
             .chain()
             .in_set(StepSet::Record),

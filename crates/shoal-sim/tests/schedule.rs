@@ -25,7 +25,7 @@ fn swarm() -> shoal_world::desc::WorldDesc {
 #[test]
 fn schedule_has_no_ambiguous_system_pairs() {
     let mut world = World::new();
-    let mut schedule = build_schedule(true);
+    let mut schedule = build_schedule(true, false);
     // With ambiguity detection at `Error`, any pair of systems with conflicting access and no
     // order between them makes initialisation fail.
     schedule
@@ -35,12 +35,60 @@ fn schedule_has_no_ambiguous_system_pairs() {
 }
 
 #[test]
+fn timed_schedule_is_unambiguous_times_every_phase_and_changes_no_result() {
+    use shoal_sim::phases::{Phase, PhaseTimes};
+    let mut world = World::new();
+    build_schedule(true, true)
+        .initialize(&mut world)
+        .expect("no ambiguous system pairs with the phase markers");
+    // A beaconing swarm, so that every phase has work.
+    let desc = shoal_sim::bench::swarm_with(64, 1, true);
+    let run = |timed: bool| {
+        let mut sim = Sim::new(
+            &desc,
+            SimOptions {
+                threads: 1,
+                record: true,
+            },
+        );
+        if timed {
+            sim.time_phases();
+        }
+        sim.run(250);
+        let m = sim.medium();
+        (
+            sim.digest(),
+            m.started,
+            m.delivered,
+            m.per_second.clone(),
+            sim.phase_times(),
+        )
+    };
+    let (plain, timed) = (run(false), run(true));
+    assert!(timed.2 > 0, "frames were delivered");
+    assert_eq!(plain.0, timed.0, "digest");
+    assert_eq!(
+        (plain.1, plain.2, &plain.3),
+        (timed.1, timed.2, &timed.3),
+        "medium statistics"
+    );
+    assert_eq!(
+        plain.4,
+        PhaseTimes::default(),
+        "an untimed world times nothing"
+    );
+    for p in Phase::ALL {
+        assert!(timed.4.of(p) > 0.0, "{p:?} was not timed: {:?}", timed.4);
+    }
+}
+
+#[test]
 fn a_conflicting_unordered_system_is_detected() {
     // A second writer of the actuator commands in the Vehicle set, unordered with the
     // vehicle pass: exactly what the detector must refuse.
     fn rogue(_q: Query<&mut Actuation>) {}
     let mut world = World::new();
-    let mut schedule = build_schedule(true);
+    let mut schedule = build_schedule(true, false);
     schedule.add_systems(rogue.in_set(StepSet::Vehicle));
     assert!(schedule.initialize(&mut world).is_err());
 }
