@@ -128,18 +128,41 @@ impl Parallel {
     /// Calls `f` on every item of the loop `kind`, in parallel chunks when the loop has at
     /// least [`Parallel::min_parallel`] vehicles and the pool has workers.
     pub fn for_each<T: Send>(&self, kind: Loop, items: &mut [T], f: impl Fn(&mut T) + Sync) {
+        self.for_each_with(kind, items, || (), |(), item| f(item));
+    }
+
+    /// [`Parallel::for_each`] with a state per chunk of items, for tallies that would
+    /// otherwise be shared between threads: `init` makes a chunk's state, `f` visits each item
+    /// of the chunk with it, and the states come back in chunk order (one state when the loop
+    /// ran on the calling thread). How the items are chunked depends on the thread count, so
+    /// the caller's merge must not depend on it (sums of counts, for instance).
+    pub fn for_each_with<T: Send, S: Send + 'static>(
+        &self,
+        kind: Loop,
+        items: &mut [T],
+        init: impl Fn() -> S + Sync,
+        f: impl Fn(&mut S, &mut T) + Sync,
+    ) -> Vec<S> {
         match &self.pool {
             Some(pool) if items.len() * kind.vehicles_per_item() >= self.min_parallel => {
                 self.dispatches[kind.index()].fetch_add(1, Relaxed);
                 let chunk = items.len().div_ceil(self.threads * 4);
-                let f = &f;
+                let (f, init) = (&f, &init);
                 pool.scope(|s| {
                     for c in items.chunks_mut(chunk) {
-                        s.spawn(async move { c.iter_mut().for_each(f) });
+                        s.spawn(async move {
+                            let mut state = init();
+                            c.iter_mut().for_each(|item| f(&mut state, item));
+                            state
+                        });
                     }
-                });
+                })
             }
-            _ => items.iter_mut().for_each(f),
+            _ => {
+                let mut state = init();
+                items.iter_mut().for_each(|item| f(&mut state, item));
+                vec![state]
+            }
         }
     }
 }
@@ -163,6 +186,29 @@ mod tests {
                     ..Dispatches::default()
                 }
             );
+        }
+    }
+
+    #[test]
+    fn states_per_chunk_see_every_item_once_and_sum_alike_on_any_thread_count() {
+        for threads in [1, 2, 3] {
+            let p = Parallel::new(threads);
+            let mut v: Vec<u64> = (0..1000).collect();
+            let states = p.for_each_with(
+                Loop::Delivery,
+                &mut v,
+                || (0u64, 0u64),
+                |(n, sum), x| {
+                    *n += 1;
+                    *sum += *x;
+                    *x += 1;
+                },
+            );
+            assert_eq!(states.len() > 1, threads > 1);
+            let n: u64 = states.iter().map(|s| s.0).sum();
+            let sum: u64 = states.iter().map(|s| s.1).sum();
+            assert_eq!((n, sum), (1000, 999 * 1000 / 2));
+            assert!(v.iter().enumerate().all(|(i, x)| *x == i as u64 + 1));
         }
     }
 

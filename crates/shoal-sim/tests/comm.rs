@@ -470,7 +470,20 @@ fn medium_statistics_are_identical_on_one_and_two_threads() {
             .collect();
         let delivered: u64 = s.iter().map(|x| x.1.delivered).sum();
         assert!(delivered > 1000, "a busy medium: {delivered}");
-        out.push((sim.digest(), format!("{s:?}")));
+        // The world-wide tallies (summed over the chunks of receivers the pool ran) count
+        // every receiver's attempts and deliveries once.
+        let attempts: u64 = s.iter().map(|x| x.1.attempts).sum();
+        let m = sim.medium();
+        let by_distance = m.delivery_by_distance();
+        let latency = m.latency_histogram();
+        assert_eq!(by_distance.iter().map(|b| b.0).sum::<u64>(), attempts);
+        assert_eq!(by_distance.iter().map(|b| b.1).sum::<u64>(), delivered);
+        assert_eq!(latency.iter().sum::<u64>(), delivered);
+        assert_eq!(m.delivered, delivered);
+        let per_second: u64 = m.per_second.iter().flatten().sum();
+        assert_eq!(per_second, attempts);
+        let world = format!("{by_distance:?} {latency:?} {:?}", m.per_second);
+        out.push((sim.digest(), format!("{s:?} {world}")));
     }
     assert_eq!(out[0].0, out[1].0);
     assert!(

@@ -14,8 +14,6 @@ use shoal_model::vehicle::VehicleModel;
 use shoal_world::geometry::segment_hits_hull;
 use std::collections::HashMap;
 use std::sync::Arc;
-use std::sync::atomic::AtomicU64;
-use std::sync::atomic::Ordering::Relaxed;
 
 /// How far a vehicle may move before the medium's spatial grid is rebuilt \[m\] (see
 /// [`Medium::update_grid`]): at a swarm's speeds of a few dm/s, a rebuild every few dozen
@@ -151,9 +149,9 @@ pub struct Medium {
     pub(super) max_hull_radius: f64,
     /// Attempts and deliveries by distance between sender and receiver
     /// ([`DIST_BIN`](super::DIST_BIN) bins).
-    pub(super) by_distance: Vec<(AtomicU64, AtomicU64)>,
+    pub(super) by_distance: Vec<(u64, u64)>,
     /// Latency histogram of deliveries (see [`LAT_BINS`]).
-    pub(super) latency_hist: Vec<AtomicU64>,
+    pub(super) latency_hist: Vec<u64>,
     /// Reception attempts by second of the run (entry `k`: frames that ended in
     /// `[k, k + 1)` s) and outcome (index [`super::Outcome::index`]).
     pub per_second: Vec<[u64; 5]>,
@@ -254,10 +252,8 @@ impl Medium {
             delivered: 0,
             started: (0, 0),
             max_hull_radius,
-            by_distance: (0..DIST_BINS)
-                .map(|_| (AtomicU64::new(0), AtomicU64::new(0)))
-                .collect(),
-            latency_hist: (0..LAT_BINS).map(|_| AtomicU64::new(0)).collect(),
+            by_distance: vec![(0, 0); DIST_BINS],
+            latency_hist: vec![0; LAT_BINS],
             per_second: Vec::new(),
             log_links: false,
             receivers,
@@ -376,15 +372,12 @@ impl Medium {
 
     /// Attempts and deliveries by distance ([`DIST_BIN`](super::DIST_BIN) bins), whole world.
     pub fn delivery_by_distance(&self) -> Vec<(u64, u64)> {
-        self.by_distance
-            .iter()
-            .map(|(a, d)| (a.load(Relaxed), d.load(Relaxed)))
-            .collect()
+        self.by_distance.clone()
     }
 
     /// Latency histogram of deliveries (see [`LAT_BINS`]), whole world.
     pub fn latency_histogram(&self) -> Vec<u64> {
-        self.latency_hist.iter().map(|h| h.load(Relaxed)).collect()
+        self.latency_hist.clone()
     }
 
     /// Brings the spatial grid up to date with [`Medium::poses`], incrementally: the grid is

@@ -1,6 +1,6 @@
 //! Communication statistics: reception outcomes per receiver and sender ([`LinkStats`],
 //! [`CommStats`], keyed through [`IdHasher`]) and the bins of the world-wide delivery-by-distance
-//! and latency histograms.
+//! and latency histograms, tallied per chunk of receivers (`Tally`).
 
 use bevy_ecs::prelude::*;
 use serde::Serialize;
@@ -208,5 +208,44 @@ impl Outcome {
     /// Position in [`Outcome::ALL`].
     pub fn index(self) -> usize {
         self as usize
+    }
+}
+
+/// World-wide counts of one chunk of receptions (summed over the chunks after the delivery
+/// loop, so that no counter is shared between threads).
+pub(super) struct Tally {
+    /// Attempts and deliveries by distance ([`DIST_BIN`] bins).
+    pub(super) by_distance: [(u64, u64); DIST_BINS],
+    /// Deliveries by latency ([`latency_bin`]).
+    pub(super) latency: [u64; LAT_BINS],
+    /// Outcomes of frames ending in this second and the next, by [`Outcome::index`].
+    pub(super) outcomes: [[u64; 5]; 2],
+}
+
+impl Tally {
+    pub(super) fn new() -> Self {
+        Self {
+            by_distance: [(0, 0); DIST_BINS],
+            latency: [0; LAT_BINS],
+            outcomes: [[0; 5]; 2],
+        }
+    }
+
+    pub(super) fn add(&mut self, o: &Tally) {
+        for ((a, d), (oa, od)) in self.by_distance.iter_mut().zip(&o.by_distance) {
+            *a += oa;
+            *d += od;
+        }
+        for (a, b) in self.latency.iter_mut().zip(&o.latency) {
+            *a += b;
+        }
+        for (a, b) in self
+            .outcomes
+            .iter_mut()
+            .flatten()
+            .zip(o.outcomes.iter().flatten())
+        {
+            *a += b;
+        }
     }
 }

@@ -5,7 +5,7 @@
 use super::frames::{CommRng, Inbox, Modems, Outbox, Queued, Received};
 use super::grid::Grid;
 use super::medium::{Logical, Medium, Transmission, received_power};
-use super::stats::{CommStats, DIST_BIN, DIST_BINS, Outcome, latency_bin};
+use super::stats::{CommStats, DIST_BIN, DIST_BINS, Outcome, Tally, latency_bin};
 use crate::components::{Kind, Physics, StaticGeometry, VehicleId};
 use crate::parallel::{Loop, Parallel};
 use crate::rng::VehicleRng;
@@ -18,8 +18,6 @@ use shoal_model::optics::{
 use shoal_model::vehicle::VehicleModel;
 use std::collections::{BinaryHeap, HashMap};
 use std::sync::Arc;
-use std::sync::atomic::AtomicU64;
-use std::sync::atomic::Ordering::Relaxed;
 
 /// Step phase 1: snapshot poses, rebuild the grid, prune old transmissions.
 pub fn comm_snapshot_system(
@@ -378,17 +376,17 @@ pub fn comm_deliver_system(
         .filter(|it| start[it.0.0 as usize + 1] > start[it.0.0 as usize])
         .collect();
     let geo = &geo.0;
-    // Outcomes by second (a step reaches into the next second at most) and kind.
+    // Outcomes by second (a step reaches into the next second at most) and kind, and the
+    // distance and latency histograms: tallied per chunk of receivers, summed afterwards.
     let second0 = t0.floor();
-    let counts: [[AtomicU64; 5]; 2] = Default::default();
-    par.for_each(
+    let tallies = par.for_each_with(
         Loop::Delivery,
         &mut items,
-        |(id, kind, inbox, rng, stats)| {
+        Tally::new,
+        |tally, (id, kind, inbox, rng, stats)| {
             let frames =
                 &frames_of[start[id.0 as usize] as usize..start[id.0 as usize + 1] as usize];
             let mut scratch = Scratch::default();
-            let mut mine = [[0u64; 5]; 2];
             for &i in frames {
                 let l = &logical[i as usize];
                 let o = receive(
@@ -402,21 +400,26 @@ pub fn comm_deliver_system(
                     stats,
                     inbox,
                     &mut scratch,
+                    tally,
                 );
                 let s = usize::from(l.first().end.floor() > second0);
-                mine[s][o.index()] += 1;
-            }
-            for (c, m) in counts.iter().zip(&mine) {
-                for (a, k) in c.iter().zip(m) {
-                    if *k > 0 {
-                        a.fetch_add(*k, Relaxed);
-                    }
-                }
+                tally.outcomes[s][o.index()] += 1;
             }
         },
     );
-    for (s, c) in counts.iter().enumerate() {
-        let c: [u64; 5] = std::array::from_fn(|k| c[k].load(Relaxed));
+    let mut total = Tally::new();
+    for t in &tallies {
+        total.add(t);
+    }
+    let medium = &mut *medium;
+    for ((a, d), (ta, td)) in medium.by_distance.iter_mut().zip(&total.by_distance) {
+        *a += ta;
+        *d += td;
+    }
+    for (h, t) in medium.latency_hist.iter_mut().zip(&total.latency) {
+        *h += t;
+    }
+    for (s, c) in total.outcomes.iter().enumerate() {
         if c.iter().all(|k| *k == 0) {
             continue;
         }
@@ -470,6 +473,7 @@ fn receive<'a>(
     stats: &mut CommStats,
     inbox: &mut Inbox,
     scratch: &mut Scratch<'a>,
+    tally: &mut Tally,
 ) -> Outcome {
     let f = l.first();
     let (pos, att) = m.poses[me as usize];
@@ -483,7 +487,7 @@ fn receive<'a>(
         // Undecodable even in the best case (P(delivery) < 1e-12): lost to range.
         stats.record(f.tx, Outcome::Range, latency, f.end, m.log_links);
         let bin = ((distance / DIST_BIN) as usize).min(DIST_BINS - 1);
-        m.by_distance[bin].0.fetch_add(1, Relaxed);
+        tally.by_distance[bin].0 += 1;
         return Outcome::Range;
     }
     let my = &m.consts[me as usize];
@@ -570,10 +574,10 @@ fn receive<'a>(
     }
     stats.record(f.tx, best, latency, f.end, m.log_links);
     let bin = ((distance / DIST_BIN) as usize).min(DIST_BINS - 1);
-    m.by_distance[bin].0.fetch_add(1, Relaxed);
+    tally.by_distance[bin].0 += 1;
     if let Some((modem, power, snr)) = got {
-        m.by_distance[bin].1.fetch_add(1, Relaxed);
-        m.latency_hist[latency_bin(latency)].fetch_add(1, Relaxed);
+        tally.by_distance[bin].1 += 1;
+        tally.latency[latency_bin(latency)] += 1;
         inbox.0.push(Received {
             t: f.end,
             from: f.tx,
