@@ -278,6 +278,8 @@ pub fn execute(desc: &WorldDesc, out_dir: &Path, opts: &Execute<'_>) -> Result<R
     if replay && desc.output.replay {
         sim.enable_replay(desc);
     }
+    // The summary says where the time went (a few clock reads per step).
+    sim.time_phases();
     let mut out = RunOutput::create(out_dir, desc)
         .with_context(|| format!("cannot create outputs in {}", out_dir.display()))?;
     out.before_file = signals::output_hold(cancel);
@@ -339,8 +341,10 @@ pub fn execute(desc: &WorldDesc, out_dir: &Path, opts: &Execute<'_>) -> Result<R
                 }
             }
         }
+        let writing = Instant::now();
         out.write(&sim.drain())
             .map_err(|e| Failure::Other(e.into()))?;
+        out.writing_s += writing.elapsed().as_secs_f64();
         let wall = start.elapsed().as_secs_f64();
         pb.set_position(sim.step_count());
         pb.set_message(format!(

@@ -206,6 +206,32 @@ fn one_and_two_threads_give_the_same_digest() {
     assert_eq!(split(&s2, "vehicles"), 300, "{}", s2["parallel_dispatches"]);
     assert_eq!(split(&s2, "behaviour"), 60, "{}", s2["parallel_dispatches"]);
     assert!(split(&s2, "delivery") > 0, "{}", s2["parallel_dispatches"]);
+    // The summary says where the wall time went: every phase of the step had work in this
+    // world, rows were written while it ran, and the phases fit in the run's wall time.
+    for s in [&s1, &s2] {
+        let phases = &s["phases_s"];
+        let mut sum = 0.0;
+        for p in [
+            "ingest",
+            "vehicles",
+            "medium_snapshot",
+            "medium_transmit",
+            "medium_delivery",
+            "recorder",
+            "outputs",
+        ] {
+            let t = phases[p]
+                .as_f64()
+                .unwrap_or_else(|| panic!("summary.json has no phases_s.{p}"));
+            assert!(t > 0.0, "{p}: {phases}");
+            sum += t;
+        }
+        assert!(
+            sum <= s["wall_s"].as_f64().unwrap(),
+            "{phases} vs {}",
+            s["wall_s"]
+        );
+    }
     // The medium ran: every vehicle beaconed (at t ≈ 1 and 2 s at least) and a frame was
     // heard by several neighbours on average.
     let comm = &s1["comm"];

@@ -112,6 +112,50 @@ impl PhaseTimes {
     }
 }
 
+/// Where a run's wall time went, by phase \[s\]: the phases of its steps (zero when the world
+/// was not timed) and the writing of recorded rows while it ran.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct RunPhases {
+    /// Missions and behaviours \[s\].
+    pub ingest: f64,
+    /// The vehicle pass \[s\].
+    pub vehicles: f64,
+    /// The medium's snapshot \[s\].
+    pub medium_snapshot: f64,
+    /// The medium's transmit phase \[s\].
+    pub medium_transmit: f64,
+    /// The medium's delivery phase \[s\].
+    pub medium_delivery: f64,
+    /// Recorder, connectivity graph and replay capture inside the step \[s\].
+    pub recorder: f64,
+    /// Draining the recorded rows and writing them to the trajectory file during the run
+    /// (not the end-of-run files) \[s\].
+    pub outputs: f64,
+}
+
+impl RunPhases {
+    /// The phases of `steps` and `outputs` seconds of writing.
+    pub fn new(steps: &PhaseTimes, outputs: f64) -> Self {
+        let [
+            ingest,
+            vehicles,
+            medium_snapshot,
+            medium_transmit,
+            medium_delivery,
+            recorder,
+        ] = steps.seconds;
+        Self {
+            ingest,
+            vehicles,
+            medium_snapshot,
+            medium_transmit,
+            medium_delivery,
+            recorder,
+            outputs,
+        }
+    }
+}
+
 /// Starts the clock of a step (the first system of a timed schedule).
 pub fn phase_start(mut clock: ResMut<PhaseClock>) {
     clock.last = Some(Instant::now());

@@ -21,6 +21,7 @@
 use crate::comm_report::VehicleComm;
 use crate::files::{CsvFile, FileError, write_whole};
 use crate::parallel::Dispatches;
+use crate::phases::RunPhases;
 use crate::plot::{Plot, PlotError};
 use crate::recorder::{self, RecordBatch, col, mode_of_code};
 use crate::sim::Sim;
@@ -118,6 +119,9 @@ pub struct RunOutput {
     /// Called with each output file's final name just before [`RunOutput::finish`] begins
     /// it (set by the run driver, e.g. to report progress).
     pub before_file: Option<Box<BeforeFile>>,
+    /// Wall time the run driver spent draining recorded rows and writing them while the world
+    /// ran \[s\] (added up by the driver; reported in [`Summary::phases_s`]).
+    pub writing_s: f64,
 }
 
 /// What [`RunOutput::before_file`] holds: a call with each output file's final name.
@@ -180,6 +184,7 @@ impl RunOutput {
             agents: None,
             replay: None,
             before_file: None,
+            writing_s: 0.0,
         })
     }
 
@@ -301,6 +306,7 @@ impl RunOutput {
             agents,
             replay,
             before_file,
+            writing_s,
             ..
         } = self;
         let begin = |p: &Path| {
@@ -331,6 +337,7 @@ impl RunOutput {
             planned.extend([stem.with_extension("png"), stem.with_extension("svg")]);
         }
         let mut summary = Summary::new(desc, sim, &snaps, &acc, wall_s, cancel.cause());
+        summary.phases_s.outputs = writing_s;
         summary.comm = comm;
         summary.agents = agents;
         summary.trajectory_rows = csv_rows;
@@ -494,6 +501,10 @@ pub struct Summary {
     /// under [`crate::parallel::MIN_PARALLEL`] vehicles): proof that a run took the parallel
     /// path.
     pub parallel_dispatches: Dispatches,
+    /// Where the wall time went, by phase of the step and the writing of rows during the run
+    /// \[s\] (the step's phases are zero when the world was not timed,
+    /// [`Sim::time_phases`]).
+    pub phases_s: RunPhases,
     /// Physics step \[s\].
     pub dt_s: f64,
     /// Steps run.
@@ -634,6 +645,7 @@ impl Summary {
             vehicles: snaps.len(),
             threads: sim.threads(),
             parallel_dispatches: sim.parallel_dispatches(),
+            phases_s: RunPhases::new(&sim.phase_times(), 0.0),
             dt_s: desc.dt,
             steps: sim.step_count(),
             simulated_s: simulated,
