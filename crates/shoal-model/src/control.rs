@@ -147,12 +147,25 @@ pub struct MissionCursor {
 }
 
 impl MissionCursor {
+    /// Time of the next step not yet applied \[s\] (+∞ when the mission is done).
+    pub fn next_time(&self, mission: &Mission) -> f64 {
+        mission.steps.get(self.next).map_or(f64::INFINITY, |s| s.t)
+    }
+}
+
+/// Whether a mission step at `step_t` is due at time `t` \[s\] (a nanosecond early counts, so
+/// that steps at multiples of dt are applied on time despite rounding).
+pub fn step_due(step_t: f64, t: f64) -> bool {
+    step_t <= t + 1e-9
+}
+
+impl MissionCursor {
     /// Applies every step with `step.t <= t` that has not been applied yet. Returns whether
     /// anything changed.
     pub fn advance(&mut self, mission: &Mission, t: f64, sp: &mut Setpoints) -> bool {
         let mut changed = false;
         while let Some(s) = mission.steps.get(self.next) {
-            if s.t > t + 1e-9 {
+            if !step_due(s.t, t) {
                 break;
             }
             if let Some(m) = s.mode {

@@ -48,6 +48,19 @@ pub struct Control {
     pub every: u64,
 }
 
+/// The earliest time at which some vehicle's mission still has a step to apply \[s\] (+∞ when
+/// every mission is done): before it the mission system has nothing to do and looks at no
+/// vehicle. Code that changes a vehicle's mission or cursor sets it back to its default (−∞),
+/// so that the next step looks at every vehicle again.
+#[derive(Resource, Clone, Copy, Debug, PartialEq)]
+pub struct MissionClock(pub f64);
+
+impl Default for MissionClock {
+    fn default() -> Self {
+        Self(f64::NEG_INFINITY)
+    }
+}
+
 /// The latest sensor readings.
 #[derive(Component, Clone, Debug)]
 pub struct Sensors(pub SensorReadings);

@@ -96,6 +96,7 @@ impl Sim {
         });
         world.insert_resource(StaticGeometry(desc.geometry.clone()));
         world.insert_resource(FaultFlag::default());
+        world.insert_resource(MissionClock::default());
         world.insert_resource(Parallel::new(opts.threads));
         world.insert_resource(Medium::new(
             desc.vehicles.iter().map(|v| v.model.clone()).collect(),

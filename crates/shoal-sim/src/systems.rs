@@ -16,6 +16,7 @@ use crate::recorder;
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::SingleThreadedExecutor;
 use bevy_ecs::schedule::{LogLevel, ScheduleBuildSettings};
+use shoal_model::control::step_due;
 use shoal_model::dynamics::integrate;
 use shoal_model::lanes::{DynConsts, LANES, Lanes, rk4_group};
 use shoal_model::prelude::*;
@@ -122,12 +123,24 @@ pub fn build_schedule(detect_ambiguity: bool, time_phases: bool) -> Schedule {
 }
 
 /// Advances each vehicle's mission to the current time.
-pub fn mission_system(clock: Res<Clock>, mut q: Query<&mut Control>) {
+pub fn mission_system(
+    clock: Res<Clock>,
+    mut next: ResMut<MissionClock>,
+    mut q: Query<&mut Control>,
+) {
     let t = clock.t();
+    // No vehicle has a step due: a swarm whose missions are done (or far from their next
+    // step) costs nothing here.
+    if !step_due(next.0, t) {
+        return;
+    }
+    let mut earliest = f64::INFINITY;
     for mut c in &mut q {
         let c = &mut *c;
         c.cursor.advance(&c.mission, t, &mut c.setpoints);
+        earliest = earliest.min(c.cursor.next_time(&c.mission));
     }
+    next.0 = earliest;
 }
 
 /// Runs each vehicle's behaviour on its control tick: it reads the frames received since the

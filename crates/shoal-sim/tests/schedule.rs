@@ -83,6 +83,35 @@ fn timed_schedule_is_unambiguous_times_every_phase_and_changes_no_result() {
 }
 
 #[test]
+fn every_mission_step_applies_on_time_when_missions_step_at_different_times() {
+    // Two vehicles whose missions step at different times: the mission system skips the
+    // steps before the earliest step still to come, so it must track the earliest of all.
+    let t = "seed = 1\nduration = 5\n[pool]\nsize = [6.0, 6.0, 3.0]\n\
+        [[vehicles]]\nname = \"a\"\nposition = [2.0, 2.0, 1.0]\n\
+        mission = [{ t = 0, mode = \"auto\", depth = 1.0 }, { t = 0.5, depth = 1.1 }, { t = 1.2, depth = 1.2 }]\n\
+        [[vehicles]]\nname = \"b\"\nposition = [4.0, 4.0, 1.0]\n\
+        mission = [{ t = 0, mode = \"auto\", depth = 2.0 }, { t = 0.73, depth = 2.1 }, { t = 0.74, depth = 2.2 }]\n";
+    let desc = load_str(t, Path::new("missions.toml")).unwrap_or_else(|e| panic!("{e}"));
+    let mut sim = Sim::new(&desc, SimOptions::default());
+    let depth = |sim: &Sim, i: usize| sim.vehicle(i).setpoints.depth;
+    // (vehicle, time of its step, depth before, depth from then on)
+    let steps = [
+        (0, 0.5, 1.0, 1.1),
+        (1, 0.73, 2.0, 2.1),
+        (1, 0.74, 2.1, 2.2),
+        (0, 1.2, 1.1, 1.2),
+    ];
+    for (v, at, before, after) in steps {
+        // The step whose start time is `at` applies it (dt = 0.01 s).
+        let k = (at / desc.dt).round() as u64;
+        sim.run(k - sim.step_count());
+        assert_eq!(depth(&sim, v), before, "vehicle {v} before {at} s");
+        sim.run(1);
+        assert_eq!(depth(&sim, v), after, "vehicle {v} at {at} s");
+    }
+}
+
+#[test]
 fn a_conflicting_unordered_system_is_detected() {
     // A second writer of the actuator commands in the Vehicle set, unordered with the
     // vehicle pass: exactly what the detector must refuse.
