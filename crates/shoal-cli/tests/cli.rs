@@ -147,6 +147,16 @@ fn every_shipped_world_checks() {
 /// beacons being spread over 50 ms); the summary's `parallel_dispatches` shows it.
 const THREADS_VEHICLES: usize = 600;
 
+/// The phases of a step as summary.json and `shoal bench --json` name them.
+const STEP_PHASES: [&str; 6] = [
+    "ingest",
+    "vehicles",
+    "medium_snapshot",
+    "medium_transmit",
+    "medium_delivery",
+    "recorder",
+];
+
 #[test]
 fn one_and_two_threads_give_the_same_digest() {
     use shoal_sim::bench::{TRAFFIC_SPACING, swarm_text};
@@ -211,15 +221,7 @@ fn one_and_two_threads_give_the_same_digest() {
     for s in [&s1, &s2] {
         let phases = &s["phases_s"];
         let mut sum = 0.0;
-        for p in [
-            "ingest",
-            "vehicles",
-            "medium_snapshot",
-            "medium_transmit",
-            "medium_delivery",
-            "recorder",
-            "outputs",
-        ] {
+        for p in STEP_PHASES.iter().chain(&["outputs"]) {
             let t = phases[p]
                 .as_f64()
                 .unwrap_or_else(|| panic!("summary.json has no phases_s.{p}"));
@@ -308,15 +310,10 @@ fn bench_prints_a_row_per_cell_and_writes_them_as_json() {
         // Every phase of the step has its share; the shares add up to the whole step, and
         // with traffic the medium decided receptions.
         let phases = &r["phase_shares"];
-        let names = [
-            "ingest",
-            "vehicles",
-            "medium_snapshot",
-            "medium_transmit",
-            "medium_delivery",
-            "recorder",
-        ];
-        let shares: Vec<f64> = names.iter().map(|k| phases[k].as_f64().unwrap()).collect();
+        let shares: Vec<f64> = STEP_PHASES
+            .iter()
+            .map(|k| phases[k].as_f64().unwrap())
+            .collect();
         assert!(shares.iter().all(|s| (0.0..=1.0).contains(s)), "{r}");
         assert!((shares.iter().sum::<f64>() - 1.0).abs() < 1e-9, "{r}");
         assert!(shares[1] > 0.0, "{r}");
