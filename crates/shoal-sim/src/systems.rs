@@ -294,9 +294,12 @@ pub fn vehicle_system(
     }
 }
 
-/// Vehicles per batch of [`vehicle_system`]: enough for every thread to get several chunks,
-/// few enough that the batch's list of component references stays a few megabytes.
-const BATCH: usize = 8192;
+/// Vehicles per batch of [`vehicle_system`]: enough for every thread to get several chunks
+/// and for worlds of tens of thousands to be split over the pool once per step (each batch is
+/// one hand-off to the workers, and its list is collected while they wait: with batches of
+/// 8,192 a 20,000-vehicle pass took 3.24 ms on 2 threads, as one batch 2.97 ms), few enough
+/// that the batch's list of component references stays under about ten megabytes.
+const BATCH: usize = 32_768;
 
 /// RK4 for a group of at most [`LANES`] vehicles: each run of consecutive vehicles of one
 /// kind with the same mass properties is integrated in the lanes of one kernel call with
