@@ -11,7 +11,7 @@ use crate::bench_rows::{Bench, Machine, Row};
 use anyhow::Context;
 use shoal_bridge::host::{Flow, Host};
 use shoal_sim::bench::{SPACING, TRAFFIC_SPACING, swarm_spaced};
-use shoal_sim::phases::Phase;
+use shoal_sim::phases::{ByPhase, Phase};
 use shoal_sim::prelude::*;
 use shoal_world::desc::WorldDesc;
 use std::io::Read;
@@ -207,7 +207,7 @@ pub fn bench(a: &BenchArgs) -> anyhow::Result<()> {
                 "vehicle_steps_per_s": c.vehicle_steps_per_s, "real_time_factor": c.real_time,
                 "speed_up": speedup, "bytes_per_vehicle": c.bytes_per_vehicle,
                 "parallel_dispatches": c.parallel_dispatches,
-                "phase_shares": phase_json(&c.phase_shares),
+                "phase_shares": ByPhase(c.phase_shares),
                 "peak_rss_bytes": shoal_sim::output::peak_memory_bytes()
             }));
         }
@@ -254,7 +254,7 @@ pub fn bench(a: &BenchArgs) -> anyhow::Result<()> {
                     "vehicle_steps_per_s": c.vehicle_steps_per_s, "real_time_factor": c.real_time,
                     "frames_per_s": c.frames_per_s, "deliveries_per_s": c.deliveries_per_s, "medium_share": share,
                     "bytes_per_vehicle": c.bytes_per_vehicle, "parallel_dispatches": c.parallel_dispatches,
-                    "phase_shares": phase_json(&c.phase_shares),
+                    "phase_shares": ByPhase(c.phase_shares),
                     "peak_rss_bytes": shoal_sim::output::peak_memory_bytes()
                 }));
             }
@@ -271,7 +271,7 @@ fn print_phases(rows: &[Row]) {
     let mine: Vec<(&Row, &[f64; 6])> = rows
         .iter()
         .filter(|r| r.binary == "this")
-        .filter_map(|r| r.phase_shares.as_ref().map(|s| (r, s)))
+        .filter_map(|r| r.phase_shares.as_ref().map(|s| (r, &s.0)))
         .collect();
     if mine.is_empty() {
         return;
@@ -296,16 +296,6 @@ fn print_phases(rows: &[Row]) {
         }
         println!("{line}");
     }
-}
-
-/// The phase shares as a JSON object keyed by [`Phase::name`].
-fn phase_json(shares: &[f64; 6]) -> serde_json::Value {
-    Phase::ALL
-        .iter()
-        .zip(shares)
-        .map(|(p, s)| (p.name().to_string(), serde_json::json!(s)))
-        .collect::<serde_json::Map<_, _>>()
-        .into()
 }
 
 /// Prints `text` (`-`) or writes it whole to `path`.

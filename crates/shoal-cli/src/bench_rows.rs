@@ -11,6 +11,7 @@
 
 use anyhow::Context;
 use serde::Serialize;
+use shoal_sim::phases::{ByPhase, Phase};
 use std::io::Read;
 use std::path::PathBuf;
 use std::process::{Command, Stdio};
@@ -44,10 +45,9 @@ pub struct Row {
     /// one thread and below [`shoal_sim::parallel::MIN_PARALLEL`] vehicles).
     pub parallel_dispatches: Option<u64>,
     /// Share of the step's wall time in each phase, in the order of
-    /// [`shoal_sim::phases::Phase::ALL`] (when reported); in JSON an object keyed by phase
+    /// [`Phase::ALL`] (when reported); in JSON an object keyed by phase
     /// name.
-    #[serde(serialize_with = "shares_by_name")]
-    pub phase_shares: Option<[f64; 6]>,
+    pub phase_shares: Option<ByPhase>,
 }
 
 /// What the machine is, for the table's head and the JSON file.
@@ -199,31 +199,15 @@ impl Bench {
     }
 }
 
-/// Writes phase shares as an object keyed by [`shoal_sim::phases::Phase::name`].
-fn shares_by_name<S: serde::Serializer>(
-    shares: &Option<[f64; 6]>,
-    s: S,
-) -> Result<S::Ok, S::Error> {
-    use serde::ser::SerializeMap;
-    let Some(shares) = shares else {
-        return s.serialize_none();
-    };
-    let mut m = s.serialize_map(Some(shares.len()))?;
-    for (p, v) in shoal_sim::phases::Phase::ALL.iter().zip(shares) {
-        m.serialize_entry(p.name(), v)?;
-    }
-    m.end()
-}
-
 /// The phase shares of a child's row (`phase_shares`: an object keyed by phase name), when it
 /// reports every phase.
-fn phase_shares(row: &serde_json::Value) -> Option<[f64; 6]> {
+fn phase_shares(row: &serde_json::Value) -> Option<ByPhase> {
     let shares = row.get("phase_shares")?;
     let mut out = [0.0; 6];
-    for (o, p) in out.iter_mut().zip(shoal_sim::phases::Phase::ALL) {
+    for (o, p) in out.iter_mut().zip(Phase::ALL) {
         *o = shares.get(p.name())?.as_f64()?;
     }
-    Some(out)
+    Some(ByPhase(out))
 }
 
 /// Waits for the child `pid`: whether it exited with 0, and its peak resident memory

@@ -112,48 +112,32 @@ impl PhaseTimes {
     }
 }
 
-/// Where a run's wall time went, by phase \[s\]: the phases of its steps (zero when the world
-/// was not timed) and the writing of recorded rows while it ran.
+/// One value per phase of the step, in the order of [`Phase::ALL`]; written (serde) as an
+/// object keyed by [`Phase::name`].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ByPhase(pub [f64; 6]);
+
+impl Serialize for ByPhase {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut m = s.serialize_map(Some(self.0.len()))?;
+        for (p, v) in Phase::ALL.iter().zip(&self.0) {
+            m.serialize_entry(p.name(), v)?;
+        }
+        m.end()
+    }
+}
+
+/// Where a run's wall time went \[s\]: each phase of its steps (keyed by [`Phase::name`]; zero
+/// when the world was not timed) and the writing of recorded rows while it ran.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
 pub struct RunPhases {
-    /// Missions and behaviours \[s\].
-    pub ingest: f64,
-    /// The vehicle pass \[s\].
-    pub vehicles: f64,
-    /// The medium's snapshot \[s\].
-    pub medium_snapshot: f64,
-    /// The medium's transmit phase \[s\].
-    pub medium_transmit: f64,
-    /// The medium's delivery phase \[s\].
-    pub medium_delivery: f64,
-    /// Recorder, connectivity graph and replay capture inside the step \[s\].
-    pub recorder: f64,
+    /// Wall time of each phase of the steps \[s\].
+    #[serde(flatten)]
+    pub steps: ByPhase,
     /// Draining the recorded rows and writing them to the trajectory file during the run
     /// (not the end-of-run files) \[s\].
     pub outputs: f64,
-}
-
-impl RunPhases {
-    /// The phases of `steps` and `outputs` seconds of writing.
-    pub fn new(steps: &PhaseTimes, outputs: f64) -> Self {
-        let [
-            ingest,
-            vehicles,
-            medium_snapshot,
-            medium_transmit,
-            medium_delivery,
-            recorder,
-        ] = steps.seconds;
-        Self {
-            ingest,
-            vehicles,
-            medium_snapshot,
-            medium_transmit,
-            medium_delivery,
-            recorder,
-            outputs,
-        }
-    }
 }
 
 /// Starts the clock of a step (the first system of a timed schedule).

@@ -4,7 +4,7 @@
 
 use super::{VehicleAcc, peak_memory_bytes};
 use crate::parallel::Dispatches;
-use crate::phases::RunPhases;
+use crate::phases::{ByPhase, RunPhases};
 use crate::sim::Sim;
 use crate::view::VehicleView;
 use serde::Serialize;
@@ -226,7 +226,10 @@ impl Summary {
             vehicles: snaps.len(),
             threads: sim.threads(),
             parallel_dispatches: sim.parallel_dispatches(),
-            phases_s: RunPhases::new(&sim.phase_times(), 0.0),
+            phases_s: RunPhases {
+                steps: ByPhase(sim.phase_times().seconds),
+                outputs: 0.0,
+            },
             dt_s: desc.dt,
             steps: sim.step_count(),
             simulated_s: simulated,
