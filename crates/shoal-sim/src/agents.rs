@@ -12,7 +12,9 @@
 use crate::batch::{check_frame, force_limit};
 use crate::comm::{Inbox, OutFrame, Outbox, Received};
 use crate::components::*;
+use crate::fleet::{Fleet, HotVehicle};
 use crate::sim::Sim;
+use bevy_ecs::prelude::Mut;
 use shoal_model::math::{euler_rpy, wrap_pi};
 use shoal_model::prelude::*;
 use shoal_world::spec::FallbackSpec;
@@ -201,9 +203,10 @@ impl Sim {
     /// Whether any agent-driven vehicle has its control tick at the coming step.
     pub fn agent_tick_due(&mut self) -> bool {
         let step = self.step_count();
-        let mut q = self.world_mut().query::<(&External, &Control)>();
+        let mut q = self.world_mut().query::<(&VehicleId, &External)>();
+        let fleet = self.fleet();
         q.iter(self.world())
-            .any(|(_, c)| step.is_multiple_of(c.every))
+            .any(|(id, _)| step.is_multiple_of(fleet.get(*id).control.every))
     }
 
     /// Observations of every agent-driven vehicle whose control tick is at the coming step,
@@ -217,28 +220,24 @@ impl Sim {
         let step = self.step_count();
         let t = self.time();
         let mut out = vec![Vec::new(); n_agents];
-        let mut q = self.world_mut().query::<(
-            &VehicleId,
-            &External,
-            &Control,
-            &Sensors,
-            &Physics,
-            &mut Inbox,
-        )>();
-        for (id, ext, control, sensors, phys, mut inbox) in q.iter_mut(self.world_mut()) {
-            if !step.is_multiple_of(control.every) || ext.agent >= n_agents {
-                continue;
+        self.world_mut().resource_scope(|world, fleet: Mut<Fleet>| {
+            let mut q = world.query::<(&VehicleId, &External, &mut Inbox)>();
+            for (id, ext, mut inbox) in q.iter_mut(world) {
+                let v = fleet.get(*id);
+                if !step.is_multiple_of(v.control.every) || ext.agent >= n_agents {
+                    continue;
+                }
+                out[ext.agent].push(Observation {
+                    id: id.0,
+                    step,
+                    t,
+                    sensors: v.sensors.clone(),
+                    position: grant_position.then_some(v.physics.state.rigid.position),
+                    frames: std::mem::take(&mut inbox.0),
+                    fallback: ext.fallback,
+                });
             }
-            out[ext.agent].push(Observation {
-                id: id.0,
-                step,
-                t,
-                sensors: sensors.0.clone(),
-                position: grant_position.then_some(phys.state.rigid.position),
-                frames: std::mem::take(&mut inbox.0),
-                fallback: ext.fallback,
-            });
-        }
+        });
         for o in &mut out {
             o.sort_by_key(|o| o.id);
         }
@@ -347,9 +346,11 @@ impl Sim {
             });
         }
         rej.clamped += clamped.get();
+        ent.get_mut::<Outbox>().expect("vehicle").0.extend(frames);
+        ent.get_mut::<External>().expect("vehicle").fallback = false;
         if let Some((mode, depth, yaw, surge, sway, raw)) = new_setpoints {
-            let mut c = ent.get_mut::<Control>().expect("vehicle");
-            let sp = &mut c.setpoints;
+            let mut fleet = self.fleet_mut();
+            let sp = &mut fleet.get_mut(VehicleId(cmd.id)).control.setpoints;
             sp.mode = mode;
             if let Some(raw) = raw {
                 sp.raw = raw;
@@ -360,8 +361,6 @@ impl Sim {
                 sp.sway = sway;
             }
         }
-        ent.get_mut::<Outbox>().expect("vehicle").0.extend(frames);
-        ent.get_mut::<External>().expect("vehicle").fallback = false;
         true
     }
 
@@ -369,25 +368,17 @@ impl Sim {
     /// reading and heading, no surge; `Surface`: the same towards depth 0; `Stop` holds too —
     /// ending the run is the caller's decision). Vehicles already in fallback keep theirs.
     pub fn set_fallback(&mut self, agent: usize, fallback: FallbackSpec) {
-        let mut q = self
-            .world_mut()
-            .query::<(&mut External, &mut Control, &Sensors)>();
-        for (mut ext, mut c, s) in q.iter_mut(self.world_mut()) {
-            if ext.agent != agent || ext.fallback {
-                continue;
-            }
-            ext.fallback = true;
-            let heading = euler_rpy(&s.0.attitude).2;
-            let sp = &mut c.setpoints;
-            sp.mode = Mode::Auto;
-            sp.yaw = heading;
-            sp.surge = 0.0;
-            sp.sway = 0.0;
-            sp.depth = match fallback {
-                FallbackSpec::Surface => 0.0,
-                FallbackSpec::Hold | FallbackSpec::Stop => s.0.depth,
-            };
-        }
+        self.world_mut()
+            .resource_scope(|world, mut fleet: Mut<Fleet>| {
+                let mut q = world.query::<(&VehicleId, &mut External)>();
+                for (id, mut ext) in q.iter_mut(world) {
+                    if ext.agent != agent || ext.fallback {
+                        continue;
+                    }
+                    ext.fallback = true;
+                    hold(fleet.get_mut(*id), fallback);
+                }
+            });
     }
 
     /// Number of vehicles driven by `agent` that are in fallback, and in all.
@@ -400,4 +391,19 @@ impl Sim {
             .collect();
         (mine.iter().filter(|f| **f).count(), mine.len())
     }
+}
+
+/// Puts vehicle `v` under `fallback`: auto mode at its current depth reading (or towards the
+/// surface) and heading, no surge or sway.
+fn hold(v: &mut HotVehicle, fallback: FallbackSpec) {
+    let s = &v.sensors;
+    let sp = &mut v.control.setpoints;
+    sp.mode = Mode::Auto;
+    sp.yaw = euler_rpy(&s.attitude).2;
+    sp.surge = 0.0;
+    sp.sway = 0.0;
+    sp.depth = match fallback {
+        FallbackSpec::Surface => 0.0,
+        FallbackSpec::Hold | FallbackSpec::Stop => s.depth,
+    };
 }

@@ -1,5 +1,6 @@
-//! ECS components and resources of the simulated world. Components are thin wrappers around
-//! shoal-model types; resources hold the world-wide settings.
+//! ECS components and resources of the simulated world, and the parts of a vehicle's hot state
+//! ([`crate::fleet::HotVehicle`]) that wrap shoal-model types. Components are thin wrappers
+//! around shoal-model types; resources hold the world-wide settings.
 
 use bevy_ecs::prelude::*;
 use shoal_model::prelude::*;
@@ -19,7 +20,7 @@ pub struct VehicleName(pub String);
 pub struct Kind(pub Arc<VehicleModel>);
 
 /// Dynamic state, plus the position before the last step (for swept collision tests).
-#[derive(Component, Clone, Debug)]
+#[derive(Clone, Debug)]
 pub struct Physics {
     /// The state.
     pub state: VehicleState,
@@ -29,12 +30,8 @@ pub struct Physics {
     pub fault: Option<Box<crate::fault::NonFinite>>,
 }
 
-/// Actuator commands in force (written by the controller or an agent).
-#[derive(Component, Clone, Debug)]
-pub struct Actuation(pub ActuatorCommands);
-
 /// The built-in controller with its mission.
-#[derive(Component, Clone, Debug)]
+#[derive(Clone, Debug)]
 pub struct Control {
     /// Controller internal state.
     pub state: ControllerState,
@@ -61,16 +58,8 @@ impl Default for MissionClock {
     }
 }
 
-/// The latest sensor readings.
-#[derive(Component, Clone, Debug)]
-pub struct Sensors(pub SensorReadings);
-
-/// The vehicle's own random stream for sensor noise (derived from the world seed and its id).
-#[derive(Component, Clone, Debug)]
-pub struct SensorRng(pub crate::rng::VehicleRng);
-
 /// Hull contacts with the static world.
-#[derive(Component, Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ContactStats {
     /// Steps spent in contact.
     pub steps_in_contact: u64,

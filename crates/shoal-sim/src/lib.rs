@@ -22,6 +22,7 @@ pub mod components;
 pub mod connectivity;
 pub mod fault;
 pub mod files;
+pub mod fleet;
 pub mod link_key;
 pub mod output;
 pub mod parallel;
@@ -37,6 +38,7 @@ pub mod view;
 /// The commonly used types.
 pub mod prelude {
     pub use crate::components::*;
+    pub use crate::fleet::{Fleet, HotVehicle};
     pub use crate::output::{RunOutput, Summary};
 
     pub use crate::sim::{Sim, SimOptions, VehicleSnapshot};

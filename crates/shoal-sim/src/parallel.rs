@@ -12,7 +12,6 @@
 use bevy_ecs::prelude::Resource;
 use bevy_tasks::{TaskPool, TaskPoolBuilder};
 use serde::Serialize;
-use shoal_model::lanes::LANES;
 use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
 
 /// Below this many vehicles a loop runs on the calling thread only: a vehicle's update takes
@@ -26,7 +25,7 @@ pub enum Loop {
     /// The behaviours of the vehicles on their control tick (one item per vehicle).
     Behaviour,
     /// The fused vehicle pass: control, actuation, integration, collisions, sensors (one item
-    /// per group of up to [`LANES`] vehicles).
+    /// per vehicle, visited in groups of [`shoal_model::lanes::LANES`] consecutive vehicles).
     Vehicles,
     /// The medium's reception decisions (one item per vehicle that may hear a frame ending in
     /// the step).
@@ -34,14 +33,6 @@ pub enum Loop {
 }
 
 impl Loop {
-    /// Vehicles in one item of the loop (at most).
-    const fn vehicles_per_item(self) -> usize {
-        match self {
-            Loop::Vehicles => LANES,
-            Loop::Behaviour | Loop::Delivery => 1,
-        }
-    }
-
     const fn index(self) -> usize {
         self as usize
     }
@@ -131,6 +122,46 @@ impl Parallel {
         self.for_each_with(kind, items, || (), |(), item| f(item));
     }
 
+    /// The pool when a loop of `kind` over `vehicles` items is to be split over it (and then
+    /// counts the dispatch), `None` when the loop stays on the calling thread.
+    fn pool_for(&self, kind: Loop, vehicles: usize) -> Option<&TaskPool> {
+        let pool = self
+            .pool
+            .as_ref()
+            .filter(|_| vehicles >= self.min_parallel)?;
+        self.dispatches[kind.index()].fetch_add(1, Relaxed);
+        Some(pool)
+    }
+
+    /// Calls `f` on every group of `group` (≥ 1) consecutive items of the loop `kind` (the
+    /// last group may be shorter), in parallel runs of whole groups when the loop has at least
+    /// [`Parallel::min_parallel`] items and the pool has workers. The groups are the same on
+    /// any number of threads.
+    pub fn for_each_group<T: Send>(
+        &self,
+        kind: Loop,
+        items: &mut [T],
+        group: usize,
+        f: impl Fn(&mut [T]) + Sync,
+    ) {
+        let group = group.max(1);
+        match self.pool_for(kind, items.len()) {
+            Some(pool) => {
+                let run = items
+                    .len()
+                    .div_ceil(self.threads * 4)
+                    .next_multiple_of(group);
+                let f = &f;
+                pool.scope(|s| {
+                    for c in items.chunks_mut(run) {
+                        s.spawn(async move { c.chunks_mut(group).for_each(f) });
+                    }
+                });
+            }
+            None => items.chunks_mut(group).for_each(f),
+        }
+    }
+
     /// [`Parallel::for_each`] with a state per chunk of items, for tallies that would
     /// otherwise be shared between threads: `init` makes a chunk's state, `f` visits each item
     /// of the chunk with it, and the states come back in chunk order (one state when the loop
@@ -143,9 +174,8 @@ impl Parallel {
         init: impl Fn() -> S + Sync,
         f: impl Fn(&mut S, &mut T) + Sync,
     ) -> Vec<S> {
-        match &self.pool {
-            Some(pool) if items.len() * kind.vehicles_per_item() >= self.min_parallel => {
-                self.dispatches[kind.index()].fetch_add(1, Relaxed);
+        match self.pool_for(kind, items.len()) {
+            Some(pool) => {
                 let chunk = items.len().div_ceil(self.threads * 4);
                 let (f, init) = (&f, &init);
                 pool.scope(|s| {
@@ -170,6 +200,7 @@ impl Parallel {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use shoal_model::lanes::LANES;
 
     #[test]
     fn visits_every_item_once() {
@@ -213,12 +244,31 @@ mod tests {
     }
 
     #[test]
+    fn groups_are_whole_and_the_same_on_any_thread_count() {
+        for threads in [1, 2, 3] {
+            let mut p = Parallel::new(threads);
+            p.set_min_parallel(1);
+            let mut v: Vec<(usize, usize)> = (0..1003).map(|i| (i, 0)).collect();
+            p.for_each_group(Loop::Vehicles, &mut v, LANES, |g| {
+                assert!(g.len() == LANES || g[0].0 == 1003 / LANES * LANES);
+                assert_eq!(g[0].0 % LANES, 0);
+                let first = g[0].0;
+                g.iter_mut().for_each(|x| x.1 = first + 1);
+            });
+            assert!(v.iter().all(|&(i, g)| g == i / LANES * LANES + 1));
+            assert_eq!(p.dispatches().vehicles, u64::from(threads > 1));
+        }
+    }
+
+    #[test]
     fn splits_loops_of_at_least_min_parallel_vehicles() {
         let mut p = Parallel::new(2);
-        let mut groups = vec![0u8; MIN_PARALLEL / LANES];
+        let mut enough = vec![0u8; MIN_PARALLEL];
         let mut vehicles = vec![0u8; MIN_PARALLEL - 1];
-        // Groups of LANES vehicles count as LANES each; one vehicle short stays serial.
-        p.for_each(Loop::Vehicles, &mut groups, |x| *x += 1);
+        // One vehicle short stays serial.
+        p.for_each_group(Loop::Vehicles, &mut enough, LANES, |g| {
+            g.iter_mut().for_each(|x| *x += 1);
+        });
         p.for_each(Loop::Behaviour, &mut vehicles, |x| *x += 1);
         assert_eq!(
             p.dispatches(),
@@ -231,6 +281,6 @@ mod tests {
         p.for_each(Loop::Behaviour, &mut vehicles[..1], |x| *x += 1);
         assert_eq!(p.dispatches().behaviour, 1);
         assert_eq!(p.dispatches().total(), 2);
-        assert!(groups.iter().all(|x| *x == 1) && vehicles[0] == 2 && vehicles[1] == 1);
+        assert!(enough.iter().all(|x| *x == 1) && vehicles[0] == 2 && vehicles[1] == 1);
     }
 }

@@ -6,6 +6,7 @@ use crate::comm::{CommStats, Inbox, Medium, Modems, Outbox, comm_rng};
 use crate::components::*;
 use crate::connectivity::Connectivity;
 use crate::fault::{FaultFlag, SimFault};
+use crate::fleet::{Fleet, HotVehicle};
 use crate::parallel::{Dispatches, Parallel};
 use crate::phases::{PhaseClock, PhaseTimes};
 use crate::recorder::{self, RecordBatch};
@@ -111,6 +112,7 @@ impl Sim {
         };
         world.insert_resource(RecordConfig { every });
         let mut entities = Vec::with_capacity(desc.vehicles.len());
+        let mut fleet = Fleet::default();
         for (i, v) in desc.vehicles.iter().enumerate() {
             cancel.check()?;
             let id = i as u32;
@@ -151,24 +153,25 @@ impl Sim {
                     &ContactStats::default(),
                 );
             }
+            fleet.push(HotVehicle {
+                model: m.clone(),
+                physics: Physics {
+                    prev_position: v.position,
+                    state,
+                    fault: None,
+                },
+                control,
+                commands: cmd,
+                sensors: readings,
+                sensor_rng: rng,
+                contacts: ContactStats::default(),
+            });
             let e = world
                 .spawn((
                     VehicleId(id),
                     VehicleName(v.name.clone()),
                     Kind(m.clone()),
-                    Physics {
-                        prev_position: v.position,
-                        state,
-                        fault: None,
-                    },
-                    Actuation(cmd),
-                    control,
-                    (
-                        Sensors(readings),
-                        SensorRng(rng),
-                        ContactStats::default(),
-                        track,
-                    ),
+                    track,
                     (
                         Modems::new(m.params.modems.len()),
                         Outbox::default(),
@@ -193,6 +196,7 @@ impl Sim {
             }
             entities.push(e);
         }
+        world.insert_resource(fleet);
         let mut sim = Self {
             world,
             schedule: build_schedule(false, false),
@@ -229,16 +233,22 @@ impl Sim {
     }
 
     fn first_fault(&mut self) -> Option<SimFault> {
-        let mut q = self.world.query::<(&VehicleId, &VehicleName, &Physics)>();
-        q.iter(&self.world)
-            .filter_map(|(id, name, p)| {
-                p.fault.as_ref().map(|f| SimFault {
-                    vehicle: id.0 as usize,
-                    name: name.0.clone(),
-                    state: (**f).clone(),
-                })
-            })
-            .min_by_key(|f| f.vehicle)
+        let fleet = self.world.resource::<Fleet>();
+        let (id, f) = fleet
+            .as_slice()
+            .iter()
+            .enumerate()
+            .find_map(|(id, v)| Some((id, v.physics.fault.as_ref()?)))?;
+        let name = self
+            .world
+            .get::<VehicleName>(self.entities[id])
+            .map(|n| n.0.clone())
+            .unwrap_or_default();
+        Some(SimFault {
+            vehicle: id,
+            name,
+            state: (**f).clone(),
+        })
     }
 
     /// Advances `n` steps, or fewer when a vehicle's state stops being finite
@@ -348,33 +358,19 @@ impl Sim {
     /// A copy of vehicle `id`.
     pub fn vehicle(&self, id: usize) -> VehicleSnapshot {
         let e = self.world.entity(self.entities[id]);
+        let v = self.fleet().get(VehicleId(id as u32));
         VehicleSnapshot {
-            id: e.get::<VehicleId>().map_or(0, |v| v.0),
+            id: id as u32,
             name: e
                 .get::<VehicleName>()
                 .map(|n| n.0.clone())
                 .unwrap_or_default(),
-            model: e
-                .get::<Kind>()
-                .map(|k| k.0.clone())
-                .expect("every vehicle has a kind"),
-            state: e
-                .get::<Physics>()
-                .map(|p| p.state.clone())
-                .expect("every vehicle has physics"),
-            sensors: e
-                .get::<Sensors>()
-                .map(|s| s.0.clone())
-                .expect("every vehicle has sensors"),
-            setpoints: e
-                .get::<Control>()
-                .map(|c| c.setpoints.clone())
-                .unwrap_or_default(),
-            commands: e
-                .get::<Actuation>()
-                .map(|a| a.0.clone())
-                .unwrap_or_default(),
-            contacts: e.get::<ContactStats>().copied().unwrap_or_default(),
+            model: v.model.clone(),
+            state: v.physics.state.clone(),
+            sensors: v.sensors.clone(),
+            setpoints: v.control.setpoints.clone(),
+            commands: v.commands.clone(),
+            contacts: v.contacts,
             comm: e
                 .get::<CommStats>()
                 .cloned()
@@ -388,6 +384,16 @@ impl Sim {
                 .map(|b| b.behaviour.report())
                 .unwrap_or_default(),
         }
+    }
+
+    /// The hot state of every vehicle ([`crate::fleet`]).
+    pub fn fleet(&self) -> &Fleet {
+        self.world.resource::<Fleet>()
+    }
+
+    /// The hot state of every vehicle, mutably (for tools and tests that set a state).
+    pub fn fleet_mut(&mut self) -> Mut<'_, Fleet> {
+        self.world.resource_mut::<Fleet>()
     }
 
     /// Starts gathering the replay of this run (see [`crate::replay`]): poses every frame,
@@ -479,20 +485,15 @@ impl Sim {
                 h = h.wrapping_mul(0x0000_0100_0000_01b3);
             }
         };
-        for e in &self.entities {
-            let Some(p) = self.world.get::<Physics>(*e) else {
-                continue;
-            };
-            let s = &p.state;
+        for v in self.fleet().as_slice() {
+            let s = &v.physics.state;
             s.rigid.position.iter().for_each(|x| eat(*x));
             s.rigid.attitude.coords.iter().for_each(|x| eat(*x));
             s.rigid.nu.iter().for_each(|x| eat(*x));
             eat(s.ballast_volume);
             s.actuators.tilt.iter().for_each(|x| eat(*x));
             s.actuators.thrust.iter().for_each(|x| eat(*x));
-            if let Some(sn) = self.world.get::<Sensors>(*e) {
-                eat(sn.0.depth);
-            }
+            eat(v.sensors.depth);
         }
         h
     }

@@ -10,6 +10,7 @@ use crate::comm::{Inbox, Outbox, comm_deliver_system, comm_snapshot_system, comm
 use crate::components::*;
 use crate::connectivity::connectivity_system;
 use crate::fault::{FaultFlag, NonFinite};
+use crate::fleet::{Fleet, HotVehicle};
 use crate::parallel::{Loop, Parallel};
 use crate::phases::{Phase, phase_end, phase_start};
 use crate::recorder;
@@ -123,11 +124,7 @@ pub fn build_schedule(detect_ambiguity: bool, time_phases: bool) -> Schedule {
 }
 
 /// Advances each vehicle's mission to the current time.
-pub fn mission_system(
-    clock: Res<Clock>,
-    mut next: ResMut<MissionClock>,
-    mut q: Query<&mut Control>,
-) {
+pub fn mission_system(clock: Res<Clock>, mut next: ResMut<MissionClock>, mut fleet: ResMut<Fleet>) {
     let t = clock.t();
     // No vehicle has a step due: a swarm whose missions are done (or far from their next
     // step) costs nothing here.
@@ -135,8 +132,8 @@ pub fn mission_system(
         return;
     }
     let mut earliest = f64::INFINITY;
-    for mut c in &mut q {
-        let c = &mut *c;
+    for v in fleet.as_mut_slice() {
+        let c = &mut v.control;
         c.cursor.advance(&c.mission, t, &mut c.setpoints);
         earliest = earliest.min(c.cursor.next_time(&c.mission));
     }
@@ -148,27 +145,28 @@ pub fn mission_system(
 pub fn behaviour_system(
     clock: Res<Clock>,
     par: Res<Parallel>,
-    mut q: Query<(
-        &VehicleId,
-        &Kind,
-        &Sensors,
-        &mut Control,
-        &mut Behave,
-        &mut Inbox,
-        &mut Outbox,
-    )>,
+    mut fleet: ResMut<Fleet>,
+    mut q: Query<(&VehicleId, &mut Behave, &mut Inbox, &mut Outbox)>,
 ) {
     let step = clock.step;
     let t = clock.t();
     let dt = clock.dt;
-    let mut items: Vec<_> = q
+    let mut ticking: Vec<_> = q
         .iter_mut()
-        .filter(|it| it.4.behaviour.every_step() || step.is_multiple_of(it.3.every))
+        .filter(|it| {
+            it.1.behaviour.every_step() || step.is_multiple_of(fleet.get(*it.0).control.every)
+        })
         .collect();
+    if ticking.is_empty() {
+        return;
+    }
+    ticking.sort_unstable_by_key(|it| it.0.0);
+    let hot = fleet.select_mut(ticking.iter().map(|it| it.0.0));
+    let mut items: Vec<_> = ticking.into_iter().zip(hot).collect();
     par.for_each(
         Loop::Behaviour,
         &mut items,
-        |(id, kind, sensors, control, behave, inbox, outbox)| {
+        |((id, behave, inbox, outbox), v)| {
             let b = &mut **behave;
             let mut io = BehaviourIo {
                 t,
@@ -176,12 +174,12 @@ pub fn behaviour_system(
                 period: if b.behaviour.every_step() {
                     dt
                 } else {
-                    control.every as f64 * dt
+                    v.control.every as f64 * dt
                 },
-                sensors: &sensors.0,
+                sensors: &v.sensors,
                 inbox: &inbox.0,
-                setpoints: &mut control.setpoints,
-                modems: &kind.0.params.modems,
+                setpoints: &mut v.control.setpoints,
+                modems: &v.model.params.modems,
                 rng: &mut b.rng,
                 outbox: &mut outbox.0,
             };
@@ -200,143 +198,109 @@ pub fn inbox_clear_system(mut q: Query<&mut Inbox, (Without<Behave>, Without<Ext
     }
 }
 
-/// One step of every vehicle in a single pass over groups of [`LANES`] vehicles: control (on
-/// its control tick) and actuation per vehicle → the rigid bodies of the group integrated
-/// together by the lane kernel ([`shoal_model::lanes`], RK4; vehicles of one kind in one
-/// ballast state share its constants) → per vehicle, collisions with the static geometry and
-/// the sensors (just before the next control tick). Each vehicle's update reads only its own
-/// components and the world's constants, and the lane kernel gives every lane the same
-/// result as a vehicle alone, so the groups run in parallel chunks on the world's
-/// [`Parallel`] pool with results independent of the thread count; fusing the phases walks
-/// the vehicles once per step instead of five times.
+/// One step of every vehicle in a single pass over the [`Fleet`] in groups of [`LANES`]
+/// consecutive vehicles: control (on its control tick) and actuation per vehicle → the rigid
+/// bodies of the group integrated together by the lane kernel ([`shoal_model::lanes`], RK4;
+/// vehicles of one kind in one ballast state share its constants) → per vehicle, collisions
+/// with the static geometry and the sensors (just before the next control tick). Each
+/// vehicle's update reads only its own hot state and the world's constants, and the lane
+/// kernel gives every lane the same result as a vehicle alone, so runs of groups go to the
+/// world's [`Parallel`] pool as plain slices of the fleet, with results independent of the
+/// thread count; fusing the phases walks the vehicles once per step instead of five times.
 ///
 /// A state that is no longer finite after integration is put back to the last finite one
 /// and recorded ([`crate::fault`]); the run is then stopped by its caller.
-#[allow(clippy::type_complexity)]
 pub fn vehicle_system(
     clock: Res<Clock>,
     par: Res<Parallel>,
     phys: Res<Physical>,
     geo: Res<StaticGeometry>,
     flag: Res<FaultFlag>,
-    mut q: Query<(
-        &Kind,
-        &mut Sensors,
-        &mut Control,
-        &mut Actuation,
-        &mut Physics,
-        &mut ContactStats,
-        &mut SensorRng,
-    )>,
+    mut fleet: ResMut<Fleet>,
 ) {
     let step = clock.step;
     let dt = clock.dt;
     let t_end = clock.t() + dt;
     let (env, integ) = (phys.env, phys.integrator);
     let geo = &geo.0;
-    // The vehicles in batches of a bounded size, so that the step's working memory does not
-    // grow with the swarm.
-    let mut vehicles = q.iter_mut();
-    let mut items = Vec::with_capacity(BATCH.min(vehicles.len()));
-    loop {
-        items.extend(vehicles.by_ref().take(BATCH));
-        if items.is_empty() {
-            break;
+    par.for_each_group(Loop::Vehicles, fleet.as_mut_slice(), LANES, |group| {
+        let mut before: [Option<RigidState>; LANES] = Default::default();
+        let mut nu0 = [Vec6::zeros(); LANES];
+        for (i, v) in group.iter_mut().enumerate() {
+            let m = &*v.model;
+            if step.is_multiple_of(v.control.every) {
+                control_vehicle(m, &v.sensors, &mut v.control, &mut v.commands);
+            }
+            let p = &mut v.physics;
+            actuate_vehicle(m, &mut p.state, &v.commands, &env, dt);
+            p.prev_position = p.state.rigid.position;
+            nu0[i] = p.state.rigid.nu;
+            before[i] = Some(p.state.rigid.clone());
         }
-        let mut groups: Vec<_> = items.chunks_mut(LANES).collect();
-        par.for_each(Loop::Vehicles, &mut groups, |group| {
-            let mut before: [Option<RigidState>; LANES] = Default::default();
-            let mut nu0 = [Vec6::zeros(); LANES];
-            for (i, (kind, sensors, control, act, p, _, _)) in group.iter_mut().enumerate() {
-                let m = &kind.0;
-                if step.is_multiple_of(control.every) {
-                    control_vehicle(m, &sensors.0, control, &mut act.0);
-                }
-                actuate_vehicle(m, &mut p.state, &act.0, &env, dt);
-                p.prev_position = p.state.rigid.position;
-                nu0[i] = p.state.rigid.nu;
-                before[i] = Some(p.state.rigid.clone());
-            }
-            match integ {
-                Integrator::Rk4 => integrate_group(group, &env, dt),
-                _ => {
-                    for (kind, _, _, _, p, _, _) in group.iter_mut() {
-                        let s = &mut p.state;
-                        integrate(
-                            integ,
-                            &kind.0.params.body,
-                            &s.mass,
-                            &kind.0.environment(&env),
-                            &mut s.rigid,
-                            &s.tau,
-                            dt,
-                        );
-                    }
+        match integ {
+            Integrator::Rk4 => integrate_group(group, &env, dt),
+            _ => {
+                for v in group.iter_mut() {
+                    let s = &mut v.physics.state;
+                    integrate(
+                        integ,
+                        &v.model.params.body,
+                        &s.mass,
+                        &v.model.environment(&env),
+                        &mut s.rigid,
+                        &s.tau,
+                        dt,
+                    );
                 }
             }
-            for (i, (kind, sensors, control, _, p, stats, rng)) in group.iter_mut().enumerate() {
-                let m = &kind.0;
-                p.state.finish_step(&nu0[i], dt);
-                if !p.state.rigid.is_finite()
-                    && let Some(last) = before[i].take()
-                {
-                    restore_finite(p, last, t_end);
-                    flag.0.store(true, Ordering::Relaxed);
-                }
-                collide_vehicle(m, geo, &env, p, stats);
-                if (step + 1).is_multiple_of(control.every) {
-                    sense(m, &mut p.state, &env, &mut rng.0, &mut sensors.0);
-                }
+        }
+        for (i, v) in group.iter_mut().enumerate() {
+            let m = &*v.model;
+            let p = &mut v.physics;
+            p.state.finish_step(&nu0[i], dt);
+            if !p.state.rigid.is_finite()
+                && let Some(last) = before[i].take()
+            {
+                restore_finite(p, last, t_end);
+                flag.0.store(true, Ordering::Relaxed);
             }
-        });
-        drop(groups);
-        items.clear();
-    }
+            collide_vehicle(m, geo, &env, p, &mut v.contacts);
+            if (step + 1).is_multiple_of(v.control.every) {
+                sense(m, &mut p.state, &env, &mut v.sensor_rng, &mut v.sensors);
+            }
+        }
+    });
 }
-
-/// Vehicles per batch of [`vehicle_system`]: enough for every thread to get several chunks
-/// and for worlds of tens of thousands to be split over the pool once per step (each batch is
-/// one hand-off to the workers, and its list is collected while they wait: with batches of
-/// 8,192 a 20,000-vehicle pass took 3.24 ms on 2 threads, as one batch 2.97 ms), few enough
-/// that the batch's list of component references stays under about ten megabytes.
-const BATCH: usize = 32_768;
 
 /// RK4 for a group of at most [`LANES`] vehicles: each run of consecutive vehicles of one
 /// kind with the same mass properties is integrated in the lanes of one kernel call with
 /// their shared constants (unused lanes repeat the run's first vehicle and are dropped).
-#[allow(clippy::type_complexity)]
-fn integrate_group(
-    group: &mut [(
-        &Kind,
-        Mut<Sensors>,
-        Mut<Control>,
-        Mut<Actuation>,
-        Mut<Physics>,
-        Mut<ContactStats>,
-        Mut<SensorRng>,
-    )],
-    env: &Environment,
-    dt: f64,
-) {
+fn integrate_group(group: &mut [HotVehicle], env: &Environment, dt: f64) {
+    let same = |a: &HotVehicle, b: &HotVehicle| {
+        Arc::ptr_eq(&a.model, &b.model) && Arc::ptr_eq(&a.physics.state.mass, &b.physics.state.mass)
+    };
     let mut i = 0;
     while i < group.len() {
-        let (kind, mass) = (group[i].0.0.clone(), group[i].4.state.mass.clone());
-        let mut j = i + 1;
-        while j < group.len()
-            && Arc::ptr_eq(&group[j].0.0, &kind)
-            && Arc::ptr_eq(&group[j].4.state.mass, &mass)
-        {
-            j += 1;
-        }
-        let consts = DynConsts::new(&kind.params.body, &mass, &kind.environment(env));
+        let j = i
+            + 1
+            + group[i + 1..]
+                .iter()
+                .take_while(|v| same(v, &group[i]))
+                .count();
+        let first = &group[i];
+        let consts = DynConsts::new(
+            &first.model.params.body,
+            &first.physics.state.mass,
+            &first.model.environment(env),
+        );
         let mut x = Lanes::<LANES>::default();
         for l in 0..LANES {
-            let s = &group[i + l.min(j - i - 1)].4.state;
+            let s = &group[i + l.min(j - i - 1)].physics.state;
             x.load(l, &s.rigid, &s.tau);
         }
         rk4_group(&consts, &mut x, dt);
         for l in 0..j - i {
-            x.store(l, &mut group[i + l].4.state.rigid);
+            x.store(l, &mut group[i + l].physics.state.rigid);
         }
         i = j;
     }
@@ -453,22 +417,25 @@ fn remove_inward_velocity(rigid: &mut RigidState, n: &Vec3, current: &Vec3) {
 pub fn record_system(
     clock: Res<Clock>,
     cfg: Res<RecordConfig>,
-    mut q: Query<(
-        &Kind,
-        &Physics,
-        &Sensors,
-        &Control,
-        &Actuation,
-        &ContactStats,
-        &mut Track,
-    )>,
+    fleet: Res<Fleet>,
+    mut q: Query<(&VehicleId, &mut Track)>,
 ) {
     let next = clock.step + 1;
     if cfg.every == 0 || !next.is_multiple_of(cfg.every) {
         return;
     }
     let t = next as f64 * clock.dt;
-    for (kind, p, s, c, a, stats, mut track) in &mut q {
-        recorder::push_row(&mut track.0, t, &kind.0, &p.state, &s.0, c, &a.0, stats);
+    for (id, mut track) in &mut q {
+        let v = fleet.get(*id);
+        recorder::push_row(
+            &mut track.0,
+            t,
+            &v.model,
+            &v.physics.state,
+            &v.sensors,
+            &v.control,
+            &v.commands,
+            &v.contacts,
+        );
     }
 }

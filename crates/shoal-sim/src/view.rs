@@ -8,7 +8,8 @@
 
 use crate::behaviour::Behave;
 use crate::comm::CommStats;
-use crate::components::{ContactStats, Control, Kind, Physics, Sensors, VehicleId, VehicleName};
+use crate::components::{ContactStats, VehicleId, VehicleName};
+use crate::fleet::Fleet;
 use bevy_ecs::prelude::*;
 use shoal_model::prelude::*;
 use std::sync::Arc;
@@ -40,14 +41,19 @@ impl<'a> VehicleView<'a> {
     /// The view of `entity`, or `None` when it lacks one of a vehicle's components.
     pub fn of(world: &'a World, entity: Entity) -> Option<Self> {
         let e = world.get_entity(entity).ok()?;
+        let id = *e.get::<VehicleId>()?;
+        let v = world
+            .get_resource::<Fleet>()?
+            .as_slice()
+            .get(id.0 as usize)?;
         Some(Self {
-            id: e.get::<VehicleId>()?.0,
+            id: id.0,
             name: e.get::<VehicleName>()?.0.as_str(),
-            model: &e.get::<Kind>()?.0,
-            state: &e.get::<Physics>()?.state,
-            sensors: &e.get::<Sensors>()?.0,
-            setpoints: &e.get::<Control>()?.setpoints,
-            contacts: *e.get::<ContactStats>()?,
+            model: &v.model,
+            state: &v.physics.state,
+            sensors: &v.sensors,
+            setpoints: &v.control.setpoints,
+            contacts: v.contacts,
             comm: e.get::<CommStats>()?,
             behave: e.get::<Behave>(),
         })

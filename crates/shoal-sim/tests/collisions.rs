@@ -29,12 +29,12 @@ fn hull_front(v: &VehicleSnapshot) -> f64 {
 }
 
 fn set_velocity(sim: &mut Sim, id: usize, nu: Vec6) {
-    let mut q = sim.world_mut().query::<(&VehicleId, &mut Physics)>();
-    for (vid, mut p) in q.iter_mut(sim.world_mut()) {
-        if vid.0 as usize == id {
-            p.state.rigid.nu = nu;
-        }
-    }
+    sim.fleet_mut()
+        .get_mut(VehicleId(id as u32))
+        .physics
+        .state
+        .rigid
+        .nu = nu;
 }
 
 #[test]

@@ -113,9 +113,9 @@ fn every_mission_step_applies_on_time_when_missions_step_at_different_times() {
 
 #[test]
 fn a_conflicting_unordered_system_is_detected() {
-    // A second writer of the actuator commands in the Vehicle set, unordered with the
+    // A second writer of the vehicles' hot state in the Vehicle set, unordered with the
     // vehicle pass: exactly what the detector must refuse.
-    fn rogue(_q: Query<&mut Actuation>) {}
+    fn rogue(_fleet: ResMut<Fleet>) {}
     let mut world = World::new();
     let mut schedule = build_schedule(true, false);
     schedule.add_systems(rogue.in_set(StepSet::Vehicle));

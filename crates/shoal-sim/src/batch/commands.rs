@@ -436,33 +436,30 @@ impl Sim {
         mut apply: impl FnMut(T, usize, &VehicleModel, &mut Control),
     ) -> Result<(), CommandError> {
         let mut first: Option<(usize, usize, CommandError)> = None;
-        {
-            let mut q = self.world_mut().query::<(&VehicleId, &Kind, &Control)>();
-            for (id, k, c) in q.iter(self.world()) {
-                let r = rows[id.0 as usize];
-                if r == u32::MAX || first.as_ref().is_some_and(|f| f.0 < r as usize) {
-                    continue;
-                }
-                if let Err(e) = check(r as usize, &k.0, c) {
-                    first = Some((r as usize, id.0 as usize, e));
-                }
+        for (id, v) in self.fleet().as_slice().iter().enumerate() {
+            let r = rows[id];
+            if r == u32::MAX || first.as_ref().is_some_and(|f| f.0 < r as usize) {
+                continue;
+            }
+            if let Err(e) = check(r as usize, &v.model, &v.control) {
+                first = Some((r as usize, id, e));
             }
         }
         if let Some((_, id, e)) = first {
             return Err(self.at_vehicle(id, e));
         }
-        let mut q = self
-            .world_mut()
-            .query::<(&VehicleId, &Kind, &mut Control, Option<&mut External>)>();
-        for (id, k, mut c, ext) in q.iter_mut(self.world_mut()) {
-            let r = rows[id.0 as usize];
+        for (id, v) in self.fleet_mut().as_mut_slice().iter_mut().enumerate() {
+            let r = rows[id];
             if r == u32::MAX {
                 continue;
             }
-            if let Ok(v) = check(r as usize, &k.0, &c) {
-                apply(v, r as usize, &k.0, &mut c);
+            if let Ok(x) = check(r as usize, &v.model, &v.control) {
+                apply(x, r as usize, &v.model, &mut v.control);
             }
-            if let Some(mut x) = ext {
+        }
+        let mut q = self.world_mut().query::<(&VehicleId, &mut External)>();
+        for (id, mut x) in q.iter_mut(self.world_mut()) {
+            if rows[id.0 as usize] != u32::MAX {
                 x.fallback = false;
             }
         }

@@ -212,8 +212,12 @@ impl Sim {
     /// The shortest control period of any vehicle, in physics steps (1 for a world without
     /// vehicles): the step count of one control tick.
     pub fn control_steps(&mut self) -> u64 {
-        let mut q = self.world_mut().query::<&Control>();
-        q.iter(self.world()).map(|c| c.every).min().unwrap_or(1)
+        self.fleet()
+            .as_slice()
+            .iter()
+            .map(|v| v.control.every)
+            .min()
+            .unwrap_or(1)
     }
 
     /// Checks that `out` holds one row of `q` per vehicle; returns the row width.
@@ -245,11 +249,9 @@ impl Sim {
         let w = self.row_width(q, Dtype::F64, out.len())?;
         out.fill(0.0);
         let env = self.world().resource::<Physical>().env;
-        let mut query = self
-            .world_mut()
-            .query::<(&VehicleId, &Physics, &Sensors, &Control, &Actuation)>();
-        for (id, p, s, c, a) in query.iter(self.world()) {
-            let row = &mut out[id.0 as usize * w..(id.0 as usize + 1) * w];
+        for (id, v) in self.fleet().as_slice().iter().enumerate() {
+            let row = &mut out[id * w..(id + 1) * w];
+            let (p, s, c, a) = (&v.physics, &v.sensors, &v.control, &v.commands);
             let r = &p.state.rigid;
             match q {
                 Quantity::Position => put(row, r.position.as_slice()),
@@ -263,18 +265,18 @@ impl Sim {
                 }
                 Quantity::Velocity => put(row, r.nu.as_slice()),
                 Quantity::WorldVelocity => put(row, r.world_velocity(&env).as_slice()),
-                Quantity::DepthReading => row[0] = s.0.depth,
+                Quantity::DepthReading => row[0] = s.depth,
                 Quantity::ImuEuler => {
-                    let (a, b, c) = euler_rpy(&s.0.attitude);
+                    let (a, b, c) = euler_rpy(&s.attitude);
                     put(row, &[a, b, c]);
                 }
-                Quantity::Gyro => put(row, s.0.gyro.as_slice()),
-                Quantity::Accel => put(row, s.0.accel.as_slice()),
-                Quantity::TiltReading => put(row, &s.0.tilts),
+                Quantity::Gyro => put(row, s.gyro.as_slice()),
+                Quantity::Accel => put(row, s.accel.as_slice()),
+                Quantity::TiltReading => put(row, &s.tilts),
                 Quantity::Thrust => put(row, &p.state.actuators.thrust),
                 Quantity::TiltAngle => put(row, &p.state.actuators.tilt),
                 Quantity::Ballast => row[0] = p.state.ballast_volume,
-                Quantity::ThrusterCommand => put(row, &a.0.thrusters),
+                Quantity::ThrusterCommand => put(row, &a.thrusters),
                 Quantity::Setpoint => {
                     let sp = &c.setpoints;
                     put(row, &[sp.depth, sp.yaw, sp.surge, sp.sway]);
@@ -291,9 +293,11 @@ impl Sim {
         out.fill(0);
         let mut query = self
             .world_mut()
-            .query::<(&VehicleId, &Control, &Modems, &CommStats)>();
+            .query::<(&VehicleId, &Modems, &CommStats)>();
         let n = |x: u64| i64::try_from(x).unwrap_or(i64::MAX);
-        for (id, c, m, st) in query.iter(self.world()) {
+        let fleet = self.fleet();
+        for (id, m, st) in query.iter(self.world()) {
+            let c = &fleet.get(*id).control;
             let row = &mut out[id.0 as usize * w..(id.0 as usize + 1) * w];
             match q {
                 Quantity::Mode => row[0] = super::mode_code(c.setpoints.mode),
@@ -322,12 +326,10 @@ impl Sim {
     /// Reads boolean quantity `q` of every vehicle into `out` (see [`Self::read_f64`]).
     pub fn read_bool(&mut self, q: Quantity, out: &mut [bool]) -> Result<(), CommandError> {
         self.row_width(q, Dtype::Bool, out.len())?;
-        let mut query = self
-            .world_mut()
-            .query::<(&VehicleId, &Sensors, &ContactStats)>();
-        for (id, s, c) in query.iter(self.world()) {
-            out[id.0 as usize] = match q {
-                Quantity::TankFull => s.0.tank_full,
+        for (x, v) in out.iter_mut().zip(self.fleet().as_slice()) {
+            let (s, c) = (&v.sensors, &v.contacts);
+            *x = match q {
+                Quantity::TankFull => s.tank_full,
                 Quantity::Touching => c.touching,
                 _ => unreachable!("row_width checked the type"),
             };

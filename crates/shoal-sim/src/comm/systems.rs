@@ -6,7 +6,8 @@ use super::frames::{CommRng, Inbox, Modems, Outbox, Queued, Received};
 use super::grid::Grid;
 use super::medium::{Logical, Medium, Transmission, received_power};
 use super::stats::{CommStats, DIST_BIN, DIST_BINS, Outcome, Tally, latency_bin};
-use crate::components::{Kind, Physics, StaticGeometry, VehicleId};
+use crate::components::{Kind, StaticGeometry, VehicleId};
+use crate::fleet::Fleet;
 use crate::parallel::{Loop, Parallel};
 use crate::rng::VehicleRng;
 use bevy_ecs::prelude::*;
@@ -23,7 +24,8 @@ use std::sync::Arc;
 pub fn comm_snapshot_system(
     clock: Res<crate::components::Clock>,
     mut medium: ResMut<Medium>,
-    q: Query<(&VehicleId, &Physics, &Modems, &Outbox)>,
+    fleet: Res<Fleet>,
+    q: Query<(&Modems, &Outbox)>,
 ) {
     if !medium.active() {
         return;
@@ -31,13 +33,14 @@ pub fn comm_snapshot_system(
     // Nothing on the air and nothing waiting to go: the medium has no work this step.
     let idle = medium.txs.is_empty()
         && q.iter()
-            .all(|(_, _, modems, out)| out.0.is_empty() && modems.queued == 0);
+            .all(|(modems, out)| out.0.is_empty() && modems.queued == 0);
     if idle {
         return;
     }
     let m = &mut *medium;
-    for (id, p, _, _) in &q {
-        m.poses[id.0 as usize] = (p.state.rigid.position, p.state.rigid.attitude);
+    for (pose, v) in m.poses.iter_mut().zip(fleet.as_slice()) {
+        let r = &v.physics.state.rigid;
+        *pose = (r.position, r.attitude);
     }
     m.update_grid();
     // A frame ending in the coming steps started at most `max_airtime` before its end; what

@@ -11,8 +11,9 @@ use super::{
     Timeline,
 };
 use crate::comm::{CommStats, Medium, Outcome as CommOutcome};
-use crate::components::{Clock, Control, Physics, Sensors, VehicleId};
+use crate::components::{Clock, VehicleId};
 use crate::connectivity::Connectivity;
+use crate::fleet::Fleet;
 use crate::recorder::mode_code;
 use bevy_ecs::prelude::*;
 use shoal_model::control::Mode;
@@ -254,7 +255,8 @@ pub fn replay_system(
     clock: Res<Clock>,
     rec: Option<ResMut<ReplayRecorder>>,
     conn: Res<Connectivity>,
-    mut q: Query<(&VehicleId, &Physics, &Sensors, &Control, &mut CommStats)>,
+    fleet: Res<Fleet>,
+    mut q: Query<(&VehicleId, &mut CommStats)>,
 ) {
     let Some(mut rec) = rec else {
         return;
@@ -273,9 +275,9 @@ pub fn replay_system(
         let base = rec.data.pos.len();
         rec.data.pos.resize(base + 3 * n, 0);
         rec.data.att.resize(base + 3 * n, 0);
-        for (id, p, _, _, mut stats) in &mut q {
+        for (id, mut stats) in &mut q {
             let i = base + 3 * id.0 as usize;
-            let r = &p.state.rigid;
+            let r = &fleet.get(*id).physics.state.rigid;
             let (roll, pitch, yaw) = r.attitude.euler_angles();
             for (k, span) in pool.iter().enumerate() {
                 rec.data.pos[i + k] = q_pos(r.position[k], *span);
@@ -301,10 +303,12 @@ pub fn replay_system(
         let w = PANEL.len();
         let base = rec.data.panel.len();
         rec.data.panel.resize(base + w * n, 0.0);
-        for (id, _, s, c, stats) in &q {
+        for (id, stats) in &q {
             let i = base + w * id.0 as usize;
+            let v = fleet.get(*id);
+            let (s, c) = (&v.sensors, &v.control);
             let row = [
-                s.0.depth,
+                s.depth,
                 c.setpoints.depth,
                 c.setpoints.yaw,
                 mode_code(c.setpoints.mode),
