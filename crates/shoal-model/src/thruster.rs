@@ -207,11 +207,13 @@ pub struct ActuatorState {
     /// Actual thrust of each thruster after the lag, at the end of the last step \[N\].
     pub thrust: PerActuator,
     /// Output of the first stage of a two-stage lag, at the end of the last step \[N\] (empty
-    /// or unused for single-stage lags).
-    pub stage: PerActuator,
+    /// until a thruster with a two-stage lag first runs, then one per thruster; on the heap,
+    /// so that the many vehicles without such a lag do not carry it inline).
+    pub stage: Vec<f64>,
     /// The command each motor applies after its slew-rate limit ([`ThrusterParams::ramp`]),
-    /// at the end of the last step [%] (empty or unused without a limit).
-    pub command: PerActuator,
+    /// at the end of the last step [%] (empty until a thruster with a limit first runs, then
+    /// one per thruster; on the heap like `stage`).
+    pub command: Vec<f64>,
 }
 
 /// Advances tilt drives and thrust lags by `dt` \[s\] and returns the generalised force τ
@@ -399,8 +401,8 @@ mod tests {
         ActuatorState {
             tilt: PerActuator::new(),
             thrust: PerActuator::from_elem(0.0, 1),
-            stage: PerActuator::new(),
-            command: PerActuator::new(),
+            stage: Vec::new(),
+            command: Vec::new(),
         }
     }
 

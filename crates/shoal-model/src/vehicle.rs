@@ -172,7 +172,10 @@ pub struct VehicleState {
     pub time: f64,
     /// Readings waiting to be released by a sensor delay, oldest first, with the time each
     /// was taken \[s\].
-    pub delayed: VecDeque<(f64, SensorReadings)>,
+    ///
+    /// Boxed: only vehicles whose model has a sensor delay use it, and the rest should not
+    /// carry an empty queue inline.
+    pub delayed: Option<Box<VecDeque<(f64, SensorReadings)>>>,
 }
 
 impl VehicleState {
@@ -185,9 +188,9 @@ impl VehicleState {
             actuators: ActuatorState {
                 tilt: PerActuator::from_elem(0.0, p.tilts.len()),
                 thrust: PerActuator::from_elem(0.0, p.thrusters.len()),
-                stage: PerActuator::from_elem(0.0, p.thrusters.len()),
-                // Filled on the first step of a thruster with a slew-rate limit.
-                command: PerActuator::new(),
+                // Both filled on the first step of a thruster that needs them.
+                stage: Vec::new(),
+                command: Vec::new(),
             },
             ballast_volume: vol,
             mass: if env.density == model.density {
@@ -198,7 +201,7 @@ impl VehicleState {
             accel: Vec6::zeros(),
             tau: Vec6::zeros(),
             time: 0.0,
-            delayed: VecDeque::new(),
+            delayed: None,
         }
     }
 
@@ -371,12 +374,13 @@ pub fn sense<R: Rng + ?Sized>(
     let delay = model.effects.delay();
     if delay > 0.0 {
         let now = state.time;
-        state.delayed.push_back((now, out.clone()));
+        let delayed = state.delayed.get_or_insert_default();
+        delayed.push_back((now, out.clone()));
         // Release the newest reading taken at or before now − delay; keep it at the front.
-        while state.delayed.len() > 1 && state.delayed[1].0 <= now - delay + 1e-9 {
-            state.delayed.pop_front();
+        while delayed.len() > 1 && delayed[1].0 <= now - delay + 1e-9 {
+            delayed.pop_front();
         }
-        if let Some((t, r)) = state.delayed.front()
+        if let Some((t, r)) = delayed.front()
             && *t <= now - delay + 1e-9
         {
             out.clone_from(r);

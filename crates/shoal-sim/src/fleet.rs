@@ -45,6 +45,14 @@ pub struct Fleet {
 }
 
 impl Fleet {
+    /// An empty fleet with room for `n` vehicles (so that building a large world does not
+    /// hold the array twice while it grows).
+    pub fn with_capacity(n: usize) -> Self {
+        Self {
+            vehicles: Vec::with_capacity(n),
+        }
+    }
+
     /// Appends the vehicle with the next id (its id is the fleet's length before the call).
     pub fn push(&mut self, v: HotVehicle) {
         self.vehicles.push(v);
@@ -123,11 +131,7 @@ mod tests {
             let state = VehicleState::new(&m, rest, &env);
             f.push(HotVehicle {
                 model: m.clone(),
-                physics: Physics {
-                    prev_position: Vec3::zeros(),
-                    state,
-                    fault: None,
-                },
+                physics: Physics { state, fault: None },
                 control: Control {
                     state: m.controller(),
                     setpoints: Setpoints::default(),

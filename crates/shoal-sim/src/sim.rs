@@ -111,67 +111,27 @@ impl Sim {
             0
         };
         world.insert_resource(RecordConfig { every });
-        let mut entities = Vec::with_capacity(desc.vehicles.len());
-        let mut fleet = Fleet::default();
-        for (i, v) in desc.vehicles.iter().enumerate() {
-            cancel.check()?;
-            let id = i as u32;
-            let m = &v.model;
-            let mut state =
-                VehicleState::new(m, RigidState::at_rest(v.position, v.attitude), &desc.env);
-            let mut rng = vehicle_rng(desc.seed, id, stream::SENSORS);
-            let mut readings = SensorReadings::zeros(m.params.tilts.len());
-            sense(m, &mut state, &desc.env, &mut rng, &mut readings);
-            let mut control = Control {
-                state: m.controller(),
-                setpoints: Setpoints {
-                    raw: m.zero_commands(),
-                    ..Default::default()
-                },
-                mission: v.mission.clone(),
-                cursor: MissionCursor::default(),
-                every: (m.params.control.period / desc.dt).round().max(1.0) as u64,
-            };
-            // Steps at t = 0 are in force from the first recorded row on.
-            control
-                .cursor
-                .advance(&control.mission, 0.0, &mut control.setpoints);
-            let cmd = m.zero_commands();
-            let mut track = Track(Vec::new());
-            if every > 0 {
-                // One row: the run driver drains every few steps, and a large world drains
-                // after every step, so rows per vehicle stay few.
-                track.0.reserve_exact(recorder::stride(m));
-                recorder::push_row(
-                    &mut track.0,
-                    0.0,
-                    m,
-                    &state,
-                    &readings,
-                    &control,
-                    &cmd,
-                    &ContactStats::default(),
-                );
-            }
-            fleet.push(HotVehicle {
-                model: m.clone(),
-                physics: Physics {
-                    prev_position: v.position,
-                    state,
-                    fault: None,
-                },
-                control,
-                commands: cmd,
-                sensors: readings,
-                sensor_rng: rng,
-                contacts: ContactStats::default(),
-            });
-            let e = world
-                .spawn((
+        let mut fleet = Fleet::with_capacity(desc.vehicles.len());
+        let mut names = VehicleNames::with_capacity(desc.vehicles.len());
+        let mut tracks = Tracks(Vec::with_capacity(if every > 0 {
+            desc.vehicles.len()
+        } else {
+            0
+        }));
+        // One batch, so that the ECS tables are sized once for the whole swarm instead of
+        // doubling (and briefly holding the old and the new column) as it grows.
+        let entities: Vec<Entity> = world
+            .spawn_batch(desc.vehicles.iter().enumerate().map_while(|(i, v)| {
+                cancel.check().ok()?;
+                let id = i as u32;
+                let (hot, track) = new_vehicle(desc, id, every);
+                fleet.push(hot);
+                tracks.0.extend(track);
+                names.push(&v.name);
+                let m = &v.model;
+                Some((
                     VehicleId(id),
-                    VehicleName(v.name.clone()),
                     Kind(m.clone()),
-                    track,
                     (
                         Modems::new(m.params.modems.len()),
                         Outbox::default(),
@@ -180,7 +140,10 @@ impl Sim {
                         CommStats::default(),
                     ),
                 ))
-                .id();
+            }))
+            .collect();
+        cancel.check()?;
+        for (id, (v, &e)) in desc.vehicles.iter().zip(&entities).enumerate() {
             if let Some(a) = &v.agent {
                 let agent = desc.agents.names.iter().position(|n| n == a).unwrap_or(0);
                 world.entity_mut(e).insert(External {
@@ -191,12 +154,13 @@ impl Sim {
             if let Some(b) = &v.behaviour {
                 world.entity_mut(e).insert(Behave {
                     behaviour: behaviour::build(b),
-                    rng: vehicle_rng(desc.seed, id, stream::BEHAVIOUR),
+                    rng: vehicle_rng(desc.seed, id as u32, stream::BEHAVIOUR),
                 });
             }
-            entities.push(e);
         }
         world.insert_resource(fleet);
+        world.insert_resource(names);
+        world.insert_resource(tracks);
         let mut sim = Self {
             world,
             schedule: build_schedule(false, false),
@@ -239,11 +203,7 @@ impl Sim {
             .iter()
             .enumerate()
             .find_map(|(id, v)| Some((id, v.physics.fault.as_ref()?)))?;
-        let name = self
-            .world
-            .get::<VehicleName>(self.entities[id])
-            .map(|n| n.0.clone())
-            .unwrap_or_default();
+        let name = self.name(id).to_owned();
         Some(SimFault {
             vehicle: id,
             name,
@@ -361,10 +321,7 @@ impl Sim {
         let v = self.fleet().get(VehicleId(id as u32));
         VehicleSnapshot {
             id: id as u32,
-            name: e
-                .get::<VehicleName>()
-                .map(|n| n.0.clone())
-                .unwrap_or_default(),
+            name: self.name(id).to_owned(),
             model: v.model.clone(),
             state: v.physics.state.clone(),
             sensors: v.sensors.clone(),
@@ -384,6 +341,14 @@ impl Sim {
                 .map(|b| b.behaviour.report())
                 .unwrap_or_default(),
         }
+    }
+
+    /// The name of vehicle `id` (empty if there is no such vehicle).
+    pub fn name(&self, id: usize) -> &str {
+        self.world
+            .resource::<VehicleNames>()
+            .get(id)
+            .unwrap_or_default()
     }
 
     /// The hot state of every vehicle ([`crate::fleet`]).
@@ -462,16 +427,13 @@ impl Sim {
 
     /// Takes the trajectory rows recorded since the last drain.
     pub fn drain(&mut self) -> RecordBatch {
-        let rows = self
-            .entities
-            .iter()
-            .map(|e| {
-                self.world
-                    .get_mut::<Track>(*e)
-                    .map(|mut t| std::mem::take(&mut t.0))
-                    .unwrap_or_default()
-            })
-            .collect();
+        let n = self.len();
+        let mut tracks = self.world.resource_mut::<Tracks>();
+        let rows = if tracks.0.is_empty() {
+            vec![Vec::new(); n]
+        } else {
+            tracks.0.iter_mut().map(std::mem::take).collect()
+        };
         RecordBatch { rows }
     }
 
@@ -497,4 +459,57 @@ impl Sim {
         }
         h
     }
+}
+
+/// Vehicle `id` of `desc` at rest where the world file puts it, with its first sensor
+/// readings, its mission's steps at t = 0 applied, and (when recording every `every` > 0 steps)
+/// its track with the first trajectory row.
+fn new_vehicle(desc: &WorldDesc, id: u32, every: u64) -> (HotVehicle, Option<Vec<f64>>) {
+    let v = &desc.vehicles[id as usize];
+    let m = &v.model;
+    let mut state = VehicleState::new(m, RigidState::at_rest(v.position, v.attitude), &desc.env);
+    let mut rng = vehicle_rng(desc.seed, id, stream::SENSORS);
+    let mut readings = SensorReadings::zeros(m.params.tilts.len());
+    sense(m, &mut state, &desc.env, &mut rng, &mut readings);
+    let mut control = Control {
+        state: m.controller(),
+        setpoints: Setpoints {
+            raw: m.zero_commands(),
+            ..Default::default()
+        },
+        mission: v.mission.clone(),
+        cursor: MissionCursor::default(),
+        every: (m.params.control.period / desc.dt).round().max(1.0) as u64,
+    };
+    // Steps at t = 0 are in force from the first recorded row on.
+    control
+        .cursor
+        .advance(&control.mission, 0.0, &mut control.setpoints);
+    let cmd = m.zero_commands();
+    let mut track = None;
+    if every > 0 {
+        // One row: the run driver drains every few steps, and a large world drains after
+        // every step, so rows per vehicle stay few.
+        let track = track.insert(Vec::with_capacity(recorder::stride(m)));
+        recorder::push_row(
+            track,
+            0.0,
+            m,
+            &state,
+            &readings,
+            &control,
+            &cmd,
+            &ContactStats::default(),
+        );
+    }
+    let hot = HotVehicle {
+        model: m.clone(),
+        physics: Physics { state, fault: None },
+        control,
+        commands: cmd,
+        sensors: readings,
+        sensor_rng: rng,
+        contacts: ContactStats::default(),
+    };
+    (hot, track)
 }

@@ -226,6 +226,7 @@ pub fn vehicle_system(
     par.for_each_group(Loop::Vehicles, fleet.as_mut_slice(), LANES, |group| {
         let mut before: [Option<RigidState>; LANES] = Default::default();
         let mut nu0 = [Vec6::zeros(); LANES];
+        let mut prev = [Vec3::zeros(); LANES];
         for (i, v) in group.iter_mut().enumerate() {
             let m = &*v.model;
             if step.is_multiple_of(v.control.every) {
@@ -233,7 +234,7 @@ pub fn vehicle_system(
             }
             let p = &mut v.physics;
             actuate_vehicle(m, &mut p.state, &v.commands, &env, dt);
-            p.prev_position = p.state.rigid.position;
+            prev[i] = p.state.rigid.position;
             nu0[i] = p.state.rigid.nu;
             before[i] = Some(p.state.rigid.clone());
         }
@@ -264,7 +265,7 @@ pub fn vehicle_system(
                 restore_finite(p, last, t_end);
                 flag.0.store(true, Ordering::Relaxed);
             }
-            collide_vehicle(m, geo, &env, p, &mut v.contacts);
+            collide_vehicle(m, geo, &env, &prev[i], &mut p.state.rigid, &mut v.contacts);
             if (step + 1).is_multiple_of(v.control.every) {
                 sense(m, &mut p.state, &env, &mut v.sensor_rng, &mut v.sensors);
             }
@@ -343,20 +344,21 @@ const CONTACT_MARGIN: f64 = 1e-3;
 const BACKOFF: f64 = 1e-4;
 
 /// Keeps the vehicle's hull out of walls, floor and obstacles: a swept test along the step's
-/// displacement (no tunnelling through thin obstacles at any speed), then penetration
-/// removal along the contact normals and removal of the velocity component into the surface
+/// displacement from `prev` (the body origin at the start of the step, world frame \[m\]) to
+/// `rigid` (no tunnelling through thin obstacles at any speed), then penetration removal
+/// along the contact normals and removal of the velocity component into the surface
 /// (inelastic); contacts are counted in `stats`.
 fn collide_vehicle(
     m: &VehicleModel,
     geo: &shoal_world::geometry::Geometry,
     env: &Environment,
-    p: &mut Physics,
+    prev: &Vec3,
+    rigid: &mut RigidState,
     stats: &mut ContactStats,
 ) {
     let current = m.environment(env).current;
     let hull = hull_shape(&m.params.body.hull_size);
-    let prev = p.prev_position;
-    let rigid = &mut p.state.rigid;
+    let prev = *prev;
     let mut touched = false;
     let mut max_depth: f64 = 0.0;
     let delta = rigid.position - prev;
@@ -418,17 +420,16 @@ pub fn record_system(
     clock: Res<Clock>,
     cfg: Res<RecordConfig>,
     fleet: Res<Fleet>,
-    mut q: Query<(&VehicleId, &mut Track)>,
+    mut tracks: ResMut<Tracks>,
 ) {
     let next = clock.step + 1;
     if cfg.every == 0 || !next.is_multiple_of(cfg.every) {
         return;
     }
     let t = next as f64 * clock.dt;
-    for (id, mut track) in &mut q {
-        let v = fleet.get(*id);
+    for (track, v) in tracks.0.iter_mut().zip(fleet.as_slice()) {
         recorder::push_row(
-            &mut track.0,
+            track,
             t,
             &v.model,
             &v.physics.state,

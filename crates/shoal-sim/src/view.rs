@@ -8,7 +8,7 @@
 
 use crate::behaviour::Behave;
 use crate::comm::CommStats;
-use crate::components::{ContactStats, VehicleId, VehicleName};
+use crate::components::{ContactStats, VehicleId, VehicleNames};
 use crate::fleet::Fleet;
 use bevy_ecs::prelude::*;
 use shoal_model::prelude::*;
@@ -48,7 +48,7 @@ impl<'a> VehicleView<'a> {
             .get(id.0 as usize)?;
         Some(Self {
             id: id.0,
-            name: e.get::<VehicleName>()?.0.as_str(),
+            name: world.get_resource::<VehicleNames>()?.get(id.0 as usize)?,
             model: &v.model,
             state: &v.physics.state,
             sensors: &v.sensors,

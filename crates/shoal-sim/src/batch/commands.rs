@@ -212,10 +212,7 @@ impl Sim {
     /// `e` completed with vehicle `id`'s id and name.
     fn at_vehicle(&self, id: usize, mut e: CommandError) -> CommandError {
         e.vehicle = Some(id);
-        e.name = self
-            .world()
-            .get::<VehicleName>(self.vehicle_entity(id))
-            .map(|n| n.0.clone());
+        e.name = Some(self.name(id).to_owned());
         e
     }
 

@@ -141,8 +141,8 @@ pub(super) fn build(
     }
     let geometry = Geometry::new(pool_size, obstacles);
 
-    // Vehicle groups.
-    let mut vehicles = Vec::new();
+    // Vehicle groups (the memory check above has bounded the total count).
+    let mut vehicles = Vec::with_capacity(wf.vehicles.iter().map(|g| g.count).sum());
     let mut groups = Vec::new();
     for (gi, g) in wf.vehicles.iter().enumerate() {
         groups.push(group(g, gi, wf, &env, &geometry, v, &mut vehicles, cancel)?);
