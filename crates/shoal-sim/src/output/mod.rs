@@ -29,8 +29,10 @@ use shoal_world::cancel::Cancel;
 use shoal_world::desc::WorldDesc;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
-use vehicles_csv::{format_num, write_vehicles_csv};
+use numbers::write_num;
+use vehicles_csv::write_vehicles_csv;
 
+mod numbers;
 mod plots;
 mod summary;
 mod vehicles_csv;
@@ -214,11 +216,11 @@ impl RunOutput {
                 rec.iter_mut().for_each(|c| c.clear());
                 for (j, x) in row.iter().enumerate() {
                     let target = self.maps[self.kind_of[i] as usize][j];
-                    rec[target] = if j == col::MODE {
-                        mode_of_code(*x).name().to_string()
+                    if j == col::MODE {
+                        rec[target].push_str(mode_of_code(*x).name());
                     } else {
-                        format_num(*x)
-                    };
+                        write_num(*x, &mut rec[target]);
+                    }
                 }
                 rec[1].clone_from(&self.names[i]);
                 self.csv.write_record(&rec)?;

@@ -1,23 +1,11 @@
 //! `vehicles.csv`: one row per vehicle (its summary and, with optical traffic, its
-//! communication counters), numbers written in their shortest exact form.
+//! communication counters), numbers written as [`super::numbers`] says.
 
 use super::VehicleSummary;
+use super::numbers::format_num;
 use crate::comm_report::VehicleComm;
 use crate::files::{CsvFile, FileError};
 use std::path::{Path, PathBuf};
-
-/// `x` rounded to 7 significant digits in its shortest form (whole numbers exactly).
-pub(super) fn format_num(x: f64) -> String {
-    if x == 0.0 {
-        "0".into()
-    } else if x == x.trunc() && x.abs() < 1e15 {
-        format!("{x:.0}")
-    } else {
-        format!("{x:.6e}")
-            .parse::<f64>()
-            .map_or_else(|_| x.to_string(), |v| v.to_string())
-    }
-}
 
 /// `vehicles.csv`: one row per vehicle with its [`VehicleSummary`] and, when the world has
 /// optical traffic, its communication counters (units in the column names), so that
