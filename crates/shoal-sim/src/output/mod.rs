@@ -24,12 +24,12 @@ use crate::plot::{Plot, PlotError};
 use crate::recorder::{self, RecordBatch, col, mode_of_code};
 use crate::sim::Sim;
 use crate::view::VehicleView;
+use numbers::write_num;
 use shoal_model::prelude::*;
 use shoal_world::cancel::Cancel;
 use shoal_world::desc::WorldDesc;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
-use numbers::write_num;
 use vehicles_csv::write_vehicles_csv;
 
 mod numbers;

@@ -3,7 +3,9 @@
 //! exactly), e.g. `0.1234568`, `-2.5`, `1300`, `0.0000001`.
 //!
 //! A 10,000-vehicle run writes millions of numbers, so [`write_num`] renders the rounded
-//! digits straight into a reused buffer: one exact conversion, no allocation. The digits of
+//! digits straight into a reused buffer without allocating: the 7 digits come from one
+//! scaling by an exact power of ten when that settles the rounding, else from the standard
+//! library's exact conversion. The digits of
 //! the shortest form of the rounded value are the rounded digits without trailing zeros (an
 //! f64 resolves about 16 digits, so no shorter decimal reads back as the same value), except
 //! among subnormal numbers, which take the general path.
@@ -34,21 +36,8 @@ pub(super) fn write_num(x: f64, out: &mut String) {
     } else if x.abs() < TINY {
         general(x, out);
     } else {
-        // d.dddddde±X, then positional.
-        let mut sci = Sci::default();
-        let _ = write!(sci, "{:.6e}", x.abs());
-        let s = &sci.buf[..sci.len];
-        let e = s.iter().position(|&c| c == b'e').unwrap_or(s.len());
-        let exp: i32 = std::str::from_utf8(&s[e + 1..])
-            .ok()
-            .and_then(|t| t.parse().ok())
-            .unwrap_or(0);
-        let mut digits = [0u8; 7];
-        let mut k = 0;
-        for &c in s[..e].iter().filter(|c| c.is_ascii_digit()) {
-            digits[k] = c;
-            k += 1;
-        }
+        let (mut digits, exp) = seven_digits(x.abs()).unwrap_or_else(|| exact_digits(x.abs()));
+        let mut k = 7;
         while k > 1 && digits[k - 1] == b'0' {
             k -= 1;
         }
@@ -57,6 +46,65 @@ pub(super) fn write_num(x: f64, out: &mut String) {
         }
         positional(&digits[..k], exp, out);
     }
+}
+
+/// Exact powers of ten that an f64 holds.
+const POW10: [f64; 23] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
+    1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
+];
+
+/// The 7 significant digits of `a` > 0 correctly rounded, and the decimal exponent of the
+/// first, by one scaling with an exact power of ten (one rounding, relative error ≤ 2⁻⁵³, so
+/// at most 1.2·10⁻⁹ on the 7-digit integer); `None` when that cannot settle the rounding (the
+/// scaled value within 10⁻⁶ of a tie, or a power beyond 10²²): the exact path decides then.
+fn seven_digits(a: f64) -> Option<([u8; 7], i32)> {
+    let mut e = a.log10().floor() as i32;
+    // log10 may be one off near a power of ten: at most one correction each way.
+    for _ in 0..3 {
+        let p = e - 6;
+        let scaled = match usize::try_from(p) {
+            Ok(p) => a / *POW10.get(p)?,
+            Err(_) => a * *POW10.get(usize::try_from(-p).ok()?)?,
+        };
+        if scaled < 999_999.5 {
+            e -= 1;
+        } else if scaled >= 9_999_999.5 {
+            e += 1;
+        } else {
+            if (scaled - scaled.floor() - 0.5).abs() < 1e-6 {
+                return None;
+            }
+            let mut r = scaled.round() as u32;
+            let mut digits = [b'0'; 7];
+            for d in digits.iter_mut().rev() {
+                *d = b'0' + (r % 10) as u8;
+                r /= 10;
+            }
+            return Some((digits, e));
+        }
+    }
+    None
+}
+
+/// [`seven_digits`] by the standard library's exact conversion (`{:.6e}`).
+fn exact_digits(a: f64) -> ([u8; 7], i32) {
+    let mut sci = Sci::default();
+    let _ = write!(sci, "{a:.6e}");
+    let s = &sci.buf[..sci.len];
+    let e = s.iter().position(|&c| c == b'e').unwrap_or(s.len());
+    let exp: i32 = std::str::from_utf8(&s[e + 1..])
+        .ok()
+        .and_then(|t| t.parse().ok())
+        .unwrap_or(0);
+    let mut digits = [b'0'; 7];
+    for (d, &c) in digits
+        .iter_mut()
+        .zip(s[..e].iter().filter(|c| c.is_ascii_digit()))
+    {
+        *d = c;
+    }
+    (digits, exp)
 }
 
 /// Writes 0.d₁d₂…dₖ × 10^(exp + 1) without an exponent.
@@ -161,6 +209,14 @@ mod tests {
         fn agrees_with_the_definition_on_everyday_values(m in -1e7f64..1e7, e in -12i32..12) {
             let x = m * 10f64.powi(e);
             prop_assert_eq!(format_num(x), reference(x));
+        }
+
+        #[test]
+        fn agrees_with_the_definition_near_ties(k in 1_000_000u32..10_000_000, e in -30i32..30) {
+            // Seven digits and a half: the nearest f64 lies just above or below the tie.
+            let x = (f64::from(k) + 0.5) * 10f64.powi(e);
+            prop_assert_eq!(format_num(x), reference(x));
+            prop_assert_eq!(format_num(-x), reference(-x));
         }
     }
 }
