@@ -371,8 +371,14 @@ fn collide_vehicle(
             touched = true;
         }
     }
+    // A hull whose bounding sphere, with the margin, is clear of every surface's bounding box
+    // has no contact (and `contacts` would find none): most of a swarm, most of the time.
+    let reach = 0.5 * m.params.body.hull_size.norm() + CONTACT_MARGIN;
     let mut contacts = Vec::new();
     for _ in 0..4 {
+        if !touched && geo.clear_around(&rigid.position, reach) {
+            break;
+        }
         contacts.clear();
         let pose = to_pose(&rigid.position, &rigid.attitude);
         geo.contacts(&hull, &pose, CONTACT_MARGIN, &mut contacts);

@@ -139,6 +139,20 @@ impl Geometry {
         )
     }
 
+    /// Whether nothing — walls, floor, obstacles — lies within the axis-aligned box of
+    /// half-width `reach` \[m\] around `center` (world frame \[m\]), judged by bounding boxes
+    /// only: `true` means that a hull within `reach` of `center` (its bounding sphere plus a
+    /// contact margin) has no contact, whatever its attitude, and [`Geometry::contacts`] would
+    /// find none; `false` means that it may have one. Costs a few comparisons, so a swarm in
+    /// open water skips the shape queries.
+    pub fn clear_around(&self, center: &Vec3, reach: f64) -> bool {
+        let c = to_vector(center);
+        let r = Vector::new(reach, reach, reach);
+        let aabb = Aabb::new(c - r, c + r);
+        self.pool_interior().contains(&aabb)
+            && !self.obstacles.iter().any(|ob| ob.aabb.intersects(&aabb))
+    }
+
     /// Every contact of `hull` at `pose` with walls, floor and obstacles closer than `margin`
     /// \[m\], appended to `out` (`depth` < 0 for a gap smaller than the margin).
     pub fn contacts(&self, hull: &Cuboid, pose: &Pose, margin: f64, out: &mut Vec<HullContact>) {
@@ -299,6 +313,46 @@ mod tests {
             &Quat::identity(),
         );
         Geometry::new(Vec3::new(10.0, 4.0, 2.0), vec![plate])
+    }
+
+    #[test]
+    fn clear_around_holds_exactly_where_no_attitude_can_touch() {
+        let g = pool();
+        let size = Vec3::new(0.27, 0.156, 0.182);
+        let hull = hull_shape(&size);
+        let margin = 1e-3;
+        let reach = 0.5 * size.norm() + margin;
+        // Any attitude, sampled: where the box is clear, no contact within the margin.
+        let attitudes: Vec<Quat> = (0..24)
+            .map(|k| {
+                let a = f64::from(k) * 0.37;
+                Quat::from_euler_angles(a, 2.0 * a, 3.0 * a)
+            })
+            .collect();
+        let mut clear = 0;
+        for x in [0.05, 0.3, 2.0, 4.7, 4.85, 9.9] {
+            for z in [-0.1, 0.2, 1.0, 1.8, 1.95] {
+                let p = Vec3::new(x, 2.0, z);
+                if !g.clear_around(&p, reach) {
+                    continue;
+                }
+                clear += 1;
+                for q in &attitudes {
+                    let mut c = Vec::new();
+                    g.contacts(&hull, &to_pose(&p, q), margin, &mut c);
+                    assert!(c.is_empty(), "{p:?} {q:?}: {c:?}");
+                }
+            }
+        }
+        assert!(clear >= 6, "{clear}");
+        // Near the floor, a wall and the plate it is not clear.
+        for p in [
+            Vec3::new(2.0, 2.0, 1.95),
+            Vec3::new(0.05, 2.0, 1.0),
+            Vec3::new(4.85, 2.0, 1.0),
+        ] {
+            assert!(!g.clear_around(&p, reach), "{p:?}");
+        }
     }
 
     #[test]
