@@ -71,13 +71,34 @@ pub trait Behaviour: Send + Sync + 'static {
     }
 }
 
-/// The behaviour of a vehicle, with its random stream.
+/// The behaviour of a vehicle, with its random stream and its tick period.
 #[derive(Component)]
 pub struct Behave {
     /// The behaviour.
     pub behaviour: Box<dyn Behaviour>,
     /// Its random stream.
     pub rng: VehicleRng,
+    /// Its tick period in physics steps: 1 for a behaviour that runs every step, else the
+    /// vehicle's control period (kept here, so that finding the behaviours due at a step
+    /// reads no other state of the vehicle).
+    pub every: u64,
+}
+
+impl Behave {
+    /// `behaviour` with its random stream, on a vehicle whose controller runs every
+    /// `control_every` physics steps.
+    pub fn new(behaviour: Box<dyn Behaviour>, rng: VehicleRng, control_every: u64) -> Self {
+        let every = if behaviour.every_step() {
+            1
+        } else {
+            control_every.max(1)
+        };
+        Self {
+            behaviour,
+            rng,
+            every,
+        }
+    }
 }
 
 /// Builds a built-in behaviour from its file description.

@@ -152,10 +152,11 @@ impl Sim {
                 });
             }
             if let Some(b) = &v.behaviour {
-                world.entity_mut(e).insert(Behave {
-                    behaviour: behaviour::build(b),
-                    rng: vehicle_rng(desc.seed, id as u32, stream::BEHAVIOUR),
-                });
+                world.entity_mut(e).insert(Behave::new(
+                    behaviour::build(b),
+                    vehicle_rng(desc.seed, id as u32, stream::BEHAVIOUR),
+                    fleet.get(VehicleId(id as u32)).control.every,
+                ));
             }
         }
         world.insert_resource(fleet);

@@ -153,9 +153,7 @@ pub fn behaviour_system(
     let dt = clock.dt;
     let mut ticking: Vec<_> = q
         .iter_mut()
-        .filter(|it| {
-            it.1.behaviour.every_step() || step.is_multiple_of(fleet.get(*it.0).control.every)
-        })
+        .filter(|it| step.is_multiple_of(it.1.every))
         .collect();
     if ticking.is_empty() {
         return;
@@ -171,11 +169,7 @@ pub fn behaviour_system(
             let mut io = BehaviourIo {
                 t,
                 id: id.0,
-                period: if b.behaviour.every_step() {
-                    dt
-                } else {
-                    v.control.every as f64 * dt
-                },
+                period: b.every as f64 * dt,
                 sensors: &v.sensors,
                 inbox: &inbox.0,
                 setpoints: &mut v.control.setpoints,

@@ -30,10 +30,10 @@ fn sink(sim: &mut Sim, id: usize) -> Arc<Mutex<Vec<Received>>> {
     let log = Arc::new(Mutex::new(Vec::new()));
     let e = sim.vehicle_entity(id);
     let rng = shoal_sim::sim::vehicle_rng(0, id as u32, 9);
-    sim.world_mut().entity_mut(e).insert(Behave {
-        behaviour: Box::new(Sink(log.clone())),
-        rng,
-    });
+    let every = sim.fleet().get(VehicleId(id as u32)).control.every;
+    sim.world_mut()
+        .entity_mut(e)
+        .insert(Behave::new(Box::new(Sink(log.clone())), rng, every));
     log
 }
 

@@ -36,7 +36,7 @@ pub(super) fn write_num(x: f64, out: &mut String) {
     } else if x.abs() < TINY {
         general(x, out);
     } else {
-        let (mut digits, exp) = seven_digits(x.abs()).unwrap_or_else(|| exact_digits(x.abs()));
+        let (digits, exp) = seven_digits(x.abs()).unwrap_or_else(|| exact_digits(x.abs()));
         let mut k = 7;
         while k > 1 && digits[k - 1] == b'0' {
             k -= 1;
