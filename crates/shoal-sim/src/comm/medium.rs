@@ -47,15 +47,17 @@ pub struct Transmission {
 
 /// A frame as the receivers see it: all copies of one sender's frame that started together.
 pub(super) struct Logical<'a> {
-    pub(super) copies: Vec<&'a Transmission>,
-    /// Other transmissions overlapping this frame in time (possible interferers).
-    pub(super) overlap: Vec<&'a Transmission>,
+    /// The copies, in (end, id) order.
+    pub(super) copies: &'a [&'a Transmission],
+    /// Other transmissions overlapping this frame in time (possible interferers), in id order.
+    pub(super) overlap: &'a [&'a Transmission],
     /// Received power below which this frame fails with probability > 1 − 10⁻¹² at every
     /// receiver design in the world (no ambient light, no interference) [W].
     pub(super) p_dead: f64,
 }
 
 impl Logical<'_> {
+    /// The first copy (sender, sequence number, start and payload are those of every copy).
     pub(super) fn first(&self) -> &Transmission {
         self.copies[0]
     }
