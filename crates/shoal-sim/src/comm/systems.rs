@@ -411,7 +411,7 @@ fn receive(
     let distance = (m.poses[f.tx as usize].0 - rx.pos).norm();
     let bin = ((distance / DIST_BIN) as usize).min(DIST_BINS - 1);
     tally.by_distance[bin].0 += 1;
-    if m.power_bound(l, rx.me, rx.area) < l.p_dead {
+    if !m.may_decode(l, rx.me, rx.area) {
         // Undecodable even in the best case (P(delivery) < 1e-12): lost to range.
         stats.record(f.tx, Outcome::Range, latency, f.end, m.log_links);
         return Outcome::Range;
@@ -467,7 +467,8 @@ fn receive(
             Err(o) => best = best.max(o),
         }
     }
-    stats.record(f.tx, best, latency, f.end, m.log_links);
+    // The inbox first: the payload's reference count is an atomic add, which would
+    // otherwise wait for the stores of `record` to reach the receiver's (cold) statistics.
     if let Some((modem, power, snr)) = got {
         tally.by_distance[bin].1 += 1;
         tally.latency[latency_bin(latency)] += 1;
@@ -482,6 +483,7 @@ fn receive(
             payload: f.payload.clone(),
         });
     }
+    stats.record(f.tx, best, latency, f.end, m.log_links);
     best
 }
 
