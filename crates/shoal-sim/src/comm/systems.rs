@@ -363,6 +363,7 @@ struct Listener<'s> {
 }
 
 impl<'s> Listener<'s> {
+    /// Receiver `me` with model `kind`, its buffers `scratch` emptied for it.
     fn new(m: &Medium, me: u32, kind: &'s VehicleModel, scratch: &'s mut Scratch) -> Self {
         let (pos, att) = m.poses[me as usize];
         let area = m.consts[me as usize]
@@ -517,7 +518,9 @@ fn near_interferers(m: &Medium, l: &Logical<'_>, me: u32, pos: &Vec3, out: &mut 
 
 /// One receiving modem of one reception.
 struct AtModem<'a> {
+    /// The medium.
     m: &'a Medium,
+    /// Walls and obstacles.
     geo: &'a shoal_world::geometry::Geometry,
     /// The receiver.
     me: u32,
