@@ -573,3 +573,78 @@ fn the_flock_keeps_optical_contact_while_it_travels() {
         .fold(0.0, f64::max);
     assert!(spread < 5.0, "group radius {spread} m");
 }
+
+/// Outcome counts per second of the 900-vehicle beaconing benchmark swarm (seed 3) in its
+/// first 250 steps: [range, occluded, half-duplex, collision, delivered] (the order of
+/// [`shoal_sim::comm::Outcome::ALL`]), and an FNV-1a digest of every delivery.
+const GOLDEN_BEACON_OUTCOMES: [[u64; 5]; 3] = [
+    [19719, 6058, 390, 725, 6115],
+    [20616, 6457, 406, 1157, 6541],
+    [10543, 3312, 230, 612, 3337],
+];
+/// See [`GOLDEN_BEACON_OUTCOMES`].
+const GOLDEN_BEACON_DELIVERIES: u64 = 0x6f99_3915_1876_fc8d;
+
+/// Every reception of a beaconing swarm is pinned — each outcome, and the receiver, sender,
+/// sequence number, modem, power and SNR of every delivery — and the same on 1 and 2 threads
+/// (delivery split over the pool). A change to the medium's decisions, the order of its
+/// random draws or its sums shows up here; a speed-up of the medium must leave it alone.
+#[test]
+fn beaconing_swarm_receptions_are_pinned_on_one_and_two_threads() {
+    use shoal_sim::comm::Inbox;
+    use shoal_sim::components::VehicleId;
+    let desc = shoal_sim::bench::swarm_with(900, 3, true);
+    let mut runs = Vec::new();
+    for threads in [1, 2] {
+        let mut sim = Sim::new(
+            &desc,
+            SimOptions {
+                threads,
+                record: false,
+            },
+        );
+        sim.set_min_parallel(64);
+        let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+        for _ in 0..250 {
+            sim.step();
+            // An inbox holds the frames delivered in the last step.
+            let w = sim.world_mut();
+            let mut got: Vec<_> = w
+                .query::<(&VehicleId, &Inbox)>()
+                .iter(w)
+                .flat_map(|(id, inbox)| inbox.0.iter().map(move |r| (id.0, r)))
+                .map(|(id, r)| {
+                    let modem = r.modem as u64;
+                    (id, r.from, r.seq, modem, r.power.to_bits(), r.snr.to_bits())
+                })
+                .collect();
+            got.sort_unstable();
+            for (id, from, seq, modem, power, snr) in got {
+                for x in [
+                    u64::from(id),
+                    u64::from(from),
+                    u64::from(seq),
+                    modem,
+                    power,
+                    snr,
+                ] {
+                    h = (h ^ x).wrapping_mul(0x0000_0100_0000_01b3);
+                }
+            }
+        }
+        if threads == 2 {
+            assert!(sim.parallel_dispatches().delivery > 0);
+        }
+        let m = sim.medium();
+        let tallies = (m.delivery_by_distance(), m.latency_histogram());
+        runs.push((m.per_second.clone(), h, tallies));
+    }
+    assert!(
+        runs[0] == runs[1],
+        "receptions differ between 1 and 2 threads"
+    );
+    assert_eq!(
+        (runs[0].0.as_slice(), runs[0].1),
+        (&GOLDEN_BEACON_OUTCOMES[..], GOLDEN_BEACON_DELIVERIES)
+    );
+}

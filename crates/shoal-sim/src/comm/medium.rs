@@ -47,15 +47,17 @@ pub struct Transmission {
 
 /// A frame as the receivers see it: all copies of one sender's frame that started together.
 pub(super) struct Logical<'a> {
-    pub(super) copies: Vec<&'a Transmission>,
-    /// Other transmissions overlapping this frame in time (possible interferers).
-    pub(super) overlap: Vec<&'a Transmission>,
+    /// The copies, in (end, id) order.
+    pub(super) copies: &'a [&'a Transmission],
+    /// Other transmissions overlapping this frame in time (possible interferers), in id order.
+    pub(super) overlap: &'a [&'a Transmission],
     /// Received power below which this frame fails with probability > 1 − 10⁻¹² at every
     /// receiver design in the world (no ambient light, no interference) [W].
     pub(super) p_dead: f64,
 }
 
 impl Logical<'_> {
+    /// The first copy (sender, sequence number, start and payload are those of every copy).
     pub(super) fn first(&self) -> &Transmission {
         self.copies[0]
     }
@@ -331,43 +333,56 @@ impl Medium {
         p
     }
 
-    /// An upper bound of the power that frame `l` can deliver to any modem of vehicle `me`:
-    /// every copy's LED gain taken at the most favourable direction within the receiver's
-    /// hull, the photodiode on axis, the shortest possible distance.
-    pub(super) fn power_bound(&self, l: &Logical<'_>, me: u32, rx_area: f64) -> f64 {
+    /// Whether frame `l` may be decodable at vehicle `me` (photodiodes of at most `rx_area`
+    /// \[m²\]): whether an upper bound of the power it can deliver to any modem of `me` — every
+    /// copy's LED gain taken at the most favourable direction within the receiver's hull, the
+    /// photodiode on axis, the shortest possible distance, summed over the copies in order —
+    /// reaches [`Logical::p_dead`]. The terms are never negative, so the partial sums only
+    /// grow: the sum stops at the first that reaches `p_dead`, with the full sum's decision.
+    pub(super) fn may_decode(&self, l: &Logical<'_>, me: u32, rx_area: f64) -> bool {
         let (pos, _) = self.poses[me as usize];
         let r = self.hull_r2[me as usize].sqrt();
-        l.copies
-            .iter()
-            .map(|c| {
-                let d = pos - c.pose.position;
-                let dist = d.norm();
-                if dist <= r {
-                    return f64::INFINITY;
-                }
-                let cos_phi = (c.pose.axis.dot(&d) / dist).clamp(-1.0, 1.0);
-                let sin_delta = r / dist;
-                let cos_delta = (1.0 - sin_delta * sin_delta).sqrt();
-                // cos(φ − δ), or 1 when the cone of directions contains the LED axis.
-                let sin_phi = (1.0 - cos_phi * cos_phi).sqrt();
-                let cos_best = if cos_phi >= cos_delta {
-                    1.0
-                } else {
-                    cos_phi * cos_delta + sin_phi * sin_delta
-                };
-                if cos_best <= 0.0 {
-                    return 0.0;
-                }
-                let k = &self.consts[c.tx as usize][c.modem];
-                let ct = if (k.order - 1.0).abs() < 1e-9 {
-                    cos_best
-                } else {
-                    cos_best.powf(k.order)
-                };
-                let near = dist - r;
-                k.coef * ct * rx_area * (-self.attenuation * near).exp() / (near * near)
-            })
-            .sum()
+        // As `Iterator::sum` of f64.
+        let mut sum = -0.0;
+        for c in l.copies {
+            sum += self.bound_term(c, &pos, r, rx_area);
+            if sum >= l.p_dead {
+                return true;
+            }
+        }
+        // Not below p_dead, as the full sum's test was: a NaN bound never rejected a frame.
+        sum.is_nan()
+    }
+
+    /// The term of copy `c` in [`Medium::may_decode`] for a receiver at `pos` \[m\] with a
+    /// hull of bounding radius `r` \[m\] and photodiodes of at most `rx_area` \[m²\] \[W\].
+    fn bound_term(&self, c: &Transmission, pos: &Vec3, r: f64, rx_area: f64) -> f64 {
+        let d = pos - c.pose.position;
+        let dist = d.norm();
+        if dist <= r {
+            return f64::INFINITY;
+        }
+        let cos_phi = (c.pose.axis.dot(&d) / dist).clamp(-1.0, 1.0);
+        let sin_delta = r / dist;
+        let cos_delta = (1.0 - sin_delta * sin_delta).sqrt();
+        // cos(φ − δ), or 1 when the cone of directions contains the LED axis.
+        let sin_phi = (1.0 - cos_phi * cos_phi).sqrt();
+        let cos_best = if cos_phi >= cos_delta {
+            1.0
+        } else {
+            cos_phi * cos_delta + sin_phi * sin_delta
+        };
+        if cos_best <= 0.0 {
+            return 0.0;
+        }
+        let k = &self.consts[c.tx as usize][c.modem];
+        let ct = if (k.order - 1.0).abs() < 1e-9 {
+            cos_best
+        } else {
+            cos_best.powf(k.order)
+        };
+        let near = dist - r;
+        k.coef * ct * rx_area * (-self.attenuation * near).exp() / (near * near)
     }
 
     /// Attempts and deliveries by distance ([`DIST_BIN`](super::DIST_BIN) bins), whole world.

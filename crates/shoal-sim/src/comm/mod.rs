@@ -19,9 +19,12 @@
 //!   vehicles' random streams for the medium;
 //! - `stats`: reception counters per link and vehicle, and the distance and latency bins;
 //! - `grid`: the dense spatial grid used for range and occlusion queries;
+//! - `ending`: the frames ending in a step, their possible interferers and candidate receivers,
+//!   in flat buffers, for the delivery phase;
 //! - `medium`: the [`Medium`] resource, frames on the air and the precomputed link budget;
 //! - `systems`: the three step systems above and the decision of one reception.
 
+mod ending;
 mod frames;
 mod grid;
 mod medium;

@@ -2,8 +2,8 @@
 //! [`comm_transmit_system`] (queues, access, carrier sense) and [`comm_deliver_system`] (every
 //! reception decided at its receiver).
 
+use super::ending::{ByVehicle, Ended, candidates, own_transmissions};
 use super::frames::{CommRng, Inbox, Modems, Outbox, Queued, Received};
-use super::grid::Grid;
 use super::medium::{Logical, Medium, Transmission, received_power};
 use super::stats::{CommStats, DIST_BIN, DIST_BINS, Outcome, Tally, latency_bin};
 use crate::components::{Kind, StaticGeometry, VehicleId};
@@ -278,143 +278,42 @@ pub fn comm_deliver_system(
     }
     let (t0, t_end) = (clock.t(), clock.t() + clock.dt);
     let m = &*medium;
-    // Frames ending in (t0, t_end], grouped into logical frames, in (end, id) order.
-    let mut ended: Vec<&Transmission> = m
-        .txs
-        .iter()
-        .filter(|x| x.end > t0 && x.end <= t_end)
-        .collect();
-    ended.sort_by(|a, b| a.end.total_cmp(&b.end).then(a.id.cmp(&b.id)));
-    let mut logical: Vec<Logical<'_>> = Vec::new();
-    let mut by_key: HashMap<(u32, u32, u64), usize> = HashMap::new();
-    for t in ended {
-        let key = (t.tx, t.seq, t.start.to_bits());
-        match by_key.get(&key) {
-            Some(&i) => logical[i].copies.push(t),
-            None => {
-                by_key.insert(key, logical.len());
-                logical.push(Logical {
-                    copies: vec![t],
-                    overlap: Vec::new(),
-                    p_dead: 0.0,
-                });
-            }
-        }
-    }
+    let ended = Ended::gather(m, t0, t_end);
+    let logical = ended.frames();
     if logical.is_empty() {
         return;
     }
-    for l in &mut logical {
-        l.p_dead = m.dead_power(l.first().bits);
-    }
-    // Possible interferers of each frame: overlapping in time, and close enough to the sender
-    // to reach a receiver that could hear the sender (within 2 r_cut). Transmissions are
-    // indexed by position for this.
-    let near = 2.0 * (m.r_cut + m.max_hull_radius);
-    let tx_points: Vec<Vec3> = m.txs.iter().map(|x| x.pose.position).collect();
-    let mut tx_grid = Grid::default();
-    tx_grid.rebuild(near / 2.0, &tx_points);
-    for l in &mut logical {
-        let f = l.copies[0];
-        let p = m.poses[f.tx as usize].0;
-        let mut overlap = Vec::new();
-        tx_grid.each_in_box(&(p - Vec3::repeat(near)), &(p + Vec3::repeat(near)), |k| {
-            let x = &m.txs[k as usize];
-            if x.start < f.end
-                && x.end > f.start
-                && !(x.tx == f.tx && x.seq == f.seq)
-                && (x.pose.position - p).norm_squared() <= near * near
-            {
-                overlap.push(x);
-            }
-            true
-        });
-        // Grid order is spatial; keep the medium's order so results do not depend on it.
-        overlap.sort_unstable_by_key(|x| x.id);
-        l.overlap = overlap;
-    }
-    // Candidate receivers of each logical frame (vehicles within the cut-off range), as
-    // (receiver, frame) pairs counting-sorted by receiver.
-    let n = m.poses.len();
-    let reach = m.r_cut + m.max_hull_radius;
-    let mut pairs: Vec<(u32, u32)> = Vec::new();
-    for (i, l) in logical.iter().enumerate() {
-        let f = l.first();
-        let p = m.poses[f.tx as usize].0;
-        m.each_near(
-            &(p - Vec3::repeat(reach)),
-            &(p + Vec3::repeat(reach)),
-            |id| {
-                if id != f.tx && (m.poses[id as usize].0 - p).norm_squared() <= reach * reach {
-                    pairs.push((id, i as u32));
-                }
-                true
-            },
-        );
-    }
-    let mut start = vec![0u32; n + 1];
-    for &(r, _) in &pairs {
-        start[r as usize + 1] += 1;
-    }
-    for k in 0..n {
-        start[k + 1] += start[k];
-    }
-    let mut frames_of = vec![0u32; pairs.len()];
-    let mut fill = start.clone();
-    // `pairs` is in frame order, so each receiver's frames stay in (end, id) order.
-    for &(r, i) in &pairs {
-        frames_of[fill[r as usize] as usize] = i;
-        fill[r as usize] += 1;
-    }
-    // The medium's transmissions by sender, for the half-duplex test (a receiver's own
-    // frames overlapping the one it would receive): everything that can overlap a frame
-    // ending now is still in `txs`.
-    let mut own: Vec<(u32, u32)> = (0..m.txs.len() as u32)
-        .map(|k| (m.txs[k as usize].tx, k))
-        .collect();
-    own.sort_unstable();
-    let own = Own { m, by_sender: own };
-    let mut items: Vec<_> = q
-        .iter_mut()
-        .filter(|it| start[it.0.0 as usize + 1] > start[it.0.0 as usize])
-        .collect();
+    let heard = candidates(m, &logical);
+    let own = own_transmissions(m);
+    let mut items = Vec::with_capacity(heard.vehicles());
+    items.extend(q.iter_mut().filter(|it| !heard.of(it.0.0).is_empty()));
     let geo = &geo.0;
     // Outcomes by second (a step reaches into the next second at most) and kind, and the
     // distance and latency histograms: tallied per chunk of receivers, summed afterwards.
     let second0 = t0.floor();
-    let tallies = par.for_each_with(
+    let states = par.for_each_with(
         Loop::Delivery,
         &mut items,
-        Tally::new,
-        |tally, (id, kind, inbox, rng, stats)| {
-            let frames =
-                &frames_of[start[id.0 as usize] as usize..start[id.0 as usize + 1] as usize];
-            let mut scratch = Scratch::default();
-            for &i in frames {
+        || (Tally::new(), Scratch::default()),
+        |(tally, scratch), (id, kind, inbox, rng, stats)| {
+            let mut rx = Listener::new(m, id.0, &kind.0, scratch);
+            for &i in heard.of(id.0) {
                 let l = &logical[i as usize];
-                let o = receive(
-                    m,
-                    geo,
-                    id.0,
-                    &kind.0,
-                    &own,
-                    l,
-                    &mut rng.0,
-                    stats,
-                    inbox,
-                    &mut scratch,
-                    tally,
-                );
+                let o = receive(m, geo, &mut rx, &own, l, &mut rng.0, stats, inbox, tally);
                 let s = usize::from(l.first().end.floor() > second0);
                 tally.outcomes[s][o.index()] += 1;
             }
         },
     );
     let mut total = Tally::new();
-    for t in &tallies {
+    for (t, _) in &states {
         total.add(t);
     }
-    let medium = &mut *medium;
+    add_tally(&mut medium, &total, second0);
+}
+
+/// Adds the tallies of a step whose first second is `second0` \[s\] to the medium's.
+fn add_tally(medium: &mut Medium, total: &Tally, second0: f64) {
     for ((a, d), (ta, td)) in medium.by_distance.iter_mut().zip(&total.by_distance) {
         *a += ta;
         *d += td;
@@ -437,147 +336,143 @@ pub fn comm_deliver_system(
     }
 }
 
-/// The medium's transmissions sorted by sender.
-struct Own<'a> {
-    m: &'a Medium,
-    /// (sender, index into `m.txs`), sorted.
-    by_sender: Vec<(u32, u32)>,
-}
-
-impl Own<'_> {
-    /// Whether modem `modem` of vehicle `v` was transmitting at some time in (start, end).
-    fn transmitting_during(&self, v: u32, modem: usize, start: f64, end: f64) -> bool {
-        let from = self.by_sender.partition_point(|&(s, _)| s < v);
-        self.by_sender[from..]
-            .iter()
-            .take_while(|&&(s, _)| s == v)
-            .map(|&(_, k)| &self.m.txs[k as usize])
-            .any(|x| x.modem == modem && x.start < end && x.end > start)
-    }
-}
-
-/// Buffers reused across the receptions of one receiver.
+/// Buffers of the delivery phase, one set per chunk of receivers, reused from receiver to
+/// receiver.
 #[derive(Default)]
-struct Scratch<'a> {
-    interferers: Vec<&'a Transmission>,
+struct Scratch {
+    /// The interferers of the current reception near its receiver (positions in the frame's
+    /// [`Logical::overlap`]).
+    interferers: Vec<u32>,
+    /// Hull occlusion between the current receiver and other vehicles (other vehicle, clear),
+    /// computed once per step: it depends on the vehicles' positions only.
     hulls: Vec<(u32, bool)>,
+    /// The poses of the current receiver's modems (empty until a reception needs them).
+    poses: Vec<ModemPose>,
 }
 
-/// Decides one logical frame at one receiver; returns whether it was delivered.
-#[allow(clippy::too_many_arguments)]
-fn receive<'a>(
-    m: &Medium,
-    geo: &shoal_world::geometry::Geometry,
+/// One receiver of the frames ending in a step, with what it needs for every reception.
+struct Listener<'s> {
+    /// Its id.
     me: u32,
-    kind: &VehicleModel,
-    own: &Own<'_>,
-    l: &Logical<'a>,
-    rng: &mut VehicleRng,
-    stats: &mut CommStats,
-    inbox: &mut Inbox,
-    scratch: &mut Scratch<'a>,
-    tally: &mut Tally,
-) -> Outcome {
-    let f = l.first();
-    let (pos, att) = m.poses[me as usize];
-    let latency = f.end - f.sent;
-    let distance = (m.poses[f.tx as usize].0 - pos).norm();
-    let area = m.consts[me as usize]
-        .iter()
-        .map(|c| c.area)
-        .fold(0.0, f64::max);
-    if m.power_bound(l, me, area) < l.p_dead {
-        // Undecodable even in the best case (P(delivery) < 1e-12): lost to range.
-        stats.record(f.tx, Outcome::Range, latency, f.end, m.log_links);
-        let bin = ((distance / DIST_BIN) as usize).min(DIST_BINS - 1);
-        tally.by_distance[bin].0 += 1;
-        return Outcome::Range;
+    /// Its model.
+    kind: &'s VehicleModel,
+    /// Body position \[m\] and attitude.
+    pos: Vec3,
+    att: shoal_model::math::Quat,
+    /// Largest photodiode area of its modems \[m²\].
+    area: f64,
+    /// Buffers, reset for this receiver.
+    scratch: &'s mut Scratch,
+}
+
+impl<'s> Listener<'s> {
+    /// Receiver `me` with model `kind`, its buffers `scratch` emptied for it.
+    fn new(m: &Medium, me: u32, kind: &'s VehicleModel, scratch: &'s mut Scratch) -> Self {
+        let (pos, att) = m.poses[me as usize];
+        let area = m.consts[me as usize]
+            .iter()
+            .map(|c| c.area)
+            .fold(0.0, f64::max);
+        scratch.hulls.clear();
+        scratch.poses.clear();
+        Self {
+            me,
+            kind,
+            pos,
+            att,
+            area,
+            scratch,
+        }
     }
-    let my = &m.consts[me as usize];
-    let mut best = Outcome::Range;
-    let mut got: Option<(usize, f64, f64)> = None;
-    // Hull occlusion per other vehicle, computed once for this reception.
-    let hulls = &mut scratch.hulls;
-    hulls.clear();
-    let mut clear_of_hulls = |other: u32| -> bool {
+
+    /// Hull occlusion between `other` and this receiver (see [`Medium::vehicles_clear`]),
+    /// computed once per step.
+    fn clear_of_hulls(hulls: &mut Vec<(u32, bool)>, m: &Medium, other: u32, me: u32) -> bool {
         if let Some(&(_, c)) = hulls.iter().find(|h| h.0 == other) {
             return c;
         }
         let c = m.vehicles_clear(other, me);
         hulls.push((other, c));
         c
-    };
-    let path_clear = |a: &ModemPose, b: &ModemPose| {
-        a.position.z > 0.0 && b.position.z > 0.0 && geo.line_of_sight(&a.position, &b.position)
-    };
-    // Interferers within range of this receiver.
-    let reach = m.r_cut + m.max_hull_radius;
-    let interferers = &mut scratch.interferers;
-    interferers.clear();
-    interferers.extend(
-        l.overlap
+    }
+}
+
+/// Decides one logical frame at one receiver; returns the outcome.
+#[allow(clippy::too_many_arguments)]
+fn receive(
+    m: &Medium,
+    geo: &shoal_world::geometry::Geometry,
+    rx: &mut Listener<'_>,
+    own: &ByVehicle,
+    l: &Logical<'_>,
+    rng: &mut VehicleRng,
+    stats: &mut CommStats,
+    inbox: &mut Inbox,
+    tally: &mut Tally,
+) -> Outcome {
+    let f = l.first();
+    let latency = f.end - f.sent;
+    let distance = (m.poses[f.tx as usize].0 - rx.pos).norm();
+    let bin = ((distance / DIST_BIN) as usize).min(DIST_BINS - 1);
+    tally.by_distance[bin].0 += 1;
+    if !m.may_decode(l, rx.me, rx.area) {
+        // Undecodable even in the best case (P(delivery) < 1e-12): lost to range.
+        stats.record(f.tx, Outcome::Range, latency, f.end, m.log_links);
+        return Outcome::Range;
+    }
+    if rx.scratch.poses.is_empty() {
+        let (pos, att) = (rx.pos, rx.att);
+        let poses = rx
+            .kind
+            .params
+            .modems
             .iter()
-            .copied()
-            .filter(|x| x.tx != me && (x.pose.position - pos).norm_squared() <= reach * reach),
-    );
-    for (k, rxm) in kind.params.modems.iter().enumerate() {
-        let pose = ModemPose::of(rxm, &pos, &att);
-        // Signal: the sum of the copies this modem can see.
-        let mut p_sig = 0.0;
-        let mut outcome = Outcome::Range;
-        for c in &l.copies {
-            let p = m.power_between(c, &pose, &my[k]);
-            if p <= 0.0 {
+            .map(|p| ModemPose::of(p, &pos, &att));
+        rx.scratch.poses.extend(poses);
+    }
+    // Interferers within range of this receiver, once a modem hears the signal.
+    rx.scratch.interferers.clear();
+    let mut interferers_found = false;
+    let mut best = Outcome::Range;
+    let mut got: Option<(usize, f64, f64)> = None;
+    for k in 0..rx.scratch.poses.len() {
+        let at = AtModem {
+            m,
+            geo,
+            me: rx.me,
+            k,
+            pose: rx.scratch.poses[k],
+        };
+        let hulls = &mut rx.scratch.hulls;
+        let p_sig = match at.signal(l, hulls) {
+            Ok(p) => p,
+            Err(o) => {
+                best = best.max(o);
                 continue;
             }
-            if path_clear(&c.pose, &pose) && clear_of_hulls(c.tx) {
-                p_sig += p;
-            } else {
-                outcome = outcome.max(Outcome::Occluded);
-            }
-        }
-        if p_sig <= 0.0 {
-            best = best.max(outcome);
-            continue;
-        }
-        if own.transmitting_during(me, k, f.start, f.end) {
+        };
+        if own_transmitting(m, own, rx.me, k, f.start, f.end) {
             best = best.max(Outcome::HalfDuplex);
             continue;
         }
-        // Interference: other transmissions overlapping this frame in time.
-        let (mut p_int, mut p_max) = (0.0f64, 0.0f64);
-        for x in interferers.iter() {
-            let p = m.power_between(x, &pose, &my[k]);
-            if p <= 0.0 || !path_clear(&x.pose, &pose) || !clear_of_hulls(x.tx) {
-                continue;
+        if !interferers_found {
+            interferers_found = true;
+            near_interferers(m, l, rx.me, &rx.pos, &mut rx.scratch.interferers);
+        }
+        let rxm = &rx.kind.params.modems[k];
+        let p = at.interference(l, &rx.scratch.interferers, &mut rx.scratch.hulls);
+        match decode(m, rxm, &at.pose, f.bits, p_sig, p, rng) {
+            Ok(snr) => {
+                best = Outcome::Delivered;
+                if got.is_none_or(|g| p_sig > g.1) {
+                    got = Some((k, p_sig, snr));
+                }
             }
-            p_int += p;
-            p_max = p_max.max(p);
-        }
-        if p_max * rxm.capture_ratio > p_sig {
-            best = best.max(Outcome::Collision);
-            continue;
-        }
-        // Delivered when a uniform draw is at least the frame error rate. The Chernoff bound
-        // FER ≤ n·BER ≤ n·½·e^(−SNR/2) settles most draws without the error function; the
-        // decision is exactly the one the full rate gives.
-        let i_s = rxm.rx.responsivity * p_sig;
-        let i_bg = background_current(&rxm.rx, &m.ambient, pose.position.z);
-        let snr = i_s * i_s / noise_variance(&rxm.rx, i_s, i_bg, p_int);
-        let u = rng.random::<f64>();
-        let bound = f.bits as f64 * 0.5 * (-0.5 * snr).exp();
-        if u < bound && u < frame_error_rate(ber_ook(snr), f.bits) {
-            best = best.max(Outcome::Range);
-            continue;
-        }
-        best = Outcome::Delivered;
-        if got.is_none_or(|g| p_sig > g.1) {
-            got = Some((k, p_sig, snr));
+            Err(o) => best = best.max(o),
         }
     }
-    stats.record(f.tx, best, latency, f.end, m.log_links);
-    let bin = ((distance / DIST_BIN) as usize).min(DIST_BINS - 1);
-    tally.by_distance[bin].0 += 1;
+    // The inbox first: the payload's reference count is an atomic add, which would
+    // otherwise wait for the stores of `record` to reach the receiver's (cold) statistics.
     if let Some((modem, power, snr)) = got {
         tally.by_distance[bin].1 += 1;
         tally.latency[latency_bin(latency)] += 1;
@@ -592,5 +487,137 @@ fn receive<'a>(
             payload: f.payload.clone(),
         });
     }
+    stats.record(f.tx, best, latency, f.end, m.log_links);
     best
+}
+
+/// Whether modem `modem` of vehicle `v` was transmitting at some time in (start, end) \[s\].
+fn own_transmitting(
+    m: &Medium,
+    own: &ByVehicle,
+    v: u32,
+    modem: usize,
+    start: f64,
+    end: f64,
+) -> bool {
+    own.of(v)
+        .iter()
+        .map(|&k| &m.txs[k as usize])
+        .any(|x| x.modem == modem && x.start < end && x.end > start)
+}
+
+/// Fills `out` with the positions in `l.overlap` of the transmissions of other vehicles
+/// within range (r_cut plus a hull) of receiver `me` at `pos` \[m\], in order.
+fn near_interferers(m: &Medium, l: &Logical<'_>, me: u32, pos: &Vec3, out: &mut Vec<u32>) {
+    let reach = m.r_cut + m.max_hull_radius;
+    out.extend(
+        l.overlap
+            .iter()
+            .enumerate()
+            .filter(|(_, x)| x.tx != me && (x.pose.position - pos).norm_squared() <= reach * reach)
+            .map(|(i, _)| i as u32),
+    );
+}
+
+/// One receiving modem of one reception.
+struct AtModem<'a> {
+    /// The medium.
+    m: &'a Medium,
+    /// Walls and obstacles.
+    geo: &'a shoal_world::geometry::Geometry,
+    /// The receiver.
+    me: u32,
+    /// The modem's index.
+    k: usize,
+    /// Its pose.
+    pose: ModemPose,
+}
+
+impl AtModem<'_> {
+    /// Whether the ray from `a` to this modem is clear of the water surface, walls and
+    /// obstacles.
+    fn path_clear(&self, a: &ModemPose) -> bool {
+        let b = &self.pose;
+        a.position.z > 0.0 && b.position.z > 0.0 && self.geo.line_of_sight(&a.position, &b.position)
+    }
+
+    /// The received power of the copies of `l` this modem can see \[W\], or why it has none:
+    /// [`Outcome::Occluded`] if some copy would reach it but was blocked, else
+    /// [`Outcome::Range`].
+    fn signal(&self, l: &Logical<'_>, hulls: &mut Vec<(u32, bool)>) -> Result<f64, Outcome> {
+        let my = &self.m.consts[self.me as usize][self.k];
+        let mut p_sig = 0.0;
+        let mut outcome = Outcome::Range;
+        for c in l.copies {
+            let p = self.m.power_between(c, &self.pose, my);
+            if p <= 0.0 {
+                continue;
+            }
+            if self.path_clear(&c.pose) && Listener::clear_of_hulls(hulls, self.m, c.tx, self.me) {
+                p_sig += p;
+            } else {
+                outcome = outcome.max(Outcome::Occluded);
+            }
+        }
+        if p_sig <= 0.0 {
+            Err(outcome)
+        } else {
+            Ok(p_sig)
+        }
+    }
+
+    /// Total and largest power of the interferers of `l` at `picked` positions of its overlap
+    /// list that reach this modem \[W\], in order.
+    fn interference(
+        &self,
+        l: &Logical<'_>,
+        picked: &[u32],
+        hulls: &mut Vec<(u32, bool)>,
+    ) -> (f64, f64) {
+        let my = &self.m.consts[self.me as usize][self.k];
+        let (mut p_int, mut p_max) = (0.0f64, 0.0f64);
+        for &i in picked {
+            let x = l.overlap[i as usize];
+            let p = self.m.power_between(x, &self.pose, my);
+            if p <= 0.0
+                || !self.path_clear(&x.pose)
+                || !Listener::clear_of_hulls(hulls, self.m, x.tx, self.me)
+            {
+                continue;
+            }
+            p_int += p;
+            p_max = p_max.max(p);
+        }
+        (p_int, p_max)
+    }
+}
+
+/// Decodes a frame of `bits` line bits with signal `p_sig` and interference `(total,
+/// largest)` \[W\] at modem `rxm` at `pose`: the SNR if delivered, else the outcome
+/// ([`Outcome::Collision`] when the largest interferer is not weak enough to capture over,
+/// [`Outcome::Range`] for bit errors). Draws one number from `rng` unless it collided.
+fn decode(
+    m: &Medium,
+    rxm: &shoal_model::optics::ModemParams,
+    pose: &ModemPose,
+    bits: u64,
+    p_sig: f64,
+    (p_int, p_max): (f64, f64),
+    rng: &mut VehicleRng,
+) -> Result<f64, Outcome> {
+    if p_max * rxm.capture_ratio > p_sig {
+        return Err(Outcome::Collision);
+    }
+    // Delivered when a uniform draw is at least the frame error rate. The Chernoff bound
+    // FER ≤ n·BER ≤ n·½·e^(−SNR/2) settles most draws without the error function; the
+    // decision is exactly the one the full rate gives.
+    let i_s = rxm.rx.responsivity * p_sig;
+    let i_bg = background_current(&rxm.rx, &m.ambient, pose.position.z);
+    let snr = i_s * i_s / noise_variance(&rxm.rx, i_s, i_bg, p_int);
+    let u = rng.random::<f64>();
+    let bound = bits as f64 * 0.5 * (-0.5 * snr).exp();
+    if u < bound && u < frame_error_rate(ber_ook(snr), bits) {
+        return Err(Outcome::Range);
+    }
+    Ok(snr)
 }
