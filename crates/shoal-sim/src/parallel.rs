@@ -144,21 +144,55 @@ impl Parallel {
         group: usize,
         f: impl Fn(&mut [T]) + Sync,
     ) {
+        self.for_each_group_with(kind, items, &mut [] as &mut [()], group, |g, _| f(g));
+    }
+
+    /// [`Parallel::for_each_group`] over `items` and, beside them, `side` (the same length, or
+    /// empty): `f` gets a group of items and the matching group of `side` (empty when `side`
+    /// is), so that a loop can also fill another array in place.
+    pub fn for_each_group_with<T: Send, U: Send>(
+        &self,
+        kind: Loop,
+        items: &mut [T],
+        side: &mut [U],
+        group: usize,
+        f: impl Fn(&mut [T], &mut [U]) + Sync,
+    ) {
+        assert!(
+            side.is_empty() || side.len() == items.len(),
+            "side array of {} for {} items",
+            side.len(),
+            items.len()
+        );
         let group = group.max(1);
+        let f = &f;
+        let body = move |items: &mut [T], side: &mut [U]| {
+            for (k, g) in items.chunks_mut(group).enumerate() {
+                let s = if side.is_empty() {
+                    &mut []
+                } else {
+                    &mut side[k * group..k * group + g.len()]
+                };
+                f(g, s);
+            }
+        };
         match self.pool_for(kind, items.len()) {
             Some(pool) => {
                 let run = items
                     .len()
                     .div_ceil(self.threads * 4)
                     .next_multiple_of(group);
-                let f = &f;
                 pool.scope(|s| {
+                    let mut rest = side;
                     for c in items.chunks_mut(run) {
-                        s.spawn(async move { c.chunks_mut(group).for_each(f) });
+                        let n = c.len().min(rest.len());
+                        let (mine, tail) = std::mem::take(&mut rest).split_at_mut(n);
+                        rest = tail;
+                        s.spawn(async move { body(c, mine) });
                     }
                 });
             }
-            None => items.chunks_mut(group).for_each(f),
+            None => body(items, side),
         }
     }
 
@@ -257,6 +291,21 @@ mod tests {
             });
             assert!(v.iter().all(|&(i, g)| g == i / LANES * LANES + 1));
             assert_eq!(p.dispatches().vehicles, u64::from(threads > 1));
+        }
+    }
+
+    #[test]
+    fn side_groups_match_item_groups_on_any_thread_count() {
+        for threads in [1, 2, 3] {
+            let mut p = Parallel::new(threads);
+            p.set_min_parallel(1);
+            let mut items: Vec<usize> = (0..1003).collect();
+            let mut side = vec![0usize; 1003];
+            p.for_each_group_with(Loop::Vehicles, &mut items, &mut side, LANES, |g, s| {
+                assert_eq!(g.len(), s.len());
+                g.iter().zip(s.iter_mut()).for_each(|(i, x)| *x = *i + 1);
+            });
+            assert!(side.iter().enumerate().all(|(i, x)| *x == i + 1));
         }
     }
 

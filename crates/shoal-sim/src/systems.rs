@@ -6,7 +6,9 @@
 //! result.
 
 use crate::behaviour::{Behave, BehaviourIo};
-use crate::comm::{Inbox, Outbox, comm_deliver_system, comm_snapshot_system, comm_transmit_system};
+use crate::comm::{
+    Inbox, Medium, Outbox, comm_deliver_system, comm_snapshot_system, comm_transmit_system,
+};
 use crate::components::*;
 use crate::connectivity::connectivity_system;
 use crate::fault::{FaultFlag, NonFinite};
@@ -211,13 +213,16 @@ pub fn vehicle_system(
     geo: Res<StaticGeometry>,
     flag: Res<FaultFlag>,
     mut fleet: ResMut<Fleet>,
+    mut medium: ResMut<Medium>,
 ) {
     let step = clock.step;
     let dt = clock.dt;
     let t_end = clock.t() + dt;
     let (env, integ) = (phys.env, phys.integrator);
     let geo = &geo.0;
-    par.for_each_group(Loop::Vehicles, fleet.as_mut_slice(), LANES, |group| {
+    let poses = &mut medium.poses;
+    let fleet = fleet.as_mut_slice();
+    par.for_each_group_with(Loop::Vehicles, fleet, poses, LANES, |group, poses| {
         let mut before: [Option<RigidState>; LANES] = Default::default();
         let mut nu0 = [Vec6::zeros(); LANES];
         let mut prev = [Vec3::zeros(); LANES];
@@ -262,6 +267,10 @@ pub fn vehicle_system(
             collide_vehicle(m, geo, &env, &prev[i], &mut p.state.rigid, &mut v.contacts);
             if (step + 1).is_multiple_of(v.control.every) {
                 sense(m, &mut p.state, &env, &mut v.sensor_rng, &mut v.sensors);
+            }
+            // The medium's copy of the pose, written while the vehicle is in cache.
+            if let Some(pose) = poses.get_mut(i) {
+                *pose = (p.state.rigid.position, p.state.rigid.attitude);
             }
         }
     });

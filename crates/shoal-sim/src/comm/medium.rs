@@ -124,7 +124,8 @@ pub struct Medium {
     pub r_cut: f64,
     /// Model of every vehicle, by id.
     pub kinds: Vec<Arc<VehicleModel>>,
-    /// Body position and attitude of every vehicle this step, by id.
+    /// Body position and attitude of every vehicle this step, by id (written by the vehicle
+    /// pass, [`crate::systems::vehicle_system`], as it finishes each vehicle).
     pub poses: Vec<(Vec3, Quat)>,
     /// Transmissions still relevant (active, or ended recently enough to overlap a frame that
     /// is still to end), in start order.

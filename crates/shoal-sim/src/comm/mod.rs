@@ -5,8 +5,8 @@
 //! [`shoal_model::optics`] with a draw from the *receiver's* random stream.
 //!
 //! One step runs three systems in order (all in [`crate::systems::StepSet::Comm`]):
-//! 1. [`comm_snapshot_system`]: modem poses and a spatial grid of the vehicles, pruning of old
-//!    transmissions;
+//! 1. [`comm_snapshot_system`]: the spatial grid of the vehicles brought up to the poses that
+//!    the vehicle pass copied into [`Medium::poses`], pruning of old transmissions;
 //! 2. [`comm_transmit_system`]: frames handed to modems (from behaviours or agents) enter the
 //!    bounded queues; idle modems start transmitting in time order within the step, so carrier
 //!    sense sees exactly the transmissions that started before it;

@@ -7,7 +7,6 @@ use super::frames::{CommRng, Inbox, Modems, Outbox, Queued, Received};
 use super::medium::{Logical, Medium, Transmission, received_power};
 use super::stats::{CommStats, DIST_BIN, DIST_BINS, Outcome, Tally, latency_bin};
 use crate::components::{Kind, StaticGeometry, VehicleId};
-use crate::fleet::Fleet;
 use crate::parallel::{Loop, Parallel};
 use crate::rng::VehicleRng;
 use bevy_ecs::prelude::*;
@@ -20,11 +19,11 @@ use shoal_model::vehicle::VehicleModel;
 use std::collections::{BinaryHeap, HashMap};
 use std::sync::Arc;
 
-/// Step phase 1: snapshot poses, rebuild the grid, prune old transmissions.
+/// Step phase 1: bring the grid up to date with the poses (which the vehicle pass wrote),
+/// prune old transmissions.
 pub fn comm_snapshot_system(
     clock: Res<crate::components::Clock>,
     mut medium: ResMut<Medium>,
-    fleet: Res<Fleet>,
     q: Query<(&Modems, &Outbox)>,
 ) {
     if !medium.active() {
@@ -38,10 +37,6 @@ pub fn comm_snapshot_system(
         return;
     }
     let m = &mut *medium;
-    for (pose, v) in m.poses.iter_mut().zip(fleet.as_slice()) {
-        let r = &v.physics.state.rigid;
-        *pose = (r.position, r.attitude);
-    }
     m.update_grid();
     // A frame ending in the coming steps started at most `max_airtime` before its end; what
     // ended before that can no longer overlap it.
