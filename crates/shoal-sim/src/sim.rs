@@ -396,10 +396,13 @@ impl Sim {
     /// Borrowed views of all vehicles in id order (see [`crate::view`]). Call
     /// [`Self::fold_comm`] first when the per-sender link statistics are needed.
     pub fn views(&self) -> Vec<VehicleView<'_>> {
-        self.entities
-            .iter()
-            .filter_map(|e| VehicleView::of(&self.world, *e))
-            .collect()
+        let mut views = Vec::with_capacity(self.entities.len());
+        views.extend(
+            self.entities
+                .iter()
+                .filter_map(|e| VehicleView::of(&self.world, *e)),
+        );
+        views
     }
 
     /// Folds every vehicle's buffered reception outcomes into its per-sender statistics

@@ -133,18 +133,10 @@ fn general(x: f64, out: &mut String) {
 }
 
 /// A stack buffer for one number in scientific notation.
+#[derive(Default)]
 struct Sci {
     buf: [u8; 32],
     len: usize,
-}
-
-impl Default for Sci {
-    fn default() -> Self {
-        Self {
-            buf: [0; 32],
-            len: 0,
-        }
-    }
 }
 
 impl Write for Sci {
