@@ -2,7 +2,7 @@
 //! timed beside the benchmark's loop (scripts/run-vs-bench.sh):
 //! `cargo run --release --example bench_world -- N [quiet|beaconing]`.
 
-use shoal::sim::bench::{SPACING, TRAFFIC_SPACING, swarm_text};
+use shoal::sim::bench::{standard_spacing, swarm_text};
 
 fn main() {
     let mut args = std::env::args().skip(1);
@@ -15,6 +15,5 @@ fn main() {
             std::process::exit(2);
         }
     };
-    let spacing = if traffic { TRAFFIC_SPACING } else { SPACING };
-    print!("{}", swarm_text(n, 1, spacing, traffic));
+    print!("{}", swarm_text(n, 1, standard_spacing(traffic), traffic));
 }

@@ -262,8 +262,8 @@ impl Sim {
         let e = self.entities()[cmd.id as usize];
         let t = self.time();
         let pool_depth = self.pool_size().z;
+        let model = self.fleet().get(VehicleId(cmd.id)).model.clone();
         let mut ent = self.world_mut().entity_mut(e);
-        let model = ent.get::<Kind>().expect("vehicle").0.clone();
         let p = &model.params;
         let finite = |xs: &[f64]| xs.iter().all(|x| x.is_finite());
         // Check everything before changing anything.

@@ -87,12 +87,13 @@ pub fn swarm(n: usize, seed: u64) -> WorldDesc {
 /// The benchmark swarm, with or without optical traffic, at its standard spacing
 /// ([`SPACING`] quiet, [`TRAFFIC_SPACING`] with traffic).
 pub fn swarm_with(n: usize, seed: u64, traffic: bool) -> WorldDesc {
-    swarm_spaced(
-        n,
-        seed,
-        if traffic { TRAFFIC_SPACING } else { SPACING },
-        traffic,
-    )
+    swarm_spaced(n, seed, standard_spacing(traffic), traffic)
+}
+
+/// The grid spacing of the benchmark swarm with or without optical traffic \[m\]: [`SPACING`]
+/// quiet, [`TRAFFIC_SPACING`] with traffic.
+pub fn standard_spacing(traffic: bool) -> f64 {
+    if traffic { TRAFFIC_SPACING } else { SPACING }
 }
 
 /// The benchmark swarm at any grid spacing \[m\].

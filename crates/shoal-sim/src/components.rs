@@ -54,10 +54,6 @@ impl VehicleNames {
     }
 }
 
-/// The vehicle's model (shared by all vehicles of a kind).
-#[derive(Component, Clone, Debug)]
-pub struct Kind(pub Arc<VehicleModel>);
-
 /// Dynamic state, and what became of it if it stopped being finite.
 #[derive(Clone, Debug)]
 pub struct Physics {

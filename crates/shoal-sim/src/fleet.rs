@@ -6,8 +6,11 @@
 //! plain slices: no per-step list of ECS component references is built (with seven components
 //! per vehicle that list cost about 30 ns per vehicle, on the calling thread while the workers
 //! waited), and a vehicle's data sits in one place instead of seven tables. The ECS entity of
-//! a vehicle keeps what the pass does not touch (name, kind, trajectory buffer, modems,
-//! behaviour, agent) and its [`VehicleId`], the index into the fleet.
+//! a vehicle keeps what the pass does not touch (modems and their queues, inbox, outbox,
+//! communication counters, behaviour, agent) and its [`VehicleId`], the index into the fleet;
+//! names ([`crate::components::VehicleNames`]) and trajectory buffers
+//! ([`crate::components::Tracks`]) are arrays by id beside it, and the model is read here (the
+//! medium keeps its own array of models, [`crate::comm::Medium::kinds`]).
 //!
 //! Vehicles are never added or removed after the world is built, so id `i` is always entry `i`.
 

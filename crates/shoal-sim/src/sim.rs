@@ -131,7 +131,6 @@ impl Sim {
                 let m = &v.model;
                 Some((
                     VehicleId(id),
-                    Kind(m.clone()),
                     (
                         Modems::new(m.params.modems.len()),
                         Outbox::default(),

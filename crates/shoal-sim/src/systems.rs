@@ -377,11 +377,13 @@ fn collide_vehicle(
     // A hull whose bounding sphere, with the margin, is clear of every surface's bounding box
     // has no contact (and `contacts` would find none): most of a swarm, most of the time.
     let reach = 0.5 * m.params.body.hull_size.norm() + CONTACT_MARGIN;
+    let passes = if !touched && geo.clear_around(&rigid.position, reach) {
+        0
+    } else {
+        4
+    };
     let mut contacts = Vec::new();
-    for _ in 0..4 {
-        if !touched && geo.clear_around(&rigid.position, reach) {
-            break;
-        }
+    for _ in 0..passes {
         contacts.clear();
         let pose = to_pose(&rigid.position, &rigid.attitude);
         geo.contacts(&hull, &pose, CONTACT_MARGIN, &mut contacts);

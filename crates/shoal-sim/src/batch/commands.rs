@@ -482,9 +482,7 @@ impl Sim {
                     ),
                 ));
             }
-            let e = self.vehicle_entity(*id);
-            let kind = self.world().get::<Kind>(e).map(|k| k.0.clone());
-            let Some(kind) = kind else { continue };
+            let kind = &self.fleet().get(VehicleId(*id as u32)).model;
             let problem = check_frame(&kind.params.modems, f)
                 .err()
                 .map(|p| p.to_string())

@@ -198,9 +198,8 @@ impl Sim {
             vehicles: self.len(),
             ..Default::default()
         };
-        let mut q = self.world_mut().query::<&Kind>();
-        for k in q.iter(self.world()) {
-            let p = &k.0.params;
+        for v in self.fleet().as_slice() {
+            let p = &v.model.params;
             s.thrusters = s.thrusters.max(p.thrusters.len());
             s.tilts = s.tilts.max(p.tilts.len());
             s.modems = s.modems.max(p.modems.len());

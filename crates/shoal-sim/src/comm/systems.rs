@@ -6,7 +6,7 @@ use super::ending::{ByVehicle, Ended, candidates, own_transmissions};
 use super::frames::{CommRng, Inbox, Modems, Outbox, Queued, Received};
 use super::medium::{Logical, Medium, Transmission, received_power};
 use super::stats::{CommStats, DIST_BIN, DIST_BINS, Outcome, Tally, latency_bin};
-use crate::components::{Kind, StaticGeometry, VehicleId};
+use crate::components::{StaticGeometry, VehicleId};
 use crate::parallel::{Loop, Parallel};
 use crate::rng::VehicleRng;
 use bevy_ecs::prelude::*;
@@ -111,7 +111,6 @@ pub fn comm_transmit_system(
     mut medium: ResMut<Medium>,
     mut q: Query<(
         &VehicleId,
-        &Kind,
         &mut Outbox,
         &mut Modems,
         &mut CommRng,
@@ -122,18 +121,16 @@ pub fn comm_transmit_system(
         return;
     }
     let pending = |out: &Outbox, modems: &Modems| !out.0.is_empty() || modems.queued > 0;
-    if !q
-        .iter()
-        .any(|(_, _, out, modems, _, _)| pending(out, modems))
-    {
+    if !q.iter().any(|(_, out, modems, _, _)| pending(out, modems)) {
         return;
     }
     let t_end = clock.t() + clock.dt;
-    let mut items: Vec<_> = q.iter_mut().filter(|it| pending(&it.2, &it.3)).collect();
+    let mut items: Vec<_> = q.iter_mut().filter(|it| pending(&it.1, &it.2)).collect();
     items.sort_by_key(|it| it.0.0);
     let mut heap = BinaryHeap::new();
-    for (id, kind, outbox, modems, _, stats) in &mut items {
-        let params = &kind.0.params.modems;
+    let kinds = &medium.kinds;
+    for (id, outbox, modems, _, stats) in &mut items {
+        let params = &kinds[id.0 as usize].params.modems;
         let modems = &mut **modems;
         for f in outbox.0.drain(..) {
             let targets: Vec<usize> = match f.modem {
@@ -191,8 +188,9 @@ pub fn comm_transmit_system(
     let m = &mut *medium;
     let mut backoffs: HashMap<(u32, u64), f64> = HashMap::new();
     while let Some(ev) = heap.pop() {
-        let (_, kind, _, modems, rng, stats) = &mut items[index[&ev.vehicle]];
-        let params = &kind.0.params.modems[ev.modem];
+        let (_, _, modems, rng, stats) = &mut items[index[&ev.vehicle]];
+        let kind = &m.kinds[ev.vehicle as usize];
+        let params = &kind.params.modems[ev.modem];
         let (pos, att) = m.poses[ev.vehicle as usize];
         let pose = ModemPose::of(params, &pos, &att);
         // Carrier sense listens with all of the vehicle's photodiodes, and all modems of a
@@ -202,7 +200,7 @@ pub fn comm_transmit_system(
             threshold,
             backoff_max,
         } = params.access
-            && kind.0.params.modems.iter().enumerate().any(|(k, rxm)| {
+            && kind.params.modems.iter().enumerate().any(|(k, rxm)| {
                 sensed_power(
                     m,
                     &geo.0,
@@ -266,7 +264,7 @@ pub fn comm_deliver_system(
     par: Res<Parallel>,
     geo: Res<StaticGeometry>,
     mut medium: ResMut<Medium>,
-    mut q: Query<(&VehicleId, &Kind, &mut Inbox, &mut CommRng, &mut CommStats)>,
+    mut q: Query<(&VehicleId, &mut Inbox, &mut CommRng, &mut CommStats)>,
 ) {
     if !medium.active() {
         return;
@@ -290,8 +288,8 @@ pub fn comm_deliver_system(
         Loop::Delivery,
         &mut items,
         || (Tally::new(), Scratch::default()),
-        |(tally, scratch), (id, kind, inbox, rng, stats)| {
-            let mut rx = Listener::new(m, id.0, &kind.0, scratch);
+        |(tally, scratch), (id, inbox, rng, stats)| {
+            let mut rx = Listener::new(m, id.0, scratch);
             for &i in heard.of(id.0) {
                 let l = &logical[i as usize];
                 let o = receive(m, geo, &mut rx, &own, l, &mut rng.0, stats, inbox, tally);
@@ -361,8 +359,9 @@ struct Listener<'s> {
 }
 
 impl<'s> Listener<'s> {
-    /// Receiver `me` with model `kind`, its buffers `scratch` emptied for it.
-    fn new(m: &Medium, me: u32, kind: &'s VehicleModel, scratch: &'s mut Scratch) -> Self {
+    /// Receiver `me`, its buffers `scratch` emptied for it.
+    fn new(m: &'s Medium, me: u32, scratch: &'s mut Scratch) -> Self {
+        let kind = &*m.kinds[me as usize];
         let (pos, att) = m.poses[me as usize];
         let area = m.consts[me as usize]
             .iter()
