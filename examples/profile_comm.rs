@@ -1,5 +1,6 @@
 //! Times the benchmark swarm with optical traffic against variants, for profiling the medium:
-//! `cargo run --release --example profile_comm -- N`.
+//! `cargo run --release --example profile_comm -- N [beacons]` (with `beacons`, only the swarm
+//! with traffic, stepped for longer: a run to record with `perf`).
 
 use shoal::sim::bench::{TRAFFIC_SPACING, swarm_text};
 use shoal::sim::prelude::*;
@@ -7,7 +8,7 @@ use shoal::world::load::load_str;
 use std::path::Path;
 use std::time::Instant;
 
-fn time(label: &str, text: &str) {
+fn time(label: &str, text: &str, steps: u64) {
     let desc = load_str(text, Path::new("p.toml")).unwrap();
     let mut sim = Sim::new(
         &desc,
@@ -18,10 +19,10 @@ fn time(label: &str, text: &str) {
     );
     sim.run(150);
     let t = Instant::now();
-    sim.run(200);
+    sim.run(steps);
     println!(
         "{label:<40} {:>8.3} ms/step  delivered {}",
-        t.elapsed().as_secs_f64() * 1e3 / 200.0,
+        t.elapsed().as_secs_f64() * 1e3 / steps as f64,
         sim.medium().delivered
     );
 }
@@ -32,11 +33,16 @@ fn main() {
         .and_then(|s| s.parse().ok())
         .unwrap_or(1000);
     let traffic = swarm_text(n, 1, TRAFFIC_SPACING, true);
+    if std::env::args().nth(2).as_deref() == Some("beacons") {
+        time("beacons at 1 Hz", &traffic, 1000);
+        return;
+    }
     let quiet = swarm_text(n, 1, TRAFFIC_SPACING, false);
-    time("quiet", &quiet);
+    time("quiet", &quiet, 200);
     time(
         "modems + beacon behaviour, no frames",
         &traffic.replace("period = 1.0", "period = 100000.0"),
+        200,
     );
-    time("beacons at 1 Hz", &traffic);
+    time("beacons at 1 Hz", &traffic, 200);
 }

@@ -11,6 +11,22 @@ use std::sync::Arc;
 #[derive(Component, Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub struct VehicleId(pub u32);
 
+/// The entity of every vehicle, by id (so that a system can reach the few vehicles a step
+/// concerns without visiting all of them).
+#[derive(Resource, Clone, Debug, Default)]
+pub struct VehicleEntities(pub Vec<Entity>);
+
+impl VehicleEntities {
+    /// The entities of vehicles `ids` (each below the vehicle count), as a set the ECS can
+    /// fetch mutable components of (in entity order, not id order).
+    pub fn set_of(&self, ids: &[u32]) -> bevy_ecs::entity::UniqueEntityVec {
+        ids.iter()
+            .map(|&i| self.0[i as usize])
+            .collect::<std::collections::BTreeSet<Entity>>()
+            .into()
+    }
+}
+
 /// The unique names of all vehicles, by id, back to back in one buffer: a name per entity
 /// would cost a heap block, a `String` and its change ticks per vehicle (≈ 60 B, 3 % of a
 /// quiet vehicle).

@@ -67,7 +67,6 @@ pub struct VehicleSnapshot {
 pub struct Sim {
     world: World,
     schedule: Schedule,
-    entities: Vec<Entity>,
     fault: Option<SimFault>,
 }
 
@@ -161,10 +160,10 @@ impl Sim {
         world.insert_resource(fleet);
         world.insert_resource(names);
         world.insert_resource(tracks);
+        world.insert_resource(VehicleEntities(entities));
         let mut sim = Self {
             world,
             schedule: build_schedule(false, false),
-            entities,
             fault: None,
         };
         // Until their agent attaches, agent-driven vehicles hold depth and heading.
@@ -235,7 +234,7 @@ impl Sim {
 
     /// Entity of each vehicle, by id.
     pub fn entities(&self) -> &[Entity] {
-        &self.entities
+        &self.world.resource::<VehicleEntities>().0
     }
 
     /// Size of the pool (x, y, depth) \[m\].
@@ -255,12 +254,12 @@ impl Sim {
 
     /// Number of vehicles.
     pub fn len(&self) -> usize {
-        self.entities.len()
+        self.entities().len()
     }
 
     /// Whether the world has no vehicles.
     pub fn is_empty(&self) -> bool {
-        self.entities.is_empty()
+        self.entities().is_empty()
     }
 
     /// Working threads.
@@ -312,12 +311,12 @@ impl Sim {
 
     /// The entity of vehicle `id`.
     pub fn vehicle_entity(&self, id: usize) -> Entity {
-        self.entities[id]
+        self.entities()[id]
     }
 
     /// A copy of vehicle `id`.
     pub fn vehicle(&self, id: usize) -> VehicleSnapshot {
-        let e = self.world.entity(self.entities[id]);
+        let e = self.world.entity(self.entities()[id]);
         let v = self.fleet().get(VehicleId(id as u32));
         VehicleSnapshot {
             id: id as u32,
@@ -395,9 +394,9 @@ impl Sim {
     /// Borrowed views of all vehicles in id order (see [`crate::view`]). Call
     /// [`Self::fold_comm`] first when the per-sender link statistics are needed.
     pub fn views(&self) -> Vec<VehicleView<'_>> {
-        let mut views = Vec::with_capacity(self.entities.len());
+        let mut views = Vec::with_capacity(self.entities().len());
         views.extend(
-            self.entities
+            self.entities()
                 .iter()
                 .filter_map(|e| VehicleView::of(&self.world, *e)),
         );
@@ -425,7 +424,9 @@ impl Sim {
 
     /// Copies of all vehicles in id order.
     pub fn vehicles(&self) -> Vec<VehicleSnapshot> {
-        (0..self.entities.len()).map(|i| self.vehicle(i)).collect()
+        (0..self.entities().len())
+            .map(|i| self.vehicle(i))
+            .collect()
     }
 
     /// Takes the trajectory rows recorded since the last drain.

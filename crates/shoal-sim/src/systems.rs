@@ -168,6 +168,10 @@ pub fn behaviour_system(
         &mut items,
         |((id, behave, inbox, outbox), v)| {
             let b = &mut **behave;
+            // The outbox is marked changed only when the behaviour hands a frame over: the
+            // medium visits those vehicles alone.
+            let out = outbox.bypass_change_detection();
+            let before = out.0.len();
             let mut io = BehaviourIo {
                 t,
                 id: id.0,
@@ -177,9 +181,12 @@ pub fn behaviour_system(
                 setpoints: &mut v.control.setpoints,
                 modems: &v.model.params.modems,
                 rng: &mut b.rng,
-                outbox: &mut outbox.0,
+                outbox: &mut out.0,
             };
             b.behaviour.tick(&mut io);
+            if out.0.len() != before {
+                outbox.set_changed();
+            }
             inbox.0.clear();
         },
     );

@@ -112,7 +112,14 @@ impl<'a> Ended<'a> {
     /// every frame's dead power.
     fn find_interferers(&mut self, m: &'a Medium) {
         let near = 2.0 * (m.r_cut + m.max_hull_radius);
-        let tx_points: Vec<Vec3> = m.txs.iter().map(|x| x.pose.position).collect();
+        // Only what was on the air after the earliest start of these frames can overlap one.
+        let earliest = self
+            .copies
+            .iter()
+            .map(|c| c.start)
+            .fold(f64::INFINITY, f64::min);
+        let live: Vec<&Transmission> = m.txs.iter().filter(|x| x.end > earliest).collect();
+        let tx_points: Vec<Vec3> = live.iter().map(|x| x.pose.position).collect();
         let mut tx_grid = Grid::default();
         tx_grid.rebuild(near / 2.0, &tx_points);
         let mut from = 0;
@@ -122,7 +129,7 @@ impl<'a> Ended<'a> {
             let p = m.poses[f.tx as usize].0;
             let first = self.overlap.len();
             tx_grid.each_in_box(&(p - Vec3::repeat(near)), &(p + Vec3::repeat(near)), |k| {
-                let x = &m.txs[k as usize];
+                let x = live[k as usize];
                 if x.start < f.end
                     && x.end > f.start
                     && !(x.tx == f.tx && x.seq == f.seq)

@@ -127,8 +127,8 @@ pub struct Medium {
     /// Body position and attitude of every vehicle this step, by id (written by the vehicle
     /// pass, [`crate::systems::vehicle_system`], as it finishes each vehicle).
     pub poses: Vec<(Vec3, Quat)>,
-    /// Transmissions still relevant (active, or ended recently enough to overlap a frame that
-    /// is still to end), in start order.
+    /// Transmissions still relevant (on the air, or ended after the earliest start of those on
+    /// the air, so that they may overlap a frame still to end), in start order.
     pub txs: Vec<Transmission>,
     /// Vehicles by position, as they were at the grid's last rebuild (see
     /// [`Medium::update_grid`]).
@@ -142,8 +142,9 @@ pub struct Medium {
     pub consts: Vec<Arc<[ModemConsts]>>,
     /// Squared bounding-sphere radius of every vehicle's hull, by id [m²].
     hull_r2: Vec<f64>,
+    /// Vehicles with frames queued at a modem after the last transmit phase, ascending.
+    pub(super) waiting: Vec<u32>,
     pub(super) next_id: u64,
-    pub(super) max_airtime: f64,
     /// Deliveries so far (whole world), for progress and tests.
     pub delivered: u64,
     /// Transmissions started so far, and their total line bits (for the mean frame length).
@@ -209,10 +210,6 @@ impl Medium {
         } else {
             cutoff_range(&modems, attenuation)
         };
-        let max_airtime = modems
-            .iter()
-            .map(|m| m.airtime(m.max_payload))
-            .fold(0.0, f64::max);
         let n = kinds.len();
         let mut receivers: Vec<shoal_model::optics::Receiver> = Vec::new();
         for m in &modems {
@@ -250,8 +247,8 @@ impl Medium {
             grid_slack: 0.0,
             consts,
             hull_r2,
+            waiting: Vec::new(),
             next_id: 0,
-            max_airtime,
             delivered: 0,
             started: (0, 0),
             max_hull_radius,

@@ -6,7 +6,7 @@ use super::ending::{ByVehicle, Ended, candidates, own_transmissions};
 use super::frames::{CommRng, Inbox, Modems, Outbox, Queued, Received};
 use super::medium::{Logical, Medium, Transmission, received_power};
 use super::stats::{CommStats, DIST_BIN, DIST_BINS, Outcome, Tally, latency_bin};
-use crate::components::{StaticGeometry, VehicleId};
+use crate::components::{StaticGeometry, VehicleEntities, VehicleId};
 use crate::parallel::{Loop, Parallel};
 use crate::rng::VehicleRng;
 use bevy_ecs::prelude::*;
@@ -24,24 +24,31 @@ use std::sync::Arc;
 pub fn comm_snapshot_system(
     clock: Res<crate::components::Clock>,
     mut medium: ResMut<Medium>,
-    q: Query<(&Modems, &Outbox)>,
+    fresh: Query<&Outbox, Changed<Outbox>>,
 ) {
     if !medium.active() {
         return;
     }
     // Nothing on the air and nothing waiting to go: the medium has no work this step.
     let idle = medium.txs.is_empty()
-        && q.iter()
-            .all(|(modems, out)| out.0.is_empty() && modems.queued == 0);
+        && medium.waiting.is_empty()
+        && fresh.iter().all(|out| out.0.is_empty());
     if idle {
         return;
     }
     let m = &mut *medium;
     m.update_grid();
-    // A frame ending in the coming steps started at most `max_airtime` before its end; what
-    // ended before that can no longer overlap it.
-    let horizon = clock.t() - m.max_airtime - clock.dt;
-    m.txs.retain(|t| t.end > horizon);
+    // Every frame still to end is on the air now or starts later, so it started no earlier
+    // than the earliest start on the air now: what ended before that can no longer overlap
+    // it (nor a frame starting later, nor carrier sense from now on).
+    let t = clock.t();
+    let horizon = m
+        .txs
+        .iter()
+        .filter(|x| x.end > t)
+        .map(|x| x.start)
+        .fold(t, f64::min);
+    m.txs.retain(|x| x.end > horizon);
 }
 
 /// Received optical power at a modem from every transmission active at time `t` except
@@ -104,29 +111,50 @@ impl Ord for StartEvent {
     }
 }
 
+/// What the transmit phase reads and writes of a sending vehicle.
+type Sender = (
+    &'static VehicleId,
+    &'static mut Outbox,
+    &'static mut Modems,
+    &'static mut CommRng,
+    &'static mut CommStats,
+);
+
+/// The vehicles whose outbox changed since the transmit phase last ran.
+type HandedOver<'w, 's> = Query<'w, 's, (&'static VehicleId, &'static Outbox), Changed<Outbox>>;
+
 /// Step phase 2: queue handed-over frames and start transmissions in time order.
 pub fn comm_transmit_system(
     clock: Res<crate::components::Clock>,
     geo: Res<StaticGeometry>,
     mut medium: ResMut<Medium>,
-    mut q: Query<(
-        &VehicleId,
-        &mut Outbox,
-        &mut Modems,
-        &mut CommRng,
-        &mut CommStats,
-    )>,
+    entities: Res<VehicleEntities>,
+    mut qs: ParamSet<(HandedOver, Query<Sender>)>,
 ) {
     if !medium.active() {
         return;
     }
-    let pending = |out: &Outbox, modems: &Modems| !out.0.is_empty() || modems.queued > 0;
-    if !q.iter().any(|(_, out, modems, _, _)| pending(out, modems)) {
+    // The vehicles with something to send: frames handed over since the last step (their
+    // outbox changed), or still queued at a modem.
+    let mut ids = std::mem::take(&mut medium.waiting);
+    ids.extend(
+        qs.p0()
+            .iter()
+            .filter(|(_, out)| !out.0.is_empty())
+            .map(|(id, _)| id.0),
+    );
+    if ids.is_empty() {
         return;
     }
+    ids.sort_unstable();
+    ids.dedup();
+    let mut q = qs.p1();
     let t_end = clock.t() + clock.dt;
-    let mut items: Vec<_> = q.iter_mut().filter(|it| pending(&it.1, &it.2)).collect();
-    items.sort_by_key(|it| it.0.0);
+    let mut items: Vec<_> = q
+        .iter_many_unique_mut(entities.set_of(&ids))
+        .matched()
+        .collect();
+    items.sort_unstable_by_key(|it| it.0.0);
     let mut heap = BinaryHeap::new();
     let kinds = &medium.kinds;
     for (id, outbox, modems, _, stats) in &mut items {
@@ -256,6 +284,8 @@ pub fn comm_transmit_system(
             }
         }
     }
+    ids.retain(|&v| items[index[&v]].2.queued > 0);
+    m.waiting = ids;
 }
 
 /// Step phase 3: decide every reception of frames that ended in this step.
