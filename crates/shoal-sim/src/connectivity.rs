@@ -4,6 +4,7 @@
 
 use crate::comm::{CommStats, Medium};
 use crate::components::{Clock, VehicleId};
+use crate::parallel::{Loop, Parallel};
 use bevy_ecs::prelude::*;
 
 /// One sample of the communication graph.
@@ -66,6 +67,7 @@ impl Connectivity {
 pub fn connectivity_system(
     clock: Res<Clock>,
     medium: Res<Medium>,
+    par: Res<Parallel>,
     mut conn: ResMut<Connectivity>,
     mut q: Query<(&VehicleId, &mut CommStats)>,
 ) {
@@ -79,15 +81,19 @@ pub fn connectivity_system(
     }
     let t = next as f64 * clock.dt;
     let n = medium.kinds.len();
-    let mut edges: Vec<(u32, u32)> = Vec::new();
-    for (id, mut s) in &mut q {
+    let window = conn.window;
+    let mut items: Vec<_> = q.iter_mut().collect();
+    // Each vehicle's links are its own, so the fold runs per vehicle on the pool; the edges
+    // are sorted afterwards, so their order does not depend on the chunks.
+    let parts = par.for_each_with(Loop::Links, &mut items, Vec::new, |edges, (id, s)| {
         s.fold();
         for (from, l) in s.links() {
-            if t - l.last_delivery <= conn.window {
+            if t - l.last_delivery <= window {
                 edges.push(((*from).min(id.0), (*from).max(id.0)));
             }
         }
-    }
+    });
+    let mut edges: Vec<(u32, u32)> = parts.concat();
     edges.sort_unstable();
     edges.dedup();
     let mut parent: Vec<u32> = (0..n as u32).collect();

@@ -30,6 +30,9 @@ pub enum Loop {
     /// The medium's reception decisions (one item per vehicle that may hear a frame ending in
     /// the step).
     Delivery,
+    /// The per-sender link statistics of every vehicle brought up to date and read for the
+    /// communication graph, once per sampled second (one item per vehicle).
+    Links,
 }
 
 impl Loop {
@@ -48,6 +51,8 @@ pub struct Dispatches {
     pub vehicles: u64,
     /// Medium delivery loops split.
     pub delivery: u64,
+    /// Link-statistics loops of the communication graph split.
+    pub links: u64,
 }
 
 impl Dispatches {
@@ -65,7 +70,7 @@ pub struct Parallel {
     /// The smallest loop split over the pool \[vehicles\].
     min_parallel: usize,
     /// Loops split, by [`Loop`].
-    dispatches: [AtomicU64; 3],
+    dispatches: [AtomicU64; 4],
 }
 
 impl Parallel {
@@ -107,12 +112,14 @@ impl Parallel {
 
     /// The loops split over the pool so far.
     pub fn dispatches(&self) -> Dispatches {
-        let [behaviour, vehicles, delivery] = [Loop::Behaviour, Loop::Vehicles, Loop::Delivery]
-            .map(|k| self.dispatches[k.index()].load(Relaxed));
+        let [behaviour, vehicles, delivery, links] =
+            [Loop::Behaviour, Loop::Vehicles, Loop::Delivery, Loop::Links]
+                .map(|k| self.dispatches[k.index()].load(Relaxed));
         Dispatches {
             behaviour,
             vehicles,
             delivery,
+            links,
         }
     }
 

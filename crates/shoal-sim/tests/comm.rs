@@ -453,6 +453,8 @@ fn medium_statistics_are_identical_on_one_and_two_threads() {
         } else {
             assert_eq!((split.vehicles, split.behaviour), (500, 100), "{split:?}");
             assert!(split.delivery > 0, "delivery never on the pool: {split:?}");
+            // The communication graph, sampled every second, folds the links on the pool.
+            assert_eq!(split.links, 5, "{split:?}");
         }
         let s: Vec<_> = (0..300)
             .map(|i| {
@@ -482,7 +484,16 @@ fn medium_statistics_are_identical_on_one_and_two_threads() {
         assert_eq!(m.delivered, delivered);
         let per_second: u64 = m.per_second.iter().flatten().sum();
         assert_eq!(per_second, attempts);
-        let world = format!("{by_distance:?} {latency:?} {:?}", m.per_second);
+        let conn = sim.connectivity();
+        assert!(
+            conn.samples.iter().any(|c| c.edges > 0),
+            "{:?}",
+            conn.samples
+        );
+        let world = format!(
+            "{by_distance:?} {latency:?} {:?} {:?} {:?}",
+            m.per_second, conn.samples, conn.last_edges
+        );
         out.push((sim.digest(), format!("{s:?} {world}")));
     }
     assert_eq!(out[0].0, out[1].0);

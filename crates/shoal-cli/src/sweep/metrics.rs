@@ -46,6 +46,7 @@ pub const SCHEMA: &[&str] = &[
     "parallel_dispatches.behaviour",
     "parallel_dispatches.vehicles",
     "parallel_dispatches.delivery",
+    "parallel_dispatches.links",
     "phases_s.ingest",
     "phases_s.vehicles",
     "phases_s.medium_snapshot",
