@@ -4,20 +4,12 @@
 use crate::Failure;
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressStyle};
-use shoal_model::effects;
-use shoal_model::presets;
-use shoal_model::rigid_body::Environment;
-use shoal_sysid::data::{DataOptions, Dataset};
-use shoal_sysid::ingest::{ReadOptions, TimeUnit};
-use shoal_sysid::replay::ReplayOptions;
-use shoal_sysid::report::{ReportInput, verdict_sentence, write_report};
-use shoal_sysid::run::{ChannelKind, MeasuredRun};
-use shoal_sysid::search::{SearchOptions, search};
-use shoal_sysid::segments::{GapMode, GapOptions, Segments};
-use shoal_world::load::load_vehicle;
-use shoal_world::spec::VehicleSpec;
+use shoal_sysid::ingest::TimeUnit;
+use shoal_sysid::segments::{GapMode, Segments};
+use shoal_sysid::validate::{Config, Progress, RunInput, ValidateError, Vehicle};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::OnceLock;
 use std::time::Instant;
 
 /// Arguments of `shoal validate`.
@@ -74,159 +66,47 @@ pub struct ValidateArgs {
     pub quiet: bool,
 }
 
+/// The library's settings from the command line.
+fn config(args: &ValidateArgs) -> Config {
+    Config {
+        vehicle: args.vehicle.clone().map_or(Vehicle::Preset, Vehicle::File),
+        split: args.split,
+        dt: args.dt,
+        time_unit: args.time_unit,
+        gaps: args.gaps,
+        max_gap: args.max_gap,
+        min_segment: args.min_segment,
+        channels: args.channels.clone(),
+        effects: args.effects.clone(),
+        threads: args.threads.map(usize::from),
+    }
+}
+
+/// A library error as the command line says it: settings by their flags.
+fn input_error(e: ValidateError) -> Failure {
+    let flag = |s: &str| format!("--{}", s.replace('_', "-"));
+    Failure::Input(match e {
+        ValidateError::Setting {
+            setting,
+            value,
+            allowed,
+        } => format!("{} {value}: allowed {allowed}", flag(setting)),
+        ValidateError::UnknownName {
+            setting,
+            what,
+            name,
+            allowed,
+        } => format!(
+            "{}: unknown {what} `{name}` (allowed: {})",
+            flag(setting),
+            allowed.join(", ")
+        ),
+        other => other.to_string(),
+    })
+}
+
 /// `shoal validate`.
 pub fn validate(args: &ValidateArgs) -> Result<ExitCode, Failure> {
-    if !(args.dt >= ReplayOptions::DT_MIN && args.dt <= ReplayOptions::DT_MAX) {
-        return Err(Failure::Input(format!(
-            "--dt {}: allowed {} ≤ dt ≤ {} s",
-            args.dt,
-            ReplayOptions::DT_MIN,
-            ReplayOptions::DT_MAX
-        )));
-    }
-    if args.max_gap.is_some_and(|g| !(g.is_finite() && g > 0.0)) {
-        return Err(Failure::Input(format!(
-            "--max-gap {}: allowed a number of seconds > 0",
-            args.max_gap.unwrap_or_default()
-        )));
-    }
-    if !(args.min_segment.is_finite() && args.min_segment >= 0.0) {
-        return Err(Failure::Input(format!(
-            "--min-segment {}: allowed a number of seconds ≥ 0",
-            args.min_segment
-        )));
-    }
-    if args.holdout.is_empty() && !(args.split > 0.0 && args.split < 1.0) {
-        return Err(Failure::Input(format!(
-            "--split {}: allowed 0 < split < 1",
-            args.split
-        )));
-    }
-    let channels = if args.channels.is_empty() {
-        None
-    } else {
-        let mut v = Vec::new();
-        for c in &args.channels {
-            let name = c.strip_prefix("y.").unwrap_or(c);
-            match ChannelKind::from_name(name) {
-                Some(k) => v.push(k),
-                None => {
-                    let all: Vec<String> = ChannelKind::ALL
-                        .iter()
-                        .map(|(_, n)| format!("y.{n}"))
-                        .collect();
-                    return Err(Failure::Input(format!(
-                        "--channels: unknown measurement `{c}` (allowed: {})",
-                        all.join(", ")
-                    )));
-                }
-            }
-        }
-        Some(v)
-    };
-    let mut catalogue = effects::catalogue();
-    if !args.effects.is_empty() {
-        for e in &args.effects {
-            if effects::by_name(e).is_none() {
-                return Err(Failure::Input(format!(
-                    "--effects: unknown effect `{e}` (allowed: {})",
-                    effects::names().join(", ")
-                )));
-            }
-        }
-        catalogue.retain(|e| args.effects.iter().any(|n| n == e.name()));
-    }
-    let (spec, env, source) = match &args.vehicle {
-        Some(p) => {
-            let vf = load_vehicle(p).map_err(|e| Failure::Input(e.to_string()))?;
-            (vf.spec, vf.env, format!("`{}`", p.display()))
-        }
-        None => (
-            VehicleSpec::from_params(&presets::uauv2()),
-            Environment::default(),
-            "the built-in `uauv2` preset (`shoal preset uauv2`)".to_string(),
-        ),
-    };
-    let params = spec.to_params();
-    let base_effects = spec.effects(&params).list().to_vec();
-    let read_opts = ReadOptions {
-        time_unit: args.time_unit,
-    };
-    let gap_opts = GapOptions {
-        mode: args.gaps,
-        max_gap: args.max_gap,
-        min_duration: args.min_segment,
-        ..Default::default()
-    };
-    let read = |paths: &[PathBuf]| -> Result<Vec<MeasuredRun>, Failure> {
-        let mut runs = Vec::new();
-        for p in paths {
-            let run = MeasuredRun::read_with(p, &read_opts)
-                .and_then(|r| r.split_at_gaps(&gap_opts))
-                .map_err(|e| Failure::Input(e.to_string()))?;
-            if !args.quiet {
-                print_segments(p, &run);
-            }
-            runs.extend(run.runs);
-        }
-        Ok(runs)
-    };
-    let est = read(&args.runs)?;
-    let hold = read(&args.holdout)?;
-    let ds = Dataset::new(
-        &params,
-        env,
-        est,
-        hold,
-        &DataOptions {
-            split: args.split,
-            channels,
-            replay: ReplayOptions {
-                dt: args.dt,
-                ..Default::default()
-            },
-        },
-    )
-    .map_err(|e| Failure::Input(e.to_string()))?;
-    if !args.quiet {
-        for rd in &ds.runs {
-            for note in &rd.map.clamped {
-                eprintln!("  {}: {note}", rd.run.name);
-            }
-        }
-    }
-    let threads = args.threads.map_or_else(
-        || std::thread::available_parallelism().map_or(1, |n| n.get().min(8)),
-        usize::from,
-    );
-    let opts = SearchOptions {
-        effects: catalogue,
-        threads,
-        base_effects,
-        ..Default::default()
-    };
-    if !args.quiet {
-        eprintln!(
-            "shoal: validating `{}` on {} run(s){} — {} effects, {} thread(s) → {}",
-            spec.name,
-            ds.runs.iter().filter(|r| !r.holdout).count(),
-            if args.holdout.is_empty() {
-                format!(
-                    " (split {:.0} % / {:.0} %)",
-                    100.0 * args.split,
-                    100.0 * (1.0 - args.split)
-                )
-            } else {
-                format!(
-                    " + {} hold-out run(s)",
-                    ds.runs.iter().filter(|r| r.holdout).count()
-                )
-            },
-            opts.effects.len(),
-            threads,
-            args.out.display()
-        );
-    }
     let pb = if args.quiet {
         ProgressBar::hidden()
     } else {
@@ -236,73 +116,76 @@ pub fn validate(args: &ValidateArgs) -> Result<ExitCode, Failure> {
         ProgressStyle::with_template("{spinner} [{elapsed_precise}] {pos} fits  {msg}")
             .unwrap_or_else(|_| ProgressStyle::default_spinner()),
     );
-    let start = Instant::now();
-    let outcome = search(&ds, &params, &opts, &|name| {
-        pb.inc(1);
-        pb.set_message(format!("last: {name}"));
-    });
-    pb.finish_and_clear();
-    let written = write_report(
-        &args.out,
-        &ReportInput {
-            ds: &ds,
-            vehicle: &spec,
-            vehicle_source: source,
-            opts: &opts,
-            outcome: &outcome,
-            plots: !args.no_plots,
-        },
+    let started = OnceLock::new();
+    let files = |paths: &[PathBuf]| -> Vec<RunInput> {
+        paths.iter().cloned().map(RunInput::File).collect()
+    };
+    let progress = |p: Progress<'_>| match p {
+        Progress::Fit { name } => {
+            pb.inc(1);
+            pb.set_message(format!("last: {name}"));
+        }
+        _ if args.quiet => {}
+        Progress::Read { path, segments } => print_segments(path, segments),
+        Progress::Clamped { run, note } => eprintln!("  {run}: {note}"),
+        Progress::Start {
+            vehicle,
+            estimation,
+            holdout,
+            split,
+            effects,
+            threads,
+        } => {
+            let _ = started.set(Instant::now());
+            eprintln!(
+                "shoal: validating `{vehicle}` on {estimation} run(s){} — {effects} effects, \
+                 {threads} thread(s) → {}",
+                match split {
+                    Some(s) => format!(" (split {:.0} % / {:.0} %)", 100.0 * s, 100.0 * (1.0 - s)),
+                    None => format!(" + {holdout} hold-out run(s)"),
+                },
+                args.out.display()
+            );
+        }
+    };
+    let v = shoal_sysid::validate::validate(
+        &config(args),
+        &files(&args.runs),
+        &files(&args.holdout),
+        &progress,
     )
-    .with_context(|| format!("cannot write the report into {}", args.out.display()))?;
-    let wall = start.elapsed().as_secs_f64();
-    println!("{}", verdict_sentence(&outcome));
+    .map_err(input_error)?;
+    pb.finish_and_clear();
+    let written = v
+        .write(&args.out, !args.no_plots)
+        .with_context(|| format!("cannot write the report into {}", args.out.display()))?;
+    let wall = started.get().map_or(0.0, |t| t.elapsed().as_secs_f64());
+    println!("{}", v.verdict_sentence());
     println!();
     println!(
         "{:<10} {:>16} {:>16} {:>8} {:>10} {:>10}",
         "channel", "RMSE before", "RMSE after", "gain", "fit% bef.", "fit% aft."
     );
-    for (k, mb) in &outcome.baseline.eval.metrics {
-        let mf = &outcome.chosen.eval.metrics[k];
-        let gain = if mb.rmse > 0.0 {
-            100.0 * (1.0 - mf.rmse / mb.rmse)
-        } else {
-            0.0
-        };
+    for r in v.channels() {
+        let k = r.channel;
         println!(
             "{:<10} {:>16} {:>16} {:>7.1}% {:>10.1} {:>10.1}",
             format!("y.{}", k.name()),
-            format!("{:.4} {:<5}", mb.rmse, k.unit()),
-            format!("{:.4} {:<5}", mf.rmse, k.unit()),
-            gain,
-            mb.fit_pct,
-            mf.fit_pct
+            format!("{:.4} {:<5}", r.rmse_before, k.unit()),
+            format!("{:.4} {:<5}", r.rmse_after, k.unit()),
+            r.gain_pct,
+            r.fit_pct_before,
+            r.fit_pct_after
         );
     }
-    let white = |e: &shoal_sysid::data::Evaluation| e.metrics.values().all(|m| m.ljung_box.white());
+    let (white_before, white_after) = v.residuals_white();
+    let yes = |w: bool| if w { "yes" } else { "no" };
     println!(
         "\nresiduals white (Ljung–Box 5 %): before {}, after {}",
-        if white(&outcome.baseline.eval) {
-            "yes"
-        } else {
-            "no"
-        },
-        if white(&outcome.chosen.eval) {
-            "yes"
-        } else {
-            "no"
-        }
+        yes(white_before),
+        yes(white_after)
     );
-    let fits = outcome
-        .candidates
-        .iter()
-        .filter(|c| c.fit.is_some())
-        .count();
-    let evals: usize = outcome
-        .candidates
-        .iter()
-        .filter_map(|c| c.fit.as_ref())
-        .map(|f| f.evaluations)
-        .sum();
+    let (fits, evals) = v.work();
     println!(
         "{fits} candidate fits, {evals} replays in {wall:.1} s\nwrote {}, {}, {} ({} plot files)",
         written.json.display(),

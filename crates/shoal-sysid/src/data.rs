@@ -207,9 +207,35 @@ pub enum DataError {
     /// A run does not fit the vehicle.
     #[error(transparent)]
     Run(#[from] RunError),
-    /// Something about the set of runs as a whole.
-    #[error("{0}")]
-    Other(String),
+    /// No run to fit on.
+    #[error("no estimation run given")]
+    NoEstimationRun,
+    /// The estimation fraction is out of range (and there are no hold-out runs).
+    #[error("split {split} is out of range; allowed: 0 < split < 1")]
+    Split {
+        /// The fraction given.
+        split: f64,
+    },
+    /// A run measures none of the selected channels.
+    #[error("{}: none of the selected channels is measured in this run", file.display())]
+    NoSelectedChannel {
+        /// The run's file.
+        file: std::path::PathBuf,
+    },
+    /// A channel has too few samples on one side of the split.
+    #[error(
+        "channel y.{} has {estimation} estimation and {validation} validation samples: at \
+         least 5 of each are needed (use longer runs, another split, or hold-out runs)",
+        channel.name()
+    )]
+    TooFewSamples {
+        /// The channel.
+        channel: ChannelKind,
+        /// Its estimation samples.
+        estimation: usize,
+        /// Its validation samples.
+        validation: usize,
+    },
 }
 
 impl Dataset {
@@ -222,13 +248,10 @@ impl Dataset {
         opts: &DataOptions,
     ) -> Result<Dataset, DataError> {
         if estimation.is_empty() {
-            return Err(DataError::Other("no estimation run given".into()));
+            return Err(DataError::NoEstimationRun);
         }
         if !(opts.split > 0.0 && opts.split < 1.0) && holdout.is_empty() {
-            return Err(DataError::Other(format!(
-                "split {} is out of range; allowed: 0 < split < 1",
-                opts.split
-            )));
+            return Err(DataError::Split { split: opts.split });
         }
         let have_holdout = !holdout.is_empty();
         let mut runs = Vec::new();
@@ -248,10 +271,9 @@ impl Dataset {
                 .map(|(i, _)| i)
                 .collect();
             if channels.is_empty() {
-                return Err(DataError::Other(format!(
-                    "{}: none of the selected channels is measured in this run",
-                    run.path.display()
-                )));
+                return Err(DataError::NoSelectedChannel {
+                    file: run.path.clone(),
+                });
             }
             let split_time = if is_holdout {
                 f64::NEG_INFINITY
@@ -296,11 +318,11 @@ impl Dataset {
         for k in &ds.kinds {
             let (ne, nv) = ds.counts(*k);
             if ne < 5 || nv < 5 {
-                return Err(DataError::Other(format!(
-                    "channel y.{} has {ne} estimation and {nv} validation samples: at least 5 \
-                     of each are needed (use longer runs, another split, or hold-out runs)",
-                    k.name()
-                )));
+                return Err(DataError::TooFewSamples {
+                    channel: *k,
+                    estimation: ne,
+                    validation: nv,
+                });
             }
         }
         Ok(ds)

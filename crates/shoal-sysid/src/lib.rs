@@ -15,6 +15,8 @@
 //! * [`search`] — per-effect fits, BIC and validation scoring, greedy forward selection with a
 //!   significance rule;
 //! * [`report`] — `report.json`, `report.md` with plots, and the extended `vehicle.toml`;
+//! * [`validate`] — all of the above in one call: settings checked, runs read, searched,
+//!   judged (what `shoal validate` and Python's `shoal.validate` call);
 //! * [`synth`], [`design`] — synthetic runs with hidden effects and the μAUV² experiments
 //!   that excite every effect.
 //! * [`truth_forms`], [`logger`] — effects hidden in forms that differ from the catalogue's,
@@ -45,3 +47,4 @@ pub mod stats;
 pub mod synth;
 pub mod testset;
 pub mod truth_forms;
+pub mod validate;
