@@ -80,7 +80,8 @@ fn settings_are_checked_first_with_matchable_errors() {
         split: 5.0,
         ..Config::default()
     };
-    match validate(&c, std::slice::from_ref(&short), &[short.clone()], &quiet) {
+    let one = std::slice::from_ref(&short);
+    match validate(&c, one, one, &quiet) {
         Err(ValidateError::Data(DataError::TooFewSamples { channel, .. })) => {
             assert_eq!(channel.name(), "depth")
         }
