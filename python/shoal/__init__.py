@@ -6,11 +6,15 @@
 - :mod:`shoal.rl` — a PettingZoo ``ParallelEnv`` (``SwarmEnv``, one agent per vehicle) and a
   Gymnasium env (``VehicleEnv``, one vehicle) for training (``pip install "shoal[rl]"``);
 - :mod:`shoal.agent` — agents in a separate process attached to ``shoal run`` over iceoryx2
-  shared memory.
+  shared memory;
+- :func:`validate` — ``shoal validate`` as a function: measured runs (paths or columns of
+  numbers) → the effects the model lacks, fitted, with their gain on held-out data
+  (:mod:`shoal.validation`).
 
 Units are SI, angles in radians, depth positive down (north-east-down world frame). Errors:
 :class:`WorldError` (a world that cannot be loaded), :class:`CommandError` (a bad command,
-naming the vehicle and field; both are ``ValueError``) and :class:`SimulationError` (a
+naming the vehicle and field), :class:`ValidationError` (a validation that cannot run, naming
+the setting or the file, line and column; all three are ``ValueError``) and :class:`SimulationError` (a
 vehicle's state stopped being finite). See python/README.md.
 """
 
@@ -20,20 +24,25 @@ from ._shoal import (
     QUANTITIES,
     CommandError,
     SimulationError,
+    ValidationError,
     World,
     WorldError,
     __version__,
     plot,
 )
+from .validation import Report, validate
 
 __all__ = [
     "MAX_FRAME_DELAY",
     "MODES",
     "QUANTITIES",
     "CommandError",
+    "Report",
     "SimulationError",
+    "ValidationError",
     "World",
     "WorldError",
     "__version__",
     "plot",
+    "validate",
 ]

@@ -9,13 +9,16 @@
 //!   arrays, and the frames delivered in the last step;
 //! - [`args`]: numpy arrays and Python values turned into the whole-swarm commands of
 //!   [`shoal_sim::batch`], whose checks raise [`CommandError`] naming the vehicle and field;
-//! - [`plot`]: line plots (PNG, SVG) for the examples, drawn by shoal's own plotting.
+//! - [`plot`]: line plots (PNG, SVG) for the examples, drawn by shoal's own plotting;
+//! - [`validate`]: `shoal validate` on measured runs (paths or columns of numbers), whose
+//!   settings errors raise [`ValidationError`] naming the setting, file, line or column.
 //!
-//! The GIL is released while the world steps. Python-facing units are SI, angles in radians.
+//! The GIL is released while the world steps and while a validation searches. Python-facing units are SI, angles in radians.
 
 pub mod args;
 pub mod observe;
 pub mod plot;
+pub mod validate;
 pub mod world;
 
 use pyo3::prelude::*;
@@ -33,6 +36,14 @@ pyo3::create_exception!(
     pyo3::exceptions::PyValueError,
     "A bad command: NaN or infinite, out of range, an unknown mode, a wrong shape. Attributes: \
      `vehicle` (id or None), `name` (vehicle name or None), `field`."
+);
+pyo3::create_exception!(
+    _shoal,
+    ValidationError,
+    pyo3::exceptions::PyValueError,
+    "A validation that cannot run: a setting out of range or an unknown name (attribute \
+     `setting`), or a run that cannot be read or does not fit the vehicle (attributes `file`, \
+     `line`, `column`); the message names the allowed range."
 );
 pyo3::create_exception!(
     _shoal,
@@ -61,6 +72,9 @@ fn _shoal(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
     m.add_class::<world::World>()?;
     m.add_function(wrap_pyfunction!(plot::plot, m)?)?;
+    m.add_class::<validate::Validation>()?;
+    m.add_function(wrap_pyfunction!(validate::validate, m)?)?;
+    m.add("ValidationError", py.get_type::<ValidationError>())?;
     m.add("WorldError", py.get_type::<WorldError>())?;
     m.add("CommandError", py.get_type::<CommandError>())?;
     m.add("SimulationError", py.get_type::<SimulationError>())?;

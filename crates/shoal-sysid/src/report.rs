@@ -116,8 +116,20 @@ pub fn write_report(dir: &Path, input: &ReportInput<'_>) -> Result<Written, Repo
     Ok(written)
 }
 
+/// The content of `report.json` without plots (no plot files are referenced).
+pub fn report_value(input: &ReportInput<'_>) -> serde_json::Value {
+    let corr = correlations(input.ds, &input.outcome.baseline.eval);
+    json::report(input, &corr, &plots::PlotRefs::default())
+}
+
 /// `vehicle.toml`: the input model with the found effects on.
 fn write_vehicle(input: &ReportInput<'_>, path: &Path) -> Result<(), ReportError> {
+    write(path, &vehicle_toml(input, path)?)
+}
+
+/// The text of `vehicle.toml` (the input model with the found effects on) to be written at
+/// `path` (named in its header comment).
+pub fn vehicle_toml(input: &ReportInput<'_>, path: &Path) -> Result<String, ReportError> {
     let fin = &input.outcome.chosen;
     let mut spec = input.vehicle.clone();
     let params = spec.to_params();
@@ -142,7 +154,7 @@ fn write_vehicle(input: &ReportInput<'_>, path: &Path) -> Result<(), ReportError
         input.vehicle_source,
         path.display()
     );
-    write(path, &(header + &toml))
+    Ok(header + &toml)
 }
 
 /// One sentence: what was found and what it gained.

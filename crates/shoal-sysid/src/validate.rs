@@ -8,7 +8,9 @@ use crate::data::{DataError, DataOptions, Dataset, Evaluation};
 use crate::ingest::{ReadOptions, TimeUnit};
 use crate::limits::ClampNote;
 use crate::replay::ReplayOptions;
-use crate::report::{ReportError, ReportInput, Written, verdict_sentence, write_report};
+use crate::report::{
+    ReportError, ReportInput, Written, report_value, vehicle_toml, verdict_sentence, write_report,
+};
 use crate::run::{ChannelKind, MeasuredRun, RunError};
 use crate::search::{Outcome, SearchOptions, search};
 use crate::segments::{GapMode, GapOptions, Segments};
@@ -259,6 +261,16 @@ impl Validation {
     /// `dir`, created if missing.
     pub fn write(&self, dir: &Path, plots: bool) -> Result<Written, ReportError> {
         write_report(dir, &self.report_input(plots))
+    }
+
+    /// The content of `report.json` (without plots).
+    pub fn report_value(&self) -> serde_json::Value {
+        report_value(&self.report_input(false))
+    }
+
+    /// The fitted vehicle as a world file (`vehicle.toml`; its header names `path`).
+    pub fn vehicle_toml(&self, path: &Path) -> Result<String, ReportError> {
+        vehicle_toml(&self.report_input(false), path)
     }
 
     /// The report's input (for the report's parts written one by one).

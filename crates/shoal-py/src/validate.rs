@@ -1,0 +1,224 @@
+//! `shoal.validate`'s compiled half: measured runs (paths, or columns of numbers) and settings
+//! handed to [`shoal_sysid::validate::validate`] with the GIL released, progress passed back
+//! to a Python callable, and the finished validation kept as [`Validation`] (its report as
+//! JSON text, the fitted vehicle as a world file, the report files written on request). The
+//! Python half (`python/shoal/validate.py`) builds the `Report` objects from it.
+
+use crate::ValidationError;
+use numpy::{AllowTypeChange, PyArrayLike1};
+use pyo3::exceptions::{PyOSError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::PyTuple;
+use shoal_sysid::ingest::TimeUnit;
+use shoal_sysid::segments::GapMode;
+use shoal_sysid::validate::{Config, Progress, RunInput, ValidateError, Vehicle};
+use std::fmt::Write as _;
+use std::path::PathBuf;
+use std::sync::Mutex;
+
+/// A finished validation (see `shoal.validate`).
+#[pyclass(frozen, module = "shoal._shoal")]
+pub struct Validation(shoal_sysid::validate::Validation);
+
+#[pymethods]
+impl Validation {
+    /// The content of `report.json` (without plots) as JSON text.
+    fn report_json(&self) -> String {
+        self.0.report_value().to_string()
+    }
+
+    /// The fitted vehicle as a world file (the text of `vehicle.toml`).
+    fn vehicle_toml(&self) -> PyResult<String> {
+        self.0
+            .vehicle_toml(std::path::Path::new("vehicle.toml"))
+            .map_err(|e| PyOSError::new_err(e.to_string()))
+    }
+
+    /// Writes `report.json`, `report.md`, `vehicle.toml` and (with `plots`) the plots into
+    /// `dir`; returns their paths `(json, markdown, vehicle, [plots])`.
+    #[pyo3(signature = (dir, plots=true))]
+    fn write(
+        &self,
+        py: Python<'_>,
+        dir: PathBuf,
+        plots: bool,
+    ) -> PyResult<(PathBuf, PathBuf, PathBuf, Vec<PathBuf>)> {
+        let w = py
+            .detach(|| self.0.write(&dir, plots))
+            .map_err(|e| PyOSError::new_err(e.to_string()))?;
+        Ok((w.json, w.markdown, w.vehicle, w.plots))
+    }
+}
+
+/// One run from Python: a path (str or os.PathLike), or `(name, columns)` with `columns` a
+/// list of `(header, values)` pairs (the CSV format's column names, 1-D numbers).
+fn run_input(item: &Bound<'_, PyAny>, which: &str) -> PyResult<RunInput> {
+    if let Ok(path) = item.extract::<PathBuf>() {
+        return Ok(RunInput::File(path));
+    }
+    let bad = |m: String| PyValueError::new_err(format!("{which}: {m}"));
+    let tuple = item
+        .cast::<PyTuple>()
+        .map_err(|_| bad("expected a path or (name, columns)".into()))?;
+    if tuple.len() != 2 {
+        return Err(bad("expected a path or (name, columns)".into()));
+    }
+    let name: String = tuple.get_item(0)?.extract()?;
+    let mut headers = Vec::new();
+    let mut columns: Vec<Vec<f64>> = Vec::new();
+    for pair in tuple.get_item(1)?.try_iter()? {
+        let pair = pair?;
+        let (header, values): (String, Bound<'_, PyAny>) = pair.extract()?;
+        let v: PyArrayLike1<'_, f64, AllowTypeChange> = values
+            .extract()
+            .map_err(|_| bad(format!("column `{header}` is not a 1-D array of numbers")))?;
+        columns.push(v.as_array().to_vec());
+        headers.push(header);
+    }
+    let rows = columns.first().map_or(0, Vec::len);
+    if let Some((h, c)) = headers.iter().zip(&columns).find(|(_, c)| c.len() != rows) {
+        return Err(bad(format!(
+            "column `{h}` has {} values, column `{}` {rows}",
+            c.len(),
+            headers[0]
+        )));
+    }
+    // Rust's float formatting is the shortest text that reads back as the same number, so
+    // the reader sees exactly the values given.
+    let mut csv = headers.join(",");
+    csv.push('\n');
+    for r in 0..rows {
+        for (k, c) in columns.iter().enumerate() {
+            let sep = if k == 0 { "" } else { "," };
+            let _ = write!(csv, "{sep}{}", c[r]);
+        }
+        csv.push('\n');
+    }
+    Ok(RunInput::Text { name, csv })
+}
+
+/// A [`ValidateError`] as a Python `ValidationError` with attributes `setting` (the keyword
+/// argument at fault, or None), `file`, `line` and `column` (where a run is at fault, else
+/// None).
+fn error(py: Python<'_>, e: &ValidateError) -> PyErr {
+    let err = ValidationError::new_err(e.to_string());
+    let v = err.value(py);
+    let (setting, file, line, column) = match e {
+        ValidateError::Setting { setting, .. } | ValidateError::UnknownName { setting, .. } => {
+            (Some(*setting), None, None, None)
+        }
+        ValidateError::Run(r) => (
+            None,
+            Some(r.file.clone()),
+            Some(r.line),
+            r.column.as_ref().map(|c| c.1.clone()),
+        ),
+        _ => (None, None, None, None),
+    };
+    // Setting attributes on a fresh exception cannot fail but for memory; the message says
+    // the same.
+    let _ = v.setattr("setting", setting);
+    let _ = v.setattr("file", file);
+    let _ = v.setattr("line", line);
+    let _ = v.setattr("column", column);
+    err
+}
+
+/// Progress as `(kind, message)`: kind `read`, `clamped`, `start` or `fit`.
+fn progress_message(p: &Progress<'_>) -> (&'static str, String) {
+    match p {
+        Progress::Read { path, segments } => (
+            "read",
+            format!(
+                "{}: {} segment(s){}",
+                path.display(),
+                segments.runs.len(),
+                segments
+                    .runs
+                    .first()
+                    .map(|r| format!(", {}", r.ingest))
+                    .unwrap_or_default()
+            ),
+        ),
+        Progress::Clamped { run, note } => ("clamped", format!("{run}: {note}")),
+        Progress::Start {
+            vehicle,
+            estimation,
+            holdout,
+            effects,
+            threads,
+            ..
+        } => (
+            "start",
+            format!(
+                "validating `{vehicle}` on {estimation} run(s) + {holdout} hold-out run(s), \
+                 {effects} effects, {threads} thread(s)"
+            ),
+        ),
+        Progress::Fit { name } => ("fit", name.to_string()),
+    }
+}
+
+/// The compiled `shoal._shoal.validate`: see `shoal.validate` (python/shoal/validate.py),
+/// which normalises the runs into paths and `(name, [(header, values)])` tuples.
+#[pyfunction]
+#[pyo3(signature = (runs, holdout, vehicle, channels, effects, split, dt, time_unit, gaps, max_gap, min_segment, threads, progress))]
+pub fn validate(
+    py: Python<'_>,
+    runs: Vec<Bound<'_, PyAny>>,
+    holdout: Vec<Bound<'_, PyAny>>,
+    vehicle: Option<PathBuf>,
+    channels: Vec<String>,
+    effects: Vec<String>,
+    split: f64,
+    dt: f64,
+    time_unit: Option<String>,
+    gaps: &str,
+    max_gap: Option<f64>,
+    min_segment: f64,
+    threads: Option<usize>,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Validation> {
+    let inputs = |list: &[Bound<'_, PyAny>], what: &str| -> PyResult<Vec<RunInput>> {
+        list.iter()
+            .enumerate()
+            .map(|(i, r)| run_input(r, &format!("{what}[{i}]")))
+            .collect()
+    };
+    let (runs, holdout) = (inputs(&runs, "runs")?, inputs(&holdout, "holdout")?);
+    let time_unit = match time_unit.as_deref() {
+        None => None,
+        Some(u) => Some(u.parse::<TimeUnit>().map_err(PyValueError::new_err)?),
+    };
+    let config = Config {
+        vehicle: vehicle.map_or(Vehicle::Preset, Vehicle::File),
+        split,
+        dt,
+        time_unit,
+        gaps: gaps.parse::<GapMode>().map_err(PyValueError::new_err)?,
+        max_gap,
+        min_segment,
+        channels,
+        effects,
+        threads,
+    };
+    // The callable is called from the search's threads, each taking the GIL for the call; the
+    // first exception it raises is raised once the search is done.
+    let failed: Mutex<Option<PyErr>> = Mutex::new(None);
+    let report = |p: Progress<'_>| {
+        let Some(cb) = &progress else { return };
+        let (kind, message) = progress_message(&p);
+        Python::attach(|py| {
+            if let Err(e) = cb.call1(py, (kind, message))
+                && let Ok(mut f) = failed.lock()
+            {
+                f.get_or_insert(e);
+            }
+        });
+    };
+    let done = py.detach(|| shoal_sysid::validate::validate(&config, &runs, &holdout, &report));
+    if let Some(e) = failed.into_inner().ok().flatten() {
+        return Err(e);
+    }
+    done.map(Validation).map_err(|e| error(py, &e))
+}

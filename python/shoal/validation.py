@@ -1,0 +1,216 @@
+"""``shoal.validate`` (this module: ``shoal.validation``): what the simulation gets wrong on measured runs, the effects that explain
+it, the fitted vehicle and its gain on data it did not fit — ``shoal validate`` as a function.
+
+Runs are paths of CSV logs (docs/validation.md) or columns of numbers: a mapping from the CSV
+format's column names (``t``, ``u.top``, …, ``y.depth``, …) to 1-D arrays (a ``dict`` of numpy
+arrays, a pandas ``DataFrame``, …), optionally named as ``(name, columns)``. The search runs
+with the GIL released; ``progress(kind, message)`` hears of every file read (``read``),
+inputs clamped to the vehicle's limits (``clamped``), the start (``start``) and every fit
+(``fit``).
+
+Errors: :class:`shoal.ValidationError` (a ``ValueError``) with attributes ``setting`` (the
+keyword argument at fault), ``file``, ``line`` and ``column`` (the run at fault; for columns
+given in memory line 1 is the header and line k + 2 the row k).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Callable, Iterable, Mapping, Optional, Sequence, Union
+
+import numpy as np
+
+from . import _shoal
+
+__all__ = ["Channel", "Effect", "Parameter", "Report", "validate"]
+
+Run = Union[str, "os.PathLike[str]", Mapping[str, Any], "tuple[str, Mapping[str, Any]]"]
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """A fitted parameter of a named effect (value in ``unit``; SI, angles in radians)."""
+
+    name: str
+    unit: str
+    value: float
+    #: Standard deviation (None where it could not be estimated).
+    sigma: Optional[float]
+    #: 95 % confidence interval (low, high), or None.
+    ci95: Optional[tuple[float, float]]
+
+
+@dataclass(frozen=True)
+class Effect:
+    """An effect the validation names: its family, the form that fits best, its parameters
+    and how often it was selected over block-bootstrap resamples (0…1)."""
+
+    name: str
+    form: str
+    parameters: list[Parameter]
+    stability: Optional[float]
+    explanation: str
+
+
+@dataclass(frozen=True)
+class Channel:
+    """One measured channel (``y.depth`` …): held-out RMSE (in the channel's unit) and NRMSE
+    fit [%] of the baseline and of the extended model, and whether their residuals are white
+    (Ljung–Box at 5 %)."""
+
+    rmse_before: float
+    rmse_after: float
+    gain_pct: float
+    fit_pct_before: float
+    fit_pct_after: float
+    white_before: bool
+    white_after: bool
+
+
+@dataclass(frozen=True)
+class Report:
+    """The outcome of :func:`validate`.
+
+    ``verdict`` is the one-sentence summary; ``effects`` the named effects; ``channels`` the
+    before/after table by channel; ``possible``, ``ambiguous`` and ``unexplained`` the weaker
+    findings as in ``report.json``; ``data`` the whole of ``report.json``; ``vehicle_toml`` the
+    fitted vehicle as a world file (run it with ``shoal run``). :meth:`write` writes the usual
+    files (``report.json``, ``report.md``, ``vehicle.toml``, plots).
+    """
+
+    verdict: str
+    effects: list[Effect]
+    channels: dict[str, Channel]
+    possible: list[dict]
+    ambiguous: list[dict]
+    unexplained: list[dict]
+    validation_gain_pct: float
+    data: dict = field(repr=False)
+    vehicle_toml: str = field(repr=False)
+    _native: Any = field(repr=False, compare=False, default=None)
+
+    @property
+    def effect_names(self) -> list[str]:
+        """The names of the effects found, in the order they were chosen."""
+        return [e.name for e in self.effects]
+
+    def write(self, directory: Union[str, "os.PathLike[str]"], plots: bool = True) -> dict:
+        """Writes ``report.json``, ``report.md``, ``vehicle.toml`` and (with ``plots``) the
+        plots into ``directory`` (created if missing); returns their paths."""
+        js, md, vehicle, pngs = self._native.write(Path(directory), plots)
+        return {"json": js, "markdown": md, "vehicle": vehicle, "plots": pngs}
+
+
+def _run_arg(run: Run, i: int, what: str):
+    if isinstance(run, (str, os.PathLike)):
+        return os.fspath(run)
+    if isinstance(run, tuple) and len(run) == 2 and isinstance(run[0], str):
+        name, columns = run
+    elif hasattr(run, "items"):
+        name, columns = f"{what}_{i + 1}", run
+    else:
+        raise TypeError(
+            f"{what}[{i}]: expected a path, a mapping of columns or (name, columns), "
+            f"not {type(run).__name__}"
+        )
+    cols = [(str(k), np.asarray(v, dtype=np.float64)) for k, v in columns.items()]
+    if not name.endswith(".csv"):
+        name += ".csv"
+    return (name, cols)
+
+
+def _runs(runs: Union[Run, Sequence[Run], None], what: str) -> list:
+    if runs is None:
+        return []
+    if isinstance(runs, (str, os.PathLike, tuple)) or hasattr(runs, "items"):
+        runs = [runs]
+    return [_run_arg(r, i, what) for i, r in enumerate(runs)]
+
+
+def _names(v: Union[str, Iterable[str], None]) -> list[str]:
+    if v is None:
+        return []
+    if isinstance(v, str):
+        return [s for s in v.split(",") if s]
+    return [str(s) for s in v]
+
+
+def validate(
+    runs: Union[Run, Sequence[Run]],
+    holdout: Union[Run, Sequence[Run], None] = None,
+    *,
+    vehicle: Union[str, "os.PathLike[str]", None] = None,
+    channels: Union[str, Iterable[str], None] = None,
+    effects: Union[str, Iterable[str], None] = None,
+    split: float = 0.6,
+    dt: float = 0.01,
+    time_unit: Optional[str] = None,
+    gaps: str = "split",
+    max_gap: Optional[float] = None,
+    min_segment: float = 1.0,
+    threads: Optional[int] = None,
+    progress: Optional[Callable[[str, str], Any]] = None,
+) -> Report:
+    """Validates a vehicle model against measured runs, as ``shoal validate`` does.
+
+    ``runs`` are fitted on (without ``holdout`` each is split: the first ``split`` of it for
+    estimation, the rest for validation); ``holdout`` runs are only scored. ``vehicle`` is a
+    world file whose first vehicle group is the baseline (default: the μAUV² preset).
+    ``channels`` (e.g. ``"y.r,y.depth"``) and ``effects`` restrict the measurements used and the
+    effects considered. ``dt`` is the replay step [s] (1e-4 … 0.1); ``time_unit`` (``"s"`` or
+    ``"ms"``) the unit of a plain ``t`` column; ``gaps`` (``"split"`` or ``"error"``), ``max_gap``
+    [s] and ``min_segment`` [s] what a gap in time does; ``threads`` the worker threads of the
+    search (results do not depend on it). Returns a :class:`Report`.
+    """
+    native = _shoal.validate(
+        _runs(runs, "runs"),
+        _runs(holdout, "holdout"),
+        None if vehicle is None else os.fspath(vehicle),
+        _names(channels),
+        _names(effects),
+        float(split),
+        float(dt),
+        time_unit,
+        gaps,
+        None if max_gap is None else float(max_gap),
+        float(min_segment),
+        threads,
+        progress,
+    )
+    data = json.loads(native.report_json())
+    v = data["verdict"]
+    named = [
+        Effect(
+            name=e["effect"],
+            form=e["form"],
+            parameters=[
+                Parameter(
+                    name=p["name"],
+                    unit=p["unit"],
+                    value=p["value"],
+                    sigma=p["sigma"],
+                    ci95=None if p["ci95"] is None else tuple(p["ci95"]),
+                )
+                for p in e["params"]
+            ],
+            stability=e["stability"],
+            explanation=v["explanations"].get(e["effect"], ""),
+        )
+        for e in v["named"]
+    ]
+    chans = {k: Channel(**c) for k, c in v["channels"].items()}
+    return Report(
+        verdict=v["summary"],
+        effects=named,
+        channels=chans,
+        possible=v["possible"],
+        ambiguous=v["ambiguous"],
+        unexplained=v["unexplained"],
+        validation_gain_pct=v["validation_gain_pct"],
+        data=data,
+        vehicle_toml=native.vehicle_toml(),
+        _native=native,
+    )

@@ -1,0 +1,109 @@
+"""``shoal.validate`` against ``shoal validate`` on the development logs (../shared/data beside
+the repository): the same verdict, effects, parameters and per-channel table as the command
+line's report.json, the verdict pinned for the log, runs given as columns read exactly as the
+file, and errors that name the setting or the column."""
+
+import json
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import shoal
+
+from conftest import REPO
+
+DEV = REPO.parent / "shared" / "data" / "validation_dev"
+PINNED = REPO / "crates" / "shoal-sysid" / "tests" / "verdicts" / "validation_dev.tsv"
+
+
+def dev_log(name: str) -> Path:
+    p = DEV / f"{name}.csv"
+    assert p.is_file(), f"the development logs belong beside the repository: no {p}"
+    return p
+
+
+def pinned(name: str) -> list:
+    for line in PINNED.read_text().splitlines():
+        if line.startswith("#") or not line.strip():
+            continue
+        case, _hidden, found = line.split("\t")
+        if case == name:
+            return [] if found == "-" else found.split(",")
+    raise AssertionError(f"{name} is not in {PINNED}")
+
+
+def columns(path: Path) -> dict:
+    """The log's columns as numpy arrays, by their header names."""
+    header = path.read_text().splitlines()[0].split(",")
+    data = np.loadtxt(path, delimiter=",", skiprows=1)
+    return {h: data[:, i] for i, h in enumerate(header)}
+
+
+# One diving log and one turning log, each with a hidden effect (the search's settings of
+# the pinned table: 20 ms replay, 60/40 split; one search thread, results do not depend on it).
+@pytest.mark.parametrize("name", ["dev_y_gain", "dev_h_damp"])
+def test_python_gives_the_command_lines_verdict(shoal_bin, tmp_path, name):
+    log = dev_log(name)
+    out = tmp_path / "cli"
+    subprocess.run(
+        [shoal_bin, "validate", "--quiet", "--no-plots", "--dt", "0.02", "--threads", "1",
+         "--out", out, log],
+        check=True, capture_output=True,
+    )
+    cli = json.loads((out / "report.json").read_text())
+    events = []
+    r = shoal.validate(log, dt=0.02, threads=1, progress=lambda k, m: events.append(k))
+    # The whole verdict (effects, forms, parameters with intervals, evidence, channels) and
+    # the candidates are the command line's.
+    assert r.data["verdict"] == cli["verdict"]
+    assert r.data["candidates"] == cli["candidates"]
+    assert sorted(r.effect_names) == pinned(name)
+    assert r.verdict == cli["verdict"]["summary"]
+    assert {k: c.rmse_after for k, c in r.channels.items()} == {
+        k: c["rmse_after"] for k, c in cli["verdict"]["channels"].items()
+    }
+    for e, want in zip(r.effects, cli["verdict"]["named"]):
+        assert [p.value for p in e.parameters] == [p["value"] for p in want["params"]]
+    assert events[0] == "read" and events.count("start") == 1
+    assert events.count("fit") >= len([c for c in cli["candidates"] if c.get("fit")])
+    # The fitted vehicle is the command line's vehicle.toml but for the file name it states.
+    assert r.vehicle_toml.splitlines()[3:] == (out / "vehicle.toml").read_text().splitlines()[3:]
+    # The report files from Python.
+    files = r.write(tmp_path / "py", plots=False)
+    assert json.loads(Path(files["json"]).read_text())["verdict"] == cli["verdict"]
+
+
+def test_columns_in_memory_are_read_as_the_file():
+    log = dev_log("dev_y_gain")
+    only = "thrust_gain,damping_error"
+    from_file = shoal.validate(log, dt=0.02, threads=1, effects=only)
+    from_columns = shoal.validate(("dev_y_gain", columns(log)), dt=0.02, threads=1, effects=only)
+    assert from_columns.data["verdict"] == from_file.data["verdict"]
+    assert from_columns.channels == from_file.channels
+    assert from_file.effect_names == ["thrust_gain"]
+
+
+def test_errors_name_the_setting_or_the_column():
+    log = dev_log("dev_y_gain")
+    with pytest.raises(shoal.ValidationError) as e:
+        shoal.validate(log, dt=1e-9)
+    assert e.value.setting == "dt" and "0.0001 ≤ dt ≤ 0.1 s" in str(e.value)
+    with pytest.raises(shoal.ValidationError) as e:
+        shoal.validate(log, effects="thrust_gain,gremlins")
+    assert e.value.setting == "effects" and "`gremlins`" in str(e.value)
+    with pytest.raises(ValueError):  # ValidationError is a ValueError
+        shoal.validate(log, channels=["y.speed"])
+    cols = columns(log)
+    cols["y.r"] = cols["y.r"].copy()
+    cols["y.r"][10] = np.nan
+    with pytest.raises(shoal.ValidationError) as e:
+        shoal.validate(cols, dt=0.02)
+    # Row 10 is line 12 of the CSV the columns stand for (line 1: the header).
+    assert (e.value.file, e.value.line, e.value.column) == (Path("runs_1.csv"), 12, "y.r"), str(
+        e.value
+    )
+    cols["y.r"] = cols["y.r"][:-1]
+    with pytest.raises(ValueError, match="column `y.r` has 4499 values"):
+        shoal.validate(cols)
