@@ -5,9 +5,9 @@
 //! line of mean markers with vertical error bars, shifted a little sideways so bars of
 //! different groups at the same value do not hide each other. PNG and SVG from one
 //! description, with the embedded font of [`crate::plot`], written whole through
-//! [`crate::files`]; the legend sits in a strip below the plot, so it never covers data.
+//! [`shoal_output::files`]; the legend sits in a strip below the plot, so it never covers data.
 
-use crate::files::write_whole;
+use shoal_output::files::write_whole;
 use crate::plot::{PlotError, color, data_range, register_font};
 use image::ColorType;
 use image::ImageEncoder;

@@ -14,7 +14,7 @@
 //! Dots and markers are drawn after every line, so an interval bar or a reference curve never
 //! hides a point; a map ([`Plot::equal_aspect`]) has one scale on both axes.
 
-use crate::files::{FileError, write_whole};
+use shoal_output::files::{FileError, write_whole};
 use image::ColorType;
 use image::ImageEncoder;
 use image::codecs::png::PngEncoder;
@@ -622,7 +622,7 @@ impl Plot {
     }
 
     /// Writes `<stem>.png` and `<stem>.svg` (each drawn in memory, then written whole
-    /// through [`crate::files`]); returns both paths.
+    /// through [`shoal_output::files`]); returns both paths.
     pub fn write(&self, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
         self.write_until(stem, &|| false, &|_| {})
     }

@@ -54,7 +54,7 @@
 //! the lookup table, and its per-frame palettes would rule out the transparent partial frames.
 
 use super::{LinkEvent, ObstacleMeta, Outcome, ReplayData};
-use crate::files::{AtomicFile, FileError};
+use shoal_output::files::{AtomicFile, FileError};
 use crate::plot::{clip_polyline, register_font};
 use nalgebra::{Quaternion, Rotation3, UnitQuaternion, Vector3};
 use plotters::backend::{BitMapBackend, RGBPixel};
