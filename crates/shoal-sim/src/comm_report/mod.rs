@@ -8,10 +8,10 @@
 
 use crate::comm::{DIST_BIN, LinkStats, Outcome, latency_bin_centre};
 use crate::connectivity::ConnSample;
-use shoal_output::files::FileError;
 use crate::sim::Sim;
 use crate::view::VehicleView;
 use serde::Serialize;
+use shoal_output::files::FileError;
 use shoal_world::desc::WorldDesc;
 use shoal_world::spec::BehaviourSpec;
 use std::path::{Path, PathBuf};

@@ -19,13 +19,13 @@
 //! request) it is written again with the files that exist, the error and the stop request.
 
 use crate::comm_report::VehicleComm;
-use shoal_output::files::{CsvFile, FileError, write_whole};
-use crate::plot::{Plot, PlotError};
 use crate::recorder::{self, RecordBatch, col, mode_of_code};
 use crate::sim::Sim;
 use crate::view::VehicleView;
 use numbers::write_num;
 use shoal_model::prelude::*;
+use shoal_output::files::{CsvFile, FileError, write_whole};
+use shoal_output::plot::{Plot, PlotError};
 use shoal_world::cancel::Cancel;
 use shoal_world::desc::WorldDesc;
 use std::collections::HashMap;

@@ -14,7 +14,7 @@
 //! Dots and markers are drawn after every line, so an interval bar or a reference curve never
 //! hides a point; a map ([`Plot::equal_aspect`]) has one scale on both axes.
 
-use shoal_output::files::{FileError, write_whole};
+use crate::files::{FileError, write_whole};
 use image::ColorType;
 use image::ImageEncoder;
 use image::codecs::png::PngEncoder;
@@ -32,12 +32,14 @@ use legend::{
     strip_height,
 };
 pub use legend::{LegendPlace, legend_place, touches};
-pub use map::{map_plot, map_view};
+pub use map::map_view;
 
 static FONT: &[u8] = include_bytes!("../../assets/DejaVuSans.ttf");
 static REGISTER: Once = Once::new();
 
-pub(crate) fn register_font() {
+/// Registers the embedded font as plotters' "sans-serif" (once per process); call it before
+/// drawing text with plotters.
+pub fn register_font() {
     REGISTER.call_once(|| {
         // The embedded font is known to be valid; a failure would only lose text in plots.
         let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, FONT);
@@ -84,7 +86,7 @@ pub struct Series {
     /// Palette index of the colour.
     pub color: usize,
     /// A colour of its own (red, green, blue) instead of the palette's, e.g. a link outcome's
-    /// from [`crate::link_key`].
+    /// from `shoal_sim::link_key`.
     pub rgb: Option<(u8, u8, u8)>,
     /// Dashed (for setpoints and references).
     pub dashed: bool,
@@ -156,7 +158,8 @@ pub fn rgb(i: usize) -> (u8, u8, u8) {
     PALETTE[i % PALETTE.len()]
 }
 
-pub(crate) fn color(i: usize) -> RGBColor {
+/// Colour `i` of [`PALETTE`] as a plotters colour.
+pub fn color(i: usize) -> RGBColor {
     let (r, g, b) = rgb(i);
     RGBColor(r, g, b)
 }
@@ -622,7 +625,7 @@ impl Plot {
     }
 
     /// Writes `<stem>.png` and `<stem>.svg` (each drawn in memory, then written whole
-    /// through [`shoal_output::files`]); returns both paths.
+    /// through [`crate::files`]); returns both paths.
     pub fn write(&self, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
         self.write_until(stem, &|| false, &|_| {})
     }
