@@ -7,7 +7,7 @@
 /// pool (plus 5 % of its size, so the walls show when the vehicles are near them). Returns
 /// the east range, the north range and an image size \[px\] (`height` high, about as wide as
 /// the aspect ratio needs, within 560 … 1800 px). Without finite points the whole pool is
-/// shown. A map drawn with these also sets [`Plot::equal_aspect`](super::Plot::equal_aspect),
+/// shown. A map drawn with these also sets [`Plot::equal_aspect`](super::description::Plot::equal_aspect),
 /// which widens one range to make the two scales exactly equal whatever the image size.
 pub fn map_view(
     pool: (f64, f64),
