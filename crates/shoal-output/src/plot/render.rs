@@ -13,6 +13,7 @@ use image::ColorType;
 use image::ImageEncoder;
 use image::codecs::png::PngEncoder;
 use plotters::coord::Shift;
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 use std::path::{Path, PathBuf};
 
@@ -49,6 +50,9 @@ impl From<String> for DrawFail {
 /// Dots of at least this radius \[px\] are markers, drawn with a white ring.
 const MARKER_RING_FROM: u32 = 3;
 
+/// A plot's chart, in data units on both axes.
+type Chart<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
 impl Plot {
     /// Draws the plot, laid out as `lay`, on `root`; gives up between series once `stop` says
     /// so.
@@ -75,6 +79,30 @@ impl Plot {
             .label_style(("sans-serif", 13))
             .draw()
             .map_err(|e| e.to_string())?;
+        self.draw_outlines(&mut chart, x, y)?;
+        self.draw_series(&mut chart, x, y, stop)?;
+        if !lay.entries.is_empty() {
+            match (lay.legend, &strip) {
+                (LegendPlace::Below, Some(strip)) => draw_legend_below(strip, lay)?,
+                _ => {
+                    // The chart's area starts at the image's origin: its pixels are the
+                    // area's coordinates.
+                    let (px, py) = chart.plotting_area().get_pixel_range();
+                    draw_legend_corner(&area, lay, (px.start, px.end), (py.start, py.end))?;
+                }
+            }
+        }
+        Ok(root.present().map_err(|e| e.to_string())?)
+    }
+
+    /// Draws the outlines under everything else: filled grey when wholly inside the ranges,
+    /// else their pieces inside as black lines.
+    fn draw_outlines<DB: DrawingBackend>(
+        &self,
+        chart: &mut Chart<'_, DB>,
+        x: (f64, f64),
+        y: (f64, f64),
+    ) -> Result<(), String> {
         let inside = |p: &(f64, f64)| p.0 >= x.0 && p.0 <= x.1 && p.1 >= y.0 && p.1 <= y.1;
         for o in &self.outlines {
             let mut pts = o.points.clone();
@@ -96,6 +124,18 @@ impl Plot {
                 }
             }
         }
+        Ok(())
+    }
+
+    /// Draws the series, lines before dots; gives up before a series once `stop` says so.
+    fn draw_series<DB: DrawingBackend>(
+        &self,
+        chart: &mut Chart<'_, DB>,
+        x: (f64, f64),
+        y: (f64, f64),
+        stop: &dyn Fn() -> bool,
+    ) -> Result<(), DrawFail> {
+        let inside = |p: &(f64, f64)| p.0 >= x.0 && p.0 <= x.1 && p.1 >= y.0 && p.1 <= y.1;
         // Lines first, then dots: a marker is never hidden under a line drawn after it (an
         // interval bar, a reference curve).
         let lines = self.series.iter().filter(|s| !s.dots);
@@ -137,18 +177,7 @@ impl Plot {
                     .map_err(|e| e.to_string())?;
             }
         }
-        if !lay.entries.is_empty() {
-            match (lay.legend, &strip) {
-                (LegendPlace::Below, Some(strip)) => draw_legend_below(strip, lay)?,
-                _ => {
-                    // The chart's area starts at the image's origin: its pixels are the
-                    // area's coordinates.
-                    let (px, py) = chart.plotting_area().get_pixel_range();
-                    draw_legend_corner(&area, lay, (px.start, px.end), (py.start, py.end))?;
-                }
-            }
-        }
-        Ok(root.present().map_err(|e| e.to_string())?)
+        Ok(())
     }
 
     /// Writes `<stem>.png` and `<stem>.svg` (each drawn in memory, then written whole
