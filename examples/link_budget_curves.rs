@@ -8,7 +8,7 @@
 
 use shoal::model::optics::{Ambient, LinkGeometry, budget};
 use shoal::model::presets::uauv2_modem;
-use shoal::sim::plot::{Plot, Series};
+use shoal::output::plot::{Plot, Series};
 use shoal::world::spec::WATER_TYPES;
 
 fn main() {

@@ -304,7 +304,7 @@ fn write_json(path: &Path, text: &str) -> anyhow::Result<()> {
         println!("{text}");
         return Ok(());
     }
-    shoal_sim::files::write_whole(path, format!("{text}\n").as_bytes())?;
+    shoal_output::files::write_whole(path, format!("{text}\n").as_bytes())?;
     eprintln!("shoal bench: wrote {}", path.display());
     Ok(())
 }

@@ -1,11 +1,11 @@
-//! `shoal.plot`: line plots (PNG and SVG) drawn by shoal's own plotting ([`shoal_sim::plot`]:
+//! `shoal.plot`: line plots (PNG and SVG) drawn by shoal's own plotting ([`shoal_output::plot`]:
 //! axes that cover every point, a legend that never covers data, an embedded font), so the
 //! examples need no plotting package.
 
 use numpy::{AllowTypeChange, PyArrayLike1};
 use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
-use shoal_sim::plot::{Plot, Series};
+use shoal_output::plot::{Plot, Series};
 use std::path::PathBuf;
 
 /// Draws lines to `<stem>.png` and `<stem>.svg` and returns both paths.

@@ -4,17 +4,17 @@
 //! types by name, sit side by side); each group (a combination of the other parameters) is a
 //! line of mean markers with vertical error bars, shifted a little sideways so bars of
 //! different groups at the same value do not hide each other. PNG and SVG from one
-//! description, with the embedded font of [`crate::plot`], written whole through
-//! [`crate::files`]; the legend sits in a strip below the plot, so it never covers data.
+//! description, with the embedded font of [`shoal_output::plot`], written whole through
+//! [`shoal_output::files`]; the legend sits in a strip below the plot, so it never covers data.
 
-use crate::files::write_whole;
-use crate::plot::{PlotError, color, data_range, register_font};
 use image::ColorType;
 use image::ImageEncoder;
 use image::codecs::png::PngEncoder;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
+use shoal_output::files::write_whole;
+use shoal_output::plot::{PlotError, color, data_range, register_font};
 use std::path::{Path, PathBuf};
 
 /// One mean with its interval, in the metric's unit.

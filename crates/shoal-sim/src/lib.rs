@@ -2,9 +2,10 @@
 //!
 //! The simulated world of shoal: one bevy_ecs entity per vehicle ([`components`]), a fixed-step
 //! schedule of chained system sets ([`systems`]) run by [`sim::Sim`], per-world parallel loops
-//! ([`parallel`]) and the time of each phase of a step ([`phases`]), a trajectory recorder ([`recorder`]) and run outputs ([`output`], [`plot`];
-//! [`ci_plot`]: means with confidence intervals, for parameter studies), each file written
-//! whole or not at all ([`files`]); external agents, independent of their
+//! ([`parallel`]) and the time of each phase of a step ([`phases`]), a trajectory recorder ([`recorder`]) and run outputs ([`output`], drawn by
+//! [`shoal_output::plot`]; [`map`]: the world seen from above; [`ci_plot`]: means with
+//! confidence intervals, for parameter studies), each file written
+//! whole or not at all ([`shoal_output::files`]); external agents, independent of their
 //! transport ([`agents`]); whole-swarm reads and commands through flat arrays ([`batch`]);
 //! one colour key for link outcomes wherever they are drawn ([`link_key`]).
 //! Long work (building a world, running it, drawing plots) can be
@@ -21,13 +22,12 @@ pub mod comm_report;
 pub mod components;
 pub mod connectivity;
 pub mod fault;
-pub mod files;
 pub mod fleet;
 pub mod link_key;
+pub mod map;
 pub mod output;
 pub mod parallel;
 pub mod phases;
-pub mod plot;
 pub mod recorder;
 pub mod replay;
 pub mod rng;

@@ -139,7 +139,7 @@ fn a_bin_with_nothing_delivered_reads_as_zero_and_markers_are_on_top() {
     plot.write(&d.join("delivery")).unwrap();
     let img = image::open(d.join("delivery.png")).unwrap().to_rgb8();
     let at = plot.ranges_drawn().unwrap();
-    let (r, g, b) = shoal_sim::plot::rgb(0);
+    let (r, g, b) = shoal_output::plot::rgb(0);
     let marker = [r, g, b];
     // A marker clearly visible: at least 3 px in radius.
     let radius = 3.0;

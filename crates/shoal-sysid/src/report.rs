@@ -43,7 +43,7 @@ pub enum ReportError {
 /// Writes a whole file: under a temporary name, renamed when complete, so an interrupted or
 /// failed write never leaves a truncated report that looks whole.
 fn write(path: &Path, text: &str) -> Result<(), ReportError> {
-    shoal_sim::files::write_whole(path, text.as_bytes())
+    shoal_output::files::write_whole(path, text.as_bytes())
         .map(|_| ())
         .map_err(|e| ReportError::Write {
             path: path.to_path_buf(),

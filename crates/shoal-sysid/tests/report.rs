@@ -10,7 +10,7 @@ mod plots;
 
 use common::{Exp, find, measured};
 use shoal_model::presets;
-use shoal_sim::plot::rgb;
+use shoal_output::plot::rgb;
 use shoal_sysid::report::{ReportInput, write_report};
 use shoal_sysid::run::ChannelKind;
 use shoal_sysid::search::SearchOptions;

@@ -13,7 +13,7 @@
 
 use super::plan::Plan;
 use serde_json::{Value, json};
-use shoal_sim::files::write_whole;
+use shoal_output::files::write_whole;
 use std::path::{Path, PathBuf};
 
 /// Largest number of completions of an Indexed Job.

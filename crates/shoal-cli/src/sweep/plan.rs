@@ -20,7 +20,7 @@
 use super::metrics::Metric;
 use anyhow::Context;
 use serde::{Deserialize, Serialize};
-use shoal_sim::files::write_whole;
+use shoal_output::files::write_whole;
 use std::path::{Path, PathBuf};
 
 /// The plan's file name in DIR.

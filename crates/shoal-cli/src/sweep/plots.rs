@@ -11,8 +11,8 @@
 use super::metrics::Cell;
 use super::plan::Plan;
 use super::table::Row;
+use shoal_output::files::write_whole;
 use shoal_sim::ci_plot::{CiGroup, CiPlot, CiPoint};
-use shoal_sim::files::write_whole;
 use statrs::distribution::{ContinuousCDF, StudentsT};
 use std::path::{Path, PathBuf};
 

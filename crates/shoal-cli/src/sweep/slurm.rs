@@ -20,7 +20,7 @@ use super::plan::{Plan, forget_result, state};
 use anyhow::{Context, bail};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::{Deserialize, Serialize};
-use shoal_sim::files::write_whole;
+use shoal_output::files::write_whole;
 use shoal_world::cancel::Cancel;
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};

@@ -13,7 +13,7 @@
 use super::metrics::{Cell, extract};
 use super::plan::{Plan, State, Status, run_dir, state};
 use anyhow::Context;
-use shoal_sim::files::write_whole;
+use shoal_output::files::write_whole;
 use std::path::{Path, PathBuf};
 
 /// The table's file name in the output folder.

@@ -9,8 +9,8 @@
 pub mod plots;
 
 use plots::{Rgb, assert_png_colours, assert_svg_lines};
+use shoal_output::plot::rgb;
 use shoal_sim::link_key;
-use shoal_sim::plot::rgb;
 use std::collections::BTreeMap;
 use std::path::Path;
 

@@ -137,7 +137,7 @@ pub fn assert_smoke_figures(dir: &Path) {
                             (f(&format!("{metric}_mean")), f(&format!("{metric}_ci95")))
                         })
                         .collect();
-                    (shoal_sim::plot::rgb(g), points)
+                    (shoal_output::plot::rgb(g), points)
                 })
                 .collect();
             let stem = dir

@@ -8,10 +8,10 @@
 
 use crate::comm::{DIST_BIN, LinkStats, Outcome, latency_bin_centre};
 use crate::connectivity::ConnSample;
-use crate::files::FileError;
 use crate::sim::Sim;
 use crate::view::VehicleView;
 use serde::Serialize;
+use shoal_output::files::FileError;
 use shoal_world::desc::WorldDesc;
 use shoal_world::spec::BehaviourSpec;
 use std::path::{Path, PathBuf};
@@ -267,7 +267,7 @@ pub fn table_names(vehicles: usize) -> Vec<&'static str> {
     t
 }
 
-/// Writes the communication tables into `dir` (each whole, through [`crate::files`]),
+/// Writes the communication tables into `dir` (each whole, through [`shoal_output::files`]),
 /// calling `begin` with each one's name before it begins it and adding each to `written`
 /// when complete: `links.csv` (per second of the run: reception
 /// attempts by outcome), `connectivity.csv` (per second: the communication graph) and, for
@@ -297,7 +297,7 @@ pub fn write_tables(
 /// reception attempts of frames that ended in it, by outcome. The columns add up to the
 /// summary's `comm.receptions`.
 pub fn write_links_csv(path: &Path, sim: &Sim) -> Result<PathBuf, FileError> {
-    let mut w = crate::files::CsvFile::create(path)?;
+    let mut w = shoal_output::files::CsvFile::create(path)?;
     w.write_record([
         "t_start_s",
         "attempted",
@@ -347,7 +347,7 @@ pub fn write_connectivity_csv(
     sim: &Sim,
     vehicles: usize,
 ) -> Result<PathBuf, FileError> {
-    let mut w = crate::files::CsvFile::create(path)?;
+    let mut w = shoal_output::files::CsvFile::create(path)?;
     w.write_record([
         "t_s",
         "components",
@@ -372,7 +372,7 @@ pub fn write_connectivity_csv(
 
 /// `link_pairs.csv`: one row per (sender, receiver) with at least one attempt.
 pub fn write_link_pairs_csv(path: &Path, snaps: &[VehicleView<'_>]) -> Result<PathBuf, FileError> {
-    let mut w = crate::files::CsvFile::create(path)?;
+    let mut w = shoal_output::files::CsvFile::create(path)?;
     w.write_record([
         "sender",
         "receiver",

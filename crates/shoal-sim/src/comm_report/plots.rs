@@ -8,10 +8,10 @@ use super::{CommSummary, DistanceBin};
 use crate::comm::Outcome;
 use crate::connectivity::Connectivity;
 use crate::link_key;
-use crate::plot::{Plot, Series};
 use crate::sim::Sim;
 use crate::view::VehicleView;
 use shoal_model::optics::{LinkGeometry, budget};
+use shoal_output::plot::{Plot, Series};
 use shoal_world::desc::WorldDesc;
 
 /// The 95 % Wilson score interval of a proportion: `k` successes in `n` trials (n > 0).
@@ -142,7 +142,7 @@ pub fn delivery_plot(
         .filter(|b| b.attempts >= MIN_ATTEMPTS)
         .collect();
     // The bars in the markers' colour, halfway to white.
-    let (r, g, b) = crate::plot::rgb(0);
+    let (r, g, b) = shoal_output::plot::rgb(0);
     let light = |v: u8| v + (255 - v) / 2;
     let bar = (light(r), light(g), light(b));
     let mut series: Vec<Series> = bins
@@ -232,7 +232,7 @@ pub fn connectivity_plot(desc: &WorldDesc, conn: &Connectivity, snaps: &[Vehicle
         ),
         None => format!("{}: no frame delivered", desc.name),
     };
-    crate::plot::map_plot(
+    crate::map::map_plot(
         title,
         &desc.geometry,
         series,

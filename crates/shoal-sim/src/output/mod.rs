@@ -5,7 +5,7 @@
 //! the pool and obstacles; `heading.png/svg`; drawn by `plots`). [`Summary::to_text`] is the
 //! end-of-run report for people.
 //!
-//! **Whole files only.** Every file goes through [`crate::files`]: it is written under a
+//! **Whole files only.** Every file goes through [`shoal_output::files`]: it is written under a
 //! temporary name (`.<name>.tmp`) and renamed when complete. `trajectories.csv` is streamed
 //! to `.trajectories.csv.tmp` while the world runs and renamed by [`RunOutput::finish`], so
 //! under its real name it always ends with a whole row; if a write fails the temporary is
@@ -19,13 +19,13 @@
 //! request) it is written again with the files that exist, the error and the stop request.
 
 use crate::comm_report::VehicleComm;
-use crate::files::{CsvFile, FileError, write_whole};
-use crate::plot::{Plot, PlotError};
 use crate::recorder::{self, RecordBatch, col, mode_of_code};
 use crate::sim::Sim;
 use crate::view::VehicleView;
 use numbers::write_num;
 use shoal_model::prelude::*;
+use shoal_output::files::{CsvFile, FileError, write_whole};
+use shoal_output::plot::{Plot, PlotError};
 use shoal_world::cancel::Cancel;
 use shoal_world::desc::WorldDesc;
 use std::collections::HashMap;

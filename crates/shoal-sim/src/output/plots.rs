@@ -4,8 +4,8 @@
 //! one scale north and east).
 
 use super::{PlotPoint, RunOutput};
-use crate::plot::{Plot, Series};
 use shoal_model::math::wrap_pi;
+use shoal_output::plot::{Plot, Series};
 use shoal_world::desc::WorldDesc;
 
 impl RunOutput {
@@ -104,7 +104,7 @@ impl RunOutput {
             .iter()
             .flat_map(|s| s.points.iter().copied())
             .collect();
-        crate::plot::map_plot(
+        crate::map::map_plot(
             format!("{}: tracks from above (dot = start)", desc.name),
             &desc.geometry,
             series,

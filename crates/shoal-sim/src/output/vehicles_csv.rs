@@ -4,7 +4,7 @@
 use super::VehicleSummary;
 use super::numbers::format_num;
 use crate::comm_report::VehicleComm;
-use crate::files::{CsvFile, FileError};
+use shoal_output::files::{CsvFile, FileError};
 use std::path::{Path, PathBuf};
 
 /// `vehicles.csv`: one row per vehicle with its [`VehicleSummary`] and, when the world has

@@ -63,7 +63,7 @@ impl ReplayRecorder {
             .iter()
             .enumerate()
             .map(|(g, name)| {
-                let (r, gr, b) = crate::plot::rgb(g);
+                let (r, gr, b) = shoal_output::plot::rgb(g);
                 GroupMeta {
                     name: name.clone(),
                     color: format!("#{r:02x}{gr:02x}{b:02x}"),

@@ -288,7 +288,7 @@ pub fn demo(n_vehicles: usize, seconds: f64) -> ReplayData {
 
 /// The plots' colour `g` as `#rrggbb`.
 fn palette(g: usize) -> String {
-    let (r, gr, b) = crate::plot::rgb(g);
+    let (r, gr, b) = shoal_output::plot::rgb(g);
     format!("#{r:02x}{gr:02x}{b:02x}")
 }
 

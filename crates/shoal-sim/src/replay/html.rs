@@ -20,7 +20,7 @@ use base64::engine::general_purpose::STANDARD;
 use base64::write::EncoderWriter;
 
 use super::{LinkEvent, Meta, Outcome, ReplayData};
-use crate::files::{AtomicFile, FileError};
+use shoal_output::files::{AtomicFile, FileError};
 
 /// Version of the vendored three.js (`assets/replay/three-<version>.min.js`).
 pub const THREE_VERSION: &str = "0.187.0";
@@ -47,7 +47,7 @@ const LINK_BYTES: usize = 16;
 /// Values converted per chunk while streaming an array.
 const CHUNK: usize = 8192;
 
-/// Writes `data` as the page `path` (through its temporary name; see [`crate::files`]);
+/// Writes `data` as the page `path` (through its temporary name; see [`shoal_output::files`]);
 /// returns `path`. Data whose arrays disagree with the header ([`ReplayData::check`]) is
 /// refused with an `InvalidData` error naming the file.
 pub fn write(path: &Path, data: &ReplayData) -> Result<PathBuf, FileError> {

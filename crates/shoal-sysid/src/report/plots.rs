@@ -1,7 +1,7 @@
 //! The report's figures: each measured run against the baseline and the extended model, the
 //! residual autocorrelation before and after, and per named effect its residual signature
 //! before and after. Drawing rules (axes that cover every drawn point, legends off the data)
-//! live in [`shoal_sim::plot`]; here the data are chosen and styled.
+//! live in [`shoal_output::plot`]; here the data are chosen and styled.
 
 use super::signature::{self, Regressor};
 use super::{ReportInput, label};
@@ -9,7 +9,7 @@ use crate::data::{ChannelResult, RunData};
 use crate::run::ChannelKind;
 use crate::search::Outcome;
 use crate::stats;
-use shoal_sim::plot::{Plot, Series};
+use shoal_output::plot::{Plot, Series};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 

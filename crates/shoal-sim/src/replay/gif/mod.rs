@@ -54,13 +54,13 @@
 //! the lookup table, and its per-frame palettes would rule out the transparent partial frames.
 
 use super::{LinkEvent, ObstacleMeta, Outcome, ReplayData};
-use crate::files::{AtomicFile, FileError};
-use crate::plot::{clip_polyline, register_font};
 use nalgebra::{Quaternion, Rotation3, UnitQuaternion, Vector3};
 use plotters::backend::{BitMapBackend, RGBPixel};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
+use shoal_output::files::{AtomicFile, FileError};
+use shoal_output::plot::{clip_polyline, register_font};
 // Through its path: its style traits' methods would clash with plotters' `Color`.
 use plotters_backend as backend;
 use plotters_backend::{BackendColor, BackendCoord, DrawingErrorKind};

@@ -87,7 +87,7 @@ impl<'a> Scene<'a> {
                 let meta = m.groups.get(g);
                 let color = meta
                     .and_then(|x| parse_hex(&x.color))
-                    .unwrap_or_else(|| crate::plot::color(g));
+                    .unwrap_or_else(|| shoal_output::plot::color(g));
                 let hull = m
                     .hull
                     .get(g)

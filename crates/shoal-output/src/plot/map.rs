@@ -1,15 +1,14 @@
-//! Maps: a plot of the pool seen from above, east to the right and north up, zoomed to where
-//! the vehicles are, with one scale on both axes.
-
-use super::{Outline, Plot, Series};
+//! Maps: the region a plot of the pool seen from above shows, east to the right and north
+//! up, zoomed to where the vehicles are, with one scale on both axes (shoal-sim draws the
+//! world's walls and obstacles in it).
 
 /// The region a map (east to the right, north up) shows: the bounding box of `points`
 /// ((east, north) \[m\]) grown by a margin (10 % of its extent, at least 0.5 m), within the
 /// pool (plus 5 % of its size, so the walls show when the vehicles are near them). Returns
 /// the east range, the north range and an image size \[px\] (`height` high, about as wide as
 /// the aspect ratio needs, within 560 … 1800 px). Without finite points the whole pool is
-/// shown. A map drawn with these also sets [`Plot::equal_aspect`], which widens one range to
-/// make the two scales exactly equal whatever the image size.
+/// shown. A map drawn with these also sets [`Plot::equal_aspect`](super::description::Plot::equal_aspect),
+/// which widens one range to make the two scales exactly equal whatever the image size.
 pub fn map_view(
     pool: (f64, f64),
     points: impl IntoIterator<Item = (f64, f64)>,
@@ -40,46 +39,6 @@ pub fn map_view(
     let w =
         ((f64::from(height) - 60.0) * (er.1 - er.0) / (nr.1 - nr.0) + 80.0).clamp(560.0, 1800.0);
     (er, nr, (w as u32, height))
-}
-
-/// A map of `geometry` seen from above (east to the right, north up, one scale on both axes):
-/// the pool's walls and its obstacles (filled) as outlines under `series`, zoomed to `focus`
-/// ((east, north) points \[m\], [`map_view`]), `height` px high.
-pub fn map_plot(
-    title: String,
-    geometry: &shoal_world::geometry::Geometry,
-    series: Vec<Series>,
-    focus: impl IntoIterator<Item = (f64, f64)>,
-    height: u32,
-) -> Plot {
-    let pool = geometry.pool;
-    let mut outlines = vec![Outline {
-        points: vec![(0.0, 0.0), (pool.y, 0.0), (pool.y, pool.x), (0.0, pool.x)],
-        filled: false,
-    }];
-    outlines.extend(geometry.obstacles.iter().map(|ob| {
-        Outline {
-            points: ob
-                .top_outline(48)
-                .into_iter()
-                .map(|(x, y)| (y, x))
-                .collect(),
-            filled: true,
-        }
-    }));
-    let (east, north, size) = map_view((pool.x, pool.y), focus, height);
-    Plot {
-        title,
-        x_label: "east y [m]".into(),
-        y_label: "north x [m]".into(),
-        series,
-        outlines,
-        x_range: Some(east),
-        y_range: Some(north),
-        size,
-        equal_aspect: true,
-        ..Default::default()
-    }
 }
 
 #[cfg(test)]

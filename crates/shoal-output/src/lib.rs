@@ -1,0 +1,8 @@
+//! # shoal-output
+//!
+//! What every shoal crate needs to write its outputs, without the simulated world: files
+//! written whole or not at all ([`files`]) and plots, PNG and SVG from one description, with
+//! an embedded font ([`plot`]).
+
+pub mod files;
+pub mod plot;
