@@ -19,7 +19,7 @@
 //! ```
 
 use crate::protocol::{Command, Observation, flags};
-use crate::{BridgeError, ipc, service_name};
+use crate::{BridgeError, IpcOp, ipc, service_name};
 use iceoryx2::node::NodeWaitFailure;
 use iceoryx2::port::publisher::Publisher;
 use iceoryx2::port::subscriber::Subscriber;
@@ -103,10 +103,10 @@ impl AgentLink {
     pub fn attach(prefix: &str, agent: &str, wait: Duration) -> Result<AgentLink, BridgeError> {
         let config = Config::default();
         let node = NodeBuilder::new()
-            .name(&NodeName::new(&format!("shoal-agent.{agent}")).map_err(ipc("node name"))?)
+            .name(&NodeName::new(&format!("shoal-agent.{agent}")).map_err(ipc(IpcOp::NodeName))?)
             .config(&config)
             .create::<Ipc>()
-            .map_err(ipc("node"))?;
+            .map_err(ipc(IpcOp::Node))?;
         // The first look for a termination request installs iceoryx2's Ctrl-C / SIGTERM
         // handler (it is installed lazily): from here on they end the wait cleanly.
         nap(&node, Duration::ZERO)?;
@@ -115,14 +115,14 @@ impl AgentLink {
             let o = node
                 .service_builder(
                     &ServiceName::new(&service_name(prefix, agent, "obs"))
-                        .map_err(ipc("service name"))?,
+                        .map_err(ipc(IpcOp::ServiceName))?,
                 )
                 .publish_subscribe::<[Observation]>()
                 .open();
             let c = node
                 .service_builder(
                     &ServiceName::new(&service_name(prefix, agent, "cmd"))
-                        .map_err(ipc("service name"))?,
+                        .map_err(ipc(IpcOp::ServiceName))?,
                 )
                 .publish_subscribe::<[Command]>()
                 .open();
@@ -187,7 +187,11 @@ impl AgentLink {
         loop {
             // Take the newest slice if several are queued.
             let mut newest = None;
-            while let Some(s) = self.obs.receive().map_err(ipc("receiving observations"))? {
+            while let Some(s) = self
+                .obs
+                .receive()
+                .map_err(ipc(IpcOp::ReceiveObservations))?
+            {
                 newest = Some(s.payload().to_vec());
             }
             if let Some(obs) = &newest {
@@ -218,10 +222,10 @@ impl AgentLink {
         let s = self
             .cmd
             .loan_slice_uninit(cmds.len())
-            .map_err(ipc("loaning a command slice"))?;
+            .map_err(ipc(IpcOp::Loan))?;
         s.write_from_fn(|i| cmds[i])
             .send()
-            .map_err(ipc("sending commands"))?;
+            .map_err(ipc(IpcOp::SendCommands))?;
         Ok(())
     }
 

@@ -22,7 +22,7 @@
 //! its agents to leave before removing its services, so no shared memory is left behind.
 
 use crate::protocol::{self, ALL_MODEMS, Command, FRAME_BYTES, MAX_RX_FRAMES, Observation, flags};
-use crate::{BridgeError, ipc, service_name};
+use crate::{BridgeError, IpcOp, ipc, service_name};
 use iceoryx2::port::publisher::Publisher;
 use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::prelude::*;
@@ -147,23 +147,29 @@ impl Host {
     pub fn open(cfg: &AgentsDesc, vehicles: &[usize]) -> Result<Host, BridgeError> {
         let config = Config::default();
         let node = NodeBuilder::new()
-            .name(&NodeName::new(&format!("shoal-world.{}", cfg.prefix)).map_err(ipc("node name"))?)
+            .name(
+                &NodeName::new(&format!("shoal-world.{}", cfg.prefix))
+                    .map_err(ipc(IpcOp::NodeName))?,
+            )
             .config(&config)
             // The program owns its signals (the `shoal` binary has its own Ctrl-C handler).
             .signal_handling_mode(SignalHandlingMode::Disabled)
             .create::<Ipc>()
-            .map_err(ipc("node"))?;
+            .map_err(ipc(IpcOp::Node))?;
         let mut ports = Vec::new();
         for (i, name) in cfg.names.iter().enumerate() {
             let svc = |leaf: &str| {
                 ServiceName::new(&service_name(&cfg.prefix, name, leaf))
-                    .map_err(ipc("service name"))
+                    .map_err(ipc(IpcOp::ServiceName))
             };
             let in_use = |e: &dyn std::fmt::Debug| {
                 if format!("{e:?}").contains("AlreadyExists") {
                     BridgeError::PrefixInUse(cfg.prefix.clone())
                 } else {
-                    BridgeError::Ipc(format!("creating the services of agent `{name}`: {e:?}"))
+                    BridgeError::Ipc {
+                        op: IpcOp::Services,
+                        detail: format!("agent `{name}`: {e:?}"),
+                    }
                 }
             };
             let obs_svc = node
@@ -197,12 +203,12 @@ impl Host {
                 )
                 .allocation_strategy(AllocationStrategy::PowerOfTwo)
                 .create()
-                .map_err(ipc("observation publisher"))?;
+                .map_err(ipc(IpcOp::ObservationPublisher))?;
             let cmd_sub = cmd_svc
                 .subscriber_builder()
                 .buffer_size(4)
                 .create()
-                .map_err(ipc("command subscriber"))?;
+                .map_err(ipc(IpcOp::CommandSubscriber))?;
             ports.push(Port {
                 obs_svc,
                 cmd_svc,
@@ -330,7 +336,7 @@ impl Host {
         for (a, port) in self.ports.iter_mut().enumerate() {
             let fallback_ticks = obs[a].iter().filter(|o| o.fallback).count() as u64;
             port.report.fallback_ticks += fallback_ticks;
-            publish(&port.obs_pub, &obs[a], 0).map_err(ipc("publishing observations"))?;
+            publish(&port.obs_pub, &obs[a], 0).map_err(ipc(IpcOp::PublishObservations))?;
             sent_at[a] = Some(Instant::now());
         }
         if step.is_multiple_of(64) {
