@@ -4,7 +4,8 @@
 //! 6-DOF Fossen rigid-body dynamics with added mass, Coriolis, damping and restoring forces
 //! ([`rigid_body`], [`dynamics`]); tilting thrusters ([`thruster`]); the buoyancy tank
 //! ([`ballast`]); pressure sensor and IMU ([`sensors`]); the paper's controllers and modes
-//! ([`control`]); a whole vehicle ([`vehicle`]) and presets ([`presets`]).
+//! ([`control`]); the description of a vehicle kind ([`vehicle_params`]), model extensions
+//! ([`effects`]), a whole vehicle ([`vehicle`]) and presets ([`presets`]).
 //!
 //! This crate does no IO and knows nothing of ECS: every function takes plain data and the
 //! caller's RNG. SI units throughout; angles in radians.
@@ -21,6 +22,7 @@ pub mod rigid_body;
 pub mod sensors;
 pub mod thruster;
 pub mod vehicle;
+pub mod vehicle_params;
 
 /// The commonly used types.
 pub mod prelude {
@@ -36,6 +38,7 @@ pub mod prelude {
     pub use crate::sensors::{ImuParams, PressureSensorParams};
     pub use crate::thruster::{ThrustCurve, ThrusterParams, TiltParams};
     pub use crate::vehicle::{
-        VehicleModel, VehicleParams, VehicleState, actuate_vehicle, integrate_vehicle, sense, step,
+        VehicleModel, VehicleState, actuate_vehicle, integrate_vehicle, sense, step,
     };
+    pub use crate::vehicle_params::VehicleParams;
 }

@@ -9,7 +9,7 @@ use crate::optics::{Access, Led, ModemParams, Receiver};
 use crate::rigid_body::BodyParams;
 use crate::sensors::{ImuParams, PressureSensorParams};
 use crate::thruster::{ThrustCurve, ThrusterParams, TiltParams};
-use crate::vehicle::VehicleParams;
+use crate::vehicle_params::VehicleParams;
 use std::f64::consts::FRAC_PI_2;
 
 /// Names of the built-in presets.

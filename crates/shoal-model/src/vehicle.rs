@@ -1,66 +1,24 @@
-//! A whole vehicle: its parameters ([`VehicleParams`]), the derived constants shared by all
-//! vehicles of one kind ([`VehicleModel`], including any model extensions from
+//! A whole vehicle: the derived constants shared by all vehicles of one kind
+//! ([`VehicleModel`], built from a [`VehicleParams`] with any model extensions from
 //! [`crate::effects`]), the per-vehicle state ([`VehicleState`]), one physics step ([`step`])
 //! and one sensor sample ([`sense`]).
 
-use crate::ballast::BallastParams;
 use crate::control::{
-    ActuatorCommands, ControlParams, ControllerState, SensorReadings, Uauv2Control, Uauv2Layout,
+    ActuatorCommands, ControllerState, SensorReadings, Uauv2Control, Uauv2Layout,
 };
 use crate::dynamics::{Integrator, RigidState, integrate, rk4_with};
 use crate::effects::{Effects, ForceContext};
 use crate::lanes::DynConsts;
 use crate::math::{PerActuator, Vec3, Vec6, split6};
-use crate::optics::ModemParams;
-use crate::rigid_body::{BodyParams, Environment, MassProperties};
-use crate::sensors::{ImuParams, PressureSensorParams};
-use crate::thruster::{ActuatorState, ThrusterParams, TiltParams, actuate, actuate_with};
+use crate::rigid_body::{Environment, MassProperties};
+use crate::thruster::{ActuatorState, actuate, actuate_with};
 use rand::Rng;
 use std::collections::VecDeque;
 use std::sync::Arc;
 
-/// Everything that describes one kind of vehicle.
-#[derive(Clone, Debug, PartialEq)]
-pub struct VehicleParams {
-    /// Name of the vehicle kind (e.g. `uauv2`).
-    pub name: String,
-    /// Hull: rigid body, added mass, damping.
-    pub body: BodyParams,
-    /// Thrusters.
-    pub thrusters: Vec<ThrusterParams>,
-    /// Tilt drives (thrusters refer to them by index).
-    pub tilts: Vec<TiltParams>,
-    /// Buoyancy tank, if fitted.
-    pub ballast: Option<BallastParams>,
-    /// Pressure (depth) sensor.
-    pub pressure: PressureSensorParams,
-    /// Inertial measurement unit.
-    pub imu: ImuParams,
-    /// Built-in controller.
-    pub control: ControlParams,
-    /// Optical modems.
-    pub modems: Vec<ModemParams>,
-}
-
-impl VehicleParams {
-    /// Mass properties with `ballast_volume` \[m³\] of water of `density` [kg/m³] in the tank.
-    pub fn mass_properties(&self, ballast_volume: f64, density: f64) -> MassProperties {
-        let pos = self.ballast.as_ref().map_or(Vec3::zeros(), |b| b.position);
-        MassProperties::new(&self.body, ballast_volume, &pos, density)
-    }
-
-    /// Initial ballast water volume \[m³\].
-    pub fn initial_ballast(&self) -> f64 {
-        self.ballast.as_ref().map_or(0.0, |b| b.initial_volume)
-    }
-
-    /// Net downward force at rest, fully submerged, with the initial ballast \[N\]
-    /// (positive: the vehicle sinks; negative: it rises).
-    pub fn net_weight(&self, env: &Environment) -> f64 {
-        let m = self.body.mass + self.initial_ballast() * env.density;
-        (m - self.body.volume * env.density) * env.gravity
-    }
-}
+/// The parameters a vehicle model is built from, described in [`crate::vehicle_params`]
+/// (also reachable here, where users of the whole vehicle look for them).
+pub use crate::vehicle_params::VehicleParams;
 
 /// Immutable, shareable description of a vehicle kind with derived constants.
 #[derive(Clone, Debug, PartialEq)]

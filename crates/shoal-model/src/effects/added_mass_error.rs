@@ -9,7 +9,7 @@
 //! The rigid mass itself is fixed by the weight and stays.
 
 use super::{Effect, ParamInfo};
-use crate::vehicle::VehicleParams;
+use crate::vehicle_params::VehicleParams;
 
 /// See the module documentation.
 #[derive(Clone, Copy, Debug, Default)]

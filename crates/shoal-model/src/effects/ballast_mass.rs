@@ -10,7 +10,7 @@
 //! Applies only to vehicles with a buoyancy tank.
 
 use super::{Effect, ParamInfo};
-use crate::vehicle::VehicleParams;
+use crate::vehicle_params::VehicleParams;
 
 /// See the module documentation.
 #[derive(Clone, Copy, Debug, Default)]

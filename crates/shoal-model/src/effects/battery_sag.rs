@@ -13,7 +13,7 @@
 use super::{
     Effect, POWER_T_REF, ParamInfo, ThrustContext, settled, settling_tau_param, time_exponent_param,
 };
-use crate::vehicle::VehicleParams;
+use crate::vehicle_params::VehicleParams;
 
 /// The fraction a of the thrust a sag takes (the exponential and power forms).
 fn fraction_param(doc: &'static str) -> ParamInfo {

@@ -19,7 +19,7 @@
 
 use super::{Effect, ForceContext, ParamInfo, settled, settling_tau_param};
 use crate::math::{Vec6, join6};
-use crate::vehicle::VehicleParams;
+use crate::vehicle_params::VehicleParams;
 
 /// See the module documentation.
 #[derive(Clone, Copy, Debug, Default)]

@@ -13,7 +13,7 @@
 
 use super::{Effect, ForceContext, ParamInfo};
 use crate::math::Vec6;
-use crate::vehicle::VehicleParams;
+use crate::vehicle_params::VehicleParams;
 
 /// Reference speeds per degree of freedom for laws that depend on speed: translations
 /// [m/s], rotations \[rad/s\] — a small vehicle's typical cruise (the μAUV²'s heave speed at

@@ -15,7 +15,7 @@
 //! `b₀ + Δ·(1 − e^(−(t/τ)^k))`, a settling whose start is slow (k > 1: the sensor warms through
 //! more than one thermal mass, or the vehicle crosses a thermocline).
 use super::{Effect, POWER_T_REF, ParamInfo, settled, settling_tau_param, time_exponent_param};
-use crate::vehicle::VehicleParams;
+use crate::vehicle_params::VehicleParams;
 
 /// The reading's constant offset b₀ \[m\], shared by both forms.
 fn b0_param() -> ParamInfo {

@@ -16,7 +16,7 @@
 //!
 //! A `linear` form competes, `f = f_static − k·|f_static|·u_a`.
 use super::{Effect, ParamInfo, ThrustContext};
-use crate::vehicle::VehicleParams;
+use crate::vehicle_params::VehicleParams;
 
 /// See the module documentation.
 #[derive(Clone, Copy, Debug, Default)]

@@ -16,9 +16,10 @@
 //! | [`Effect::depth_offset`] | each depth reading | depth-sensor bias |
 //! | [`Effect::delay`] | each sensor sample | sensor delay |
 //!
-//! The same effects drive `shoal run` (through [`crate::vehicle::VehicleModel::with_effects`]) and
-//! the model search of `shoal validate`, so a fitted extension runs unchanged in a world. Adding
-//! an effect means adding a file here and a line to [`catalogue`]; nothing in the search changes.
+//! The same effects drive `shoal run` (a vehicle model built with them,
+//! `VehicleModel::with_effects`) and the model search of `shoal validate`, so a fitted
+//! extension runs unchanged in a world. Adding an effect means adding a file here and a line to
+//! [`catalogue`]; nothing in the search changes.
 
 mod added_mass_error;
 mod ballast_mass;
@@ -64,7 +65,7 @@ pub use water_current::WaterCurrent;
 use crate::dynamics::RigidState;
 use crate::math::{Vec3, Vec6};
 use crate::thruster::ThrusterParams;
-use crate::vehicle::VehicleParams;
+use crate::vehicle_params::VehicleParams;
 use std::fmt;
 use std::sync::Arc;
 

@@ -8,7 +8,7 @@
 //! held back by δ).
 
 use super::{Effect, ParamInfo};
-use crate::vehicle::VehicleParams;
+use crate::vehicle_params::VehicleParams;
 
 /// See the module documentation.
 #[derive(Clone, Copy, Debug, Default)]

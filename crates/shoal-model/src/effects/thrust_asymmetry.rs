@@ -15,7 +15,7 @@
 
 use super::thrust_gain::command_factor;
 use super::{Effect, ParamInfo, ThrustContext};
-use crate::vehicle::VehicleParams;
+use crate::vehicle_params::VehicleParams;
 
 /// See the module documentation.
 #[derive(Clone, Copy, Debug, Default)]

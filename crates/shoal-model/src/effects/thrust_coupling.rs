@@ -15,7 +15,7 @@
 
 use super::{Effect, ForceContext, ParamInfo};
 use crate::math::Vec6;
-use crate::vehicle::VehicleParams;
+use crate::vehicle_params::VehicleParams;
 
 /// See the module documentation.
 #[derive(Clone, Copy, Debug, Default)]

@@ -15,7 +15,7 @@
 //! command — a throttle map with a breakpoint (n_k = 0: a gain linear in the command).
 
 use super::{Effect, ParamInfo, ThrustContext};
-use crate::vehicle::VehicleParams;
+use crate::vehicle_params::VehicleParams;
 
 /// The gain k of both forms.
 fn k_param(doc: &'static str) -> ParamInfo {

@@ -14,7 +14,7 @@
 //! of each direction's maximum (an ESC whose current limit binds earlier one way than the
 //! other).
 use super::{Effect, ParamInfo, Stage, ThrustContext};
-use crate::vehicle::VehicleParams;
+use crate::vehicle_params::VehicleParams;
 
 /// See the module documentation.
 #[derive(Clone, Copy, Debug, Default)]

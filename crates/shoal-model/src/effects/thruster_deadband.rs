@@ -20,7 +20,7 @@
 
 use super::{Effect, ParamInfo};
 use crate::thruster::ThrusterParams;
-use crate::vehicle::VehicleParams;
+use crate::vehicle_params::VehicleParams;
 
 /// The band's width d₀ \[%\], shared by every form (`doc` says what it means in that form).
 fn d0_param(doc: &'static str) -> ParamInfo {

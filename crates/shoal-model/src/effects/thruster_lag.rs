@@ -17,7 +17,7 @@
 //! and down) and `slew` (the motor command ramps at a limited rate: a step becomes a ramp
 //! whose length grows with the step — an ESC with a soft start or a current limit).
 use super::{Effect, ParamInfo};
-use crate::vehicle::VehicleParams;
+use crate::vehicle_params::VehicleParams;
 
 /// See the module documentation.
 #[derive(Clone, Copy, Debug, Default)]

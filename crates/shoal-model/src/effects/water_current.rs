@@ -10,7 +10,7 @@
 
 use super::{Effect, ParamInfo};
 use crate::math::Vec3;
-use crate::vehicle::VehicleParams;
+use crate::vehicle_params::VehicleParams;
 
 /// See the module documentation.
 #[derive(Clone, Copy, Debug, Default)]
