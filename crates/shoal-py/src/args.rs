@@ -11,8 +11,8 @@ use numpy::{
 };
 use pyo3::prelude::*;
 use pyo3::types::{PyByteArray, PyBytes, PyString};
-use shoal_sim::agents::FrameOrder;
 use shoal_sim::batch::{Column, MODES, Rows};
+use shoal_sim::orders::FrameOrder;
 
 /// A [`crate::CommandError`] about `field` (no vehicle).
 pub fn bad(field: &str, message: impl std::fmt::Display) -> PyErr {

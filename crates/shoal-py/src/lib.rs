@@ -87,7 +87,7 @@ fn _shoal(m: &Bound<'_, PyModule>) -> PyResult<()> {
             .map(|q| q.name())
             .collect::<Vec<_>>(),
     )?;
-    m.add("MAX_FRAME_DELAY", shoal_sim::batch::MAX_FRAME_DELAY)?;
+    m.add("MAX_FRAME_DELAY", shoal_sim::orders::MAX_FRAME_DELAY)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -9,10 +9,10 @@
 //! control tick as a built-in behaviour's setpoints would, and a lock-step run is as
 //! reproducible as one without agents.
 
-use crate::batch::{check_frame, force_limit};
 use crate::comm::{Inbox, OutFrame, Outbox, Received};
 use crate::components::*;
 use crate::fleet::{Fleet, HotVehicle};
+use crate::orders::{FrameOrder, check_frame, force_limit};
 use crate::sim::Sim;
 use bevy_ecs::prelude::Mut;
 use shoal_model::math::{euler_rpy, wrap_pi};
@@ -67,17 +67,6 @@ pub enum Order {
         /// Pump.
         pump: Pump,
     },
-}
-
-/// A frame an agent hands to its vehicle's modems.
-#[derive(Clone, Debug, PartialEq)]
-pub struct FrameOrder {
-    /// Modem index, or `None` for all modems in sync.
-    pub modem: Option<usize>,
-    /// Payload bytes.
-    pub payload: Vec<u8>,
-    /// Delay after the tick \[s\].
-    pub delay: f64,
 }
 
 /// One agent command for one vehicle.

@@ -7,6 +7,7 @@
 //! confidence intervals, for parameter studies), each file written
 //! whole or not at all ([`shoal_output::files`]); external agents, independent of their
 //! transport ([`agents`]); whole-swarm reads and commands through flat arrays ([`batch`]);
+//! the frames and limits of every order from outside the world, both kinds alike ([`orders`]);
 //! one colour key for link outcomes wherever they are drawn ([`link_key`]).
 //! Long work (building a world, running it, drawing plots) can be
 //! stopped early through a [`shoal_world::cancel::Cancel`].
@@ -25,6 +26,7 @@ pub mod fault;
 pub mod fleet;
 pub mod link_key;
 pub mod map;
+pub mod orders;
 pub mod output;
 pub mod parallel;
 pub mod phases;

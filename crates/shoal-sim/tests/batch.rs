@@ -5,10 +5,8 @@
 
 mod support;
 use shoal_model::math::euler_rpy;
-use shoal_sim::agents::FrameOrder;
-use shoal_sim::batch::{
-    ActuatorOrder, Column, MODES, Quantity, Rows, SetpointOrder, force_limit, mode_code,
-};
+use shoal_sim::batch::{ActuatorOrder, Column, MODES, Quantity, Rows, SetpointOrder, mode_code};
+use shoal_sim::orders::{FrameOrder, force_limit};
 use shoal_sim::prelude::*;
 use support::world::world;
 

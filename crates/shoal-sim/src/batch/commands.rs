@@ -1,106 +1,17 @@
 //! Commands for many vehicles at once: setpoints ([`Sim::set_setpoints`]), raw actuator
 //! commands ([`Sim::set_actuators`]) and frames ([`Sim::queue_frames`]), every value checked
-//! before anything changes; the frames delivered in a step ([`Sim::collect_received`]); and the
-//! limits shared with the agents' commands ([`force_limit`], [`check_frame`]).
+//! before anything changes, against the limits shared with the agents' commands
+//! ([`crate::orders`]); and the frames delivered in a step ([`Sim::collect_received`]).
 
 use super::{Column, CommandError, Rows};
-use crate::agents::FrameOrder;
 use crate::comm::{Inbox, OutFrame, Outbox, Received};
 use crate::components::*;
+use crate::orders::{FrameOrder, MAX_FRAME_DELAY, check_frame, force_limit};
 use crate::sim::Sim;
 use shoal_model::math::wrap_pi;
-use shoal_model::optics::ModemParams;
 use shoal_model::prelude::*;
 use std::f64::consts::PI;
-use std::fmt;
 use std::sync::Arc;
-
-/// Largest |surge| or |sway| force a command may ask for \[N\]: the sum of every thruster's
-/// larger thrust limit (more than the vehicle can produce in any direction).
-pub fn force_limit(m: &VehicleModel) -> f64 {
-    m.params
-        .thrusters
-        .iter()
-        .map(|t| {
-            let (a, b) = t.curve.limits(t.max_command);
-            a.max(b)
-        })
-        .sum()
-}
-
-/// Why a frame cannot be sent by a vehicle (see [`check_frame`]).
-#[derive(Clone, Debug, PartialEq)]
-pub enum FrameProblem {
-    /// The vehicle has no modem.
-    NoModem,
-    /// The modem index is not one of the vehicle's (it has `count`).
-    UnknownModem {
-        /// The index asked for.
-        modem: usize,
-        /// The vehicle's number of modems.
-        count: usize,
-    },
-    /// The payload is empty or longer than the modem(s) carry.
-    Length {
-        /// Payload length \[bytes\].
-        len: usize,
-        /// Longest payload of the modem (all modems: the smallest limit) \[bytes\].
-        max: usize,
-    },
-    /// The delay is NaN or infinite.
-    Delay,
-}
-
-impl fmt::Display for FrameProblem {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Self::NoModem => write!(f, "the vehicle has no modem"),
-            Self::UnknownModem { modem, count } => write!(
-                f,
-                "modem {modem} does not exist (the vehicle has {count}: 0 … {})",
-                count.saturating_sub(1)
-            ),
-            Self::Length { len, max } => write!(
-                f,
-                "payload of {len} bytes: allowed 1 … {max} bytes for this modem"
-            ),
-            Self::Delay => write!(f, "the delay is not a finite number of seconds"),
-        }
-    }
-}
-
-/// Checks that a vehicle with modems `modems` can send `frame` (the rules of agents' frames).
-pub fn check_frame(modems: &[ModemParams], frame: &FrameOrder) -> Result<(), FrameProblem> {
-    if modems.is_empty() {
-        return Err(FrameProblem::NoModem);
-    }
-    let max = match frame.modem {
-        Some(k) => match modems.get(k) {
-            Some(m) => m.max_payload,
-            None => {
-                return Err(FrameProblem::UnknownModem {
-                    modem: k,
-                    count: modems.len(),
-                });
-            }
-        },
-        None => modems.iter().map(|m| m.max_payload).min().unwrap_or(0),
-    };
-    if frame.payload.is_empty() || frame.payload.len() > max {
-        return Err(FrameProblem::Length {
-            len: frame.payload.len(),
-            max,
-        });
-    }
-    if !frame.delay.is_finite() {
-        return Err(FrameProblem::Delay);
-    }
-    Ok(())
-}
-
-/// Longest delay of a frame after the moment it is queued \[s\] (agents' frames are clamped
-/// to it).
-pub const MAX_FRAME_DELAY: f64 = 1.0;
 
 /// The controller modes a command may ask for, by code (the agent protocol's codes).
 pub const MODES: [Mode; 6] = [

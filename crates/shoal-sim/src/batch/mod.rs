@@ -15,19 +15,16 @@
 //! setpoints the built-in controller follows from its next control tick on, and ends the
 //! agent fallback of an agent-driven vehicle. A vehicle's mission and built-in behaviour
 //! still run and may replace the setpoints again. The ranges are the agents' (one source:
-//! [`force_limit`], [`check_frame`]); agents clamp values outside them, here they are errors
-//! unless the caller clips.
+//! [`crate::orders`]); agents clamp values outside them, here they are errors unless the
+//! caller clips.
 //!
-//! `quantity` holds what can be read and the reads; `commands` the commands, the frames and
-//! the shared limits; this file the error and the column types both use.
+//! `quantity` holds what can be read and the reads; `commands` the commands and the
+//! frames; this file the error and the column types both use.
 
 mod commands;
 mod quantity;
 
-pub use commands::{
-    ActuatorOrder, FrameProblem, MAX_FRAME_DELAY, MODES, SetpointOrder, check_frame, force_limit,
-    mode_code,
-};
+pub use commands::{ActuatorOrder, MODES, SetpointOrder, mode_code};
 pub use quantity::{BatchShape, Dtype, Quantity};
 
 use std::fmt;
