@@ -12,7 +12,7 @@
 use crate::comm::{Inbox, OutFrame, Outbox, Received};
 use crate::components::*;
 use crate::fleet::{Fleet, HotVehicle};
-use crate::orders::{FrameOrder, check_frame, force_limit};
+use crate::orders::{FrameOrder, MAX_FRAME_DELAY, check_frame, force_limit};
 use crate::sim::Sim;
 use bevy_ecs::prelude::Mut;
 use shoal_model::math::{euler_rpy, wrap_pi};
@@ -331,7 +331,7 @@ impl Sim {
             frames.push(OutFrame {
                 modem: f.modem,
                 payload: f.payload.clone(),
-                ready: t + f.delay.clamp(0.0, 1.0),
+                ready: t + f.delay.clamp(0.0, MAX_FRAME_DELAY),
             });
         }
         rej.clamped += clamped.get();
