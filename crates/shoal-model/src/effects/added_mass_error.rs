@@ -8,7 +8,7 @@
 //! Modelled by scaling the added-mass matrix M_A and the rigid-body rotational inertia by k.
 //! The rigid mass itself is fixed by the weight and stays.
 
-use super::{Effect, ParamInfo};
+use super::effect::{Effect, ParamInfo};
 use crate::vehicle_params::VehicleParams;
 
 /// See the module documentation.

@@ -9,7 +9,7 @@
 //! Modelled by replacing the tank's flow with q. Its null value is the baseline's flow.
 //! Applies only to vehicles with a buoyancy tank.
 
-use super::{Effect, ParamInfo};
+use super::effect::{Effect, ParamInfo};
 use crate::vehicle_params::VehicleParams;
 
 /// See the module documentation.

@@ -10,9 +10,8 @@
 //! An `exponential` form competes with the linear one: k(t) = 1 − a·(1 − e^(−t/τ)), a sag
 //! that levels off; a `power` form k(t) = 1 − a·(t/100 s)^p has a shape exponent p for a sag
 //! that accelerates (p > 1: a cell nearing the knee of its discharge curve) or slows (p < 1).
-use super::{
-    Effect, POWER_T_REF, ParamInfo, ThrustContext, settled, settling_tau_param, time_exponent_param,
-};
+use super::effect::{Effect, ParamInfo, ThrustContext};
+use super::laws::{POWER_T_REF, settled, settling_tau_param, time_exponent_param};
 use crate::vehicle_params::VehicleParams;
 
 /// The fraction a of the thrust a sag takes (the exponential and power forms).

@@ -17,7 +17,8 @@
 //! escapes until it is gone): the same three time laws — constant, drifting, settling — as
 //! the depth sensor's bias and the battery's sag.
 
-use super::{Effect, ForceContext, ParamInfo, settled, settling_tau_param};
+use super::effect::{Effect, ForceContext, ParamInfo};
+use super::laws::{settled, settling_tau_param};
 use crate::math::{Vec6, join6};
 use crate::vehicle_params::VehicleParams;
 

@@ -11,7 +11,7 @@
 //! sense of a degree of freedom and by k₋ for the negative — a hull whose nose and tail, or top
 //! and bottom, are shaped differently (a camera dome, a flat belly).
 
-use super::{Effect, ForceContext, ParamInfo};
+use super::effect::{Effect, ForceContext, ParamInfo};
 use crate::math::Vec6;
 use crate::vehicle_params::VehicleParams;
 

@@ -14,7 +14,8 @@
 //! (p > 1, a sensor warming ever faster) or slows (p < 1); and an `s_curve` form
 //! `b₀ + Δ·(1 − e^(−(t/τ)^k))`, a settling whose start is slow (k > 1: the sensor warms through
 //! more than one thermal mass, or the vehicle crosses a thermocline).
-use super::{Effect, POWER_T_REF, ParamInfo, settled, settling_tau_param, time_exponent_param};
+use super::effect::{Effect, ParamInfo};
+use super::laws::{POWER_T_REF, settled, settling_tau_param, time_exponent_param};
 use crate::vehicle_params::VehicleParams;
 
 /// The reading's constant offset b₀ \[m\], shared by both forms.

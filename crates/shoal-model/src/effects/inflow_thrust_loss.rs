@@ -15,7 +15,7 @@
 
 //!
 //! A `linear` form competes, `f = f_static − k·|f_static|·u_a`.
-use super::{Effect, ParamInfo, ThrustContext};
+use super::effect::{Effect, ParamInfo, ThrustContext};
 use crate::vehicle_params::VehicleParams;
 
 /// See the module documentation.

@@ -3,7 +3,9 @@
 //! is not neutral, a delayed sensor, …
 //!
 //! Every effect is one type implementing [`Effect`], in its own file of this module, listed
-//! once in [`catalogue`]. An effect declares its parameters ([`ParamInfo`]: unit, bounds, the
+//! once in [`catalogue`]. The trait, its parameters and what its hooks see are in `effect.rs`,
+//! the laws in time that several effects share in `laws.rs`; the effects build on those two,
+//! and this file on the effects. An effect declares its parameters ([`ParamInfo`]: unit, bounds, the
 //! *null* value at which it vanishes) and overrides only the hooks it needs:
 //!
 //! | hook | when | used by |
@@ -27,7 +29,9 @@ mod battery_sag;
 mod buoyancy_offset;
 mod damping_error;
 mod depth_sensor_bias;
+mod effect;
 mod inflow_thrust_loss;
+mod laws;
 mod sensor_delay;
 mod thrust_asymmetry;
 mod thrust_coupling;
@@ -62,172 +66,12 @@ pub use thruster_deadband::{
 pub use thruster_lag::{ThrusterLag, ThrusterLagSecondOrder, ThrusterLagSlew, ThrusterLagUpDown};
 pub use water_current::WaterCurrent;
 
-use crate::dynamics::RigidState;
+pub use effect::{Effect, ForceContext, ParamInfo, Stage, ThrustContext};
+
 use crate::math::{Vec3, Vec6};
 use crate::thruster::ThrusterParams;
 use crate::vehicle_params::VehicleParams;
-use std::fmt;
 use std::sync::Arc;
-
-/// Reference time of the `power` forms' laws, (t / T_REF)^p \[s\].
-pub(crate) const POWER_T_REF: f64 = 100.0;
-
-/// The exponent p of a law in (t / 100 s)^p, the shape of a `power` form (1: linear in time).
-pub(crate) fn time_exponent_param(doc: &'static str) -> ParamInfo {
-    ParamInfo {
-        name: "p",
-        unit: "-",
-        lo: 0.5,
-        hi: 4.0,
-        null: 2.0,
-        typical: 2.0,
-        doc,
-        shape: true,
-    }
-}
-
-/// The fraction of a settling change reached at time `t` \[s\] with time constant `tau`
-/// \[s\], 1 − e^(−t/τ): the law of every `settling` or `exponential` form (a quantity that
-/// moves towards a new value and levels off).
-pub(crate) fn settled(t: f64, tau: f64) -> f64 {
-    1.0 - (-t.max(0.0) / tau.max(1e-3)).exp()
-}
-
-/// The time constant τ of a `settling` law, a shape parameter from `lo` to `hi` seconds.
-pub(crate) fn settling_tau_param(lo: f64, hi: f64, doc: &'static str) -> ParamInfo {
-    ParamInfo {
-        name: "tau_s",
-        unit: "s",
-        lo,
-        hi,
-        null: 60.0,
-        typical: 60.0,
-        doc,
-        shape: true,
-    }
-}
-
-/// One parameter of an effect.
-#[derive(Clone, Debug, PartialEq)]
-pub struct ParamInfo {
-    /// Name, unique within the effect, with its unit as a suffix where it has one
-    /// (e.g. `tau_s`, `delta_f_n`).
-    pub name: &'static str,
-    /// Unit in words (e.g. `s`, `N`, `-`).
-    pub unit: &'static str,
-    /// Smallest allowed value (in [`ParamInfo::unit`]).
-    pub lo: f64,
-    /// Largest allowed value (in [`ParamInfo::unit`]).
-    pub hi: f64,
-    /// The value at which the effect has no influence (in [`ParamInfo::unit`]).
-    pub null: f64,
-    /// A typical non-null value, used as a second starting point by fits (in
-    /// [`ParamInfo::unit`]).
-    pub typical: f64,
-    /// What the parameter means.
-    pub doc: &'static str,
-    /// A shape parameter: it changes how the effect acts, not whether it acts (a time
-    /// constant of an exponential, a softness). It has no null value of its own — `null`
-    /// holds a neutral default — and is never tested against it; the effect vanishes when its
-    /// other parameters are at their nulls.
-    pub shape: bool,
-}
-
-/// In which order thrust hooks run: every `Command` hook, then the thrust curve, then every
-/// `Scale` hook, then every `Limit` hook (each group in the order the effects were given).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub enum Stage {
-    /// Changes the command or scales the thrust.
-    Scale,
-    /// Limits the thrust (applied last).
-    Limit,
-}
-
-/// What a thrust hook may look at.
-#[derive(Clone, Copy, Debug)]
-pub struct ThrustContext<'a> {
-    /// Time since the start of the run \[s\].
-    pub t: f64,
-    /// The thruster.
-    pub thruster: &'a ThrusterParams,
-    /// The command after clamping to ±`max_command` [%].
-    pub command: f64,
-    /// Axial inflow: the water's speed into the propeller along its thrust direction, i.e.
-    /// the thruster's velocity through the water projected on its thrust direction [m/s].
-    pub inflow: f64,
-}
-
-/// What a force hook may look at.
-#[derive(Clone, Copy, Debug)]
-pub struct ForceContext<'a> {
-    /// Time since the start of the run \[s\].
-    pub t: f64,
-    /// The hull's pose and velocity.
-    pub rigid: &'a RigidState,
-    /// Force of all thrusters together, body frame \[N\].
-    pub thrust_force: Vec3,
-    /// Moment of all thrusters together about the body origin, body frame [N·m].
-    pub thrust_moment: Vec3,
-    /// The vehicle.
-    pub vehicle: &'a VehicleParams,
-    /// Gravitational acceleration [m/s²].
-    pub gravity: f64,
-}
-
-/// A parametric model extension. Parameters arrive as a slice in the order of
-/// [`Effect::params`], already checked against their bounds.
-pub trait Effect: Send + Sync + fmt::Debug {
-    /// Stable name (snake case), as used in files and reports.
-    fn name(&self) -> &'static str;
-    /// Which form of its family this is (e.g. `hard` or `soft` for a dead band). An effect
-    /// family is every catalogue entry with the same [`Effect::name`]; its forms compete as
-    /// alternative shapes of one physical cause and are never named together.
-    fn form(&self) -> &'static str {
-        "standard"
-    }
-    /// What the effect is, in one sentence.
-    fn summary(&self) -> &'static str;
-    /// The physical cause it stands for and how it is modelled (shown in reports).
-    fn explanation(&self) -> &'static str;
-    /// The parameters, with bounds that may depend on the vehicle (e.g. a force bound scaled
-    /// by its weight).
-    fn params(&self, vehicle: &VehicleParams) -> Vec<ParamInfo>;
-    /// Why the effect cannot apply to this vehicle, if it cannot (e.g. no buoyancy tank).
-    fn not_applicable(&self, _vehicle: &VehicleParams) -> Option<String> {
-        None
-    }
-    /// Which group of thrust hooks this effect's [`Effect::thrust`] belongs to.
-    fn stage(&self) -> Stage {
-        Stage::Scale
-    }
-    /// Changes the vehicle's parameters once, when the model is built.
-    fn configure(&self, _p: &[f64], _vehicle: &mut VehicleParams) {}
-    /// A constant water current added to the world's, world frame [m/s].
-    fn current(&self, _p: &[f64]) -> Vec3 {
-        Vec3::zeros()
-    }
-    /// The command [%] that reaches the thrust curve, given the clamped command `n` [%].
-    fn command(&self, _p: &[f64], _thruster: &ThrusterParams, n: f64) -> f64 {
-        n
-    }
-    /// The thrust \[N\] after this effect, given the thrust `f` \[N\] so far.
-    fn thrust(&self, _p: &[f64], _ctx: &ThrustContext<'_>, f: f64) -> f64 {
-        f
-    }
-    /// An additional generalised force on the hull, body frame [N, N·m], held over a step.
-    fn force(&self, _p: &[f64], _ctx: &ForceContext<'_>) -> Vec6 {
-        Vec6::zeros()
-    }
-    /// An offset added to the true depth before the pressure sensor reads it \[m\], at time
-    /// `t` \[s\] since the start.
-    fn depth_offset(&self, _p: &[f64], _t: f64) -> f64 {
-        0.0
-    }
-    /// How much every measurement lags the truth \[s\].
-    fn delay(&self, _p: &[f64]) -> f64 {
-        0.0
-    }
-}
 
 /// The built-in effects in catalogue order (see `../shared/spec/validation.md`), every form
 /// of a family after its first (default) form.

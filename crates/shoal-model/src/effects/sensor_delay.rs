@@ -7,7 +7,7 @@
 //! Modelled as `y(t) = y_true(t − δ)` for every sensor (in a running world: each sample is
 //! held back by δ).
 
-use super::{Effect, ParamInfo};
+use super::effect::{Effect, ParamInfo};
 use crate::vehicle_params::VehicleParams;
 
 /// See the module documentation.

@@ -13,8 +13,8 @@
 //! side and 0 on the centre line (propellers of one type mounted with different clearances to
 //! the hull, or one of them nicked).
 
+use super::effect::{Effect, ParamInfo, ThrustContext};
 use super::thrust_gain::command_factor;
-use super::{Effect, ParamInfo, ThrustContext};
 use crate::vehicle_params::VehicleParams;
 
 /// See the module documentation.

@@ -13,7 +13,7 @@
 //! thrust, k_z₊ pushing down and k_z₋ pushing up — the wash meets a fin, a skid or a cable on
 //! one side of the hull only.
 
-use super::{Effect, ForceContext, ParamInfo};
+use super::effect::{Effect, ForceContext, ParamInfo};
 use crate::math::Vec6;
 use crate::vehicle_params::VehicleParams;
 

@@ -14,7 +14,7 @@
 //! form has the gain k up to a knee command n_k and changing linearly by s from there to full
 //! command — a throttle map with a breakpoint (n_k = 0: a gain linear in the command).
 
-use super::{Effect, ParamInfo, ThrustContext};
+use super::effect::{Effect, ParamInfo, ThrustContext};
 use crate::vehicle_params::VehicleParams;
 
 /// The gain k of both forms.

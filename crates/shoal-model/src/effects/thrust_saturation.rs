@@ -13,7 +13,7 @@
 //! to F·tanh(f/F), p → ∞ the hard clamp), and `asymmetric`, a hard clamp at its own fraction
 //! of each direction's maximum (an ESC whose current limit binds earlier one way than the
 //! other).
-use super::{Effect, ParamInfo, Stage, ThrustContext};
+use super::effect::{Effect, ParamInfo, Stage, ThrustContext};
 use crate::vehicle_params::VehicleParams;
 
 /// See the module documentation.

@@ -18,7 +18,7 @@
 //! commands — an ESC whose neutral point is off centre.
 //! A `soft_asymmetric` form: the soft knee with its own width for each direction.
 
-use super::{Effect, ParamInfo};
+use super::effect::{Effect, ParamInfo};
 use crate::thruster::ThrusterParams;
 use crate::vehicle_params::VehicleParams;
 

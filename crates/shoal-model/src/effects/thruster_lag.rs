@@ -16,7 +16,7 @@
 //! stages in series, an S-shaped spin-up), `up_down` (different time constants spinning up
 //! and down) and `slew` (the motor command ramps at a limited rate: a step becomes a ramp
 //! whose length grows with the step — an ESC with a soft start or a current limit).
-use super::{Effect, ParamInfo};
+use super::effect::{Effect, ParamInfo};
 use crate::vehicle_params::VehicleParams;
 
 /// See the module documentation.

@@ -8,7 +8,7 @@
 //! relative to the water, [`crate::dynamics`]). Vertical currents are left out: they are
 //! negligible in pools and, in a depth-only log, indistinguishable from a depth-sensor drift.
 
-use super::{Effect, ParamInfo};
+use super::effect::{Effect, ParamInfo};
 use crate::math::Vec3;
 use crate::vehicle_params::VehicleParams;
 
