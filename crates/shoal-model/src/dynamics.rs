@@ -7,9 +7,9 @@
 //! velocity.
 
 use crate::lanes::{DynConsts, Lanes, rk4};
-use crate::math::{Quat, Vec3, Vec6, split6};
+use crate::math::{Quat, Vec6, split6};
 pub use crate::rigid_body::RigidState;
-use crate::rigid_body::{BodyParams, Environment, MassProperties};
+use crate::rigid_body::{BodyParams, Environment, MassProperties, acceleration};
 
 /// Which fixed-step integrator to use.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Hash)]
@@ -20,25 +20,6 @@ pub enum Integrator {
     /// Semi-implicit (symplectic) Euler: velocity first, then pose with the new velocity
     /// (1 force evaluation per step).
     SemiImplicitEuler,
-}
-
-/// Body acceleration ν̇_r [m/s², rad/s²] for the given state and applied force τ.
-#[inline]
-pub fn acceleration(
-    body: &BodyParams,
-    mp: &MassProperties,
-    env: &Environment,
-    position: &Vec3,
-    attitude: &Quat,
-    nu: &Vec6,
-    tau: &Vec6,
-) -> Vec6 {
-    let rhs = tau
-        - mp.coriolis_rb(nu)
-        - body.coriolis_added(nu)
-        - body.damping(nu)
-        - body.restoring(mp, env, position.z, attitude);
-    mp.m_inv * rhs
 }
 
 /// Advances `state` by `dt` \[s\] with the force `tau` held constant over the step.

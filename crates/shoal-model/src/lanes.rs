@@ -9,7 +9,7 @@
 //!
 //! Every lane does exactly the same floating-point operations in the same order whatever `N`
 //! and whichever other hulls share its group, so one hull integrated alone (`N = 1`, as
-//! [`crate::dynamics::integrate`] does) and in a group of four give bit-identical results —
+//! `dynamics::integrate` does) and in a group of four give bit-identical results —
 //! which is what keeps a world's result independent of how its vehicles are chunked over
 //! threads.
 //!
@@ -459,8 +459,8 @@ pub fn rk4<const N: usize, S: PerLane<N>>(c: &Consts<S>, x: &mut Lanes<N>, dt: f
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::dynamics::acceleration;
     use crate::presets;
+    use crate::rigid_body::acceleration;
 
     fn setup() -> (BodyParams, MassProperties, Environment) {
         let v = presets::uauv2();

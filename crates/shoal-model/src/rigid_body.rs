@@ -1,7 +1,8 @@
 //! Rigid-body and hydrodynamic parameters of a hull and the generalised forces they produce:
 //! mass matrix M = M_RB + M_A, Coriolis–centripetal C(ν) (rigid body and added mass), linear +
-//! quadratic damping D(ν) and the restoring forces g(η) of weight and buoyancy; and the state
-//! they act on ([`RigidState`]: pose and velocity relative to the water).
+//! quadratic damping D(ν) and the restoring forces g(η) of weight and buoyancy; the state
+//! they act on ([`RigidState`]: pose and velocity relative to the water); and the equation of
+//! motion below solved for the acceleration ([`acceleration`]), which the integrators use.
 //!
 //! Equation of motion (Fossen 2011, eq. 6.1 and 8.1, relative-velocity form for a constant
 //! irrotational current):
@@ -240,6 +241,26 @@ impl RigidState {
         let (v, _) = split6(&self.nu);
         self.attitude * v + env.current
     }
+}
+
+/// Body acceleration ν̇_r [m/s², rad/s²] for the given state and applied force τ: the equation
+/// of motion above solved for ν̇_r, M⁻¹ (τ − C_RB(ν_r) ν_r − C_A(ν_r) ν_r − D(ν_r) ν_r − g(η)).
+#[inline]
+pub fn acceleration(
+    body: &BodyParams,
+    mp: &MassProperties,
+    env: &Environment,
+    position: &Vec3,
+    attitude: &Quat,
+    nu: &Vec6,
+    tau: &Vec6,
+) -> Vec6 {
+    let rhs = tau
+        - mp.coriolis_rb(nu)
+        - body.coriolis_added(nu)
+        - body.damping(nu)
+        - body.restoring(mp, env, position.z, attitude);
+    mp.m_inv * rhs
 }
 
 #[cfg(test)]
