@@ -219,19 +219,3 @@ pub fn uauv2() -> VehicleParams {
         modems: vec![uauv2_modem()],
     }
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::rigid_body::Environment;
-    use crate::vehicle::VehicleModel;
-
-    #[test]
-    fn identified_sums_are_reproduced() {
-        let m = VehicleModel::new(uauv2(), 1000.0);
-        assert!((m.heave_mass - UAUV2_HEAVE_MASS).abs() < 1e-12);
-        assert!((m.yaw_inertia - UAUV2_YAW_INERTIA).abs() < 1e-12);
-        assert!(m.params.net_weight(&Environment::default()).abs() < 1e-12);
-        assert!(m.uauv2.is_some());
-    }
-}

@@ -13,7 +13,7 @@
 //!
 //! C_RB uses the linear-velocity-independent parametrisation (Fossen Property 8.1), which is what
 //! makes the relative-velocity form exact for a constant current. Both C matrices are
-//! skew-symmetric, so they do no work: `ν·C(ν)ν = 0` (tested).
+//! skew-symmetric, so they do no work: `ν·C(ν)ν = 0` (tested in `tests/physics.rs`).
 
 use crate::math::{GRAVITY, Mat3, Mat6, Quat, Vec3, Vec6, join6, skew, split6};
 
@@ -261,51 +261,4 @@ pub fn acceleration(
         - body.damping(nu)
         - body.restoring(mp, env, position.z, attitude);
     mp.m_inv * rhs
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::presets;
-
-    fn props() -> (BodyParams, MassProperties) {
-        let v = presets::uauv2();
-        let mp = v.mass_properties(v.ballast.as_ref().map_or(0.0, |b| b.initial_volume), 1000.0);
-        (v.body, mp)
-    }
-
-    #[test]
-    fn coriolis_does_no_work() {
-        let (body, mp) = props();
-        let nu = Vec6::new(0.3, -0.1, 0.2, 0.5, -0.7, 1.1);
-        assert!(nu.dot(&mp.coriolis_rb(&nu)).abs() < 1e-14);
-        assert!(nu.dot(&body.coriolis_added(&nu)).abs() < 1e-14);
-    }
-
-    #[test]
-    fn mass_matrix_is_symmetric_positive_definite() {
-        let (_, mp) = props();
-        assert!((mp.m_total - mp.m_total.transpose()).norm() < 1e-15);
-        assert!(mp.m_total.cholesky().is_some());
-        assert!((mp.m_total * mp.m_inv - Mat6::identity()).norm() < 1e-9);
-    }
-
-    #[test]
-    fn restoring_is_zero_upright_and_neutral() {
-        let (body, mp) = props();
-        let g = body.restoring(&mp, &Environment::default(), 1.0, &Quat::identity());
-        assert!(g.norm() < 1e-9, "{g}");
-    }
-
-    #[test]
-    fn restoring_moment_rights_the_vehicle() {
-        let (body, mp) = props();
-        // Rolled to starboard by 10°: the moment (right-hand side −g) must roll back.
-        let att = Quat::from_euler_angles(10f64.to_radians(), 0.0, 0.0);
-        let g = body.restoring(&mp, &Environment::default(), 1.0, &att);
-        assert!(-g[3] < 0.0);
-        // Small-angle value: W·BG·sin φ.
-        let expected = mp.mass * GRAVITY * (mp.cog.z - body.cob.z) * 10f64.to_radians().sin();
-        assert!((g[3] - expected).abs() < 1e-9, "{} vs {}", g[3], expected);
-    }
 }

@@ -1,9 +1,12 @@
 //! Physics checks of the μAUV² model against closed-form laws: terminal heave speed and yaw
 //! rate from the damping law, energy decay of an unforced hull, neutral buoyancy, and the
-//! pressure sensor's calibration line and quantisation.
+//! pressure sensor's calibration line and quantisation; the hull's matrices (Coriolis forces
+//! do no work, the mass matrix is symmetric positive definite, the restoring forces vanish
+//! upright and right a rolled hull) and the identified sums the preset is built to reproduce.
 
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
+use shoal_model::math::GRAVITY;
 use shoal_model::prelude::*;
 use std::f64::consts::FRAC_PI_2;
 
@@ -269,4 +272,55 @@ fn pressure_sensor_calibration_line_and_quantisation() {
         (var / expected - 1.0).abs() < 0.05,
         "var {var} vs {expected}"
     );
+}
+
+/// The μAUV² hull and its mass properties with the initial ballast in fresh water.
+fn props() -> (BodyParams, MassProperties) {
+    let v = presets::uauv2();
+    let mp = v.mass_properties(v.ballast.as_ref().map_or(0.0, |b| b.initial_volume), 1000.0);
+    (v.body, mp)
+}
+
+#[test]
+fn coriolis_does_no_work() {
+    let (body, mp) = props();
+    let nu = Vec6::new(0.3, -0.1, 0.2, 0.5, -0.7, 1.1);
+    assert!(nu.dot(&mp.coriolis_rb(&nu)).abs() < 1e-14);
+    assert!(nu.dot(&body.coriolis_added(&nu)).abs() < 1e-14);
+}
+
+#[test]
+fn mass_matrix_is_symmetric_positive_definite() {
+    let (_, mp) = props();
+    assert!((mp.m_total - mp.m_total.transpose()).norm() < 1e-15);
+    assert!(mp.m_total.cholesky().is_some());
+    assert!((mp.m_total * mp.m_inv - Mat6::identity()).norm() < 1e-9);
+}
+
+#[test]
+fn restoring_is_zero_upright_and_neutral() {
+    let (body, mp) = props();
+    let g = body.restoring(&mp, &Environment::default(), 1.0, &Quat::identity());
+    assert!(g.norm() < 1e-9, "{g}");
+}
+
+#[test]
+fn restoring_moment_rights_the_vehicle() {
+    let (body, mp) = props();
+    // Rolled to starboard by 10°: the moment (right-hand side −g) must roll back.
+    let att = Quat::from_euler_angles(10f64.to_radians(), 0.0, 0.0);
+    let g = body.restoring(&mp, &Environment::default(), 1.0, &att);
+    assert!(-g[3] < 0.0);
+    // Small-angle value: W·BG·sin φ.
+    let expected = mp.mass * GRAVITY * (mp.cog.z - body.cob.z) * 10f64.to_radians().sin();
+    assert!((g[3] - expected).abs() < 1e-9, "{} vs {}", g[3], expected);
+}
+
+#[test]
+fn identified_sums_are_reproduced() {
+    let m = model();
+    assert!((m.heave_mass - presets::UAUV2_HEAVE_MASS).abs() < 1e-12);
+    assert!((m.yaw_inertia - presets::UAUV2_YAW_INERTIA).abs() < 1e-12);
+    assert!(m.params.net_weight(&Environment::default()).abs() < 1e-12);
+    assert!(m.uauv2.is_some());
 }
