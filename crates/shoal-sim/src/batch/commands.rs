@@ -3,7 +3,8 @@
 //! before anything changes, against the limits shared with the agents' commands
 //! ([`crate::orders`]); and the frames delivered in a step ([`Sim::collect_received`]).
 
-use super::{Column, CommandError, Rows};
+use super::columns::{Column, Rows};
+use super::error::CommandError;
 use crate::comm::{Inbox, OutFrame, Outbox, Received};
 use crate::components::*;
 use crate::orders::{FrameOrder, MAX_FRAME_DELAY, check_frame, force_limit};

@@ -1,7 +1,8 @@
 //! The per-vehicle quantities ([`Quantity`]) and reading one of every vehicle into a flat
 //! slice in a single query pass ([`Sim::read_f64`], [`Sim::read_i64`], [`Sim::read_bool`]).
 
-use super::CommandError;
+use super::commands::mode_code;
+use super::error::CommandError;
 use crate::comm::{CommStats, Modems};
 use crate::components::*;
 use crate::sim::Sim;
@@ -299,7 +300,7 @@ impl Sim {
             let c = &fleet.get(*id).control;
             let row = &mut out[id.0 as usize * w..(id.0 as usize + 1) * w];
             match q {
-                Quantity::Mode => row[0] = super::mode_code(c.setpoints.mode),
+                Quantity::Mode => row[0] = mode_code(c.setpoints.mode),
                 Quantity::ModemQueued => {
                     for (x, port) in row.iter_mut().zip(&m.ports) {
                         *x = port.queued() as i64;
