@@ -4,7 +4,8 @@
 //! (`links_over_time`), the graph over time (`connectivity_over_time`) and, when the world
 //! floods a value, how many vehicles knew it over time (`gossip`).
 
-use super::{CommSummary, DistanceBin};
+use super::summary::{CommSummary, DistanceBin};
+use super::tables::per_second;
 use crate::comm::Outcome;
 use crate::connectivity::Connectivity;
 use crate::link_key;
@@ -53,7 +54,7 @@ pub fn plots(
         (
             "links_over_time",
             // Every second of the run, as in links.csv (a quiet second is a zero, not a gap).
-            links_plot(&desc.name, &super::per_second(sim), desc.duration),
+            links_plot(&desc.name, &per_second(sim), desc.duration),
         ),
         (
             "connectivity_over_time",

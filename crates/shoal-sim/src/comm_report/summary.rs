@@ -1,0 +1,246 @@
+//! The communication section of `summary.json` ([`CommSummary`], built by [`summarize`]):
+//! frames and receptions by outcome, latency, delivery ratio against distance, the
+//! communication graph over time, the result of flooding a value, and each vehicle's counters
+//! (for `vehicles.csv`).
+
+use crate::comm::{DIST_BIN, LinkStats, latency_bin_centre};
+use crate::connectivity::ConnSample;
+use crate::sim::Sim;
+use crate::view::VehicleView;
+use serde::Serialize;
+use shoal_world::desc::WorldDesc;
+use shoal_world::spec::BehaviourSpec;
+
+/// Deliveries within one distance bin.
+#[derive(Clone, Debug, Serialize)]
+pub struct DistanceBin {
+    /// Bin start \[m\].
+    pub from_m: f64,
+    /// Bin end \[m\].
+    pub to_m: f64,
+    /// Frames sent by vehicles this far away.
+    pub attempts: u64,
+    /// Of those, delivered.
+    pub delivered: u64,
+    /// delivered / attempts.
+    pub ratio: f64,
+}
+
+/// Result of flooding a value (the `gossip` behaviour).
+#[derive(Clone, Debug, Serialize)]
+pub struct GossipSummary {
+    /// Vehicles running gossip.
+    pub vehicles: usize,
+    /// Vehicles that learned the value.
+    pub informed: usize,
+    /// Time the value appeared at the origin \[s\].
+    pub start_s: f64,
+    /// Time from the start until every vehicle knew it \[s\] (`null` if some never did).
+    pub time_to_all_s: Option<f64>,
+    /// Time from the start until half the vehicles knew it \[s\].
+    pub time_to_half_s: Option<f64>,
+    /// Most hops from the origin.
+    pub max_hops: u32,
+    /// Mean hops from the origin over informed vehicles.
+    pub mean_hops: f64,
+    /// Mean over informed vehicles of (time learned − start) / hops \[s\].
+    pub mean_time_per_hop_s: f64,
+    /// (time \[s\], vehicles informed) at every new informed vehicle.
+    pub informed_over_time: Vec<(f64, usize)>,
+}
+
+/// Communication counters of one vehicle.
+#[derive(Clone, Debug, Serialize)]
+pub struct VehicleComm {
+    /// Name.
+    pub name: String,
+    /// Frames it put on the air.
+    pub sent: u64,
+    /// Frames dropped at its full transmit queues.
+    pub queue_overflow: u64,
+    /// Its receptions by outcome.
+    #[serde(flatten)]
+    pub rx: LinkStats,
+}
+
+/// The communication section of `summary.json`.
+#[derive(Clone, Debug, Serialize)]
+pub struct CommSummary {
+    /// Beam attenuation of the water [1/m].
+    pub attenuation_per_m: f64,
+    /// Distance beyond which no frame is decodable \[m\].
+    pub cutoff_range_m: f64,
+    /// Frames put on the air.
+    pub frames_sent: u64,
+    /// Frames dropped at full transmit queues.
+    pub queue_overflow: u64,
+    /// Frames longer than a modem allows (dropped).
+    pub oversize: u64,
+    /// Carrier-sense deferrals.
+    pub cs_deferrals: u64,
+    /// All receptions by outcome (a frame counts once per vehicle within the cut-off range).
+    pub receptions: LinkStats,
+    /// receptions.delivered / receptions.attempts.
+    pub delivery_ratio: f64,
+    /// Mean hand-over-to-delivery latency \[s\].
+    pub latency_mean_s: Option<f64>,
+    /// Median latency \[s\] (centre of its histogram bin: ±6 %).
+    pub latency_median_s: Option<f64>,
+    /// 95th percentile latency \[s\] (centre of its histogram bin: ±6 %).
+    pub latency_p95_s: Option<f64>,
+    /// Mean frame length on the line \[bits\].
+    pub mean_frame_bits: f64,
+    /// Delivery ratio against distance.
+    pub by_distance: Vec<DistanceBin>,
+    /// The communication graph over time (edge: a frame delivered either way in the last 2 s).
+    pub connectivity: Vec<ConnSample>,
+    /// Flooding result, if the world runs the gossip behaviour.
+    pub gossip: Option<GossipSummary>,
+    /// Per vehicle.
+    /// (written to `vehicles.csv`, not to summary.json, which stays small for any count)
+    #[serde(skip)]
+    pub vehicles: Vec<VehicleComm>,
+}
+
+fn percentile(hist: &[u64], q: f64) -> Option<f64> {
+    let total: u64 = hist.iter().sum();
+    if total == 0 {
+        return None;
+    }
+    let target = (q * total as f64).ceil().max(1.0) as u64;
+    let mut acc = 0;
+    for (k, n) in hist.iter().enumerate() {
+        acc += n;
+        if acc >= target {
+            return Some(latency_bin_centre(k));
+        }
+    }
+    None
+}
+
+/// The communication section, or `None` when no vehicle sent a frame.
+pub fn summarize(desc: &WorldDesc, sim: &Sim, snaps: &[VehicleView<'_>]) -> Option<CommSummary> {
+    let sent: u64 = snaps.iter().map(|s| s.comm.sent).sum();
+    if sent == 0 {
+        return None;
+    }
+    let mut rx = LinkStats::default();
+    for s in snaps {
+        rx.add(&s.comm.rx);
+    }
+    let by_distance = sim.medium().delivery_by_distance();
+    let hist = sim.medium().latency_histogram();
+    let gossip = gossip_summary(desc, snaps);
+    Some(CommSummary {
+        attenuation_per_m: desc.attenuation,
+        cutoff_range_m: sim.medium().r_cut,
+        frames_sent: sent,
+        queue_overflow: snaps.iter().map(|s| s.comm.queue_overflow).sum(),
+        oversize: snaps.iter().map(|s| s.comm.oversize).sum(),
+        cs_deferrals: snaps.iter().map(|s| s.comm.cs_deferrals).sum(),
+        delivery_ratio: if rx.attempts > 0 {
+            rx.delivered as f64 / rx.attempts as f64
+        } else {
+            0.0
+        },
+        latency_mean_s: (rx.delivered > 0).then(|| rx.latency_sum_s / rx.delivered as f64),
+        latency_median_s: percentile(&hist, 0.5),
+        latency_p95_s: percentile(&hist, 0.95),
+        mean_frame_bits: sim.medium().started.1 as f64 / sim.medium().started.0.max(1) as f64,
+        receptions: rx,
+        by_distance: by_distance
+            .iter()
+            .enumerate()
+            .filter(|(_, b)| b.0 > 0)
+            .map(|(k, b)| DistanceBin {
+                from_m: k as f64 * DIST_BIN,
+                to_m: (k + 1) as f64 * DIST_BIN,
+                attempts: b.0,
+                delivered: b.1,
+                ratio: b.1 as f64 / b.0 as f64,
+            })
+            .collect(),
+        connectivity: sim.connectivity().samples.clone(),
+        gossip,
+        vehicles: snaps
+            .iter()
+            .map(|s| VehicleComm {
+                name: s.name.to_string(),
+                sent: s.comm.sent,
+                queue_overflow: s.comm.queue_overflow,
+                rx: s.comm.rx,
+            })
+            .collect(),
+    })
+}
+
+fn gossip_summary(desc: &WorldDesc, snaps: &[VehicleView<'_>]) -> Option<GossipSummary> {
+    let members: Vec<&VehicleView<'_>> = snaps
+        .iter()
+        .zip(&desc.vehicles)
+        .filter(|(_, d)| matches!(d.behaviour, Some(BehaviourSpec::Gossip { .. })))
+        .map(|(s, _)| s)
+        .collect();
+    if members.is_empty() {
+        return None;
+    }
+    let get = |s: &VehicleView<'_>, k: &str| {
+        s.behaviour()
+            .iter()
+            .find(|(n, _)| *n == k)
+            .map_or(f64::NAN, |(_, v)| *v)
+    };
+    let start = desc
+        .vehicles
+        .iter()
+        .find_map(|d| match d.behaviour {
+            Some(BehaviourSpec::Gossip {
+                origin: true,
+                start,
+                ..
+            }) => Some(start),
+            _ => None,
+        })
+        .unwrap_or(f64::NAN);
+    let mut learned: Vec<(f64, f64)> = members
+        .iter()
+        .map(|s| (get(s, "learned_at"), get(s, "hops")))
+        .filter(|(t, _)| t.is_finite())
+        .collect();
+    learned.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let n = members.len();
+    let informed = learned.len();
+    Some(GossipSummary {
+        vehicles: n,
+        informed,
+        start_s: start,
+        time_to_all_s: (informed == n).then(|| learned.last().map_or(0.0, |l| l.0) - start),
+        time_to_half_s: learned
+            .get(n.div_ceil(2).saturating_sub(1))
+            .filter(|_| 2 * informed >= n)
+            .map(|l| l.0 - start),
+        max_hops: learned.iter().map(|l| l.1 as u32).max().unwrap_or(0),
+        mean_hops: if informed > 0 {
+            learned.iter().map(|l| l.1).sum::<f64>() / informed as f64
+        } else {
+            f64::NAN
+        },
+        mean_time_per_hop_s: {
+            let per: Vec<f64> = learned
+                .iter()
+                .filter(|l| l.1 > 0.0)
+                .map(|l| (l.0 - start) / l.1)
+                .collect();
+            if per.is_empty() {
+                f64::NAN
+            } else {
+                per.iter().sum::<f64>() / per.len() as f64
+            }
+        },
+        informed_over_time: learned
+            .iter()
+            .enumerate()
+            .map(|(i, l)| (l.0, i + 1))
+            .collect(),
+    })
+}

@@ -1,0 +1,165 @@
+//! The communication tables of a run: `links.csv` (per second: reception attempts by
+//! outcome), `connectivity.csv` (per second: the communication graph) and `link_pairs.csv`
+//! (per sender → receiver), each written whole through [`shoal_output::files`].
+
+use crate::comm::Outcome;
+use crate::sim::Sim;
+use crate::view::VehicleView;
+use shoal_output::files::FileError;
+use std::path::{Path, PathBuf};
+
+/// Most vehicles for which `link_pairs.csv` is written (it has up to one row per pair of
+/// vehicles within range: ≈ 40 per vehicle in a dense beaconing swarm).
+pub const PAIRS_MAX_VEHICLES: usize = 10_000;
+
+/// The communication tables of a run with `vehicles` vehicles, in the order
+/// [`write_tables`] writes them.
+pub fn table_names(vehicles: usize) -> Vec<&'static str> {
+    let mut t = vec!["links.csv", "connectivity.csv"];
+    if vehicles <= PAIRS_MAX_VEHICLES {
+        t.push("link_pairs.csv");
+    }
+    t
+}
+
+/// Writes the communication tables into `dir` (each whole, through [`shoal_output::files`]),
+/// calling `begin` with each one's name before it begins it and adding each to `written`
+/// when complete: `links.csv` (per second of the run: reception
+/// attempts by outcome), `connectivity.csv` (per second: the communication graph) and, for
+/// up to [`PAIRS_MAX_VEHICLES`] vehicles, `link_pairs.csv` (per sender → receiver).
+pub fn write_tables(
+    dir: &Path,
+    sim: &Sim,
+    snaps: &[VehicleView<'_>],
+    begin: &dyn Fn(&Path),
+    written: &mut Vec<PathBuf>,
+) -> Result<(), FileError> {
+    let links = dir.join("links.csv");
+    begin(&links);
+    written.push(write_links_csv(&links, sim)?);
+    let connectivity = dir.join("connectivity.csv");
+    begin(&connectivity);
+    written.push(write_connectivity_csv(&connectivity, sim, snaps.len())?);
+    if snaps.len() <= PAIRS_MAX_VEHICLES {
+        let pairs = dir.join("link_pairs.csv");
+        begin(&pairs);
+        written.push(write_link_pairs_csv(&pairs, snaps)?);
+    }
+    Ok(())
+}
+
+/// `links.csv`: one row per second of the run, `[t_start_s, t_start_s + 1)`, with the
+/// reception attempts of frames that ended in it, by outcome. The columns add up to the
+/// summary's `comm.receptions`.
+pub fn write_links_csv(path: &Path, sim: &Sim) -> Result<PathBuf, FileError> {
+    let mut w = shoal_output::files::CsvFile::create(path)?;
+    w.write_record([
+        "t_start_s",
+        "attempted",
+        "delivered",
+        "collided",
+        "occluded",
+        "out_of_budget",
+        "half_duplex",
+        "delivery_ratio",
+    ])?;
+    for (k, c) in per_second(sim).into_iter().enumerate() {
+        let n = |o: Outcome| c[o.index()];
+        let attempted: u64 = c.iter().sum();
+        w.write_record([
+            k.to_string(),
+            attempted.to_string(),
+            n(Outcome::Delivered).to_string(),
+            n(Outcome::Collision).to_string(),
+            n(Outcome::Occluded).to_string(),
+            n(Outcome::Range).to_string(),
+            n(Outcome::HalfDuplex).to_string(),
+            if attempted > 0 {
+                format!("{:.6}", n(Outcome::Delivered) as f64 / attempted as f64)
+            } else {
+                String::new()
+            },
+        ])?;
+    }
+    w.commit()
+}
+
+/// The reception attempts of each second of the run by outcome (indexed by
+/// [`Outcome::index`]), the seconds after the last attempt included (as zeros): the rows of
+/// `links.csv` and the points of `links_over_time`.
+pub(crate) fn per_second(sim: &Sim) -> Vec<[u64; 5]> {
+    let counted = &sim.medium().per_second;
+    let seconds = (sim.time().ceil() as usize).max(counted.len());
+    (0..seconds)
+        .map(|k| counted.get(k).copied().unwrap_or([0; 5]))
+        .collect()
+}
+
+/// `connectivity.csv`: one row per sample of the communication graph (every second): an
+/// edge joins two vehicles when a frame was delivered either way within the window (2 s).
+pub fn write_connectivity_csv(
+    path: &Path,
+    sim: &Sim,
+    vehicles: usize,
+) -> Result<PathBuf, FileError> {
+    let mut w = shoal_output::files::CsvFile::create(path)?;
+    w.write_record([
+        "t_s",
+        "components",
+        "largest_component",
+        "largest_fraction",
+        "edges",
+        "mean_degree",
+    ])?;
+    let n = vehicles.max(1) as f64;
+    for s in &sim.connectivity().samples {
+        w.write_record([
+            format!("{}", s.t),
+            s.components.to_string(),
+            s.largest.to_string(),
+            format!("{:.6}", s.largest as f64 / n),
+            s.edges.to_string(),
+            format!("{:.6}", 2.0 * s.edges as f64 / n),
+        ])?;
+    }
+    w.commit()
+}
+
+/// `link_pairs.csv`: one row per (sender, receiver) with at least one attempt.
+pub fn write_link_pairs_csv(path: &Path, snaps: &[VehicleView<'_>]) -> Result<PathBuf, FileError> {
+    let mut w = shoal_output::files::CsvFile::create(path)?;
+    w.write_record([
+        "sender",
+        "receiver",
+        "attempts",
+        "delivered",
+        "lost_range",
+        "lost_occlusion",
+        "lost_collision",
+        "lost_half_duplex",
+        "mean_latency_s",
+    ])?;
+    for rx in snaps {
+        let mut links: Vec<_> = rx.comm.links().iter().collect();
+        links.sort_by_key(|(from, _)| **from);
+        for (from, l) in links {
+            let lat = if l.delivered > 0 {
+                format!("{:.6}", l.latency_sum_s / l.delivered as f64)
+            } else {
+                String::new()
+            };
+            w.write_record([
+                snaps[*from as usize].name,
+                rx.name,
+                &l.attempts.to_string(),
+                &l.delivered.to_string(),
+                &l.lost_range.to_string(),
+                &l.lost_occlusion.to_string(),
+                &l.lost_collision.to_string(),
+                &l.lost_half_duplex.to_string(),
+                &lat,
+            ])?;
+        }
+    }
+    w.commit()
+}
