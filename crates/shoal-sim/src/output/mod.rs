@@ -22,6 +22,7 @@ use crate::comm_report::VehicleComm;
 use crate::recorder::{self, RecordBatch, col, mode_of_code};
 use crate::sim::Sim;
 use crate::view::VehicleView;
+use accumulated::VehicleAcc;
 use numbers::write_num;
 use shoal_model::prelude::*;
 use shoal_output::files::{CsvFile, FileError, write_whole};
@@ -32,12 +33,13 @@ use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use vehicles_csv::write_vehicles_csv;
 
+mod accumulated;
 mod numbers;
 mod plots;
 mod summary;
 mod vehicles_csv;
 
-pub use summary::{GroupSummary, Summary, VehicleSummary};
+pub use summary::{GroupSummary, Summary, VehicleSummary, peak_memory_bytes};
 
 /// An output failure (names the file).
 #[derive(Debug, thiserror::Error)]
@@ -62,39 +64,6 @@ pub enum OutputError {
 const PLOT_POINTS: usize = 1500;
 /// Most vehicles drawn in a plot.
 const PLOT_VEHICLES: usize = 200;
-
-#[derive(Clone, Debug, Default)]
-struct VehicleAcc {
-    rows: u64,
-    /// Position of the last row \[m\].
-    last: Option<[f64; 3]>,
-    distance: f64,
-    max_depth: f64,
-    max_speed: f64,
-    /// Points for the plots (only for the vehicles drawn).
-    plot: Vec<PlotPoint>,
-    /// Whether the vehicle was ever in a mode that controls its heading.
-    steered: bool,
-}
-
-/// One kept sample of a vehicle for the plots.
-#[derive(Clone, Copy, Debug, Default)]
-struct PlotPoint {
-    /// Time \[s\].
-    t: f64,
-    /// North \[m\].
-    x: f64,
-    /// East \[m\].
-    y: f64,
-    /// Depth reading \[m\].
-    depth: f64,
-    /// Depth setpoint \[m\].
-    depth_sp: f64,
-    /// Heading \[rad\].
-    yaw: f64,
-    /// Heading setpoint \[rad\].
-    yaw_sp: f64,
-}
 
 /// Streams a run's outputs into a folder.
 pub struct RunOutput {
@@ -235,35 +204,7 @@ impl RunOutput {
         let keep = self.plots
             && i.is_multiple_of(self.plot_stride)
             && self.acc[i].rows.is_multiple_of(self.keep_every);
-        let a = &mut self.acc[i];
-        let here = [row[col::X], row[col::Y], row[col::Z]];
-        if let Some(last) = a.last {
-            let d = ((here[0] - last[0]).powi(2)
-                + (here[1] - last[1]).powi(2)
-                + (here[2] - last[2]).powi(2))
-            .sqrt();
-            a.distance += d;
-        }
-        a.max_depth = a.max_depth.max(row[col::Z]);
-        let speed = (row[col::U].powi(2) + row[col::U + 1].powi(2) + row[col::W].powi(2)).sqrt();
-        a.max_speed = a.max_speed.max(speed);
-        if keep {
-            a.plot.push(PlotPoint {
-                t: row[col::T],
-                x: row[col::X],
-                y: row[col::Y],
-                depth: row[col::DEPTH_READING],
-                depth_sp: row[col::DEPTH_SP],
-                yaw: row[col::YAW],
-                yaw_sp: row[col::YAW_SP],
-            });
-        }
-        a.steered |= matches!(
-            mode_of_code(row[col::MODE]),
-            Mode::Turning | Mode::Drift | Mode::Auto
-        );
-        a.rows += 1;
-        a.last = Some(here);
+        self.acc[i].add_row(row, keep);
     }
 
     /// Finishes the outputs in the order of the module documentation (summary, tables,
@@ -293,10 +234,11 @@ impl RunOutput {
             if let Some(c) = &comm {
                 plots.extend(crate::comm_report::plots(desc, sim, &snaps, c));
             }
-            plots.push(("depth", self.depth_plot(desc)));
-            plots.push(("top", self.top_plot(desc)));
+            let (acc, stride) = (&self.acc, self.plot_stride);
+            plots.push(("depth", plots::depth_plot(acc, stride, desc)));
+            plots.push(("top", plots::top_plot(acc, stride, desc)));
             if self.acc.iter().any(|a| a.steered) {
-                plots.push(("heading", self.heading_plot(desc)));
+                plots.push(("heading", plots::heading_plot(acc, stride, desc)));
             }
         }
         let RunOutput {
@@ -372,19 +314,6 @@ impl RunOutput {
         }
         outcome.map(|()| summary)
     }
-}
-
-/// Peak resident memory of this process (`VmHWM` of `/proc/self/status`) \[bytes\].
-pub fn peak_memory_bytes() -> Option<u64> {
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let kb: u64 = status
-        .lines()
-        .find_map(|l| l.strip_prefix("VmHWM:"))?
-        .split_whitespace()
-        .next()?
-        .parse()
-        .ok()?;
-    Some(kb * 1024)
 }
 
 /// Writes `summary.json` (whole).

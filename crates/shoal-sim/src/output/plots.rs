@@ -1,117 +1,117 @@
-//! The run's own plots, drawn from the samples [`RunOutput`] keeps for the vehicles shown:
+//! The run's own plots, drawn from the samples kept of the vehicles shown ([`VehicleAcc`]):
 //! `depth` (depth reading and setpoint against time), `heading` (heading and setpoint against
 //! time, continuous through ±180°) and `top` (tracks from above on the pool and obstacles, at
 //! one scale north and east).
 
-use super::{PlotPoint, RunOutput};
+use super::accumulated::{PlotPoint, VehicleAcc};
 use shoal_model::math::wrap_pi;
 use shoal_output::plot::{Plot, Series};
 use shoal_world::desc::WorldDesc;
 
-impl RunOutput {
-    pub(super) fn shown(&self) -> Vec<usize> {
-        (0..self.acc.len()).step_by(self.plot_stride).collect()
-    }
+/// The vehicles drawn: every `stride`-th.
+fn shown(acc: &[VehicleAcc], stride: usize) -> Vec<usize> {
+    (0..acc.len()).step_by(stride).collect()
+}
 
-    pub(super) fn depth_plot(&self, desc: &WorldDesc) -> Plot {
-        let shown = self.shown();
-        let mut series = Vec::new();
-        let mut labelled = vec![false; desc.groups.len()];
-        for &i in &shown {
-            let g = desc.vehicles[i].group;
-            let a = &self.acc[i];
+/// Depth reading against time for the vehicles drawn (every `stride`-th), with one setpoint
+/// line per group.
+pub(super) fn depth_plot(acc: &[VehicleAcc], stride: usize, desc: &WorldDesc) -> Plot {
+    let shown = shown(acc, stride);
+    let mut series = Vec::new();
+    let mut labelled = vec![false; desc.groups.len()];
+    for &i in &shown {
+        let g = desc.vehicles[i].group;
+        let a = &acc[i];
+        series.push(Series {
+            label: (!labelled[g]).then(|| desc.groups[g].clone()),
+            points: a.plot.iter().map(|p| (p.t, p.depth)).collect(),
+            color: g,
+            ..Default::default()
+        });
+        labelled[g] = true;
+    }
+    // One setpoint line per group.
+    let mut done = vec![false; desc.groups.len()];
+    for &i in &shown {
+        let g = desc.vehicles[i].group;
+        if !done[g] {
+            done[g] = true;
             series.push(Series {
-                label: (!labelled[g]).then(|| desc.groups[g].clone()),
-                points: a.plot.iter().map(|p| (p.t, p.depth)).collect(),
+                points: acc[i].plot.iter().map(|p| (p.t, p.depth_sp)).collect(),
                 color: g,
+                dashed: true,
                 ..Default::default()
             });
-            labelled[g] = true;
         }
-        // One setpoint line per group.
-        let mut done = vec![false; desc.groups.len()];
-        for &i in &shown {
+    }
+    let note = if shown.len() < acc.len() {
+        format!(" ({} of {} vehicles)", shown.len(), acc.len())
+    } else {
+        String::new()
+    };
+    Plot {
+        title: format!(
+            "{}: depth reading (solid) and setpoint (dashed){note}",
+            desc.name
+        ),
+        x_label: "time [s]".into(),
+        y_label: "depth [m]".into(),
+        series,
+        y_down: true,
+        x_range: Some((0.0, desc.duration)),
+        ..Default::default()
+    }
+}
+
+/// Heading against time with the setpoint, for the vehicles drawn (degrees, continuous:
+/// [`heading_series`]).
+pub(super) fn heading_plot(acc: &[VehicleAcc], stride: usize, desc: &WorldDesc) -> Plot {
+    let tracks: Vec<(usize, &[PlotPoint])> = shown(acc, stride)
+        .into_iter()
+        .filter(|&i| acc[i].steered)
+        .map(|i| (desc.vehicles[i].group, acc[i].plot.as_slice()))
+        .collect();
+    Plot {
+        title: format!("{}: heading (solid) and setpoint (dashed)", desc.name),
+        x_label: "time [s]".into(),
+        y_label: "heading [°], continuous through ±180°".into(),
+        series: heading_series(&tracks, &desc.groups),
+        x_range: Some((0.0, desc.duration)),
+        min_y_span: 20.0,
+        ..Default::default()
+    }
+}
+
+/// Tracks from above of the vehicles drawn (every `stride`-th), zoomed to where they went.
+pub(super) fn top_plot(acc: &[VehicleAcc], stride: usize, desc: &WorldDesc) -> Plot {
+    let mut labelled = vec![false; desc.groups.len()];
+    let series: Vec<Series> = shown(acc, stride)
+        .into_iter()
+        .map(|i| {
             let g = desc.vehicles[i].group;
-            if !done[g] {
-                done[g] = true;
-                series.push(Series {
-                    points: self.acc[i].plot.iter().map(|p| (p.t, p.depth_sp)).collect(),
-                    color: g,
-                    dashed: true,
-                    ..Default::default()
-                });
-            }
-        }
-        let note = if shown.len() < self.acc.len() {
-            format!(" ({} of {} vehicles)", shown.len(), self.acc.len())
-        } else {
-            String::new()
-        };
-        Plot {
-            title: format!(
-                "{}: depth reading (solid) and setpoint (dashed){note}",
-                desc.name
-            ),
-            x_label: "time [s]".into(),
-            y_label: "depth [m]".into(),
-            series,
-            y_down: true,
-            x_range: Some((0.0, desc.duration)),
-            ..Default::default()
-        }
-    }
-
-    /// Heading against time with the setpoint, for the vehicles drawn (degrees, continuous:
-    /// [`heading_series`]).
-    pub(super) fn heading_plot(&self, desc: &WorldDesc) -> Plot {
-        let tracks: Vec<(usize, &[PlotPoint])> = self
-            .shown()
-            .into_iter()
-            .filter(|&i| self.acc[i].steered)
-            .map(|i| (desc.vehicles[i].group, self.acc[i].plot.as_slice()))
-            .collect();
-        Plot {
-            title: format!("{}: heading (solid) and setpoint (dashed)", desc.name),
-            x_label: "time [s]".into(),
-            y_label: "heading [°], continuous through ±180°".into(),
-            series: heading_series(&tracks, &desc.groups),
-            x_range: Some((0.0, desc.duration)),
-            min_y_span: 20.0,
-            ..Default::default()
-        }
-    }
-
-    pub(super) fn top_plot(&self, desc: &WorldDesc) -> Plot {
-        let mut labelled = vec![false; desc.groups.len()];
-        let series: Vec<Series> = self
-            .shown()
-            .into_iter()
-            .map(|i| {
-                let g = desc.vehicles[i].group;
-                let s = Series {
-                    label: (!labelled[g]).then(|| desc.groups[g].clone()),
-                    points: self.acc[i].plot.iter().map(|p| (p.y, p.x)).collect(),
-                    color: g,
-                    mark_start: true,
-                    ..Default::default()
-                };
-                labelled[g] = true;
-                s
-            })
-            .collect();
-        // Zoomed to where the vehicles went.
-        let focus: Vec<(f64, f64)> = series
-            .iter()
-            .flat_map(|s| s.points.iter().copied())
-            .collect();
-        crate::map::map_plot(
-            format!("{}: tracks from above (dot = start)", desc.name),
-            &desc.geometry,
-            series,
-            focus,
-            700,
-        )
-    }
+            let s = Series {
+                label: (!labelled[g]).then(|| desc.groups[g].clone()),
+                points: acc[i].plot.iter().map(|p| (p.y, p.x)).collect(),
+                color: g,
+                mark_start: true,
+                ..Default::default()
+            };
+            labelled[g] = true;
+            s
+        })
+        .collect();
+    // Zoomed to where the vehicles went.
+    let focus: Vec<(f64, f64)> = series
+        .iter()
+        .flat_map(|s| s.points.iter().copied())
+        .collect();
+    crate::map::map_plot(
+        format!("{}: tracks from above (dot = start)", desc.name),
+        &desc.geometry,
+        series,
+        focus,
+        700,
+    )
 }
 
 /// One vehicle's headings \[rad\] as a continuous line in degrees: each sample is the one

@@ -2,7 +2,7 @@
 //! `vehicles.csv`) and group ([`GroupSummary`]), and the whole run ([`Summary`]: written as
 //! `summary.json`, printed by [`Summary::to_text`] at the end of a run).
 
-use super::{VehicleAcc, peak_memory_bytes};
+use super::accumulated::VehicleAcc;
 use crate::parallel::Dispatches;
 use crate::phases::{ByPhase, RunPhases};
 use crate::sim::Sim;
@@ -415,4 +415,17 @@ impl Summary {
         }
         s
     }
+}
+
+/// Peak resident memory of this process (`VmHWM` of `/proc/self/status`) \[bytes\].
+pub fn peak_memory_bytes() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let kb: u64 = status
+        .lines()
+        .find_map(|l| l.strip_prefix("VmHWM:"))?
+        .split_whitespace()
+        .next()?
+        .parse()
+        .ok()?;
+    Some(kb * 1024)
 }

@@ -1,8 +1,8 @@
 //! `vehicles.csv`: one row per vehicle (its summary and, with optical traffic, its
 //! communication counters), numbers written as [`super::numbers`] says.
 
-use super::VehicleSummary;
 use super::numbers::format_num;
+use super::summary::VehicleSummary;
 use crate::comm_report::VehicleComm;
 use shoal_output::files::{CsvFile, FileError};
 use std::path::{Path, PathBuf};
