@@ -1,7 +1,9 @@
 //! External agents, independent of how they are reached: what an agent sees of its vehicles
 //! on a control tick ([`Observation`]), what it may answer ([`Command`]), how every answer is
-//! checked before it touches the world ([`Sim::command_vehicle`]), and the fallback that takes
-//! over while an agent is absent ([`Sim::set_fallback`]).
+//! checked before it touches the world ([`Sim::command_vehicle`]), and how many of an agent's
+//! vehicles are under the fallback ([`Sim::fallback_count`]). The fallback itself, which takes
+//! over while an agent is absent ([`Sim::set_fallback`]), belongs to the world: a world starts
+//! its agent-driven vehicles under it, before any agent is there.
 //!
 //! The transport (shared memory, in `shoal-bridge`) calls, before each physics step whose
 //! control tick is due ([`Sim::agent_tick_due`]): [`Sim::observe_agents`], then
@@ -11,13 +13,12 @@
 
 use crate::comm::{Inbox, OutFrame, Outbox, Received};
 use crate::components::*;
-use crate::fleet::{Fleet, HotVehicle};
+use crate::fleet::Fleet;
 use crate::orders::{FrameOrder, MAX_FRAME_DELAY, check_frame, force_limit};
 use crate::sim::Sim;
 use bevy_ecs::prelude::Mut;
-use shoal_model::math::{euler_rpy, wrap_pi};
+use shoal_model::math::wrap_pi;
 use shoal_model::prelude::*;
-use shoal_world::spec::FallbackSpec;
 
 pub use crate::components::External;
 
@@ -353,23 +354,6 @@ impl Sim {
         true
     }
 
-    /// Puts every vehicle of `agent` under `fallback` (`Hold`: auto mode at its current depth
-    /// reading and heading, no surge; `Surface`: the same towards depth 0; `Stop` holds too —
-    /// ending the run is the caller's decision). Vehicles already in fallback keep theirs.
-    pub fn set_fallback(&mut self, agent: usize, fallback: FallbackSpec) {
-        self.world_mut()
-            .resource_scope(|world, mut fleet: Mut<Fleet>| {
-                let mut q = world.query::<(&VehicleId, &mut External)>();
-                for (id, mut ext) in q.iter_mut(world) {
-                    if ext.agent != agent || ext.fallback {
-                        continue;
-                    }
-                    ext.fallback = true;
-                    hold(fleet.get_mut(*id), fallback);
-                }
-            });
-    }
-
     /// Number of vehicles driven by `agent` that are in fallback, and in all.
     pub fn fallback_count(&mut self, agent: usize) -> (usize, usize) {
         let mut q = self.world_mut().query::<&External>();
@@ -380,19 +364,4 @@ impl Sim {
             .collect();
         (mine.iter().filter(|f| **f).count(), mine.len())
     }
-}
-
-/// Puts vehicle `v` under `fallback`: auto mode at its current depth reading (or towards the
-/// surface) and heading, no surge or sway.
-fn hold(v: &mut HotVehicle, fallback: FallbackSpec) {
-    let s = &v.sensors;
-    let sp = &mut v.control.setpoints;
-    sp.mode = Mode::Auto;
-    sp.yaw = euler_rpy(&s.attitude).2;
-    sp.surge = 0.0;
-    sp.sway = 0.0;
-    sp.depth = match fallback {
-        FallbackSpec::Surface => 0.0,
-        FallbackSpec::Hold | FallbackSpec::Stop => s.depth,
-    };
 }

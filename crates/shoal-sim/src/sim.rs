@@ -13,9 +13,11 @@ use crate::recorder::{self, RecordBatch};
 use crate::systems::build_schedule;
 use crate::view::VehicleView;
 use bevy_ecs::prelude::*;
+use shoal_model::math::euler_rpy;
 use shoal_model::prelude::*;
 use shoal_world::cancel::{Cancel, Interrupted};
 use shoal_world::desc::WorldDesc;
+use shoal_world::spec::FallbackSpec;
 use std::sync::Arc;
 
 /// How a world runs.
@@ -168,9 +170,26 @@ impl Sim {
         };
         // Until their agent attaches, agent-driven vehicles hold depth and heading.
         for a in 0..desc.agents.names.len() {
-            sim.set_fallback(a, shoal_world::spec::FallbackSpec::Hold);
+            sim.set_fallback(a, FallbackSpec::Hold);
         }
         Ok(sim)
+    }
+
+    /// Puts every vehicle of `agent` under `fallback` (`Hold`: auto mode at its current depth
+    /// reading and heading, no surge; `Surface`: the same towards depth 0; `Stop` holds too —
+    /// ending the run is the caller's decision). Vehicles already in fallback keep theirs.
+    pub fn set_fallback(&mut self, agent: usize, fallback: FallbackSpec) {
+        self.world_mut()
+            .resource_scope(|world, mut fleet: Mut<Fleet>| {
+                let mut q = world.query::<(&VehicleId, &mut External)>();
+                for (id, mut ext) in q.iter_mut(world) {
+                    if ext.agent != agent || ext.fallback {
+                        continue;
+                    }
+                    ext.fallback = true;
+                    hold(fleet.get_mut(*id), fallback);
+                }
+            });
     }
 
     /// Advances one physics step. A vehicle whose state stops being finite is reported by
@@ -516,4 +535,19 @@ fn new_vehicle(desc: &WorldDesc, id: u32, every: u64) -> (HotVehicle, Option<Vec
         contacts: ContactStats::default(),
     };
     (hot, track)
+}
+
+/// Puts vehicle `v` under `fallback`: auto mode at its current depth reading (or towards the
+/// surface) and heading, no surge or sway.
+fn hold(v: &mut HotVehicle, fallback: FallbackSpec) {
+    let s = &v.sensors;
+    let sp = &mut v.control.setpoints;
+    sp.mode = Mode::Auto;
+    sp.yaw = euler_rpy(&s.attitude).2;
+    sp.surge = 0.0;
+    sp.sway = 0.0;
+    sp.depth = match fallback {
+        FallbackSpec::Surface => 0.0,
+        FallbackSpec::Hold | FallbackSpec::Stop => s.depth,
+    };
 }
