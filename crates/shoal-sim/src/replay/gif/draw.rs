@@ -1,6 +1,28 @@
 //! Drawing a frame: the hard-edged backend, the still background (water, pool, obstacles, ticks, legend) and the moving parts (vehicles, trails, link lines, title).
 
-use super::*;
+use super::geometry::{
+    body_points, clip_convex, convex_hull, obstacle_outline, tick_label, tick_step,
+};
+use super::layout::{
+    LEFT_W, LEGEND_FONT, LEGEND_ROW, LEGEND_SAMPLE, Layout, LegendEntry, Panel, PanelKind, RIGHT_W,
+    TITLE_H,
+};
+use super::options::{CROWDED_BODY_SHARE, GifOptions, LINK_WINDOW_S, MIN_BODY_PX};
+use super::palette::{
+    BG, FRAME, GRID, OBSTACLE, OBSTACLE_EDGE, OUTCOMES, OUTSIDE, SURFACE, TEXT, TEXT_GREY, WALL,
+    WATER, outcome_color,
+};
+use super::scene::Scene;
+use nalgebra::{Rotation3, Vector3};
+use plotters::backend::{BitMapBackend, RGBPixel};
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+use plotters_backend::{BackendColor, BackendCoord, DrawingErrorKind};
+use shoal_output::plot::clip_polyline;
+
+// Through its path: its style traits' methods would clash with plotters' `Color`.
+use plotters_backend as backend;
 
 /// A plotters error as text.
 pub(super) fn de<E: std::error::Error + Send + Sync>(e: DrawingAreaErrorKind<E>) -> String {

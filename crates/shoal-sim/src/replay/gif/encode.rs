@@ -1,6 +1,8 @@
 //! Encoding: each frame mapped to the palette and stored as the rectangle that changed, transparent where unchanged.
 
-use super::*;
+use super::palette::TRANSPARENT_INDEX;
+use std::borrow::Cow;
+use std::io::Write;
 
 /// Writes frames into the GIF: the first whole, later ones as the rectangle that changed with
 /// unchanged pixels transparent.

@@ -1,6 +1,8 @@
 //! Geometry for the drawings: clipping, convex hulls, obstacle outlines from their shapes and poses, tick steps, the body outline of a vehicle.
 
-use super::*;
+use super::layout::PanelKind;
+use crate::replay::ObstacleMeta;
+use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
 /// The part of the convex polygon `poly` inside the box `h` × `v` (Sutherland–Hodgman).
 pub(super) fn clip_convex(poly: &[(f64, f64)], h: (f64, f64), v: (f64, f64)) -> Vec<(f64, f64)> {

@@ -1,6 +1,10 @@
 //! Where everything goes in a GIF frame: title, the top and side panels with their scales, ticks and the legend.
 
-use super::*;
+use super::options::{GifOptions, View};
+use super::palette::{OUTCOMES, outcome_color};
+use super::scene::Scene;
+use plotters::backend::{BitMapBackend, RGBPixel};
+use plotters::prelude::*;
 
 /// Image rows above the maps: the title \[px\].
 pub(super) const TITLE_H: i32 = 34;

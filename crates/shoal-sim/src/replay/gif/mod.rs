@@ -52,150 +52,46 @@
 //! mapping 2 ms; the LZW encoding of the changed rectangle 7 ms. `gif::Frame::from_rgb_speed`
 //! took 21–24 ms per such frame (at any speed: these frames have under 256 colours), ten times
 //! the lookup table, and its per-frame palettes would rule out the transparent partial frames.
-
-use super::{LinkEvent, ObstacleMeta, Outcome, ReplayData};
-use nalgebra::{Quaternion, Rotation3, UnitQuaternion, Vector3};
-use plotters::backend::{BitMapBackend, RGBPixel};
-use plotters::coord::Shift;
-use plotters::prelude::*;
-use plotters::style::text_anchor::{HPos, Pos, VPos};
-use shoal_output::files::{AtomicFile, FileError};
-use shoal_output::plot::{clip_polyline, register_font};
-// Through its path: its style traits' methods would clash with plotters' `Color`.
-use plotters_backend as backend;
-use plotters_backend::{BackendColor, BackendCoord, DrawingErrorKind};
-use std::borrow::Cow;
-use std::io::{BufWriter, Write};
-use std::path::{Path, PathBuf};
+//!
+//! **Files**, each using only the ones before it: `options` (what the caller chooses, the fixed
+//! limits) and `error`; `palette`; `scene` (the replay decoded); `layout` (where everything
+//! goes); `geometry`; `draw` (the frames); `encode`. This file renders with them and re-exports
+//! the public items.
 
 mod draw;
 mod encode;
+mod error;
 mod geometry;
 mod layout;
+mod options;
 mod palette;
 mod scene;
 #[cfg(test)]
 mod tests;
 
-use draw::*;
-use encode::*;
-use geometry::*;
-use layout::*;
-use palette::*;
-use scene::*;
+pub use error::RenderError;
+pub use options::{
+    CROWDED_BODY_SHARE, END_HOLD_S, GifOptions, LINK_WINDOW_S, MAX_GIF_FPS, MAX_GIF_FRAMES,
+    MIN_BODY_PX, View,
+};
 
-/// What a GIF frame shows.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum View {
-    /// The map from above: east (y) to the right, north (x) up.
-    Top,
-    /// The side view from the east: north (x) to the right, depth (z) down.
-    Side,
-    /// The map from above with the side view below it.
-    #[default]
-    Both,
-}
+use super::ReplayData;
+use draw::{Dynamic, area_of, draw_background};
+use encode::Frames;
+use layout::Layout;
+use palette::{
+    BG, FRAME, GRID, GifPalette, OBSTACLE, OBSTACLE_EDGE, OUTCOMES, OUTSIDE, SURFACE, TEXT,
+    TEXT_GREY, WALL, WATER, mix, outcome_color,
+};
+use plotters::prelude::*;
+use scene::Scene;
+use shoal_output::files::{AtomicFile, FileError};
+use shoal_output::plot::register_font;
+use std::io::BufWriter;
+use std::path::{Path, PathBuf};
 
-/// How to draw the GIF.
-#[derive(Clone, Debug)]
-pub struct GifOptions {
-    /// Which views.
-    pub view: View,
-    /// Image width \[px\] (240 to 4096); the height follows from the views' aspect ratios.
-    pub width_px: u32,
-    /// GIF frame rate \[frames per second of playback\] (above 0, at most 50: browsers play
-    /// faster GIFs at 10 fps).
-    pub fps: f64,
-    /// Playback speed \[simulated seconds per second of GIF\]: 4 turns a 100-s run into a
-    /// 25-s GIF.
-    pub speed: f64,
-    /// Most GIF frames (1 to [`MAX_GIF_FRAMES`]); beyond it, frames are spread over the run
-    /// and each is shown longer.
-    pub max_frames: usize,
-    /// Length of the trail behind each vehicle \[s of simulated time\] (0: none).
-    pub trail_s: f64,
-    /// Draw the link attempts of the last moments as lines.
-    pub links: bool,
-}
-
-impl Default for GifOptions {
-    fn default() -> Self {
-        Self {
-            view: View::Both,
-            width_px: 800,
-            fps: 10.0,
-            speed: 4.0,
-            max_frames: 600,
-            trail_s: 5.0,
-            links: true,
-        }
-    }
-}
-
-/// Why a GIF could not be rendered; every message names the file.
-#[derive(Debug, thiserror::Error)]
-pub enum RenderError {
-    /// The replay holds nothing to draw.
-    #[error(
-        "cannot render {}: the replay is empty ({frames} frames, {vehicles} vehicles)",
-        path.display()
-    )]
-    Empty {
-        /// The GIF asked for.
-        path: PathBuf,
-        /// Frames in the replay.
-        frames: usize,
-        /// Vehicles in the replay.
-        vehicles: usize,
-    },
-    /// The replay's arrays or header do not fit together.
-    #[error("cannot render {}: inconsistent replay: {message}", path.display())]
-    Data {
-        /// The GIF asked for.
-        path: PathBuf,
-        /// What does not fit.
-        message: String,
-    },
-    /// An option is out of its range.
-    #[error("cannot render {}: {message}", path.display())]
-    Options {
-        /// The GIF asked for.
-        path: PathBuf,
-        /// Which option, its value and the allowed range.
-        message: String,
-    },
-    /// Drawing or encoding failed.
-    #[error("cannot draw {}: {message}", path.display())]
-    Draw {
-        /// The GIF being drawn.
-        path: PathBuf,
-        /// What went wrong.
-        message: String,
-    },
-    /// The file could not be written.
-    #[error(transparent)]
-    File(#[from] FileError),
-}
-
-/// Link attempts of the last this many simulated seconds are drawn (or of the time between two
-/// GIF frames, when longer, so that every attempt is seen once) \[s\].
-pub const LINK_WINDOW_S: f64 = 0.3;
-/// Smallest drawn length of a vehicle's body \[px\]: smaller hulls are drawn enlarged.
-pub const MIN_BODY_PX: f64 = 9.0;
-/// In a crowded map the least drawn length is this fraction of the side of each vehicle's
-/// share of the panel (`√(panel area / vehicles)`), at least 2 px: 10,000 vehicles on a
-/// 560-px map are drawn ≈ 3 px long instead of merging at [`MIN_BODY_PX`].
-pub const CROWDED_BODY_SHARE: f64 = 0.6;
-/// The last frame is held this much longer before the GIF loops \[s\].
-pub const END_HOLD_S: f64 = 2.0;
-/// Most GIF frame rate \[1/s\]: delays below 2/100 s are played as 1/10 s by browsers.
-pub const MAX_GIF_FPS: f64 = 50.0;
-/// Largest [`GifOptions::max_frames`].
-pub const MAX_GIF_FRAMES: usize = 20_000;
 /// Allowed image widths \[px\].
 const WIDTH_RANGE: (u32, u32) = (240, 4096);
-/// Hull length, width, height when the replay has none for a group \[m\].
-const DEFAULT_HULL: [f64; 3] = [0.3, 0.15, 0.1];
 
 /// The simulated time of each GIF frame \[s\] and its delay \[1/100 s\].
 fn schedule(last_t: f64, opts: &GifOptions) -> (Vec<f64>, Vec<u16>) {

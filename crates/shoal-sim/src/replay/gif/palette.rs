@@ -2,7 +2,8 @@
 //! ramp) with the lookup table that maps a drawn pixel to its nearest entry. The link-outcome
 //! colours and labels are [`crate::link_key`]'s.
 
-use super::*;
+use crate::replay::Outcome;
+use plotters::prelude::*;
 
 pub(super) const BG: RGBColor = RGBColor(255, 255, 255);
 pub(super) const TEXT: RGBColor = RGBColor(0, 0, 0);

@@ -1,6 +1,14 @@
 //! The replay as the GIF draws it: checked, decoded to metres and radians, with the group styles and the extent the views zoom to.
 
-use super::*;
+use super::error::RenderError;
+use super::palette::{WATER, mix, parse_hex};
+use crate::replay::{LinkEvent, ReplayData};
+use plotters::prelude::*;
+use std::borrow::Cow;
+use std::path::Path;
+
+/// Hull length, width, height when the replay has none for a group \[m\].
+const DEFAULT_HULL: [f64; 3] = [0.3, 0.15, 0.1];
 
 /// The replay with its arrays checked against its header.
 pub(super) struct Scene<'a> {

@@ -1,7 +1,11 @@
 //! Tests of the GIF renderer: synthetic runs drawn and decoded again.
 
+use super::geometry::obstacle_outline;
+use super::layout::{Layout, Panel, PanelKind};
+use super::palette::{BG, GifPalette, OBSTACLE, TEXT, TRANSPARENT_INDEX, WATER, parse_hex};
+use super::scene::Scene;
 use super::*;
-use crate::replay::{GroupMeta, Meta, Timeline};
+use crate::replay::{GroupMeta, LinkEvent, Meta, ObstacleMeta, Outcome, Timeline};
 use std::f64::consts::{FRAC_1_SQRT_2, FRAC_PI_2};
 
 const POOL: [f64; 3] = [10.0, 8.0, 3.0];
