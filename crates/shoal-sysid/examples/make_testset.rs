@@ -1,4 +1,4 @@
-//! Writes the misspecified-form test set (`shoal_sysid::testset`) as files: one CSV per case in
+//! Writes the misspecified-form test set (`shoal_testkit::testset`) as files: one CSV per case in
 //! the logger's format, `expected.json` (case → catalogue families of an exact verdict, the
 //! format of the shared `validation_dev/expected.json`) and `truth.json` (the hidden forms and
 //! their parameter values, for debugging a verdict).
@@ -13,7 +13,7 @@
 //! length in seconds (default 120), `--noise M` sensor noise as a multiple of the μAUV²
 //! preset's (default 1). The output is deterministic.
 
-use shoal_sysid::testset::{Conditions, ci_subset, expected_json, full, truth_json};
+use shoal_testkit::testset::{Conditions, ci_subset, expected_json, full, truth_json};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
