@@ -4,7 +4,7 @@
 //! effects it gets wrong (extras + missing) on average.
 //!
 //! ```sh
-//! cargo run --release -p shoal-sysid --example recovery -- \
+//! cargo run --release -p shoal-testkit --example recovery -- \
 //!     --draws 10 --noise 0.5,1,2 --length 60,120 --threads 2 --out recovery.md
 //! ```
 //!

@@ -4,9 +4,9 @@
 //! their parameter values, for debugging a verdict).
 //!
 //! ```sh
-//! cargo run --release -p shoal-sysid --example make_testset -- --out out/testset
-//! cargo run --release -p shoal-sysid --example make_testset -- --out out/ci --subset ci
-//! cargo run --release -p shoal-sysid --example make_testset -- --out out/long --length 240 --noise 2
+//! cargo run --release -p shoal-testkit --example make_testset -- --out out/testset
+//! cargo run --release -p shoal-testkit --example make_testset -- --out out/ci --subset ci
+//! cargo run --release -p shoal-testkit --example make_testset -- --out out/long --length 240 --noise 2
 //! ```
 //!
 //! Options: `--subset full|ci` (default full: 295 cases; ci: the test's 59), `--length S` log
