@@ -9,10 +9,10 @@ use shoal::model::presets;
 use shoal::model::rigid_body::Environment;
 use shoal::model::vehicle::VehicleModel;
 use shoal::sysid::data::{DataOptions, Dataset};
-use shoal::sysid::design;
 use shoal::sysid::run::MeasuredRun;
 use shoal::sysid::search::{SearchOptions, search};
-use shoal::sysid::synth::synthesize;
+use shoal_testkit::design;
+use shoal_testkit::synth::synthesize;
 use std::hint::black_box;
 
 /// A μAUV² diving run (120 s, 50 Hz) with a 0.4 s thruster lag hidden in it, as the tool

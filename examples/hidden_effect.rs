@@ -16,8 +16,8 @@ use shoal::model::effects::{EffectInstance, Effects, by_name, names};
 use shoal::model::presets;
 use shoal::model::rigid_body::Environment;
 use shoal::model::vehicle::VehicleModel;
-use shoal::sysid::design;
-use shoal::sysid::synth::synthesize;
+use shoal_testkit::design;
+use shoal_testkit::synth::synthesize;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {

@@ -22,20 +22,22 @@
 //! the search alone (the log is simulated before), in clock ticks of 10 ms; on a shared machine
 //! it is the number to compare, wall time is shown for reference. scripts/search-speed.sh runs
 //! this program built from two commits side by side; it uses only API both 6ace9bd and later
-//! commits have, so that it builds in either. The number of replays is not shown: no version's
-//! public API counts them.
+//! commits have, so that it builds in either (the test kit's modules were `shoal::sysid::…`
+//! before they moved to the shoal-testkit crate: the script rewrites `shoal_testkit::` for a
+//! base without that crate). The number of replays is not shown: no version's public API
+//! counts them.
 
 use shoal::model::effects::{EffectInstance, Effects, by_name};
 use shoal::model::presets;
 use shoal::model::rigid_body::Environment;
 use shoal::model::vehicle::VehicleModel;
 use shoal::sysid::data::{DataOptions, Dataset};
-use shoal::sysid::design;
-use shoal::sysid::recovery::search_log;
 use shoal::sysid::run::MeasuredRun;
 use shoal::sysid::search::{SearchOptions, search};
-use shoal::sysid::synth::synthesize;
-use shoal::sysid::testset::{Conditions, ci_subset};
+use shoal_testkit::design;
+use shoal_testkit::recovery::search_log;
+use shoal_testkit::synth::synthesize;
+use shoal_testkit::testset::{Conditions, ci_subset};
 use std::process::ExitCode;
 use std::time::Instant;
 

@@ -1,11 +1,13 @@
 #!/usr/bin/env bash
 # The CPU cost of `shoal validate`'s search side by side with an older commit: builds
 # examples/search_speed.rs (release) for the current checkout and for BASE_COMMIT (in a
-# temporary git worktree, removed afterwards, the program's source copied into it), runs the two
-# on each selected case alternately (base, current, base, current, … so that both see the same
-# machine load) and prints per case the CPU seconds of both, their ratio and whether the
-# verdicts are equal, then the totals and the machine. A benchmark: nothing is asserted about
-# speed; the exit status is 1 when a verdict differs (a correctness finding), 2 on bad usage.
+# temporary git worktree, removed afterwards, the program's source copied into it; for a base
+# from before the crate shoal-testkit its `shoal_testkit::` paths become `shoal::sysid::`, where
+# those modules were then), runs the two on each selected case alternately (base, current,
+# base, current, … so that both see the same machine load) and prints per case the CPU seconds
+# of both, their ratio and whether the verdicts are equal, then the totals and the machine. A
+# benchmark: nothing is asserted about speed; the exit status is 1 when a verdict differs (a
+# correctness finding), 2 on bad usage.
 #
 #   scripts/search-speed.sh [BASE_COMMIT] [--quick] [--case PATTERN]… [--threads N] [--out DIR]
 #   scripts/search-speed.sh --table BASE.csv CURRENT.csv
@@ -137,6 +139,9 @@ build() {
 }
 git worktree add --detach --quiet "$work/base" "$base_rev"
 cp examples/search_speed.rs "$work/base/examples/"
+if [[ ! -d $work/base/crates/shoal-testkit ]]; then
+    sed -i 's/\bshoal_testkit::/shoal::sysid::/g' "$work/base/examples/search_speed.rs"
+fi
 build "$work/base" "$target/search-speed-base" "$work/search_speed.base"
 build "$root" "$target" "$work/search_speed.current"
 

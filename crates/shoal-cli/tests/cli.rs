@@ -425,8 +425,8 @@ fn hidden_run(dir: &Path, name: &str, effect: Option<(&str, Vec<f64>)>, seed: u6
         effects,
         1000.0,
     );
-    let exp = shoal_sysid::design::uauv2_heave(seed, 120.0);
-    let run = shoal_sysid::synth::synthesize(
+    let exp = shoal_testkit::design::uauv2_heave(seed, 120.0);
+    let run = shoal_testkit::synth::synthesize(
         &truth,
         &shoal_model::rigid_body::Environment::default(),
         &exp,

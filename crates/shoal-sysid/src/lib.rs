@@ -16,35 +16,28 @@
 //!   significance rule;
 //! * [`report`] — `report.json`, `report.md` with plots, and the extended `vehicle.toml`;
 //! * [`validate`] — all of the above in one call: settings checked, runs read, searched,
-//!   judged (what `shoal validate` and Python's `shoal.validate` call);
-//! * [`synth`], [`design`] — synthetic runs with hidden effects and the μAUV² experiments
-//!   that excite every effect.
-//! * [`truth_forms`], [`logger`] — effects hidden in forms that differ from the catalogue's,
-//!   and logs written the way a real logger writes them;
-//! * [`testset`], [`recovery`] — the misspecified-form test set built from them, and how a
-//!   search's verdicts on it are scored.
+//!   judged (what `shoal validate` and Python's `shoal.validate` call).
+//!
+//! Synthetic runs, the designed μAUV² experiments, effects hidden in forms that differ from
+//! the catalogue's, logs written as a real logger writes them, the misspecified-form test set
+//! and the scoring of a search's verdicts on it are the test kit, crate `shoal-testkit`
+//! (`crates/shoal-testkit`): only tests, examples and benches use them.
 //!
 //! The effects themselves live in `shoal_model::effects`, so that `shoal run` uses a fitted
 //! model unchanged.
 
 pub mod blocks;
 pub mod data;
-pub mod design;
 mod header;
 pub mod ingest;
 pub mod limits;
 mod lines;
 pub mod lm;
-pub mod logger;
 pub mod masses;
-pub mod recovery;
 pub mod replay;
 pub mod report;
 pub mod run;
 pub mod search;
 pub mod segments;
 pub mod stats;
-pub mod synth;
-pub mod testset;
-pub mod truth_forms;
 pub mod validate;

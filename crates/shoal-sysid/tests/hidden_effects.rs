@@ -2,7 +2,7 @@
 //! noise and quantisation, the run handed over as CSV text) and require the search to name
 //! exactly that effect, to cut the validation error of the channels it shows in, and to
 //! recover its parameters. Several seeds per effect, in the experiments that excite it: the
-//! diving-mode heave run and the turning-mode yaw run of `shoal_sysid::design`.
+//! diving-mode heave run and the turning-mode yaw run of `shoal_testkit::design`.
 //!
 //! The test suite runs two cases per effect (the first seed of each experiment that excites
 //! it, or the first two seeds of the one experiment that does): each case is a whole model

@@ -1,5 +1,5 @@
 //! The search must recognise an effect's physics when its true functional form is not the
-//! catalogue's: the CI subset of the misspecified-form test set (`shoal_sysid::testset`) —
+//! catalogue's: the CI subset of the misspecified-form test set (`shoal_testkit::testset`) —
 //! every truth form once (an underdamped motor for a lag, a ramped dead band, a compressing air
 //! bubble for a buoyancy offset, a boxcar-filtering sensor for a delay, …), 8 pairs of
 //! families and 4 null runs — simulated through the full sensor models, written as a real
@@ -23,8 +23,8 @@ mod common;
 
 use common::pinned::{Table, check_verdict, set_text};
 use libtest_mimic::{Arguments, Failed, Trial};
-use shoal_sysid::recovery::judge;
-use shoal_sysid::testset::{CaseSpec, Conditions, ci_subset};
+use shoal_testkit::recovery::judge;
+use shoal_testkit::testset::{CaseSpec, Conditions, ci_subset};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 

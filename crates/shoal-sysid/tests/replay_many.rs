@@ -14,11 +14,11 @@ use shoal_model::presets;
 use shoal_model::rigid_body::Environment;
 use shoal_model::vehicle::VehicleModel;
 use shoal_sysid::data::{Dataset, Part};
-use shoal_sysid::design;
 use shoal_sysid::masses::MassTable;
 use shoal_sysid::replay::{ReplayOptions, Trace, simulate_many, simulate_with};
 use shoal_sysid::run::MeasuredRun;
-use shoal_sysid::synth::synthesize;
+use shoal_testkit::design;
+use shoal_testkit::synth::synthesize;
 use std::path::Path;
 
 /// A 30 s yaw run (tilted thrusters).

@@ -10,11 +10,11 @@ use shoal_model::presets;
 use shoal_model::rigid_body::Environment;
 use shoal_model::vehicle::VehicleModel;
 use shoal_sysid::data::{DataOptions, Dataset};
-use shoal_sysid::design;
 use shoal_sysid::replay::ReplayOptions;
 use shoal_sysid::run::MeasuredRun;
 use shoal_sysid::search::{Outcome, SearchOptions, search};
-use shoal_sysid::synth::synthesize;
+use shoal_testkit::design;
+use shoal_testkit::synth::synthesize;
 
 /// Which designed experiment.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

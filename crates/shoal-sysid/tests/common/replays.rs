@@ -6,10 +6,10 @@ use shoal_model::presets;
 use shoal_model::rigid_body::Environment;
 use shoal_model::vehicle::VehicleModel;
 use shoal_sysid::data::DataOptions;
-use shoal_sysid::design;
 use shoal_sysid::replay::ReplayOptions;
 use shoal_sysid::run::MeasuredRun;
-use shoal_sysid::synth::synthesize;
+use shoal_testkit::design;
+use shoal_testkit::synth::synthesize;
 use std::path::Path;
 
 /// The μAUV² preset with `effects` (name, parameters) in water of 1000 kg/m³.

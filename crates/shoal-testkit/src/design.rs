@@ -11,12 +11,12 @@
 //!   validation spec prescribes): the 1-DOF yaw law; logs heading, yaw rate, depth and the
 //!   tracked position.
 
-use crate::run::ChannelKind;
 use crate::synth::Experiment;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use shoal_model::math::Vec3;
 use shoal_model::presets::{UAUV2_CT_NEG, UAUV2_CT_POS};
+use shoal_sysid::run::ChannelKind;
 use std::f64::consts::FRAC_PI_2;
 
 /// One segment of a pattern: hold time [s], command [%], pump (−1, 0, +1).

@@ -7,13 +7,13 @@
 //! missing, none extra. Its **wrong count** is extras + missing (a log the tool cannot read
 //! counts every expected family as missing).
 
-use crate::data::{DataOptions, Dataset};
-use crate::replay::ReplayOptions;
-use crate::run::MeasuredRun;
-use crate::search::{SearchOptions, search};
 use crate::testset::{Case, DENSITY};
 use shoal_model::presets;
 use shoal_model::rigid_body::Environment;
+use shoal_sysid::data::{DataOptions, Dataset};
+use shoal_sysid::replay::ReplayOptions;
+use shoal_sysid::run::MeasuredRun;
+use shoal_sysid::search::{SearchOptions, search};
 use std::collections::BTreeSet;
 use std::path::Path;
 

@@ -1,10 +1,10 @@
 //! Recovery benchmark (in the style of ensemble-SINDy studies): for every truth form of
-//! `shoal_sysid::truth_forms` and for null runs, over many seeded draws on a grid of sensor
+//! `shoal_testkit::truth_forms` and for null runs, over many seeded draws on a grid of sensor
 //! noise × log length, how often the search names exactly the hidden family, and how many
 //! effects it gets wrong (extras + missing) on average.
 //!
 //! ```sh
-//! cargo run --release -p shoal-sysid --example recovery -- \
+//! cargo run --release -p shoal-testkit --example recovery -- \
 //!     --draws 10 --noise 0.5,1,2 --length 60,120 --threads 2 --out recovery.md
 //! ```
 //!
@@ -18,9 +18,9 @@
 //! Every draw is one full catalogue search (seconds to tens of seconds): the default grid is
 //! 45 rows × 6 cells × 10 draws ≈ 2 700 searches, hours on two cores. Not run in CI.
 
-use shoal_sysid::recovery::{Tally, judge};
-use shoal_sysid::testset::{Conditions, null, single};
-use shoal_sysid::truth_forms::{self, ExpKind};
+use shoal_testkit::recovery::{Tally, judge};
+use shoal_testkit::testset::{Conditions, null, single};
+use shoal_testkit::truth_forms::{self, ExpKind};
 use std::process::ExitCode;
 
 /// First seed of the draws (the test set uses 1 … 4).

@@ -1,19 +1,19 @@
-//! Writes the misspecified-form test set (`shoal_sysid::testset`) as files: one CSV per case in
+//! Writes the misspecified-form test set (`shoal_testkit::testset`) as files: one CSV per case in
 //! the logger's format, `expected.json` (case → catalogue families of an exact verdict, the
 //! format of the shared `validation_dev/expected.json`) and `truth.json` (the hidden forms and
 //! their parameter values, for debugging a verdict).
 //!
 //! ```sh
-//! cargo run --release -p shoal-sysid --example make_testset -- --out out/testset
-//! cargo run --release -p shoal-sysid --example make_testset -- --out out/ci --subset ci
-//! cargo run --release -p shoal-sysid --example make_testset -- --out out/long --length 240 --noise 2
+//! cargo run --release -p shoal-testkit --example make_testset -- --out out/testset
+//! cargo run --release -p shoal-testkit --example make_testset -- --out out/ci --subset ci
+//! cargo run --release -p shoal-testkit --example make_testset -- --out out/long --length 240 --noise 2
 //! ```
 //!
 //! Options: `--subset full|ci` (default full: 295 cases; ci: the test's 59), `--length S` log
 //! length in seconds (default 120), `--noise M` sensor noise as a multiple of the μAUV²
 //! preset's (default 1). The output is deterministic.
 
-use shoal_sysid::testset::{Conditions, ci_subset, expected_json, full, truth_json};
+use shoal_testkit::testset::{Conditions, ci_subset, expected_json, full, truth_json};
 use std::path::PathBuf;
 use std::process::ExitCode;
 

@@ -1,0 +1,19 @@
+//! # shoal-testkit
+//!
+//! The test kit of `shoal validate` (`shoal_sysid`): what the tests, examples and benches
+//! simulate, hide and score, kept out of the product. Nothing here is part of the tool; the
+//! crate is a dev-dependency of shoal-sysid, shoal-cli and the root `shoal` crate.
+//!
+//! * [`synth`], [`design`] — synthetic runs with hidden effects and the μAUV² experiments
+//!   that excite every effect;
+//! * [`truth_forms`], [`logger`] — effects hidden in forms that differ from the catalogue's,
+//!   and logs written the way a real logger writes them;
+//! * [`testset`], [`recovery`] — the misspecified-form test set built from them, and how a
+//!   search's verdicts on it are scored.
+
+pub mod design;
+pub mod logger;
+pub mod recovery;
+pub mod synth;
+pub mod testset;
+pub mod truth_forms;
