@@ -9,7 +9,7 @@ use numpy::{AllowTypeChange, PyArrayLike1};
 use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
-use shoal_sysid::ingest::TimeUnit;
+use shoal_sysid::format::TimeUnit;
 use shoal_sysid::segments::GapMode;
 use shoal_sysid::validate::{Config, Progress, RunInput, ValidateError, Vehicle};
 use std::fmt::Write as _;

@@ -5,8 +5,9 @@
 //!
 //! * [`run`] — a measured run: time, inputs, measurements, with errors that name line and
 //!   column;
-//! * [`ingest`] — reading runs as loggers write them (separators, comments, time units),
-//!   streaming and linear in the rows; [`segments`] — runs split at gaps in time;
+//! * [`format`] — the vocabulary of a run file (separator, time unit, read options, what
+//!   reading found); [`ingest`] — reading runs as loggers write them (separators, comments,
+//!   time units), streaming and linear in the rows; [`segments`] — runs split at gaps in time;
 //!   [`limits`] — inputs checked against the actuator limits, rounding clamped and counted;
 //! * [`replay`] — the vehicle model driven open-loop by the measured inputs;
 //! * [`blocks`] — time blocks of residuals: held-out tests and the block bootstrap;
@@ -30,6 +31,7 @@
 pub mod blocks;
 pub mod data;
 pub mod design;
+pub mod format;
 mod header;
 pub mod ingest;
 pub mod limits;
@@ -37,6 +39,7 @@ mod lines;
 pub mod lm;
 pub mod logger;
 pub mod masses;
+mod numbers;
 pub mod recovery;
 pub mod replay;
 pub mod report;

@@ -15,7 +15,7 @@
 //! (possibly set before the gap). Measurements without a sample in a segment are left out of
 //! it. The work is linear in the rows; nothing is allocated by the time span.
 
-use crate::ingest::short;
+use crate::numbers::short;
 use crate::run::{Channel, InputColumn, MeasuredRun, RunError};
 
 /// What to do at a gap.

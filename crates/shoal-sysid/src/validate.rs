@@ -5,7 +5,7 @@
 //! with errors that name the setting and its allowed range ([`ValidateError`]).
 
 use crate::data::{DataError, DataOptions, Dataset, Evaluation};
-use crate::ingest::{ReadOptions, TimeUnit};
+use crate::format::{ReadOptions, TimeUnit};
 use crate::limits::ClampNote;
 use crate::replay::ReplayOptions;
 use crate::report::{

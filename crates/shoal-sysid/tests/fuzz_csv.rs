@@ -12,7 +12,7 @@
 //! so every case finishes; no wall-clock bound is asserted here.
 
 use proptest::prelude::*;
-use shoal_sysid::ingest::{ReadOptions, TimeUnit};
+use shoal_sysid::format::{ReadOptions, TimeUnit};
 use shoal_sysid::replay::{InputMap, ReplayOptions};
 use shoal_sysid::run::MeasuredRun;
 use shoal_sysid::segments::{GapMode, GapOptions};

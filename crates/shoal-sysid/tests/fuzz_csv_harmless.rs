@@ -13,7 +13,7 @@
 //! `PROPTEST_CASES=100000 cargo test --release -p shoal-sysid --test fuzz_csv_harmless`.
 
 use proptest::prelude::*;
-use shoal_sysid::ingest::ReadOptions;
+use shoal_sysid::format::ReadOptions;
 use shoal_sysid::run::{ChannelKind, MeasuredRun};
 use std::path::Path;
 

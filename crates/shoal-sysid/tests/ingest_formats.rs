@@ -2,7 +2,7 @@
 //! separators, comments anywhere, CRLF, time in milliseconds) and every error, each with its
 //! exact line and column.
 
-use shoal_sysid::ingest::{ReadOptions, Separator, TimeUnit};
+use shoal_sysid::format::{ReadOptions, Separator, TimeUnit};
 use shoal_sysid::run::{MeasuredRun, RunError};
 use std::path::Path;
 

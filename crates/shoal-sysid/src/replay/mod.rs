@@ -15,8 +15,8 @@
 
 mod simulate;
 
-use crate::ingest::short;
 use crate::limits::{ClampNote, Limits};
+use crate::numbers::short;
 use crate::run::{ChannelKind, MeasuredRun, RunError};
 use shoal_model::dynamics::Integrator;
 use shoal_model::math::{Vec3, quat_from_rpy, wrap_pi};
