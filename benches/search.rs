@@ -8,7 +8,7 @@ use shoal::model::effects::{EffectInstance, Effects, by_name};
 use shoal::model::presets;
 use shoal::model::rigid_body::Environment;
 use shoal::model::vehicle::VehicleModel;
-use shoal::sysid::data::{DataOptions, Dataset};
+use shoal::sysid::dataset::{DataOptions, Dataset};
 use shoal::sysid::design;
 use shoal::sysid::run::MeasuredRun;
 use shoal::sysid::search::{SearchOptions, search};

@@ -11,7 +11,8 @@
 //!   [`limits`] — inputs checked against the actuator limits, rounding clamped and counted;
 //! * [`replay`] — the vehicle model driven open-loop by the measured inputs;
 //! * [`blocks`] — time blocks of residuals: held-out tests and the block bootstrap;
-//! * [`data`] — runs split into estimation and validation data, models evaluated on them;
+//! * [`dataset`] — runs split into estimation and validation data and replayed on a model;
+//!   [`evaluation`] — a model compared with them: residuals and per-channel metrics;
 //! * [`lm`], [`stats`] — bounded Levenberg–Marquardt, whiteness tests and friends;
 //! * [`search`] — per-effect fits, BIC and validation scoring, greedy forward selection with a
 //!   significance rule;
@@ -29,8 +30,9 @@
 //! model unchanged.
 
 pub mod blocks;
-pub mod data;
+pub mod dataset;
 pub mod design;
+pub mod evaluation;
 pub mod format;
 mod header;
 pub mod ingest;

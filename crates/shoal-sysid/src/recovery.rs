@@ -7,7 +7,7 @@
 //! missing, none extra. Its **wrong count** is extras + missing (a log the tool cannot read
 //! counts every expected family as missing).
 
-use crate::data::{DataOptions, Dataset};
+use crate::dataset::{DataOptions, Dataset};
 use crate::replay::ReplayOptions;
 use crate::run::MeasuredRun;
 use crate::search::{SearchOptions, search};

@@ -18,7 +18,8 @@ mod signature;
 
 pub use signature::{Regressor, regressor_of};
 
-use crate::data::{ChannelResult, Dataset, Evaluation, RunData};
+use crate::dataset::{Dataset, RunData};
+use crate::evaluation::{ChannelResult, Evaluation};
 use crate::run::ChannelKind;
 use crate::search::{Candidate, Outcome, ParamEstimate, SearchOptions};
 use crate::stats;

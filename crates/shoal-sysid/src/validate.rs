@@ -4,7 +4,8 @@
 //! (`shoal.validate`) are thin layers over it. Settings are checked before anything is read,
 //! with errors that name the setting and its allowed range ([`ValidateError`]).
 
-use crate::data::{DataError, DataOptions, Dataset, Evaluation};
+use crate::dataset::{DataError, DataOptions, Dataset};
+use crate::evaluation::Evaluation;
 use crate::format::{ReadOptions, TimeUnit};
 use crate::limits::ClampNote;
 use crate::replay::ReplayOptions;

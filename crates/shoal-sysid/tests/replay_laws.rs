@@ -9,7 +9,7 @@ use shoal_model::presets::{
 };
 use shoal_model::rigid_body::Environment;
 use shoal_model::vehicle::VehicleModel;
-use shoal_sysid::data::unwrap;
+use shoal_sysid::dataset::unwrap;
 use shoal_sysid::design::balanced_stbd;
 use shoal_sysid::replay::{InitialState, InputMap, ReplayOptions, simulate};
 use shoal_sysid::run::{Channel, ChannelKind, InputColumn, MeasuredRun};

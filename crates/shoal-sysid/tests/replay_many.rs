@@ -13,7 +13,7 @@ use shoal_model::effects::by_name;
 use shoal_model::presets;
 use shoal_model::rigid_body::Environment;
 use shoal_model::vehicle::VehicleModel;
-use shoal_sysid::data::{Dataset, Part};
+use shoal_sysid::dataset::{Dataset, Part};
 use shoal_sysid::design;
 use shoal_sysid::masses::MassTable;
 use shoal_sysid::replay::{ReplayOptions, Trace, simulate_many, simulate_with};

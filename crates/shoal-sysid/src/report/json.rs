@@ -4,7 +4,7 @@
 
 use super::plots::PlotRefs;
 use super::{ReportInput, ci95, evidence, label, verdict_sentence, white};
-use crate::data::Evaluation;
+use crate::evaluation::Evaluation;
 use crate::run::ChannelKind;
 use crate::search::{Candidate, Fit};
 use serde_json::{Map, Value, json};

@@ -5,7 +5,8 @@
 
 use super::signature::{self, Regressor};
 use super::{ReportInput, label};
-use crate::data::{ChannelResult, RunData};
+use crate::dataset::RunData;
+use crate::evaluation::ChannelResult;
 use crate::run::ChannelKind;
 use crate::search::Outcome;
 use crate::stats;
@@ -372,7 +373,7 @@ pub(super) fn signature_plot(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::data::unwrap;
+    use crate::dataset::unwrap;
 
     /// Every point of every series of `plot` lies inside its ranges.
     fn covers(plot: &Plot) {

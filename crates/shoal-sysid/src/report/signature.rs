@@ -4,7 +4,8 @@
 //! final model) side by side show what the effect took out of the residual.
 
 use super::{channel_of, label};
-use crate::data::{Dataset, Evaluation, RunData};
+use crate::dataset::{Dataset, RunData};
+use crate::evaluation::Evaluation;
 use crate::run::ChannelKind;
 
 /// What a family's residual signature is plotted against.

@@ -4,8 +4,9 @@
 use super::memo::Memo;
 use super::rules::bic_rs;
 use super::{Fit, FittedEffect, ParamEstimate, SearchOptions};
-use crate::blocks::Resample;
-use crate::data::{Dataset, Evaluation, Part, Replayed};
+use crate::blocks::{Resample, weighted_residuals};
+use crate::dataset::{Dataset, Part, Replayed};
+use crate::evaluation::Evaluation;
 use crate::lm::{LmOptions, minimise_from};
 use crate::run::ChannelKind;
 use crate::stats;
@@ -268,7 +269,7 @@ impl Ctx<'_> {
                     self.weighted_many(effects, &xs, &factors)
                 };
                 // The residuals at the start are those of `ev` (x is `full(x0, null)`).
-                let e0 = ev.weighted_with(&factors, self.resample);
+                let e0 = weighted_residuals(&ev, &factors, self.resample);
                 let Some(r) = minimise_from(&f, &x0, Some(e0), &lo, &hi, &scale, &self.lm) else {
                     break;
                 };

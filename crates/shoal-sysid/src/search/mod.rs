@@ -107,7 +107,7 @@ pub use par::par_map;
 pub use rules::{bic, delta_bic, gain};
 pub use verdict::{Ambiguity, Possible, Unexplained, Verdict};
 
-use crate::data::Evaluation;
+use crate::evaluation::Evaluation;
 use crate::lm::LmOptions;
 use crate::run::ChannelKind;
 use nalgebra::DMatrix;

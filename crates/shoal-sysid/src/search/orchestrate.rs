@@ -8,7 +8,7 @@ use super::{
     Candidate, Fit, FormScore, Outcome, SearchOptions, identify, pairs, par_map, refine, stability,
     verdict,
 };
-use crate::data::Dataset;
+use crate::dataset::Dataset;
 use shoal_model::effects::{Effect, Effects};
 use shoal_model::vehicle::{VehicleModel, VehicleParams};
 use std::collections::BTreeMap;
@@ -132,7 +132,7 @@ pub(super) fn choose(
     fits: Vec<Fit>,
     scores: Vec<FormScore>,
     opts: &SearchOptions,
-    baseline: &crate::data::Evaluation,
+    baseline: &crate::evaluation::Evaluation,
 ) -> Candidate {
     let judged: Vec<Candidate> = fits
         .into_iter()

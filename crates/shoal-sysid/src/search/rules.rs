@@ -5,7 +5,7 @@
 use super::fit::z_of;
 use super::{Candidate, Fit, SearchOptions};
 use crate::blocks::{Resample, heldout_t, part_sse};
-use crate::data::Evaluation;
+use crate::evaluation::Evaluation;
 use crate::run::ChannelKind;
 use std::collections::BTreeMap;
 

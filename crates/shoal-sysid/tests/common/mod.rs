@@ -9,7 +9,7 @@ use shoal_model::effects::{EffectInstance, Effects, by_name};
 use shoal_model::presets;
 use shoal_model::rigid_body::Environment;
 use shoal_model::vehicle::VehicleModel;
-use shoal_sysid::data::{DataOptions, Dataset};
+use shoal_sysid::dataset::{DataOptions, Dataset};
 use shoal_sysid::design;
 use shoal_sysid::replay::ReplayOptions;
 use shoal_sysid::run::MeasuredRun;
