@@ -1,9 +1,10 @@
 //! Fitting one candidate model: replays, the excitation probe, bounded Levenberg–Marquardt from
 //! several starts with iterative reweighting, covariances and the Wald distance from null.
 
+use super::fitted::{Fit, FittedEffect, ParamEstimate};
+use super::measures::bic_resampled;
 use super::memo::Memo;
-use super::rules::bic_rs;
-use super::{Fit, FittedEffect, ParamEstimate, SearchOptions};
+use super::options::SearchOptions;
 use crate::blocks::{Resample, weighted_residuals};
 use crate::dataset::{Dataset, Part, Replayed};
 use crate::evaluation::Evaluation;
@@ -14,7 +15,6 @@ use nalgebra::DMatrix;
 use shoal_model::effects::{Effect, EffectInstance, Effects, ParamInfo};
 use shoal_model::lanes::LANES;
 use shoal_model::vehicle::{VehicleModel, VehicleParams};
-use statrs::distribution::{ChiSquared, ContinuousCDF, Normal};
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
@@ -243,7 +243,7 @@ impl Ctx<'_> {
             let evals = self.eval_parts(effects, batch, Part::Estimation);
             for (x, ev) in batch.iter().zip(evals) {
                 if let Some(ev) = ev {
-                    let b = bic_rs(&ev, 0, self.resample);
+                    let b = bic_resampled(&ev, 0, self.resample);
                     let at = top.partition_point(|(t, ..)| t.total_cmp(&b).is_le());
                     top.insert(at, (b, x.clone(), ev));
                     top.truncate(2);
@@ -290,7 +290,7 @@ impl Ctx<'_> {
                 }
             }
             let Some((r, used)) = result else { continue };
-            let score = bic_rs(&ev, 0, self.resample);
+            let score = bic_resampled(&ev, 0, self.resample);
             if best.as_ref().is_none_or(|(b, ..)| score < *b) {
                 best = Some((score, r, used, x, ev));
             }
@@ -570,50 +570,6 @@ pub(super) fn scan_points(
         out.push(x);
     }
     out
-}
-
-/// Distance of `effect`'s parameters from their null values, jointly (Wald test with the
-/// honest covariance, or the white-residual one with `white`), as the equivalent number of
-/// standard deviations of a normal variable: for one parameter |θ − θ₀|/σ.
-pub(super) fn z_of(fit: &Fit, effect: &str, white: bool) -> f64 {
-    let Some(ei) = fit.effects.iter().position(|e| e.effect.name() == effect) else {
-        return 0.0;
-    };
-    let Some(cov) = (if white { &fit.cov_white } else { &fit.cov }) else {
-        return 0.0;
-    };
-    let idx: Vec<usize> = fit
-        .free
-        .iter()
-        .enumerate()
-        .filter(|(_, (e, j))| *e == ei && !fit.effects[*e].params[*j].shape)
-        .map(|(k, _)| k)
-        .collect();
-    if idx.is_empty() {
-        return 0.0;
-    }
-    let d = nalgebra::DVector::from_iterator(
-        idx.len(),
-        idx.iter().map(|&k| {
-            let (e, j) = fit.free[k];
-            let p = &fit.effects[e].params[j];
-            p.value - p.null
-        }),
-    );
-    let sub = DMatrix::from_fn(idx.len(), idx.len(), |a, b| cov[(idx[a], idx[b])]);
-    let Some(inv) = sub.try_inverse() else {
-        return 0.0;
-    };
-    let w = (d.transpose() * inv * &d)[(0, 0)].max(0.0);
-    if idx.len() == 1 {
-        return w.sqrt();
-    }
-    let p = ChiSquared::new(idx.len() as f64).map_or(0.0, |c| c.sf(w));
-    if p < 1e-15 {
-        // Beyond the precision of the tail: the normal deviate of the same χ² (≈ √W).
-        return (w - (idx.len() as f64 - 1.0)).max(0.0).sqrt().max(8.0);
-    }
-    Normal::standard().inverse_cdf(1.0 - 0.5 * p)
 }
 
 /// `ev` when every sum of squared estimation residuals is finite.

@@ -1,163 +1,22 @@
 //! The search from start to verdict: round 1 (every family alone, forms competing), forward
 //! rounds, backward checks and swaps, then identifiability, stability and the verdict.
 
+use super::candidate::{Candidate, FormScore};
+use super::context::{FormInfo, Search, families};
 use super::fit::Ctx;
+use super::fitted::Fit;
+use super::measures::{bic, heldout_ratio};
 use super::memo::Memo;
-use super::rules::{bic, heldout_ratio, judge, skipped};
-use super::{
-    Candidate, Fit, FormScore, Outcome, SearchOptions, identify, pairs, par_map, refine, stability,
-    verdict,
-};
+use super::options::SearchOptions;
+use super::outcome::Outcome;
+use super::par::par_map;
+use super::rules::{choose, judge, skipped};
+use super::{identify, pairs, refine, stability, verdict};
 use crate::dataset::Dataset;
 use shoal_model::effects::{Effect, Effects};
 use shoal_model::vehicle::{VehicleModel, VehicleParams};
 use std::collections::BTreeMap;
 use std::sync::Arc;
-
-/// The forms of each family among `effects`, families in first-appearance order.
-pub(super) fn families(effects: &[Arc<dyn Effect>]) -> Vec<(String, Vec<Arc<dyn Effect>>)> {
-    let mut out: Vec<(String, Vec<Arc<dyn Effect>>)> = Vec::new();
-    for e in effects {
-        match out.iter_mut().find(|(n, _)| n == e.name()) {
-            Some((_, v)) => v.push(e.clone()),
-            None => out.push((e.name().to_string(), vec![e.clone()])),
-        }
-    }
-    out
-}
-
-/// What round 1 learnt about one form: whether the data excite each parameter and its fit
-/// alone on the baseline.
-#[derive(Clone)]
-pub(super) struct FormInfo {
-    pub effect: Arc<dyn Effect>,
-    pub excited: Vec<bool>,
-    pub first: Option<Vec<f64>>,
-    pub bic: f64,
-}
-
-impl FormInfo {
-    /// The form's starting values on top of another model: its round-1 fit (its typical values
-    /// where round 1 did not fit it), and its null values.
-    pub fn starts(&self, base: &VehicleParams) -> [Vec<f64>; 2] {
-        let params = self.effect.params(base);
-        let first = self
-            .first
-            .clone()
-            .unwrap_or_else(|| params.iter().map(|p| p.typical).collect());
-        [first, params.iter().map(|p| p.null).collect()]
-    }
-}
-
-/// Everything the later stages of a search share.
-pub(super) struct Search<'a> {
-    pub ctx: Ctx<'a>,
-    pub baseline: Fit,
-    /// Per family: its forms that apply and are excited, with their round-1 fits.
-    pub forms: BTreeMap<String, Vec<FormInfo>>,
-}
-
-impl Search<'_> {
-    /// `cur` with the family `name` added: every excited form fitted on top (from its round-1
-    /// values and from null). Returns every form's fit and score (`None`: no form could be
-    /// replayed); [`choose`] picks the form.
-    fn add_forms(&self, cur: &Fit, name: &str) -> Option<(Vec<Fit>, Vec<FormScore>)> {
-        let infos = self.forms.get(name)?;
-        let mut fits: Vec<Fit> = Vec::new();
-        let mut scores = Vec::new();
-        for fi in infos {
-            let starts = fi.starts(self.ctx.base);
-            let Some(fit) = self.ctx.extend(cur, &fi.effect, &fi.excited, &starts) else {
-                continue;
-            };
-            scores.push(FormScore::of(fi.effect.form(), cur, &fit));
-            fits.push(fit);
-        }
-        (!fits.is_empty()).then_some((fits, scores))
-    }
-
-    /// The candidate of family `name` added to `base` ([`choose`] over [`Search::add_forms`]).
-    pub fn candidate(&self, round: usize, base: &Fit, name: &str) -> Option<Candidate> {
-        let (fits, scores) = self.add_forms(base, name)?;
-        let opts = self.ctx.opts;
-        Some(choose(
-            round,
-            name,
-            base,
-            fits,
-            scores,
-            opts,
-            &self.baseline.eval,
-        ))
-    }
-
-    /// Families worth adding to `cur` (not in it, not excluded), best score first, at most
-    /// `candidates_per_round`.
-    pub fn promising(&self, cur: &Fit, exclude: &[String]) -> Vec<String> {
-        let names: Vec<String> = self
-            .forms
-            .keys()
-            .filter(|n| !cur.names().contains(n) && !exclude.contains(n))
-            .cloned()
-            .collect();
-        let opts = self.ctx.opts;
-        let scores = par_map(&names, opts.threads, |n| {
-            // Score each family by its most promising form on top of `cur` (the form that
-            // fitted best alone need not be the one that fits best beside others).
-            self.forms[n]
-                .iter()
-                .map(|fi| self.ctx.score(cur, &fi.effect, &fi.excited))
-                .fold(0.0, f64::max)
-        });
-        let mut ranked: Vec<(f64, String)> = scores.into_iter().zip(names).collect();
-        ranked.sort_by(|a, b| b.0.total_cmp(&a.0));
-        ranked
-            .into_iter()
-            .filter(|(s, _)| *s > 0.0)
-            .take(opts.candidates_per_round)
-            .map(|(_, n)| n)
-            .collect()
-    }
-}
-
-/// The candidate of family `name` on top of `base`, given each of its forms' `fits`: the form
-/// of lowest BIC among those that earn their place by the rules of [`judge`] (held-out gain,
-/// block test, …), or the form of lowest BIC when none does. A form that fits the estimation
-/// data best but fails on data the fit did not see must not hide a form of the same family
-/// that holds there: the family is judged by its best form that generalises.
-pub(super) fn choose(
-    round: usize,
-    name: &str,
-    base: &Fit,
-    fits: Vec<Fit>,
-    scores: Vec<FormScore>,
-    opts: &SearchOptions,
-    baseline: &crate::evaluation::Evaluation,
-) -> Candidate {
-    let judged: Vec<Candidate> = fits
-        .into_iter()
-        .map(|f| judge(round, name, base, f, opts, false, baseline))
-        .collect();
-    let mut c = best_passing(judged).expect("choose is given at least one fit");
-    c.forms = scores;
-    c
-}
-
-/// Of `judged` (candidates of one family or one pair of families in different forms), the one
-/// of lowest BIC among those that pass the rules, or the one of lowest BIC when none passes;
-/// `None` when there is none.
-pub(super) fn best_passing(judged: Vec<Candidate>) -> Option<Candidate> {
-    let mut scored: Vec<(f64, Candidate)> = judged
-        .into_iter()
-        .map(|c| {
-            let b = c.fit.as_ref().map_or(f64::INFINITY, |f| bic(&f.eval, f.k));
-            (b, c)
-        })
-        .collect();
-    scored.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let at = scored.iter().position(|(_, c)| c.significant).unwrap_or(0);
-    (!scored.is_empty()).then(|| scored.swap_remove(at).1)
-}
 
 /// One round-1 fit: (family index, form, the fit with its excitation or why there is none).
 type RoundOne = (usize, Arc<dyn Effect>, Result<(Fit, Vec<bool>), String>);

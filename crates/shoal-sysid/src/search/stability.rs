@@ -10,10 +10,11 @@
 //! which it passes. (The backward checks' effective-ΔBIC rule is not repeated: a resample
 //! duplicates blocks, and its count of independent samples is not defined.)
 
+use super::context::Search;
 use super::fit::Ctx;
-use super::orchestrate::Search;
-use super::rules::{bic_rs, closure_rs, gain_rs, material_rs};
-use super::{Fit, par_map};
+use super::fitted::Fit;
+use super::measures::{bic_resampled, closure_resampled, gain_resampled, material_resampled};
+use super::par::par_map;
 use crate::blocks::{Resample, heldout_t};
 use crate::lm::LmOptions;
 use std::collections::BTreeMap;
@@ -62,14 +63,16 @@ pub(super) fn frequencies(
             .iter()
             .map(|n| {
                 ctx.without(&full, n, &s.baseline).is_some_and(|red| {
-                    bic_rs(&full.eval, full.k, Some(&rs)) - bic_rs(&red.eval, red.k, Some(&rs))
+                    bic_resampled(&full.eval, full.k, Some(&rs))
+                        - bic_resampled(&red.eval, red.k, Some(&rs))
                         < opts.bic_threshold
-                        && gain_rs(&red.eval, &full.eval, Some(&rs)) >= opts.min_gain
+                        && gain_resampled(&red.eval, &full.eval, Some(&rs)) >= opts.min_gain
                         && heldout_t(&red.eval, &full.eval, opts.block_s, Some(&rs))
                             >= opts.t_threshold
-                        && (material_rs(&s.baseline.eval, &red.eval, &full.eval, Some(&rs))
+                        && (material_resampled(&s.baseline.eval, &red.eval, &full.eval, Some(&rs))
                             >= opts.min_material
-                            || closure_rs(&red.eval, &full.eval, Some(&rs)) >= opts.min_closure)
+                            || closure_resampled(&red.eval, &full.eval, Some(&rs))
+                                >= opts.min_closure)
                 })
             })
             .collect()
