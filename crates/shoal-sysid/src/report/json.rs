@@ -2,8 +2,9 @@
 //! with its forms and tests, and per named effect its evidence, parameters with 95 %
 //! confidence intervals and the residual-signature plot.
 
+use super::input::ReportInput;
 use super::plots::PlotRefs;
-use super::{ReportInput, ci95, evidence, label, verdict_sentence, white};
+use super::wording::{ci95, evidence, label, verdict_sentence, white};
 use crate::evaluation::Evaluation;
 use crate::run::ChannelKind;
 use crate::search::{Candidate, Fit};

@@ -3,8 +3,9 @@
 //! before and after. Drawing rules (axes that cover every drawn point, legends off the data)
 //! live in [`shoal_output::plot`]; here the data are chosen and styled.
 
+use super::input::ReportInput;
 use super::signature::{self, Regressor};
-use super::{ReportInput, label};
+use super::wording::label;
 use crate::dataset::RunData;
 use crate::evaluation::ChannelResult;
 use crate::run::ChannelKind;

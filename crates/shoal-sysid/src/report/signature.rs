@@ -3,7 +3,8 @@
 //! time, a damping error as a slope against the speed. Before (the baseline) and after (the
 //! final model) side by side show what the effect took out of the residual.
 
-use super::{channel_of, label};
+use super::correlations::channel_of;
+use super::wording::label;
 use crate::dataset::{Dataset, RunData};
 use crate::evaluation::Evaluation;
 use crate::run::ChannelKind;
