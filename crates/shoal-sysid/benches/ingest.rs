@@ -5,7 +5,7 @@
 //! read on 2 shared cores; the target is ≤ 2 s).
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use shoal_sysid::replay::InputMap;
+use shoal_sysid::open_loop::InputMap;
 use shoal_sysid::run::MeasuredRun;
 use shoal_sysid::segments::GapOptions;
 use std::hint::black_box;

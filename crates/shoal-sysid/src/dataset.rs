@@ -17,7 +17,7 @@
 use crate::blocks::{Resample, push_weighted};
 use crate::evaluation::{ChannelResult, Evaluation, RunResult};
 use crate::masses::MassTable;
-use crate::replay::{
+use crate::open_loop::{
     InitialState, InputMap, ReplayOptions, Trace, grid_position, replay_steps, simulate_many,
 };
 use crate::run::{ChannelKind, MeasuredRun, RunError};

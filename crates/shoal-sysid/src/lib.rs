@@ -9,7 +9,7 @@
 //!   reading found); [`ingest`] — reading runs as loggers write them (separators, comments,
 //!   time units), streaming and linear in the rows; [`segments`] — runs split at gaps in time;
 //!   [`limits`] — inputs checked against the actuator limits, rounding clamped and counted;
-//! * [`replay`] — the vehicle model driven open-loop by the measured inputs;
+//! * [`open_loop`] — the vehicle model driven open-loop by the measured inputs (a run's replay);
 //! * [`blocks`] — time blocks of residuals: held-out tests and the block bootstrap;
 //! * [`dataset`] — runs split into estimation and validation data and replayed on a model;
 //!   [`evaluation`] — a model compared with them: residuals and per-channel metrics;
@@ -42,8 +42,8 @@ pub mod lm;
 pub mod logger;
 pub mod masses;
 mod numbers;
+pub mod open_loop;
 pub mod recovery;
-pub mod replay;
 pub mod report;
 pub mod run;
 pub mod search;

@@ -8,7 +8,7 @@
 //! counts every expected family as missing).
 
 use crate::dataset::{DataOptions, Dataset};
-use crate::replay::ReplayOptions;
+use crate::open_loop::ReplayOptions;
 use crate::run::MeasuredRun;
 use crate::search::{SearchOptions, search};
 use crate::testset::{Case, DENSITY};

@@ -3,7 +3,7 @@
 //! delay — sampled like a logger would. This is how the search is tested ("hide an effect in
 //! data and find it") and how experiments are designed before going to the pool.
 //!
-//! Independent of [`crate::replay`]: it steps the model with the run-time path of
+//! Independent of [`crate::open_loop`]: it steps the model with the run-time path of
 //! `shoal run` (`actuate_vehicle`, `integrate_vehicle`, `sense` with its delay line) on its own
 //! time step, and adds measurement noise from a seeded RNG.
 //!

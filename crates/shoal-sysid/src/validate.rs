@@ -8,7 +8,7 @@ use crate::dataset::{DataError, DataOptions, Dataset};
 use crate::evaluation::Evaluation;
 use crate::format::{ReadOptions, TimeUnit};
 use crate::limits::ClampNote;
-use crate::replay::ReplayOptions;
+use crate::open_loop::ReplayOptions;
 use crate::report::{
     ReportError, ReportInput, Written, report_value, vehicle_toml, verdict_sentence, write_report,
 };

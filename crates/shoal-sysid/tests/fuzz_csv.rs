@@ -13,7 +13,7 @@
 
 use proptest::prelude::*;
 use shoal_sysid::format::{ReadOptions, TimeUnit};
-use shoal_sysid::replay::{InputMap, ReplayOptions};
+use shoal_sysid::open_loop::{InputMap, ReplayOptions};
 use shoal_sysid::run::MeasuredRun;
 use shoal_sysid::segments::{GapMode, GapOptions};
 use std::path::Path;

@@ -11,7 +11,7 @@ use shoal_model::rigid_body::Environment;
 use shoal_model::vehicle::VehicleModel;
 use shoal_sysid::dataset::unwrap;
 use shoal_sysid::design::balanced_stbd;
-use shoal_sysid::replay::{InitialState, InputMap, ReplayOptions, simulate};
+use shoal_sysid::open_loop::{InitialState, InputMap, ReplayOptions, simulate};
 use shoal_sysid::run::{Channel, ChannelKind, InputColumn, MeasuredRun};
 use std::f64::consts::FRAC_PI_2;
 

@@ -18,7 +18,7 @@ mod common;
 use common::pinned::{Table, check_verdict};
 use libtest_mimic::{Arguments, Failed, Trial};
 use shoal_model::presets;
-use shoal_sysid::replay::InputMap;
+use shoal_sysid::open_loop::InputMap;
 use shoal_sysid::run::MeasuredRun;
 use shoal_sysid::segments::GapOptions;
 use std::collections::BTreeMap;

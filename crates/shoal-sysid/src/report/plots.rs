@@ -414,8 +414,12 @@ mod tests {
             .collect();
         let run = crate::run::MeasuredRun::parse(&csv, Path::new("r.csv")).unwrap();
         RunData {
-            map: crate::replay::InputMap::default(),
-            init: crate::replay::InitialState::from_run(&shoal_model::presets::uauv2(), &run, 0.5),
+            map: crate::open_loop::InputMap::default(),
+            init: crate::open_loop::InitialState::from_run(
+                &shoal_model::presets::uauv2(),
+                &run,
+                0.5,
+            ),
             run,
             channels: vec![0],
             split_time: 6.0,

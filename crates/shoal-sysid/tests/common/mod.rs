@@ -11,7 +11,7 @@ use shoal_model::rigid_body::Environment;
 use shoal_model::vehicle::VehicleModel;
 use shoal_sysid::dataset::{DataOptions, Dataset};
 use shoal_sysid::design;
-use shoal_sysid::replay::ReplayOptions;
+use shoal_sysid::open_loop::ReplayOptions;
 use shoal_sysid::run::MeasuredRun;
 use shoal_sysid::search::{Outcome, SearchOptions, search};
 use shoal_sysid::synth::synthesize;

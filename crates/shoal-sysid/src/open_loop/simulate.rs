@@ -3,7 +3,8 @@
 //! each), stepped with the run's inputs and recorded through the sensor models (see the
 //! parent module).
 
-use super::{InitialState, InputMap, ReplayOptions, Trace, replay_steps};
+use super::setup::{InitialState, InputMap, ReplayOptions, replay_steps};
+use super::trace::Trace;
 use crate::masses::{BodyMasses, MassTable};
 use crate::run::{ChannelKind, MeasuredRun};
 use shoal_model::ballast::Pump;
