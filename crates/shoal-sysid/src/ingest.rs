@@ -32,9 +32,9 @@
 //! Memory is the parsed columns (a few bytes per cell) plus one line; the text is never held
 //! whole.
 
+use crate::data_lines::{LineTooLong, LogLines};
 use crate::format::{IngestInfo, ReadOptions, Separator};
 use crate::header::{Col, Header, quote, unquote};
-use crate::lines::{LineTooLong, LogLines};
 use crate::numbers::short;
 use crate::run::{MeasuredRun, RunError};
 use std::fs::File;

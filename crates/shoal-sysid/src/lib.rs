@@ -30,6 +30,7 @@
 //! model unchanged.
 
 pub mod blocks;
+mod data_lines;
 pub mod dataset;
 pub mod design;
 pub mod evaluation;
@@ -37,7 +38,6 @@ pub mod format;
 mod header;
 pub mod ingest;
 pub mod limits;
-mod lines;
 pub mod lm;
 pub mod logger;
 pub mod masses;
