@@ -8,7 +8,7 @@ use super::options::SearchOptions;
 use crate::blocks::{Resample, weighted_residuals};
 use crate::dataset::{Dataset, Part, Replayed};
 use crate::evaluation::Evaluation;
-use crate::lm::{LmOptions, minimise_from};
+use crate::lm::{LmOptions, LmResult, minimise_from};
 use crate::run::ChannelKind;
 use crate::stats;
 use nalgebra::DMatrix;
@@ -200,30 +200,7 @@ impl Ctx<'_> {
         scan: Option<usize>,
     ) -> Option<Fit> {
         let infos = self.infos(effects);
-        let free: Vec<usize> = (0..infos.len()).filter(|&j| excited[j]).collect();
-        let null: Vec<f64> = infos.iter().map(|p| p.null).collect();
-        let full = |xf: &[f64], start: &[f64]| {
-            let mut x = start.to_vec();
-            for (k, &j) in free.iter().enumerate() {
-                x[j] = xf[k];
-            }
-            for (j, p) in infos.iter().enumerate() {
-                if !excited[j] {
-                    x[j] = p.null;
-                }
-            }
-            x
-        };
-        let lo: Vec<f64> = free.iter().map(|&j| infos[j].lo).collect();
-        let hi: Vec<f64> = free.iter().map(|&j| infos[j].hi).collect();
-        let scale: Vec<f64> = free
-            .iter()
-            .map(|&j| {
-                let p = &infos[j];
-                let s = (p.typical - p.null).abs();
-                if s > 0.0 { s } else { 0.1 * (p.hi - p.lo) }
-            })
-            .collect();
+        let params = FreeParams::new(&infos, excited);
         // Candidate starts: the given ones and, with `scan`, points from the null values
         // towards the far bounds (all free parameters together), against multimodal costs.
         // The LM runs from the best two (by BIC; the earlier point first among equals), each
@@ -231,12 +208,24 @@ impl Ctx<'_> {
         // the estimation samples (BIC, weights, residuals): their replays stop there.
         let mut points: Vec<Vec<f64>> = starts
             .iter()
-            .map(|s| full(&free.iter().map(|&j| s[j]).collect::<Vec<_>>(), s))
+            .map(|s| params.full(&params.free.iter().map(|&j| s[j]).collect::<Vec<_>>(), s))
             .collect();
         if let (Some(from), Some(first)) = (scan, starts.first()) {
             points.extend(scan_points(&infos, excited, first, from));
         }
         let mut evaluations = points.len();
+        let top = self.best_starts(effects, &points);
+        let best = self.minimise_from_best(effects, top, &params, &mut evaluations)?;
+        Some(self.fitted(effects, &params, best, evaluations))
+    }
+
+    /// The best two of `points` by BIC on the estimation samples (the earlier point first among
+    /// equals), each with its evaluation; points that cannot be evaluated are left out.
+    fn best_starts(
+        &self,
+        effects: &[Arc<dyn Effect>],
+        points: &[Vec<f64>],
+    ) -> Vec<(f64, Vec<f64>, Evaluation)> {
         let mut top: Vec<(f64, Vec<f64>, Evaluation)> = Vec::with_capacity(3);
         // Evaluated LANES at a time (replayed together), ranked in their order.
         for batch in points.chunks(LANES) {
@@ -250,31 +239,39 @@ impl Ctx<'_> {
                 }
             }
         }
-        type Best = (
-            f64,
-            crate::lm::LmResult,
-            BTreeMap<ChannelKind, f64>,
-            Vec<f64>,
-            Evaluation,
-        );
+        top
+    }
+
+    /// Levenberg–Marquardt from each of `top` (a point with its evaluation), iteratively
+    /// reweighted: weights from the residuals, fit, new weights, … until they settle (at most
+    /// three passes). The result of lowest BIC, or `None` when no pass succeeded; the replays
+    /// spent are added to `evaluations`.
+    fn minimise_from_best(
+        &self,
+        effects: &[Arc<dyn Effect>],
+        top: Vec<(f64, Vec<f64>, Evaluation)>,
+        p: &FreeParams<'_>,
+        evaluations: &mut usize,
+    ) -> Option<Best> {
         let mut best: Option<Best> = None;
         for (_, mut x, mut ev) in top {
             let mut result = None;
             // Iteratively reweighted: weights from the residuals, fit, new weights, … .
             for _ in 0..3 {
                 let factors = ev.ml_factors();
-                let x0: Vec<f64> = free.iter().map(|&j| x[j]).collect();
+                let x0: Vec<f64> = p.free.iter().map(|&j| x[j]).collect();
                 let f = |xs: &[Vec<f64>]| {
-                    let xs: Vec<Vec<f64>> = xs.iter().map(|xf| full(xf, &null)).collect();
+                    let xs: Vec<Vec<f64>> = xs.iter().map(|xf| p.full(xf, &p.null)).collect();
                     self.weighted_many(effects, &xs, &factors)
                 };
                 // The residuals at the start are those of `ev` (x is `full(x0, null)`).
                 let e0 = weighted_residuals(&ev, &factors, self.resample);
-                let Some(r) = minimise_from(&f, &x0, Some(e0), &lo, &hi, &scale, &self.lm) else {
+                let Some(r) = minimise_from(&f, &x0, Some(e0), &p.lo, &p.hi, &p.scale, &self.lm)
+                else {
                     break;
                 };
-                evaluations += r.evaluations + 1;
-                x = full(&r.x, &null);
+                *evaluations += r.evaluations + 1;
+                x = p.full(&r.x, &p.null);
                 let Some(new_ev) = self.eval(effects, &x) else {
                     break;
                 };
@@ -295,8 +292,22 @@ impl Ctx<'_> {
                 best = Some((score, r, used, x, ev));
             }
         }
-        let (_, lm, used, x, eval) = best?;
-        let (cov, cov_white) = self.covariances(&eval, &lm.jacobian, &free, &used);
+        best
+    }
+
+    /// The fit of `effects` at the minimum `best`: every parameter with its estimate and
+    /// standard deviations (from the covariances at the minimum), `evaluations` replays spent
+    /// (and one more).
+    fn fitted(
+        &self,
+        effects: &[Arc<dyn Effect>],
+        p: &FreeParams<'_>,
+        best: Best,
+        evaluations: usize,
+    ) -> Fit {
+        let (infos, excited, free) = (p.infos, p.excited, &p.free);
+        let (_, lm, used, x, eval) = best;
+        let (cov, cov_white) = self.covariances(&eval, &lm.jacobian, free, &used);
         let sd = |c: &Option<DMatrix<f64>>, k: usize| {
             c.as_ref().and_then(|c| {
                 let v = c[(k, k)];
@@ -341,7 +352,7 @@ impl Ctx<'_> {
             });
             i += n;
         }
-        Some(Fit {
+        Fit {
             effects: fitted,
             k: free.len(),
             eval,
@@ -349,7 +360,7 @@ impl Ctx<'_> {
             free: free_index,
             cov,
             cov_white,
-        })
+        }
     }
 
     /// `cur` with `add` fitted on top, all parameters free, from `cur`'s values and each of
@@ -503,6 +514,69 @@ impl Ctx<'_> {
             }
         }
         (honest.try_inverse(), white.try_inverse())
+    }
+}
+
+/// The minimum a fit reached: (BIC, the Levenberg–Marquardt result, the residual weights of
+/// its last pass, the full parameter vector, its evaluation).
+type Best = (
+    f64,
+    LmResult,
+    BTreeMap<ChannelKind, f64>,
+    Vec<f64>,
+    Evaluation,
+);
+
+/// The parameters of one fit: which are free (the excited ones), their null values, bounds and
+/// scales, and how a vector of the free ones is completed.
+struct FreeParams<'p> {
+    infos: &'p [ParamInfo],
+    excited: &'p [bool],
+    /// Indices of the free parameters.
+    free: Vec<usize>,
+    null: Vec<f64>,
+    lo: Vec<f64>,
+    hi: Vec<f64>,
+    scale: Vec<f64>,
+}
+
+impl<'p> FreeParams<'p> {
+    fn new(infos: &'p [ParamInfo], excited: &'p [bool]) -> Self {
+        let free: Vec<usize> = (0..infos.len()).filter(|&j| excited[j]).collect();
+        let null: Vec<f64> = infos.iter().map(|p| p.null).collect();
+        let lo: Vec<f64> = free.iter().map(|&j| infos[j].lo).collect();
+        let hi: Vec<f64> = free.iter().map(|&j| infos[j].hi).collect();
+        let scale: Vec<f64> = free
+            .iter()
+            .map(|&j| {
+                let p = &infos[j];
+                let s = (p.typical - p.null).abs();
+                if s > 0.0 { s } else { 0.1 * (p.hi - p.lo) }
+            })
+            .collect();
+        Self {
+            infos,
+            excited,
+            free,
+            null,
+            lo,
+            hi,
+            scale,
+        }
+    }
+
+    /// `start` with the free parameters set to `xf` and the others not excited at their nulls.
+    fn full(&self, xf: &[f64], start: &[f64]) -> Vec<f64> {
+        let mut x = start.to_vec();
+        for (k, &j) in self.free.iter().enumerate() {
+            x[j] = xf[k];
+        }
+        for (j, p) in self.infos.iter().enumerate() {
+            if !self.excited[j] {
+                x[j] = p.null;
+            }
+        }
+        x
     }
 }
 
