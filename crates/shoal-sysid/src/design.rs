@@ -11,7 +11,7 @@
 //!   validation spec prescribes): the 1-DOF yaw law; logs heading, yaw rate, depth and the
 //!   tracked position.
 
-use crate::run::ChannelKind;
+use crate::log::run::ChannelKind;
 use crate::synth::Experiment;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;

@@ -7,9 +7,9 @@
 //! missing, none extra. Its **wrong count** is extras + missing (a log the tool cannot read
 //! counts every expected family as missing).
 
-use crate::dataset::{DataOptions, Dataset};
-use crate::open_loop::ReplayOptions;
-use crate::run::MeasuredRun;
+use crate::evaluate::dataset::{DataOptions, Dataset};
+use crate::evaluate::open_loop::ReplayOptions;
+use crate::log::run::MeasuredRun;
 use crate::search::{SearchOptions, search};
 use crate::testset::{Case, DENSITY};
 use shoal_model::presets;

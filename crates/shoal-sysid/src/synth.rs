@@ -3,7 +3,7 @@
 //! delay — sampled like a logger would. This is how the search is tested ("hide an effect in
 //! data and find it") and how experiments are designed before going to the pool.
 //!
-//! Independent of [`crate::open_loop`]: it steps the model with the run-time path of
+//! Independent of [`crate::evaluate::open_loop`]: it steps the model with the run-time path of
 //! `shoal run` (`actuate_vehicle`, `integrate_vehicle`, `sense` with its delay line) on its own
 //! time step, and adds measurement noise from a seeded RNG.
 //!
@@ -11,7 +11,7 @@
 //! the effect hooks cannot carry (a motor's speed response, a pump's start-up, a sensor's
 //! filter; see [`crate::truth_forms`]). [`synthesize`] is the same without a hook.
 
-use crate::run::{Channel, ChannelKind, InputColumn, MeasuredRun};
+use crate::log::run::{Channel, ChannelKind, InputColumn, MeasuredRun};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};

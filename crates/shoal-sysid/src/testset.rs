@@ -15,8 +15,8 @@
 //!
 //! [`Conditions`] change the log's length and the sensor noise (for the recovery benchmark).
 
+use crate::log::run::MeasuredRun;
 use crate::logger::{format_g, logger_csv};
-use crate::run::MeasuredRun;
 use crate::synth::synthesize_with;
 use crate::truth_forms::{self, ExpKind, Truth, TruthForm};
 use rand::SeedableRng;
@@ -354,7 +354,7 @@ pub fn truth_json(cases: &[CaseSpec]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::run::ChannelKind;
+    use crate::log::run::ChannelKind;
 
     #[test]
     fn sets_cover_every_form_and_family_and_names_are_unique() {

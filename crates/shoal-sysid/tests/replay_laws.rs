@@ -9,10 +9,10 @@ use shoal_model::presets::{
 };
 use shoal_model::rigid_body::Environment;
 use shoal_model::vehicle::VehicleModel;
-use shoal_sysid::dataset::unwrap;
 use shoal_sysid::design::balanced_stbd;
-use shoal_sysid::open_loop::{InitialState, InputMap, ReplayOptions, simulate};
-use shoal_sysid::run::{Channel, ChannelKind, InputColumn, MeasuredRun};
+use shoal_sysid::evaluate::dataset::unwrap;
+use shoal_sysid::evaluate::open_loop::{InitialState, InputMap, ReplayOptions, simulate};
+use shoal_sysid::log::run::{Channel, ChannelKind, InputColumn, MeasuredRun};
 use std::f64::consts::FRAC_PI_2;
 
 fn thrust(n: f64) -> f64 {

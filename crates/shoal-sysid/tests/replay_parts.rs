@@ -11,8 +11,8 @@ mod common;
 use common::replays::{model, offgrid_options as options, pumping_heave_run as heave_run};
 use shoal_model::presets;
 use shoal_model::rigid_body::Environment;
-use shoal_sysid::blocks::{Resample, weighted_residuals};
-use shoal_sysid::dataset::{Dataset, Part};
+use shoal_sysid::evaluate::blocks::{Resample, weighted_residuals};
+use shoal_sysid::evaluate::dataset::{Dataset, Part};
 
 fn bits(v: &[f64]) -> Vec<u64> {
     v.iter().map(|x| x.to_bits()).collect()
@@ -48,7 +48,7 @@ fn same_numbers(ds: &Dataset) -> (usize, usize) {
             assert_eq!(bits(&w), bits(&p));
             assert_eq!(bits(&w), bits(&weighted_residuals(&ew, &factors, resample)));
         }
-        let count = |e: &shoal_sysid::evaluation::Evaluation| {
+        let count = |e: &shoal_sysid::evaluate::evaluation::Evaluation| {
             e.runs
                 .iter()
                 .flat_map(|r| &r.channels)

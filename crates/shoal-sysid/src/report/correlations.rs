@@ -3,10 +3,10 @@
 //! and `report.md`.
 
 use super::wording::label;
-use crate::dataset::{Dataset, RunData};
-use crate::evaluation::{ChannelResult, Evaluation};
-use crate::run::{Channel, ChannelKind};
-use crate::stats;
+use crate::evaluate::dataset::{Dataset, RunData};
+use crate::evaluate::evaluation::{ChannelResult, Evaluation};
+use crate::evaluate::stats;
+use crate::log::run::{Channel, ChannelKind};
 use std::collections::BTreeMap;
 
 /// Pearson correlations of the baseline's estimation residuals with candidate regressors,

@@ -1,7 +1,7 @@
 //! What a report is made from besides the search outcome ([`ReportInput`]), and the files
 //! it wrote ([`Written`]).
 
-use crate::dataset::Dataset;
+use crate::evaluate::dataset::Dataset;
 use crate::search::{Outcome, SearchOptions};
 use shoal_world::spec::VehicleSpec;
 use std::path::PathBuf;

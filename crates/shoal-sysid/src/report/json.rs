@@ -5,8 +5,8 @@
 use super::input::ReportInput;
 use super::plots::PlotRefs;
 use super::wording::{ci95, evidence, label, verdict_sentence, white};
-use crate::evaluation::Evaluation;
-use crate::run::ChannelKind;
+use crate::evaluate::evaluation::Evaluation;
+use crate::log::run::ChannelKind;
 use crate::search::{Candidate, Fit};
 use serde_json::{Map, Value, json};
 use std::collections::BTreeMap;

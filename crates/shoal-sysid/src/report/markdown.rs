@@ -10,7 +10,7 @@ use super::plots::PlotRefs;
 use super::wording::{
     ci95, evidence, file_name, fmt_pm, form_candidate, label, sig, verdict_sentence, white, yes,
 };
-use crate::run::ChannelKind;
+use crate::log::run::ChannelKind;
 use crate::search::{Candidate, FittedEffect, Outcome, SearchOptions};
 use shoal_model::vehicle::VehicleParams;
 use std::collections::BTreeMap;

@@ -6,11 +6,11 @@
 use super::input::ReportInput;
 use super::signature::{self, Regressor};
 use super::wording::label;
-use crate::dataset::RunData;
-use crate::evaluation::ChannelResult;
-use crate::run::ChannelKind;
+use crate::evaluate::dataset::RunData;
+use crate::evaluate::evaluation::ChannelResult;
+use crate::evaluate::stats;
+use crate::log::run::ChannelKind;
 use crate::search::Outcome;
-use crate::stats;
 use shoal_output::plot::{Plot, Series};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -374,7 +374,7 @@ pub(super) fn signature_plot(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::dataset::unwrap;
+    use crate::evaluate::dataset::unwrap;
 
     /// Every point of every series of `plot` lies inside its ranges.
     fn covers(plot: &Plot) {
@@ -412,10 +412,10 @@ mod tests {
         let csv: String = std::iter::once("t,u.port,y.depth\n".to_string())
             .chain(t.iter().map(|t| format!("{t},0,1\n")))
             .collect();
-        let run = crate::run::MeasuredRun::parse(&csv, Path::new("r.csv")).unwrap();
+        let run = crate::log::run::MeasuredRun::parse(&csv, Path::new("r.csv")).unwrap();
         RunData {
-            map: crate::open_loop::InputMap::default(),
-            init: crate::open_loop::InitialState::from_run(
+            map: crate::evaluate::open_loop::InputMap::default(),
+            init: crate::evaluate::open_loop::InitialState::from_run(
                 &shoal_model::presets::uauv2(),
                 &run,
                 0.5,

@@ -2,8 +2,8 @@
 //! candidate that stands as a family's evidence, confidence intervals, channel labels and
 //! numbers.
 
-use crate::evaluation::Evaluation;
-use crate::run::ChannelKind;
+use crate::evaluate::evaluation::Evaluation;
+use crate::log::run::ChannelKind;
 use crate::search::{Candidate, Outcome, ParamEstimate};
 use std::path::Path;
 

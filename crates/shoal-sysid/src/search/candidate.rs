@@ -49,7 +49,7 @@ pub struct Candidate {
     pub delta_bic: f64,
     /// ΔBIC with effective sample counts (see [`super::measures::delta_bic_eff`]).
     pub delta_bic_eff: f64,
-    /// Held-out block test t statistic (see [`crate::blocks::heldout_t`]).
+    /// Held-out block test t statistic (see [`crate::evaluate::blocks::heldout_t`]).
     pub heldout_t: f64,
     /// Relative validation-RMSE reduction against the model it was added to (fraction,
     /// mean over channels).

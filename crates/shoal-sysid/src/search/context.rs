@@ -76,7 +76,8 @@ impl Search<'_> {
         (!fits.is_empty()).then_some((fits, scores))
     }
 
-    /// The candidate of family `name` added to `base` ([`choose`](super::rules::choose) over [`Search::add_forms`]).
+    /// The candidate of family `name` added to `base` ([`choose`](super::rules::choose) over
+    /// [`Search::add_forms`]).
     pub fn candidate(&self, round: usize, base: &Fit, name: &str) -> Option<Candidate> {
         let (fits, scores) = self.add_forms(base, name)?;
         let opts = self.ctx.opts;

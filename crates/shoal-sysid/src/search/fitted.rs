@@ -1,7 +1,7 @@
 //! A fitted candidate model: its effects with their parameter estimates and covariances, and
 //! its comparison with the data.
 
-use crate::evaluation::Evaluation;
+use crate::evaluate::evaluation::Evaluation;
 use nalgebra::DMatrix;
 use shoal_model::effects::{Effect, EffectInstance, Effects};
 use shoal_model::vehicle::{VehicleModel, VehicleParams};

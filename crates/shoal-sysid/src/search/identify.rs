@@ -13,7 +13,7 @@ use super::fitted::Fit;
 use super::measures::{delta_bic_eff, gain};
 use super::par::par_map;
 use super::verdict::Ambiguity;
-use crate::blocks::heldout_t;
+use crate::evaluate::blocks::heldout_t;
 
 /// Block t below which the held-out data cannot prefer one of two models.
 const AMBIGUOUS_T: f64 = 2.0;

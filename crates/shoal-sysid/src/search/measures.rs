@@ -5,9 +5,9 @@
 //! (`rules.rs`) decide with them.
 
 use super::fitted::Fit;
-use crate::blocks::{Resample, part_sse};
-use crate::evaluation::Evaluation;
-use crate::run::ChannelKind;
+use crate::evaluate::blocks::{Resample, part_sse};
+use crate::evaluate::evaluation::Evaluation;
+use crate::log::run::ChannelKind;
 use nalgebra::DMatrix;
 use statrs::distribution::{ChiSquared, ContinuousCDF, Normal};
 use std::collections::BTreeMap;
@@ -35,7 +35,7 @@ pub fn gain_resampled(a: &Evaluation, b: &Evaluation, rs: Option<&Resample>) -> 
         }
         return if n > 0 { s / n as f64 } else { 0.0 };
     }
-    let len = rs.map_or(crate::blocks::DEFAULT_BLOCK_S, |r| r.len);
+    let len = rs.map_or(crate::evaluate::blocks::DEFAULT_BLOCK_S, |r| r.len);
     let pa = part_sse(a, false, rs, len);
     let pb = part_sse(b, false, rs, len);
     let mut s = 0.0;
@@ -241,7 +241,7 @@ fn differenced_floor(eval: &Evaluation, kind: ChannelKind) -> f64 {
             diffs.extend(v.windows(2).map(|w| w[1] - w[0]));
         }
     }
-    crate::stats::rms(&diffs) / std::f64::consts::SQRT_2
+    crate::evaluate::stats::rms(&diffs) / std::f64::consts::SQRT_2
 }
 
 /// How far above its noise floor a channel's held-out RMSE must be for its residual to count

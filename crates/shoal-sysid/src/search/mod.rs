@@ -11,7 +11,7 @@
 //!
 //! **Fitting** (`fit.rs`). Each candidate model is the baseline plus a set of effects. Its
 //! parameters are fitted by maximum likelihood with unknown per-channel noise: bounded
-//! Levenberg–Marquardt ([`crate::lm`]) on the estimation residuals of all channels, each
+//! Levenberg–Marquardt ([`lm`](crate::evaluate::lm)) on the estimation residuals of all channels, each
 //! channel weighted by the inverse of the fit's own residual variance, the weights updated and
 //! the fit repeated until they settle. It starts from the best two of several points: the null
 //! values, typical values, earlier fits, and a scan of the new effect's parameters — a line
@@ -39,9 +39,10 @@
 //! 2. the *held-out* RMSE (validation blocks the fit never saw) falls by at least `min_gain`
 //!    (default 3 %), averaged over channels;
 //! 3. the held-out improvement is consistent over time blocks: the t statistic of the per-block
-//!    reductions ([`crate::blocks::heldout_t`]) is at least `t_threshold` (default 0: the mean
-//!    block improvement must be positive; the t statistic is reported — a stricter threshold
-//!    rejects effects that show only at a few events, such as a lag at command steps);
+//!    reductions ([`heldout_t`](crate::evaluate::blocks::heldout_t)) is at least `t_threshold`
+//!    (default 0: the mean block improvement must be positive; the t statistic is reported — a
+//!    stricter threshold rejects effects that show only at a few events, such as a lag at
+//!    command steps);
 //! 4. the held-out RMSE falls by at least `min_material` (default 2 %) *of the baseline's*
 //!    held-out RMSE: an extra effect that only trims what is left after the others — a form
 //!    mismatch being soaked up — is not worth naming; unless it closes at least
@@ -53,7 +54,7 @@
 //!
 //! The gains of 2–4 are averaged over the channels the effect visibly changes: its held-out
 //! prediction must move by at least one step of the channel's resolution (a quantised
-//! sensor's step, read from the data; [`crate::stats::resolution`]) — below that, a change
+//! sensor's step, read from the data; [`resolution`](crate::evaluate::stats::resolution)) — below that, a change
 //! cannot be told from the quantisation itself.
 //!
 //! *Forward*: of the families that pass, the one whose model predicts the held-out data best
@@ -90,6 +91,9 @@
 //!
 //! A run the baseline already explains therefore yields an empty verdict: nothing fitted to
 //! noise generalises to the held-out data.
+//!
+//! [`Effect::name`]: shoal_model::effects::Effect::name
+//! [`Effect::form`]: shoal_model::effects::Effect::form
 
 mod candidate;
 mod context;

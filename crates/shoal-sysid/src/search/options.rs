@@ -1,7 +1,7 @@
 //! The settings of a search: the effects it considers, the thresholds of its rules, the
 //! stability check and the Levenberg–Marquardt settings.
 
-use crate::lm::LmOptions;
+use crate::evaluate::lm::LmOptions;
 use shoal_model::effects::{Effect, EffectInstance};
 use std::sync::Arc;
 
@@ -15,8 +15,8 @@ pub struct SearchOptions {
     /// Largest ΔBIC that counts as an improvement (default −10).
     pub bic_threshold: f64,
     /// Largest *effective* ΔBIC (each channel's sample count reduced for the residuals'
-    /// correlation, see [`super::measures::delta_bic_eff`]) with which an effect survives the backward
-    /// checks of the model it is part of (default 0).
+    /// correlation, see [`delta_bic_eff`](super::measures::delta_bic_eff)) with which an effect
+    /// survives the backward checks of the model it is part of (default 0).
     pub backward_eff_bic_threshold: f64,
     /// Smallest distance of a parameter from its null value in standard deviations
     /// (default 3).
@@ -65,7 +65,7 @@ impl Default for SearchOptions {
             threads: 1,
             lm: LmOptions::default(),
             base_effects: Vec::new(),
-            block_s: crate::blocks::DEFAULT_BLOCK_S,
+            block_s: crate::evaluate::blocks::DEFAULT_BLOCK_S,
             t_threshold: 0.0,
             min_material: 0.02,
             min_closure: 0.5,

@@ -12,7 +12,7 @@ use super::outcome::Outcome;
 use super::par::par_map;
 use super::rules::{choose, judge, skipped};
 use super::{identify, pairs, refine, stability, verdict};
-use crate::dataset::Dataset;
+use crate::evaluate::dataset::Dataset;
 use shoal_model::effects::{Effect, Effects};
 use shoal_model::vehicle::{VehicleModel, VehicleParams};
 use std::collections::BTreeMap;

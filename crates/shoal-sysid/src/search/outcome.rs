@@ -5,7 +5,7 @@ use super::candidate::Candidate;
 use super::fitted::Fit;
 use super::measures::gain;
 use super::verdict::Verdict;
-use crate::run::ChannelKind;
+use crate::log::run::ChannelKind;
 use std::collections::BTreeMap;
 
 /// The search's result.
@@ -22,7 +22,8 @@ pub struct Outcome {
     pub stepwise: Fit,
     /// What the search concludes.
     pub verdict: Verdict,
-    /// Residual weights of the baseline (see [`crate::evaluation::Evaluation::ml_factors`]).
+    /// Residual weights of the baseline (see
+    /// [`Evaluation::ml_factors`](crate::evaluate::evaluation::Evaluation::ml_factors)).
     pub factors: BTreeMap<ChannelKind, f64>,
 }
 

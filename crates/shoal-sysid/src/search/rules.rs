@@ -7,8 +7,8 @@ use super::candidate::{Candidate, FormScore};
 use super::fitted::Fit;
 use super::measures::{bic, closure, delta_bic, delta_bic_eff, gain, material, z_of};
 use super::options::SearchOptions;
-use crate::blocks::heldout_t;
-use crate::evaluation::Evaluation;
+use crate::evaluate::blocks::heldout_t;
+use crate::evaluate::evaluation::Evaluation;
 
 /// A candidate that was not fitted.
 pub fn skipped(round: usize, name: &str, note: String) -> Candidate {

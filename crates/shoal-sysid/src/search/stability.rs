@@ -1,7 +1,7 @@
 //! Stability selection: is each chosen effect still chosen when the log is resampled?
 //!
 //! The stepwise model is refitted on block-bootstrap resamples of the log
-//! ([`crate::blocks::Resample`]: estimation and validation blocks drawn with replacement, a
+//! ([`crate::evaluate::blocks::Resample`]: estimation and validation blocks drawn with replacement, a
 //! warm start from the full-data fit with a few Levenberg–Marquardt iterations), and on each the
 //! backward test is repeated with the resample's statistics: ΔBIC on the resampled
 //! estimation blocks; held-out gain, block test and materiality (share of the baseline's
@@ -15,8 +15,8 @@ use super::fit::Ctx;
 use super::fitted::Fit;
 use super::measures::{bic_resampled, closure_resampled, gain_resampled, material_resampled};
 use super::par::par_map;
-use crate::blocks::{Resample, heldout_t};
-use crate::lm::LmOptions;
+use crate::evaluate::blocks::{Resample, heldout_t};
+use crate::evaluate::lm::LmOptions;
 use std::collections::BTreeMap;
 
 /// Levenberg–Marquardt iterations of a warm refit on a resample.

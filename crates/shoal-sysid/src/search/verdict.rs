@@ -5,7 +5,7 @@
 use super::context::Search;
 use super::fitted::Fit;
 use super::measures::{STRUCTURE_RATIO, noise_floor};
-use crate::run::ChannelKind;
+use crate::log::run::ChannelKind;
 use std::collections::BTreeMap;
 
 /// What the search concludes.

@@ -5,10 +5,10 @@ use shoal_model::effects::{EffectInstance, Effects, by_name};
 use shoal_model::presets;
 use shoal_model::rigid_body::Environment;
 use shoal_model::vehicle::VehicleModel;
-use shoal_sysid::dataset::DataOptions;
 use shoal_sysid::design;
-use shoal_sysid::open_loop::ReplayOptions;
-use shoal_sysid::run::MeasuredRun;
+use shoal_sysid::evaluate::dataset::DataOptions;
+use shoal_sysid::evaluate::open_loop::ReplayOptions;
+use shoal_sysid::log::run::MeasuredRun;
 use shoal_sysid::synth::synthesize;
 use std::path::Path;
 

@@ -19,8 +19,8 @@
 //! Each clamp is reported as a [`ClampNote`] per column and limit: how many values, how far
 //! out at most.
 
-use crate::numbers::short;
-use crate::run::{MeasuredRun, RunError};
+use crate::log::numbers::short;
+use crate::log::run::{MeasuredRun, RunError};
 use std::fmt;
 
 /// Tolerance for tilt angles beyond their limits \[rad\].

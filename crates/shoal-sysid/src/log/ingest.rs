@@ -1,6 +1,6 @@
 //! Reading measured runs as real loggers write them: streaming, one pass, linear in the rows.
 //!
-//! The format is the one of [`crate::run`] (`../shared/spec/validation.md`), read leniently
+//! The format is the one of [`crate::log::run`] (`../shared/spec/validation.md`), read leniently
 //! where loggers differ and strictly where a value would be wrong:
 //!
 //! * **Separator**: `,`, `;` or a tab, taken from the header line — the one of the three that
@@ -20,7 +20,7 @@
 //! * **Numbers**: anything Rust's `f64` parser reads (`1`, `-1.5708`, `2.5e-3`, `+.5`); an
 //!   empty cell means "not sampled"; `nan`, `inf` and numbers beyond the `f64` range are
 //!   errors. For each input cell the reader records half a unit of its last written digit
-//!   (`-1.5708` → 5·10⁻⁵), so that the limit check ([`crate::limits`]) can
+//!   (`-1.5708` → 5·10⁻⁵), so that the limit check ([`crate::log::limits`]) can
 //!   tell a value rounded by the logger from one that is really out of range.
 //!
 //! Rejected, each with file, line and column: a header without `t` or without a `y.` column,
@@ -32,11 +32,11 @@
 //! Memory is the parsed columns (a few bytes per cell) plus one line; the text is never held
 //! whole.
 
-use crate::data_lines::{LineTooLong, LogLines};
-use crate::format::{IngestInfo, ReadOptions, Separator};
-use crate::header::{Col, Header, quote, unquote};
-use crate::numbers::short;
-use crate::run::{MeasuredRun, RunError};
+use crate::log::data_lines::{LineTooLong, LogLines};
+use crate::log::format::{IngestInfo, ReadOptions, Separator};
+use crate::log::header::{Col, Header, quote, unquote};
+use crate::log::numbers::short;
+use crate::log::run::{MeasuredRun, RunError};
 use std::fs::File;
 use std::io::{self, BufRead, BufReader};
 use std::path::Path;

@@ -3,8 +3,8 @@
 //! lag-1 autocorrelation, held-out RMSE, fit %, Ljung–Box) — what every score of the search
 //! is computed from. The dataset (`dataset.rs`) makes it from a replay.
 
-use crate::run::ChannelKind;
-use crate::stats;
+use crate::evaluate::stats;
+use crate::log::run::ChannelKind;
 use std::collections::BTreeMap;
 
 /// One channel of one run, compared.

@@ -1,7 +1,7 @@
 //! A replay's record: the model's outputs on a uniform time grid ([`Trace`]), read at sample
 //! times by linear interpolation ([`grid_position`]).
 
-use crate::run::ChannelKind;
+use crate::log::run::ChannelKind;
 use shoal_model::math::wrap_pi;
 
 /// A replayed run: the model's outputs on a uniform time grid.

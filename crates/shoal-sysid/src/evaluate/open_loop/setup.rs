@@ -3,9 +3,9 @@
 //! integrator ([`ReplayOptions`]) and the initial state taken from the first samples
 //! ([`InitialState`]).
 
-use crate::limits::{ClampNote, Limits};
-use crate::numbers::short;
-use crate::run::{ChannelKind, MeasuredRun, RunError};
+use crate::log::limits::{ClampNote, Limits};
+use crate::log::numbers::short;
+use crate::log::run::{ChannelKind, MeasuredRun, RunError};
 use shoal_model::dynamics::Integrator;
 use shoal_model::math::{Vec3, quat_from_rpy};
 use shoal_model::vehicle::VehicleParams;
@@ -20,7 +20,7 @@ pub struct InputMap {
     /// Input column of the pump (−1 empty, 0 off, +1 fill).
     pub pump: Option<usize>,
     /// Input values that lay within rounding of an actuator limit and were clamped to it
-    /// (see [`crate::limits`]).
+    /// (see [`crate::log::limits`]).
     pub clamped: Vec<ClampNote>,
 }
 
@@ -28,7 +28,7 @@ impl InputMap {
     /// Maps the run's `u.` columns onto the vehicle's actuators by name: `u.<thruster>`
     /// [%], `u.<tilt drive>` \[rad\], `u.pump`. Actuators without a column stay at zero.
     ///
-    /// Checks every input value against its actuator's limits ([`crate::limits`]): values
+    /// Checks every input value against its actuator's limits ([`crate::log::limits`]): values
     /// within rounding of a limit are clamped to it in `run` and counted in
     /// [`InputMap::clamped`]; a value clearly out of range, a pump command that is not −1, 0
     /// or +1, or an unknown actuator is an error naming the line and column (and `run` is

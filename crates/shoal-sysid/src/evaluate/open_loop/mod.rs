@@ -28,7 +28,7 @@ pub use trace::{Trace, grid_position};
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::run::{ChannelKind, MeasuredRun};
+    use crate::log::run::{ChannelKind, MeasuredRun};
     use shoal_model::rigid_body::Environment;
     use shoal_model::vehicle::VehicleModel;
     use std::path::Path;

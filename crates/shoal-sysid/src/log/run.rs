@@ -12,7 +12,7 @@
 //!
 //! Every problem is a [`RunError`] naming the file, the line and the column.
 
-use crate::format::IngestInfo;
+use crate::log::format::IngestInfo;
 use std::fmt;
 use std::path::PathBuf;
 

@@ -15,8 +15,8 @@
 //!
 //! Blocks are counted from the first sample of each run's estimation and validation part.
 
-use crate::evaluation::{ChannelResult, Evaluation, push_estimation};
-use crate::run::ChannelKind;
+use crate::evaluate::evaluation::{ChannelResult, Evaluation, push_estimation};
+use crate::log::run::ChannelKind;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::collections::BTreeMap;

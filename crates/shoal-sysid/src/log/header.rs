@@ -6,8 +6,8 @@
 //! measurements `y.<channel>`, ignored `x.<anything>`; anything else, a repeated name or a
 //! second time column is an error naming the header line and the column.
 
-use crate::format::{ReadOptions, Separator, TimeUnit};
-use crate::run::{Channel, ChannelKind, InputColumn, RunError, suggest};
+use crate::log::format::{ReadOptions, Separator, TimeUnit};
+use crate::log::run::{Channel, ChannelKind, InputColumn, RunError, suggest};
 use std::collections::HashSet;
 use std::path::Path;
 

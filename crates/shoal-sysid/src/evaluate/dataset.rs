@@ -1,6 +1,6 @@
 //! The data a search works on: runs mapped onto a vehicle, each sample marked as estimation or
 //! validation, and their replays on a model compared with the measurements (predictions and
-//! residuals, from which [`crate::evaluation`] derives the per-channel metrics).
+//! residuals, from which [`crate::evaluate::evaluation`] derives the per-channel metrics).
 //!
 //! **Splitting.** Without hold-out runs, each run is split in time: samples before
 //! `t₀ + split·duration` are for estimation, the rest for validation; the replay runs through
@@ -14,14 +14,14 @@
 //! absolute position and heading (true away from the surface) this is the least-squares
 //! estimate of the initial position.
 
-use crate::blocks::{Resample, push_weighted};
-use crate::evaluation::{ChannelResult, Evaluation, RunResult};
-use crate::masses::MassTable;
-use crate::open_loop::{
+use crate::evaluate::blocks::{Resample, push_weighted};
+use crate::evaluate::evaluation::{ChannelResult, Evaluation, RunResult};
+use crate::evaluate::masses::MassTable;
+use crate::evaluate::open_loop::{
     InitialState, InputMap, ReplayOptions, Trace, grid_position, replay_steps, simulate_many,
 };
-use crate::run::{ChannelKind, MeasuredRun, RunError};
-use crate::stats;
+use crate::evaluate::stats;
+use crate::log::run::{ChannelKind, MeasuredRun, RunError};
 use shoal_model::lanes::LANES;
 use shoal_model::math::wrap_pi;
 use shoal_model::rigid_body::Environment;
@@ -449,10 +449,10 @@ impl Dataset {
     }
 
     /// The estimation residuals of a replay of this dataset, weighted as
-    /// [`crate::blocks::weighted_residuals`] weighs them, or `None` where [`Evaluation::metrics`]
-    /// would hold a sum of squares that is not finite: the same numbers as
-    /// `weighted_residuals(&evaluation(replayed), factor, resample)`, without the per-channel
-    /// metrics and series a fit's inner loop never looks at.
+    /// [`weighted_residuals`](crate::evaluate::blocks::weighted_residuals) weighs them, or
+    /// `None` where [`Evaluation::metrics`] would hold a sum of squares that is not finite:
+    /// the same numbers as `weighted_residuals(&evaluation(replayed), factor, resample)`,
+    /// without the per-channel metrics and series a fit's inner loop never looks at.
     pub fn weighted(
         &self,
         replayed: &Replayed,

@@ -3,7 +3,7 @@
 //! run for the report). The header parser and the reader (`ingest.rs`) use these; the run
 //! itself only carries them.
 
-use crate::numbers::short;
+use crate::log::numbers::short;
 use std::fmt;
 
 /// The unit the time column is written in.

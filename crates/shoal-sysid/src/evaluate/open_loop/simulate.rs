@@ -5,8 +5,8 @@
 
 use super::setup::{InitialState, InputMap, ReplayOptions, replay_steps};
 use super::trace::Trace;
-use crate::masses::{BodyMasses, MassTable};
-use crate::run::{ChannelKind, MeasuredRun};
+use crate::evaluate::masses::{BodyMasses, MassTable};
+use crate::log::run::{ChannelKind, MeasuredRun};
 use shoal_model::ballast::Pump;
 use shoal_model::control::ActuatorCommands;
 use shoal_model::dynamics::{Integrator, RigidState};
