@@ -2,7 +2,8 @@
 # The CPU cost of `shoal validate`'s search side by side with an older commit: builds
 # examples/search_speed.rs (release) for the current checkout and for BASE_COMMIT (in a
 # temporary git worktree, removed afterwards, the program's source copied into it; for a base
-# from before the crate shoal-testkit its `shoal_testkit::` paths become `shoal::sysid::`, where
+# from before the crate shoal-testkit its `shoal_testkit::` paths become `shoal::sysid::` (and
+# from before sysid's stage folders, its `log::run` and `evaluate::dataset` paths the old ones), where
 # those modules were then), runs the two on each selected case alternately (base, current,
 # base, current, … so that both see the same machine load) and prints per case the CPU seconds
 # of both, their ratio and whether the verdicts are equal, then the totals and the machine. A
@@ -141,6 +142,11 @@ git worktree add --detach --quiet "$work/base" "$base_rev"
 cp examples/search_speed.rs "$work/base/examples/"
 if [[ ! -d $work/base/crates/shoal-testkit ]]; then
     sed -i 's/\bshoal_testkit::/shoal::sysid::/g' "$work/base/examples/search_speed.rs"
+fi
+# A base from before sysid's stage folders (log/, evaluate/) has the modules at the top.
+if [[ ! -d $work/base/crates/shoal-sysid/src/log ]]; then
+    sed -i 's/\bshoal::sysid::log::run::/shoal::sysid::run::/g; s/\bshoal::sysid::evaluate::dataset::/shoal::sysid::data::/g' \
+        "$work/base/examples/search_speed.rs"
 fi
 build "$work/base" "$target/search-speed-base" "$work/search_speed.base"
 build "$root" "$target" "$work/search_speed.current"

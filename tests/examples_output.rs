@@ -20,7 +20,7 @@ use shoal::model::presets::uauv2_modem;
 use shoal::output::plot::rgb;
 use shoal::sim::analysis::{point_depth, record_run};
 use shoal::sim::recorder::col;
-use shoal::sysid::run::MeasuredRun;
+use shoal::sysid::log::run::MeasuredRun;
 use shoal::world::load::load_file;
 use shoal::world::spec::WATER_TYPES;
 use std::path::{Path, PathBuf};

@@ -4,8 +4,8 @@
 use crate::Failure;
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressStyle};
-use shoal_sysid::ingest::TimeUnit;
-use shoal_sysid::segments::{GapMode, Segments};
+use shoal_sysid::log::format::TimeUnit;
+use shoal_sysid::log::segments::{GapMode, Segments};
 use shoal_sysid::validate::{Config, Progress, RunInput, ValidateError, Vehicle};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;

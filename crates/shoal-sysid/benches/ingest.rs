@@ -5,9 +5,9 @@
 //! read on 2 shared cores; the target is ≤ 2 s).
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use shoal_sysid::replay::InputMap;
-use shoal_sysid::run::MeasuredRun;
-use shoal_sysid::segments::GapOptions;
+use shoal_sysid::evaluate::open_loop::InputMap;
+use shoal_sysid::log::run::MeasuredRun;
+use shoal_sysid::log::segments::GapOptions;
 use std::hint::black_box;
 use std::io::{BufWriter, Write};
 use std::path::PathBuf;

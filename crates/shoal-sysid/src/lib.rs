@@ -3,20 +3,24 @@
 //! `shoal validate`: given logs of a real vehicle, show what the simulation gets wrong, name
 //! the cause, extend the model and measure the gain (`../shared/spec/validation.md`).
 //!
-//! * [`run`] — a measured run: time, inputs, measurements, with errors that name line and
-//!   column;
-//! * [`ingest`] — reading runs as loggers write them (separators, comments, time units),
-//!   streaming and linear in the rows; [`segments`] — runs split at gaps in time;
-//!   [`limits`] — inputs checked against the actuator limits, rounding clamped and counted;
-//! * [`replay`] — the vehicle model driven open-loop by the measured inputs;
-//! * [`blocks`] — time blocks of residuals: held-out tests and the block bootstrap;
-//! * [`data`] — runs split into estimation and validation data, models evaluated on them;
-//! * [`lm`], [`stats`] — bounded Levenberg–Marquardt, whiteness tests and friends;
-//! * [`search`] — per-effect fits, BIC and validation scoring, greedy forward selection with a
-//!   significance rule;
-//! * [`report`] — `report.json`, `report.md` with plots, and the extended `vehicle.toml`;
-//! * [`validate`] — all of the above in one call: settings checked, runs read, searched,
-//!   judged (what `shoal validate` and Python's `shoal.validate` call).
+//! The pipeline, one folder per stage:
+//!
+//! 1. [`log`] — reading a log: a measured run ([`log::run`]), the file's vocabulary
+//!    ([`log::format`]), the streaming reader ([`log::ingest`]), runs split at gaps in time
+//!    ([`log::segments`]) and inputs checked against the actuator limits ([`log::limits`]);
+//! 2. [`evaluate`] — a model evaluated open-loop on the runs: the simulation
+//!    ([`evaluate::open_loop`]), estimation and validation data ([`evaluate::dataset`]), the
+//!    comparison and its metrics ([`evaluate::evaluation`]), time blocks and the bootstrap
+//!    ([`evaluate::blocks`]), and the tools they use ([`evaluate::lm`], [`evaluate::stats`],
+//!    [`evaluate::masses`]);
+//! 3. [`search`] — per-effect fits, BIC and validation scoring, greedy forward selection with a
+//!    significance rule, identifiability and stability, the verdict;
+//! 4. [`report`] — `report.json`, `report.md` with plots, and the extended `vehicle.toml`.
+//!
+//! Each stage uses only the stages before it.
+//!
+//! [`validate`] is the one entry point, all of the above in one call: settings checked, runs
+//! read, searched, judged (what `shoal validate` and Python's `shoal.validate` call).
 //!
 //! Synthetic runs, the designed μAUV² experiments, effects hidden in forms that differ from
 //! the catalogue's, logs written as a real logger writes them, the misspecified-form test set
@@ -26,18 +30,8 @@
 //! The effects themselves live in `shoal_model::effects`, so that `shoal run` uses a fitted
 //! model unchanged.
 
-pub mod blocks;
-pub mod data;
-mod header;
-pub mod ingest;
-pub mod limits;
-mod lines;
-pub mod lm;
-pub mod masses;
-pub mod replay;
+pub mod evaluate;
+pub mod log;
 pub mod report;
-pub mod run;
 pub mod search;
-pub mod segments;
-pub mod stats;
 pub mod validate;

@@ -4,16 +4,17 @@
 //! (`shoal.validate`) are thin layers over it. Settings are checked before anything is read,
 //! with errors that name the setting and its allowed range ([`ValidateError`]).
 
-use crate::data::{DataError, DataOptions, Dataset, Evaluation};
-use crate::ingest::{ReadOptions, TimeUnit};
-use crate::limits::ClampNote;
-use crate::replay::ReplayOptions;
+use crate::evaluate::dataset::{DataError, DataOptions, Dataset};
+use crate::evaluate::evaluation::Evaluation;
+use crate::evaluate::open_loop::ReplayOptions;
+use crate::log::format::{ReadOptions, TimeUnit};
+use crate::log::limits::ClampNote;
+use crate::log::run::{ChannelKind, MeasuredRun, RunError};
+use crate::log::segments::{GapMode, GapOptions, Segments};
 use crate::report::{
     ReportError, ReportInput, Written, report_value, vehicle_toml, verdict_sentence, write_report,
 };
-use crate::run::{ChannelKind, MeasuredRun, RunError};
 use crate::search::{Outcome, SearchOptions, search};
-use crate::segments::{GapMode, GapOptions, Segments};
 use shoal_model::effects;
 use shoal_model::presets;
 use shoal_model::rigid_body::Environment;

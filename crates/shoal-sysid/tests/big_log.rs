@@ -1,7 +1,7 @@
 //! A 10⁶-row log with one broken cell near its end, read from a file: the error names exactly
 //! that line and column (line numbers are counted incrementally, comment lines included).
 
-use shoal_sysid::run::MeasuredRun;
+use shoal_sysid::log::run::MeasuredRun;
 use std::io::{BufWriter, Write};
 
 #[test]

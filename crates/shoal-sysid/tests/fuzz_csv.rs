@@ -12,10 +12,10 @@
 //! so every case finishes; no wall-clock bound is asserted here.
 
 use proptest::prelude::*;
-use shoal_sysid::ingest::{ReadOptions, TimeUnit};
-use shoal_sysid::replay::{InputMap, ReplayOptions};
-use shoal_sysid::run::MeasuredRun;
-use shoal_sysid::segments::{GapMode, GapOptions};
+use shoal_sysid::evaluate::open_loop::{InputMap, ReplayOptions};
+use shoal_sysid::log::format::{ReadOptions, TimeUnit};
+use shoal_sysid::log::run::MeasuredRun;
+use shoal_sysid::log::segments::{GapMode, GapOptions};
 use std::path::Path;
 
 /// A run the reader accepted must be consistent.

@@ -1,5 +1,5 @@
 //! Harmless mutations of valid measured-run logs must be *read*, with the same data. The
-//! format (docs/validation.md, "Logs are read as loggers write them"; `shoal_sysid::ingest`)
+//! format (docs/validation.md, "Logs are read as loggers write them"; `shoal_sysid::log::ingest`)
 //! promises that comment lines anywhere (indented or not), blank lines, `\n`, `\r\n` or `\r`
 //! line ends, a UTF-8 byte-order mark, spaces around cells, quoted cells and one trailing
 //! separator on the header or a row change nothing but the line numbers: a random valid log
@@ -13,8 +13,8 @@
 //! `PROPTEST_CASES=100000 cargo test --release -p shoal-sysid --test fuzz_csv_harmless`.
 
 use proptest::prelude::*;
-use shoal_sysid::ingest::ReadOptions;
-use shoal_sysid::run::{ChannelKind, MeasuredRun};
+use shoal_sysid::log::format::ReadOptions;
+use shoal_sysid::log::run::{ChannelKind, MeasuredRun};
 use std::path::Path;
 
 /// A valid log: its header cells and its data rows' cells.
@@ -257,7 +257,7 @@ fn data(r: &MeasuredRun) -> Data {
     )
 }
 
-fn read(text: &str) -> Result<MeasuredRun, shoal_sysid::run::RunError> {
+fn read(text: &str) -> Result<MeasuredRun, shoal_sysid::log::run::RunError> {
     MeasuredRun::from_reader(
         text.as_bytes(),
         Path::new("log.csv"),

@@ -2,8 +2,8 @@
 //! separators, comments anywhere, CRLF, time in milliseconds) and every error, each with its
 //! exact line and column.
 
-use shoal_sysid::ingest::{ReadOptions, Separator, TimeUnit};
-use shoal_sysid::run::{MeasuredRun, RunError};
+use shoal_sysid::log::format::{ReadOptions, Separator, TimeUnit};
+use shoal_sysid::log::run::{MeasuredRun, RunError};
 use std::path::Path;
 
 fn parse(s: &str) -> Result<MeasuredRun, RunError> {

@@ -9,7 +9,7 @@ use common::{Exp, channel_gains, find, measured};
 use shoal_model::effects::{Effect, EffectInstance, Effects};
 use shoal_model::presets;
 use shoal_model::vehicle::VehicleModel;
-use shoal_sysid::data::Dataset;
+use shoal_sysid::evaluate::dataset::Dataset;
 use std::sync::Arc;
 
 #[test]

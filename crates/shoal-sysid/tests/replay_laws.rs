@@ -9,9 +9,9 @@ use shoal_model::presets::{
 };
 use shoal_model::rigid_body::Environment;
 use shoal_model::vehicle::VehicleModel;
-use shoal_sysid::data::unwrap;
-use shoal_sysid::replay::{InitialState, InputMap, ReplayOptions, simulate};
-use shoal_sysid::run::{Channel, ChannelKind, InputColumn, MeasuredRun};
+use shoal_sysid::evaluate::dataset::unwrap;
+use shoal_sysid::evaluate::open_loop::{InitialState, InputMap, ReplayOptions, simulate};
+use shoal_sysid::log::run::{Channel, ChannelKind, InputColumn, MeasuredRun};
 use shoal_testkit::design::balanced_stbd;
 use std::f64::consts::FRAC_PI_2;
 

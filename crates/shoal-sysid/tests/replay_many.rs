@@ -13,10 +13,10 @@ use shoal_model::effects::by_name;
 use shoal_model::presets;
 use shoal_model::rigid_body::Environment;
 use shoal_model::vehicle::VehicleModel;
-use shoal_sysid::data::{Dataset, Part};
-use shoal_sysid::masses::MassTable;
-use shoal_sysid::replay::{ReplayOptions, Trace, simulate_many, simulate_with};
-use shoal_sysid::run::MeasuredRun;
+use shoal_sysid::evaluate::dataset::{Dataset, Part};
+use shoal_sysid::evaluate::masses::MassTable;
+use shoal_sysid::evaluate::open_loop::{ReplayOptions, Trace, simulate_many, simulate_with};
+use shoal_sysid::log::run::MeasuredRun;
 use shoal_testkit::design;
 use shoal_testkit::synth::synthesize;
 use std::path::Path;
@@ -142,13 +142,13 @@ fn replays_that_end_at_different_steps() {
     let models = models();
     let params = &models[0].params;
     let mut run_mapped = run.clone();
-    let map = shoal_sysid::replay::InputMap::new(params, &mut run_mapped).unwrap();
-    let init = shoal_sysid::replay::InitialState::from_run(params, &run_mapped, 0.5);
+    let map = shoal_sysid::evaluate::open_loop::InputMap::new(params, &mut run_mapped).unwrap();
+    let init = shoal_sysid::evaluate::open_loop::InitialState::from_run(params, &run_mapped, 0.5);
     let kinds = [
-        shoal_sysid::run::ChannelKind::Depth,
-        shoal_sysid::run::ChannelKind::Pitch,
-        shoal_sysid::run::ChannelKind::Yaw,
-        shoal_sysid::run::ChannelKind::W,
+        shoal_sysid::log::run::ChannelKind::Depth,
+        shoal_sysid::log::run::ChannelKind::Pitch,
+        shoal_sysid::log::run::ChannelKind::Yaw,
+        shoal_sysid::log::run::ChannelKind::W,
     ];
     let opts = ReplayOptions {
         dt: 0.007,

@@ -11,8 +11,8 @@ mod common;
 use common::replays::{model, offgrid_options as options, pumping_heave_run as heave_run};
 use shoal_model::presets;
 use shoal_model::rigid_body::Environment;
-use shoal_sysid::blocks::Resample;
-use shoal_sysid::data::{Dataset, Part};
+use shoal_sysid::evaluate::blocks::{Resample, weighted_residuals};
+use shoal_sysid::evaluate::dataset::{Dataset, Part};
 
 fn bits(v: &[f64]) -> Vec<u64> {
     v.iter().map(|x| x.to_bits()).collect()
@@ -46,9 +46,9 @@ fn same_numbers(ds: &Dataset) -> (usize, usize) {
             let w = ds.weighted(&whole, &factors, resample).unwrap();
             let p = ds.weighted(&part, &factors, resample).unwrap();
             assert_eq!(bits(&w), bits(&p));
-            assert_eq!(bits(&w), bits(&ew.weighted_with(&factors, resample)));
+            assert_eq!(bits(&w), bits(&weighted_residuals(&ew, &factors, resample)));
         }
-        let count = |e: &shoal_sysid::data::Evaluation| {
+        let count = |e: &shoal_sysid::evaluate::evaluation::Evaluation| {
             e.runs
                 .iter()
                 .flat_map(|r| &r.channels)

@@ -6,7 +6,7 @@
 mod common;
 
 use common::pinned::{Table, check_verdict};
-use shoal_sysid::data::DataError;
+use shoal_sysid::evaluate::dataset::DataError;
 use shoal_sysid::validate::{Config, Progress, RunInput, ValidateError, validate};
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;

@@ -16,7 +16,7 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use shoal_model::math::Vec3;
 use shoal_model::presets::{UAUV2_CT_NEG, UAUV2_CT_POS};
-use shoal_sysid::run::ChannelKind;
+use shoal_sysid::log::run::ChannelKind;
 use std::f64::consts::FRAC_PI_2;
 
 /// One segment of a pattern: hold time [s], command [%], pump (−1, 0, +1).

@@ -2,12 +2,12 @@
 //! significant digits as C's `printf("%g")` prints it. A tilt held at its mechanical limit
 //! β = −π/2 therefore reads `-1.5708`, a time stamp `119.98`, a small rate `-0.0035994`.
 //!
-//! [`shoal_sysid::run::MeasuredRun::to_csv`] writes full precision and leaves held inputs empty —
+//! [`shoal_sysid::log::run::MeasuredRun::to_csv`] writes full precision and leaves held inputs empty —
 //! right for files the tool writes itself, too kind for a test of what it reads. The depth's
 //! 1.8 mm steps, the 50 Hz sampling and the sensor noise come from the simulation
 //! ([`crate::synth`]); this module only prints.
 
-use shoal_sysid::run::MeasuredRun;
+use shoal_sysid::log::run::MeasuredRun;
 
 /// Significant digits of C's `%g`.
 pub const PRINTF_G_DIGITS: usize = 6;
@@ -117,7 +117,7 @@ mod tests {
 
     #[test]
     fn writes_every_cell_and_reads_back_within_six_digits() {
-        use shoal_sysid::run::{Channel, ChannelKind, InputColumn};
+        use shoal_sysid::log::run::{Channel, ChannelKind, InputColumn};
         let run = MeasuredRun {
             path: "x.csv".into(),
             name: "x".into(),

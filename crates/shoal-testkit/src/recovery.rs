@@ -10,9 +10,9 @@
 use crate::testset::{Case, DENSITY};
 use shoal_model::presets;
 use shoal_model::rigid_body::Environment;
-use shoal_sysid::data::{DataOptions, Dataset};
-use shoal_sysid::replay::ReplayOptions;
-use shoal_sysid::run::MeasuredRun;
+use shoal_sysid::evaluate::dataset::{DataOptions, Dataset};
+use shoal_sysid::evaluate::open_loop::ReplayOptions;
+use shoal_sysid::log::run::MeasuredRun;
 use shoal_sysid::search::{SearchOptions, search};
 use std::collections::BTreeSet;
 use std::path::Path;

@@ -3,7 +3,7 @@
 //! delay — sampled like a logger would. This is how the search is tested ("hide an effect in
 //! data and find it") and how experiments are designed before going to the pool.
 //!
-//! Independent of [`shoal_sysid::replay`]: it steps the model with the run-time path of
+//! Independent of [`shoal_sysid::evaluate::open_loop`]: it steps the model with the run-time path of
 //! `shoal run` (`actuate_vehicle`, `integrate_vehicle`, `sense` with its delay line) on its own
 //! time step, and adds measurement noise from a seeded RNG.
 //!
@@ -20,7 +20,7 @@ use shoal_model::dynamics::{Integrator, RigidState};
 use shoal_model::math::{Vec3, quat_from_rpy};
 use shoal_model::rigid_body::Environment;
 use shoal_model::vehicle::{VehicleModel, VehicleState, actuate_vehicle, integrate_vehicle, sense};
-use shoal_sysid::run::{Channel, ChannelKind, InputColumn, MeasuredRun};
+use shoal_sysid::log::run::{Channel, ChannelKind, InputColumn, MeasuredRun};
 use std::collections::VecDeque;
 use std::path::PathBuf;
 

@@ -22,7 +22,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use shoal_model::presets;
 use shoal_model::rigid_body::Environment;
-use shoal_sysid::run::MeasuredRun;
+use shoal_sysid::log::run::MeasuredRun;
 use std::collections::BTreeSet;
 
 /// Physics step of the simulated truth \[s\].
@@ -354,7 +354,7 @@ pub fn truth_json(cases: &[CaseSpec]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use shoal_sysid::run::ChannelKind;
+    use shoal_sysid::log::run::ChannelKind;
 
     #[test]
     fn sets_cover_every_form_and_family_and_names_are_unique() {

@@ -2,10 +2,11 @@
 //! with its forms and tests, and per named effect its evidence, parameters with 95 %
 //! confidence intervals and the residual-signature plot.
 
+use super::input::ReportInput;
 use super::plots::PlotRefs;
-use super::{ReportInput, ci95, evidence, label, verdict_sentence, white};
-use crate::data::Evaluation;
-use crate::run::ChannelKind;
+use super::wording::{ci95, evidence, label, verdict_sentence, white};
+use crate::evaluate::evaluation::Evaluation;
+use crate::log::run::ChannelKind;
 use crate::search::{Candidate, Fit};
 use serde_json::{Map, Value, json};
 use std::collections::BTreeMap;

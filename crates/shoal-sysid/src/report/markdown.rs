@@ -5,12 +5,12 @@
 //! after); then what is possible, ambiguous or unexplained; then the tables, the candidates
 //! and the plots of the runs.
 
+use super::input::{ReportInput, Written};
 use super::plots::PlotRefs;
-use super::{
-    ReportInput, Written, ci95, evidence, file_name, fmt_pm, form_candidate, label, sig,
-    verdict_sentence, white, yes,
+use super::wording::{
+    ci95, evidence, file_name, fmt_pm, form_candidate, label, sig, verdict_sentence, white, yes,
 };
-use crate::run::ChannelKind;
+use crate::log::run::ChannelKind;
 use crate::search::{Candidate, FittedEffect, Outcome, SearchOptions};
 use shoal_model::vehicle::VehicleParams;
 use std::collections::BTreeMap;

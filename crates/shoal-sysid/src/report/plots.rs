@@ -3,12 +3,14 @@
 //! before and after. Drawing rules (axes that cover every drawn point, legends off the data)
 //! live in [`shoal_output::plot`]; here the data are chosen and styled.
 
+use super::input::ReportInput;
 use super::signature::{self, Regressor};
-use super::{ReportInput, label};
-use crate::data::{ChannelResult, RunData};
-use crate::run::ChannelKind;
+use super::wording::label;
+use crate::evaluate::dataset::RunData;
+use crate::evaluate::evaluation::ChannelResult;
+use crate::evaluate::stats;
+use crate::log::run::ChannelKind;
 use crate::search::Outcome;
-use crate::stats;
 use shoal_output::plot::{Plot, Series};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -372,7 +374,7 @@ pub(super) fn signature_plot(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::data::unwrap;
+    use crate::evaluate::dataset::unwrap;
 
     /// Every point of every series of `plot` lies inside its ranges.
     fn covers(plot: &Plot) {
@@ -410,10 +412,14 @@ mod tests {
         let csv: String = std::iter::once("t,u.port,y.depth\n".to_string())
             .chain(t.iter().map(|t| format!("{t},0,1\n")))
             .collect();
-        let run = crate::run::MeasuredRun::parse(&csv, Path::new("r.csv")).unwrap();
+        let run = crate::log::run::MeasuredRun::parse(&csv, Path::new("r.csv")).unwrap();
         RunData {
-            map: crate::replay::InputMap::default(),
-            init: crate::replay::InitialState::from_run(&shoal_model::presets::uauv2(), &run, 0.5),
+            map: crate::evaluate::open_loop::InputMap::default(),
+            init: crate::evaluate::open_loop::InitialState::from_run(
+                &shoal_model::presets::uauv2(),
+                &run,
+                0.5,
+            ),
             run,
             channels: vec![0],
             split_time: 6.0,

@@ -3,9 +3,11 @@
 //! time, a damping error as a slope against the speed. Before (the baseline) and after (the
 //! final model) side by side show what the effect took out of the residual.
 
-use super::{channel_of, label};
-use crate::data::{Dataset, Evaluation, RunData};
-use crate::run::ChannelKind;
+use super::correlations::channel_of;
+use super::wording::label;
+use crate::evaluate::dataset::{Dataset, RunData};
+use crate::evaluate::evaluation::Evaluation;
+use crate::log::run::ChannelKind;
 
 /// What a family's residual signature is plotted against.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -58,7 +60,8 @@ pub(super) fn command_input(ds: &Dataset) -> Option<String> {
             .filter_map(|rd| rd.run.inputs.iter().find(|i| i.name == n))
             .flat_map(|i| i.values.iter().copied())
             .collect();
-        let spread = crate::stats::rms(&v.iter().map(|x| x - mean(&v)).collect::<Vec<_>>());
+        let spread =
+            crate::evaluate::stats::rms(&v.iter().map(|x| x - mean(&v)).collect::<Vec<_>>());
         if spread > 0.0 && best.as_ref().is_none_or(|b| spread > b.1) {
             best = Some((n, spread));
         }

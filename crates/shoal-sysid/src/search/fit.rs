@@ -1,19 +1,20 @@
 //! Fitting one candidate model: replays, the excitation probe, bounded Levenberg–Marquardt from
 //! several starts with iterative reweighting, covariances and the Wald distance from null.
 
+use super::fitted::{Fit, FittedEffect, ParamEstimate};
+use super::measures::bic_resampled;
 use super::memo::Memo;
-use super::rules::bic_rs;
-use super::{Fit, FittedEffect, ParamEstimate, SearchOptions};
-use crate::blocks::Resample;
-use crate::data::{Dataset, Evaluation, Part, Replayed};
-use crate::lm::{LmOptions, minimise_from};
-use crate::run::ChannelKind;
-use crate::stats;
+use super::options::SearchOptions;
+use crate::evaluate::blocks::{Resample, weighted_residuals};
+use crate::evaluate::dataset::{Dataset, Part, Replayed};
+use crate::evaluate::evaluation::Evaluation;
+use crate::evaluate::lm::{LmOptions, LmResult, minimise_from};
+use crate::evaluate::stats;
+use crate::log::run::ChannelKind;
 use nalgebra::DMatrix;
 use shoal_model::effects::{Effect, EffectInstance, Effects, ParamInfo};
 use shoal_model::lanes::LANES;
 use shoal_model::vehicle::{VehicleModel, VehicleParams};
-use statrs::distribution::{ChiSquared, ContinuousCDF, Normal};
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
@@ -199,30 +200,7 @@ impl Ctx<'_> {
         scan: Option<usize>,
     ) -> Option<Fit> {
         let infos = self.infos(effects);
-        let free: Vec<usize> = (0..infos.len()).filter(|&j| excited[j]).collect();
-        let null: Vec<f64> = infos.iter().map(|p| p.null).collect();
-        let full = |xf: &[f64], start: &[f64]| {
-            let mut x = start.to_vec();
-            for (k, &j) in free.iter().enumerate() {
-                x[j] = xf[k];
-            }
-            for (j, p) in infos.iter().enumerate() {
-                if !excited[j] {
-                    x[j] = p.null;
-                }
-            }
-            x
-        };
-        let lo: Vec<f64> = free.iter().map(|&j| infos[j].lo).collect();
-        let hi: Vec<f64> = free.iter().map(|&j| infos[j].hi).collect();
-        let scale: Vec<f64> = free
-            .iter()
-            .map(|&j| {
-                let p = &infos[j];
-                let s = (p.typical - p.null).abs();
-                if s > 0.0 { s } else { 0.1 * (p.hi - p.lo) }
-            })
-            .collect();
+        let params = FreeParams::new(&infos, excited);
         // Candidate starts: the given ones and, with `scan`, points from the null values
         // towards the far bounds (all free parameters together), against multimodal costs.
         // The LM runs from the best two (by BIC; the earlier point first among equals), each
@@ -230,50 +208,70 @@ impl Ctx<'_> {
         // the estimation samples (BIC, weights, residuals): their replays stop there.
         let mut points: Vec<Vec<f64>> = starts
             .iter()
-            .map(|s| full(&free.iter().map(|&j| s[j]).collect::<Vec<_>>(), s))
+            .map(|s| params.full(&params.free.iter().map(|&j| s[j]).collect::<Vec<_>>(), s))
             .collect();
         if let (Some(from), Some(first)) = (scan, starts.first()) {
             points.extend(scan_points(&infos, excited, first, from));
         }
         let mut evaluations = points.len();
+        let top = self.best_starts(effects, &points);
+        let best = self.minimise_from_best(effects, top, &params, &mut evaluations)?;
+        Some(self.fitted(effects, &params, best, evaluations))
+    }
+
+    /// The best two of `points` by BIC on the estimation samples (the earlier point first among
+    /// equals), each with its evaluation; points that cannot be evaluated are left out.
+    fn best_starts(
+        &self,
+        effects: &[Arc<dyn Effect>],
+        points: &[Vec<f64>],
+    ) -> Vec<(f64, Vec<f64>, Evaluation)> {
         let mut top: Vec<(f64, Vec<f64>, Evaluation)> = Vec::with_capacity(3);
         // Evaluated LANES at a time (replayed together), ranked in their order.
         for batch in points.chunks(LANES) {
             let evals = self.eval_parts(effects, batch, Part::Estimation);
             for (x, ev) in batch.iter().zip(evals) {
                 if let Some(ev) = ev {
-                    let b = bic_rs(&ev, 0, self.resample);
+                    let b = bic_resampled(&ev, 0, self.resample);
                     let at = top.partition_point(|(t, ..)| t.total_cmp(&b).is_le());
                     top.insert(at, (b, x.clone(), ev));
                     top.truncate(2);
                 }
             }
         }
-        type Best = (
-            f64,
-            crate::lm::LmResult,
-            BTreeMap<ChannelKind, f64>,
-            Vec<f64>,
-            Evaluation,
-        );
+        top
+    }
+
+    /// Levenberg–Marquardt from each of `top` (a point with its evaluation), iteratively
+    /// reweighted: weights from the residuals, fit, new weights, … until they settle (at most
+    /// three passes). The result of lowest BIC, or `None` when no pass succeeded; the replays
+    /// spent are added to `evaluations`.
+    fn minimise_from_best(
+        &self,
+        effects: &[Arc<dyn Effect>],
+        top: Vec<(f64, Vec<f64>, Evaluation)>,
+        p: &FreeParams<'_>,
+        evaluations: &mut usize,
+    ) -> Option<Best> {
         let mut best: Option<Best> = None;
         for (_, mut x, mut ev) in top {
             let mut result = None;
             // Iteratively reweighted: weights from the residuals, fit, new weights, … .
             for _ in 0..3 {
                 let factors = ev.ml_factors();
-                let x0: Vec<f64> = free.iter().map(|&j| x[j]).collect();
+                let x0: Vec<f64> = p.free.iter().map(|&j| x[j]).collect();
                 let f = |xs: &[Vec<f64>]| {
-                    let xs: Vec<Vec<f64>> = xs.iter().map(|xf| full(xf, &null)).collect();
+                    let xs: Vec<Vec<f64>> = xs.iter().map(|xf| p.full(xf, &p.null)).collect();
                     self.weighted_many(effects, &xs, &factors)
                 };
                 // The residuals at the start are those of `ev` (x is `full(x0, null)`).
-                let e0 = ev.weighted_with(&factors, self.resample);
-                let Some(r) = minimise_from(&f, &x0, Some(e0), &lo, &hi, &scale, &self.lm) else {
+                let e0 = weighted_residuals(&ev, &factors, self.resample);
+                let Some(r) = minimise_from(&f, &x0, Some(e0), &p.lo, &p.hi, &p.scale, &self.lm)
+                else {
                     break;
                 };
-                evaluations += r.evaluations + 1;
-                x = full(&r.x, &null);
+                *evaluations += r.evaluations + 1;
+                x = p.full(&r.x, &p.null);
                 let Some(new_ev) = self.eval(effects, &x) else {
                     break;
                 };
@@ -289,13 +287,27 @@ impl Ctx<'_> {
                 }
             }
             let Some((r, used)) = result else { continue };
-            let score = bic_rs(&ev, 0, self.resample);
+            let score = bic_resampled(&ev, 0, self.resample);
             if best.as_ref().is_none_or(|(b, ..)| score < *b) {
                 best = Some((score, r, used, x, ev));
             }
         }
-        let (_, lm, used, x, eval) = best?;
-        let (cov, cov_white) = self.covariances(&eval, &lm.jacobian, &free, &used);
+        best
+    }
+
+    /// The fit of `effects` at the minimum `best`: every parameter with its estimate and
+    /// standard deviations (from the covariances at the minimum), `evaluations` replays spent
+    /// (and one more).
+    fn fitted(
+        &self,
+        effects: &[Arc<dyn Effect>],
+        p: &FreeParams<'_>,
+        best: Best,
+        evaluations: usize,
+    ) -> Fit {
+        let (infos, excited, free) = (p.infos, p.excited, &p.free);
+        let (_, lm, used, x, eval) = best;
+        let (cov, cov_white) = self.covariances(&eval, &lm.jacobian, free, &used);
         let sd = |c: &Option<DMatrix<f64>>, k: usize| {
             c.as_ref().and_then(|c| {
                 let v = c[(k, k)];
@@ -340,7 +352,7 @@ impl Ctx<'_> {
             });
             i += n;
         }
-        Some(Fit {
+        Fit {
             effects: fitted,
             k: free.len(),
             eval,
@@ -348,7 +360,7 @@ impl Ctx<'_> {
             free: free_index,
             cov,
             cov_white,
-        })
+        }
     }
 
     /// `cur` with `add` fitted on top, all parameters free, from `cur`'s values and each of
@@ -505,6 +517,69 @@ impl Ctx<'_> {
     }
 }
 
+/// The minimum a fit reached: (BIC, the Levenberg–Marquardt result, the residual weights of
+/// its last pass, the full parameter vector, its evaluation).
+type Best = (
+    f64,
+    LmResult,
+    BTreeMap<ChannelKind, f64>,
+    Vec<f64>,
+    Evaluation,
+);
+
+/// The parameters of one fit: which are free (the excited ones), their null values, bounds and
+/// scales, and how a vector of the free ones is completed.
+struct FreeParams<'p> {
+    infos: &'p [ParamInfo],
+    excited: &'p [bool],
+    /// Indices of the free parameters.
+    free: Vec<usize>,
+    null: Vec<f64>,
+    lo: Vec<f64>,
+    hi: Vec<f64>,
+    scale: Vec<f64>,
+}
+
+impl<'p> FreeParams<'p> {
+    fn new(infos: &'p [ParamInfo], excited: &'p [bool]) -> Self {
+        let free: Vec<usize> = (0..infos.len()).filter(|&j| excited[j]).collect();
+        let null: Vec<f64> = infos.iter().map(|p| p.null).collect();
+        let lo: Vec<f64> = free.iter().map(|&j| infos[j].lo).collect();
+        let hi: Vec<f64> = free.iter().map(|&j| infos[j].hi).collect();
+        let scale: Vec<f64> = free
+            .iter()
+            .map(|&j| {
+                let p = &infos[j];
+                let s = (p.typical - p.null).abs();
+                if s > 0.0 { s } else { 0.1 * (p.hi - p.lo) }
+            })
+            .collect();
+        Self {
+            infos,
+            excited,
+            free,
+            null,
+            lo,
+            hi,
+            scale,
+        }
+    }
+
+    /// `start` with the free parameters set to `xf` and the others not excited at their nulls.
+    fn full(&self, xf: &[f64], start: &[f64]) -> Vec<f64> {
+        let mut x = start.to_vec();
+        for (k, &j) in self.free.iter().enumerate() {
+            x[j] = xf[k];
+        }
+        for (j, p) in self.infos.iter().enumerate() {
+            if !self.excited[j] {
+                x[j] = p.null;
+            }
+        }
+        x
+    }
+}
+
 /// Bases of the Halton sequence, one per scanned dimension (a form has at most a few
 /// parameters; further dimensions repeat them).
 const HALTON_BASES: [u32; 8] = [2, 3, 5, 7, 11, 13, 17, 19];
@@ -569,50 +644,6 @@ pub(super) fn scan_points(
         out.push(x);
     }
     out
-}
-
-/// Distance of `effect`'s parameters from their null values, jointly (Wald test with the
-/// honest covariance, or the white-residual one with `white`), as the equivalent number of
-/// standard deviations of a normal variable: for one parameter |θ − θ₀|/σ.
-pub(super) fn z_of(fit: &Fit, effect: &str, white: bool) -> f64 {
-    let Some(ei) = fit.effects.iter().position(|e| e.effect.name() == effect) else {
-        return 0.0;
-    };
-    let Some(cov) = (if white { &fit.cov_white } else { &fit.cov }) else {
-        return 0.0;
-    };
-    let idx: Vec<usize> = fit
-        .free
-        .iter()
-        .enumerate()
-        .filter(|(_, (e, j))| *e == ei && !fit.effects[*e].params[*j].shape)
-        .map(|(k, _)| k)
-        .collect();
-    if idx.is_empty() {
-        return 0.0;
-    }
-    let d = nalgebra::DVector::from_iterator(
-        idx.len(),
-        idx.iter().map(|&k| {
-            let (e, j) = fit.free[k];
-            let p = &fit.effects[e].params[j];
-            p.value - p.null
-        }),
-    );
-    let sub = DMatrix::from_fn(idx.len(), idx.len(), |a, b| cov[(idx[a], idx[b])]);
-    let Some(inv) = sub.try_inverse() else {
-        return 0.0;
-    };
-    let w = (d.transpose() * inv * &d)[(0, 0)].max(0.0);
-    if idx.len() == 1 {
-        return w.sqrt();
-    }
-    let p = ChiSquared::new(idx.len() as f64).map_or(0.0, |c| c.sf(w));
-    if p < 1e-15 {
-        // Beyond the precision of the tail: the normal deviate of the same χ² (≈ √W).
-        return (w - (idx.len() as f64 - 1.0)).max(0.0).sqrt().max(8.0);
-    }
-    Normal::standard().inverse_cdf(1.0 - 0.5 * p)
 }
 
 /// `ev` when every sum of squared estimation residuals is finite.

@@ -8,10 +8,12 @@
 //! threshold — the log cannot separate the two: the verdict reports
 //! "A or B" with the manoeuvre that would separate them.
 
-use super::orchestrate::Search;
-use super::rules::delta_bic_eff;
-use super::{Ambiguity, Fit, par_map};
-use crate::blocks::heldout_t;
+use super::context::Search;
+use super::fitted::Fit;
+use super::measures::{delta_bic_eff, gain};
+use super::par::par_map;
+use super::verdict::Ambiguity;
+use crate::evaluate::blocks::heldout_t;
 
 /// Block t below which the held-out data cannot prefer one of two models.
 const AMBIGUOUS_T: f64 = 2.0;
@@ -43,7 +45,7 @@ pub(super) fn ambiguities(
             return None;
         }
         let fit = c.fit?;
-        let g = super::gain(&stepwise.eval, &fit.eval);
+        let g = gain(&stepwise.eval, &fit.eval);
         let t = heldout_t(&stepwise.eval, &fit.eval, opts.block_s, None);
         // The estimation data must not tell them apart either: the effective BIC of the two
         // models differs by less than the selection threshold.

@@ -8,7 +8,7 @@
 //! instead of simulating twice. The numbers are the same either way: a search's result does
 //! not depend on what the memo held, only its time does.
 
-use crate::data::{Part, Replayed};
+use crate::evaluate::dataset::{Part, Replayed};
 use shoal_model::effects::Effect;
 use std::collections::VecDeque;
 use std::sync::{Arc, Mutex};

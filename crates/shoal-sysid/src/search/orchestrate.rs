@@ -1,166 +1,28 @@
 //! The search from start to verdict: round 1 (every family alone, forms competing), forward
 //! rounds, backward checks and swaps, then identifiability, stability and the verdict.
 
+use super::candidate::{Candidate, FormScore};
+use super::context::{FormInfo, Search, families};
 use super::fit::Ctx;
+use super::fitted::Fit;
+use super::measures::{bic, heldout_ratio};
 use super::memo::Memo;
-use super::rules::{bic, heldout_ratio, judge, skipped};
-use super::{
-    Candidate, Fit, FormScore, Outcome, SearchOptions, identify, pairs, par_map, refine, stability,
-    verdict,
-};
-use crate::data::Dataset;
+use super::options::SearchOptions;
+use super::outcome::Outcome;
+use super::par::par_map;
+use super::rules::{choose, judge, skipped};
+use super::{identify, pairs, refine, stability, verdict};
+use crate::evaluate::dataset::Dataset;
 use shoal_model::effects::{Effect, Effects};
 use shoal_model::vehicle::{VehicleModel, VehicleParams};
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
-/// The forms of each family among `effects`, families in first-appearance order.
-pub(super) fn families(effects: &[Arc<dyn Effect>]) -> Vec<(String, Vec<Arc<dyn Effect>>)> {
-    let mut out: Vec<(String, Vec<Arc<dyn Effect>>)> = Vec::new();
-    for e in effects {
-        match out.iter_mut().find(|(n, _)| n == e.name()) {
-            Some((_, v)) => v.push(e.clone()),
-            None => out.push((e.name().to_string(), vec![e.clone()])),
-        }
-    }
-    out
-}
-
-/// What round 1 learnt about one form: whether the data excite each parameter and its fit
-/// alone on the baseline.
-#[derive(Clone)]
-pub(super) struct FormInfo {
-    pub effect: Arc<dyn Effect>,
-    pub excited: Vec<bool>,
-    pub first: Option<Vec<f64>>,
-    pub bic: f64,
-}
-
-impl FormInfo {
-    /// The form's starting values on top of another model: its round-1 fit (its typical values
-    /// where round 1 did not fit it), and its null values.
-    pub fn starts(&self, base: &VehicleParams) -> [Vec<f64>; 2] {
-        let params = self.effect.params(base);
-        let first = self
-            .first
-            .clone()
-            .unwrap_or_else(|| params.iter().map(|p| p.typical).collect());
-        [first, params.iter().map(|p| p.null).collect()]
-    }
-}
-
-/// Everything the later stages of a search share.
-pub(super) struct Search<'a> {
-    pub ctx: Ctx<'a>,
-    pub baseline: Fit,
-    /// Per family: its forms that apply and are excited, with their round-1 fits.
-    pub forms: BTreeMap<String, Vec<FormInfo>>,
-}
-
-impl Search<'_> {
-    /// `cur` with the family `name` added: every excited form fitted on top (from its round-1
-    /// values and from null). Returns every form's fit and score (`None`: no form could be
-    /// replayed); [`choose`] picks the form.
-    fn add_forms(&self, cur: &Fit, name: &str) -> Option<(Vec<Fit>, Vec<FormScore>)> {
-        let infos = self.forms.get(name)?;
-        let mut fits: Vec<Fit> = Vec::new();
-        let mut scores = Vec::new();
-        for fi in infos {
-            let starts = fi.starts(self.ctx.base);
-            let Some(fit) = self.ctx.extend(cur, &fi.effect, &fi.excited, &starts) else {
-                continue;
-            };
-            scores.push(FormScore::of(fi.effect.form(), cur, &fit));
-            fits.push(fit);
-        }
-        (!fits.is_empty()).then_some((fits, scores))
-    }
-
-    /// The candidate of family `name` added to `base` ([`choose`] over [`Search::add_forms`]).
-    pub fn candidate(&self, round: usize, base: &Fit, name: &str) -> Option<Candidate> {
-        let (fits, scores) = self.add_forms(base, name)?;
-        let opts = self.ctx.opts;
-        Some(choose(
-            round,
-            name,
-            base,
-            fits,
-            scores,
-            opts,
-            &self.baseline.eval,
-        ))
-    }
-
-    /// Families worth adding to `cur` (not in it, not excluded), best score first, at most
-    /// `candidates_per_round`.
-    pub fn promising(&self, cur: &Fit, exclude: &[String]) -> Vec<String> {
-        let names: Vec<String> = self
-            .forms
-            .keys()
-            .filter(|n| !cur.names().contains(n) && !exclude.contains(n))
-            .cloned()
-            .collect();
-        let opts = self.ctx.opts;
-        let scores = par_map(&names, opts.threads, |n| {
-            // Score each family by its most promising form on top of `cur` (the form that
-            // fitted best alone need not be the one that fits best beside others).
-            self.forms[n]
-                .iter()
-                .map(|fi| self.ctx.score(cur, &fi.effect, &fi.excited))
-                .fold(0.0, f64::max)
-        });
-        let mut ranked: Vec<(f64, String)> = scores.into_iter().zip(names).collect();
-        ranked.sort_by(|a, b| b.0.total_cmp(&a.0));
-        ranked
-            .into_iter()
-            .filter(|(s, _)| *s > 0.0)
-            .take(opts.candidates_per_round)
-            .map(|(_, n)| n)
-            .collect()
-    }
-}
-
-/// The candidate of family `name` on top of `base`, given each of its forms' `fits`: the form
-/// of lowest BIC among those that earn their place by the rules of [`judge`] (held-out gain,
-/// block test, …), or the form of lowest BIC when none does. A form that fits the estimation
-/// data best but fails on data the fit did not see must not hide a form of the same family
-/// that holds there: the family is judged by its best form that generalises.
-pub(super) fn choose(
-    round: usize,
-    name: &str,
-    base: &Fit,
-    fits: Vec<Fit>,
-    scores: Vec<FormScore>,
-    opts: &SearchOptions,
-    baseline: &crate::data::Evaluation,
-) -> Candidate {
-    let judged: Vec<Candidate> = fits
-        .into_iter()
-        .map(|f| judge(round, name, base, f, opts, false, baseline))
-        .collect();
-    let mut c = best_passing(judged).expect("choose is given at least one fit");
-    c.forms = scores;
-    c
-}
-
-/// Of `judged` (candidates of one family or one pair of families in different forms), the one
-/// of lowest BIC among those that pass the rules, or the one of lowest BIC when none passes;
-/// `None` when there is none.
-pub(super) fn best_passing(judged: Vec<Candidate>) -> Option<Candidate> {
-    let mut scored: Vec<(f64, Candidate)> = judged
-        .into_iter()
-        .map(|c| {
-            let b = c.fit.as_ref().map_or(f64::INFINITY, |f| bic(&f.eval, f.k));
-            (b, c)
-        })
-        .collect();
-    scored.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let at = scored.iter().position(|(_, c)| c.significant).unwrap_or(0);
-    (!scored.is_empty()).then(|| scored.swap_remove(at).1)
-}
-
 /// One round-1 fit: (family index, form, the fit with its excitation or why there is none).
 type RoundOne = (usize, Arc<dyn Effect>, Result<(Fit, Vec<bool>), String>);
+
+/// The model refitted without each of its families, as the last backward check left it.
+type Reduced = Vec<(String, Option<Fit>)>;
 
 /// Searches the effects of `opts` for the ones that explain `ds` better than `base`.
 /// `progress` is called with a short message after each candidate fit.
@@ -170,22 +32,8 @@ pub fn search(
     opts: &SearchOptions,
     progress: &(dyn Fn(&str) + Sync),
 ) -> Outcome {
-    let base_model = VehicleModel::with_effects(
-        base.clone(),
-        Effects::new(opts.base_effects.clone()),
-        ds.env.density,
-    );
-    let base_eval = ds.evaluate(&base_model);
-    let factors = base_eval.ml_factors();
-    let baseline = Fit {
-        effects: Vec::new(),
-        k: 0,
-        eval: base_eval,
-        evaluations: 1,
-        free: Vec::new(),
-        cov: None,
-        cov_white: None,
-    };
+    let baseline = baseline_fit(ds, base, opts);
+    let factors = baseline.eval.ml_factors();
     let memo = Memo::new(Memo::BUDGET);
     let ctx = Ctx {
         ds,
@@ -197,14 +45,76 @@ pub fn search(
         memo: &memo,
     };
     let fams = families(&opts.effects);
-    let mut candidates = Vec::new();
     // Round 1: every form of every family alone on the baseline.
+    let fitted = round_one_fits(&ctx, &fams, progress);
+    let (forms, mut candidates) = round_one(&fams, &fitted, &baseline, opts);
+    let s = Search {
+        ctx,
+        baseline: baseline.clone(),
+        forms,
+    };
+    let (current, first, round) = forward(&s, &baseline, &mut candidates, progress);
+    let (current, reduced, round) = backward_and_swaps(
+        &s,
+        &baseline,
+        current,
+        first,
+        round,
+        &mut candidates,
+        progress,
+    );
+    // Each family's form chosen again beside the final others (see `refine.rs`).
+    let (current, changes) = refine::refine_forms(&s, current, reduced, round, progress);
+    candidates.extend(changes);
+    let stepwise = current.clone();
+    // Identifiability, stability, verdict.
+    let ambiguous = identify::ambiguities(&s, &stepwise, progress);
+    let freq = stability::frequencies(&s, &stepwise, progress);
+    let (chosen, verdict) = verdict::conclude(&s, &stepwise, ambiguous, freq);
+    Outcome {
+        baseline,
+        candidates,
+        chosen,
+        stepwise,
+        verdict,
+        factors,
+    }
+}
+
+/// The baseline (`base` with the options' own effects), evaluated: the model every candidate
+/// is measured against.
+fn baseline_fit(ds: &Dataset, base: &VehicleParams, opts: &SearchOptions) -> Fit {
+    let base_model = VehicleModel::with_effects(
+        base.clone(),
+        Effects::new(opts.base_effects.clone()),
+        ds.env.density,
+    );
+    let base_eval = ds.evaluate(&base_model);
+    Fit {
+        effects: Vec::new(),
+        k: 0,
+        eval: base_eval,
+        evaluations: 1,
+        free: Vec::new(),
+        cov: None,
+        cov_white: None,
+    }
+}
+
+/// Round 1's fits: every form of every family of `fams` alone on the baseline, each with the
+/// parameters the data excite, from the null and the typical values and a scan.
+fn round_one_fits(
+    ctx: &Ctx<'_>,
+    fams: &[(String, Vec<Arc<dyn Effect>>)],
+    progress: &(dyn Fn(&str) + Sync),
+) -> Vec<RoundOne> {
+    let base = ctx.base;
     let items: Vec<(usize, Arc<dyn Effect>)> = fams
         .iter()
         .enumerate()
         .flat_map(|(i, (_, forms))| forms.iter().map(move |e| (i, e.clone())))
         .collect();
-    let fitted: Vec<RoundOne> = par_map(&items, opts.threads, |(i, e)| {
+    par_map(&items, ctx.opts.threads, |(i, e)| {
         let r = if let Some(why) = e.not_applicable(base) {
             Err(format!("does not apply: {why}"))
         } else {
@@ -224,7 +134,18 @@ pub fn search(
         };
         progress(&format!("{} ({})", e.name(), e.form()));
         (*i, e.clone(), r)
-    });
+    })
+}
+
+/// What round 1 learnt: per family, its forms that fitted (with their excitation and round-1
+/// values), and the family's round-1 candidate (its forms judged, or why none was fitted).
+fn round_one(
+    fams: &[(String, Vec<Arc<dyn Effect>>)],
+    fitted: &[RoundOne],
+    baseline: &Fit,
+    opts: &SearchOptions,
+) -> (BTreeMap<String, Vec<FormInfo>>, Vec<Candidate>) {
+    let mut candidates = Vec::new();
     let mut forms: BTreeMap<String, Vec<FormInfo>> = BTreeMap::new();
     for (fi, (name, _)) in fams.iter().enumerate() {
         let mine: Vec<&RoundOne> = fitted.iter().filter(|(i, _, _)| *i == fi).collect();
@@ -234,7 +155,7 @@ pub fn search(
         for (_, e, r) in &mine {
             match r {
                 Ok((fit, excited)) => {
-                    let score = FormScore::of(e.form(), &baseline, fit);
+                    let score = FormScore::of(e.form(), baseline, fit);
                     forms.entry(name.clone()).or_default().push(FormInfo {
                         effect: e.clone(),
                         excited: excited.clone(),
@@ -250,21 +171,29 @@ pub fn search(
         let c = if fits.is_empty() {
             skipped(1, name, why.unwrap_or_else(|| "no form applies".into()))
         } else {
-            choose(1, name, &baseline, fits, scores, opts, &baseline.eval)
+            choose(1, name, baseline, fits, scores, opts, &baseline.eval)
         };
         candidates.push(c);
     }
-    let s = Search {
-        ctx,
-        baseline: baseline.clone(),
-        forms,
-    };
+    (forms, candidates)
+}
+
+/// The forward rounds from the baseline: the best passing family of each round joins, the
+/// families promising on top of it are tried in the next round, pairs where none passes alone
+/// while structure is left. Returns the model, the family that joined alone in round 1 (if
+/// one did) and the last round.
+fn forward(
+    s: &Search<'_>,
+    baseline: &Fit,
+    candidates: &mut Vec<Candidate>,
+    progress: &(dyn Fn(&str) + Sync),
+) -> (Fit, Option<String>, usize) {
+    let opts = s.ctx.opts;
     let mut current = baseline.clone();
     let mut round = 1;
     let mut paired = 0;
     // The family that joined alone in round 1, if one did.
     let mut first: Option<String> = None;
-    // Forward.
     loop {
         // Of the families that pass, the one that predicts the held-out data best joins (the
         // estimation data's BIC already gated each; ranking by it prefers a flexible law that
@@ -294,7 +223,7 @@ pub fn search(
                     .iter()
                     .filter(|c| c.round == round && !c.backward)
                     .collect();
-                let found = pairs::pair_candidates(&s, round, &current, &this, progress);
+                let found = pairs::pair_candidates(s, round, &current, &this, progress);
                 candidates.extend(found);
                 continue;
             }
@@ -327,96 +256,49 @@ pub fn search(
         });
         candidates.extend(next);
     }
-    // Backward checks, then swaps of one effect for another where that lowers the BIC
-    // (equivalent explanations with fewer parameters), then backward checks again.
-    // A single effect left by the backward checks is swapped too, for a family that alone
-    // beats it on both counts, BIC and held-out prediction: the forward rounds may have
-    // started from a family that only stood in for the true one (a saturation for an inflow
-    // loss) and the backward checks then removed both, leaving a third. (The held-out
-    // condition: the forward rounds rank families by held-out prediction, and a swap of the
-    // only effect must not overturn that ranking by the BIC alone.)
+    (current, first, round)
+}
+
+/// Backward checks, then swaps of one effect for another where that lowers the BIC
+/// (equivalent explanations with fewer parameters), then backward checks again.
+/// A single effect left by the backward checks is swapped too, for a family that alone
+/// beats it on both counts, BIC and held-out prediction: the forward rounds may have
+/// started from a family that only stood in for the true one (a saturation for an inflow
+/// loss) and the backward checks then removed both, leaving a third. (The held-out
+/// condition: the forward rounds rank families by held-out prediction, and a swap of the
+/// only effect must not overturn that ranking by the BIC alone.) Returns the model, its
+/// refits without each family as the last backward check left them, and the last round.
+fn backward_and_swaps(
+    s: &Search<'_>,
+    baseline: &Fit,
+    mut current: Fit,
+    first: Option<String>,
+    mut round: usize,
+    candidates: &mut Vec<Candidate>,
+    progress: &(dyn Fn(&str) + Sync),
+) -> (Fit, Reduced, usize) {
     let mut swaps = 0;
     // The model refitted without each of its families, as the last backward check left it.
-    let mut reduced: Vec<(String, Option<Fit>)> = Vec::new();
+    let mut reduced: Reduced = Vec::new();
     loop {
-        while !current.effects.is_empty() {
-            round += 1;
-            let names = current.names();
-            let cur = &current;
-            let checks: Vec<(Candidate, Option<Fit>)> = par_map(&names, opts.threads, |name| {
-                let r = s.ctx.without(cur, name, &baseline);
-                let c = match &r {
-                    Some(r) => judge(round, name, r, cur.clone(), opts, true, &baseline.eval),
-                    None => Candidate {
-                        significant: true,
-                        backward: true,
-                        ..skipped(
-                            round,
-                            name,
-                            "kept: the model without it could not be replayed".into(),
-                        )
-                    },
-                };
-                progress(name);
-                (c, r)
-            });
-            let weakest = checks
-                .iter()
-                .filter(|(c, r)| !c.significant && r.is_some())
-                .max_by(|a, b| a.0.delta_bic_eff.total_cmp(&b.0.delta_bic_eff))
-                .and_then(|(_, r)| r.clone());
-            reduced = checks
-                .iter()
-                .map(|(c, r)| (c.effect.clone(), r.clone()))
-                .collect();
-            candidates.extend(checks.into_iter().map(|(c, _)| c));
-            match weakest {
-                Some(r) => current = r,
-                None => break,
-            }
-        }
+        backward(
+            s,
+            baseline,
+            &mut current,
+            &mut round,
+            &mut reduced,
+            candidates,
+            progress,
+        );
         // A single effect that round 1 chose is not swapped: round 1 compared every family
         // alone by the same measures already.
         let chosen_alone = current.effects.len() == 1 && first == current.names().pop();
         if current.effects.is_empty() || chosen_alone || swaps >= 2 {
             break;
         }
-        let cur_bic = bic(&current.eval, current.k);
-        let names = current.names();
-        let options: Vec<(String, Fit)> = reduced
-            .iter()
-            .filter_map(|(n, r)| r.clone().map(|r| (n.clone(), r)))
-            .collect();
-        let pairs: Vec<(String, Fit, String)> = options
-            .iter()
-            .flat_map(|(out, r)| {
-                s.promising(r, &names)
-                    .into_iter()
-                    .take(3)
-                    .map(|alt| (out.clone(), r.clone(), alt))
-            })
-            .collect();
-        let swapped: Vec<Option<(Candidate, f64)>> =
-            par_map(&pairs, opts.threads, |(out, r, alt)| {
-                let mut c = s.candidate(round + 1, r, alt)?;
-                let b = c.fit.as_ref().map_or(f64::INFINITY, |f| bic(&f.eval, f.k));
-                c.note = format!("swap for {out}: {}", c.note);
-                progress(alt);
-                Some((c, b))
-            });
-        let best = swapped
-            .into_iter()
-            .flatten()
-            .filter(|(c, b)| {
-                c.significant
-                    && *b < cur_bic - 2.0
-                    && (names.len() > 1
-                        || c.fit
-                            .as_ref()
-                            .is_some_and(|f| heldout_ratio(&current.eval, &f.eval) < 1.0))
-            })
-            .min_by(|a, b| a.1.total_cmp(&b.1));
-        let Some((c, _)) = best else { break };
+        let Some(c) = best_swap(s, &current, &reduced, round, progress) else {
+            break;
+        };
         round += 1;
         swaps += 1;
         if let Some(f) = &c.fit {
@@ -424,20 +306,107 @@ pub fn search(
         }
         candidates.push(c);
     }
-    // Each family's form chosen again beside the final others (see `refine.rs`).
-    let (current, changes) = refine::refine_forms(&s, current, reduced, round, progress);
-    candidates.extend(changes);
-    let stepwise = current.clone();
-    // Identifiability, stability, verdict.
-    let ambiguous = identify::ambiguities(&s, &stepwise, progress);
-    let freq = stability::frequencies(&s, &stepwise, progress);
-    let (chosen, verdict) = verdict::conclude(&s, &stepwise, ambiguous, freq);
-    Outcome {
-        baseline,
-        candidates,
-        chosen,
-        stepwise,
-        verdict,
-        factors,
+    (current, reduced, round)
+}
+
+/// The backward checks: every effect of `current` judged against the model refitted without
+/// it, the weakest failing one removed, until every one passes. `reduced` becomes the refits
+/// of the last check (it is left as it was when `current` has no effect).
+fn backward(
+    s: &Search<'_>,
+    baseline: &Fit,
+    current: &mut Fit,
+    round: &mut usize,
+    reduced: &mut Reduced,
+    candidates: &mut Vec<Candidate>,
+    progress: &(dyn Fn(&str) + Sync),
+) {
+    let opts = s.ctx.opts;
+    while !current.effects.is_empty() {
+        *round += 1;
+        let round = *round;
+        let names = current.names();
+        let cur = &*current;
+        let checks: Vec<(Candidate, Option<Fit>)> = par_map(&names, opts.threads, |name| {
+            let r = s.ctx.without(cur, name, baseline);
+            let c = match &r {
+                Some(r) => judge(round, name, r, cur.clone(), opts, true, &baseline.eval),
+                None => Candidate {
+                    significant: true,
+                    backward: true,
+                    ..skipped(
+                        round,
+                        name,
+                        "kept: the model without it could not be replayed".into(),
+                    )
+                },
+            };
+            progress(name);
+            (c, r)
+        });
+        let weakest = checks
+            .iter()
+            .filter(|(c, r)| !c.significant && r.is_some())
+            .max_by(|a, b| a.0.delta_bic_eff.total_cmp(&b.0.delta_bic_eff))
+            .and_then(|(_, r)| r.clone());
+        *reduced = checks
+            .iter()
+            .map(|(c, r)| (c.effect.clone(), r.clone()))
+            .collect();
+        candidates.extend(checks.into_iter().map(|(c, _)| c));
+        match weakest {
+            Some(r) => *current = r,
+            None => break,
+        }
     }
+}
+
+/// The best swap of one family of `current` for another: for each family, the model without
+/// it (`reduced`) with each of the three most promising other families added, as candidates
+/// of round `round + 1`; the one of lowest BIC among those that pass and lower the BIC of
+/// `current` by more than 2 (and, replacing the only effect, also predict the held-out data
+/// better). `None` when no swap helps.
+fn best_swap(
+    s: &Search<'_>,
+    current: &Fit,
+    reduced: &Reduced,
+    round: usize,
+    progress: &(dyn Fn(&str) + Sync),
+) -> Option<Candidate> {
+    let opts = s.ctx.opts;
+    let cur_bic = bic(&current.eval, current.k);
+    let names = current.names();
+    let options: Vec<(String, Fit)> = reduced
+        .iter()
+        .filter_map(|(n, r)| r.clone().map(|r| (n.clone(), r)))
+        .collect();
+    let pairs: Vec<(String, Fit, String)> = options
+        .iter()
+        .flat_map(|(out, r)| {
+            s.promising(r, &names)
+                .into_iter()
+                .take(3)
+                .map(|alt| (out.clone(), r.clone(), alt))
+        })
+        .collect();
+    let swapped: Vec<Option<(Candidate, f64)>> = par_map(&pairs, opts.threads, |(out, r, alt)| {
+        let mut c = s.candidate(round + 1, r, alt)?;
+        let b = c.fit.as_ref().map_or(f64::INFINITY, |f| bic(&f.eval, f.k));
+        c.note = format!("swap for {out}: {}", c.note);
+        progress(alt);
+        Some((c, b))
+    });
+    let best = swapped
+        .into_iter()
+        .flatten()
+        .filter(|(c, b)| {
+            c.significant
+                && *b < cur_bic - 2.0
+                && (names.len() > 1
+                    || c.fit
+                        .as_ref()
+                        .is_some_and(|f| heldout_ratio(&current.eval, &f.eval) < 1.0))
+        })
+        .min_by(|a, b| a.1.total_cmp(&b.1));
+    best.map(|(c, _)| c)
 }

@@ -16,9 +16,11 @@
 //! backward check then tests each member against the model with the other, and stability
 //! selection each on its own, as for any chosen effect.
 
-use super::orchestrate::{Search, best_passing};
-use super::rules::judge_set;
-use super::{Candidate, Fit, par_map};
+use super::candidate::Candidate;
+use super::context::Search;
+use super::fitted::Fit;
+use super::par::par_map;
+use super::rules::{best_passing, judge_set};
 
 /// A family and one of its forms.
 type FamilyForm<'a> = (&'a str, &'a str);

@@ -1,7 +1,7 @@
 //! Stability selection: is each chosen effect still chosen when the log is resampled?
 //!
 //! The stepwise model is refitted on block-bootstrap resamples of the log
-//! ([`crate::blocks::Resample`]: estimation and validation blocks drawn with replacement, a
+//! ([`crate::evaluate::blocks::Resample`]: estimation and validation blocks drawn with replacement, a
 //! warm start from the full-data fit with a few Levenberg–Marquardt iterations), and on each the
 //! backward test is repeated with the resample's statistics: ΔBIC on the resampled
 //! estimation blocks; held-out gain, block test and materiality (share of the baseline's
@@ -10,12 +10,13 @@
 //! which it passes. (The backward checks' effective-ΔBIC rule is not repeated: a resample
 //! duplicates blocks, and its count of independent samples is not defined.)
 
+use super::context::Search;
 use super::fit::Ctx;
-use super::orchestrate::Search;
-use super::rules::{bic_rs, closure_rs, gain_rs, material_rs};
-use super::{Fit, par_map};
-use crate::blocks::{Resample, heldout_t};
-use crate::lm::LmOptions;
+use super::fitted::Fit;
+use super::measures::{bic_resampled, closure_resampled, gain_resampled, material_resampled};
+use super::par::par_map;
+use crate::evaluate::blocks::{Resample, heldout_t};
+use crate::evaluate::lm::LmOptions;
 use std::collections::BTreeMap;
 
 /// Levenberg–Marquardt iterations of a warm refit on a resample.
@@ -62,14 +63,16 @@ pub(super) fn frequencies(
             .iter()
             .map(|n| {
                 ctx.without(&full, n, &s.baseline).is_some_and(|red| {
-                    bic_rs(&full.eval, full.k, Some(&rs)) - bic_rs(&red.eval, red.k, Some(&rs))
+                    bic_resampled(&full.eval, full.k, Some(&rs))
+                        - bic_resampled(&red.eval, red.k, Some(&rs))
                         < opts.bic_threshold
-                        && gain_rs(&red.eval, &full.eval, Some(&rs)) >= opts.min_gain
+                        && gain_resampled(&red.eval, &full.eval, Some(&rs)) >= opts.min_gain
                         && heldout_t(&red.eval, &full.eval, opts.block_s, Some(&rs))
                             >= opts.t_threshold
-                        && (material_rs(&s.baseline.eval, &red.eval, &full.eval, Some(&rs))
+                        && (material_resampled(&s.baseline.eval, &red.eval, &full.eval, Some(&rs))
                             >= opts.min_material
-                            || closure_rs(&red.eval, &full.eval, Some(&rs)) >= opts.min_closure)
+                            || closure_resampled(&red.eval, &full.eval, Some(&rs))
+                                >= opts.min_closure)
                 })
             })
             .collect()

@@ -2,9 +2,10 @@
 //! (unstable under resampling, or not separable from another family), and where residual
 //! structure stays unexplained.
 
-use super::Fit;
-use super::orchestrate::Search;
-use crate::run::ChannelKind;
+use super::context::Search;
+use super::fitted::Fit;
+use super::measures::{STRUCTURE_RATIO, noise_floor};
+use crate::log::run::ChannelKind;
 use std::collections::BTreeMap;
 
 /// What the search concludes.
@@ -140,12 +141,12 @@ pub(super) fn conclude(
 }
 
 /// Channels of `fit` whose held-out residuals fail the Ljung–Box test and whose RMS is more
-/// than [`super::rules::STRUCTURE_RATIO`] times the noise floor.
+/// than [`STRUCTURE_RATIO`] times the noise floor.
 pub(super) fn unexplained(fit: &Fit) -> Vec<Unexplained> {
     let mut out = Vec::new();
     for (k, m) in &fit.eval.metrics {
-        let noise = super::rules::noise_floor(&fit.eval, *k);
-        if !m.ljung_box.white() && m.rmse > super::rules::STRUCTURE_RATIO * noise.max(1e-12) {
+        let noise = noise_floor(&fit.eval, *k);
+        if !m.ljung_box.white() && m.rmse > STRUCTURE_RATIO * noise.max(1e-12) {
             out.push(Unexplained {
                 channel: *k,
                 rmse: m.rmse,

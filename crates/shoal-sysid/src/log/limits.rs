@@ -8,7 +8,7 @@
 //! * the documented tolerance of its kind — [`ANGLE_TOLERANCE`] (10⁻⁴ rad) for tilt drives,
 //!   [`COMMAND_TOLERANCE`] (10⁻³ %) for thruster commands — or
 //! * the precision it was written with: half a unit of its last written digit (`-1.5708` →
-//!   5·10⁻⁵, recorded per value by [`crate::ingest`]), counted only up to [`PRECISION_CAP`] of
+//!   5·10⁻⁵, recorded per value by the reader), counted only up to [`PRECISION_CAP`] of
 //!   the actuator's range (3.1·10⁻³ rad for ±π/2, 0.2 % for ±100 %), so that a coarsely
 //!   written number (`-2`, `1e9`) is not excused by its own coarseness.
 //!
@@ -19,8 +19,8 @@
 //! Each clamp is reported as a [`ClampNote`] per column and limit: how many values, how far
 //! out at most.
 
-use crate::ingest::short;
-use crate::run::{MeasuredRun, RunError};
+use crate::log::numbers::short;
+use crate::log::run::{MeasuredRun, RunError};
 use std::fmt;
 
 /// Tolerance for tilt angles beyond their limits \[rad\].

@@ -1,6 +1,6 @@
 //! Reading measured runs as real loggers write them: streaming, one pass, linear in the rows.
 //!
-//! The format is the one of [`crate::run`] (`../shared/spec/validation.md`), read leniently
+//! The format is the one of [`crate::log::run`] (`../shared/spec/validation.md`), read leniently
 //! where loggers differ and strictly where a value would be wrong:
 //!
 //! * **Separator**: `,`, `;` or a tab, taken from the header line — the one of the three that
@@ -20,7 +20,7 @@
 //! * **Numbers**: anything Rust's `f64` parser reads (`1`, `-1.5708`, `2.5e-3`, `+.5`); an
 //!   empty cell means "not sampled"; `nan`, `inf` and numbers beyond the `f64` range are
 //!   errors. For each input cell the reader records half a unit of its last written digit
-//!   (`-1.5708` → 5·10⁻⁵), so that the limit check of [`crate::replay::InputMap::new`] can
+//!   (`-1.5708` → 5·10⁻⁵), so that the limit check ([`crate::log::limits`]) can
 //!   tell a value rounded by the logger from one that is really out of range.
 //!
 //! Rejected, each with file, line and column: a header without `t` or without a `y.` column,
@@ -32,103 +32,14 @@
 //! Memory is the parsed columns (a few bytes per cell) plus one line; the text is never held
 //! whole.
 
-use crate::header::{Col, Header, quote, unquote};
-pub use crate::header::{Separator, TimeUnit};
-use crate::lines::{LineTooLong, LogLines};
-use crate::run::{MeasuredRun, RunError};
-use std::fmt;
+use crate::log::data_lines::{LineTooLong, LogLines};
+use crate::log::format::{IngestInfo, ReadOptions, Separator};
+use crate::log::header::{Col, Header, quote, unquote};
+use crate::log::numbers::short;
+use crate::log::run::{MeasuredRun, RunError};
 use std::fs::File;
 use std::io::{self, BufRead, BufReader};
 use std::path::Path;
-
-/// How to read a measured run.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
-pub struct ReadOptions {
-    /// The unit of a plain `t` column (seconds when `None`); a header that declares another
-    /// unit (`t_ms`, `t[s]`, …) is then an error.
-    pub time_unit: Option<TimeUnit>,
-}
-
-/// How a file was read: what the reader found and how it split the file (for the report).
-#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
-pub struct IngestInfo {
-    /// Column separator found in the header.
-    pub separator: Separator,
-    /// Unit the times were written in (they are converted to seconds when read).
-    pub time_unit: TimeUnit,
-    /// 1-based column of the time (0 for runs not read from a file).
-    pub time_column: usize,
-    /// Header name of the time column (`t`, `t_ms`, …).
-    pub time_header: String,
-    /// Comment lines in the file.
-    pub comment_lines: usize,
-    /// Empty or blank lines in the file.
-    pub blank_lines: usize,
-    /// Whether the header or a row ended with a separator (an empty last field, ignored).
-    pub trailing_separator: bool,
-    /// Data rows in the whole file.
-    pub file_rows: usize,
-    /// This run's 1-based place among the file's segments when the file was split at gaps in
-    /// time (`None`: the run is the whole file).
-    pub segment: Option<usize>,
-    /// Segments found in the file, dropped ones included (1: no gap; 0: not checked).
-    pub segments: usize,
-    /// Segments dropped as too short.
-    pub dropped_segments: usize,
-    /// Largest step between rows allowed within a segment \[s\] (0: not checked).
-    pub gap_limit: f64,
-}
-
-impl fmt::Display for IngestInfo {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "{} rows, separator {}, time in {}, {} comment line(s)",
-            self.file_rows,
-            self.separator.name(),
-            self.time_unit,
-            self.comment_lines
-        )?;
-        if self.trailing_separator {
-            write!(f, ", trailing separators")?;
-        }
-        if self.segments > 1 {
-            write!(
-                f,
-                ", {} segments split at gaps > {} s ({} dropped as too short)",
-                self.segments,
-                short(self.gap_limit),
-                self.dropped_segments
-            )?;
-        }
-        Ok(())
-    }
-}
-
-/// A number for messages: at most 7 significant digits, no trailing zeros.
-pub(crate) fn short(x: f64) -> String {
-    if x == 0.0 || !x.is_finite() {
-        return format!("{x}");
-    }
-    let a = x.abs();
-    if !(1e-4..1e7).contains(&a) {
-        let s = format!("{x:.6e}");
-        let (m, e) = s.split_once('e').unwrap_or((&s, "0"));
-        let m = if m.contains('.') {
-            m.trim_end_matches('0').trim_end_matches('.')
-        } else {
-            m
-        };
-        return format!("{m}e{e}");
-    }
-    let decimals = (6 - a.log10().floor() as i32).clamp(0, 12) as usize;
-    let s = format!("{x:.decimals$}");
-    if s.contains('.') {
-        s.trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        s
-    }
-}
 
 impl MeasuredRun {
     /// Reads and parses a measured-run CSV file (times in seconds unless the header says
@@ -554,14 +465,5 @@ mod tests {
         assert_eq!(half_ulp("1e-999"), 0.0);
         assert_eq!(half_ulp("1e999"), f32::INFINITY);
         assert_eq!(half_ulp("abc"), 0.0);
-    }
-
-    #[test]
-    fn short_numbers() {
-        assert_eq!(short(-std::f64::consts::FRAC_PI_2), "-1.570796");
-        assert_eq!(short(100.0), "100");
-        assert_eq!(short(5e-5), "5e-5");
-        assert_eq!(short(0.02), "0.02");
-        assert_eq!(short(1e9), "1e9");
     }
 }

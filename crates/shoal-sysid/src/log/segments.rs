@@ -15,8 +15,8 @@
 //! (possibly set before the gap). Measurements without a sample in a segment are left out of
 //! it. The work is linear in the rows; nothing is allocated by the time span.
 
-use crate::ingest::short;
-use crate::run::{Channel, InputColumn, MeasuredRun, RunError};
+use crate::log::numbers::short;
+use crate::log::run::{Channel, InputColumn, MeasuredRun, RunError};
 
 /// What to do at a gap.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]

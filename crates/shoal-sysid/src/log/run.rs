@@ -5,13 +5,14 @@
 //! `y.<channel>`, and ignored extra columns `x.<anything>`. An empty cell means "not sampled at
 //! this time" (multi-rate logs merged on the union of their time stamps).
 //!
-//! This module holds the parsed run; [`crate::ingest`] reads it from a file (separators,
-//! comments, time units, streaming), [`crate::segments`] splits it at gaps in time and
-//! [`crate::limits`] checks its inputs against a vehicle's actuator limits.
+//! This module holds the parsed run and knows nothing of how it was read: the reader
+//! (`ingest.rs`) makes it from a file (separators, comments, time units, streaming) and
+//! records what it found in the run's [`IngestInfo`], `segments.rs` splits it at gaps in time
+//! and `limits.rs` checks its inputs against a vehicle's actuator limits.
 //!
 //! Every problem is a [`RunError`] naming the file, the line and the column.
 
-use crate::ingest::IngestInfo;
+use crate::log::format::IngestInfo;
 use std::fmt;
 use std::path::PathBuf;
 

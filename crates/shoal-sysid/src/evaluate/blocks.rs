@@ -15,8 +15,8 @@
 //!
 //! Blocks are counted from the first sample of each run's estimation and validation part.
 
-use crate::data::{ChannelResult, Evaluation};
-use crate::run::ChannelKind;
+use crate::evaluate::evaluation::{ChannelResult, Evaluation, push_estimation};
+use crate::log::run::ChannelKind;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::collections::BTreeMap;
@@ -169,4 +169,51 @@ pub fn heldout_t(a: &Evaluation, b: &Evaluation, len: f64, resample: Option<&Res
         return if m > 0.0 { f64::INFINITY } else { 0.0 };
     }
     m / (v / wsum).sqrt()
+}
+
+/// The estimation residuals of `eval` as in [`Evaluation::weighted`], each sample also
+/// multiplied by the square root of its block's weight in `resample` (the least-squares form
+/// of a weighted fit).
+pub fn weighted_residuals(
+    eval: &Evaluation,
+    factor: &BTreeMap<ChannelKind, f64>,
+    resample: Option<&Resample>,
+) -> Vec<f64> {
+    let mut out = Vec::new();
+    for (ri, r) in eval.runs.iter().enumerate() {
+        for c in &r.channels {
+            push_weighted(
+                &mut out,
+                &c.resid,
+                &c.times,
+                &c.est,
+                factor[&c.kind],
+                resample.map(|rs| (rs, ri)),
+            );
+        }
+    }
+    out
+}
+
+/// Appends the estimation samples of `resid` (times `times` \[s\], estimation flags `est`) to
+/// `out`, each multiplied by `w` and, with a resample `(rs, run index)`, by the square root
+/// of its block's weight (the least-squares form of a weighted fit).
+pub(crate) fn push_weighted(
+    out: &mut Vec<f64>,
+    resid: &[f64],
+    times: &[f64],
+    est: &[bool],
+    w: f64,
+    resample: Option<(&Resample, usize)>,
+) {
+    match resample {
+        None => push_estimation(out, resid, est, w),
+        Some((rs, ri)) => out.extend(
+            resid
+                .iter()
+                .zip(blocks_of(times, est, rs.len))
+                .filter(|(_, (e, _))| *e)
+                .map(|(r, (e, b))| r * w * rs.weight((ri, e, b)).sqrt()),
+        ),
+    }
 }

@@ -6,105 +6,10 @@
 //! measurements `y.<channel>`, ignored `x.<anything>`; anything else, a repeated name or a
 //! second time column is an error naming the header line and the column.
 
-use crate::ingest::ReadOptions;
-use crate::run::{Channel, ChannelKind, InputColumn, RunError, suggest};
+use crate::log::format::{ReadOptions, Separator, TimeUnit};
+use crate::log::run::{Channel, ChannelKind, InputColumn, RunError, suggest};
 use std::collections::HashSet;
-use std::fmt;
 use std::path::Path;
-
-/// The unit the time column is written in.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize)]
-pub enum TimeUnit {
-    /// Seconds.
-    #[default]
-    #[serde(rename = "s")]
-    Seconds,
-    /// Milliseconds.
-    #[serde(rename = "ms")]
-    Milliseconds,
-}
-
-impl TimeUnit {
-    /// Symbol: `s` or `ms`.
-    pub fn symbol(self) -> &'static str {
-        match self {
-            TimeUnit::Seconds => "s",
-            TimeUnit::Milliseconds => "ms",
-        }
-    }
-
-    /// Converts a time written in this unit to seconds.
-    pub fn to_seconds(self, t: f64) -> f64 {
-        match self {
-            TimeUnit::Seconds => t,
-            TimeUnit::Milliseconds => t / 1000.0,
-        }
-    }
-
-    /// The unit a time column name declares: `Some(None)` for a plain `t`, `None` if the name
-    /// is not a time column.
-    pub fn from_column(name: &str) -> Option<Option<TimeUnit>> {
-        match name {
-            "t" => Some(None),
-            "t_s" | "t[s]" => Some(Some(TimeUnit::Seconds)),
-            "t_ms" | "t[ms]" => Some(Some(TimeUnit::Milliseconds)),
-            _ => None,
-        }
-    }
-}
-
-impl std::str::FromStr for TimeUnit {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        match s {
-            "s" => Ok(TimeUnit::Seconds),
-            "ms" => Ok(TimeUnit::Milliseconds),
-            _ => Err(format!("unknown time unit `{s}` (allowed: s, ms)")),
-        }
-    }
-}
-
-impl fmt::Display for TimeUnit {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.symbol())
-    }
-}
-
-/// The column separator of a file.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Separator {
-    /// `,`
-    #[default]
-    Comma,
-    /// `;`
-    Semicolon,
-    /// A tab character.
-    Tab,
-}
-
-impl Separator {
-    /// Every separator the reader knows.
-    pub const ALL: [Separator; 3] = [Separator::Comma, Separator::Semicolon, Separator::Tab];
-
-    /// The separator byte.
-    pub fn byte(self) -> u8 {
-        match self {
-            Separator::Comma => b',',
-            Separator::Semicolon => b';',
-            Separator::Tab => b'\t',
-        }
-    }
-
-    /// Name for messages: `` `,` ``, `` `;` `` or `tab`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Separator::Comma => "`,`",
-            Separator::Semicolon => "`;`",
-            Separator::Tab => "tab",
-        }
-    }
-}
 
 /// What a column is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -1,5 +1,6 @@
 //! The data a search works on: runs mapped onto a vehicle, each sample marked as estimation or
-//! validation, and the evaluation of a model on them (replay, residuals, per-channel metrics).
+//! validation, and their replays on a model compared with the measurements (predictions and
+//! residuals, from which [`crate::evaluate::evaluation`] derives the per-channel metrics).
 //!
 //! **Splitting.** Without hold-out runs, each run is split in time: samples before
 //! `t₀ + split·duration` are for estimation, the rest for validation; the replay runs through
@@ -13,13 +14,14 @@
 //! absolute position and heading (true away from the surface) this is the least-squares
 //! estimate of the initial position.
 
-use crate::blocks::{Resample, blocks_of};
-use crate::masses::MassTable;
-use crate::replay::{
+use crate::evaluate::blocks::{Resample, push_weighted};
+use crate::evaluate::evaluation::{ChannelResult, Evaluation, RunResult};
+use crate::evaluate::masses::MassTable;
+use crate::evaluate::open_loop::{
     InitialState, InputMap, ReplayOptions, Trace, grid_position, replay_steps, simulate_many,
 };
-use crate::run::{ChannelKind, MeasuredRun, RunError};
-use crate::stats;
+use crate::evaluate::stats;
+use crate::log::run::{ChannelKind, MeasuredRun, RunError};
 use shoal_model::lanes::LANES;
 use shoal_model::math::wrap_pi;
 use shoal_model::rigid_body::Environment;
@@ -447,10 +449,10 @@ impl Dataset {
     }
 
     /// The estimation residuals of a replay of this dataset, weighted as
-    /// [`Evaluation::weighted_with`] weighs them, or `None` where [`Evaluation::metrics`]
-    /// would hold a sum of squares that is not finite: the same numbers as
-    /// `evaluation(replayed).weighted_with(factor, resample)`, without the per-channel
-    /// metrics and series a fit's inner loop never looks at.
+    /// [`weighted_residuals`](crate::evaluate::blocks::weighted_residuals) weighs them, or
+    /// `None` where [`Evaluation::metrics`] would hold a sum of squares that is not finite:
+    /// the same numbers as `weighted_residuals(&evaluation(replayed), factor, resample)`,
+    /// without the per-channel metrics and series a fit's inner loop never looks at.
     pub fn weighted(
         &self,
         replayed: &Replayed,
@@ -512,35 +514,6 @@ impl Replayed {
             .flatten()
             .map(|(p, r)| 8 * (p.len() + r.len()))
             .sum()
-    }
-}
-
-/// Appends the estimation samples of `resid` (times `times` \[s\], estimation flags `est`) to
-/// `out`, each multiplied by `w` and, with a resample `(rs, run index)`, by the square root
-/// of its block's weight (the least-squares form of a weighted fit).
-fn push_weighted(
-    out: &mut Vec<f64>,
-    resid: &[f64],
-    times: &[f64],
-    est: &[bool],
-    w: f64,
-    resample: Option<(&Resample, usize)>,
-) {
-    match resample {
-        None => out.extend(
-            resid
-                .iter()
-                .zip(est)
-                .filter(|(_, e)| **e)
-                .map(|(r, _)| r * w),
-        ),
-        Some((rs, ri)) => out.extend(
-            resid
-                .iter()
-                .zip(blocks_of(times, est, rs.len))
-                .filter(|(_, (e, _))| *e)
-                .map(|(r, (e, b))| r * w * rs.weight((ri, e, b)).sqrt()),
-        ),
     }
 }
 
@@ -615,193 +588,4 @@ pub fn unwrap(a: &mut [f64]) {
         shift = v - raw;
         a[i] = v;
     }
-}
-
-/// One channel of one run, compared.
-#[derive(Clone, Debug, PartialEq)]
-pub struct ChannelResult {
-    /// What it measures.
-    pub kind: ChannelKind,
-    /// Sample times \[s\].
-    pub times: Vec<f64>,
-    /// Measured values (angles unwrapped into a continuous series).
-    pub measured: Vec<f64>,
-    /// Replayed values (initial offset included; angles continuous, starting within ±π of
-    /// the measurement).
-    pub predicted: Vec<f64>,
-    /// Residual measured − predicted.
-    pub resid: Vec<f64>,
-    /// Whether each sample is estimation data.
-    pub est: Vec<bool>,
-}
-
-/// One run, compared.
-#[derive(Clone, Debug, PartialEq)]
-pub struct RunResult {
-    /// Run name.
-    pub name: String,
-    /// Whether it is a hold-out run.
-    pub holdout: bool,
-    /// Its channels.
-    pub channels: Vec<ChannelResult>,
-}
-
-/// Per-channel metrics over all runs.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
-pub struct ChannelMetrics {
-    /// Estimation samples.
-    pub n_est: usize,
-    /// Sum of squared estimation residuals.
-    pub sse_est: f64,
-    /// Lag-1 autocorrelation of the estimation residuals (sample-weighted over runs).
-    pub rho1_est: f64,
-    /// Validation samples.
-    pub n_val: usize,
-    /// RMSE on validation samples (channel unit).
-    pub rmse: f64,
-    /// Fit % on validation samples.
-    pub fit_pct: f64,
-    /// RMSE on estimation samples (channel unit).
-    pub rmse_est: f64,
-    /// Ljung–Box whiteness test of the validation residuals (first run with validation
-    /// samples of this channel… pooled by concatenation).
-    pub ljung_box: stats::LjungBox,
-    /// Resolution of the measurements (quantisation step, channel unit; 0: not quantised).
-    pub resolution: f64,
-}
-
-/// A model compared with all runs.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Evaluation {
-    /// Per run and channel.
-    pub runs: Vec<RunResult>,
-    /// Per channel kind, pooled over runs.
-    pub metrics: BTreeMap<ChannelKind, ChannelMetrics>,
-}
-
-impl Evaluation {
-    fn new(
-        runs: Vec<RunResult>,
-        kinds: &[ChannelKind],
-        resolution: &BTreeMap<ChannelKind, f64>,
-    ) -> Self {
-        let mut metrics = BTreeMap::new();
-        for &k in kinds {
-            let mut est_r = Vec::new();
-            let mut val_r = Vec::new();
-            let mut val_dev = Vec::new();
-            let mut rho_w = 0.0;
-            let mut rho_n = 0usize;
-            for r in &runs {
-                for c in r.channels.iter().filter(|c| c.kind == k) {
-                    let e: Vec<f64> = sel(&c.resid, &c.est, true);
-                    if e.len() > 2 {
-                        rho_w += stats::acf(&e, 1).get(1).copied().unwrap_or(0.0) * e.len() as f64;
-                        rho_n += e.len();
-                    }
-                    est_r.extend(e);
-                    let v = sel(&c.resid, &c.est, false);
-                    let y = sel(&c.measured, &c.est, false);
-                    val_dev.extend(deviations(&y));
-                    val_r.extend(v);
-                }
-            }
-            let sse_est: f64 = est_r.iter().map(|x| x * x).sum();
-            metrics.insert(
-                k,
-                ChannelMetrics {
-                    n_est: est_r.len(),
-                    sse_est,
-                    rho1_est: if rho_n > 0 { rho_w / rho_n as f64 } else { 0.0 },
-                    n_val: val_r.len(),
-                    rmse: stats::rms(&val_r),
-                    fit_pct: stats::fit_pct(&val_r, &val_dev),
-                    rmse_est: stats::rms(&est_r),
-                    ljung_box: stats::ljung_box(&val_r, 20),
-                    resolution: resolution.get(&k).copied().unwrap_or(0.0),
-                },
-            );
-        }
-        Self { runs, metrics }
-    }
-
-    /// Estimation residuals of every channel, each multiplied by `factor[kind]`, in a fixed
-    /// order (run, channel, sample): the vector a fit minimises.
-    pub fn weighted(&self, factor: &BTreeMap<ChannelKind, f64>) -> Vec<f64> {
-        self.weighted_with(factor, None)
-    }
-
-    /// Estimation residuals as in [`Evaluation::weighted`], each sample also multiplied by the square root
-    /// of its block's weight in `resample` (the least-squares form of a weighted fit).
-    pub fn weighted_with(
-        &self,
-        factor: &BTreeMap<ChannelKind, f64>,
-        resample: Option<&Resample>,
-    ) -> Vec<f64> {
-        let mut out = Vec::new();
-        for (ri, r) in self.runs.iter().enumerate() {
-            for c in &r.channels {
-                push_weighted(
-                    &mut out,
-                    &c.resid,
-                    &c.times,
-                    &c.est,
-                    factor[&c.kind],
-                    resample.map(|rs| (rs, ri)),
-                );
-            }
-        }
-        out
-    }
-
-    /// Maximum-likelihood residual factors for this evaluation: 1/σ̂ per channel, with σ̂² the
-    /// estimation residuals' mean square. Weighted this way, a channel counts by its
-    /// information: a noisy or badly modelled channel less, a clean one more.
-    pub fn ml_factors(&self) -> BTreeMap<ChannelKind, f64> {
-        self.metrics
-            .iter()
-            .map(|(k, m)| {
-                let var = (m.sse_est / m.n_est.max(1) as f64).max(1e-30);
-                (*k, 1.0 / var.sqrt())
-            })
-            .collect()
-    }
-
-    /// The channel kind of each entry of [`Evaluation::weighted`].
-    pub fn weighted_kinds(&self) -> Vec<ChannelKind> {
-        let mut out = Vec::new();
-        for r in &self.runs {
-            for c in &r.channels {
-                out.extend(c.est.iter().filter(|e| **e).map(|_| c.kind));
-            }
-        }
-        out
-    }
-
-    /// Validation residuals of a channel kind, run after run.
-    pub fn validation_residuals(&self, kind: ChannelKind) -> Vec<f64> {
-        let mut out = Vec::new();
-        for r in &self.runs {
-            for c in r.channels.iter().filter(|c| c.kind == kind) {
-                out.extend(sel(&c.resid, &c.est, false));
-            }
-        }
-        out
-    }
-}
-
-fn sel(v: &[f64], est: &[bool], want: bool) -> Vec<f64> {
-    v.iter()
-        .zip(est)
-        .filter(|(_, e)| **e == want)
-        .map(|(x, _)| *x)
-        .collect()
-}
-
-fn deviations(y: &[f64]) -> Vec<f64> {
-    if y.is_empty() {
-        return Vec::new();
-    }
-    let m = y.iter().sum::<f64>() / y.len() as f64;
-    y.iter().map(|a| a - m).collect()
 }

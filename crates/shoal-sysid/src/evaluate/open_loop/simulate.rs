@@ -3,9 +3,10 @@
 //! each), stepped with the run's inputs and recorded through the sensor models (see the
 //! parent module).
 
-use super::{InitialState, InputMap, ReplayOptions, Trace, replay_steps};
-use crate::masses::{BodyMasses, MassTable};
-use crate::run::{ChannelKind, MeasuredRun};
+use super::setup::{InitialState, InputMap, ReplayOptions, replay_steps};
+use super::trace::Trace;
+use crate::evaluate::masses::{BodyMasses, MassTable};
+use crate::log::run::{ChannelKind, MeasuredRun};
 use shoal_model::ballast::Pump;
 use shoal_model::control::ActuatorCommands;
 use shoal_model::dynamics::{Integrator, RigidState};

@@ -1,0 +1,22 @@
+//! Reading a log: the first stage of `shoal validate`.
+//!
+//! * [`run`] — a measured run: time, inputs, measurements, with errors that name line and
+//!   column (it knows nothing of how it was read);
+//! * [`format`](mod@format) — the vocabulary of a run file: separator, time unit, read options, and what
+//!   reading found ([`format::IngestInfo`]);
+//! * [`ingest`] — reading runs as loggers write them (separators, comments, time units),
+//!   streaming and linear in the rows, on `header.rs` (the header line) and `data_lines.rs`
+//!   (only the data lines, with the file's line numbers);
+//! * [`segments`] — runs split at gaps in time;
+//! * [`limits`] — inputs checked against the actuator limits, rounding clamped and counted.
+//!
+//! Nothing here knows the later stages (`evaluate`, `search`, `report`).
+
+mod data_lines;
+pub mod format;
+mod header;
+pub mod ingest;
+pub mod limits;
+pub(crate) mod numbers;
+pub mod run;
+pub mod segments;

@@ -1,0 +1,36 @@
+//! What a report is made from besides the search outcome ([`ReportInput`]), and the files
+//! it wrote ([`Written`]).
+
+use crate::evaluate::dataset::Dataset;
+use crate::search::{Outcome, SearchOptions};
+use shoal_world::spec::VehicleSpec;
+use std::path::PathBuf;
+
+/// Everything the report needs besides the search outcome.
+pub struct ReportInput<'a> {
+    /// The data.
+    pub ds: &'a Dataset,
+    /// The baseline vehicle model in file form (its `effects` are the baseline's own).
+    pub vehicle: &'a VehicleSpec,
+    /// Where the baseline came from (a file, or the preset name).
+    pub vehicle_source: String,
+    /// The search settings.
+    pub opts: &'a SearchOptions,
+    /// The outcome.
+    pub outcome: &'a Outcome,
+    /// Draw plots.
+    pub plots: bool,
+}
+
+/// Files written.
+#[derive(Clone, Debug, Default)]
+pub struct Written {
+    /// `report.json`.
+    pub json: PathBuf,
+    /// `report.md`.
+    pub markdown: PathBuf,
+    /// `vehicle.toml`.
+    pub vehicle: PathBuf,
+    /// Plot files (PNG and SVG).
+    pub plots: Vec<PathBuf>,
+}

@@ -1,0 +1,146 @@
+//! How the report words and formats what the search found: the one-sentence verdict, the
+//! candidate that stands as a family's evidence, confidence intervals, channel labels and
+//! numbers.
+
+use crate::evaluate::evaluation::Evaluation;
+use crate::log::run::ChannelKind;
+use crate::search::{Candidate, Outcome, ParamEstimate};
+use std::path::Path;
+
+/// One sentence: what was found and what it gained.
+pub fn verdict_sentence(out: &Outcome) -> String {
+    let fin = &out.chosen;
+    let mut tail = String::new();
+    for p in &out.verdict.possible {
+        tail.push_str(&format!(
+            " Possible, not named: {} ({}) — {}.",
+            p.effect, p.form, p.reason
+        ));
+    }
+    for u in &out.verdict.unexplained {
+        tail.push_str(&format!(
+            " Unexplained structure on channel y.{}: held-out RMSE {} {} against a noise floor of {} (Ljung–Box p = {:.2e}); no catalogue family explains it.",
+            u.channel.name(),
+            sig(u.rmse),
+            u.channel.unit(),
+            sig(u.noise_floor),
+            u.ljung_box_p
+        ));
+    }
+    if fin.effects.is_empty() {
+        return format!(
+            "No effect is needed with strong evidence: no catalogue effect improves the held-out \
+             error significantly and stably.{tail}"
+        );
+    }
+    let parts: Vec<String> = fin
+        .effects
+        .iter()
+        .map(|e| {
+            let ps: Vec<String> = e
+                .params
+                .iter()
+                .filter(|p| p.excited)
+                .map(|p| format!("{} = {}", p.name, fmt_pm(p.value, p.sigma)))
+                .collect();
+            let stab = out
+                .verdict
+                .stability
+                .get(e.effect.name())
+                .map(|f| format!(", chosen in {:.0} % of resamples", 100.0 * f))
+                .unwrap_or_default();
+            format!(
+                "{} [form {}{stab}] ({})",
+                e.effect.name(),
+                e.effect.form(),
+                ps.join(", ")
+            )
+        })
+        .collect();
+    format!(
+        "Found {}: validation RMSE {:.1} % lower than the baseline's (mean over channels).{tail}",
+        parts.join(" and "),
+        out.validation_gain_pct()
+    )
+}
+
+/// The search's evidence for the family `name`: its last backward check (the stepwise model
+/// with against without it) if it has one, else its last fitted forward candidate.
+pub(super) fn evidence<'a>(out: &'a Outcome, name: &str) -> Option<&'a Candidate> {
+    let fitted = |backward: bool| {
+        out.candidates
+            .iter()
+            .rev()
+            .find(|c| c.effect == name && c.backward == backward && c.fit.is_some())
+    };
+    fitted(true).or_else(|| fitted(false))
+}
+
+/// The candidate whose form comparison stands for the family `name`: the last forward one
+/// that fitted forms, preferring one whose best form is `form`.
+pub(super) fn form_candidate<'a>(
+    out: &'a Outcome,
+    name: &str,
+    form: &str,
+) -> Option<&'a Candidate> {
+    let with_forms = || {
+        out.candidates
+            .iter()
+            .rev()
+            .filter(|c| c.effect == name && !c.backward && !c.forms.is_empty())
+    };
+    with_forms()
+        .find(|c| c.form == form)
+        .or_else(|| with_forms().next())
+}
+
+/// The 95 % confidence interval value ± 1.96 σ with the honest σ (allowing for
+/// autocorrelated residuals); `None` where σ is unknown.
+pub(crate) fn ci95(p: &ParamEstimate) -> Option<(f64, f64)> {
+    p.sigma
+        .filter(|s| s.is_finite() && *s > 0.0)
+        .map(|s| (p.value - 1.96 * s, p.value + 1.96 * s))
+}
+
+pub(super) fn label(k: ChannelKind) -> String {
+    format!("y.{}", k.name())
+}
+
+pub(super) fn white(ev: &Evaluation) -> bool {
+    ev.metrics.values().all(|m| m.ljung_box.white())
+}
+
+pub(super) fn fmt_pm(v: f64, s: Option<f64>) -> String {
+    match s {
+        Some(s) if s > 0.0 => format!("{} ± {}", sig(v), sig(s)),
+        _ => sig(v),
+    }
+}
+
+/// A number with about four significant digits.
+pub(super) fn sig(v: f64) -> String {
+    if v == 0.0 {
+        return "0".into();
+    }
+    if !v.is_finite() {
+        return format!("{v}");
+    }
+    let a = v.abs();
+    if (0.01..10000.0).contains(&a) {
+        let d = (3 - a.log10().floor() as i32).clamp(0, 6) as usize;
+        format!("{v:.d$}")
+    } else {
+        format!("{v:.3e}")
+    }
+}
+
+pub(super) fn yes(b: bool) -> &'static str {
+    if b { "yes" } else { "no" }
+}
+
+pub(super) fn file_name(p: &Path) -> String {
+    p.file_name().map_or_else(
+        || p.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    )
+}
