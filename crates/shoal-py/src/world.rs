@@ -601,7 +601,7 @@ impl World {
     }
 
     /// The loops split over the thread pool since the world was built or reset, per kind:
-    /// `{"behaviour": n, "vehicles": n, "delivery": n}` (as `parallel_dispatches` in
+    /// `{"behaviour": n, "vehicles": n, "delivery": n, "links": n}` (as `parallel_dispatches` in
     /// `shoal run`'s summary.json). All zero on one thread and for loops under 256 vehicles.
     #[getter]
     fn parallel_dispatches<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
@@ -610,6 +610,7 @@ impl World {
         d.set_item("behaviour", p.behaviour)?;
         d.set_item("vehicles", p.vehicles)?;
         d.set_item("delivery", p.delivery)?;
+        d.set_item("links", p.links)?;
         Ok(d)
     }
 
