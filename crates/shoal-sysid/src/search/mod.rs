@@ -16,7 +16,7 @@
 //! the fit repeated until they settle. It starts from the best two of several points: the null
 //! values, typical values, earlier fits, and a scan of the new effect's parameters — a line
 //! from the null values towards the far bounds and a space-filling Halton design over their
-//! whole box (`fit.rs`): threshold laws have no gradient where they do not bind, and
+//! whole box (`scan.rs`): threshold laws have no gradient where they do not bind, and
 //! an output-error cost has valleys far from the null values. Parameters that the data cannot
 //! see are detected by a probe and kept at their null values.
 //!
@@ -109,6 +109,7 @@ mod pairs;
 mod par;
 mod refine;
 pub mod rules;
+mod scan;
 mod stability;
 mod verdict;
 
