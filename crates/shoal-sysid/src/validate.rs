@@ -5,7 +5,7 @@
 //! with errors that name the setting and its allowed range ([`ValidateError`]).
 
 use crate::evaluate::dataset::{DataError, DataOptions, Dataset};
-use crate::evaluate::evaluation::Evaluation;
+use crate::evaluate::evaluation::rmse_gain_pct;
 use crate::evaluate::open_loop::ReplayOptions;
 use crate::log::format::{ReadOptions, TimeUnit};
 use crate::log::limits::ClampNote;
@@ -226,11 +226,7 @@ impl Validation {
                     channel: *k,
                     rmse_before: mb.rmse,
                     rmse_after: mf.rmse,
-                    gain_pct: if mb.rmse > 0.0 {
-                        100.0 * (1.0 - mf.rmse / mb.rmse)
-                    } else {
-                        0.0
-                    },
+                    gain_pct: rmse_gain_pct(mb.rmse, mf.rmse),
                     fit_pct_before: mb.fit_pct,
                     fit_pct_after: mf.fit_pct,
                 }
@@ -241,10 +237,9 @@ impl Validation {
     /// Whether every channel's held-out residuals are white (Ljung–Box at 5 %): (baseline,
     /// chosen model).
     pub fn residuals_white(&self) -> (bool, bool) {
-        let white = |e: &Evaluation| e.metrics.values().all(|m| m.ljung_box.white());
         (
-            white(&self.outcome.baseline.eval),
-            white(&self.outcome.chosen.eval),
+            self.outcome.baseline.eval.residuals_white(),
+            self.outcome.chosen.eval.residuals_white(),
         )
     }
 

@@ -69,7 +69,21 @@ pub struct Evaluation {
     pub metrics: BTreeMap<ChannelKind, ChannelMetrics>,
 }
 
+/// Relative reduction of an RMSE from `before` to `after` \[%\] (0 when `before` is 0).
+pub fn rmse_gain_pct(before: f64, after: f64) -> f64 {
+    if before > 0.0 {
+        100.0 * (1.0 - after / before)
+    } else {
+        0.0
+    }
+}
+
 impl Evaluation {
+    /// Whether every channel's residuals are white (Ljung–Box at 5 %).
+    pub fn residuals_white(&self) -> bool {
+        self.metrics.values().all(|m| m.ljung_box.white())
+    }
+
     /// The metrics of `runs` for the channel `kinds`, with each kind's measurement
     /// `resolution`.
     pub(crate) fn new(

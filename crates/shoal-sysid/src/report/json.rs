@@ -4,8 +4,8 @@
 
 use super::input::ReportInput;
 use super::plots::PlotRefs;
-use super::wording::{ci95, evidence, label, verdict_sentence, white};
-use crate::evaluate::evaluation::Evaluation;
+use super::wording::{ci95, evidence, label, verdict_sentence};
+use crate::evaluate::evaluation::{Evaluation, rmse_gain_pct};
 use crate::log::run::ChannelKind;
 use crate::search::{Candidate, Fit};
 use serde_json::{Map, Value, json};
@@ -172,7 +172,7 @@ pub(super) fn report(
                 json!({
                     "rmse_before": mb.rmse, "rmse_after": mf.rmse,
                     "fit_pct_before": mb.fit_pct, "fit_pct_after": mf.fit_pct,
-                    "gain_pct": if mb.rmse > 0.0 { 100.0 * (1.0 - mf.rmse / mb.rmse) } else { 0.0 },
+                    "gain_pct": rmse_gain_pct(mb.rmse, mf.rmse),
                     "white_before": mb.ljung_box.white(), "white_after": mf.ljung_box.white(),
                 }),
             );
@@ -186,14 +186,7 @@ pub(super) fn report(
         .iter()
         .filter_map(|(k, mb)| {
             let ms = out.stepwise.eval.metrics.get(k)?;
-            Some((
-                label(*k),
-                json!(if mb.rmse > 0.0 {
-                    100.0 * (1.0 - ms.rmse / mb.rmse)
-                } else {
-                    0.0
-                }),
-            ))
+            Some((label(*k), json!(rmse_gain_pct(mb.rmse, ms.rmse))))
         })
         .collect();
     let explanations: Map<String, Value> = fin
@@ -253,7 +246,7 @@ pub(super) fn report(
         },
         "baseline": {
             "channels": channels_json(&base.eval),
-            "residuals_white": white(&base.eval),
+            "residuals_white": base.eval.residuals_white(),
         },
         "candidates": out.candidates.iter().map(candidate_json).collect::<Vec<_>>(),
         "verdict": {
@@ -271,8 +264,8 @@ pub(super) fn report(
             "params_sigma": vs,
             "params_ci95": ci,
             "validation_gain_pct": out.validation_gain_pct(),
-            "residuals_white_before": white(&base.eval),
-            "residuals_white_after": white(&fin.eval),
+            "residuals_white_before": base.eval.residuals_white(),
+            "residuals_white_after": fin.eval.residuals_white(),
             "channels": per_channel,
             "explanations": explanations,
             "summary": verdict_sentence(out),

@@ -8,8 +8,9 @@
 use super::input::{ReportInput, Written};
 use super::plots::PlotRefs;
 use super::wording::{
-    ci95, evidence, file_name, fmt_pm, form_candidate, label, sig, verdict_sentence, white, yes,
+    ci95, evidence, file_name, fmt_pm, form_candidate, label, sig, verdict_sentence, yes,
 };
+use crate::evaluate::evaluation::rmse_gain_pct;
 use crate::log::run::ChannelKind;
 use crate::search::{Candidate, FittedEffect, Outcome, SearchOptions};
 use shoal_model::vehicle::VehicleParams;
@@ -96,8 +97,8 @@ fn verdict(s: &mut String, input: &ReportInput<'_>, written: &Written) {
     let _ = writeln!(
         s,
         "\nResiduals white (Ljung–Box, 5 %) before: **{}**, after: **{}**.\n",
-        yes(white(&out.baseline.eval)),
-        yes(white(&out.chosen.eval))
+        yes(out.baseline.eval.residuals_white()),
+        yes(out.chosen.eval.residuals_white())
     );
     let _ = writeln!(
         s,
@@ -421,11 +422,7 @@ fn channels(s: &mut String, out: &Outcome) {
         let Some(mf) = out.chosen.eval.metrics.get(k) else {
             continue;
         };
-        let g = if mb.rmse > 0.0 {
-            100.0 * (1.0 - mf.rmse / mb.rmse)
-        } else {
-            0.0
-        };
+        let g = rmse_gain_pct(mb.rmse, mf.rmse);
         let _ = writeln!(
             s,
             "| {} [{}] | {} | {} | {:.1} % | {:.1} | {:.1} | {} ({:.3}) | {} ({:.3}) |",

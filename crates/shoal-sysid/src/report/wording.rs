@@ -2,7 +2,6 @@
 //! candidate that stands as a family's evidence, confidence intervals, channel labels and
 //! numbers.
 
-use crate::evaluate::evaluation::Evaluation;
 use crate::log::run::ChannelKind;
 use crate::search::{Candidate, Outcome, ParamEstimate};
 use std::path::Path;
@@ -104,10 +103,6 @@ pub(crate) fn ci95(p: &ParamEstimate) -> Option<(f64, f64)> {
 
 pub(super) fn label(k: ChannelKind) -> String {
     format!("y.{}", k.name())
-}
-
-pub(super) fn white(ev: &Evaluation) -> bool {
-    ev.metrics.values().all(|m| m.ljung_box.white())
 }
 
 pub(super) fn fmt_pm(v: f64, s: Option<f64>) -> String {
