@@ -2,7 +2,7 @@
 //! either way within a window), sampled every second, with its components, largest component
 //! and edges — the connectivity table, plots, summary and replay timeline read it.
 
-use crate::comm::{CommStats, Medium};
+use crate::comm::{CommStats, Ledger, Medium};
 use crate::components::{Clock, VehicleId};
 use crate::parallel::{Loop, Parallel};
 use bevy_ecs::prelude::*;
@@ -63,37 +63,49 @@ impl Connectivity {
     }
 }
 
-/// Samples the communication graph.
+/// Samples the communication graph, folding the reception ledger into the vehicles'
+/// statistics first (and between samples when the ledger is full).
 pub fn connectivity_system(
     clock: Res<Clock>,
     medium: Res<Medium>,
     par: Res<Parallel>,
     mut conn: ResMut<Connectivity>,
+    mut ledger: ResMut<Ledger>,
     mut q: Query<(&VehicleId, &mut CommStats)>,
 ) {
     if !medium.active() {
         return;
     }
+    let n = medium.kinds.len();
     let every = (conn.every / conn.dt).round().max(1.0) as u64;
     let next = clock.step + 1;
     if !next.is_multiple_of(every) {
+        if ledger.full(n) {
+            ledger.fold_into(n, q.iter_mut().map(|(id, s)| (id.0, s)));
+        }
         return;
     }
     let t = next as f64 * clock.dt;
-    let n = medium.kinds.len();
     let window = conn.window;
     let mut items: Vec<_> = q.iter_mut().collect();
-    // Each vehicle's links are its own, so the fold runs per vehicle on the pool; the edges
-    // are sorted afterwards, so their order does not depend on the chunks.
-    let parts = par.for_each_with(Loop::Links, &mut items, Vec::new, |edges, (id, s)| {
-        s.fold();
-        for (from, l) in s.links() {
-            if t - l.last_delivery <= window {
-                edges.push(((*from).min(id.0), (*from).max(id.0)));
+    // Each vehicle's statistics and links are its own, so the fold runs per vehicle on the
+    // pool; the edges are sorted afterwards, so their order does not depend on the chunks.
+    let events = ledger.grouped(n);
+    let parts = par.for_each_with(
+        Loop::Links,
+        &mut items,
+        || (Vec::new(), Vec::new()),
+        |(edges, scratch), (id, s)| {
+            events.apply(id.0, s, scratch);
+            for (from, l) in s.links().iter() {
+                if t - l.last_delivery <= window {
+                    edges.push(((*from).min(id.0), (*from).max(id.0)));
+                }
             }
-        }
-    });
-    let mut edges: Vec<(u32, u32)> = parts.concat();
+        },
+    );
+    ledger.done(events);
+    let mut edges: Vec<(u32, u32)> = parts.into_iter().flat_map(|(e, _)| e).collect();
     edges.sort_unstable();
     edges.dedup();
     let mut parent: Vec<u32> = (0..n as u32).collect();

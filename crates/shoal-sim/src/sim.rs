@@ -2,7 +2,7 @@
 //! at a time by the schedule of [`crate::systems`].
 
 use crate::behaviour::{self, Behave};
-use crate::comm::{CommStats, Inbox, Medium, Modems, Outbox, comm_rng};
+use crate::comm::{CommStats, Inbox, Ledger, Medium, Modems, Outbox, comm_rng};
 use crate::components::*;
 use crate::connectivity::Connectivity;
 use crate::fault::{FaultFlag, SimFault};
@@ -106,6 +106,7 @@ impl Sim {
             desc.ambient,
         ));
         world.insert_resource(Connectivity::new(desc.dt));
+        world.insert_resource(Ledger::default());
         let every = if opts.record {
             (1.0 / (desc.output.record_hz * desc.dt)).round().max(1.0) as u64
         } else {
@@ -350,7 +351,10 @@ impl Sim {
                 .get::<CommStats>()
                 .cloned()
                 .map(|mut c| {
-                    c.fold();
+                    // The attempts the ledger has not folded yet, in order.
+                    for ev in self.world.resource::<Ledger>().pending(id as u32) {
+                        c.apply(ev);
+                    }
                     c
                 })
                 .unwrap_or_default(),
@@ -411,7 +415,7 @@ impl Sim {
     }
 
     /// Borrowed views of all vehicles in id order (see [`crate::view`]). Call
-    /// [`Self::fold_comm`] first when the per-sender link statistics are needed.
+    /// [`Self::fold_comm`] first when the reception statistics are needed.
     pub fn views(&self) -> Vec<VehicleView<'_>> {
         let mut views = Vec::with_capacity(self.entities().len());
         views.extend(
@@ -422,13 +426,14 @@ impl Sim {
         views
     }
 
-    /// Folds every vehicle's buffered reception outcomes into its per-sender statistics
-    /// ([`CommStats::links`]).
+    /// Folds the reception attempts of the ledger ([`Ledger`]) into every vehicle's
+    /// statistics ([`CommStats::rx`], [`CommStats::links`]); before reading them from the world.
     pub fn fold_comm(&mut self) {
-        let mut q = self.world.query::<&mut CommStats>();
-        for mut c in q.iter_mut(&mut self.world) {
-            c.fold();
-        }
+        let n = self.entities().len();
+        let mut ledger = std::mem::take(&mut *self.world.resource_mut::<Ledger>());
+        let mut q = self.world.query::<(&VehicleId, &mut CommStats)>();
+        ledger.fold_into(n, q.iter_mut(&mut self.world).map(|(id, c)| (id.0, c)));
+        *self.world.resource_mut::<Ledger>() = ledger;
     }
 
     /// The communication graph over time.

@@ -291,6 +291,10 @@ impl Sim {
     pub fn read_i64(&mut self, q: Quantity, out: &mut [i64]) -> Result<(), CommandError> {
         let w = self.row_width(q, Dtype::I64, out.len())?;
         out.fill(0);
+        if matches!(q, Quantity::FramesReceived | Quantity::FramesLost) {
+            // Reception counters are complete once the ledger is folded.
+            self.fold_comm();
+        }
         let mut query = self
             .world_mut()
             .query::<(&VehicleId, &Modems, &CommStats)>();

@@ -10,32 +10,54 @@ use shoal_model::math::Vec3;
 
 /// Values grouped by vehicle id (compressed rows), each vehicle's values in the order they
 /// were given (a stable counting sort).
-pub(super) struct ByVehicle {
+pub(super) struct ByVehicle<T = u32> {
     /// Vehicle `v`'s values are `values[start[v]..start[v + 1]]`.
     start: Vec<u32>,
-    values: Vec<u32>,
+    values: Vec<T>,
 }
 
-impl ByVehicle {
+impl<T: Copy> ByVehicle<T> {
     /// Groups the `(vehicle, value)` pairs of `pairs` (vehicle ids below `n`).
     pub(super) fn new<I>(n: usize, pairs: I) -> Self
     where
-        I: Iterator<Item = (u32, u32)> + Clone,
+        I: Iterator<Item = (u32, T)> + Clone,
     {
-        let mut start = vec![0u32; n + 1];
+        let mut by = Self {
+            start: Vec::new(),
+            values: Vec::new(),
+        };
+        by.regroup(n, pairs);
+        by
+    }
+
+    /// [`ByVehicle::new`] into this one's buffers (no allocation once they are large enough).
+    pub(super) fn regroup<I>(&mut self, n: usize, pairs: I)
+    where
+        I: Iterator<Item = (u32, T)> + Clone,
+    {
+        let start = &mut self.start;
+        start.clear();
+        start.resize(n + 1, 0);
         for (v, _) in pairs.clone() {
             start[v as usize + 1] += 1;
         }
         for k in 0..n {
             start[k + 1] += start[k];
         }
-        let mut values = vec![0u32; start[n] as usize];
-        let mut fill = start.clone();
+        self.values.clear();
+        let Some((_, filler)) = pairs.clone().next() else {
+            return;
+        };
+        self.values.resize(start[n] as usize, filler);
+        // Each vehicle's next free place, kept in `start[v]` (which ends up as `start[v + 1]`
+        // was) and restored by a shift afterwards.
         for (v, x) in pairs {
-            values[fill[v as usize] as usize] = x;
-            fill[v as usize] += 1;
+            let at = &mut start[v as usize];
+            self.values[*at as usize] = x;
+            *at += 1;
         }
-        Self { start, values }
+        start.copy_within(0..n, 1);
+        start[0] = 0;
     }
 
     /// How many vehicles have values.
@@ -44,7 +66,7 @@ impl ByVehicle {
     }
 
     /// The values of vehicle `v`, in the order given.
-    pub(super) fn of(&self, v: u32) -> &[u32] {
+    pub(super) fn of(&self, v: u32) -> &[T] {
         &self.values[self.start[v as usize] as usize..self.start[v as usize + 1] as usize]
     }
 }

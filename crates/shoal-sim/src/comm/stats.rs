@@ -1,32 +1,11 @@
 //! Communication statistics: reception outcomes per receiver and sender ([`LinkStats`],
-//! [`CommStats`], keyed through [`IdHasher`]) and the bins of the world-wide delivery-by-distance
+//! [`CommStats`], its senders in a [`LinkMap`]) and the bins of the world-wide delivery-by-distance
 //! and latency histograms, tallied per chunk of receivers (`Tally`).
 
+use super::ledger::LinkEvent;
+pub use super::link_map::LinkMap;
 use bevy_ecs::prelude::*;
 use serde::Serialize;
-use std::collections::HashMap;
-use std::hash::{BuildHasherDefault, Hasher};
-
-/// A fixed multiplicative hash for vehicle ids: fast, and the same in every run.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct IdHasher(u64);
-
-impl Hasher for IdHasher {
-    fn finish(&self) -> u64 {
-        self.0
-    }
-    fn write(&mut self, bytes: &[u8]) {
-        for b in bytes {
-            self.0 = (self.0.rotate_left(8) ^ u64::from(*b)).wrapping_mul(0x9E37_79B9_7F4A_7C15);
-        }
-    }
-    fn write_u32(&mut self, i: u32) {
-        self.0 = (u64::from(i) ^ self.0).wrapping_mul(0x9E37_79B9_7F4A_7C15);
-    }
-}
-
-/// Per-sender statistics of one receiver (iterate in sorted order for output).
-pub type LinkMap = HashMap<u32, LinkStats, BuildHasherDefault<IdHasher>>;
 
 /// How receptions of one sender's frames at one receiver ended.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
@@ -63,7 +42,7 @@ impl LinkStats {
         self.latency_sum_s += o.latency_sum_s;
     }
 
-    fn record(&mut self, outcome: Outcome, latency: f64, t: f64) {
+    pub(super) fn record(&mut self, outcome: Outcome, latency: f64, t: f64) {
         self.attempts += 1;
         match outcome {
             Outcome::Delivered => {
@@ -98,70 +77,49 @@ pub struct CommStats {
     pub oversize: u64,
     /// Carrier-sense deferrals.
     pub cs_deferrals: u64,
-    /// Receptions, all senders together.
+    /// Receptions, all senders together (complete once the ledger was folded:
+    /// [`crate::sim::Sim::fold_comm`]; snapshots are).
     pub rx: LinkStats,
     links: LinkMap,
-    /// Reception outcomes not yet folded into `links` (appending is cheap; the map is updated
-    /// in batches, while it is in cache).
-    pending: Vec<LinkEvent>,
-    /// Every reception attempt since the last drain, when the medium logs them
-    /// ([`crate::comm::Medium::log_links`], for the replay).
-    pub heard: Vec<Heard>,
 }
 
-/// One reception attempt at a vehicle.
+/// One reception attempt at a vehicle, as the replay reads them.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Heard {
     /// End of the frame \[s\].
     pub t: f64,
     /// Sending vehicle.
     pub from: u32,
+    /// Receiving vehicle.
+    pub to: u32,
     /// What happened.
     pub outcome: Outcome,
 }
 
-#[derive(Clone, Copy, Debug)]
-struct LinkEvent {
-    from: u32,
-    outcome: Outcome,
-    latency: f64,
-    t: f64,
-}
-
-/// Events gathered before they are folded into the per-sender map.
-const FOLD_BATCH: usize = 32;
-
 impl CommStats {
-    pub(super) fn record(&mut self, from: u32, outcome: Outcome, latency: f64, t: f64, log: bool) {
-        self.rx.record(outcome, latency, t);
-        if log {
-            self.heard.push(Heard { t, from, outcome });
-        }
-        self.pending.push(LinkEvent {
-            from,
-            outcome,
-            latency,
-            t,
-        });
-        if self.pending.len() >= FOLD_BATCH {
-            self.fold();
-        }
+    /// Counts one reception attempt (from the [`super::Ledger`]).
+    pub fn apply(&mut self, e: &LinkEvent) {
+        self.rx.record(e.outcome, e.latency, e.t);
+        self.links.record(e);
     }
 
-    /// Folds buffered outcomes into the per-sender statistics.
-    pub fn fold(&mut self) {
-        for e in self.pending.drain(..) {
-            self.links
-                .entry(e.from)
-                .or_insert_with(|| LinkStats {
-                    last_delivery: f64::NEG_INFINITY,
-                    ..Default::default()
-                })
-                .record(e.outcome, e.latency, e.t);
+    /// Counts this receiver's attempts `events`, in the order they happened; `scratch` is
+    /// a buffer for sorting them by sender. The same counts and sums as [`CommStats::apply`]
+    /// one by one.
+    pub(super) fn apply_all(&mut self, events: &[LinkEvent], scratch: &mut Vec<u32>) {
+        for e in events {
+            self.rx.record(e.outcome, e.latency, e.t);
         }
+        scratch.clear();
+        scratch.extend(0..events.len() as u32);
+        // Stable: each sender's attempts stay in time order.
+        scratch.sort_by_key(|&k| events[k as usize].from);
+        self.links
+            .record_sorted(scratch.iter().map(|&k| &events[k as usize]));
     }
 
-    /// Receptions by sender (complete after [`CommStats::fold`]; snapshots are folded).
+    /// Receptions by sender (complete once the ledger was folded:
+    /// [`crate::sim::Sim::fold_comm`]; snapshots are).
     pub fn links(&self) -> &LinkMap {
         &self.links
     }

@@ -4,6 +4,7 @@
 
 use super::ending::{ByVehicle, Ended, candidates, own_transmissions};
 use super::frames::{CommRng, Inbox, Modems, Outbox, Queued, Received};
+use super::ledger::{Ledger, LinkEvent};
 use super::medium::{Logical, Medium, Transmission, received_power};
 use super::stats::{CommStats, DIST_BIN, DIST_BINS, Outcome, Tally, latency_bin};
 use crate::components::{StaticGeometry, VehicleEntities, VehicleId};
@@ -294,7 +295,8 @@ pub fn comm_deliver_system(
     par: Res<Parallel>,
     geo: Res<StaticGeometry>,
     mut medium: ResMut<Medium>,
-    mut q: Query<(&VehicleId, &mut Inbox, &mut CommRng, &mut CommStats)>,
+    mut ledger: ResMut<Ledger>,
+    mut q: Query<(&VehicleId, &mut Inbox, &mut CommRng)>,
 ) {
     if !medium.active() {
         return;
@@ -312,25 +314,35 @@ pub fn comm_deliver_system(
     items.extend(q.iter_mut().filter(|it| !heard.of(it.0.0).is_empty()));
     let geo = &geo.0;
     // Outcomes by second (a step reaches into the next second at most) and kind, and the
-    // distance and latency histograms: tallied per chunk of receivers, summed afterwards.
+    // distance and latency histograms: tallied per chunk of receivers, summed afterwards;
+    // every attempt goes to the chunk's part of the ledger, in receiver order.
     let second0 = t0.floor();
     let states = par.for_each_with(
         Loop::Delivery,
         &mut items,
-        || (Tally::new(), Scratch::default()),
-        |(tally, scratch), (id, inbox, rng, stats)| {
+        || (Tally::new(), Scratch::default(), Vec::new()),
+        |(tally, scratch, events), (id, inbox, rng)| {
             let mut rx = Listener::new(m, id.0, scratch);
             for &i in heard.of(id.0) {
                 let l = &logical[i as usize];
-                let o = receive(m, geo, &mut rx, &own, l, &mut rng.0, stats, inbox, tally);
-                let s = usize::from(l.first().end.floor() > second0);
+                let o = receive(m, geo, &mut rx, &own, l, &mut rng.0, inbox, tally);
+                let f = l.first();
+                events.push(LinkEvent {
+                    rx: id.0,
+                    from: f.tx,
+                    outcome: o,
+                    latency: f.end - f.sent,
+                    t: f.end,
+                });
+                let s = usize::from(f.end.floor() > second0);
                 tally.outcomes[s][o.index()] += 1;
             }
         },
     );
     let mut total = Tally::new();
-    for (t, _) in &states {
+    for (t, _, events) in &states {
         total.add(t);
+        ledger.append(events, m.log_links);
     }
     add_tally(&mut medium, &total, second0);
 }
@@ -430,7 +442,6 @@ fn receive(
     own: &ByVehicle,
     l: &Logical<'_>,
     rng: &mut VehicleRng,
-    stats: &mut CommStats,
     inbox: &mut Inbox,
     tally: &mut Tally,
 ) -> Outcome {
@@ -441,7 +452,6 @@ fn receive(
     tally.by_distance[bin].0 += 1;
     if !m.may_decode(l, rx.me, rx.area) {
         // Undecodable even in the best case (P(delivery) < 1e-12): lost to range.
-        stats.record(f.tx, Outcome::Range, latency, f.end, m.log_links);
         return Outcome::Range;
     }
     if rx.scratch.poses.is_empty() {
@@ -495,8 +505,6 @@ fn receive(
             Err(o) => best = best.max(o),
         }
     }
-    // The inbox first: the payload's reference count is an atomic add, which would
-    // otherwise wait for the stores of `record` to reach the receiver's (cold) statistics.
     if let Some((modem, power, snr)) = got {
         tally.by_distance[bin].1 += 1;
         tally.latency[latency_bin(latency)] += 1;
@@ -511,7 +519,6 @@ fn receive(
             payload: f.payload.clone(),
         });
     }
-    stats.record(f.tx, best, latency, f.end, m.log_links);
     best
 }
 

@@ -1,6 +1,6 @@
 //! Gathers a [`ReplayData`] while the world runs: an ECS system at the end of every step
 //! samples the vehicles' poses every frame, the panel values every [`super::Meta::panel_dt`] s, and drains the
-//! reception attempts the medium logged ([`crate::comm::CommStats::heard`]).
+//! reception attempts the medium logged ([`crate::comm::Ledger::drain_heard`]).
 //!
 //! It is switched on by [`crate::sim::Sim::enable_replay`] (which also makes the medium log
 //! receptions) and taken with [`crate::sim::Sim::take_replay`]; without it the system does
@@ -10,7 +10,7 @@ use super::{
     GroupMeta, LINK_BUDGET, LinkEvent, Meta, ObstacleMeta, PANEL, PANEL_BUDGET_BYTES, ReplayData,
     Timeline,
 };
-use crate::comm::{CommStats, Medium, Outcome as CommOutcome};
+use crate::comm::{CommStats, Ledger, Medium, Outcome as CommOutcome};
 use crate::components::{Clock, VehicleId};
 use crate::connectivity::Connectivity;
 use crate::fleet::Fleet;
@@ -256,6 +256,7 @@ pub fn replay_system(
     rec: Option<ResMut<ReplayRecorder>>,
     conn: Res<Connectivity>,
     fleet: Res<Fleet>,
+    mut ledger: ResMut<Ledger>,
     mut q: Query<(&VehicleId, &mut CommStats)>,
 ) {
     let Some(mut rec) = rec else {
@@ -275,7 +276,7 @@ pub fn replay_system(
         let base = rec.data.pos.len();
         rec.data.pos.resize(base + 3 * n, 0);
         rec.data.att.resize(base + 3 * n, 0);
-        for (id, mut stats) in &mut q {
+        for (id, _) in &q {
             let i = base + 3 * id.0 as usize;
             let r = &fleet.get(*id).physics.state.rigid;
             let (roll, pitch, yaw) = r.attitude.euler_angles();
@@ -283,15 +284,13 @@ pub fn replay_system(
                 rec.data.pos[i + k] = q_pos(r.position[k], *span);
             }
             rec.data.att[i..i + 3].copy_from_slice(&[q_angle(roll), q_angle(pitch), q_angle(yaw)]);
-            for h in stats.heard.drain(..) {
-                rec.scratch.push(LinkEvent {
-                    t: h.t as f32,
-                    from: h.from,
-                    to: id.0,
-                    outcome: h.outcome.into(),
-                });
-            }
         }
+        rec.scratch.extend(ledger.drain_heard().map(|h| LinkEvent {
+            t: h.t as f32,
+            from: h.from,
+            to: h.to,
+            outcome: h.outcome.into(),
+        }));
         rec.keep_links();
     }
     if second {
@@ -303,6 +302,8 @@ pub fn replay_system(
         let w = PANEL.len();
         let base = rec.data.panel.len();
         rec.data.panel.resize(base + w * n, 0.0);
+        // The frames received so far: every attempt folded into the statistics.
+        ledger.fold_into(n, q.iter_mut().map(|(id, s)| (id.0, s)));
         for (id, stats) in &q {
             let i = base + w * id.0 as usize;
             let v = fleet.get(*id);

@@ -1,0 +1,147 @@
+//! The per-sender reception statistics of one receiver ([`LinkMap`]): a vector sorted by
+//! sender, so that folding a batch of attempts (sorted by sender) walks it front to back
+//! instead of probing a hash table at random, and iteration is in sender order.
+
+use super::ledger::LinkEvent;
+use super::stats::LinkStats;
+
+/// Per-sender statistics of one receiver, in ascending sender order.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct LinkMap {
+    entries: Vec<(u32, LinkStats)>,
+}
+
+impl LinkMap {
+    /// Senders heard at least once (attempted).
+    pub fn len(&self) -> usize {
+        self.entries.len()
+    }
+
+    /// Whether no frame was ever attempted.
+    pub fn is_empty(&self) -> bool {
+        self.entries.is_empty()
+    }
+
+    /// The statistics of sender `from`.
+    pub fn get(&self, from: u32) -> Option<&LinkStats> {
+        self.find(from).ok().map(|k| &self.entries[k].1)
+    }
+
+    /// `(sender, statistics)` in ascending sender order.
+    pub fn iter(&self) -> impl Iterator<Item = (&u32, &LinkStats)> {
+        self.entries.iter().map(|(k, v)| (k, v))
+    }
+
+    fn find(&self, from: u32) -> Result<usize, usize> {
+        self.entries.binary_search_by_key(&from, |e| e.0)
+    }
+
+    fn fresh() -> LinkStats {
+        LinkStats {
+            last_delivery: f64::NEG_INFINITY,
+            ..Default::default()
+        }
+    }
+
+    /// Counts one attempt.
+    pub(super) fn record(&mut self, e: &LinkEvent) {
+        let k = match self.find(e.from) {
+            Ok(k) => k,
+            Err(k) => {
+                self.entries.insert(k, (e.from, Self::fresh()));
+                k
+            }
+        };
+        self.entries[k].1.record(e.outcome, e.latency, e.t);
+    }
+
+    /// Counts a batch of attempts sorted by sender (each sender's in the order they
+    /// happened): one walk over the entries, new senders merged in at the end.
+    pub(super) fn record_sorted<'e>(&mut self, events: impl Iterator<Item = &'e LinkEvent>) {
+        let before = self.entries.len();
+        let mut j = 0;
+        for e in events {
+            while j < before && self.entries[j].0 < e.from {
+                j += 1;
+            }
+            if j < before && self.entries[j].0 == e.from {
+                self.entries[j].1.record(e.outcome, e.latency, e.t);
+                continue;
+            }
+            // A sender not heard before this batch: its entry is among the new ones at the
+            // end (the batch is sorted, so it is the last one if it exists).
+            let grown = self.entries.len() > before;
+            match self.entries.last_mut() {
+                Some(last) if grown && last.0 == e.from => {
+                    last.1.record(e.outcome, e.latency, e.t);
+                }
+                _ => {
+                    let mut s = Self::fresh();
+                    s.record(e.outcome, e.latency, e.t);
+                    self.entries.push((e.from, s));
+                }
+            }
+        }
+        if self.entries.len() > before {
+            // Both parts are sorted and their keys distinct.
+            self.entries.sort_by_key(|e| e.0);
+        }
+    }
+}
+
+impl std::ops::Index<&u32> for LinkMap {
+    type Output = LinkStats;
+
+    fn index(&self, from: &u32) -> &LinkStats {
+        self.get(*from).expect("no statistics for this sender")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::comm::Outcome;
+
+    fn ev(from: u32, outcome: Outcome, t: f64) -> LinkEvent {
+        LinkEvent {
+            rx: 0,
+            from,
+            outcome,
+            latency: 0.01 * t,
+            t,
+        }
+    }
+
+    #[test]
+    fn a_sorted_batch_counts_as_one_attempt_at_a_time() {
+        let first = [
+            ev(7, Outcome::Delivered, 1.0),
+            ev(3, Outcome::Range, 1.1),
+            ev(7, Outcome::Collision, 1.2),
+        ];
+        let second = [
+            ev(1, Outcome::Delivered, 2.0),
+            ev(3, Outcome::Delivered, 2.1),
+            ev(9, Outcome::HalfDuplex, 2.2),
+            ev(3, Outcome::Delivered, 2.3),
+            ev(7, Outcome::Occluded, 2.4),
+        ];
+        let mut one = LinkMap::default();
+        for e in first.iter().chain(&second) {
+            one.record(e);
+        }
+        let mut batch = LinkMap::default();
+        for part in [&first[..], &second[..]] {
+            let mut sorted = part.to_vec();
+            sorted.sort_by_key(|e| e.from);
+            batch.record_sorted(sorted.iter());
+        }
+        assert_eq!(batch, one);
+        let senders: Vec<u32> = batch.iter().map(|(k, _)| *k).collect();
+        assert_eq!(senders, [1, 3, 7, 9]);
+        assert_eq!(batch[&3].delivered, 2);
+        assert_eq!(batch[&3].last_delivery, 2.3);
+        assert_eq!(batch[&7].attempts, 3);
+        assert!(batch.get(4).is_none());
+    }
+}
