@@ -353,7 +353,7 @@ impl Sim {
                 .map(|mut c| {
                     // The attempts the ledger has not folded yet, in order.
                     for ev in self.world.resource::<Ledger>().pending(id as u32) {
-                        c.apply(ev);
+                        c.apply(&ev);
                     }
                     c
                 })

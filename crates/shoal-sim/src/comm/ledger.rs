@@ -12,7 +12,7 @@ use super::stats::{CommStats, Heard, Outcome};
 use bevy_ecs::prelude::*;
 use std::ops::DerefMut;
 
-/// One reception attempt, as the delivery phase records it.
+/// One reception attempt.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LinkEvent {
     /// Receiving vehicle.
@@ -27,54 +27,114 @@ pub struct LinkEvent {
     pub t: f64,
 }
 
-/// Events per vehicle the ledger holds at most before it is folded (≈ 32 B each): it is
-/// folded at every connectivity sample anyway, so the bound only matters for heavy traffic.
-const EVENTS_PER_VEHICLE: usize = 16;
+/// A frame of the ledger: what its attempts share.
+#[derive(Clone, Copy, Debug)]
+struct FrameInfo {
+    /// Sending vehicle.
+    from: u32,
+    /// Hand-over time \[s\].
+    sent: f64,
+    /// End of the frame \[s\].
+    end: f64,
+}
+
+/// One reception attempt as the ledger keeps it.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Attempt {
+    /// Receiving vehicle.
+    rx: u32,
+    /// The frame (index in the ledger's frame table).
+    frame: u32,
+    /// What happened.
+    outcome: Outcome,
+}
+
+impl Attempt {
+    /// The full event, with the frame's fields from `frames`.
+    fn event(&self, frames: &[FrameInfo]) -> LinkEvent {
+        let f = &frames[self.frame as usize];
+        LinkEvent {
+            rx: self.rx,
+            from: f.from,
+            outcome: self.outcome,
+            latency: f.end - f.sent,
+            t: f.end,
+        }
+    }
+}
+
+/// Events per vehicle the ledger holds at most before it is folded (12 B each): it is
+/// folded at every connectivity sample (each second) anyway, so the bound only matters for
+/// heavy traffic — a swarm beaconing once a second with ≈ 40 neighbours in range stays
+/// below it, so that each receiver's statistics are visited once a second.
+const EVENTS_PER_VEHICLE: usize = 48;
 
 /// Reception attempts not yet folded into the vehicles' [`CommStats`], in the order the
 /// delivery phase decided them (step by step; within a step, receiver by receiver).
 #[derive(Resource, Default)]
 pub struct Ledger {
-    events: Vec<LinkEvent>,
+    attempts: Vec<Attempt>,
+    frames: Vec<FrameInfo>,
     /// Every attempt since the replay last drained them, when the medium logs them
     /// ([`crate::comm::Medium::log_links`]).
     heard: Vec<Heard>,
-    /// The events in receiver order while they are folded (kept to reuse its buffers).
-    grouped: Option<ByVehicle<LinkEvent>>,
+    /// The attempts in receiver order while they are folded (kept to reuse its buffers).
+    grouped: Option<ByVehicle<Attempt>>,
 }
 
 impl Ledger {
-    /// Appends one chunk's events; with `log`, also to the log the replay drains.
-    pub(super) fn append(&mut self, events: &[LinkEvent], log: bool) {
-        self.events.extend_from_slice(events);
+    /// Enters frames, each `(sender, hand-over time, end)` \[s\]; returns the number of the
+    /// first (the others follow it) for [`Ledger::attempt`].
+    pub(super) fn frames(&mut self, frames: impl Iterator<Item = (u32, f64, f64)>) -> u32 {
+        let first = self.frames.len() as u32;
+        self.frames
+            .extend(frames.map(|(from, sent, end)| FrameInfo { from, sent, end }));
+        first
+    }
+
+    /// An attempt at receiver `rx` of frame `frame` (from [`Ledger::frame`]).
+    pub(super) fn attempt(rx: u32, frame: u32, outcome: Outcome) -> Attempt {
+        Attempt { rx, frame, outcome }
+    }
+
+    /// Appends one chunk's attempts; with `log`, also to the log the replay drains.
+    pub(super) fn append(&mut self, attempts: &[Attempt], log: bool) {
+        self.attempts.extend_from_slice(attempts);
         if log {
-            self.heard.extend(events.iter().map(|e| Heard {
-                t: e.t,
-                from: e.from,
-                to: e.rx,
-                outcome: e.outcome,
+            let frames = &self.frames;
+            self.heard.extend(attempts.iter().map(|a| {
+                let e = a.event(frames);
+                Heard {
+                    t: e.t,
+                    from: e.from,
+                    to: e.rx,
+                    outcome: e.outcome,
+                }
             }));
         }
     }
 
-    /// Events not yet folded.
+    /// Attempts not yet folded.
     pub fn len(&self) -> usize {
-        self.events.len()
+        self.attempts.len()
     }
 
-    /// Whether every event has been folded.
+    /// Whether every attempt has been folded.
     pub fn is_empty(&self) -> bool {
-        self.events.is_empty()
+        self.attempts.is_empty()
     }
 
     /// Whether the ledger holds more than its bound for a world of `vehicles`.
     pub fn full(&self, vehicles: usize) -> bool {
-        self.events.len() >= EVENTS_PER_VEHICLE * vehicles.max(1)
+        self.attempts.len() >= EVENTS_PER_VEHICLE * vehicles.max(1)
     }
 
-    /// The events of receiver `id` not yet folded, in order.
-    pub fn pending(&self, id: u32) -> impl Iterator<Item = &LinkEvent> {
-        self.events.iter().filter(move |e| e.rx == id)
+    /// The attempts at receiver `id` not yet folded, in order.
+    pub fn pending(&self, id: u32) -> impl Iterator<Item = LinkEvent> + '_ {
+        self.attempts
+            .iter()
+            .filter(move |a| a.rx == id)
+            .map(|a| a.event(&self.frames))
     }
 
     /// Takes the attempts logged since the last call (see [`crate::comm::Medium::log_links`]).
@@ -82,12 +142,12 @@ impl Ledger {
         self.heard.drain(..)
     }
 
-    /// Takes the events grouped by receiver (see [`Grouped`]); hand them back with
+    /// Takes the attempts grouped by receiver (see [`Grouped`]); hand them back with
     /// [`Ledger::done`] once applied.
     pub fn grouped(&mut self, vehicles: usize) -> Grouped {
-        // Copied into receiver order, so that each receiver's fold reads its events from one
-        // place rather than gathering them from the whole ledger.
-        let pairs = self.events.iter().map(|e| (e.rx, *e));
+        // Copied into receiver order, so that each receiver's fold reads its attempts from
+        // one place rather than gathering them from the whole ledger.
+        let pairs = self.attempts.iter().map(|a| (a.rx, *a));
         let by = match self.grouped.take() {
             Some(mut by) => {
                 by.regroup(vehicles, pairs);
@@ -95,22 +155,30 @@ impl Ledger {
             }
             None => ByVehicle::new(vehicles, pairs),
         };
-        self.events.clear();
-        Grouped(by)
+        self.attempts.clear();
+        Grouped {
+            by,
+            frames: std::mem::take(&mut self.frames),
+        }
     }
 
-    /// Takes back the buffers of events that were applied.
+    /// Takes back the buffers of attempts that were applied.
     pub fn done(&mut self, g: Grouped) {
-        self.grouped = Some(g.0);
+        self.grouped = Some(g.by);
+        if self.frames.is_empty() {
+            // Keep the table's allocation.
+            self.frames = g.frames;
+            self.frames.clear();
+        }
     }
 
-    /// Folds every event into the statistics of its receiver, on the calling thread: `items`
-    /// pairs each vehicle id (below `vehicles`) with its statistics, in any order.
+    /// Folds every attempt into the statistics of its receiver, on the calling thread:
+    /// `items` pairs each vehicle id (below `vehicles`) with its statistics, in any order.
     pub fn fold_into<S>(&mut self, vehicles: usize, items: impl Iterator<Item = (u32, S)>)
     where
         S: DerefMut<Target = CommStats>,
     {
-        if self.events.is_empty() {
+        if self.attempts.is_empty() {
             return;
         }
         let g = self.grouped(vehicles);
@@ -122,14 +190,19 @@ impl Ledger {
     }
 }
 
-/// The ledger's events grouped by receiver, each receiver's in the order they happened (a
+/// The ledger's attempts grouped by receiver, each receiver's in the order they happened (a
 /// stable grouping), so receivers can be folded independently, e.g. in parallel.
-pub struct Grouped(ByVehicle<LinkEvent>);
+pub struct Grouped {
+    by: ByVehicle<Attempt>,
+    frames: Vec<FrameInfo>,
+}
 
 impl Grouped {
-    /// Applies the events of receiver `id` to its statistics `stats` (`scratch`: a buffer,
-    /// reused from receiver to receiver).
-    pub fn apply(&self, id: u32, stats: &mut CommStats, scratch: &mut Vec<u32>) {
-        stats.apply_all(self.0.of(id), scratch);
+    /// Applies the attempts at receiver `id` to its statistics `stats` (`scratch`: a
+    /// buffer, reused from receiver to receiver).
+    pub fn apply(&self, id: u32, stats: &mut CommStats, scratch: &mut Vec<LinkEvent>) {
+        scratch.clear();
+        scratch.extend(self.by.of(id).iter().map(|a| a.event(&self.frames)));
+        stats.apply_all(scratch);
     }
 }

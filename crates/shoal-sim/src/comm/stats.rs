@@ -103,19 +103,15 @@ impl CommStats {
         self.links.record(e);
     }
 
-    /// Counts this receiver's attempts `events`, in the order they happened; `scratch` is
-    /// a buffer for sorting them by sender. The same counts and sums as [`CommStats::apply`]
-    /// one by one.
-    pub(super) fn apply_all(&mut self, events: &[LinkEvent], scratch: &mut Vec<u32>) {
-        for e in events {
+    /// Counts this receiver's attempts `events`, given in the order they happened (and
+    /// left sorted by sender): the same counts and sums as [`CommStats::apply`] one by one.
+    pub(super) fn apply_all(&mut self, events: &mut [LinkEvent]) {
+        for e in events.iter() {
             self.rx.record(e.outcome, e.latency, e.t);
         }
-        scratch.clear();
-        scratch.extend(0..events.len() as u32);
         // Stable: each sender's attempts stay in time order.
-        scratch.sort_by_key(|&k| events[k as usize].from);
-        self.links
-            .record_sorted(scratch.iter().map(|&k| &events[k as usize]));
+        events.sort_by_key(|e| e.from);
+        self.links.record_sorted(events.iter());
     }
 
     /// Receptions by sender (complete once the ledger was folded:

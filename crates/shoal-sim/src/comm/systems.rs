@@ -4,7 +4,7 @@
 
 use super::ending::{ByVehicle, Ended, candidates, own_transmissions};
 use super::frames::{CommRng, Inbox, Modems, Outbox, Queued, Received};
-use super::ledger::{Ledger, LinkEvent};
+use super::ledger::Ledger;
 use super::medium::{Logical, Medium, Transmission, received_power};
 use super::stats::{CommStats, DIST_BIN, DIST_BINS, Outcome, Tally, latency_bin};
 use crate::components::{StaticGeometry, VehicleEntities, VehicleId};
@@ -317,6 +317,10 @@ pub fn comm_deliver_system(
     // distance and latency histograms: tallied per chunk of receivers, summed afterwards;
     // every attempt goes to the chunk's part of the ledger, in receiver order.
     let second0 = t0.floor();
+    let frame0 = ledger.frames(logical.iter().map(|l| {
+        let f = l.first();
+        (f.tx, f.sent, f.end)
+    }));
     let states = par.for_each_with(
         Loop::Delivery,
         &mut items,
@@ -326,15 +330,8 @@ pub fn comm_deliver_system(
             for &i in heard.of(id.0) {
                 let l = &logical[i as usize];
                 let o = receive(m, geo, &mut rx, &own, l, &mut rng.0, inbox, tally);
-                let f = l.first();
-                events.push(LinkEvent {
-                    rx: id.0,
-                    from: f.tx,
-                    outcome: o,
-                    latency: f.end - f.sent,
-                    t: f.end,
-                });
-                let s = usize::from(f.end.floor() > second0);
+                events.push(Ledger::attempt(id.0, frame0 + i, o));
+                let s = usize::from(l.first().end.floor() > second0);
                 tally.outcomes[s][o.index()] += 1;
             }
         },
