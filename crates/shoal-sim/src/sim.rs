@@ -334,8 +334,18 @@ impl Sim {
         self.entities()[id]
     }
 
-    /// A copy of vehicle `id`.
+    /// A copy of vehicle `id` (its reception statistics complete: the attempts the ledger
+    /// has not folded yet are counted in the copy).
     pub fn vehicle(&self, id: usize) -> VehicleSnapshot {
+        let mut v = self.vehicle_unfolded(id);
+        for ev in self.world.resource::<Ledger>().pending(id as u32) {
+            v.comm.apply(&ev);
+        }
+        v
+    }
+
+    /// A copy of vehicle `id` with its statistics as last folded.
+    fn vehicle_unfolded(&self, id: usize) -> VehicleSnapshot {
         let e = self.world.entity(self.entities()[id]);
         let v = self.fleet().get(VehicleId(id as u32));
         VehicleSnapshot {
@@ -347,17 +357,7 @@ impl Sim {
             setpoints: v.control.setpoints.clone(),
             commands: v.commands.clone(),
             contacts: v.contacts,
-            comm: e
-                .get::<CommStats>()
-                .cloned()
-                .map(|mut c| {
-                    // The attempts the ledger has not folded yet, in order.
-                    for ev in self.world.resource::<Ledger>().pending(id as u32) {
-                        c.apply(&ev);
-                    }
-                    c
-                })
-                .unwrap_or_default(),
+            comm: e.get::<CommStats>().cloned().unwrap_or_default(),
             behaviour: e
                 .get::<Behave>()
                 .map(|b| b.behaviour.report())
@@ -446,11 +446,15 @@ impl Sim {
         self.world.resource::<Medium>()
     }
 
-    /// Copies of all vehicles in id order.
+    /// Copies of all vehicles in id order (as [`Self::vehicle`], the ledger read once).
     pub fn vehicles(&self) -> Vec<VehicleSnapshot> {
-        (0..self.entities().len())
-            .map(|i| self.vehicle(i))
-            .collect()
+        let mut all: Vec<VehicleSnapshot> = (0..self.entities().len())
+            .map(|i| self.vehicle_unfolded(i))
+            .collect();
+        for ev in self.world.resource::<Ledger>().events() {
+            all[ev.rx as usize].comm.apply(&ev);
+        }
+        all
     }
 
     /// Takes the trajectory rows recorded since the last drain.

@@ -96,6 +96,38 @@ fn delivery_ratio_against_distance_matches_the_calibration() {
     }
 }
 
+/// Between folds the reception attempts wait in the ledger; every way of reading the
+/// statistics counts them: a snapshot of one vehicle, of all, and the folded components.
+#[test]
+fn statistics_read_between_folds_count_the_attempts_the_ledger_holds() {
+    let mut sim = world(&pairs_text(&[2.0, 2.5], 0.1, "\"pool\""));
+    // 3.5 s: the last fold was the connectivity sample at 3 s, half a second ago.
+    sim.run(350);
+    let pending = sim.world().resource::<shoal_sim::comm::Ledger>().len();
+    // Two senders at 10 Hz, each heard by its own receiver only: ≈ 5 attempts each.
+    assert!(
+        (8..=12).contains(&pending),
+        "the ledger holds the last half second: {pending}"
+    );
+    let all = sim.vehicles();
+    let one: Vec<CommStats> = (0..4).map(|i| stats(&sim, i)).collect();
+    for (i, v) in all.iter().enumerate() {
+        assert_eq!(v.comm.rx, one[i].rx, "vehicle {i}");
+        assert_eq!(v.comm.links(), one[i].links(), "vehicle {i}");
+    }
+    // 35 frames per sender (10 Hz for 3.5 s, the first within the jitter of t = 0).
+    for i in [1, 3] {
+        assert!((34..=35).contains(&one[i].rx.attempts), "{:?}", one[i].rx);
+        assert_eq!(one[i].links()[&(i as u32 - 1)].attempts, one[i].rx.attempts);
+    }
+    sim.fold_comm();
+    assert!(sim.world().resource::<shoal_sim::comm::Ledger>().is_empty());
+    let e = sim.vehicle_entity(3);
+    let folded = sim.world().get::<CommStats>(e).unwrap().clone();
+    assert_eq!(folded.rx, one[3].rx);
+    assert_eq!(folded.links(), one[3].links());
+}
+
 /// A receiver looking −x and a beaconing sender 1 m from the receiver's modem, `angle` off the
 /// receiver's axis, facing the receiver's modem (so it is on the sender's LED axis).
 fn fov_world(angle_deg: f64) -> String {

@@ -129,6 +129,11 @@ impl Ledger {
         self.attempts.len() >= EVENTS_PER_VEHICLE * vehicles.max(1)
     }
 
+    /// The attempts not yet folded, in the order they were decided.
+    pub fn events(&self) -> impl Iterator<Item = LinkEvent> + '_ {
+        self.attempts.iter().map(|a| a.event(&self.frames))
+    }
+
     /// The attempts at receiver `id` not yet folded, in order.
     pub fn pending(&self, id: u32) -> impl Iterator<Item = LinkEvent> + '_ {
         self.attempts
