@@ -8,24 +8,10 @@
 //! they happened, so every counter and sum is the one the per-frame updates gave.
 
 use super::ending::ByVehicle;
-use super::stats::{CommStats, Heard, Outcome};
+use super::links::{LinkEvent, Outcome};
+use super::stats::{CommStats, Heard};
 use bevy_ecs::prelude::*;
 use std::ops::DerefMut;
-
-/// One reception attempt.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct LinkEvent {
-    /// Receiving vehicle.
-    pub rx: u32,
-    /// Sending vehicle.
-    pub from: u32,
-    /// What happened.
-    pub outcome: Outcome,
-    /// Hand-over-to-end latency of the frame \[s\].
-    pub latency: f64,
-    /// End of the frame \[s\].
-    pub t: f64,
-}
 
 /// A frame of the ledger: what its attempts share.
 #[derive(Clone, Copy, Debug)]

@@ -18,7 +18,7 @@
 //! - `frames`: outboxes, inboxes and received frames, the modems' transmit queues and the
 //!   vehicles' random streams for the medium;
 //! - `stats`: reception counters per link and vehicle, and the distance and latency bins;
-//! - `link_map`: a receiver's counters by sender, sorted by sender;
+//! - `links`: outcomes of attempts, a link's counters and a receiver's links by sender;
 //! - `ledger`: the reception attempts of recent steps, folded into those counters in bulk;
 //! - `grid`: the dense spatial grid used for range and occlusion queries;
 //! - `ending`: the frames ending in a step, their possible interferers and candidate receivers,
@@ -30,17 +30,15 @@ mod ending;
 mod frames;
 mod grid;
 mod ledger;
-mod link_map;
+mod links;
 mod medium;
 mod stats;
 mod systems;
 
 pub use frames::{CommRng, Inbox, ModemPort, Modems, OutFrame, Outbox, Received, comm_rng};
 pub use grid::Grid;
-pub use ledger::{Grouped, Ledger, LinkEvent};
+pub use ledger::{Grouped, Ledger};
+pub use links::{LinkEvent, LinkMap, LinkStats, Outcome};
 pub use medium::{GRID_SKIN, Medium, ModemConsts, Transmission, cutoff_range, received_power};
-pub use stats::{
-    CommStats, DIST_BIN, DIST_BINS, Heard, LAT_BINS, LinkMap, LinkStats, Outcome, latency_bin,
-    latency_bin_centre,
-};
+pub use stats::{CommStats, DIST_BIN, DIST_BINS, Heard, LAT_BINS, latency_bin, latency_bin_centre};
 pub use systems::{comm_deliver_system, comm_snapshot_system, comm_transmit_system};

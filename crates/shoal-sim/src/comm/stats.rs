@@ -1,62 +1,9 @@
-//! Communication statistics: reception outcomes per receiver and sender ([`LinkStats`],
-//! [`CommStats`], its senders in a [`LinkMap`]) and the bins of the world-wide delivery-by-distance
+//! Communication statistics: each vehicle's counters ([`CommStats`], its receptions by sender
+//! in a [`LinkMap`]) and the bins of the world-wide delivery-by-distance
 //! and latency histograms, tallied per chunk of receivers (`Tally`).
 
-use super::ledger::LinkEvent;
-pub use super::link_map::LinkMap;
+use super::links::{LinkEvent, LinkMap, LinkStats, Outcome};
 use bevy_ecs::prelude::*;
-use serde::Serialize;
-
-/// How receptions of one sender's frames at one receiver ended.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
-pub struct LinkStats {
-    /// Frames whose sender was within the cut-off range.
-    pub attempts: u64,
-    /// Frames delivered.
-    pub delivered: u64,
-    /// Lost to range, angle (outside the LED's beam or the receiver's field of view) or bit
-    /// errors.
-    pub lost_range: u64,
-    /// Lost because walls, obstacles, another hull or the water surface blocked the ray.
-    pub lost_occlusion: u64,
-    /// Lost to an overlapping frame that was not weak enough to capture over.
-    pub lost_collision: u64,
-    /// Lost because the receiving modem was transmitting.
-    pub lost_half_duplex: u64,
-    /// Sum of hand-over-to-delivery latencies of delivered frames \[s\].
-    pub latency_sum_s: f64,
-    /// Time of the last delivery \[s\] (−∞ if none).
-    #[serde(skip)]
-    pub last_delivery: f64,
-}
-
-impl LinkStats {
-    /// Adds another set of counters to this one.
-    pub fn add(&mut self, o: &LinkStats) {
-        self.attempts += o.attempts;
-        self.delivered += o.delivered;
-        self.lost_range += o.lost_range;
-        self.lost_occlusion += o.lost_occlusion;
-        self.lost_collision += o.lost_collision;
-        self.lost_half_duplex += o.lost_half_duplex;
-        self.latency_sum_s += o.latency_sum_s;
-    }
-
-    pub(super) fn record(&mut self, outcome: Outcome, latency: f64, t: f64) {
-        self.attempts += 1;
-        match outcome {
-            Outcome::Delivered => {
-                self.delivered += 1;
-                self.latency_sum_s += latency;
-                self.last_delivery = t;
-            }
-            Outcome::Range => self.lost_range += 1,
-            Outcome::Occluded => self.lost_occlusion += 1,
-            Outcome::Collision => self.lost_collision += 1,
-            Outcome::HalfDuplex => self.lost_half_duplex += 1,
-        }
-    }
-}
 
 /// Width of a distance bin of the delivery histogram \[m\].
 pub const DIST_BIN: f64 = 0.1;
@@ -131,38 +78,6 @@ pub fn latency_bin(l: f64) -> usize {
 /// Geometric centre of a latency bin \[s\] (within ±6 % of any latency in it).
 pub fn latency_bin_centre(k: usize) -> f64 {
     10f64.powf((k as f64 + 0.5) / 20.0 - 4.0)
-}
-
-/// What became of a frame at one receiver. Ordered by how close the frame came to arriving
-/// (the best one is reported when a vehicle has several modems).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
-pub enum Outcome {
-    /// Out of the link budget: range, angle or bit errors.
-    Range,
-    /// The line of sight was blocked (wall, obstacle, hull).
-    Occluded,
-    /// The receiver was transmitting.
-    HalfDuplex,
-    /// Lost to interference from overlapping frames.
-    Collision,
-    /// Received.
-    Delivered,
-}
-
-impl Outcome {
-    /// Every outcome, in order.
-    pub const ALL: [Outcome; 5] = [
-        Outcome::Range,
-        Outcome::Occluded,
-        Outcome::HalfDuplex,
-        Outcome::Collision,
-        Outcome::Delivered,
-    ];
-
-    /// Position in [`Outcome::ALL`].
-    pub fn index(self) -> usize {
-        self as usize
-    }
 }
 
 /// World-wide counts of one chunk of receptions (summed over the chunks after the delivery

@@ -5,8 +5,9 @@
 use super::ending::{ByVehicle, Ended, candidates, own_transmissions};
 use super::frames::{CommRng, Inbox, Modems, Outbox, Queued, Received};
 use super::ledger::Ledger;
+use super::links::Outcome;
 use super::medium::{Logical, Medium, Transmission, received_power};
-use super::stats::{CommStats, DIST_BIN, DIST_BINS, Outcome, Tally, latency_bin};
+use super::stats::{CommStats, DIST_BIN, DIST_BINS, Tally, latency_bin};
 use crate::components::{StaticGeometry, VehicleEntities, VehicleId};
 use crate::parallel::{Loop, Parallel};
 use crate::rng::VehicleRng;

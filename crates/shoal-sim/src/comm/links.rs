@@ -1,9 +1,107 @@
-//! The per-sender reception statistics of one receiver ([`LinkMap`]): a vector sorted by
-//! sender, so that folding a batch of attempts (sorted by sender) walks it front to back
-//! instead of probing a hash table at random, and iteration is in sender order.
+//! Links between a sender and a receiver: what became of one attempt ([`Outcome`],
+//! [`LinkEvent`]), a link's counters ([`LinkStats`]) and one receiver's links by sender
+//! ([`LinkMap`]: a vector sorted by sender, so that folding a batch of attempts sorted by
+//! sender walks it front to back instead of probing a hash table at random).
 
-use super::ledger::LinkEvent;
-use super::stats::LinkStats;
+use serde::Serialize;
+
+/// What became of a frame at one receiver. Ordered by how close the frame came to arriving
+/// (the best one is reported when a vehicle has several modems).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Outcome {
+    /// Out of the link budget: range, angle or bit errors.
+    Range,
+    /// The line of sight was blocked (wall, obstacle, hull).
+    Occluded,
+    /// The receiver was transmitting.
+    HalfDuplex,
+    /// Lost to interference from overlapping frames.
+    Collision,
+    /// Received.
+    Delivered,
+}
+
+impl Outcome {
+    /// Every outcome, in order.
+    pub const ALL: [Outcome; 5] = [
+        Outcome::Range,
+        Outcome::Occluded,
+        Outcome::HalfDuplex,
+        Outcome::Collision,
+        Outcome::Delivered,
+    ];
+
+    /// Position in [`Outcome::ALL`].
+    pub fn index(self) -> usize {
+        self as usize
+    }
+}
+
+/// How receptions of one sender's frames at one receiver ended.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct LinkStats {
+    /// Frames whose sender was within the cut-off range.
+    pub attempts: u64,
+    /// Frames delivered.
+    pub delivered: u64,
+    /// Lost to range, angle (outside the LED's beam or the receiver's field of view) or bit
+    /// errors.
+    pub lost_range: u64,
+    /// Lost because walls, obstacles, another hull or the water surface blocked the ray.
+    pub lost_occlusion: u64,
+    /// Lost to an overlapping frame that was not weak enough to capture over.
+    pub lost_collision: u64,
+    /// Lost because the receiving modem was transmitting.
+    pub lost_half_duplex: u64,
+    /// Sum of hand-over-to-delivery latencies of delivered frames \[s\].
+    pub latency_sum_s: f64,
+    /// Time of the last delivery \[s\] (−∞ if none).
+    #[serde(skip)]
+    pub last_delivery: f64,
+}
+
+impl LinkStats {
+    /// Adds another set of counters to this one.
+    pub fn add(&mut self, o: &LinkStats) {
+        self.attempts += o.attempts;
+        self.delivered += o.delivered;
+        self.lost_range += o.lost_range;
+        self.lost_occlusion += o.lost_occlusion;
+        self.lost_collision += o.lost_collision;
+        self.lost_half_duplex += o.lost_half_duplex;
+        self.latency_sum_s += o.latency_sum_s;
+    }
+
+    pub(super) fn record(&mut self, outcome: Outcome, latency: f64, t: f64) {
+        self.attempts += 1;
+        match outcome {
+            Outcome::Delivered => {
+                self.delivered += 1;
+                self.latency_sum_s += latency;
+                self.last_delivery = t;
+            }
+            Outcome::Range => self.lost_range += 1,
+            Outcome::Occluded => self.lost_occlusion += 1,
+            Outcome::Collision => self.lost_collision += 1,
+            Outcome::HalfDuplex => self.lost_half_duplex += 1,
+        }
+    }
+}
+
+/// One reception attempt.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LinkEvent {
+    /// Receiving vehicle.
+    pub rx: u32,
+    /// Sending vehicle.
+    pub from: u32,
+    /// What happened.
+    pub outcome: Outcome,
+    /// Hand-over-to-end latency of the frame \[s\].
+    pub latency: f64,
+    /// End of the frame \[s\].
+    pub t: f64,
+}
 
 /// Per-sender statistics of one receiver, in ascending sender order.
 #[derive(Clone, Debug, Default, PartialEq)]
