@@ -170,6 +170,8 @@ impl Ledger {
         S: DerefMut<Target = CommStats>,
     {
         if self.attempts.is_empty() {
+            // Frames nobody was in range of: nothing refers to them.
+            self.frames.clear();
             return;
         }
         let g = self.grouped(vehicles);
