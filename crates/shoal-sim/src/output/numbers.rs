@@ -59,8 +59,8 @@ const POW10: [f64; 23] = [
 /// at most 1.2·10⁻⁹ on the 7-digit integer); `None` when that cannot settle the rounding (the
 /// scaled value within 10⁻⁶ of a tie, or a power beyond 10²²): the exact path decides then.
 fn seven_digits(a: f64) -> Option<([u8; 7], i32)> {
-    let mut e = a.log10().floor() as i32;
-    // log10 may be one off near a power of ten: at most one correction each way.
+    let mut e = decimal_exponent_guess(a);
+    // The guess is the exponent or one below it: at most one correction.
     for _ in 0..3 {
         let p = e - 6;
         let scaled = match usize::try_from(p) {
@@ -85,6 +85,15 @@ fn seven_digits(a: f64) -> Option<([u8; 7], i32)> {
         }
     }
     None
+}
+
+/// ⌊log₁₀ a⌋ or one less, for a normal `a` > 0, from its binary exponent alone: a lies in
+/// [2^b, 2^(b+1)), so log₁₀ a lies in [b·log₁₀ 2, (b+1)·log₁₀ 2), an interval shorter than one;
+/// ⌊b·log₁₀ 2⌋ in integers (78913 / 2¹⁸ = log₁₀ 2 to 6·10⁻⁷, exact for |b| < 1650) — no
+/// logarithm per number.
+fn decimal_exponent_guess(a: f64) -> i32 {
+    let b = ((a.to_bits() >> 52) & 0x7ff) as i32 - 1023;
+    (b * 78_913) >> 18
 }
 
 /// [`seven_digits`] by the standard library's exact conversion (`{:.6e}`).
