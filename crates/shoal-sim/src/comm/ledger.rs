@@ -122,10 +122,7 @@ impl Ledger {
 
     /// The attempts at receiver `id` not yet folded, in order.
     pub fn pending(&self, id: u32) -> impl Iterator<Item = LinkEvent> + '_ {
-        self.attempts
-            .iter()
-            .filter(move |a| a.rx == id)
-            .map(|a| a.event(&self.frames))
+        self.events().filter(move |e| e.rx == id)
     }
 
     /// Takes the attempts logged since the last call (see [`crate::comm::Medium::log_links`]).
@@ -155,12 +152,12 @@ impl Ledger {
 
     /// Takes back the buffers of attempts that were applied.
     pub fn done(&mut self, g: Grouped) {
+        // No frame enters between `grouped` and `done` (both run in the same system): the
+        // table handed out comes back emptied, keeping its allocation.
+        debug_assert!(self.frames.is_empty());
         self.grouped = Some(g.by);
-        if self.frames.is_empty() {
-            // Keep the table's allocation.
-            self.frames = g.frames;
-            self.frames.clear();
-        }
+        self.frames = g.frames;
+        self.frames.clear();
     }
 
     /// Folds every attempt into the statistics of its receiver, on the calling thread:
