@@ -5,8 +5,8 @@ Runs are paths of CSV logs (docs/validation.md) or columns of numbers: a mapping
 format's column names (``t``, ``u.top``, …, ``y.depth``, …) to 1-D arrays (a ``dict`` of numpy
 arrays, a pandas ``DataFrame``, …), optionally named as ``(name, columns)``. The search runs
 with the GIL released; ``progress(kind, message)`` hears of every file read (``read``),
-inputs clamped to the vehicle's limits (``clamped``), the start (``start``) and every fit
-(``fit``).
+inputs clamped to the vehicle's limits (``clamped``), the start (``start``), each stage of the
+search as it begins (``stage``, with its number of fits when known) and every fit (``fit``).
 
 Errors: :class:`shoal.ValidationError` (a ``ValueError``) with attributes ``setting`` (the
 keyword argument at fault), ``file``, ``line`` and ``column`` (the run at fault; for columns
@@ -76,7 +76,10 @@ class Report:
 
     ``verdict`` is the one-sentence summary; ``effects`` the named effects; ``channels`` the
     before/after table by channel; ``possible``, ``ambiguous`` and ``unexplained`` the weaker
-    findings as in ``report.json``; ``data`` the whole of ``report.json``; ``vehicle_toml`` the
+    findings as in ``report.json``; ``validation_gain_pct`` the headline, the mean of the
+    channels' ``gain_pct``; ``changed_channels`` the channels the model changes (by at least
+    their sensor's resolution) and ``changed_channels_gain_pct`` the mean gain over them;
+    ``data`` the whole of ``report.json``; ``vehicle_toml`` the
     fitted vehicle as a world file (run it with ``shoal run``). :meth:`write` writes the usual
     files (``report.json``, ``report.md``, ``vehicle.toml``, plots).
     """
@@ -88,6 +91,8 @@ class Report:
     ambiguous: list[dict]
     unexplained: list[dict]
     validation_gain_pct: float
+    changed_channels: list[str]
+    changed_channels_gain_pct: float
     data: dict = field(repr=False)
     vehicle_toml: str = field(repr=False)
     _native: Any = field(repr=False, compare=False, default=None)
@@ -153,6 +158,7 @@ def validate(
     min_segment: float = 1.0,
     threads: Optional[int] = None,
     progress: Optional[Callable[[str, str], Any]] = None,
+    horizon: Union[str, float] = "open",
 ) -> Report:
     """Validates a vehicle model against measured runs, as ``shoal validate`` does.
 
@@ -163,7 +169,10 @@ def validate(
     effects considered. ``dt`` is the replay step [s] (1e-4 … 0.1); ``time_unit`` (``"s"`` or
     ``"ms"``) the unit of a plain ``t`` column; ``gaps`` (``"split"`` or ``"error"``), ``max_gap``
     [s] and ``min_segment`` [s] what a gap in time does; ``threads`` the worker threads of the
-    search (results do not depend on it). Returns a :class:`Report`.
+    search (results do not depend on it); ``horizon`` how runs are replayed: ``"open"`` (open
+    loop, the default), a number of seconds (re-anchored to the measured depth, attitude and
+    rates that often) or ``"auto"`` (a horizon chosen from the data), for long and closed-loop
+    runs. Returns a :class:`Report`.
     """
     native = _shoal.validate(
         _runs(runs, "runs"),
@@ -179,6 +188,7 @@ def validate(
         float(min_segment),
         threads,
         progress,
+        str(horizon),
     )
     data = json.loads(native.report_json())
     v = data["verdict"]
@@ -210,6 +220,8 @@ def validate(
         ambiguous=v["ambiguous"],
         unexplained=v["unexplained"],
         validation_gain_pct=v["validation_gain_pct"],
+        changed_channels=v["changed_channels"],
+        changed_channels_gain_pct=v["changed_channels_gain_pct"],
         data=data,
         vehicle_toml=native.vehicle_toml(),
         _native=native,

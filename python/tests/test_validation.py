@@ -67,6 +67,15 @@ def test_python_gives_the_command_lines_verdict(shoal_bin, tmp_path, name):
     for e, want in zip(r.effects, cli["verdict"]["named"]):
         assert [p.value for p in e.parameters] == [p["value"] for p in want["params"]]
     assert events[0] == "read" and events.count("start") == 1
+    assert events[events.index("start") + 1] == "stage" and events.count("stage") >= 4
+    # The headline is the mean of the table's gains; the second figure that of the channels
+    # the model changes.
+    gains = {k: c.gain_pct for k, c in r.channels.items()}
+    assert r.validation_gain_pct == pytest.approx(sum(gains.values()) / len(gains), abs=1e-9)
+    assert set(r.changed_channels) <= set(gains)
+    if r.changed_channels:
+        on = [gains[k] for k in r.changed_channels]
+        assert r.changed_channels_gain_pct == pytest.approx(sum(on) / len(on), abs=1e-9)
     assert events.count("fit") >= len([c for c in cli["candidates"] if c.get("fit")])
     # The fitted vehicle is the command line's vehicle.toml but for the file name it states.
     assert r.vehicle_toml.splitlines()[3:] == (out / "vehicle.toml").read_text().splitlines()[3:]
@@ -107,3 +116,20 @@ def test_errors_name_the_setting_or_the_column():
     cols["y.r"] = cols["y.r"][:-1]
     with pytest.raises(ValueError, match="column `y.r` has 4499 values"):
         shoal.validate(cols)
+    with pytest.raises(shoal.ValidationError) as e:
+        shoal.validate(log, horizon=0.1)
+    assert e.value.setting == "horizon" and "0.5 ≤ horizon ≤ 3600 s" in str(e.value)
+    with pytest.raises(ValueError, match="allowed open, auto or a number of seconds"):
+        shoal.validate(log, horizon="sometimes")
+
+
+def test_a_horizon_re_anchors_the_replay_and_the_report_says_so():
+    log = dev_log("dev_y_gain")
+    r = shoal.validate(log, dt=0.02, threads=1, horizon=5, effects="thrust_gain")
+    s = r.data["settings"]
+    assert s["replay_horizon_s"] == 5.0 and "every 5" in s["replay_why"]
+    o = shoal.validate(log, dt=0.02, threads=1, effects="thrust_gain")
+    assert o.data["settings"]["replay_horizon_s"] is None
+    # Re-anchored, the baseline's heading error is smaller than open loop's.
+    yaw = lambda rep: rep.channels["y.yaw"].rmse_before
+    assert yaw(r) < yaw(o)

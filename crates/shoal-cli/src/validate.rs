@@ -6,10 +6,10 @@ use anyhow::Context;
 use indicatif::{ProgressBar, ProgressStyle};
 use shoal_sysid::log::format::TimeUnit;
 use shoal_sysid::log::segments::{GapMode, Segments};
-use shoal_sysid::validate::{Config, Progress, RunInput, ValidateError, Vehicle};
+use shoal_sysid::validate::{Config, Horizon, Progress, RunInput, ValidateError, Vehicle};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::sync::OnceLock;
+use std::sync::{Mutex, OnceLock};
 use std::time::Instant;
 
 /// Arguments of `shoal validate`.
@@ -58,6 +58,12 @@ pub struct ValidateArgs {
     /// Worker threads for candidate fits (results do not depend on it) [default: all cores].
     #[arg(long, value_parser = clap::value_parser!(u16).range(1..=256))]
     pub threads: Option<u16>,
+    /// How runs are replayed: `open` (open loop from each run's first samples), SECONDS
+    /// (re-anchored to the measured depth, attitude and rates every SECONDS, 0.5 … 3600), or
+    /// `auto` (re-anchored at a horizon chosen from how long the baseline stays near the
+    /// data; open loop where it stays there throughout). For long and closed-loop runs.
+    #[arg(long, value_name = "open|auto|SECONDS", default_value = "open")]
+    pub horizon: Horizon,
     /// Skip plots.
     #[arg(long)]
     pub no_plots: bool,
@@ -79,6 +85,7 @@ fn config(args: &ValidateArgs) -> Config {
         channels: args.channels.clone(),
         effects: args.effects.clone(),
         threads: args.threads.map(usize::from),
+        horizon: args.horizon,
     }
 }
 
@@ -113,17 +120,36 @@ pub fn validate(args: &ValidateArgs) -> Result<ExitCode, Failure> {
         ProgressBar::new_spinner()
     };
     pb.set_style(
-        ProgressStyle::with_template("{spinner} [{elapsed_precise}] {pos} fits  {msg}")
+        ProgressStyle::with_template("{spinner} [{elapsed_precise}] {prefix} {msg}")
             .unwrap_or_else(|_| ProgressStyle::default_spinner()),
     );
+    pb.enable_steady_tick(std::time::Duration::from_millis(200));
     let started = OnceLock::new();
+    let stage = Mutex::new(StageClock::default());
     let files = |paths: &[PathBuf]| -> Vec<RunInput> {
         paths.iter().cloned().map(RunInput::File).collect()
     };
     let progress = |p: Progress<'_>| match p {
         Progress::Fit { name } => {
-            pb.inc(1);
+            let mut s = stage.lock().unwrap_or_else(|e| e.into_inner());
+            s.done += 1;
+            pb.set_prefix(s.line());
             pb.set_message(format!("last: {name}"));
+        }
+        Progress::Stage { stage: what, fits } => {
+            // The search's time runs from its first stage (also when quiet).
+            let _ = started.set(Instant::now());
+            let mut s = stage.lock().unwrap_or_else(|e| e.into_inner());
+            *s = StageClock::start(what, fits);
+            pb.set_prefix(s.line());
+            if !args.quiet {
+                pb.suspend(|| {
+                    eprintln!(
+                        "shoal: {what}{}",
+                        fits.map(|n| format!(" ({n} fits)")).unwrap_or_default()
+                    )
+                });
+            }
         }
         _ if args.quiet => {}
         Progress::Read { path, segments } => print_segments(path, segments),
@@ -133,13 +159,13 @@ pub fn validate(args: &ValidateArgs) -> Result<ExitCode, Failure> {
             estimation,
             holdout,
             split,
-            effects,
+            families,
+            forms,
             threads,
         } => {
-            let _ = started.set(Instant::now());
             eprintln!(
-                "shoal: validating `{vehicle}` on {estimation} run(s){} — {effects} effects, \
-                 {threads} thread(s) → {}",
+                "shoal: validating `{vehicle}` on {estimation} run(s){} — {families} effect \
+                 families in {forms} forms, {threads} thread(s) → {}",
                 match split {
                     Some(s) => format!(" (split {:.0} % / {:.0} %)", 100.0 * s, 100.0 * (1.0 - s)),
                     None => format!(" + {holdout} hold-out run(s)"),
@@ -161,6 +187,9 @@ pub fn validate(args: &ValidateArgs) -> Result<ExitCode, Failure> {
         .with_context(|| format!("cannot write the report into {}", args.out.display()))?;
     let wall = started.get().map_or(0.0, |t| t.elapsed().as_secs_f64());
     println!("{}", v.verdict_sentence());
+    if v.dataset.anchoring.horizon.is_some() {
+        println!("Replay: {}.", v.dataset.anchoring.why);
+    }
     println!();
     println!(
         "{:<10} {:>16} {:>16} {:>8} {:>10} {:>10}",
@@ -194,6 +223,47 @@ pub fn validate(args: &ValidateArgs) -> Result<ExitCode, Failure> {
         written.plots.len()
     );
     Ok(ExitCode::SUCCESS)
+}
+
+/// The stage of the search running now, for the progress line.
+#[derive(Default)]
+struct StageClock {
+    /// What it does.
+    name: String,
+    /// Fits it makes, when known.
+    fits: Option<usize>,
+    /// Fits finished in it.
+    done: usize,
+    /// When it began.
+    since: Option<Instant>,
+}
+
+impl StageClock {
+    fn start(name: &str, fits: Option<usize>) -> Self {
+        Self {
+            name: name.to_string(),
+            fits,
+            done: 0,
+            since: Some(Instant::now()),
+        }
+    }
+
+    /// `stage: done/fits fits, ≈ T s left` (the time left from the stage's rate so far).
+    fn line(&self) -> String {
+        match self.fits {
+            Some(n) if n > 0 => {
+                let left = match self.since {
+                    Some(t) if self.done > 0 && self.done < n => {
+                        let per = t.elapsed().as_secs_f64() / self.done as f64;
+                        format!(", ≈ {:.0} s left", per * (n - self.done) as f64)
+                    }
+                    _ => String::new(),
+                };
+                format!("{}: {}/{n} fits{left}", self.name, self.done.min(n))
+            }
+            _ => format!("{}: {} fits", self.name, self.done),
+        }
+    }
 }
 
 /// Prints how a file was read and, when it has gaps, its segments (at most 20 listed).

@@ -438,6 +438,63 @@ fn hidden_run(dir: &Path, name: &str, effect: Option<(&str, Vec<f64>)>, seed: u6
     p
 }
 
+/// The headline of a validation (printed and in report.json) is the mean of the printed
+/// table's per-channel gains, and the figure "on the channels it changes" the mean of those
+/// channels' rows.
+fn headline_agrees_with_the_table(stdout: &str, report: &serde_json::Value) {
+    let rows: Vec<(String, f64)> = stdout
+        .lines()
+        .filter(|l| l.starts_with("y."))
+        .map(|l| {
+            let f: Vec<&str> = l.split_whitespace().collect();
+            let gain = f.iter().find(|w| w.ends_with('%')).unwrap();
+            (
+                f[0].to_string(),
+                gain.trim_end_matches('%').parse().unwrap(),
+            )
+        })
+        .collect();
+    assert!(rows.len() >= 2, "{stdout}");
+    let mean = rows.iter().map(|r| r.1).sum::<f64>() / rows.len() as f64;
+    let found = stdout.lines().find(|l| l.starts_with("Found")).unwrap();
+    let printed = |after: &str| -> f64 {
+        let at = found.find(after).unwrap() + after.len();
+        found[at..]
+            .split_whitespace()
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap()
+    };
+    let headline = printed("validation RMSE ");
+    assert!(
+        (headline - mean).abs() <= 0.051,
+        "{headline} vs table mean {mean}: {stdout}"
+    );
+    let json = report["verdict"]["validation_gain_pct"].as_f64().unwrap();
+    assert!((json - mean).abs() <= 0.051, "{json} vs {mean}");
+    let changed: Vec<&str> = report["verdict"]["changed_channels"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c.as_str().unwrap())
+        .collect();
+    assert!(!changed.is_empty());
+    let on: Vec<f64> = rows
+        .iter()
+        .filter(|r| changed.contains(&r.0.as_str()))
+        .map(|r| r.1)
+        .collect();
+    let on_mean = on.iter().sum::<f64>() / on.len() as f64;
+    let json_on = report["verdict"]["changed_channels_gain_pct"]
+        .as_f64()
+        .unwrap();
+    assert!((json_on - on_mean).abs() <= 0.051, "{json_on} vs {on_mean}");
+    if changed.len() < rows.len() {
+        assert!((printed("; ") - on_mean).abs() <= 0.051, "{found}");
+    }
+}
+
 #[test]
 fn validate_names_a_hidden_lag_and_writes_a_runnable_model() {
     let dir = tmp("validate");
@@ -467,6 +524,7 @@ fn validate_names_a_hidden_lag_and_writes_a_runnable_model() {
         .unwrap();
     assert!((tau - 0.4).abs() < 0.04, "{tau}");
     assert!(report["verdict"]["validation_gain_pct"].as_f64().unwrap() > 15.0);
+    headline_agrees_with_the_table(&stdout, &report);
     assert_eq!(report["verdict"]["residuals_white_after"], true);
     assert!(report["baseline"]["channels"]["y.depth"]["fit_pct"].is_number());
     let cands = report["candidates"].as_array().unwrap();
@@ -672,6 +730,18 @@ fn measured_run_limits_units_and_gaps_are_checked() {
             rows("0"),
             vec!["--dt", "1e-9"],
             "--dt 0.000000001: allowed 0.0001 ≤ dt ≤ 0.1 s",
+        ),
+        (
+            "horizon.csv",
+            rows("0"),
+            vec!["--horizon", "0.1"],
+            "--horizon 0.1: allowed 0.5 ≤ horizon ≤ 3600 s, or auto",
+        ),
+        (
+            "horizon_word.csv",
+            rows("0"),
+            vec!["--horizon", "sometimes"],
+            "`sometimes`: allowed open, auto or a number of seconds",
         ),
         (
             "long.csv",

@@ -145,15 +145,23 @@ fn progress_message(p: &Progress<'_>) -> (&'static str, String) {
             vehicle,
             estimation,
             holdout,
-            effects,
+            families,
+            forms,
             threads,
             ..
         } => (
             "start",
             format!(
                 "validating `{vehicle}` on {estimation} run(s) + {holdout} hold-out run(s), \
-                 {effects} effects, {threads} thread(s)"
+                 {families} effect families in {forms} forms, {threads} thread(s)"
             ),
+        ),
+        Progress::Stage { stage, fits } => (
+            "stage",
+            match fits {
+                Some(n) => format!("{stage} ({n} fits)"),
+                None => stage.to_string(),
+            },
         ),
         Progress::Fit { name } => ("fit", name.to_string()),
     }
@@ -162,7 +170,7 @@ fn progress_message(p: &Progress<'_>) -> (&'static str, String) {
 /// The compiled `shoal._shoal.validate`: see `shoal.validate` (python/shoal/validate.py),
 /// which normalises the runs into paths and `(name, [(header, values)])` tuples.
 #[pyfunction]
-#[pyo3(signature = (runs, holdout, vehicle, channels, effects, split, dt, time_unit, gaps, max_gap, min_segment, threads, progress))]
+#[pyo3(signature = (runs, holdout, vehicle, channels, effects, split, dt, time_unit, gaps, max_gap, min_segment, threads, progress, horizon))]
 pub fn validate(
     py: Python<'_>,
     runs: Vec<Bound<'_, PyAny>>,
@@ -178,6 +186,7 @@ pub fn validate(
     min_segment: f64,
     threads: Option<usize>,
     progress: Option<Py<PyAny>>,
+    horizon: &str,
 ) -> PyResult<Validation> {
     let inputs = |list: &[Bound<'_, PyAny>], what: &str| -> PyResult<Vec<RunInput>> {
         list.iter()
@@ -201,6 +210,7 @@ pub fn validate(
         channels,
         effects,
         threads,
+        horizon: horizon.parse().map_err(PyValueError::new_err)?,
     };
     // The callable is called from the search's threads, each taking the GIL for the call; the
     // first exception it raises is raised once the search is done.

@@ -4,6 +4,7 @@
 //! (`shoal.validate`) are thin layers over it. Settings are checked before anything is read,
 //! with errors that name the setting and its allowed range ([`ValidateError`]).
 
+pub use crate::evaluate::anchoring::Horizon;
 use crate::evaluate::dataset::{DataError, DataOptions, Dataset};
 use crate::evaluate::evaluation::rmse_gain_pct;
 use crate::evaluate::open_loop::ReplayOptions;
@@ -14,10 +15,12 @@ use crate::log::segments::{GapMode, GapOptions, Segments};
 use crate::report::{
     ReportError, ReportInput, Written, report_value, vehicle_toml, verdict_sentence, write_report,
 };
-use crate::search::{Outcome, SearchOptions, search};
+use crate::search::{Outcome, SearchOptions, Step, search};
 use shoal_model::effects;
+use shoal_model::effects::Effects;
 use shoal_model::presets;
 use shoal_model::rigid_body::Environment;
+use shoal_model::vehicle::VehicleModel;
 use shoal_world::error::WorldError;
 use shoal_world::load::load_vehicle;
 use shoal_world::spec::VehicleSpec;
@@ -83,6 +86,10 @@ pub struct Config {
     /// Worker threads for candidate fits (results do not depend on it; default: every core,
     /// at most 8).
     pub threads: Option<usize>,
+    /// Open-loop replays (the default), or re-anchored to the measurements every so many
+    /// seconds (given, or chosen from the data): for long and closed-loop runs, on which an
+    /// open-loop replay drifts away (see [`Horizon`]).
+    pub horizon: Horizon,
 }
 
 impl Default for Config {
@@ -98,6 +105,7 @@ impl Default for Config {
             channels: Vec::new(),
             effects: Vec::new(),
             threads: None,
+            horizon: Horizon::Open,
         }
     }
 }
@@ -165,10 +173,19 @@ pub enum Progress<'a> {
         holdout: usize,
         /// The estimation fraction of each run, when there are no hold-out runs.
         split: Option<f64>,
-        /// Effects considered.
-        effects: usize,
+        /// Effect families considered.
+        families: usize,
+        /// Their forms (each fitted on its own in round 1).
+        forms: usize,
         /// Worker threads.
         threads: usize,
+    },
+    /// A stage of the search begins.
+    Stage {
+        /// What it does.
+        stage: &'a str,
+        /// Candidate fits it makes, when known in advance.
+        fits: Option<usize>,
     },
     /// A candidate fit finished.
     Fit {
@@ -282,6 +299,11 @@ impl Validation {
     }
 }
 
+/// Shortest horizon of a re-anchored replay that may be asked for \[s\].
+pub const HORIZON_MIN: f64 = 0.5;
+/// Longest horizon that may be asked for \[s\] (an hour).
+pub const HORIZON_MAX: f64 = 3600.0;
+
 /// Checks `config` against the allowed ranges (before anything is read).
 fn check(config: &Config, has_holdout: bool) -> Result<(), ValidateError> {
     let range = |setting, value: f64, ok: bool, allowed: String| {
@@ -313,6 +335,15 @@ fn check(config: &Config, has_holdout: bool) -> Result<(), ValidateError> {
     if !has_holdout {
         let s = config.split;
         range("split", s, s > 0.0 && s < 1.0, "0 < split < 1".into())?;
+    }
+    if let Horizon::Every(h) = config.horizon {
+        let ok = (HORIZON_MIN..=HORIZON_MAX).contains(&h);
+        range(
+            "horizon",
+            h,
+            ok,
+            format!("{HORIZON_MIN} ≤ horizon ≤ {HORIZON_MAX} s, or auto"),
+        )?;
     }
     Ok(())
 }
@@ -424,7 +455,7 @@ pub fn validate(
     };
     let est = read_runs(runs, &read, &gaps, progress)?;
     let hold = read_runs(holdouts, &read, &gaps, progress)?;
-    let dataset = Dataset::new(
+    let mut dataset = Dataset::new(
         &params,
         env,
         est,
@@ -438,6 +469,12 @@ pub fn validate(
             },
         },
     )?;
+    let baseline_model = VehicleModel::with_effects(
+        params.clone(),
+        Effects::new(base_effects.clone()),
+        env.density,
+    );
+    dataset.anchor(config.horizon, &baseline_model);
     for rd in &dataset.runs {
         for note in &rd.map.clamped {
             progress(Progress::Clamped {
@@ -461,11 +498,18 @@ pub fn validate(
         estimation: count(false),
         holdout: count(true),
         split: holdouts.is_empty().then_some(config.split),
-        effects: options.effects.len(),
+        families: {
+            let mut names: Vec<&str> = options.effects.iter().map(|e| e.name()).collect();
+            names.sort_unstable();
+            names.dedup();
+            names.len()
+        },
+        forms: options.effects.len(),
         threads: options.threads,
     });
-    let outcome = search(&dataset, &params, &options, &|name| {
-        progress(Progress::Fit { name });
+    let outcome = search(&dataset, &params, &options, &|step| match step {
+        Step::Stage { stage, fits } => progress(Progress::Stage { stage, fits }),
+        Step::Fit(name) => progress(Progress::Fit { name }),
     });
     Ok(Validation {
         dataset,

@@ -131,23 +131,36 @@ fn report(name: &str, exp: Exp, hidden: &[(&str, Vec<f64>)], seed: u64) -> PathB
         }
         assert!(md.contains(&format!("read as: {}", rd.run.ingest)));
     }
-    // Every measured channel of every run is plotted: the measurement (grey, drawn last, on
-    // top) in the PNG; in the SVG the baseline (red) and the model with the named effects
-    // (green) at every sample of it, and the depth as measured, sample by sample.
+    // Every measured channel of every run is plotted: the measurement (near-black, 1 px, drawn
+    // last, on top of the 4-px model lines) in the PNG; in the SVG the baseline (red) and the
+    // model with the named effects (green) at every sample of it, and the depth as measured,
+    // sample by sample.
+    let measured_rgb = (30, 30, 30);
     for rd in &ds.runs {
         for &c in &rd.channels {
             let ch = &rd.run.channels[c];
             let f = dir.join(format!("plots/{}_{}.png", rd.run.name, ch.kind.name()));
-            plots::assert_png_colours(&f, &[rgb(7)], 300);
+            plots::assert_png_colours(&f, &[measured_rgb], 300);
             let svg = std::fs::read_to_string(f.with_extension("svg")).unwrap();
-            for (colour, width) in [(rgb(3), 2), (rgb(2), 2), (rgb(7), 1)] {
+            let mut order = Vec::new();
+            for (colour, width) in [(rgb(3), 4), (rgb(2), 4), (measured_rgb, 1)] {
                 let n = plots::lines(&svg)
                     .iter()
                     .filter(|l| l.stroke == colour && l.width == width && l.points.len() > 2)
                     .map(|l| l.points.len())
                     .collect::<Vec<_>>();
                 assert_eq!(n, [ch.values.len()], "{}: {colour:?}", f.display());
+                order.push(
+                    plots::lines(&svg)
+                        .iter()
+                        .position(|l| l.stroke == colour && l.width == width)
+                        .unwrap(),
+                );
             }
+            assert!(
+                order[2] > order[0] && order[2] > order[1],
+                "measurement on top"
+            );
             if ch.kind == ChannelKind::Depth {
                 let measured: Vec<(f64, f64)> = ch
                     .rows
@@ -155,7 +168,7 @@ fn report(name: &str, exp: Exp, hidden: &[(&str, Vec<f64>)], seed: u64) -> PathB
                     .map(|&k| rd.run.t[k])
                     .zip(ch.values.iter().copied())
                     .collect();
-                plots::assert_svg_series(&f.with_extension("svg"), 1, &[(rgb(7), measured)]);
+                plots::assert_svg_series(&f.with_extension("svg"), 1, &[(measured_rgb, measured)]);
             }
         }
     }

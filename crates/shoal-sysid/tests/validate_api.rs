@@ -115,6 +115,7 @@ fn a_development_log_gets_its_pinned_verdict_from_a_file_and_from_text() {
             } => {
                 format!("start {estimation} {holdout} {split:?}")
             }
+            Progress::Stage { stage, .. } => format!("stage {stage}"),
             Progress::Fit { .. } => "fit".into(),
         };
         events.lock().unwrap().push(e);
@@ -133,6 +134,21 @@ fn a_development_log_gets_its_pinned_verdict_from_a_file_and_from_text() {
     let events = events.into_inner().unwrap();
     assert_eq!(events[0], format!("read {} 1", path.display()));
     assert_eq!(events[1], "start 1 0 Some(0.6)");
+    // The stages in the order the search runs them, round 1 first, each before its fits.
+    let stages: Vec<&str> = events
+        .iter()
+        .filter_map(|e| e.strip_prefix("stage "))
+        .collect();
+    assert_eq!(events[2], "stage round 1: every form of every family alone");
+    assert_eq!(
+        &stages[..4],
+        [
+            "round 1: every form of every family alone",
+            "forward rounds",
+            "backward checks and swaps",
+            "identifiability"
+        ]
+    );
     let fits = events.iter().filter(|e| *e == "fit").count();
     // A call per fit: every candidate's, and the refits of the stability and pair checks.
     assert!(

@@ -165,9 +165,10 @@ pub fn assert_validate_plots(report: &Path, holdout: &Path) {
         .filter(|r| !r["y.depth"].is_empty())
         .map(|r| (num(r, "t"), num(r, "y.depth")))
         .collect();
-    let (red, green, grey) = (rgb(3), rgb(2), rgb(7));
+    let (red, green, grey, black) = (rgb(3), rgb(2), rgb(7), (30, 30, 30));
     let depth = report.join(format!("plots/{name}_depth.svg"));
-    plots::assert_svg_series(&depth, 1, &[(grey, measured.clone())]);
+    // The measurement: a near-black 1-px line over the 4-px model lines (drawn after them).
+    plots::assert_svg_series(&depth, 1, &[(black, measured.clone())]);
     let svg = std::fs::read_to_string(&depth).unwrap();
     let line = |c: Rgb, width: u32| -> Vec<(f64, f64)> {
         let found: Vec<plots::Line> = plots::lines(&svg)
@@ -177,9 +178,16 @@ pub fn assert_validate_plots(report: &Path, holdout: &Path) {
         assert_eq!(found.len(), 1, "{}: lines of {c:?}", depth.display());
         found[0].points.clone()
     };
-    let seen = line(grey, 1);
+    let seen = line(black, 1);
+    let order = |c: Rgb, width: u32| {
+        plots::lines(&svg)
+            .iter()
+            .position(|l| l.stroke == c && l.width == width && l.points.len() > 2)
+            .unwrap()
+    };
+    assert!(order(black, 1) > order(green, 4) && order(black, 1) > order(red, 4));
     let off = |c: Rgb| {
-        let l = line(c, 2);
+        let l = line(c, 4);
         assert_eq!(l.len(), seen.len(), "{c:?} against the measurement");
         l.iter()
             .zip(&seen)
@@ -198,7 +206,7 @@ pub fn assert_validate_plots(report: &Path, holdout: &Path) {
         baseline >= 10.0,
         "the baseline is only {baseline} px off the measurement"
     );
-    assert_png_colours(&depth.with_extension("png"), &[red, green, grey], 300);
+    assert_png_colours(&depth.with_extension("png"), &[red, green, black], 300);
 
     let acf = report.join("plots/acf_depth.svg");
     let svg = std::fs::read_to_string(&acf).unwrap();

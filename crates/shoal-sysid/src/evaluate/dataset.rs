@@ -14,13 +14,16 @@
 //! absolute position and heading (true away from the surface) this is the least-squares
 //! estimate of the initial position.
 
+use crate::evaluate::anchoring::{Anchoring, Horizon, choose};
 use crate::evaluate::blocks::{Resample, push_weighted};
 use crate::evaluate::evaluation::{ChannelResult, Evaluation, RunResult};
 use crate::evaluate::masses::MassTable;
+use crate::evaluate::open_loop::anchors::Anchor;
 use crate::evaluate::open_loop::{
     InitialState, InputMap, ReplayOptions, Trace, grid_position, replay_steps, simulate_many,
 };
 use crate::evaluate::stats;
+pub use crate::evaluate::stats::unwrap;
 use crate::log::run::{ChannelKind, MeasuredRun, RunError};
 use shoal_model::lanes::LANES;
 use shoal_model::math::wrap_pi;
@@ -64,6 +67,9 @@ pub struct Dataset {
     plans: Vec<RunPlan>,
     /// The mass properties of the ballast volumes the replays met (shared by clones).
     masses: Arc<MassTable>,
+    /// Whether the runs are replayed open loop or re-anchored, and why (set by
+    /// [`Dataset::anchor`]).
+    pub anchoring: Anchoring,
 }
 
 /// What comparing one run with its replay needs that does not depend on the model: worked
@@ -316,6 +322,7 @@ impl Dataset {
             resolution,
             plans,
             masses: Arc::default(),
+            anchoring: Anchoring::default(),
         };
         for k in &ds.kinds {
             let (ne, nv) = ds.counts(*k);
@@ -350,6 +357,23 @@ impl Dataset {
             }
         }
         (ne, nv)
+    }
+
+    /// Sets how every run is replayed: re-anchored at `horizon` (for [`Horizon::Auto`],
+    /// chosen from the replay of `baseline`), or open loop. Returns what was chosen.
+    pub fn anchor(&mut self, horizon: Horizon, baseline: &VehicleModel) -> &Anchoring {
+        for rd in &mut self.runs {
+            rd.init.anchors.clear();
+        }
+        let chosen = choose(horizon, || self.evaluate(baseline));
+        if let Some(h) = chosen.horizon {
+            let dt = self.replay.dt;
+            for rd in &mut self.runs {
+                rd.init.anchors = Anchor::every(&rd.run, h, dt);
+            }
+        }
+        self.anchoring = chosen;
+        &self.anchoring
     }
 
     /// Replays every run on `model` and compares with the measurements.
@@ -403,7 +427,8 @@ impl Dataset {
                             .map(|cp| {
                                 let n = if est_only { cp.n_est } else { cp.times.len() };
                                 let (mut predicted, mut resid) = (Vec::new(), Vec::new());
-                                compare(cp, n, &trace, delay, &mut predicted, &mut resid);
+                                let anchored = !rd.init.anchors.is_empty();
+                                compare(cp, n, &trace, delay, anchored, &mut predicted, &mut resid);
                                 (predicted, resid)
                             })
                             .collect(),
@@ -524,12 +549,14 @@ impl Replayed {
 /// difference starts within (−π, π] (modulo 2π, yet a model that falls behind by a turn is a
 /// turn wrong, and the fit sees a smooth cost instead of one folded at ±π); a channel with a
 /// free initial offset has the mean residual of its estimation samples removed (of all its
-/// samples in a hold-out run, which has no estimation samples).
+/// samples in a hold-out run, which has no estimation samples) — unless the replay is
+/// `anchored` and sets the channel to the data at every anchor ([`Anchor`](crate::evaluate::open_loop::anchors::Anchor)).
 fn compare(
     cp: &ChannelPlan,
     n: usize,
     trace: &Trace,
     delay: f64,
+    anchored: bool,
     predicted: &mut Vec<f64>,
     resid: &mut Vec<f64>,
 ) {
@@ -551,7 +578,7 @@ fn compare(
     }
     resid.clear();
     resid.extend(measured.iter().zip(predicted.iter()).map(|(&y, &p)| y - p));
-    if cp.kind.has_free_offset() {
+    if cp.kind.has_free_offset() && !(anchored && cp.kind.is_anchored()) {
         // Estimation samples give the offset (a hold-out run's own samples when it has none):
         // the validation part continues the replay from it, so a prediction is judged over
         // the whole held-out stretch, drift included.
@@ -574,18 +601,5 @@ fn compare(
             *r -= off;
             *p += off;
         }
-    }
-}
-
-/// Makes a sampled angle continuous by removing jumps of more than π between samples.
-pub fn unwrap(a: &mut [f64]) {
-    let mut shift = 0.0;
-    for i in 1..a.len() {
-        let raw = a[i];
-        let prev = a[i - 1];
-        let d = wrap_pi(raw + shift - prev);
-        let v = prev + d;
-        shift = v - raw;
-        a[i] = v;
     }
 }

@@ -206,3 +206,31 @@ fn deviations(y: &[f64]) -> Vec<f64> {
     let m = y.iter().sum::<f64>() / y.len() as f64;
     y.iter().map(|a| a - m).collect()
 }
+
+/// The noise floor of a channel's held-out residuals: the RMS of their first differences over
+/// √2 — what is left of white sensor noise when every smooth structure is taken out — and
+/// never below the quantisation noise of its sensor, resolution/√12 (a vehicle that hardly
+/// moves sits on one step of a coarse sensor, and the differences of its readings are then
+/// mostly zero although the reading is up to half a step off).
+pub fn noise_floor(eval: &Evaluation, kind: ChannelKind) -> f64 {
+    let q = eval.metrics.get(&kind).map_or(0.0, |m| m.resolution);
+    differenced_floor(eval, kind).max(q / 12f64.sqrt())
+}
+
+/// The RMS of the first differences of a channel's held-out residuals over √2.
+fn differenced_floor(eval: &Evaluation, kind: ChannelKind) -> f64 {
+    let mut diffs = Vec::new();
+    for r in &eval.runs {
+        for c in r.channels.iter().filter(|c| c.kind == kind) {
+            let v: Vec<f64> = c
+                .resid
+                .iter()
+                .zip(&c.est)
+                .filter(|(_, e)| !**e)
+                .map(|(x, _)| *x)
+                .collect();
+            diffs.extend(v.windows(2).map(|w| w[1] - w[0]));
+        }
+    }
+    stats::rms(&diffs) / std::f64::consts::SQRT_2
+}

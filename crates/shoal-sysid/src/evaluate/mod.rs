@@ -11,6 +11,7 @@
 //!
 //! It reads runs made by [`crate::log`] and knows nothing of the search or the report.
 
+pub mod anchoring;
 pub mod blocks;
 pub mod dataset;
 pub mod evaluation;

@@ -2,6 +2,7 @@
 //! effective sample size of autocorrelated residuals, Pearson correlation, and the resolution
 //! of a quantised sensor.
 
+use shoal_model::math::wrap_pi;
 use statrs::distribution::{ChiSquared, ContinuousCDF};
 
 /// Root mean square of `r`.
@@ -157,6 +158,19 @@ pub fn resolution(values: &[f64]) -> f64 {
         })
         .count();
     if off * 100 > v.len() { 0.0 } else { q }
+}
+
+/// Makes a sampled angle continuous by removing jumps of more than π between samples.
+pub fn unwrap(a: &mut [f64]) {
+    let mut shift = 0.0;
+    for i in 1..a.len() {
+        let raw = a[i];
+        let prev = a[i - 1];
+        let d = wrap_pi(raw + shift - prev);
+        let v = prev + d;
+        shift = v - raw;
+        a[i] = v;
+    }
 }
 
 #[cfg(test)]

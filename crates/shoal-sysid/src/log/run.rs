@@ -94,6 +94,21 @@ impl ChannelKind {
         )
     }
 
+    /// Whether a re-anchored replay sets this channel's state to the data at each anchor
+    /// (depth, attitude, body rates; see `evaluate::open_loop::anchors`).
+    pub fn is_anchored(self) -> bool {
+        matches!(
+            self,
+            ChannelKind::Depth
+                | ChannelKind::Roll
+                | ChannelKind::Pitch
+                | ChannelKind::Yaw
+                | ChannelKind::P
+                | ChannelKind::Q
+                | ChannelKind::R
+        )
+    }
+
     /// Channels whose initial value is a free initial condition of the replay (positions and
     /// heading): their offset is estimated from the data.
     pub fn has_free_offset(self) -> bool {

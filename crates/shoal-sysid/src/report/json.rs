@@ -80,7 +80,7 @@ fn candidate_json(c: &Candidate) -> Value {
         v["delta_bic"] = json!(c.delta_bic);
         v["delta_bic_eff"] = json!(c.delta_bic_eff);
         v["heldout_block_t"] = json!(c.heldout_t);
-        v["validation_gain_pct"] = json!(100.0 * c.gain);
+        v["changed_channels_gain_pct"] = json!(100.0 * c.gain);
         v["z"] = json!(c.z);
         let mut val = Map::new();
         for (k, m) in &f.eval.metrics {
@@ -106,7 +106,7 @@ fn named_json(input: &ReportInput<'_>, refs: &PlotRefs) -> Vec<Value> {
                 json!({
                     "stage": stage(c),
                     "round": c.round,
-                    "validation_gain_pct": 100.0 * c.gain,
+                    "changed_channels_gain_pct": 100.0 * c.gain,
                     "delta_bic_eff": c.delta_bic_eff,
                     "heldout_block_t": c.heldout_t,
                     "z": c.z,
@@ -180,6 +180,7 @@ pub(super) fn report(
     }
     // The stepwise model (before the stability and identifiability checks): what a user who
     // picks one of an "A or B" pair would get.
+    let (changed, on_changed) = out.changed_channels_gain_pct();
     let stepwise_gains: Map<String, Value> = base
         .eval
         .metrics
@@ -233,6 +234,8 @@ pub(super) fn report(
         "runs": runs,
         "settings": {
             "replay_dt_s": ds.replay.dt,
+            "replay_horizon_s": ds.anchoring.horizon,
+            "replay_why": ds.anchoring.why,
             "min_validation_gain_pct": 100.0 * input.opts.min_gain,
             "bic_threshold": input.opts.bic_threshold,
             "backward_eff_bic_threshold": input.opts.backward_eff_bic_threshold,
@@ -258,12 +261,14 @@ pub(super) fn report(
             "unexplained": out.verdict.unexplained,
             "stability": out.verdict.stability,
             "stepwise": out.stepwise.names(),
-            "stepwise_validation_gain_pct": 100.0 * crate::search::gain(&base.eval, &out.stepwise.eval),
+            "stepwise_validation_gain_pct": crate::search::measures::mean_channel_gain_pct(&base.eval, &out.stepwise.eval),
             "stepwise_channel_gain_pct": stepwise_gains,
             "params": vp,
             "params_sigma": vs,
             "params_ci95": ci,
             "validation_gain_pct": out.validation_gain_pct(),
+            "changed_channels": changed.iter().map(|k| label(*k)).collect::<Vec<_>>(),
+            "changed_channels_gain_pct": on_changed,
             "residuals_white_before": base.eval.residuals_white(),
             "residuals_white_after": fin.eval.residuals_white(),
             "channels": per_channel,

@@ -28,6 +28,7 @@ pub(super) fn markdown(
     let mut s = String::new();
     let _ = writeln!(s, "# Validation report: `{}`\n", input.vehicle.name);
     let _ = writeln!(s, "Baseline model: {}.\n", input.vehicle_source);
+    let _ = writeln!(s, "Replay: {}.\n", input.ds.anchoring.why);
     verdict(&mut s, input, written);
     named(&mut s, input, refs);
     possible(&mut s, out);
@@ -122,7 +123,8 @@ fn named(s: &mut String, input: &ReportInput<'_>, refs: &PlotRefs) {
         s,
         "Each effect's evidence compares the stepwise model with and without it (its backward \
          check): the *held-out gain* is the relative reduction of the validation RMSE (data the \
-         fit never saw, mean over channels); the *effective ΔBIC* is the BIC difference with each \
+         fit never saw, mean over the channels whose prediction it moves by at least their sensor's \
+         resolution; the verdict's headline averages over every channel); the *effective ΔBIC* is the BIC difference with each \
          channel's sample count replaced by its effective count n·(1−ρ₁)/(1+ρ₁); the *held-out \
          block t* tests that the gain is consistent over {} s blocks; *Wald z* is the distance \
          of its parameters from their null values. The 95 % confidence intervals are value ± \

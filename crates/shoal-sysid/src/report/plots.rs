@@ -54,6 +54,12 @@ const RED: usize = 3;
 const GREEN: usize = 2;
 const BLUE: usize = 0;
 
+/// Colour of the measurement on a run's plot.
+pub(super) const MEASURED_RGB: (u8, u8, u8) = (30, 30, 30);
+
+/// Line width of the model replays on a run's plot \[px\] (the measurement is 1 px on top).
+const MODEL_WIDTH: u32 = 4;
+
 /// Most points per series of a scatter plot (evenly thinned beyond).
 const MAX_DOTS: usize = 4000;
 
@@ -202,7 +208,7 @@ pub(super) fn run_plot(
         label: Some("baseline".into()),
         points: zip(&cb.times, &cb.predicted),
         color: RED,
-        width: 2,
+        width: MODEL_WIDTH,
         ..Default::default()
     }];
     if let Some((cf, l)) = cf {
@@ -210,14 +216,16 @@ pub(super) fn run_plot(
             label: Some(l.to_string()),
             points: zip(&cf.times, &cf.predicted),
             color: GREEN,
-            width: 2,
+            width: MODEL_WIDTH,
             ..Default::default()
         });
     }
+    // The measurements last, so on top: a thin near-black line (apart from the black frame)
+    // over the wider coloured model lines, which stay visible on both sides of it.
     series.push(Series {
         label: Some("measured".into()),
         points: zip(&cb.times, &cb.measured),
-        color: GREY,
+        rgb: Some(MEASURED_RGB),
         width: 1,
         ..Default::default()
     });
@@ -474,7 +482,15 @@ mod tests {
             .iter()
             .find(|s| s.label.as_deref() == Some("measured"))
             .unwrap();
-        assert!(!m.dots && m.width == 1);
+        assert!(!m.dots && m.width == 1 && m.rgb == Some(MEASURED_RGB));
+        // Drawn after (over) every model line, which is wider.
+        let at = |l: &str| {
+            plot.series
+                .iter()
+                .position(|s| s.label.as_deref() == Some(l))
+        };
+        assert!(at("measured") > at("baseline"));
+        assert!(plot.series[at("baseline").unwrap()].width > m.width);
         assert!(plot.y_down);
     }
 

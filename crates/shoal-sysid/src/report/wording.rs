@@ -56,10 +56,29 @@ pub fn verdict_sentence(out: &Outcome) -> String {
             )
         })
         .collect();
+    format!("Found {}: {}.{tail}", parts.join(" and "), headline(out))
+}
+
+/// The gain in words: the mean over the table's channels ([`Outcome::validation_gain_pct`]),
+/// and, when the model changes only some of them, the mean over those
+/// ([`Outcome::changed_channels_gain_pct`]).
+pub fn headline(out: &Outcome) -> String {
+    let n = out.baseline.eval.metrics.len();
+    let mean = out.validation_gain_pct();
+    let (changed, on_changed) = out.changed_channels_gain_pct();
+    let all = format!(
+        "validation RMSE {mean:.1} % lower than the baseline's (mean of the gains of the {n} \
+         channel{})",
+        if n == 1 { "" } else { "s" }
+    );
+    if changed.is_empty() || changed.len() == n {
+        return all;
+    }
+    let names: Vec<String> = changed.iter().map(|k| format!("y.{}", k.name())).collect();
     format!(
-        "Found {}: validation RMSE {:.1} % lower than the baseline's (mean over channels).{tail}",
-        parts.join(" and "),
-        out.validation_gain_pct()
+        "{all}; {on_changed:.1} % on the channel{} it changes ({})",
+        if changed.len() == 1 { "" } else { "s" },
+        names.join(", ")
     )
 }
 

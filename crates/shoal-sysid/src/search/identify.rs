@@ -8,6 +8,7 @@
 //! threshold — the log cannot separate the two: the verdict reports
 //! "A or B" with the manoeuvre that would separate them.
 
+use super::Step;
 use super::context::Search;
 use super::fitted::Fit;
 use super::measures::{delta_bic_eff, gain};
@@ -25,7 +26,7 @@ const ALTERNATIVES: usize = 2;
 pub(super) fn ambiguities(
     s: &Search<'_>,
     stepwise: &Fit,
-    progress: &(dyn Fn(&str) + Sync),
+    progress: &(dyn Fn(Step<'_>) + Sync),
 ) -> Vec<Ambiguity> {
     let opts = s.ctx.opts;
     let names = stepwise.names();
@@ -40,7 +41,7 @@ pub(super) fn ambiguities(
     }
     let found: Vec<Option<Ambiguity>> = par_map(&tries, opts.threads, |(name, reduced, alt)| {
         let c = s.candidate(0, reduced, alt)?;
-        progress(&format!("{alt} in place of {name}"));
+        progress(Step::Fit(&format!("{alt} in place of {name}")));
         if !c.significant {
             return None;
         }

@@ -7,6 +7,7 @@
 use super::fitted::Fit;
 use crate::evaluate::blocks::{Resample, part_sse};
 use crate::evaluate::evaluation::Evaluation;
+pub use crate::evaluate::evaluation::noise_floor;
 use crate::log::run::ChannelKind;
 use nalgebra::DMatrix;
 use statrs::distribution::{ChiSquared, ContinuousCDF, Normal};
@@ -52,6 +53,41 @@ pub fn gain_resampled(a: &Evaluation, b: &Evaluation, rs: Option<&Resample>) -> 
         }
     }
     if n > 0 { s / n as f64 } else { 0.0 }
+}
+
+/// The mean over every channel of `a` of the relative reduction of its pooled validation
+/// RMSE from `a` to `b` [%] (each channel's
+/// [`rmse_gain_pct`](crate::evaluate::evaluation::rmse_gain_pct), as a report's table shows
+/// them; 0 without channels).
+pub fn mean_channel_gain_pct(a: &Evaluation, b: &Evaluation) -> f64 {
+    let gains: Vec<f64> = a
+        .metrics
+        .iter()
+        .filter_map(|(k, ma)| {
+            b.metrics
+                .get(k)
+                .map(|mb| crate::evaluate::evaluation::rmse_gain_pct(ma.rmse, mb.rmse))
+        })
+        .collect();
+    if gains.is_empty() {
+        0.0
+    } else {
+        gains.iter().sum::<f64>() / gains.len() as f64
+    }
+}
+
+/// The channels whose validation error `b` changes against `a` in a way their sensors can
+/// show (those [`gain`] averages over), in channel order.
+pub fn changed(a: &Evaluation, b: &Evaluation) -> Vec<ChannelKind> {
+    a.metrics
+        .iter()
+        .filter(|(k, ma)| {
+            b.metrics
+                .get(k)
+                .is_some_and(|mb| ma.rmse > 0.0 && counts(a, b, **k, ma.rmse, mb.rmse))
+        })
+        .map(|(k, _)| *k)
+        .collect()
 }
 
 /// Whether a channel's error measure moved from `a` to `b` by more than rounding.
@@ -214,34 +250,6 @@ pub fn heldout_ratio(a: &Evaluation, b: &Evaluation) -> f64 {
     } else {
         ratios.iter().sum::<f64>() / ratios.len() as f64
     }
-}
-
-/// The noise floor of a channel's held-out residuals: the RMS of their first differences over
-/// √2 — what is left of white sensor noise when every smooth structure is taken out — and
-/// never below the quantisation noise of its sensor, resolution/√12 (a vehicle that hardly
-/// moves sits on one step of a coarse sensor, and the differences of its readings are then
-/// mostly zero although the reading is up to half a step off).
-pub fn noise_floor(eval: &Evaluation, kind: ChannelKind) -> f64 {
-    let q = eval.metrics.get(&kind).map_or(0.0, |m| m.resolution);
-    differenced_floor(eval, kind).max(q / 12f64.sqrt())
-}
-
-/// The RMS of the first differences of a channel's held-out residuals over √2.
-fn differenced_floor(eval: &Evaluation, kind: ChannelKind) -> f64 {
-    let mut diffs = Vec::new();
-    for r in &eval.runs {
-        for c in r.channels.iter().filter(|c| c.kind == kind) {
-            let v: Vec<f64> = c
-                .resid
-                .iter()
-                .zip(&c.est)
-                .filter(|(_, e)| !**e)
-                .map(|(x, _)| *x)
-                .collect();
-            diffs.extend(v.windows(2).map(|w| w[1] - w[0]));
-        }
-    }
-    crate::evaluate::stats::rms(&diffs) / std::f64::consts::SQRT_2
 }
 
 /// How far above its noise floor a channel's held-out RMSE must be for its residual to count

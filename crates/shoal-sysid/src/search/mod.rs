@@ -121,3 +121,17 @@ pub use orchestrate::search;
 pub use outcome::Outcome;
 pub use par::par_map;
 pub use verdict::{Ambiguity, Possible, Unexplained, Verdict};
+
+/// What a search reports while it runs (to [`search`]'s `progress`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Step<'a> {
+    /// A stage begins: what it does and, when known in advance, how many fits it makes.
+    Stage {
+        /// What the stage does.
+        stage: &'a str,
+        /// Candidate fits it makes, when known.
+        fits: Option<usize>,
+    },
+    /// A candidate fit finished (its name).
+    Fit(&'a str),
+}

@@ -1,6 +1,7 @@
 //! The search from start to verdict: round 1 (every family alone, forms competing), forward
 //! rounds, backward checks and swaps, then identifiability, stability and the verdict.
 
+use super::Step;
 use super::candidate::{Candidate, FormScore};
 use super::context::{FormInfo, Search, families};
 use super::fit::Ctx;
@@ -25,12 +26,12 @@ type RoundOne = (usize, Arc<dyn Effect>, Result<(Fit, Vec<bool>), String>);
 type Reduced = Vec<(String, Option<Fit>)>;
 
 /// Searches the effects of `opts` for the ones that explain `ds` better than `base`.
-/// `progress` is called with a short message after each candidate fit.
+/// `progress` hears each stage as it begins and each candidate fit as it ends.
 pub fn search(
     ds: &Dataset,
     base: &VehicleParams,
     opts: &SearchOptions,
-    progress: &(dyn Fn(&str) + Sync),
+    progress: &(dyn Fn(Step<'_>) + Sync),
 ) -> Outcome {
     let baseline = baseline_fit(ds, base, opts);
     let factors = baseline.eval.ml_factors();
@@ -46,6 +47,10 @@ pub fn search(
     };
     let fams = families(&opts.effects);
     // Round 1: every form of every family alone on the baseline.
+    progress(Step::Stage {
+        stage: "round 1: every form of every family alone",
+        fits: Some(fams.iter().map(|(_, forms)| forms.len()).sum()),
+    });
     let fitted = round_one_fits(&ctx, &fams, progress);
     let (forms, mut candidates) = round_one(&fams, &fitted, &baseline, opts);
     let s = Search {
@@ -53,7 +58,15 @@ pub fn search(
         baseline: baseline.clone(),
         forms,
     };
+    progress(Step::Stage {
+        stage: "forward rounds",
+        fits: None,
+    });
     let (current, first, round) = forward(&s, &baseline, &mut candidates, progress);
+    progress(Step::Stage {
+        stage: "backward checks and swaps",
+        fits: None,
+    });
     let (current, reduced, round) = backward_and_swaps(
         &s,
         &baseline,
@@ -68,6 +81,10 @@ pub fn search(
     candidates.extend(changes);
     let stepwise = current.clone();
     // Identifiability, stability, verdict.
+    progress(Step::Stage {
+        stage: "identifiability",
+        fits: None,
+    });
     let ambiguous = identify::ambiguities(&s, &stepwise, progress);
     let freq = stability::frequencies(&s, &stepwise, progress);
     let (chosen, verdict) = verdict::conclude(&s, &stepwise, ambiguous, freq);
@@ -106,7 +123,7 @@ fn baseline_fit(ds: &Dataset, base: &VehicleParams, opts: &SearchOptions) -> Fit
 fn round_one_fits(
     ctx: &Ctx<'_>,
     fams: &[(String, Vec<Arc<dyn Effect>>)],
-    progress: &(dyn Fn(&str) + Sync),
+    progress: &(dyn Fn(Step<'_>) + Sync),
 ) -> Vec<RoundOne> {
     let base = ctx.base;
     let items: Vec<(usize, Arc<dyn Effect>)> = fams
@@ -132,7 +149,7 @@ fn round_one_fits(
                     .ok_or_else(|| "the replay failed for every start".to_string())
             }
         };
-        progress(&format!("{} ({})", e.name(), e.form()));
+        progress(Step::Fit(&format!("{} ({})", e.name(), e.form())));
         (*i, e.clone(), r)
     })
 }
@@ -186,7 +203,7 @@ fn forward(
     s: &Search<'_>,
     baseline: &Fit,
     candidates: &mut Vec<Candidate>,
-    progress: &(dyn Fn(&str) + Sync),
+    progress: &(dyn Fn(Step<'_>) + Sync),
 ) -> (Fit, Option<String>, usize) {
     let opts = s.ctx.opts;
     let mut current = baseline.clone();
@@ -251,7 +268,7 @@ fn forward(
             let c = s.candidate(round, cur, name).unwrap_or_else(|| {
                 skipped(round, name, "the replay failed for every start".into())
             });
-            progress(name);
+            progress(Step::Fit(name));
             c
         });
         candidates.extend(next);
@@ -275,7 +292,7 @@ fn backward_and_swaps(
     first: Option<String>,
     mut round: usize,
     candidates: &mut Vec<Candidate>,
-    progress: &(dyn Fn(&str) + Sync),
+    progress: &(dyn Fn(Step<'_>) + Sync),
 ) -> (Fit, Reduced, usize) {
     let mut swaps = 0;
     // The model refitted without each of its families, as the last backward check left it.
@@ -319,7 +336,7 @@ fn backward(
     round: &mut usize,
     reduced: &mut Reduced,
     candidates: &mut Vec<Candidate>,
-    progress: &(dyn Fn(&str) + Sync),
+    progress: &(dyn Fn(Step<'_>) + Sync),
 ) {
     let opts = s.ctx.opts;
     while !current.effects.is_empty() {
@@ -341,7 +358,7 @@ fn backward(
                     )
                 },
             };
-            progress(name);
+            progress(Step::Fit(name));
             (c, r)
         });
         let weakest = checks
@@ -371,7 +388,7 @@ fn best_swap(
     current: &Fit,
     reduced: &Reduced,
     round: usize,
-    progress: &(dyn Fn(&str) + Sync),
+    progress: &(dyn Fn(Step<'_>) + Sync),
 ) -> Option<Candidate> {
     let opts = s.ctx.opts;
     let cur_bic = bic(&current.eval, current.k);
@@ -393,7 +410,7 @@ fn best_swap(
         let mut c = s.candidate(round + 1, r, alt)?;
         let b = c.fit.as_ref().map_or(f64::INFINITY, |f| bic(&f.eval, f.k));
         c.note = format!("swap for {out}: {}", c.note);
-        progress(alt);
+        progress(Step::Fit(alt));
         Some((c, b))
     });
     let best = swapped

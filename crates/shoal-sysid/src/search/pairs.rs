@@ -16,6 +16,7 @@
 //! backward check then tests each member against the model with the other, and stability
 //! selection each on its own, as for any chosen effect.
 
+use super::Step;
 use super::candidate::Candidate;
 use super::context::Search;
 use super::fitted::Fit;
@@ -50,7 +51,7 @@ pub(super) fn pair_candidates(
     round: usize,
     cur: &Fit,
     round_candidates: &[&Candidate],
-    progress: &(dyn Fn(&str) + Sync),
+    progress: &(dyn Fn(Step<'_>) + Sync),
 ) -> Vec<Candidate> {
     let opts = s.ctx.opts;
     let names = cur.names();
@@ -92,7 +93,7 @@ pub(super) fn pair_candidates(
             (&fb.effect, fb.excited.as_slice()),
         ];
         let fit = s.ctx.extend_with(cur, &adds, &starts)?;
-        progress(&format!("{} + {}", a.0, b.0));
+        progress(Step::Fit(&format!("{} + {}", a.0, b.0)));
         let set = [a.0.to_string(), b.0.to_string()];
         let mut c = judge_set(round, &set, cur, fit, opts, false, &s.baseline.eval);
         c.form = format!("{} + {}", a.1, b.1);

@@ -11,6 +11,7 @@
 //! lowers the whole model's BIC. The best such change is made and the others are tried again
 //! on the new model, until none helps (at most one pass per family and one more).
 
+use super::Step;
 use super::candidate::Candidate;
 use super::context::Search;
 use super::fitted::Fit;
@@ -30,7 +31,7 @@ pub(super) fn refine_forms(
     mut current: Fit,
     reduced: Vec<(String, Option<Fit>)>,
     mut round: usize,
-    progress: &(dyn Fn(&str) + Sync),
+    progress: &(dyn Fn(Step<'_>) + Sync),
 ) -> (Fit, Vec<Candidate>) {
     let mut made = Vec::new();
     if current.effects.len() < 2 {
@@ -53,7 +54,7 @@ pub(super) fn refine_forms(
                     _ => s.ctx.without(cur, name, &s.baseline)?,
                 };
                 let c = s.candidate(round + 1, &r, name)?;
-                progress(name);
+                progress(Step::Fit(name));
                 let b = c.fit.as_ref().map_or(f64::INFINITY, |f| bic(&f.eval, f.k));
                 Some((c, b, form.clone()))
             });

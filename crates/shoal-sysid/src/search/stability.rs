@@ -10,6 +10,7 @@
 //! which it passes. (The backward checks' effective-ΔBIC rule is not repeated: a resample
 //! duplicates blocks, and its count of independent samples is not defined.)
 
+use super::Step;
 use super::context::Search;
 use super::fit::Ctx;
 use super::fitted::Fit;
@@ -27,13 +28,17 @@ const REFIT_ITERATIONS: usize = 6;
 pub(super) fn frequencies(
     s: &Search<'_>,
     stepwise: &Fit,
-    progress: &(dyn Fn(&str) + Sync),
+    progress: &(dyn Fn(Step<'_>) + Sync),
 ) -> BTreeMap<String, f64> {
     let opts = s.ctx.opts;
     let names = stepwise.names();
     if names.is_empty() || opts.stability_draws == 0 {
         return BTreeMap::new();
     }
+    progress(Step::Stage {
+        stage: "stability over resamples",
+        fits: Some(opts.stability_draws),
+    });
     let draws: Vec<u64> = (0..opts.stability_draws as u64).collect();
     let picks: Vec<Vec<bool>> = par_map(&draws, opts.threads, |&d| {
         let rs = Resample::draw(
@@ -57,7 +62,7 @@ pub(super) fn frequencies(
         let Some(full) = ctx.without(stepwise, "", &s.baseline) else {
             return vec![false; names.len()];
         };
-        progress(&format!("resample {}", d + 1));
+        progress(Step::Fit(&format!("resample {}", d + 1)));
         // …and each effect's backward test on this resample.
         names
             .iter()

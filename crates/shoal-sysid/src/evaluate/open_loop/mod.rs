@@ -14,9 +14,14 @@
 //! Quantisation and noise are not simulated: they are what the residual of a perfect model
 //! consists of.
 //!
+//! A long run may be replayed in horizons, its measured states set to the data again at the
+//! start of each ([`anchors`]: a re-anchored replay).
+//!
 //! `setup.rs` holds what a replay starts from (input map, options, initial state),
-//! `simulate.rs` steps the model and `trace.rs` holds what it records.
+//! `anchors.rs` where it is re-anchored, `simulate.rs` steps the model and `trace.rs` holds
+//! what it records.
 
+pub mod anchors;
 mod setup;
 mod simulate;
 mod trace;

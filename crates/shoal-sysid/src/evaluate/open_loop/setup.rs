@@ -3,6 +3,7 @@
 //! integrator ([`ReplayOptions`]) and the initial state taken from the first samples
 //! ([`InitialState`]).
 
+use super::anchors::Anchor;
 use crate::log::limits::{ClampNote, Limits};
 use crate::log::numbers::short;
 use crate::log::run::{ChannelKind, MeasuredRun, RunError};
@@ -143,9 +144,12 @@ impl Default for ReplayOptions {
     }
 }
 
-/// The state a replay starts from.
+/// The state a replay starts from, and where it is re-anchored to the measurements.
 #[derive(Clone, Debug, PartialEq)]
 pub struct InitialState {
+    /// Where the replay's measured states are set to the data again, in step order (empty:
+    /// an open-loop replay; see [`super::anchors`]).
+    pub anchors: Vec<Anchor>,
     /// Roll, pitch, yaw \[rad\].
     pub rpy: Vec3,
     /// World position of the body origin \[m\] (depth from the first depth reading).
@@ -197,6 +201,7 @@ impl InitialState {
         let port = att.transform_vector(&params.pressure.position).z;
         let depth = first(ChannelKind::Depth).map_or(1.0, |d| d - port);
         InitialState {
+            anchors: Vec::new(),
             rpy,
             position: Vec3::new(
                 first(ChannelKind::X).unwrap_or(0.0),

@@ -3,6 +3,7 @@
 //! each), stepped with the run's inputs and recorded through the sensor models (see the
 //! parent module).
 
+use super::anchors::Anchor;
 use super::setup::{InitialState, InputMap, ReplayOptions, replay_steps};
 use super::trace::Trace;
 use crate::evaluate::masses::{BodyMasses, MassTable};
@@ -61,8 +62,12 @@ pub fn simulate_with(
     // The constants of the equation of motion, while the ballast does not change.
     let mut consts = v.consts();
     let mut row = 0usize;
+    let mut anchors = init.anchors.iter().peekable();
     for s in 0..v.steps {
         row = row_at(run, row, s, dt);
+        if let Some(a) = anchors.next_if(|a| a.step == s) {
+            v.reanchor(a);
+        }
         if let Some(c) = v.actuate(run, map, row, env, dt) {
             consts = c;
         }
@@ -122,10 +127,15 @@ pub fn simulate_many(
         }
         let steps = lanes.iter().map(|v| v.steps).max().unwrap_or(0);
         let mut row = 0usize;
+        let mut anchors = init.anchors.iter().peekable();
         for s in 0..steps {
             row = row_at(run, row, s, dt);
+            let anchor = anchors.next_if(|a| a.step == s);
             // A model whose replay has ended leaves its lane unread.
             for (l, v) in lanes.iter_mut().enumerate().filter(|(_, v)| s < v.steps) {
+                if let Some(a) = anchor {
+                    v.reanchor(a);
+                }
                 if let Some(c) = v.actuate(run, map, row, env, dt) {
                     consts.set(l, &c);
                 }
@@ -209,6 +219,11 @@ impl<'a> Replaying<'a> {
         v.set_inputs(run, map, 0);
         v.record(kinds);
         v
+    }
+
+    /// Sets its measured states to anchor `a`'s (see [`Anchor::apply`]).
+    fn reanchor(&mut self, a: &Anchor) {
+        a.apply(self.model, self.state.time, &mut self.state.rigid);
     }
 
     /// The constants of its equation of motion in its present ballast.

@@ -1,0 +1,175 @@
+//! Which replay a dataset uses: open loop from each run's first samples, or re-anchored to
+//! the measurements every so many seconds ([`Horizon`]; the mechanism is
+//! [`crate::evaluate::open_loop::anchors`]). A horizon is given, or chosen from the data:
+//! how long the baseline's replay stays within a few times the sensors' noise of the
+//! measurements ([`Horizon::Auto`]).
+
+use crate::evaluate::evaluation::{Evaluation, noise_floor};
+use crate::log::run::ChannelKind;
+
+/// How a dataset's runs are replayed.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub enum Horizon {
+    /// Open loop, each run from its first samples (short designed runs).
+    #[default]
+    Open,
+    /// Re-anchored every this many seconds \[s\].
+    Every(f64),
+    /// Re-anchored at a horizon chosen from the data: the median over the runs of how long
+    /// the baseline's replay stays within [`AUTO_NOISE_MULTIPLE`] times the noise floor
+    /// (1-s moving RMS of its residual, on every anchored channel), at least
+    /// [`MIN_HORIZON`]; open loop when it stays there throughout.
+    Auto,
+}
+
+impl std::str::FromStr for Horizon {
+    type Err = String;
+
+    /// `open`, `auto` or a number of seconds (checked against its range where it is used).
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s.trim() {
+            "open" => Ok(Horizon::Open),
+            "auto" => Ok(Horizon::Auto),
+            t => t
+                .parse::<f64>()
+                .map(Horizon::Every)
+                .map_err(|_| format!("`{s}`: allowed open, auto or a number of seconds")),
+        }
+    }
+}
+
+/// Shortest horizon \[s\]: shorter ones leave too little of each horizon for an effect's
+/// dynamics to show.
+pub const MIN_HORIZON: f64 = 2.0;
+
+/// How far above its noise floor the baseline's replay may stray before [`Horizon::Auto`]
+/// re-anchors it (multiple of the floor).
+pub const AUTO_NOISE_MULTIPLE: f64 = 10.0;
+
+/// The channels an anchor sets (see
+/// [`Anchor`](crate::evaluate::open_loop::anchors::Anchor)).
+const ANCHORED: [ChannelKind; 7] = [
+    ChannelKind::Depth,
+    ChannelKind::Roll,
+    ChannelKind::Pitch,
+    ChannelKind::Yaw,
+    ChannelKind::P,
+    ChannelKind::Q,
+    ChannelKind::R,
+];
+
+/// The replay a dataset uses, and why.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Anchoring {
+    /// The horizon \[s\], or `None` for open-loop replays.
+    pub horizon: Option<f64>,
+    /// Why, in one sentence.
+    pub why: String,
+}
+
+impl Default for Anchoring {
+    fn default() -> Self {
+        Self {
+            horizon: None,
+            why: OPEN_DEFAULT.to_string(),
+        }
+    }
+}
+
+/// Why a dataset's replays are open loop when nothing else was asked.
+const OPEN_DEFAULT: &str = "open-loop replay from each run's first samples (the default)";
+
+/// The replay `horizon` asks for: for [`Horizon::Auto`], chosen from the evaluation of the
+/// baseline's open-loop replay, which `baseline` makes (only then).
+pub fn choose(horizon: Horizon, baseline: impl FnOnce() -> Evaluation) -> Anchoring {
+    let (horizon, why) = match horizon {
+        Horizon::Open => (None, OPEN_DEFAULT.to_string()),
+        Horizon::Every(h) => (Some(h), format!("re-anchored every {h} s (given)")),
+        Horizon::Auto => auto(&baseline()),
+    };
+    Anchoring { horizon, why }
+}
+
+/// [`Horizon::Auto`]'s choice from the baseline's evaluation.
+fn auto(eval: &Evaluation) -> (Option<f64>, String) {
+    let floors: Vec<(ChannelKind, f64)> = ANCHORED
+        .iter()
+        .filter(|k| eval.metrics.contains_key(k))
+        .map(|&k| (k, noise_floor(eval, k)))
+        .filter(|(_, f)| *f > 0.0)
+        .collect();
+    let mut stays: Vec<f64> = Vec::new();
+    let mut open = 0;
+    for r in &eval.runs {
+        let first = r
+            .channels
+            .iter()
+            .filter_map(|c| {
+                let floor = floors.iter().find(|(k, _)| *k == c.kind)?.1;
+                strays_at(&c.times, &c.resid, AUTO_NOISE_MULTIPLE * floor)
+            })
+            .fold(f64::INFINITY, f64::min);
+        if first.is_finite() {
+            stays.push(first);
+        } else {
+            open += 1;
+        }
+    }
+    if stays.is_empty() {
+        return (
+            None,
+            format!(
+                "open-loop replay: the baseline stays within {AUTO_NOISE_MULTIPLE} × the noise \
+                 floor on every run"
+            ),
+        );
+    }
+    stays.sort_by(f64::total_cmp);
+    let median = stays[stays.len() / 2];
+    let h = ((median * 10.0).round() / 10.0).max(MIN_HORIZON);
+    (
+        Some(h),
+        format!(
+            "re-anchored every {h} s: the baseline's replay leaves {AUTO_NOISE_MULTIPLE} × the \
+             noise floor after a median {median:.1} s ({} of {} runs; {open} stay within it)",
+            stays.len(),
+            stays.len() + open
+        ),
+    )
+}
+
+/// The first time \[s since the first sample\] at which the 1-s moving RMS of `resid` exceeds
+/// `bound`, or `None`.
+fn strays_at(times: &[f64], resid: &[f64], bound: f64) -> Option<f64> {
+    let t0 = *times.first()?;
+    let (mut from, mut ss) = (0usize, 0.0);
+    for (i, (&t, &r)) in times.iter().zip(resid).enumerate() {
+        ss += r * r;
+        while times[from] < t - 1.0 {
+            ss -= resid[from] * resid[from];
+            from += 1;
+        }
+        let n = (i + 1 - from) as f64;
+        if t - t0 >= 1.0 && (ss.max(0.0) / n).sqrt() > bound {
+            return Some(t - t0);
+        }
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_residual_strays_when_its_moving_rms_passes_the_bound() {
+        let times: Vec<f64> = (0..1000).map(|i| i as f64 * 0.01).collect();
+        // Zero for 4 s, then a ramp 0.1 per second: x s into the ramp, the mean square over
+        // the last second is ∫₀ˣ (0.1 s)² ds = 0.01 x³/3, which reaches 0.05² at
+        // x = (0.75)^(1/3) = 0.9086 s.
+        let resid: Vec<f64> = times.iter().map(|t| 0.1 * (t - 4.0).max(0.0)).collect();
+        let at = strays_at(&times, &resid, 0.05).unwrap();
+        assert!((at - 4.9086).abs() < 0.015, "{at}");
+        assert_eq!(strays_at(&times, &resid, 1.0), None);
+    }
+}
