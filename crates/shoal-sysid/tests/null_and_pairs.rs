@@ -35,6 +35,59 @@ fn null_runs_give_an_empty_verdict() {
     }
 }
 
+/// With every statistical gate of the search opened (no minimum gain, any BIC, any z, any
+/// stability), a null run's fits of noise are still not named: each is too small to matter
+/// physically (it moves no channel's held-out prediction by its noise floor), and the
+/// verdict says so.
+#[test]
+fn fits_of_noise_are_too_small_to_matter_physically() {
+    use shoal_sysid::search::{SearchOptions, search};
+    let base = presets::uauv2();
+    let effects: Vec<Arc<dyn Effect>> = ["inflow_thrust_loss", "thrust_gain", "damping_error"]
+        .iter()
+        .map(|n| shoal_model::effects::by_name(n).unwrap())
+        .collect();
+    let mut small = 0;
+    for seed in [11, 12] {
+        let ds = common::dataset(measured(Exp::Yaw, &[], seed));
+        let opts = SearchOptions {
+            effects: effects.clone(),
+            threads: 1,
+            min_gain: f64::NEG_INFINITY,
+            bic_threshold: f64::INFINITY,
+            backward_eff_bic_threshold: f64::INFINITY,
+            z_threshold: 0.0,
+            t_threshold: f64::NEG_INFINITY,
+            min_material: f64::NEG_INFINITY,
+            min_closure: f64::NEG_INFINITY,
+            stability_threshold: 0.0,
+            ..Default::default()
+        };
+        let out = search(&ds, &base, &opts, &|_| {});
+        eprintln!(
+            "seed {seed}: stepwise {:?}, named {:?}, possible {:?}",
+            out.stepwise.names(),
+            out.chosen.names(),
+            out.verdict.possible
+        );
+        assert!(
+            out.chosen.names().is_empty(),
+            "seed {seed}: named {:?}",
+            out.chosen.names()
+        );
+        small += out
+            .verdict
+            .possible
+            .iter()
+            .filter(|p| p.reason.starts_with("too small to matter physically"))
+            .count();
+    }
+    assert!(
+        small > 0,
+        "the gates opened, some fit of noise reaches the verdict"
+    );
+}
+
 /// Relative tolerance of a fitted parameter in a pair: its distance from the truth may be at
 /// most this fraction of the truth's distance from the null value. Looser than alone (15 %):
 /// two effects fitted together can trade a little of one for the other.

@@ -4,43 +4,15 @@
 
 mod common;
 
+use common::replays::model;
 use common::{Exp, measured};
-use shoal_model::effects::{EffectInstance, Effects, by_name};
-use shoal_model::presets;
-use shoal_model::rigid_body::Environment;
-use shoal_model::vehicle::VehicleModel;
 use shoal_sysid::evaluate::anchoring::Horizon;
-use shoal_sysid::evaluate::dataset::{DataOptions, Dataset};
+use shoal_sysid::evaluate::dataset::Dataset;
 use shoal_sysid::evaluate::evaluation::Evaluation;
-use shoal_sysid::evaluate::open_loop::ReplayOptions;
 use shoal_sysid::log::run::ChannelKind;
 
 fn dataset(exp: Exp, hidden: &[(&str, Vec<f64>)]) -> Dataset {
-    Dataset::new(
-        &presets::uauv2(),
-        Environment::default(),
-        vec![measured(exp, hidden, 7)],
-        vec![],
-        &DataOptions {
-            replay: ReplayOptions {
-                dt: 0.02,
-                ..Default::default()
-            },
-            ..Default::default()
-        },
-    )
-    .unwrap()
-}
-
-fn model(effects: &[(&str, Vec<f64>)]) -> VehicleModel {
-    let list = effects
-        .iter()
-        .map(|(n, p)| EffectInstance {
-            effect: by_name(n).unwrap(),
-            params: p.clone(),
-        })
-        .collect();
-    VehicleModel::with_effects(presets::uauv2(), Effects::new(list), 1000.0)
+    common::dataset(measured(exp, hidden, 7))
 }
 
 fn rmse(e: &Evaluation, k: ChannelKind) -> f64 {

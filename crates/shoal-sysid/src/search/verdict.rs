@@ -4,7 +4,7 @@
 
 use super::context::Search;
 use super::fitted::Fit;
-use super::measures::{STRUCTURE_RATIO, noise_floor};
+use super::measures::{STRUCTURE_RATIO, moved, noise_floor};
 use crate::log::run::ChannelKind;
 use std::collections::BTreeMap;
 
@@ -103,6 +103,21 @@ pub(super) fn conclude(
                 stability: None,
             });
             drop.push(name);
+        } else if let Some((k, size)) =
+            physical_size(s, stepwise, &name).filter(|(_, size)| *size < PHYSICAL_RATIO)
+        {
+            possible.push(Possible {
+                effect: name.clone(),
+                form,
+                reason: format!(
+                    "too small to matter physically: at its fitted size it moves no channel's \
+                     held-out prediction by as much as {PHYSICAL_RATIO} × the channel's noise \
+                     floor (most: y.{}, {size:.2} ×)",
+                    k.name()
+                ),
+                stability: freq,
+            });
+            drop.push(name);
         } else if let Some(f) = freq.filter(|f| *f < opts.stability_threshold) {
             possible.push(Possible {
                 effect: name.clone(),
@@ -138,6 +153,39 @@ pub(super) fn conclude(
         stability,
     };
     (chosen, verdict)
+}
+
+/// How far an effect must move some channel's held-out prediction (RMS) to be named, in units
+/// of that channel's noise floor: an effect that changes every prediction by less than the
+/// sensor noise is physically nothing, however much it lowers an RMSE statistically.
+pub const PHYSICAL_RATIO: f64 = 1.0;
+
+/// The physical size of effect `name` of `fit`: the channel its fitted values move most and
+/// by how much — the RMS change of the held-out prediction when the effect alone is set to its
+/// null values (its shape parameters kept), over the channel's noise floor. `None` when the
+/// replay without it fails.
+fn physical_size(s: &Search<'_>, fit: &Fit, name: &str) -> Option<(ChannelKind, f64)> {
+    let effects: Vec<_> = fit.effects.iter().map(|e| e.effect.clone()).collect();
+    let values: Vec<f64> = fit
+        .effects
+        .iter()
+        .flat_map(|e| {
+            let off = e.effect.name() == name;
+            e.params
+                .iter()
+                .map(move |p| if off && !p.shape { p.null } else { p.value })
+        })
+        .collect();
+    let nulled = s.ctx.eval(&effects, &values)?;
+    fit.eval
+        .metrics
+        .keys()
+        .map(|&k| {
+            let floor = noise_floor(&fit.eval, k);
+            let size = moved(&fit.eval, &nulled, k) / floor.max(1e-300);
+            (k, size)
+        })
+        .max_by(|a, b| a.1.total_cmp(&b.1))
 }
 
 /// Channels of `fit` whose held-out residuals fail the Ljung–Box test and whose RMS is more

@@ -49,11 +49,11 @@ pub fn measured(exp: Exp, hidden: &[(&str, Vec<f64>)], seed: u64) -> MeasuredRun
         .expect("synthetic CSV parses")
 }
 
-/// The search on one run with the μAUV² preset as baseline (60/40 split, 20 ms replay).
-pub fn find(run: MeasuredRun) -> (Dataset, Outcome) {
-    let base = presets::uauv2();
-    let ds = Dataset::new(
-        &base,
+/// One run as the search sees it with the μAUV² preset as baseline (60/40 split, 20 ms
+/// replay).
+pub fn dataset(run: MeasuredRun) -> Dataset {
+    Dataset::new(
+        &presets::uauv2(),
         Environment::default(),
         vec![run],
         vec![],
@@ -65,7 +65,13 @@ pub fn find(run: MeasuredRun) -> (Dataset, Outcome) {
             ..Default::default()
         },
     )
-    .expect("dataset");
+    .expect("dataset")
+}
+
+/// The search on one run with the μAUV² preset as baseline (60/40 split, 20 ms replay).
+pub fn find(run: MeasuredRun) -> (Dataset, Outcome) {
+    let base = presets::uauv2();
+    let ds = dataset(run);
     // One search thread (results do not depend on it): the test runner runs the tests side
     // by side, one process each under cargo-nextest.
     let opts = SearchOptions {
