@@ -17,10 +17,8 @@ use crate::report::{
 };
 use crate::search::{Outcome, SearchOptions, Step, search};
 use shoal_model::effects;
-use shoal_model::effects::Effects;
 use shoal_model::presets;
 use shoal_model::rigid_body::Environment;
-use shoal_model::vehicle::VehicleModel;
 use shoal_world::error::WorldError;
 use shoal_world::load::load_vehicle;
 use shoal_world::spec::VehicleSpec;
@@ -299,11 +297,6 @@ impl Validation {
     }
 }
 
-/// Shortest horizon of a re-anchored replay that may be asked for \[s\].
-pub const HORIZON_MIN: f64 = 0.5;
-/// Longest horizon that may be asked for \[s\] (an hour).
-pub const HORIZON_MAX: f64 = 3600.0;
-
 /// Checks `config` against the allowed ranges (before anything is read).
 fn check(config: &Config, has_holdout: bool) -> Result<(), ValidateError> {
     let range = |setting, value: f64, ok: bool, allowed: String| {
@@ -337,12 +330,13 @@ fn check(config: &Config, has_holdout: bool) -> Result<(), ValidateError> {
         range("split", s, s > 0.0 && s < 1.0, "0 < split < 1".into())?;
     }
     if let Horizon::Every(h) = config.horizon {
-        let ok = (HORIZON_MIN..=HORIZON_MAX).contains(&h);
+        let (lo, hi) = (Horizon::MIN_S, Horizon::MAX_S);
+        let ok = (lo..=hi).contains(&h);
         range(
             "horizon",
             h,
             ok,
-            format!("{HORIZON_MIN} ≤ horizon ≤ {HORIZON_MAX} s, or auto"),
+            format!("{lo} ≤ horizon ≤ {hi} s, or auto"),
         )?;
     }
     Ok(())
@@ -469,12 +463,6 @@ pub fn validate(
             },
         },
     )?;
-    let baseline_model = VehicleModel::with_effects(
-        params.clone(),
-        Effects::new(base_effects.clone()),
-        env.density,
-    );
-    dataset.anchor(config.horizon, &baseline_model);
     for rd in &dataset.runs {
         for note in &rd.map.clamped {
             progress(Progress::Clamped {
@@ -492,18 +480,17 @@ pub fn validate(
         base_effects,
         ..Default::default()
     };
+    dataset.anchor(
+        config.horizon,
+        &options.baseline_model(&params, dataset.env.density),
+    );
     let count = |holdout: bool| dataset.runs.iter().filter(|r| r.holdout == holdout).count();
     progress(Progress::Start {
         vehicle: &vehicle.name,
         estimation: count(false),
         holdout: count(true),
         split: holdouts.is_empty().then_some(config.split),
-        families: {
-            let mut names: Vec<&str> = options.effects.iter().map(|e| e.name()).collect();
-            names.sort_unstable();
-            names.dedup();
-            names.len()
-        },
+        families: options.family_count(),
         forms: options.effects.len(),
         threads: options.threads,
     });

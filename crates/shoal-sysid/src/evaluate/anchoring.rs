@@ -18,8 +18,15 @@ pub enum Horizon {
     /// Re-anchored at a horizon chosen from the data: the median over the runs of how long
     /// the baseline's replay stays within [`AUTO_NOISE_MULTIPLE`] times the noise floor
     /// (1-s moving RMS of its residual, on every anchored channel), at least
-    /// [`MIN_HORIZON`]; open loop when it stays there throughout.
+    /// [`AUTO_MIN_HORIZON`]; open loop when it stays there throughout.
     Auto,
+}
+
+impl Horizon {
+    /// Shortest horizon that may be given \[s\].
+    pub const MIN_S: f64 = 0.5;
+    /// Longest horizon that may be given \[s\] (an hour).
+    pub const MAX_S: f64 = 3600.0;
 }
 
 impl std::str::FromStr for Horizon {
@@ -38,25 +45,13 @@ impl std::str::FromStr for Horizon {
     }
 }
 
-/// Shortest horizon \[s\]: shorter ones leave too little of each horizon for an effect's
+/// Shortest horizon [`Horizon::Auto`] chooses \[s\]: shorter ones leave too little of each horizon for an effect's
 /// dynamics to show.
-pub const MIN_HORIZON: f64 = 2.0;
+pub const AUTO_MIN_HORIZON: f64 = 2.0;
 
 /// How far above its noise floor the baseline's replay may stray before [`Horizon::Auto`]
 /// re-anchors it (multiple of the floor).
 pub const AUTO_NOISE_MULTIPLE: f64 = 10.0;
-
-/// The channels an anchor sets (see
-/// [`Anchor`](crate::evaluate::open_loop::anchors::Anchor)).
-const ANCHORED: [ChannelKind; 7] = [
-    ChannelKind::Depth,
-    ChannelKind::Roll,
-    ChannelKind::Pitch,
-    ChannelKind::Yaw,
-    ChannelKind::P,
-    ChannelKind::Q,
-    ChannelKind::R,
-];
 
 /// The replay a dataset uses, and why.
 #[derive(Clone, Debug, PartialEq)]
@@ -92,9 +87,10 @@ pub fn choose(horizon: Horizon, baseline: impl FnOnce() -> Evaluation) -> Anchor
 
 /// [`Horizon::Auto`]'s choice from the baseline's evaluation.
 fn auto(eval: &Evaluation) -> (Option<f64>, String) {
-    let floors: Vec<(ChannelKind, f64)> = ANCHORED
-        .iter()
-        .filter(|k| eval.metrics.contains_key(k))
+    let floors: Vec<(ChannelKind, f64)> = eval
+        .metrics
+        .keys()
+        .filter(|k| k.is_anchored())
         .map(|&k| (k, noise_floor(eval, k)))
         .filter(|(_, f)| *f > 0.0)
         .collect();
@@ -126,7 +122,7 @@ fn auto(eval: &Evaluation) -> (Option<f64>, String) {
     }
     stays.sort_by(f64::total_cmp);
     let median = stays[stays.len() / 2];
-    let h = ((median * 10.0).round() / 10.0).max(MIN_HORIZON);
+    let h = ((median * 10.0).round() / 10.0).max(AUTO_MIN_HORIZON);
     (
         Some(h),
         format!(

@@ -550,7 +550,7 @@ impl Replayed {
 /// turn wrong, and the fit sees a smooth cost instead of one folded at ±π); a channel with a
 /// free initial offset has the mean residual of its estimation samples removed (of all its
 /// samples in a hold-out run, which has no estimation samples) — unless the replay is
-/// `anchored` and sets the channel to the data at every anchor ([`Anchor`](crate::evaluate::open_loop::anchors::Anchor)).
+/// `anchored` and sets the channel to the data at every [`Anchor`].
 fn compare(
     cp: &ChannelPlan,
     n: usize,

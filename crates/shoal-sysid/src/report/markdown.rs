@@ -123,10 +123,10 @@ fn named(s: &mut String, input: &ReportInput<'_>, refs: &PlotRefs) {
         s,
         "Each effect's evidence compares the stepwise model with and without it (its backward \
          check): the *held-out gain* is the relative reduction of the validation RMSE (data the \
-         fit never saw, mean over the channels whose prediction it moves by at least their sensor's \
-         resolution; the verdict's headline averages over every channel); the *effective ΔBIC* is the BIC difference with each \
-         channel's sample count replaced by its effective count n·(1−ρ₁)/(1+ρ₁); the *held-out \
-         block t* tests that the gain is consistent over {} s blocks; *Wald z* is the distance \
+         fit never saw, mean over the channels whose prediction it moves by at least their \
+         sensor's resolution; the verdict's headline averages over every channel); the \
+         *effective ΔBIC* is the BIC difference with each channel's sample count replaced by its \
+         effective count n·(1−ρ₁)/(1+ρ₁); the *held-out block t* tests that the gain is consistent over {} s blocks; *Wald z* is the distance \
          of its parameters from their null values. The 95 % confidence intervals are value ± \
          1.96 σ with the honest σ, which allows for autocorrelated residuals (each channel's \
          information divided by κ = (1+ρ₁)/(1−ρ₁)); the white-residual σ is shown for \

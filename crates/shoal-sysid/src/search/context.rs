@@ -14,18 +14,6 @@ use shoal_model::vehicle::VehicleParams;
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
-/// The forms of each family among `effects`, families in first-appearance order.
-pub(super) fn families(effects: &[Arc<dyn Effect>]) -> Vec<(String, Vec<Arc<dyn Effect>>)> {
-    let mut out: Vec<(String, Vec<Arc<dyn Effect>>)> = Vec::new();
-    for e in effects {
-        match out.iter_mut().find(|(n, _)| n == e.name()) {
-            Some((_, v)) => v.push(e.clone()),
-            None => out.push((e.name().to_string(), vec![e.clone()])),
-        }
-    }
-    out
-}
-
 /// What round 1 learnt about one form: whether the data excite each parameter and its fit
 /// alone on the baseline.
 #[derive(Clone)]

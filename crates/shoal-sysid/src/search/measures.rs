@@ -23,18 +23,16 @@ pub fn gain(a: &Evaluation, b: &Evaluation) -> f64 {
 /// [`gain`] on the validation blocks of a resample (all blocks once without).
 pub fn gain_resampled(a: &Evaluation, b: &Evaluation, rs: Option<&Resample>) -> f64 {
     if rs.is_none() {
-        let mut s = 0.0;
-        let mut n = 0;
-        for (k, ma) in &a.metrics {
-            if let Some(mb) = b.metrics.get(k)
-                && ma.rmse > 0.0
-                && counts(a, b, *k, ma.rmse, mb.rmse)
-            {
-                s += 1.0 - mb.rmse / ma.rmse;
-                n += 1;
-            }
-        }
-        return if n > 0 { s / n as f64 } else { 0.0 };
+        let ks = changed(a, b);
+        let s: f64 = ks
+            .iter()
+            .map(|k| 1.0 - b.metrics[k].rmse / a.metrics[k].rmse)
+            .sum();
+        return if ks.is_empty() {
+            0.0
+        } else {
+            s / ks.len() as f64
+        };
     }
     let len = rs.map_or(crate::evaluate::blocks::DEFAULT_BLOCK_S, |r| r.len);
     let pa = part_sse(a, false, rs, len);

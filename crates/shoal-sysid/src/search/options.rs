@@ -2,7 +2,8 @@
 //! stability check and the Levenberg–Marquardt settings.
 
 use crate::evaluate::lm::LmOptions;
-use shoal_model::effects::{Effect, EffectInstance};
+use shoal_model::effects::{Effect, EffectInstance, Effects};
+use shoal_model::vehicle::{VehicleModel, VehicleParams};
 use std::sync::Arc;
 
 /// Settings of a search.
@@ -74,4 +75,33 @@ impl Default for SearchOptions {
             seed: 0x5140a1,
         }
     }
+}
+
+impl SearchOptions {
+    /// The baseline model every candidate is measured against: `base` with these options'
+    /// own effects ([`SearchOptions::base_effects`]), in water of `density` [kg/m³].
+    pub fn baseline_model(&self, base: &VehicleParams, density: f64) -> VehicleModel {
+        VehicleModel::with_effects(
+            base.clone(),
+            Effects::new(self.base_effects.clone()),
+            density,
+        )
+    }
+
+    /// How many effect families [`SearchOptions::effects`] holds (each of one or more forms).
+    pub fn family_count(&self) -> usize {
+        families(&self.effects).len()
+    }
+}
+
+/// The forms of each family among `effects`, families in first-appearance order.
+pub(super) fn families(effects: &[Arc<dyn Effect>]) -> Vec<(String, Vec<Arc<dyn Effect>>)> {
+    let mut out: Vec<(String, Vec<Arc<dyn Effect>>)> = Vec::new();
+    for e in effects {
+        match out.iter_mut().find(|(n, _)| n == e.name()) {
+            Some((_, v)) => v.push(e.clone()),
+            None => out.push((e.name().to_string(), vec![e.clone()])),
+        }
+    }
+    out
 }

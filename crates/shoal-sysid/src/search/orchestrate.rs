@@ -3,19 +3,19 @@
 
 use super::Step;
 use super::candidate::{Candidate, FormScore};
-use super::context::{FormInfo, Search, families};
+use super::context::{FormInfo, Search};
 use super::fit::Ctx;
 use super::fitted::Fit;
 use super::measures::{bic, heldout_ratio};
 use super::memo::Memo;
-use super::options::SearchOptions;
+use super::options::{SearchOptions, families};
 use super::outcome::Outcome;
 use super::par::par_map;
 use super::rules::{choose, judge, skipped};
 use super::{identify, pairs, refine, stability, verdict};
 use crate::evaluate::dataset::Dataset;
-use shoal_model::effects::{Effect, Effects};
-use shoal_model::vehicle::{VehicleModel, VehicleParams};
+use shoal_model::effects::Effect;
+use shoal_model::vehicle::VehicleParams;
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
@@ -101,12 +101,7 @@ pub fn search(
 /// The baseline (`base` with the options' own effects), evaluated: the model every candidate
 /// is measured against.
 fn baseline_fit(ds: &Dataset, base: &VehicleParams, opts: &SearchOptions) -> Fit {
-    let base_model = VehicleModel::with_effects(
-        base.clone(),
-        Effects::new(opts.base_effects.clone()),
-        ds.env.density,
-    );
-    let base_eval = ds.evaluate(&base_model);
+    let base_eval = ds.evaluate(&opts.baseline_model(base, ds.env.density));
     Fit {
         effects: Vec::new(),
         k: 0,

@@ -30,7 +30,8 @@ pub struct Outcome {
 impl Outcome {
     /// The report's headline: the relative validation-RMSE reduction of the chosen model
     /// against the baseline, the mean over every measured channel of the per-channel gains
-    /// ([`rmse_gain_pct`](crate::evaluate::evaluation::rmse_gain_pct) of each channel's pooled validation RMSE, the table's `gain`
+    /// (each channel's pooled validation RMSE through
+    /// [`rmse_gain_pct`](crate::evaluate::evaluation::rmse_gain_pct): the table's `gain`
     /// column) [%]. 0 when nothing is named.
     pub fn validation_gain_pct(&self) -> f64 {
         mean_channel_gain_pct(&self.baseline.eval, &self.chosen.eval)
