@@ -1,14 +1,16 @@
 //! A minimal agent: drives every vehicle it is given to one depth and heading in auto mode.
 //! With `--bad` it also sends, on every tick, commands the world must reject (NaN, unknown
 //! mode, unknown vehicle, wrong protocol version, oversized frames); with `--slow MS` it
-//! sleeps that long per tick (a heavy computation); with `--stall TICK:MS` it sleeps MS once,
-//! at its TICK-th tick (counted from 0: a hang it recovers from); with `--log` it prints what
+//! sleeps that long per tick (a heavy computation); with `--stall TICK:SECONDS` it stops
+//! answering at its TICK-th tick (counted from 0) until the world's clock has advanced SECONDS
+//! (a hang it recovers from, as long in simulated time however fast the world runs; it keeps
+//! reading the observations, only to see the time); with `--log` it prints what
 //! its first vehicle observes once per simulated second on stderr
 //! (`goto_agent: t = 12.00 s, depth 1.234 m, yaw 45.0°`, then ` (fallback)` while the world
 //! holds the vehicle under its fallback), so that a test can follow the run.
 //!
 //! ```sh
-//! cargo run --release -p shoal-bridge --example goto_agent -- PREFIX AGENT DEPTH_M HEADING_DEG [--bad] [--slow MS] [--stall TICK:MS] [--log]
+//! cargo run --release -p shoal-bridge --example goto_agent -- PREFIX AGENT DEPTH_M HEADING_DEG [--bad] [--slow MS] [--stall TICK:SECONDS] [--log]
 //! ```
 
 use shoal_bridge::agent::{Agent, AgentLink, Ended};
@@ -20,9 +22,11 @@ struct Goto {
     depth: f64,
     yaw: f64,
     slow: Duration,
-    /// (tick, how long) of the one-off stall.
-    stall: Option<(u64, Duration)>,
-    /// Current tick, and the step it belongs to.
+    /// (tick, simulated seconds) of the one-off stall.
+    stall: Option<(u64, f64)>,
+    /// While stalled: the simulated time (s) at which it answers again.
+    silent_until: Option<f64>,
+    /// Current tick (counted over the slices seen, answered or not), and the step it belongs to.
     tick: u64,
     step: Option<u64>,
     /// `--log`: the first vehicle's id and the last simulated second logged.
@@ -31,10 +35,6 @@ struct Goto {
 
 impl Agent for Goto {
     fn tick(&mut self, o: &Observation, cmd: &mut Command) {
-        if self.step.is_some_and(|s| s != o.step) {
-            self.tick += 1;
-        }
-        self.step = Some(o.step);
         if let Some((first, second)) = &mut self.log
             && *first.get_or_insert(o.vehicle) == o.vehicle
             && *second != Some(o.time as u64)
@@ -56,11 +56,29 @@ impl Agent for Goto {
         if !self.slow.is_zero() {
             std::thread::sleep(self.slow);
         }
-        if let Some((at, d)) = self.stall
+    }
+}
+
+impl Goto {
+    /// Whether it answers the slice whose first observation is `o` (false while stalled);
+    /// counts the ticks.
+    fn answers(&mut self, o: &Observation) -> bool {
+        if self.step.is_some_and(|s| s != o.step) {
+            self.tick += 1;
+        }
+        self.step = Some(o.step);
+        if let Some((at, seconds)) = self.stall
             && at == self.tick
         {
             self.stall = None;
-            std::thread::sleep(d);
+            self.silent_until = Some(o.time + seconds);
+        }
+        match self.silent_until {
+            Some(t) if o.time < t - 1e-9 => false,
+            _ => {
+                self.silent_until = None;
+                true
+            }
         }
     }
 }
@@ -106,7 +124,7 @@ fn main() -> ExitCode {
         .position(|a| a == "--stall")
         .and_then(|i| args.get(i + 1))
         .and_then(|s| s.split_once(':'))
-        .and_then(|(t, ms)| Some((t.parse::<u64>().ok()?, ms.parse::<u64>().ok()?)));
+        .and_then(|(t, s)| Some((t.parse::<u64>().ok()?, s.parse::<f64>().ok()?)));
     let pos: Vec<&String> = args
         .iter()
         .enumerate()
@@ -123,7 +141,7 @@ fn main() -> ExitCode {
         pos.get(3).and_then(|s| s.parse::<f64>().ok()),
     ) else {
         eprintln!(
-            "usage: goto_agent PREFIX AGENT DEPTH_M HEADING_DEG [--bad] [--slow MS] [--stall TICK:MS] [--log]"
+            "usage: goto_agent PREFIX AGENT DEPTH_M HEADING_DEG [--bad] [--slow MS] [--stall TICK:SECONDS] [--log]"
         );
         return ExitCode::from(2);
     };
@@ -140,35 +158,39 @@ fn main() -> ExitCode {
         depth,
         yaw: heading.to_radians(),
         slow: Duration::from_millis(slow_ms),
-        stall: stall.map(|(t, ms)| (t, Duration::from_millis(ms))),
+        stall,
+        silent_until: None,
         tick: 0,
         step: None,
         log: log.then_some((None, None)),
     };
-    let result = if bad {
-        // The same loop as `AgentLink::run`, with garbage before each good command.
-        loop {
-            let obs = match link.receive(Duration::from_secs(10)) {
-                Ok(Some(o)) => o,
-                Ok(None) => break Ok(Ended::Silent),
-                Err(e) => break Err(e),
-            };
-            if obs.iter().any(|o| o.flags & flags::END != 0) {
-                break Ok(Ended::WorldEnded);
-            }
-            let mut cmds = Vec::new();
-            for o in &obs {
-                let mut c = Command::keep(o);
-                agent.tick(o, &mut c);
-                cmds.extend(garbage(&c));
-                cmds.push(c);
-            }
-            if let Err(e) = link.send(&cmds) {
-                break Err(e);
-            }
+    // `AgentLink::run`'s loop, with garbage before each good command (`--bad`) and silence
+    // while stalled.
+    let result = loop {
+        let obs = match link.receive(Duration::from_secs(10)) {
+            Ok(Some(o)) => o,
+            Ok(None) => break Ok(Ended::Silent),
+            Err(e) => break Err(e),
+        };
+        if obs.iter().any(|o| o.flags & flags::END != 0) {
+            break Ok(Ended::WorldEnded);
         }
-    } else {
-        link.run(&mut agent)
+        if !obs.first().is_some_and(|o| agent.answers(o)) {
+            continue;
+        }
+        let mut cmds = Vec::new();
+        for o in &obs {
+            let mut c = Command::keep(o);
+            agent.tick(o, &mut c);
+            if bad {
+                cmds.extend(garbage(&c));
+            }
+            cmds.push(c);
+        }
+        if let Err(e) = link.send(&cmds) {
+            break Err(e);
+        }
+        link.ticks += 1;
     };
     match result {
         Ok(Ended::WorldEnded) => ExitCode::SUCCESS,
