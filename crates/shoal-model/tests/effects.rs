@@ -86,6 +86,7 @@ fn catalogue_is_complete_and_consistent() {
         "ballast_mass",
         "damping_error",
         "added_mass_error",
+        "restoring_moment",
         "water_current",
         "depth_sensor_bias",
         "sensor_delay",
@@ -182,8 +183,9 @@ fn scenario(name: &str) -> Vec<Phase> {
                 ..dive(10.0, 0.0)
             },
         ],
-        // Idle at depth: an offset force moves it, the current carries it.
-        "buoyancy_offset" | "water_current" => vec![dive(20.0, 0.0)],
+        // Idle at depth: an offset force moves it, the current carries it, a shifted weight
+        // tilts it.
+        "buoyancy_offset" | "water_current" | "restoring_moment" => vec![dive(20.0, 0.0)],
         // Depth readings over a while (bias and drift) and while moving (delay).
         "depth_sensor_bias" | "sensor_delay" => vec![dive(10.0, 0.0), dive(10.0, 70.0)],
         // Vertical thrust down and up, then surge thrust.

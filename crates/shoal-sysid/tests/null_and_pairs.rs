@@ -14,7 +14,7 @@ use std::sync::Arc;
 
 #[test]
 fn null_runs_give_an_empty_verdict() {
-    for exp in [Exp::Heave, Exp::Yaw] {
+    for exp in [Exp::Heave, Exp::Yaw, Exp::Trim] {
         for seed in [11, 12, 13] {
             let (_, out) = find(measured(exp, &[], seed));
             assert!(

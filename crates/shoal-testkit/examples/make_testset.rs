@@ -9,7 +9,7 @@
 //! cargo run --release -p shoal-testkit --example make_testset -- --out out/long --length 240 --noise 2
 //! ```
 //!
-//! Options: `--subset full|ci` (default full: 295 cases; ci: the test's 59), `--length S` log
+//! Options: `--subset full|ci` (default full: 322 cases; ci: the test's 64), `--length S` log
 //! length in seconds (default 120), `--noise M` sensor noise as a multiple of the μAUV²
 //! preset's (default 1). The output is deterministic.
 

@@ -7,6 +7,8 @@
 //!
 //! * [`uauv2_heave`] — diving mode (both side thrusters tilted down, β = −π/2, equal
 //!   commands): the 1-DOF heave law; logs depth, heading and yaw rate.
+//! * [`uauv2_trim`] — the heave experiment with the IMU's attitude logged as well (depth,
+//!   roll, pitch, heading and yaw rate): what a trim error shows in.
 //! * [`uauv2_yaw`] — turning mode (β = 0, commands balanced for zero surge force as the
 //!   validation spec prescribes): the 1-DOF yaw law; logs heading, yaw rate, depth and the
 //!   tracked position.
@@ -101,6 +103,23 @@ pub fn uauv2_heave(seed: u64, duration: f64) -> Experiment {
         position: Vec3::new(5.0, 5.0, 1.091),
         yaw: 0.3,
         tracking_noise: 0.0,
+    }
+}
+
+/// The diving-mode heave experiment of [`uauv2_heave`] with roll and pitch logged as well: a
+/// resting hull's tilt and the thrust's pitching and rolling show in them.
+pub fn uauv2_trim(seed: u64, duration: f64) -> Experiment {
+    let heave = uauv2_heave(seed, duration);
+    Experiment {
+        name: format!("uauv2_trim_{seed}"),
+        channels: vec![
+            ChannelKind::Depth,
+            ChannelKind::Roll,
+            ChannelKind::Pitch,
+            ChannelKind::Yaw,
+            ChannelKind::R,
+        ],
+        ..heave
     }
 }
 

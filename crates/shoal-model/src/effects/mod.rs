@@ -14,7 +14,7 @@
 //! | [`Effect::current`] | kinematics | water current |
 //! | [`Effect::command`] | each thruster, before the thrust curve | dead band |
 //! | [`Effect::thrust`] | each thruster, after the thrust curve | gain, asymmetry, sag, inflow, saturation |
-//! | [`Effect::force`] | each step, added to the thrusters' force | buoyancy offset, thrust coupling |
+//! | [`Effect::force`] | each step, added to the thrusters' force | buoyancy offset, restoring moment, thrust coupling |
 //! | [`Effect::depth_offset`] | each depth reading | depth-sensor bias |
 //! | [`Effect::delay`] | each sensor sample | sensor delay |
 //!
@@ -32,6 +32,7 @@ mod depth_sensor_bias;
 mod effect;
 mod inflow_thrust_loss;
 mod laws;
+mod restoring_moment;
 mod sensor_delay;
 mod thrust_asymmetry;
 mod thrust_coupling;
@@ -54,6 +55,7 @@ pub use depth_sensor_bias::{
 pub use inflow_thrust_loss::{
     InflowThrustLoss, InflowThrustLossLinear, InflowThrustLossPower, reduced as inflow_reduced,
 };
+pub use restoring_moment::{RestoringMoment, RestoringMomentDrift, RestoringMomentSettling};
 pub use sensor_delay::SensorDelay;
 pub use thrust_asymmetry::{ThrustAsymmetry, ThrustAsymmetryCurve, ThrustAsymmetrySided};
 pub use thrust_coupling::{ThrustCoupling, ThrustCouplingDirection};
@@ -107,6 +109,9 @@ pub fn catalogue() -> Vec<Arc<dyn Effect>> {
         Arc::new(DampingErrorDirection),
         Arc::new(DampingErrorPower),
         Arc::new(AddedMassError),
+        Arc::new(RestoringMoment),
+        Arc::new(RestoringMomentDrift),
+        Arc::new(RestoringMomentSettling),
         Arc::new(WaterCurrent),
         Arc::new(DepthSensorBias),
         Arc::new(DepthSensorBiasSettling),

@@ -15,6 +15,7 @@ use super::measures::{delta_bic_eff, gain};
 use super::par::par_map;
 use super::verdict::Ambiguity;
 use crate::evaluate::blocks::heldout_t;
+use crate::log::run::ChannelKind;
 
 /// Block t below which the held-out data cannot prefer one of two models.
 const AMBIGUOUS_T: f64 = 2.0;
@@ -91,7 +92,28 @@ pub fn excitation(family: &str) -> &'static str {
         "sensor_delay" => "fast command reversals",
         "thrust_coupling" => "vertical thrust steps with the heading logged",
         "thrust_saturation" => "full-scale commands next to half-scale ones",
+        "restoring_moment" => "resting at depth with roll and pitch logged (the resting tilt)",
         _ => "an experiment that drives this effect alone",
+    }
+}
+
+/// The channels a family shows in first, where it has such channels, and why the family is
+/// not fitted on runs that log none of them. Without them only second-order marks remain (a
+/// tilted hull's thrust pointing a little off), too easily taken for the direct marks of
+/// other families (a thrust loss, a buoyancy offset) for a verdict to rest on.
+pub fn direct_channels(family: &str) -> Option<(&'static [ChannelKind], &'static str)> {
+    match family {
+        "restoring_moment" => Some((
+            &[
+                ChannelKind::Roll,
+                ChannelKind::Pitch,
+                ChannelKind::P,
+                ChannelKind::Q,
+            ],
+            "not fitted: these runs log neither roll nor pitch (nor their rates), where a \
+             shifted centre of gravity shows first",
+        )),
+        _ => None,
     }
 }
 

@@ -127,8 +127,12 @@ fn round_one_fits(
         .flat_map(|(i, (_, forms))| forms.iter().map(move |e| (i, e.clone())))
         .collect();
     par_map(&items, ctx.opts.threads, |(i, e)| {
+        let unseen = identify::direct_channels(e.name())
+            .filter(|(kinds, _)| !kinds.iter().any(|k| ctx.factors.contains_key(k)));
         let r = if let Some(why) = e.not_applicable(base) {
             Err(format!("does not apply: {why}"))
+        } else if let Some((_, why)) = unseen {
+            Err(why.to_string())
         } else {
             let excited = ctx.excited(e);
             if !excited.iter().any(|&x| x) {

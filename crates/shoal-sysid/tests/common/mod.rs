@@ -23,6 +23,8 @@ pub enum Exp {
     Heave,
     /// Turning mode, 1-DOF yaw, tracked position.
     Yaw,
+    /// Diving mode with roll and pitch logged as well.
+    Trim,
 }
 
 /// A μAUV² run of `exp` (120 s, 50 Hz) with `hidden` effects, simulated at 5 ms with sensor
@@ -42,6 +44,7 @@ pub fn measured(exp: Exp, hidden: &[(&str, Vec<f64>)], seed: u64) -> MeasuredRun
     let e = match exp {
         Exp::Heave => design::uauv2_heave(seed, 120.0),
         Exp::Yaw => design::uauv2_yaw(seed, 120.0),
+        Exp::Trim => design::uauv2_trim(seed, 120.0),
     };
     let run = synthesize(&truth, &Environment::default(), &e, 0.005, seed ^ 0x5eed);
     let csv = run.to_csv();
@@ -140,6 +143,11 @@ pub fn realistic(effect: &str, exp: Exp, seed: u64) -> Vec<f64> {
             vec![kz, 0.0]
         }
         "thrust_saturation" => vec![u(0.5, 0.8)],
+        // A tilt of 4–9° in pitch and 2–6° in roll for the μAUV²'s 15 mm metacentric height.
+        "restoring_moment" => {
+            let (sx, sy) = (sign(u(0.0, 1.0)), sign(u(0.0, 1.0)));
+            vec![sx * u(0.001, 0.0025), sy * u(0.0005, 0.0015)]
+        }
         _ => panic!("no realistic range for {effect}"),
     }
 }

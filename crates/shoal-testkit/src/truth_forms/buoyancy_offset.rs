@@ -54,7 +54,7 @@ pub(super) fn forms() -> Vec<TruthForm> {
                 0.04,
                 "buoyancy of the trapped air at the surface (1.6–4 ml; ΔF 1.5–3.8 mN at 1 m)",
             )],
-            excites: &[ExpKind::Heave, ExpKind::Yaw],
+            excites: &[ExpKind::Heave, ExpKind::Trim, ExpKind::Yaw],
             build: |p| Part::Effect(Arc::new(GasCompression { b_gas: p[0] })),
         },
         TruthForm {
@@ -71,7 +71,7 @@ pub(super) fn forms() -> Vec<TruthForm> {
                     "weight gained per second (1.5–3 µl/s of water seeping in)",
                 ),
             ],
-            excites: &[ExpKind::Heave, ExpKind::Yaw],
+            excites: &[ExpKind::Heave, ExpKind::Trim, ExpKind::Yaw],
             build: |p| {
                 Part::Effect(Arc::new(SlowLeak {
                     delta_f0: p[0],
@@ -94,7 +94,7 @@ pub(super) fn forms() -> Vec<TruthForm> {
                 ),
                 FormParam::shape("tau_s", "s", 20.0, 60.0, "time constant of the venting"),
             ],
-            excites: &[ExpKind::Heave, ExpKind::Yaw],
+            excites: &[ExpKind::Heave, ExpKind::Trim, ExpKind::Yaw],
             build: |p| {
                 Part::Effect(Arc::new(VentingAir {
                     delta_f0: p[0],
@@ -117,7 +117,7 @@ pub(super) fn forms() -> Vec<TruthForm> {
                 ),
                 FormParam::shape("tau_s", "s", 40.0, 150.0, "time constant of the leak"),
             ],
-            excites: &[ExpKind::Heave, ExpKind::Yaw],
+            excites: &[ExpKind::Heave, ExpKind::Trim, ExpKind::Yaw],
             build: |p| {
                 Part::Effect(Arc::new(LeakingBubble {
                     b_gas: p[0],

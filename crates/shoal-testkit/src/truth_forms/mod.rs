@@ -29,6 +29,7 @@ mod buoyancy_offset;
 mod damping_error;
 mod depth_sensor_bias;
 mod inflow_thrust_loss;
+mod restoring_moment;
 mod sensor_delay;
 mod thrust_asymmetry;
 mod thrust_coupling;
@@ -62,33 +63,39 @@ pub enum ExpKind {
     /// Turning mode, 1-DOF yaw ([`design::uauv2_yaw`]): logs heading, yaw rate, depth and
     /// the tracked position.
     Yaw,
+    /// Diving mode with the attitude logged ([`design::uauv2_trim`]): logs depth, roll,
+    /// pitch, heading and yaw rate.
+    Trim,
 }
 
 impl ExpKind {
-    /// Both experiments.
-    pub const ALL: [ExpKind; 2] = [ExpKind::Heave, ExpKind::Yaw];
+    /// Every experiment.
+    pub const ALL: [ExpKind; 3] = [ExpKind::Heave, ExpKind::Yaw, ExpKind::Trim];
 
     /// The experiment for `seed`, `duration` \[s\] long.
     pub fn experiment(self, seed: u64, duration: f64) -> Experiment {
         match self {
             ExpKind::Heave => design::uauv2_heave(seed, duration),
             ExpKind::Yaw => design::uauv2_yaw(seed, duration),
+            ExpKind::Trim => design::uauv2_trim(seed, duration),
         }
     }
 
-    /// Short tag used in case names: `h` or `y`.
+    /// Short tag used in case names: `h`, `y` or `t`.
     pub fn tag(self) -> &'static str {
         match self {
             ExpKind::Heave => "h",
             ExpKind::Yaw => "y",
+            ExpKind::Trim => "t",
         }
     }
 
-    /// Lower-case name: `heave` or `yaw`.
+    /// Lower-case name: `heave`, `yaw` or `trim`.
     pub fn name(self) -> &'static str {
         match self {
             ExpKind::Heave => "heave",
             ExpKind::Yaw => "yaw",
+            ExpKind::Trim => "trim",
         }
     }
 }
@@ -280,7 +287,7 @@ impl TruthForm {
 
 /// The truth forms whose law a fitting form of their family has: (truth form, fitting form).
 /// They stay in the test set; the other forms of each family differ from every fitting form.
-pub const MATCHED: [(&str, &str); 17] = [
+pub const MATCHED: [(&str, &str); 18] = [
     ("thruster_deadband/asymmetric_soft", "soft_asymmetric"),
     ("thrust_asymmetry/reverse_exponent", "curve"),
     ("inflow_thrust_loss/quadratic", "power"),
@@ -298,6 +305,7 @@ pub const MATCHED: [(&str, &str); 17] = [
     ("thrust_coupling/direction_dependent", "direction"),
     ("thrust_gain/two_slope", "knee"),
     ("thrust_asymmetry/reverse_per_thruster", "sided"),
+    ("restoring_moment/flooding_end", "settling"),
 ];
 
 /// The logistic function 1/(1 + e^(−x)): the S-shaped law of several truth forms (a battery's
@@ -324,6 +332,7 @@ pub fn all() -> Vec<TruthForm> {
         ballast_mass::forms(),
         damping_error::forms(),
         added_mass_error::forms(),
+        restoring_moment::forms(),
         water_current::forms(),
         depth_sensor_bias::forms(),
         sensor_delay::forms(),
