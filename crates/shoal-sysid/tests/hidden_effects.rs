@@ -283,16 +283,23 @@ fn unexcited_effects_are_reported_as_such() {
     let run = measured(Heave, &[("water_current", vec![0.05, -0.03])], 4);
     let (_, out) = find(run);
     assert!(out.chosen.names().is_empty(), "{:?}", out.chosen.names());
-    let c = out
-        .candidates
-        .iter()
-        .find(|c| c.effect == "water_current")
-        .unwrap();
+    let c = candidate(&out, "water_current");
     assert!(
         c.fit.is_none() && c.note.starts_with("not excited"),
         "{}",
         c.note
     );
+}
+
+/// The search's round-1 candidate of family `effect`.
+fn candidate<'a>(
+    out: &'a shoal_sysid::search::Outcome,
+    effect: &str,
+) -> &'a shoal_sysid::search::Candidate {
+    out.candidates
+        .iter()
+        .find(|c| c.effect == effect)
+        .unwrap_or_else(|| panic!("no candidate for {effect}"))
 }
 
 /// A shifted centre of gravity in a run that logs no attitude is not fitted (its only marks
@@ -307,11 +314,7 @@ fn restoring_moment_needs_roll_or_pitch() {
         "{:?}",
         out.chosen.names()
     );
-    let c = out
-        .candidates
-        .iter()
-        .find(|c| c.effect == "restoring_moment")
-        .unwrap();
+    let c = candidate(&out, "restoring_moment");
     assert!(
         c.fit.is_none() && c.note.contains("neither roll nor pitch"),
         "{}",

@@ -20,7 +20,7 @@
 use super::{ExpKind, FormParam, Part, TruthForm, truth_effect_meta};
 use crate::synth::TruthHook;
 use shoal_model::effects::{Effect, ForceContext, RestoringMoment, RestoringMomentSettling};
-use shoal_model::math::{GRAVITY, Vec3, Vec6};
+use shoal_model::math::{Vec3, Vec6};
 use shoal_model::rigid_body::Environment;
 use shoal_model::vehicle::{VehicleModel, VehicleState};
 use std::sync::Arc;
@@ -185,7 +185,7 @@ impl TruthHook for SloshingWater {
         &mut self,
         model: &VehicleModel,
         state: &mut VehicleState,
-        _env: &Environment,
+        env: &Environment,
         dt: f64,
     ) {
         let rigid = &state.rigid;
@@ -198,7 +198,7 @@ impl TruthHook for SloshingWater {
             thrust_force: Vec3::zeros(),
             thrust_moment: Vec3::zeros(),
             vehicle: &model.params,
-            gravity: GRAVITY,
+            gravity: env.gravity,
         };
         let m = RestoringMoment.force(&dr, &ctx);
         // The moment, held over the step like every other force.
