@@ -5,14 +5,17 @@
 //! crate is a dev-dependency of shoal-sysid, shoal-cli and the root `shoal` crate.
 //!
 //! * [`synth`], [`design`] — synthetic runs with hidden effects and the μAUV² experiments
-//!   that excite every effect;
+//!   that excite every effect; [`mission`] — long closed-loop missions flown by the μAUV²'s
+//!   own controllers in gusting water;
 //! * [`truth_forms`], [`logger`] — effects hidden in forms that differ from the catalogue's,
 //!   and logs written the way a real logger writes them;
 //! * [`testset`], [`recovery`] — the misspecified-form test set built from them, and how a
-//!   search's verdicts on it are scored.
+//!   search's verdicts on it are scored; [`closed_loop`] — the long closed-loop test set.
 
+pub mod closed_loop;
 pub mod design;
 pub mod logger;
+pub mod mission;
 pub mod recovery;
 pub mod synth;
 pub mod testset;

@@ -10,6 +10,7 @@
 use crate::testset::{Case, DENSITY};
 use shoal_model::presets;
 use shoal_model::rigid_body::Environment;
+use shoal_sysid::evaluate::anchoring::Horizon;
 use shoal_sysid::evaluate::dataset::{DataOptions, Dataset};
 use shoal_sysid::evaluate::open_loop::ReplayOptions;
 use shoal_sysid::log::run::MeasuredRun;
@@ -25,6 +26,16 @@ pub const REPLAY_DT: f64 = 0.02;
 /// [`REPLAY_DT`] replay, `threads` worker threads. Returns the chosen effects' names, sorted,
 /// or why the log could not be searched.
 pub fn search_log(csv: &str, name: &str, threads: usize) -> Result<Vec<String>, String> {
+    search_log_with(csv, name, threads, Horizon::Open)
+}
+
+/// [`search_log`] with the runs replayed as `horizon` asks (re-anchored, or open loop).
+pub fn search_log_with(
+    csv: &str,
+    name: &str,
+    threads: usize,
+    horizon: Horizon,
+) -> Result<Vec<String>, String> {
     let run = MeasuredRun::parse(csv, Path::new(&format!("{name}.csv")))
         .map_err(|e| format!("parse: {e}"))?;
     let base = presets::uauv2();
@@ -32,7 +43,7 @@ pub fn search_log(csv: &str, name: &str, threads: usize) -> Result<Vec<String>, 
         density: DENSITY,
         ..Environment::default()
     };
-    let ds = Dataset::new(
+    let mut ds = Dataset::new(
         &base,
         env,
         vec![run],
@@ -50,6 +61,7 @@ pub fn search_log(csv: &str, name: &str, threads: usize) -> Result<Vec<String>, 
         threads,
         ..Default::default()
     };
+    ds.anchor(horizon, &opts.baseline_model(&base, ds.env.density));
     let out = search(&ds, &base, &opts, &|_| {});
     let mut names = out.chosen.names();
     names.sort();

@@ -132,68 +132,187 @@ pub fn synthesize_with(
     let n_samples = (exp.duration / exp.sample_period).round() as usize + 1;
     let sub = (exp.sample_period / dt).round().max(1.0) as usize;
     let h = exp.sample_period / sub as f64;
-    let track = Normal::new(0.0, exp.tracking_noise.max(0.0)).ok();
-    let delay = model.effects.delay();
-    let mut positions: VecDeque<(f64, Vec3)> = VecDeque::new();
-    let mut t_col = Vec::with_capacity(n_samples);
-    let mut inputs: Vec<InputColumn> = actuators
-        .iter()
-        .enumerate()
-        .map(|(i, n)| InputColumn {
-            name: n.clone(),
-            column: 2 + i,
-            values: Vec::with_capacity(n_samples),
-            precision: Vec::new(),
-            first_set: 0,
-        })
-        .collect();
-    let mut channels: Vec<Channel> = exp
-        .channels
-        .iter()
-        .enumerate()
-        .map(|(i, &kind)| Channel {
-            kind,
-            column: 2 + actuators.len() + i,
-            rows: Vec::with_capacity(n_samples),
-            values: Vec::with_capacity(n_samples),
-        })
-        .collect();
+    let mut log = Recorder::new(
+        model,
+        &actuators,
+        &exp.channels,
+        n_samples,
+        exp.tracking_noise,
+    );
     let apply = |t: f64, cmd: &mut ActuatorCommands, state: &mut VehicleState| {
         for name in &actuators {
-            let v = exp.input_at(name, t);
-            if let Some(i) = p.thrusters.iter().position(|th| &th.name == name) {
-                cmd.thrusters[i] = v;
-            } else if let Some(i) = p.tilts.iter().position(|tl| &tl.name == name) {
-                cmd.tilts[i] = v;
-                state.actuators.tilt[i] = v;
-            } else if name == "pump" {
-                cmd.pump = Pump::from_sign(v);
-            }
+            set_actuator(model, cmd, state, name, exp.input_at(name, t));
         }
     };
-    let mut water = *env;
-    let mut hooked = cmd.clone();
+    let mut stepper = Stepper::new(&cmd, env);
+    let mut values = vec![0.0; actuators.len()];
     for k in 0..n_samples {
         let t = k as f64 * exp.sample_period;
         apply(t, &mut cmd, &mut state);
-        let seen = hook.sensed(&state);
-        let truth = seen.map(|r| std::mem::replace(&mut state.rigid, r));
-        sense(model, &mut state, &water, &mut rng, &mut readings);
-        // Tracked positions share the sensor delay.
-        positions.push_back((state.time, state.rigid.position));
-        while positions.len() > 1 && positions[1].0 <= state.time - delay + 1e-9 {
-            positions.pop_front();
+        for (v, name) in values.iter_mut().zip(&actuators) {
+            *v = exp.input_at(name, t);
         }
-        let pos = match positions.front() {
+        log.observe(
+            t,
+            model,
+            &mut state,
+            &stepper.water,
+            hook,
+            &mut rng,
+            &mut readings,
+        );
+        log.push_inputs(&values);
+        if k + 1 == n_samples {
+            break;
+        }
+        for s in 0..sub {
+            apply(t + s as f64 * h, &mut cmd, &mut state);
+            stepper.step(model, env, &mut state, &cmd, hook, h);
+        }
+    }
+    log.finish(&exp.name)
+}
+
+/// Sets actuator `name` of `model` to `v` in `cmd` (thrusters in %, tilts in rad — a tilt is
+/// where the log says it is, so the state's angle is set too —, the pump by its sign).
+pub(crate) fn set_actuator(
+    model: &VehicleModel,
+    cmd: &mut ActuatorCommands,
+    state: &mut VehicleState,
+    name: &str,
+    v: f64,
+) {
+    let p = &model.params;
+    if let Some(i) = p.thrusters.iter().position(|th| th.name == name) {
+        cmd.thrusters[i] = v;
+    } else if let Some(i) = p.tilts.iter().position(|tl| tl.name == name) {
+        cmd.tilts[i] = v;
+        state.actuators.tilt[i] = v;
+    } else if name == "pump" {
+        cmd.pump = Pump::from_sign(v);
+    }
+}
+
+/// One physics step of the simulated truth, with the hook around it: the water the hook saw
+/// last is kept for the next sample.
+pub(crate) struct Stepper {
+    /// The water of the last step, as the hook left it (the next sample is read in it).
+    pub(crate) water: Environment,
+    hooked: ActuatorCommands,
+}
+
+impl Stepper {
+    /// A stepper for commands shaped like `cmd`, in water `env` until the first step.
+    pub(crate) fn new(cmd: &ActuatorCommands, env: &Environment) -> Self {
+        Self {
+            water: *env,
+            hooked: cmd.clone(),
+        }
+    }
+
+    /// Actuates and integrates `state` over `h` \[s\] in water `env` with commands `cmd`.
+    pub(crate) fn step(
+        &mut self,
+        model: &VehicleModel,
+        env: &Environment,
+        state: &mut VehicleState,
+        cmd: &ActuatorCommands,
+        hook: &mut dyn TruthHook,
+        h: f64,
+    ) {
+        self.hooked.clone_from(cmd);
+        self.water = *env;
+        hook.before_actuate(model, state, &mut self.hooked, &mut self.water, h);
+        actuate_vehicle(model, state, &self.hooked, &self.water, h);
+        hook.before_integrate(model, state, &self.water, h);
+        integrate_vehicle(model, state, &self.water, Integrator::Rk4, h);
+    }
+}
+
+/// The logger: one row per sample with the inputs in force and every logged channel, as the
+/// vehicle's sensors read them (tracked positions with the sensor delay and their own noise).
+pub(crate) struct Recorder {
+    t: Vec<f64>,
+    inputs: Vec<InputColumn>,
+    channels: Vec<Channel>,
+    track: Option<Normal<f64>>,
+    delay: f64,
+    positions: VecDeque<(f64, Vec3)>,
+}
+
+impl Recorder {
+    /// A logger of inputs `actuators` and channels `kinds` for `n` samples, tracked positions
+    /// with noise `tracking_noise` \[m\] (standard deviation).
+    pub(crate) fn new(
+        model: &VehicleModel,
+        actuators: &[String],
+        kinds: &[ChannelKind],
+        n: usize,
+        tracking_noise: f64,
+    ) -> Self {
+        let inputs = actuators
+            .iter()
+            .enumerate()
+            .map(|(i, name)| InputColumn {
+                name: name.clone(),
+                column: 2 + i,
+                values: Vec::with_capacity(n),
+                precision: Vec::new(),
+                first_set: 0,
+            })
+            .collect();
+        let channels = kinds
+            .iter()
+            .enumerate()
+            .map(|(i, &kind)| Channel {
+                kind,
+                column: 2 + actuators.len() + i,
+                rows: Vec::with_capacity(n),
+                values: Vec::with_capacity(n),
+            })
+            .collect();
+        Self {
+            t: Vec::with_capacity(n),
+            inputs,
+            channels,
+            track: Normal::new(0.0, tracking_noise.max(0.0)).ok(),
+            delay: model.effects.delay(),
+            positions: VecDeque::new(),
+        }
+    }
+
+    /// Samples the sensors into `readings` (through the hook's view of the hull, if it has
+    /// one) and logs the channels at time `t` \[s\]. The inputs of the row follow with
+    /// [`Self::push_inputs`].
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn observe(
+        &mut self,
+        t: f64,
+        model: &VehicleModel,
+        state: &mut VehicleState,
+        water: &Environment,
+        hook: &mut dyn TruthHook,
+        rng: &mut ChaCha8Rng,
+        readings: &mut SensorReadings,
+    ) {
+        let seen = hook.sensed(state);
+        let truth = seen.map(|r| std::mem::replace(&mut state.rigid, r));
+        sense(model, state, water, rng, readings);
+        // Tracked positions share the sensor delay.
+        let delay = self.delay;
+        self.positions.push_back((state.time, state.rigid.position));
+        while self.positions.len() > 1 && self.positions[1].0 <= state.time - delay + 1e-9 {
+            self.positions.pop_front();
+        }
+        let pos = match self.positions.front() {
             Some((t, p)) if *t <= state.time - delay + 1e-9 => *p,
             _ => state.rigid.position,
         };
-        t_col.push(t);
-        for inp in &mut inputs {
-            inp.values.push(exp.input_at(&inp.name, t));
-        }
+        self.t.push(t);
+        let k = self.t.len() - 1;
         let (roll, pitch, yaw) = readings.attitude.euler_angles();
-        for c in &mut channels {
+        let track = self.track;
+        for c in &mut self.channels {
             let noise = |rng: &mut ChaCha8Rng| track.map_or(0.0, |d| d.sample(rng));
             let v = match c.kind {
                 ChannelKind::Depth => readings.depth,
@@ -203,14 +322,14 @@ pub fn synthesize_with(
                 ChannelKind::P => readings.gyro.x,
                 ChannelKind::Q => readings.gyro.y,
                 ChannelKind::R => readings.gyro.z,
-                ChannelKind::X => pos.x + noise(&mut rng),
-                ChannelKind::Y => pos.y + noise(&mut rng),
+                ChannelKind::X => pos.x + noise(rng),
+                ChannelKind::Y => pos.y + noise(rng),
                 ChannelKind::U | ChannelKind::V | ChannelKind::W => {
                     let v = state.rigid.nu.fixed_rows::<3>(0).into_owned()
                         + state
                             .rigid
                             .attitude
-                            .inverse_transform_vector(&model.environment(&water).current);
+                            .inverse_transform_vector(&model.environment(water).current);
                     match c.kind {
                         ChannelKind::U => v.x,
                         ChannelKind::V => v.y,
@@ -224,28 +343,27 @@ pub fn synthesize_with(
         if let Some(r) = truth {
             state.rigid = r;
         }
-        if k + 1 == n_samples {
-            break;
-        }
-        for s in 0..sub {
-            apply(t + s as f64 * h, &mut cmd, &mut state);
-            hooked.clone_from(&cmd);
-            water = *env;
-            hook.before_actuate(model, &mut state, &mut hooked, &mut water, h);
-            actuate_vehicle(model, &mut state, &hooked, &water, h);
-            hook.before_integrate(model, &mut state, &water, h);
-            integrate_vehicle(model, &mut state, &water, Integrator::Rk4, h);
+    }
+
+    /// The row's input values, in the order of the logger's actuators.
+    pub(crate) fn push_inputs(&mut self, values: &[f64]) {
+        for (inp, v) in self.inputs.iter_mut().zip(values) {
+            inp.values.push(*v);
         }
     }
-    MeasuredRun {
-        path: PathBuf::from(format!("{}.csv", exp.name)),
-        name: exp.name.clone(),
-        t: t_col,
-        inputs,
-        channels,
-        extra: Vec::new(),
-        header_line: 0,
-        lines: Vec::new(),
-        ingest: Default::default(),
+
+    /// The log as a run named `name`.
+    pub(crate) fn finish(self, name: &str) -> MeasuredRun {
+        MeasuredRun {
+            path: PathBuf::from(format!("{name}.csv")),
+            name: name.to_string(),
+            t: self.t,
+            inputs: self.inputs,
+            channels: self.channels,
+            extra: Vec::new(),
+            header_line: 0,
+            lines: Vec::new(),
+            ingest: Default::default(),
+        }
     }
 }

@@ -65,7 +65,11 @@ impl Hidden {
     /// `form` with values drawn for `kind` and `seed` within magnitude `band` (see
     /// [`TruthForm::draw`]).
     pub fn draw(form: &TruthForm, kind: ExpKind, seed: u64, band: (f64, f64)) -> Self {
-        let stream = fnv1a(form.name) ^ seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) ^ kind as u64;
+        Self::from_stream(form, stream(form.name, seed) ^ kind as u64, band)
+    }
+
+    /// `form` with values drawn from the ChaCha stream `stream` within magnitude `band`.
+    pub fn from_stream(form: &TruthForm, stream: u64, band: (f64, f64)) -> Self {
         let mut rng = ChaCha8Rng::seed_from_u64(stream);
         Self {
             form: form.clone(),
@@ -163,8 +167,13 @@ impl CaseSpec {
     }
 }
 
+/// The draw stream of a form named `name` with `seed`.
+pub(crate) fn stream(name: &str, seed: u64) -> u64 {
+    fnv1a(name) ^ seed.wrapping_mul(0x9e37_79b9_7f4a_7c15)
+}
+
 /// FNV-1a hash of `s`: a stable seed from a name.
-fn fnv1a(s: &str) -> u64 {
+pub(crate) fn fnv1a(s: &str) -> u64 {
     s.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
         (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3)
     })

@@ -12,7 +12,7 @@ use shoal_model::ballast::Pump;
 use shoal_model::control::ActuatorCommands;
 use shoal_model::dynamics::{Integrator, RigidState};
 use shoal_model::lanes::{DynConsts, LANES, LaneConsts, Lanes, rk4_group};
-use shoal_model::math::{Quat, quat_from_rpy, split6};
+use shoal_model::math::{Quat, Vec6, quat_from_rpy, split6};
 use shoal_model::rigid_body::Environment;
 use shoal_model::vehicle::{
     VehicleModel, VehicleState, actuate_thrusters, integrate_vehicle, integrate_vehicle_rk4,
@@ -59,6 +59,72 @@ pub fn simulate_with(
 ) -> Trace {
     let dt = opts.dt;
     let mut v = Replaying::new(model, env, run, map, init, kinds, dt, masses, max_steps);
+    drive(
+        &mut v,
+        env,
+        run,
+        map,
+        init,
+        opts,
+        |_, _| {},
+        |v| v.record(kinds),
+    );
+    v.trace(run, dt, kinds)
+}
+
+/// The body velocity ν [m/s, rad/s] of the replay of `model` from `init` (as
+/// [`simulate`] steps it) at each of the physics steps `steps` (ascending), just after any
+/// anchor there: the unmeasured states of a replay anchored densely — a filter through the
+/// model whose measured states are the data's.
+pub fn velocities_at(
+    model: &VehicleModel,
+    env: &Environment,
+    run: &MeasuredRun,
+    map: &InputMap,
+    init: &InitialState,
+    opts: &ReplayOptions,
+    steps: &[usize],
+) -> Vec<Vec6> {
+    let last = steps.last().map_or(0, |s| s + 1);
+    let masses = MassTable::default();
+    let mut v = Replaying::new(model, env, run, map, init, &[], opts.dt, &masses, last);
+    let mut out = Vec::with_capacity(steps.len());
+    let mut want = steps.iter().peekable();
+    drive(
+        &mut v,
+        env,
+        run,
+        map,
+        init,
+        opts,
+        |s, v| {
+            while want.next_if(|&&w| w <= s).is_some() {
+                out.push(v.state.rigid.nu);
+            }
+        },
+        |_| {},
+    );
+    // Steps past the replay's end keep its last state.
+    while want.next().is_some() {
+        out.push(v.state.rigid.nu);
+    }
+    out
+}
+
+/// Steps the replay `v` to its end: at each physics step its anchor (if any), then
+/// `before(step, v)`, the actuation and integration, then `after(v)`.
+#[allow(clippy::too_many_arguments)]
+fn drive(
+    v: &mut Replaying,
+    env: &Environment,
+    run: &MeasuredRun,
+    map: &InputMap,
+    init: &InitialState,
+    opts: &ReplayOptions,
+    mut before: impl FnMut(usize, &Replaying),
+    mut after: impl FnMut(&mut Replaying),
+) {
+    let dt = opts.dt;
     // The constants of the equation of motion, while the ballast does not change.
     let mut consts = v.consts();
     let mut row = 0usize;
@@ -68,16 +134,16 @@ pub fn simulate_with(
         if let Some(a) = anchors.next_if(|a| a.step == s) {
             v.reanchor(a);
         }
+        before(s, v);
         if let Some(c) = v.actuate(run, map, row, env, dt) {
             consts = c;
         }
         match opts.integrator {
             Integrator::Rk4 => integrate_vehicle_rk4(&mut v.state, &consts, dt),
-            other => integrate_vehicle(model, &mut v.state, env, other, dt),
+            other => integrate_vehicle(v.model, &mut v.state, env, other, dt),
         }
-        v.record(kinds);
+        after(v);
     }
-    v.trace(run, dt, kinds)
 }
 
 /// [`simulate_with`] for each of `models` (with at most `max_steps[i]` physics steps for

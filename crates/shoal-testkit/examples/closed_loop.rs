@@ -1,0 +1,184 @@
+//! The long closed-loop test set (`shoal_testkit::closed_loop`): writes each mission log, runs
+//! the search on it open loop and re-anchored (`auto` horizon), and prints both verdicts beside
+//! the hidden family.
+//!
+//! ```sh
+//! cargo run --release -p shoal-testkit --example closed_loop -- --out out/closed_loop
+//! cargo run --release -p shoal-testkit --example closed_loop -- --out out/cl --cases null --length 300
+//! ```
+//!
+//! Options: `--out DIR` (logs, `expected.json` and the table `verdicts.md`), `--length S`
+//! mission length in seconds (default 600), `--cases TEXT` only cases whose name contains TEXT,
+//! `--threads T` search worker threads (default 2), `--horizons LIST` of `open`, `auto` or
+//! seconds (default `open,auto`), `--write-only` (logs without searching). Each search on a
+//! 10-minute log takes minutes: the whole set is an hour or more on two cores. Not run in CI.
+
+use shoal_sysid::evaluate::anchoring::Horizon;
+use shoal_testkit::closed_loop::{MISSION_S, cases};
+use shoal_testkit::mission::Disturbance;
+use shoal_testkit::recovery::{Tally, Verdict, search_log_with};
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+fn usage() -> ExitCode {
+    eprintln!(
+        "usage: closed_loop --out DIR [--length SECONDS] [--cases TEXT] [--threads T] \
+         [--horizons open,auto,SECONDS] [--write-only]"
+    );
+    ExitCode::from(2)
+}
+
+fn horizon(s: &str) -> Option<Horizon> {
+    match s {
+        "open" => Some(Horizon::Open),
+        "auto" => Some(Horizon::Auto),
+        x => x
+            .parse::<f64>()
+            .ok()
+            .filter(|h| (Horizon::MIN_S..=Horizon::MAX_S).contains(h))
+            .map(Horizon::Every),
+    }
+}
+
+fn main() -> ExitCode {
+    let mut out: Option<PathBuf> = None;
+    let mut length = MISSION_S;
+    let mut filter = String::new();
+    let mut threads = 2usize;
+    let mut horizons = vec![
+        ("open".to_string(), Horizon::Open),
+        ("auto".into(), Horizon::Auto),
+    ];
+    let mut write_only = false;
+    let mut args = std::env::args().skip(1);
+    while let Some(a) = args.next() {
+        if a == "--write-only" {
+            write_only = true;
+            continue;
+        }
+        let Some(v) = args.next() else {
+            eprintln!("{a} needs a value");
+            return usage();
+        };
+        match a.as_str() {
+            "--out" => out = Some(PathBuf::from(v)),
+            "--cases" => filter = v,
+            "--length" => match v.parse::<f64>() {
+                Ok(x) if x.is_finite() && x >= 30.0 => length = x,
+                _ => {
+                    eprintln!("--length takes seconds ≥ 30, got `{v}`");
+                    return usage();
+                }
+            },
+            "--threads" => match v.parse::<usize>() {
+                Ok(t) if t >= 1 => threads = t,
+                _ => {
+                    eprintln!("--threads takes a whole number ≥ 1, got `{v}`");
+                    return usage();
+                }
+            },
+            "--horizons" => {
+                let parsed: Option<Vec<(String, Horizon)>> = v
+                    .split(',')
+                    .map(|s| horizon(s.trim()).map(|h| (s.trim().to_string(), h)))
+                    .collect();
+                match parsed {
+                    Some(h) if !h.is_empty() => horizons = h,
+                    _ => {
+                        eprintln!(
+                            "--horizons takes open, auto or seconds in [{}, {}], got `{v}`",
+                            Horizon::MIN_S,
+                            Horizon::MAX_S
+                        );
+                        return usage();
+                    }
+                }
+            }
+            _ => {
+                eprintln!("unknown option `{a}`");
+                return usage();
+            }
+        }
+    }
+    let Some(dir) = out else {
+        return usage();
+    };
+    if let Err(e) = std::fs::create_dir_all(&dir) {
+        eprintln!("cannot create {}: {e}", dir.display());
+        return ExitCode::FAILURE;
+    }
+    let dist = Disturbance::default();
+    let chosen: Vec<_> = cases()
+        .into_iter()
+        .filter(|c| c.name.contains(&filter))
+        .collect();
+    let mut table = format!(
+        "| case | hidden | {} |\n|---|---|{}\n",
+        horizons
+            .iter()
+            .map(|(n, _)| format!("{n}: verdict (time)"))
+            .collect::<Vec<_>>()
+            .join(" | "),
+        "---|".repeat(horizons.len())
+    );
+    let mut tallies = vec![Tally::default(); horizons.len()];
+    let mut expected = serde_json::Map::new();
+    for case in &chosen {
+        let csv = case.csv(length, &dist);
+        let path = dir.join(format!("{}.csv", case.name));
+        if let Err(e) = std::fs::write(&path, &csv) {
+            eprintln!("cannot write {}: {e}", path.display());
+            return ExitCode::FAILURE;
+        }
+        let exp = case.expected();
+        expected.insert(case.name.clone(), serde_json::json!(exp));
+        if write_only {
+            continue;
+        }
+        let hidden: Vec<String> = case.hidden.iter().map(|h| h.describe()).collect();
+        let mut row = format!("| {} | {} |", case.name, hidden.join("; "));
+        for ((name, h), tally) in horizons.iter().zip(&mut tallies) {
+            let t0 = Instant::now();
+            let v = Verdict::new(&exp, search_log_with(&csv, &case.name, threads, *h));
+            let secs = t0.elapsed().as_secs_f64();
+            tally.add(&v);
+            let mark = if v.exact() { "exact" } else { "wrong" };
+            eprintln!(
+                "{} [{name}] {mark} {} ({secs:.0} s)",
+                case.name,
+                v.found_text()
+            );
+            row.push_str(&format!(" {mark}: {} ({secs:.0} s) |", v.found_text()));
+        }
+        table.push_str(&row);
+        table.push('\n');
+    }
+    let write = |name: &str, text: &str| {
+        let path = dir.join(name);
+        std::fs::write(&path, text).map_err(|e| eprintln!("cannot write {}: {e}", path.display()))
+    };
+    let json = serde_json::to_string_pretty(&expected).unwrap_or_default();
+    if write("expected.json", &json).is_err() {
+        return ExitCode::FAILURE;
+    }
+    if write_only {
+        println!("wrote {} mission logs to {}", chosen.len(), dir.display());
+        return ExitCode::SUCCESS;
+    }
+    for ((name, _), t) in horizons.iter().zip(&tallies) {
+        table.push_str(&format!(
+            "\n{name}: {} of {} exact ({:.0} %), {:.2} wrong effects per verdict",
+            t.exact,
+            t.runs,
+            100.0 * t.rate(),
+            t.mean_wrong()
+        ));
+    }
+    table.push('\n');
+    print!("{table}");
+    if write("verdicts.md", &table).is_err() {
+        return ExitCode::FAILURE;
+    }
+    ExitCode::SUCCESS
+}

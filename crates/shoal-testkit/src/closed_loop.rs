@@ -1,0 +1,114 @@
+//! The long closed-loop test set: μAUV² missions of many minutes ([`crate::mission`]) flown
+//! by the vehicle's own controllers in gusting water with a hull a few per cent off its
+//! nominal parameters, each with one effect hidden in it (or none), written as a real logger
+//! writes them ([`crate::logger`]). Open loop from the first sample the replay of such a log
+//! leaves the data within a minute; the set asks whether the search, replaying re-anchored,
+//! still names exactly the hidden family.
+//!
+//! One case per catalogue family — its truth form whose law a fitting form has where there is
+//! one ([`crate::truth_forms::MATCHED`]), else its first — with values over the form's whole
+//! range, and three null missions (disturbances only). `water_current` is left out: the
+//! mission logs carry no position, and the wandering current is on every case already.
+//! Everything is deterministic in the case's seed.
+
+use crate::logger::logger_csv;
+use crate::mission::{Disturbance, fly, perturb, uauv2_mission};
+use crate::testset::{DENSITY, Hidden, SIM_DT, fnv1a, stream};
+use crate::truth_forms::{self, Truth, TruthForm};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use shoal_model::presets;
+use shoal_model::rigid_body::Environment;
+use shoal_model::vehicle::VehicleModel;
+use shoal_sysid::log::run::MeasuredRun;
+use std::collections::BTreeSet;
+
+/// Mission length of the set \[s\] (10 minutes).
+pub const MISSION_S: f64 = 600.0;
+
+/// A closed-loop case before simulation.
+#[derive(Clone, Debug)]
+pub struct MissionCase {
+    /// Name (the file stem), e.g. `m_thruster_lag__slew_rate_4` or `m_null_1`.
+    pub name: String,
+    /// Seed of the mission, the parameter noise, the gusts and the sensor noise.
+    pub seed: u64,
+    /// The hidden forms (none for a null mission).
+    pub hidden: Vec<Hidden>,
+}
+
+impl MissionCase {
+    /// The catalogue families of the hidden forms, sorted, without repeats: the exact verdict.
+    pub fn expected(&self) -> Vec<String> {
+        let set: BTreeSet<&str> = self.hidden.iter().map(|h| h.form.family).collect();
+        set.into_iter().map(str::to_string).collect()
+    }
+
+    /// The mission flown for `duration` \[s\] under `dist`, as logged.
+    pub fn run(&self, duration: f64, dist: &Disturbance) -> MeasuredRun {
+        let hidden: Vec<(&TruthForm, &[f64])> = self
+            .hidden
+            .iter()
+            .map(|h| (&h.form, h.values.as_slice()))
+            .collect();
+        let mut truth = Truth::new(&hidden);
+        let mut params = presets::uauv2();
+        let mut rng = ChaCha8Rng::seed_from_u64(self.seed ^ 0x7061_7261);
+        perturb(&mut params, dist.param_noise, &mut rng);
+        let model = truth.model(params, DENSITY);
+        let designed = VehicleModel::new(presets::uauv2(), DENSITY);
+        let mut plan = uauv2_mission(self.seed, duration);
+        plan.name.clone_from(&self.name);
+        let env = Environment {
+            density: DENSITY,
+            ..Environment::default()
+        };
+        let noise_seed = self.seed ^ 0x5eed ^ fnv1a(&self.name);
+        fly(
+            &model, &designed, &env, &plan, dist, SIM_DT, noise_seed, &mut truth,
+        )
+    }
+
+    /// The case's log as CSV text in the logger's format.
+    pub fn csv(&self, duration: f64, dist: &Disturbance) -> String {
+        logger_csv(&self.run(duration, dist))
+    }
+}
+
+/// The form hidden for `family`: its matched form if it has one, else its first.
+fn form_of(family: &str) -> Option<TruthForm> {
+    let forms = truth_forms::of_family(family);
+    forms
+        .iter()
+        .find(|f| truth_forms::matched_by(f.name).is_some())
+        .or(forms.first())
+        .cloned()
+}
+
+/// The set: one case per catalogue family but `water_current` (seeds 1, 2, … in catalogue
+/// order), then three null missions.
+pub fn cases() -> Vec<MissionCase> {
+    let mut out = Vec::new();
+    let families = shoal_model::effects::names();
+    let mut seed = 0;
+    for family in families.into_iter().filter(|f| *f != "water_current") {
+        let Some(form) = form_of(family) else {
+            continue;
+        };
+        seed += 1;
+        let hidden = Hidden::from_stream(&form, stream(form.name, seed) ^ 0x6d, (0.0, 1.0));
+        out.push(MissionCase {
+            name: format!("m_{}__{}_{seed}", form.family, form.form()),
+            seed,
+            hidden: vec![hidden],
+        });
+    }
+    for k in 1..=3 {
+        out.push(MissionCase {
+            name: format!("m_null_{k}"),
+            seed: 100 + k,
+            hidden: Vec::new(),
+        });
+    }
+    out
+}
