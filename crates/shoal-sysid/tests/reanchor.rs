@@ -130,8 +130,11 @@ fn at_an_anchor_the_replay_reads_what_was_measured() {
 fn a_long_closed_loop_mission_is_followed_only_when_re_anchored() {
     use shoal_testkit::closed_loop::{MISSION_S, cases};
     use shoal_testkit::mission::Disturbance;
-    let case = cases().into_iter().find(|c| c.name == "m_null_1").unwrap();
-    let csv = case.csv(MISSION_S, &Disturbance::default());
+    let case = cases(MISSION_S)
+        .into_iter()
+        .find(|c| c.name == "m_null_1")
+        .unwrap();
+    let csv = case.csv(&Disturbance::default());
     let run = shoal_sysid::log::run::MeasuredRun::parse(&csv, std::path::Path::new("m.csv"))
         .expect("the mission log parses");
     let mut ds = common::dataset(run);

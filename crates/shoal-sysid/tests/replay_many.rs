@@ -120,6 +120,36 @@ fn models_replayed_together_equal_each_replayed_alone() {
     assert!(same_as_one_by_one(&ds, &models[4..7]) > 0);
 }
 
+/// Re-anchored replays with their filters (each model two lanes: its replay and the filter
+/// that gives it its horizontal velocities at each anchor) equal each model re-anchored alone,
+/// on a closed-loop mission where the hull moves in every direction.
+#[test]
+fn re_anchored_replays_with_their_filters_too() {
+    let case = shoal_testkit::closed_loop::cases(90.0)
+        .into_iter()
+        .find(|c| c.name == "m_null_1")
+        .unwrap();
+    let csv = case.csv(&shoal_testkit::mission::Disturbance::default());
+    let mission = MeasuredRun::parse(&csv, std::path::Path::new("m.csv")).unwrap();
+    let mut ds = Dataset::new(
+        &presets::uauv2(),
+        Environment::default(),
+        vec![mission, yaw_run(2)],
+        vec![],
+        &options(),
+    )
+    .unwrap();
+    let models = models();
+    ds.anchor(
+        shoal_sysid::evaluate::anchoring::Horizon::Every(3.0),
+        &models[0],
+    );
+    assert!(!ds.runs[0].init.filter.is_empty() && !ds.runs[0].init.anchors.is_empty());
+    // Most models change the replay (a mission's first minute does not show every effect).
+    assert!(same_as_one_by_one(&ds, &models) >= models.len());
+    assert!(same_as_one_by_one(&ds, &models[..3]) > 0);
+}
+
 #[test]
 fn with_a_hold_out_run_too() {
     let ds = Dataset::new(

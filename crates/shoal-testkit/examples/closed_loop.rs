@@ -109,7 +109,7 @@ fn main() -> ExitCode {
         return ExitCode::FAILURE;
     }
     let dist = Disturbance::default();
-    let chosen: Vec<_> = cases()
+    let chosen: Vec<_> = cases(length)
         .into_iter()
         .filter(|c| c.name.contains(&filter))
         .collect();
@@ -125,7 +125,7 @@ fn main() -> ExitCode {
     let mut tallies = vec![Tally::default(); horizons.len()];
     let mut expected = serde_json::Map::new();
     for case in &chosen {
-        let csv = case.csv(length, &dist);
+        let csv = case.csv(&dist);
         let path = dir.join(format!("{}.csv", case.name));
         if let Err(e) = std::fs::write(&path, &csv) {
             eprintln!("cannot write {}: {e}", path.display());

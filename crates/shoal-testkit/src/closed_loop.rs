@@ -7,7 +7,8 @@
 //!
 //! One case per catalogue family — its truth form whose law a fitting form has where there is
 //! one ([`crate::truth_forms::MATCHED`]), else its first — with values over the form's whole
-//! range, and three null missions (disturbances only). `water_current` is left out: the
+//! range (laws in run time stretched to the mission: [`STRETCHED`]), and three null missions
+//! (disturbances only). `water_current` is left out: the
 //! mission logs carry no position, and the wandering current is on every case already.
 //! Everything is deterministic in the case's seed.
 
@@ -33,6 +34,8 @@ pub struct MissionCase {
     pub name: String,
     /// Seed of the mission, the parameter noise, the gusts and the sensor noise.
     pub seed: u64,
+    /// Mission length \[s\].
+    pub duration: f64,
     /// The hidden forms (none for a null mission).
     pub hidden: Vec<Hidden>,
 }
@@ -44,8 +47,8 @@ impl MissionCase {
         set.into_iter().map(str::to_string).collect()
     }
 
-    /// The mission flown for `duration` \[s\] under `dist`, as logged.
-    pub fn run(&self, duration: f64, dist: &Disturbance) -> MeasuredRun {
+    /// The mission flown under `dist`, as logged.
+    pub fn run(&self, dist: &Disturbance) -> MeasuredRun {
         let hidden: Vec<(&TruthForm, &[f64])> = self
             .hidden
             .iter()
@@ -57,7 +60,7 @@ impl MissionCase {
         perturb(&mut params, dist.param_noise, &mut rng);
         let model = truth.model(params, DENSITY);
         let designed = VehicleModel::new(presets::uauv2(), DENSITY);
-        let mut plan = uauv2_mission(self.seed, duration);
+        let mut plan = uauv2_mission(self.seed, self.duration);
         plan.name.clone_from(&self.name);
         let env = Environment {
             density: DENSITY,
@@ -70,8 +73,8 @@ impl MissionCase {
     }
 
     /// The case's log as CSV text in the logger's format.
-    pub fn csv(&self, duration: f64, dist: &Disturbance) -> String {
-        logger_csv(&self.run(duration, dist))
+    pub fn csv(&self, dist: &Disturbance) -> String {
+        logger_csv(&self.run(dist))
     }
 }
 
@@ -85,9 +88,32 @@ fn form_of(family: &str) -> Option<TruthForm> {
         .cloned()
 }
 
-/// The set: one case per catalogue family but `water_current` (seeds 1, 2, … in catalogue
-/// order), then three null missions.
-pub fn cases() -> Vec<MissionCase> {
+/// Parameters of truth forms whose ranges say what the law does over a 120-s experiment (a
+/// battery's sag, a sensor's thermal drift, both ∝ t²) rather than a physical rate: (form,
+/// parameter, power of the time). Over a mission of T seconds their values are multiplied by
+/// (120 s / T)^power, so that the effect reaches by the mission's end the size it reaches by
+/// an experiment's. Physical rates (a leak's µl/s) and time constants stay as drawn.
+pub const STRETCHED: [(&str, &str, i32); 2] = [
+    ("battery_sag/quadratic", "c_per_s2", 2),
+    ("depth_sensor_bias/quadratic_drift", "b2_m_s2", 2),
+];
+
+/// `hidden` with its [`STRETCHED`] parameters stretched to a mission of `duration` \[s\].
+fn stretch(mut hidden: Hidden, duration: f64) -> Hidden {
+    for (form, param, power) in STRETCHED {
+        if hidden.form.name != form {
+            continue;
+        }
+        if let Some(i) = hidden.form.params.iter().position(|p| p.name == param) {
+            hidden.values[i] *= (120.0 / duration).powi(power);
+        }
+    }
+    hidden
+}
+
+/// The set for missions of `duration` \[s\]: one case per catalogue family but
+/// `water_current` (seeds 1, 2, … in catalogue order), then three null missions.
+pub fn cases(duration: f64) -> Vec<MissionCase> {
     let mut out = Vec::new();
     let families = shoal_model::effects::names();
     let mut seed = 0;
@@ -100,13 +126,15 @@ pub fn cases() -> Vec<MissionCase> {
         out.push(MissionCase {
             name: format!("m_{}__{}_{seed}", form.family, form.form()),
             seed,
-            hidden: vec![hidden],
+            duration,
+            hidden: vec![stretch(hidden, duration)],
         });
     }
     for k in 1..=3 {
         out.push(MissionCase {
             name: format!("m_null_{k}"),
             seed: 100 + k,
+            duration,
             hidden: Vec::new(),
         });
     }

@@ -21,7 +21,6 @@ use crate::evaluate::masses::MassTable;
 use crate::evaluate::open_loop::anchors::{Anchor, OBSERVER_S};
 use crate::evaluate::open_loop::{
     InitialState, InputMap, ReplayOptions, Trace, grid_position, replay_steps, simulate_many,
-    velocities_at,
 };
 use crate::evaluate::stats;
 pub use crate::evaluate::stats::unwrap;
@@ -365,32 +364,16 @@ impl Dataset {
     pub fn anchor(&mut self, horizon: Horizon, baseline: &VehicleModel) -> &Anchoring {
         for rd in &mut self.runs {
             rd.init.anchors.clear();
+            rd.init.filter.clear();
         }
         let chosen = choose(horizon, || self.evaluate(baseline));
         if let Some(h) = chosen.horizon {
             let dt = self.replay.dt;
             for rd in &mut self.runs {
-                let mut anchors = Anchor::every(&rd.run, h, dt);
-                // The horizontal velocities at each anchor: from the baseline replayed through
+                rd.init.anchors = Anchor::every(&rd.run, h, dt);
+                // The horizontal velocities at each anchor: from the model replayed through
                 // the data, anchored every OBSERVER_S.
-                let filter = InitialState {
-                    anchors: Anchor::every(&rd.run, OBSERVER_S, dt),
-                    ..rd.init.clone()
-                };
-                let steps: Vec<usize> = anchors.iter().map(|a| a.step).collect();
-                let nus = velocities_at(
-                    baseline,
-                    &self.env,
-                    &rd.run,
-                    &rd.map,
-                    &filter,
-                    &self.replay,
-                    &steps,
-                );
-                for (a, nu) in anchors.iter_mut().zip(nus) {
-                    a.horizontal = Some([nu[0], nu[1]]);
-                }
-                rd.init.anchors = anchors;
+                rd.init.filter = Anchor::every(&rd.run, OBSERVER_S, dt);
             }
         }
         self.anchoring = chosen;

@@ -11,9 +11,9 @@
 //! The horizontal velocities u and v are the exception: no sensor ties them, and a hull that
 //! coasts forward turns under its own Munk moment (∝ u·v), an instability that carries a
 //! replay's sway error from horizon to horizon and spins it off within seconds. They come from
-//! a filter through the baseline model instead — its replay re-anchored every [`OBSERVER_S`],
-//! where the measured attitude, rates and depth drive them — read at each anchor
-//! ([`Anchor::horizontal`], set by the dataset). The heave velocity and the unlogged rates run
+//! a filter through the same model instead — its replay re-anchored every [`OBSERVER_S`]
+//! ([`super::InitialState::filter`]), where the measured attitude, rates and depth drive
+//! them — at each anchor. The heave velocity and the unlogged rates run
 //! on: the depth and the attitude tie them within each horizon, and the filter's are noisier
 //! (on a null mission its heave velocity made the depth RMSE 4.3 mm instead of 1.1 mm).
 //!
@@ -66,9 +66,6 @@ pub struct Anchor {
     pub rpy: [Option<Local>; 3],
     /// Gyro readings p, q, r [rad/s].
     pub rates: [Option<Local>; 3],
-    /// The body velocities u, v [m/s] the filter through the baseline estimates here (`None`:
-    /// they run on from the horizon before).
-    pub horizontal: Option<[f64; 2]>,
 }
 
 impl Anchor {
@@ -90,7 +87,6 @@ impl Anchor {
                 fit(ChannelKind::Q),
                 fit(ChannelKind::R),
             ],
-            horizontal: None,
         };
         let any = a.depth.is_some()
             || a.rpy.iter().any(Option::is_some)
@@ -122,10 +118,6 @@ impl Anchor {
         // The sensors show the state `delay` earlier: the state now is what they show
         // `delay` later.
         let ahead = model.effects.delay();
-        if let Some([u, v]) = self.horizontal {
-            rigid.nu[0] = u;
-            rigid.nu[1] = v;
-        }
         let (r0, p0, y0) = euler_rpy(&rigid.attitude);
         let mut rpy = [r0, p0, y0];
         for (a, m) in rpy.iter_mut().zip(&self.rpy) {

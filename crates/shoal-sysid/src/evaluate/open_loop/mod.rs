@@ -27,7 +27,7 @@ mod simulate;
 mod trace;
 
 pub use setup::{InitialState, InputMap, MAX_REPLAY_STEPS, ReplayOptions, replay_steps};
-pub use simulate::{simulate, simulate_many, simulate_with, velocities_at};
+pub use simulate::{simulate, simulate_many, simulate_with};
 pub use trace::{Trace, grid_position};
 
 #[cfg(test)]

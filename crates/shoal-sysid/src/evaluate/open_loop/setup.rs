@@ -150,6 +150,9 @@ pub struct InitialState {
     /// Where the replay's measured states are set to the data again, in step order (empty:
     /// an open-loop replay; see [`super::anchors`]).
     pub anchors: Vec<Anchor>,
+    /// The dense anchors of the filter that gives a re-anchored replay its horizontal
+    /// velocities at each of `anchors` (empty: they run on; see [`super::anchors`]).
+    pub filter: Vec<Anchor>,
     /// Roll, pitch, yaw \[rad\].
     pub rpy: Vec3,
     /// World position of the body origin \[m\] (depth from the first depth reading).
@@ -202,6 +205,7 @@ impl InitialState {
         let depth = first(ChannelKind::Depth).map_or(1.0, |d| d - port);
         InitialState {
             anchors: Vec::new(),
+            filter: Vec::new(),
             rpy,
             position: Vec3::new(
                 first(ChannelKind::X).unwrap_or(0.0),

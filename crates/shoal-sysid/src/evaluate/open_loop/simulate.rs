@@ -12,7 +12,7 @@ use shoal_model::ballast::Pump;
 use shoal_model::control::ActuatorCommands;
 use shoal_model::dynamics::{Integrator, RigidState};
 use shoal_model::lanes::{DynConsts, LANES, LaneConsts, Lanes, rk4_group};
-use shoal_model::math::{Quat, Vec6, quat_from_rpy, split6};
+use shoal_model::math::{Quat, quat_from_rpy, split6};
 use shoal_model::rigid_body::Environment;
 use shoal_model::vehicle::{
     VehicleModel, VehicleState, actuate_thrusters, integrate_vehicle, integrate_vehicle_rk4,
@@ -59,90 +59,43 @@ pub fn simulate_with(
 ) -> Trace {
     let dt = opts.dt;
     let mut v = Replaying::new(model, env, run, map, init, kinds, dt, masses, max_steps);
-    drive(
-        &mut v,
-        env,
-        run,
-        map,
-        init,
-        opts,
-        |_, _| {},
-        |v| v.record(kinds),
-    );
-    v.trace(run, dt, kinds)
-}
-
-/// The body velocity ν [m/s, rad/s] of the replay of `model` from `init` (as
-/// [`simulate`] steps it) at each of the physics steps `steps` (ascending), just after any
-/// anchor there: the unmeasured states of a replay anchored densely — a filter through the
-/// model whose measured states are the data's.
-pub fn velocities_at(
-    model: &VehicleModel,
-    env: &Environment,
-    run: &MeasuredRun,
-    map: &InputMap,
-    init: &InitialState,
-    opts: &ReplayOptions,
-    steps: &[usize],
-) -> Vec<Vec6> {
-    let last = steps.last().map_or(0, |s| s + 1);
-    let masses = MassTable::default();
-    let mut v = Replaying::new(model, env, run, map, init, &[], opts.dt, &masses, last);
-    let mut out = Vec::with_capacity(steps.len());
-    let mut want = steps.iter().peekable();
-    drive(
-        &mut v,
-        env,
-        run,
-        map,
-        init,
-        opts,
-        |s, v| {
-            while want.next_if(|&&w| w <= s).is_some() {
-                out.push(v.state.rigid.nu);
-            }
-        },
-        |_| {},
-    );
-    // Steps past the replay's end keep its last state.
-    while want.next().is_some() {
-        out.push(v.state.rigid.nu);
-    }
-    out
-}
-
-/// Steps the replay `v` to its end: at each physics step its anchor (if any), then
-/// `before(step, v)`, the actuation and integration, then `after(v)`.
-#[allow(clippy::too_many_arguments)]
-fn drive(
-    v: &mut Replaying,
-    env: &Environment,
-    run: &MeasuredRun,
-    map: &InputMap,
-    init: &InitialState,
-    opts: &ReplayOptions,
-    mut before: impl FnMut(usize, &Replaying),
-    mut after: impl FnMut(&mut Replaying),
-) {
-    let dt = opts.dt;
+    // The filter for the horizontal velocities at each anchor: the same model, anchored densely.
+    let mut f = (!init.filter.is_empty())
+        .then(|| Replaying::filter(model, env, run, map, init, dt, masses, max_steps));
     // The constants of the equation of motion, while the ballast does not change.
     let mut consts = v.consts();
+    let mut f_consts = f.as_ref().map(Replaying::consts);
     let mut row = 0usize;
-    let mut anchors = init.anchors.iter().peekable();
     for s in 0..v.steps {
         row = row_at(run, row, s, dt);
-        if let Some(a) = anchors.next_if(|a| a.step == s) {
-            v.reanchor(a);
+        if let Some(f) = &mut f {
+            f.anchor_at(s);
         }
-        before(s, v);
+        if v.anchor_at(s)
+            && let Some(f) = &f
+        {
+            v.take_horizontal(f);
+        }
         if let Some(c) = v.actuate(run, map, row, env, dt) {
             consts = c;
         }
-        match opts.integrator {
-            Integrator::Rk4 => integrate_vehicle_rk4(&mut v.state, &consts, dt),
-            other => integrate_vehicle(v.model, &mut v.state, env, other, dt),
+        step(&mut v, &consts, env, opts);
+        if let (Some(f), Some(fc)) = (&mut f, &mut f_consts) {
+            if let Some(c) = f.actuate(run, map, row, env, dt) {
+                *fc = c;
+            }
+            step(f, fc, env, opts);
         }
-        after(v);
+        v.record(kinds);
+    }
+    v.trace(run, dt, kinds)
+}
+
+/// Integrates `v` over one physics step with its constants of motion `consts`.
+fn step(v: &mut Replaying, consts: &DynConsts, env: &Environment, opts: &ReplayOptions) {
+    match opts.integrator {
+        Integrator::Rk4 => integrate_vehicle_rk4(&mut v.state, consts, opts.dt),
+        other => integrate_vehicle(v.model, &mut v.state, env, other, opts.dt),
     }
 }
 
@@ -165,7 +118,10 @@ pub fn simulate_many(
 ) -> Vec<Trace> {
     assert_eq!(models.len(), max_steps.len(), "one step bound per model");
     let mut out = Vec::with_capacity(models.len());
-    for (group, bounds) in models.chunks(LANES).zip(max_steps.chunks(LANES)) {
+    // With a filter each model takes two lanes: its replay, then its filter.
+    let filtered = !init.filter.is_empty();
+    let per = if filtered { LANES / 2 } else { LANES };
+    for (group, bounds) in models.chunks(per).zip(max_steps.chunks(per)) {
         if group.len() == 1 || opts.integrator != Integrator::Rk4 {
             out.extend(
                 group
@@ -176,11 +132,13 @@ pub fn simulate_many(
             continue;
         }
         let dt = opts.dt;
-        let mut lanes: Vec<Replaying> = group
-            .iter()
-            .zip(bounds)
-            .map(|(m, &n)| Replaying::new(m, env, run, map, init, kinds, dt, masses, n))
-            .collect();
+        let mut lanes: Vec<Replaying> = Vec::with_capacity(LANES);
+        for (m, &n) in group.iter().zip(bounds) {
+            lanes.push(Replaying::new(m, env, run, map, init, kinds, dt, masses, n));
+            if filtered {
+                lanes.push(Replaying::filter(m, env, run, map, init, dt, masses, n));
+            }
+        }
         let mut consts = LaneConsts::<LANES>::splat(&lanes[0].consts());
         let mut x = Lanes::<LANES>::default();
         for (l, v) in lanes.iter().enumerate() {
@@ -193,15 +151,20 @@ pub fn simulate_many(
         }
         let steps = lanes.iter().map(|v| v.steps).max().unwrap_or(0);
         let mut row = 0usize;
-        let mut anchors = init.anchors.iter().peekable();
         for s in 0..steps {
             row = row_at(run, row, s, dt);
-            let anchor = anchors.next_if(|a| a.step == s);
+            // Filters first: a replay anchored now takes its filter's velocities of now.
+            for v in lanes.iter_mut().filter(|v| s < v.steps && v.is_filter) {
+                v.anchor_at(s);
+            }
+            for l in 0..lanes.len() {
+                if s < lanes[l].steps && !lanes[l].is_filter && lanes[l].anchor_at(s) && filtered {
+                    let (head, tail) = lanes.split_at_mut(l + 1);
+                    head[l].take_horizontal(&tail[0]);
+                }
+            }
             // A model whose replay has ended leaves its lane unread.
             for (l, v) in lanes.iter_mut().enumerate().filter(|(_, v)| s < v.steps) {
-                if let Some(a) = anchor {
-                    v.reanchor(a);
-                }
                 if let Some(c) = v.actuate(run, map, row, env, dt) {
                     consts.set(l, &c);
                 }
@@ -215,7 +178,12 @@ pub fn simulate_many(
                 v.record(kinds);
             }
         }
-        out.extend(lanes.into_iter().map(|v| v.trace(run, dt, kinds)));
+        out.extend(
+            lanes
+                .into_iter()
+                .filter(|v| !v.is_filter)
+                .map(|v| v.trace(run, dt, kinds)),
+        );
     }
     out
 }
@@ -241,8 +209,14 @@ struct Replaying<'a> {
     body: BodyMasses,
     /// The physics steps it takes.
     steps: usize,
-    /// The recording so far, as [`Trace::values`].
+    /// The recording so far, as [`Trace::values`] (empty for a filter).
     values: Vec<f64>,
+    /// Where it is re-anchored (the run's anchors, or a filter's dense ones).
+    anchors: &'a [Anchor],
+    /// The next of `anchors` not yet applied.
+    next: usize,
+    /// Whether it is the filter of another replay (it records nothing).
+    is_filter: bool,
 }
 
 impl<'a> Replaying<'a> {
@@ -252,7 +226,7 @@ impl<'a> Replaying<'a> {
         env: &Environment,
         run: &MeasuredRun,
         map: &InputMap,
-        init: &InitialState,
+        init: &'a InitialState,
         kinds: &[ChannelKind],
         dt: f64,
         masses: &MassTable,
@@ -281,15 +255,51 @@ impl<'a> Replaying<'a> {
             body: masses.body(p, env.density),
             steps,
             values: Vec::with_capacity((steps + 1) * kinds.len()),
+            anchors: &init.anchors,
+            next: 0,
+            is_filter: false,
         };
         v.set_inputs(run, map, 0);
         v.record(kinds);
         v
     }
 
-    /// Sets its measured states to anchor `a`'s (see [`Anchor::apply`]).
-    fn reanchor(&mut self, a: &Anchor) {
-        a.apply(self.model, self.state.time, &mut self.state.rigid);
+    /// The filter of the replay [`Replaying::new`] makes from the same arguments: the same
+    /// model from the same start, anchored at `init.filter`, recording nothing.
+    #[allow(clippy::too_many_arguments)]
+    fn filter(
+        model: &'a VehicleModel,
+        env: &Environment,
+        run: &MeasuredRun,
+        map: &InputMap,
+        init: &'a InitialState,
+        dt: f64,
+        masses: &MassTable,
+        max_steps: usize,
+    ) -> Self {
+        let mut f = Self::new(model, env, run, map, init, &[], dt, masses, max_steps);
+        f.anchors = &init.filter;
+        f.is_filter = true;
+        f
+    }
+
+    /// Applies its anchor at physics step `s`, if it has one there (see [`Anchor::apply`]);
+    /// whether it had.
+    fn anchor_at(&mut self, s: usize) -> bool {
+        match self.anchors.get(self.next) {
+            Some(a) if a.step == s => {
+                a.apply(self.model, self.state.time, &mut self.state.rigid);
+                self.next += 1;
+                true
+            }
+            _ => false,
+        }
+    }
+
+    /// Takes the horizontal body velocities u, v of its filter `f`.
+    fn take_horizontal(&mut self, f: &Replaying) {
+        self.state.rigid.nu[0] = f.state.rigid.nu[0];
+        self.state.rigid.nu[1] = f.state.rigid.nu[1];
     }
 
     /// The constants of its equation of motion in its present ballast.
