@@ -130,7 +130,7 @@ fn re_anchored_replays_with_their_filters_too() {
         .find(|c| c.name == "m_null_1")
         .unwrap();
     let csv = case.csv(&shoal_testkit::mission::Disturbance::default());
-    let mission = MeasuredRun::parse(&csv, std::path::Path::new("m.csv")).unwrap();
+    let mission = MeasuredRun::parse(&csv, Path::new("m.csv")).unwrap();
     let mut ds = Dataset::new(
         &presets::uauv2(),
         Environment::default(),
