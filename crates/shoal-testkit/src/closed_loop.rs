@@ -14,15 +14,14 @@
 
 use crate::logger::logger_csv;
 use crate::mission::{Disturbance, fly, perturb, uauv2_mission};
-use crate::testset::{DENSITY, Hidden, SIM_DT, fnv1a, stream};
-use crate::truth_forms::{self, Truth, TruthForm};
+use crate::testset::{DENSITY, Hidden, SIM_DT, families, fnv1a, stream, truth_of};
+use crate::truth_forms::{self, TruthForm};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use shoal_model::presets;
 use shoal_model::rigid_body::Environment;
 use shoal_model::vehicle::VehicleModel;
 use shoal_sysid::log::run::MeasuredRun;
-use std::collections::BTreeSet;
 
 /// Mission length of the set \[s\] (10 minutes).
 pub const MISSION_S: f64 = 600.0;
@@ -43,18 +42,12 @@ pub struct MissionCase {
 impl MissionCase {
     /// The catalogue families of the hidden forms, sorted, without repeats: the exact verdict.
     pub fn expected(&self) -> Vec<String> {
-        let set: BTreeSet<&str> = self.hidden.iter().map(|h| h.form.family).collect();
-        set.into_iter().map(str::to_string).collect()
+        families(&self.hidden)
     }
 
     /// The mission flown under `dist`, as logged.
     pub fn run(&self, dist: &Disturbance) -> MeasuredRun {
-        let hidden: Vec<(&TruthForm, &[f64])> = self
-            .hidden
-            .iter()
-            .map(|h| (&h.form, h.values.as_slice()))
-            .collect();
-        let mut truth = Truth::new(&hidden);
+        let mut truth = truth_of(&self.hidden);
         let mut params = presets::uauv2();
         let mut rng = ChaCha8Rng::seed_from_u64(self.seed ^ 0x7061_7261);
         perturb(&mut params, dist.param_noise, &mut rng);

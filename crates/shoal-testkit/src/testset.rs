@@ -90,6 +90,21 @@ impl Hidden {
     }
 }
 
+/// The catalogue families of `hidden`, sorted, without repeats: what an exact verdict names.
+pub fn families(hidden: &[Hidden]) -> Vec<String> {
+    let set: BTreeSet<&str> = hidden.iter().map(|h| h.form.family).collect();
+    set.into_iter().map(str::to_string).collect()
+}
+
+/// The simulated truth of `hidden`: its forms with their values ([`Truth::new`]).
+pub fn truth_of(hidden: &[Hidden]) -> Truth {
+    let forms: Vec<(&TruthForm, &[f64])> = hidden
+        .iter()
+        .map(|h| (&h.form, h.values.as_slice()))
+        .collect();
+    Truth::new(&forms)
+}
+
 /// A case before simulation: what is hidden in which experiment.
 #[derive(Clone, Debug)]
 pub struct CaseSpec {
@@ -121,8 +136,7 @@ pub struct Case {
 impl CaseSpec {
     /// The catalogue families of the hidden forms, sorted, without repeats.
     pub fn expected(&self) -> Vec<String> {
-        let set: BTreeSet<&str> = self.hidden.iter().map(|h| h.form.family).collect();
-        set.into_iter().map(str::to_string).collect()
+        families(&self.hidden)
     }
 
     /// Simulates the case under `cond` and writes its log.
@@ -143,12 +157,7 @@ impl CaseSpec {
 
     /// The case's run under `cond` as simulated, before the logger prints it.
     pub fn run(&self, cond: &Conditions) -> MeasuredRun {
-        let hidden: Vec<(&TruthForm, &[f64])> = self
-            .hidden
-            .iter()
-            .map(|h| (&h.form, h.values.as_slice()))
-            .collect();
-        let mut truth = Truth::new(&hidden);
+        let mut truth = truth_of(&self.hidden);
         let mut params = presets::uauv2();
         params.pressure.noise_std *= cond.noise;
         params.imu.attitude_noise *= cond.noise;
