@@ -13,7 +13,7 @@
 
 mod common;
 
-use common::{Exp, channel_gains, find, measured, realistic};
+use common::{Exp, channel_gains, find, find_among, measured, realistic};
 
 /// Parameters compared with the truth, and those that could not be.
 #[derive(Debug, Default)]
@@ -304,11 +304,17 @@ fn candidate<'a>(
 
 /// A shifted centre of gravity in a run that logs no attitude is not fitted (its only marks
 /// are second-order: the tilted hull's thrust), and the report says what to log; the same
-/// shift in the same run with roll and pitch logged is named.
+/// shift in the same run with roll and pitch logged is named. (Among the family and the
+/// buoyancy offset, which also acts in heave: the rule is what is tested; the whole
+/// catalogue on a trim run is `restoring_moment` above.)
 #[test]
 fn restoring_moment_needs_roll_or_pitch() {
     let shift = vec![0.002, -0.001];
-    let (_, out) = find(measured(Heave, &[("restoring_moment", shift.clone())], 1));
+    let among = ["restoring_moment", "buoyancy_offset"];
+    let (_, out) = find_among(
+        measured(Heave, &[("restoring_moment", shift.clone())], 1),
+        &among,
+    );
     assert!(
         !out.chosen.names().contains(&"restoring_moment".to_string()),
         "{:?}",
@@ -320,6 +326,6 @@ fn restoring_moment_needs_roll_or_pitch() {
         "{}",
         c.note
     );
-    let (_, out) = find(measured(Trim, &[("restoring_moment", shift)], 1));
+    let (_, out) = find_among(measured(Trim, &[("restoring_moment", shift)], 1), &among);
     assert_eq!(out.chosen.names(), ["restoring_moment"]);
 }

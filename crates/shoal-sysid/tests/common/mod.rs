@@ -85,6 +85,22 @@ pub fn find(run: MeasuredRun) -> (Dataset, Outcome) {
     (ds, out)
 }
 
+/// [`find`] among the catalogue families `families` only (every form of each).
+pub fn find_among(run: MeasuredRun, families: &[&str]) -> (Dataset, Outcome) {
+    let base = presets::uauv2();
+    let ds = dataset(run);
+    let opts = SearchOptions {
+        threads: 1,
+        effects: shoal_model::effects::catalogue()
+            .into_iter()
+            .filter(|e| families.contains(&e.name()))
+            .collect(),
+        ..Default::default()
+    };
+    let out = search(&ds, &base, &opts, &|_| {});
+    (ds, out)
+}
+
 /// Random realistic parameters of an effect for `seed` (ranges in each effect's unit; the
 /// effect is always clearly present, in either direction where both make sense).
 pub fn realistic(effect: &str, exp: Exp, seed: u64) -> Vec<f64> {
