@@ -6,9 +6,10 @@
 //! what is hidden, and nothing in a mission with nothing hidden.
 //!
 //! Five-minute missions (the set's are ten): each test is one full catalogue search on one
-//! search thread, 1.5–3.5 CPU-minutes. CI runs the null mission; the hidden lag is part of
-//! the campaign (`cargo test --release -p shoal-sysid --test closed_loop_missions --
-//! --include-ignored`). The whole set, open loop beside re-anchored, is the documented
+//! search thread, 2–4 minutes (the null mission took 230 s in the full local suite, which
+//! the CI budget has no room for). Both are part of the campaign, run with `cargo test
+//! --release -p shoal-sysid --test closed_loop_missions -- --include-ignored`; CI checks the
+//! missions' replays (`reanchor.rs`, `replay_many.rs`) and the mission kit's own tests. The whole set, open loop beside re-anchored, is the documented
 //! campaign `cargo run --release -p shoal-testkit --example closed_loop -- --out
 //! out/closed_loop`.
 
@@ -59,6 +60,7 @@ fn a_slewing_thruster_in_a_mission_is_named() {
 /// A mission with nothing hidden but the gusts and the few per cent of parameter noise every
 /// case has: an empty verdict (the noise is what a model is allowed to get wrong).
 #[test]
+#[ignore = "230 s in the full suite: part of the closed-loop campaign, run with --include-ignored"]
 fn a_mission_with_nothing_hidden_gives_an_empty_verdict() {
     let v = verdict("m_null_2");
     assert!(v.exact(), "extras {:?}", v.extras());
