@@ -41,7 +41,18 @@ fn horizon(s: &str) -> Option<Horizon> {
     }
 }
 
-fn main() -> ExitCode {
+/// The command line.
+struct Options {
+    out: PathBuf,
+    length: f64,
+    filter: String,
+    threads: usize,
+    horizons: Vec<(String, Horizon)>,
+    write_only: bool,
+}
+
+/// Reads the command line; the usage exit code when it is wrong.
+fn options() -> Result<Options, ExitCode> {
     let mut out: Option<PathBuf> = None;
     let mut length = MISSION_S;
     let mut filter = String::new();
@@ -59,7 +70,7 @@ fn main() -> ExitCode {
         }
         let Some(v) = args.next() else {
             eprintln!("{a} needs a value");
-            return usage();
+            return Err(usage());
         };
         match a.as_str() {
             "--out" => out = Some(PathBuf::from(v)),
@@ -68,14 +79,14 @@ fn main() -> ExitCode {
                 Ok(x) if x.is_finite() && x >= 30.0 => length = x,
                 _ => {
                     eprintln!("--length takes seconds ≥ 30, got `{v}`");
-                    return usage();
+                    return Err(usage());
                 }
             },
             "--threads" => match v.parse::<usize>() {
                 Ok(t) if t >= 1 => threads = t,
                 _ => {
                     eprintln!("--threads takes a whole number ≥ 1, got `{v}`");
-                    return usage();
+                    return Err(usage());
                 }
             },
             "--horizons" => {
@@ -91,18 +102,40 @@ fn main() -> ExitCode {
                             Horizon::MIN_S,
                             Horizon::MAX_S
                         );
-                        return usage();
+                        return Err(usage());
                     }
                 }
             }
             _ => {
                 eprintln!("unknown option `{a}`");
-                return usage();
+                return Err(usage());
             }
         }
     }
-    let Some(dir) = out else {
-        return usage();
+    let Some(out) = out else {
+        return Err(usage());
+    };
+    Ok(Options {
+        out,
+        length,
+        filter,
+        threads,
+        horizons,
+        write_only,
+    })
+}
+
+fn main() -> ExitCode {
+    let Options {
+        out: dir,
+        length,
+        filter,
+        threads,
+        horizons,
+        write_only,
+    } = match options() {
+        Ok(o) => o,
+        Err(code) => return code,
     };
     if let Err(e) = std::fs::create_dir_all(&dir) {
         eprintln!("cannot create {}: {e}", dir.display());
