@@ -18,7 +18,7 @@ use crate::synth::{Recorder, Stepper, TruthHook};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal};
-use shoal_model::control::{Mission, MissionCursor, MissionStep, Mode, Setpoints};
+use shoal_model::control::{Mission, MissionCursor, MissionStep, Mode, SensorReadings, Setpoints};
 use shoal_model::dynamics::RigidState;
 use shoal_model::math::{Vec3, quat_from_rpy};
 use shoal_model::rigid_body::Environment;
@@ -246,9 +246,6 @@ impl Gusts {
     }
 }
 
-/// Logged inputs of a mission, in the logger's column order.
-pub const MISSION_INPUTS: [&str; 6] = ["port", "stbd", "top", "alpha", "beta", "pump"];
-
 /// Flies `plan` with the truth `model` (hidden effects, perturbed parameters) under the
 /// controller `designed` for (the model its designer believes in) in water `env` with the
 /// wandering current of `dist`, physics step `dt` \[s\], noise from `seed`, `hook` around
@@ -272,20 +269,26 @@ pub fn fly(
     let mut state = VehicleState::new(model, rigid, env);
     let mut controller = designed.controller();
     let mut cmd = designed.zero_commands();
-    let mut readings = shoal_model::control::SensorReadings::zeros(cmd.tilts.len());
+    let mut readings = SensorReadings::zeros(cmd.tilts.len());
     let mut sp = Setpoints {
         raw: designed.zero_commands(),
         ..Default::default()
     };
     let mut cursor = MissionCursor::default();
-    let names: Vec<String> = MISSION_INPUTS.iter().map(|s| s.to_string()).collect();
+    // Logged: every thruster [%], every tilt drive [rad], the pump (−1, 0, +1) if it has one.
+    let p = &model.params;
+    let pump = p.ballast.is_some();
+    let names: Vec<String> = (p.thrusters.iter().map(|th| th.name.clone()))
+        .chain(p.tilts.iter().map(|tl| tl.name.clone()))
+        .chain(pump.then(|| "pump".to_string()))
+        .collect();
     let n_samples = (plan.duration / period).round() as usize + 1;
     let sub = (period / dt).round().max(1.0) as usize;
     let h = period / sub as f64;
     let mut log = Recorder::new(model, &names, &plan.channels, n_samples, 0.0);
     let mut stepper = Stepper::new(&cmd, env);
     let mut water = *env;
-    let mut values = [0.0; MISSION_INPUTS.len()];
+    let mut values = Vec::with_capacity(names.len());
     for k in 0..n_samples {
         let t = k as f64 * period;
         cursor.advance(&plan.mission, t, &mut sp);
@@ -306,16 +309,9 @@ pub fn fly(
             &sp,
             &mut cmd,
         );
-        let p = &model.params;
-        for (v, name) in values.iter_mut().zip(MISSION_INPUTS) {
-            *v = if let Some(i) = p.thrusters.iter().position(|th| th.name == name) {
-                cmd.thrusters[i]
-            } else if let Some(i) = p.tilts.iter().position(|tl| tl.name == name) {
-                cmd.tilts[i]
-            } else {
-                cmd.pump.sign()
-            };
-        }
+        values.clear();
+        values.extend(cmd.thrusters.iter().chain(&cmd.tilts));
+        values.extend(pump.then(|| cmd.pump.sign()));
         log.push_inputs(&values);
         if k + 1 == n_samples {
             break;
