@@ -273,7 +273,12 @@ fn the_page_loads_nothing_from_outside() {
     // It played: the clock (`t / duration s`) moved on from 0.
     let time = text_of(&dom, "time").expect("no clock");
     let t: f64 = time.split(" / ").next().unwrap().parse().unwrap();
-    assert!(t > 0.0, "the page did not play: {time}");
+    let frames = html_attr(&dom, "data-frames-rendered");
+    eprintln!("played to {time} in {frames:?} frames");
+    assert!(
+        t > 0.0,
+        "the page did not play: {time} ({frames:?} frames rendered)"
+    );
     browser::assert_no_outside_requests(&requests);
     browser::assert_offline(&std::fs::read_to_string(&page).unwrap());
     let _ = std::fs::remove_dir_all(&d);

@@ -53,6 +53,10 @@ pub fn chromium(page: &Path, fragment: &str, extra: &[&str]) -> Output {
             "--enable-unsafe-swiftshader",
             "--window-size=1280,720",
             "--hide-scrollbars",
+            // Frames are produced in virtual time, not by the wall clock: without it a loaded
+            // machine ends the virtual-time budget after a single animation frame (seen in CI:
+            // a page that "did not play", 0.00 s after 3 s of budget).
+            "--run-all-compositor-stages-before-draw",
         ])
         .args(NO_NETWORK)
         .args(extra)
