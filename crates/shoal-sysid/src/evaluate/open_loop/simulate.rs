@@ -372,12 +372,16 @@ fn record(
     let tilted = kinds
         .iter()
         .any(|k| matches!(k, ChannelKind::Roll | ChannelKind::Pitch));
-    let rpy = || {
-        if tilted {
-            rigid.attitude.euler_angles()
-        } else {
-            (0.0, 0.0, yaw_of(&rigid.attitude))
-        }
+    // Computed once per record, at the first angle channel.
+    let mut angles: Option<(f64, f64, f64)> = None;
+    let mut rpy = || {
+        *angles.get_or_insert_with(|| {
+            if tilted {
+                rigid.attitude.euler_angles()
+            } else {
+                (0.0, 0.0, yaw_of(&rigid.attitude))
+            }
+        })
     };
     for k in kinds {
         let x = match k {
