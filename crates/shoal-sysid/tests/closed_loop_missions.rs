@@ -9,9 +9,9 @@
 //! search thread, 2–4 minutes (the null mission took 230 s in the full local suite, which
 //! the CI budget has no room for). Both are part of the campaign, run with `cargo test
 //! --release -p shoal-sysid --test closed_loop_missions -- --include-ignored`; CI checks the
-//! missions' replays (`reanchor.rs`, `replay_many.rs`) and the mission kit's own tests. The whole set, open loop beside re-anchored, is the documented
-//! campaign `cargo run --release -p shoal-testkit --example closed_loop -- --out
-//! out/closed_loop`.
+//! missions' replays (`reanchor.rs`, `replay_many.rs`) and the mission kit's own tests. The
+//! whole set, open loop beside re-anchored, is the documented campaign `cargo run --release
+//! -p shoal-testkit --example closed_loop -- --out out/closed_loop`.
 
 use shoal_sysid::evaluate::anchoring::Horizon;
 use shoal_testkit::closed_loop::{MissionCase, cases};
