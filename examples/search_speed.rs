@@ -1,5 +1,5 @@
-//! How much CPU `shoal validate`'s search spends, case by case: the CI subset of the
-//! misspecified-form test set (`testset::ci_subset`, 120 s logs searched as the tests search
+//! How much CPU `shoal validate`'s search spends, case by case: the pinned subset of the
+//! misspecified-form test set (`testset::pinned_subset`, 120 s logs searched as the tests search
 //! them: `recovery::search_log`, 20 ms replay) and one long log as a user has it (a 600 s μAUV²
 //! diving run with a 0.4 s thruster lag hidden in it, searched with the CLI's defaults: the
 //! μAUV² preset, 60/40 split, 10 ms replay). A benchmark, not a test: it prints what it
@@ -37,14 +37,14 @@ use shoal::sysid::search::{SearchOptions, search};
 use shoal_testkit::design;
 use shoal_testkit::recovery::search_log;
 use shoal_testkit::synth::synthesize;
-use shoal_testkit::testset::{Conditions, ci_subset};
+use shoal_testkit::testset::{Conditions, pinned_subset};
 use std::process::ExitCode;
 use std::time::Instant;
 
 /// Name of the long log's case.
 const LONG: &str = "long_h_thruster_lag_600s";
 
-/// The `--quick` selection: from `ci_subset` a heave and a yaw single, a heave and a yaw pair,
+/// The `--quick` selection: from `pinned_subset` a heave and a yaw single, a heave and a yaw pair,
 /// a heave and a yaw null; the long log.
 const QUICK: [&str; 7] = [
     "h_thruster_lag__underdamped_one_motor_3",
@@ -150,7 +150,7 @@ fn parse_args() -> Result<Args, String> {
 /// The selected case names, in the test set's order, the long log last (an error when a
 /// `--quick` name is not a case).
 fn selection(a: &Args) -> Result<Vec<String>, String> {
-    let mut all: Vec<String> = ci_subset().into_iter().map(|c| c.name).collect();
+    let mut all: Vec<String> = pinned_subset().into_iter().map(|c| c.name).collect();
     all.push(LONG.to_string());
     if let Some(q) = QUICK.iter().find(|q| !all.iter().any(|n| n == *q)) {
         return Err(format!("--quick: `{q}` is not a case"));
@@ -176,7 +176,7 @@ fn measure(name: &str, threads: usize) -> (f64, f64, Result<Vec<String>, String>
     let csv = if name == LONG {
         long_csv()
     } else {
-        let spec = ci_subset()
+        let spec = pinned_subset()
             .into_iter()
             .find(|c| c.name == name)
             .expect("a selected case");

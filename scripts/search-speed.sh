@@ -28,7 +28,7 @@
 # both trees would not do: cargo names a workspace crate's artifacts by its path relative to
 # the workspace root, the same in both trees, and judges them fresh by the sources'
 # modification times, so one tree would link the other's crates. Without --quick or --case
-# every case of the CI subset and the long log are run: about an hour of CPU.
+# every case of the pinned subset and the long log are run: about an hour of CPU.
 set -euo pipefail
 
 usage() { sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'; }

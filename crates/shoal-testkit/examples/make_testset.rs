@@ -5,21 +5,21 @@
 //!
 //! ```sh
 //! cargo run --release -p shoal-testkit --example make_testset -- --out out/testset
-//! cargo run --release -p shoal-testkit --example make_testset -- --out out/ci --subset ci
+//! cargo run --release -p shoal-testkit --example make_testset -- --out out/pinned --subset pinned
 //! cargo run --release -p shoal-testkit --example make_testset -- --out out/long --length 240 --noise 2
 //! ```
 //!
-//! Options: `--subset full|ci` (default full: 322 cases; ci: the test's 64), `--length S` log
-//! length in seconds (default 120), `--noise M` sensor noise as a multiple of the μAUV²
-//! preset's (default 1). The output is deterministic.
+//! Options: `--subset full|pinned` (default full: 322 cases; pinned: the 64 whose verdicts the
+//! tests pin), `--length S` log length in seconds (default 120), `--noise M` sensor noise as a
+//! multiple of the μAUV² preset's (default 1). The output is deterministic.
 
-use shoal_testkit::testset::{Conditions, ci_subset, expected_json, full, truth_json};
+use shoal_testkit::testset::{Conditions, expected_json, full, pinned_subset, truth_json};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 fn usage() -> ExitCode {
     eprintln!(
-        "usage: make_testset --out DIR [--subset full|ci] [--length SECONDS] [--noise MULTIPLE]"
+        "usage: make_testset --out DIR [--subset full|pinned] [--length SECONDS] [--noise MULTIPLE]"
     );
     ExitCode::from(2)
 }
@@ -63,9 +63,9 @@ fn main() -> ExitCode {
     };
     let cases = match subset.as_str() {
         "full" => full(),
-        "ci" => ci_subset(),
+        "pinned" => pinned_subset(),
         other => {
-            eprintln!("unknown subset `{other}` (allowed: full, ci)");
+            eprintln!("unknown subset `{other}` (allowed: full, pinned)");
             return usage();
         }
     };

@@ -11,7 +11,8 @@
 //! * [`full`] — every truth form in every experiment that excites it with three seeds (lower
 //!   half, upper half and all of each magnitude range), 13 pairs of families (each family in at
 //!   least one pair, each pair in two combinations of its families' forms), 8 null runs.
-//! * [`ci_subset`] — 59 of them for the test: every form once, 8 pairs, 4 nulls.
+//! * [`pinned_subset`] — 64 of them whose verdicts the tests pin: every form once, 8 pairs, 6
+//!   nulls.
 //!
 //! [`Conditions`] change the log's length and the sensor noise (for the recovery benchmark).
 
@@ -290,15 +291,15 @@ pub fn full() -> Vec<CaseSpec> {
     out
 }
 
-/// Pairs of [`PAIRS`] in [`ci_subset`] (the first ones: twelve families, both experiments).
-pub const CI_PAIRS: usize = 8;
+/// Pairs of [`PAIRS`] in [`pinned_subset`] (the first ones: twelve families, both experiments).
+pub const PINNED_PAIRS: usize = 8;
 
-/// The test's subset of [`full`] (64 cases, about half an hour of search on two cores):
-/// every form once with seed 3 (whole magnitude range; the first form of a family in its first
-/// experiment, the later ones in its last, so both experiments appear where both excite the
-/// family), the first [`CI_PAIRS`] pairs with seed 1, null runs in every experiment with seeds
-/// 1 and 2.
-pub fn ci_subset() -> Vec<CaseSpec> {
+/// The subset of [`full`] whose verdicts the tests pin (64 cases, about 45 CPU-minutes of
+/// search): every form once with seed 3 (whole magnitude range; the first form of a family in
+/// its first experiment, the later ones in its last, so both experiments appear where both
+/// excite the family), the first [`PINNED_PAIRS`] pairs with seed 1, null runs in every
+/// experiment with seeds 1 and 2.
+pub fn pinned_subset() -> Vec<CaseSpec> {
     let mut out = Vec::new();
     let forms = truth_forms::all();
     let mut seen: Vec<&str> = Vec::new();
@@ -312,7 +313,7 @@ pub fn ci_subset() -> Vec<CaseSpec> {
         };
         out.push(single(form, kind, 3));
     }
-    for i in 0..CI_PAIRS {
+    for i in 0..PINNED_PAIRS {
         out.push(pair_case(i, 1));
     }
     for kind in ExpKind::ALL {
@@ -378,7 +379,7 @@ mod tests {
     #[test]
     fn sets_cover_every_form_and_family_and_names_are_unique() {
         let all = full();
-        let ci = ci_subset();
+        let ci = pinned_subset();
         assert_eq!(all.len(), 322);
         assert_eq!(ci.len(), 64);
         for family in shoal_model::effects::names() {
