@@ -7,11 +7,12 @@
 //!
 //! Five-minute missions (the set's are ten): each test is one full catalogue search on one
 //! search thread, 2–4 minutes (the null mission took 230 s in the full local suite, which
-//! the CI budget has no room for). Both are part of the campaign, run with `cargo test
-//! --release -p shoal-sysid --test closed_loop_missions -- --include-ignored`; CI checks the
-//! missions' replays (`reanchor.rs`, `replay_many.rs`) and the mission kit's own tests. The
-//! whole set, open loop beside re-anchored, is the documented campaign `cargo run --release
-//! -p shoal-testkit --example closed_loop -- --out out/closed_loop`.
+//! the CI budget has no room for). Both are part of the search campaign `scripts/campaign.sh`
+//! (alone: `cargo test --release -p shoal-sysid --test closed_loop_missions --
+//! --include-ignored`); CI checks the missions' replays (`reanchor.rs`, `replay_many.rs`) and
+//! the mission kit's own tests. The whole set, open loop beside re-anchored, is the documented
+//! campaign `cargo run --release -p shoal-testkit --example closed_loop -- --out
+//! out/closed_loop`.
 
 use shoal_sysid::evaluate::anchoring::Horizon;
 use shoal_testkit::closed_loop::{MissionCase, cases};
@@ -46,7 +47,7 @@ fn verdict(name: &str) -> Verdict {
 /// A thruster that slews its command (a matched form of `thruster_lag`), hidden in a mission
 /// under gusts and parameter noise: named, alone.
 #[test]
-#[ignore = "3.5 CPU-minutes: part of the closed-loop campaign, run with --include-ignored"]
+#[ignore = "campaign (scripts/campaign.sh): 3.5 CPU-minutes of search"]
 fn a_slewing_thruster_in_a_mission_is_named() {
     let v = verdict("m_thruster_lag__slew_rate_1");
     assert!(
@@ -60,7 +61,7 @@ fn a_slewing_thruster_in_a_mission_is_named() {
 /// A mission with nothing hidden but the gusts and the few per cent of parameter noise every
 /// case has: an empty verdict (the noise is what a model is allowed to get wrong).
 #[test]
-#[ignore = "230 s in the full suite: part of the closed-loop campaign, run with --include-ignored"]
+#[ignore = "campaign (scripts/campaign.sh): 230 s of search in the full suite"]
 fn a_mission_with_nothing_hidden_gives_an_empty_verdict() {
     let v = verdict("m_null_2");
     assert!(v.exact(), "extras {:?}", v.extras());

@@ -4,8 +4,8 @@
 //! sample and a half).
 //!
 //! The two costliest pairs (≈ 180 of the file's 370 CPU-seconds in one suite run) are ignored
-//! in the suite and run in the campaign: `cargo nextest run -p shoal-sysid --test
-//! null_and_pairs --run-ignored all`.
+//! in the suite and run in the search campaign `scripts/campaign.sh` (alone: `cargo nextest run
+//! -p shoal-sysid --test null_and_pairs --run-ignored all`).
 
 mod common;
 
@@ -214,7 +214,7 @@ fn pair(exp: Exp, a: (&str, Vec<f64>), b: (&str, Vec<f64>), seed: u64) {
 }
 
 #[test]
-#[ignore = "campaign: ≈ 100 CPU-seconds of search"]
+#[ignore = "campaign (scripts/campaign.sh): ≈ 100 CPU-seconds of search"]
 fn lag_and_buoyancy_offset_in_heave() {
     pair(
         Exp::Heave,
@@ -225,7 +225,7 @@ fn lag_and_buoyancy_offset_in_heave() {
 }
 
 #[test]
-#[ignore = "campaign: ≈ 75 CPU-seconds of search"]
+#[ignore = "campaign (scripts/campaign.sh): ≈ 75 CPU-seconds of search"]
 fn battery_sag_and_depth_drift_in_heave() {
     pair(
         Exp::Heave,
