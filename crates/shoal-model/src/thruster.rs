@@ -72,6 +72,22 @@ impl ThrustCurve {
         n.clamp(-max_command, max_command)
     }
 
+    /// Scales every thrust of the curve by `k` \[-\] (a motor that is stronger or weaker
+    /// than the one the curve was measured on).
+    pub fn scale(&mut self, k: f64) {
+        match self {
+            ThrustCurve::Quadratic { ct_pos, ct_neg } => {
+                *ct_pos *= k;
+                *ct_neg *= k;
+            }
+            ThrustCurve::Table { points } => {
+                for p in points.iter_mut() {
+                    p.1 *= k;
+                }
+            }
+        }
+    }
+
     /// Largest forward and largest reverse thrust magnitude \[N\] within ±`max_command`.
     pub fn limits(&self, max_command: f64) -> (f64, f64) {
         (

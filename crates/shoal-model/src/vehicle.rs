@@ -269,6 +269,7 @@ pub fn actuate_thrusters(
         thrust_moment,
         vehicle: p,
         gravity: env.gravity,
+        density: env.density,
     });
     state.tau = tau + extra;
 }

@@ -92,6 +92,7 @@ fn catalogue_is_complete_and_consistent() {
         "sensor_delay",
         "thrust_coupling",
         "thrust_saturation",
+        "tether_drag",
     ];
     assert_eq!(names(), want);
     // Forms of one family have distinct names.
@@ -148,20 +149,39 @@ fn dive(seconds: f64, n: f64) -> Phase {
     }
 }
 
+/// A phase with only the top thruster running (at tilt 0, pushing forward): what shows a
+/// per-thruster form's parameter of the top thruster.
+fn top(seconds: f64, n: f64) -> Phase {
+    Phase {
+        beta: 0.0,
+        n: [n, 0.0, 0.0],
+        ..dive(seconds, 0.0)
+    }
+}
+
 /// The scenario in which the family `name` shows if it is on; it starts at rest 3 m deep.
 fn scenario(name: &str) -> Vec<Phase> {
     match name {
         // Command steps up and down: lags and inertia act on every change.
+        // The top thruster stepped too: the per-thruster forms have a lag of its own.
         "thruster_lag" | "added_mass_error" => {
             vec![
                 dive(3.0, 70.0),
                 dive(3.0, 0.0),
                 dive(3.0, -70.0),
                 dive(3.0, 0.0),
+                top(3.0, 70.0),
+                top(3.0, 0.0),
             ]
         }
-        // Moving under thrust: scale, inflow and drag.
-        "thrust_gain" | "inflow_thrust_loss" => vec![dive(10.0, 70.0)],
+        // Moving under thrust: scale, inflow and drag (the top thruster alone as well, for
+        // the per-thruster gain).
+        "thrust_gain" | "inflow_thrust_loss" => vec![dive(10.0, 70.0), top(10.0, 70.0)],
+        // Surging away from below the anchor: the cable drags, then runs out.
+        "tether_drag" => vec![Phase {
+            beta: 0.0,
+            ..dive(40.0, 80.0)
+        }],
         // Moving both ways: drag that differs with the direction.
         "damping_error" => vec![dive(10.0, 70.0), dive(10.0, -70.0)],
         // Reverse thrust.
@@ -735,6 +755,7 @@ fn form_force(name: &str, form: &str, p: &[f64], t: f64, z: f64, nu: Vec6, thrus
         thrust_moment: Vec3::zeros(),
         vehicle: &vehicle,
         gravity: shoal_model::math::GRAVITY,
+        density: 1000.0,
     };
     effect.force(p, &ctx)
 }

@@ -15,7 +15,7 @@
 //! out/closed_loop`.
 
 use shoal_sysid::evaluate::anchoring::Horizon;
-use shoal_testkit::closed_loop::{MissionCase, cases};
+use shoal_testkit::closed_loop::{MissionCase, cases, tracked_cases};
 use shoal_testkit::mission::Disturbance;
 use shoal_testkit::recovery::{Verdict, search_log_with};
 
@@ -65,4 +65,34 @@ fn a_slewing_thruster_in_a_mission_is_named() {
 fn a_mission_with_nothing_hidden_gives_an_empty_verdict() {
     let v = verdict("m_null_2");
     assert!(v.exact(), "extras {:?}", v.extras());
+}
+
+/// A tether with slack paid out (`tether_drag/slack_cable`, a law the fitting side does not
+/// have: its drag grows with the distance plus the slack), hidden in a mission that tracks the
+/// position, in calm water: the designed experiments hold the hull in place, and without a
+/// position the search does not fit a tether, so a tracked mission is where it shows. Named,
+/// alone; and the same mission with nothing hidden stays empty.
+#[test]
+#[ignore = "campaign (scripts/campaign.sh): two full searches of five-minute missions"]
+fn a_tether_in_a_tracked_mission_is_named() {
+    for c in tracked_cases(CI_MISSION_S) {
+        let csv = c.csv(&Disturbance::NONE);
+        let v = Verdict::new(
+            &c.expected(),
+            search_log_with(&csv, &c.name, 1, Horizon::Auto),
+        );
+        eprintln!(
+            "{}: expected {:?}, found {}",
+            c.name,
+            v.expected,
+            v.found_text()
+        );
+        assert!(
+            v.exact(),
+            "{}: extras {:?}, missing {:?}",
+            c.name,
+            v.extras(),
+            v.missing()
+        );
+    }
 }

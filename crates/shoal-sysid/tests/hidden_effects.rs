@@ -123,6 +123,36 @@ fn thrust_gain() {
     hidden("thrust_gain", &[(Heave, 1), (Heave, 2), (Yaw, 1), (Yaw, 2)]);
 }
 
+/// Motors that differ one by one (the `per_thruster` forms of `thrust_gain` and
+/// `thruster_lag`), hidden in the turning run, whose yaw comes from the difference of the two
+/// side thrusters: the family is named in its per-thruster form, and the side thrusters' own
+/// values come back (the top thruster is never commanded there: its value stays at null).
+#[test]
+fn per_thruster_gain_and_lag() {
+    for (form, truth, tol) in [
+        ("thrust_gain/per_thruster", vec![1.0, 1.25, 0.85], 0.15),
+        ("thruster_lag/per_thruster", vec![0.0, 0.45, 0.05], 0.15),
+    ] {
+        let run = measured(Yaw, &[(form, truth.clone())], 1);
+        let (_, out) = find(run);
+        let ctx = format!("{form} {truth:?} in the yaw run");
+        let (family, form_name) = form.split_once('/').unwrap();
+        assert_eq!(out.chosen.names(), [family], "{ctx}: {:?}", out.verdict);
+        let found = &out.chosen.effects[0];
+        assert_eq!(found.effect.form(), form_name, "{ctx}");
+        assert!(!found.params[0].excited, "{ctx}: the top thruster's value");
+        for (p, t) in found.params.iter().zip(&truth).skip(1) {
+            assert!(
+                (p.value - t).abs() <= tol * (t - p.null).abs().max(0.1),
+                "{ctx}: {} = {} (σ {:?}), truth {t}",
+                p.name,
+                p.value,
+                p.sigma
+            );
+        }
+    }
+}
+
 #[test]
 fn thrust_asymmetry() {
     hidden(
@@ -261,6 +291,7 @@ fn shift_at(
         thrust_moment: Vec3::zeros(),
         vehicle: &v,
         gravity: g,
+        density: 1000.0,
     };
     let m = effect.force(values, &ctx);
     let w = v.body.mass * g;
@@ -319,4 +350,23 @@ fn restoring_moment_needs_roll_or_pitch() {
     );
     let (_, out) = find_among(measured(Trim, &[("restoring_moment", shift)], 1), &among);
     assert_eq!(out.chosen.names(), ["restoring_moment"]);
+}
+
+/// A tether is fitted only where the log places the hull: on the heave run (no position, no
+/// horizontal velocity) it is not fitted and the note says why, while on the turning run,
+/// which tracks the position, it is fitted (and, with nothing hidden that it could explain,
+/// not named).
+#[test]
+fn a_tether_needs_the_position() {
+    let (_, out) = find_among(measured(Heave, &[], 1), &["tether_drag"]);
+    let c = candidate(&out, "tether_drag");
+    assert!(
+        c.fit.is_none() && c.note.contains("neither the horizontal position"),
+        "{}",
+        c.note
+    );
+    let (_, out) = find_among(measured(Yaw, &[], 1), &["tether_drag"]);
+    let c = candidate(&out, "tether_drag");
+    assert!(c.fit.is_some(), "{}", c.note);
+    assert!(out.chosen.names().is_empty(), "{:?}", out.chosen.names());
 }

@@ -9,7 +9,10 @@
 //! one ([`crate::truth_forms::MATCHED`]), else its first — with values over the form's whole
 //! range (laws in run time stretched to the mission: [`STRETCHED`]), and three null missions
 //! (disturbances only). `water_current` is left out: the
-//! mission logs carry no position, and the wandering current is on every case already.
+//! mission logs carry no position, and the wandering current is on every case already; so is
+//! `tether_drag`, whose pull depends on where the hull is (the search does not fit it without
+//! a position). [`tracked_cases`] are missions that log the tracked position, for it.
+//!
 //! Everything is deterministic in the case's seed.
 
 use crate::logger::logger_csv;
@@ -21,7 +24,7 @@ use rand_chacha::ChaCha8Rng;
 use shoal_model::presets;
 use shoal_model::rigid_body::Environment;
 use shoal_model::vehicle::VehicleModel;
-use shoal_sysid::log::run::MeasuredRun;
+use shoal_sysid::log::run::{ChannelKind, MeasuredRun};
 
 /// Mission length of the set \[s\] (10 minutes).
 pub const MISSION_S: f64 = 600.0;
@@ -37,7 +40,13 @@ pub struct MissionCase {
     pub duration: f64,
     /// The hidden forms (none for a null mission).
     pub hidden: Vec<Hidden>,
+    /// Whether the position is tracked: logged as `y.x`, `y.y` with [`TRACKING_NOISE`].
+    pub tracked: bool,
 }
+
+/// Standard deviation of a tracked mission's positions \[m\] (acoustic or camera tracking in
+/// a pool).
+pub const TRACKING_NOISE: f64 = 0.02;
 
 impl MissionCase {
     /// The catalogue families of the hidden forms, sorted, without repeats: the exact verdict.
@@ -55,6 +64,10 @@ impl MissionCase {
         let designed = VehicleModel::new(presets::uauv2(), DENSITY);
         let mut plan = uauv2_mission(self.seed, self.duration);
         plan.name.clone_from(&self.name);
+        if self.tracked {
+            plan.channels.extend([ChannelKind::X, ChannelKind::Y]);
+            plan.tracking_noise = TRACKING_NOISE;
+        }
         let env = Environment {
             density: DENSITY,
             ..Environment::default()
@@ -110,7 +123,8 @@ pub fn cases(duration: f64) -> Vec<MissionCase> {
     let mut out = Vec::new();
     let families = shoal_model::effects::names();
     let mut seed = 0;
-    for family in families.into_iter().filter(|f| *f != "water_current") {
+    let untracked = |f: &&str| !matches!(*f, "water_current" | "tether_drag");
+    for family in families.into_iter().filter(untracked) {
         let Some(form) = form_of(family) else {
             continue;
         };
@@ -121,6 +135,7 @@ pub fn cases(duration: f64) -> Vec<MissionCase> {
             seed,
             duration,
             hidden: vec![stretch(hidden, duration)],
+            tracked: false,
         });
     }
     for k in 1..=3 {
@@ -129,7 +144,36 @@ pub fn cases(duration: f64) -> Vec<MissionCase> {
             seed: 100 + k,
             duration,
             hidden: Vec::new(),
+            tracked: false,
         });
     }
     out
+}
+
+/// Missions of `duration` \[s\] with the position tracked, for what shows only where the hull
+/// is: a tether with slack paid out (`tether_drag/slack_cable`, values over the form's whole
+/// range) and a null mission. Meant to be flown in calm water ([`Disturbance::NONE`]): with a
+/// tracked position a wandering current is a `water_current` of its own.
+///
+/// [`Disturbance::NONE`]: crate::mission::Disturbance::NONE
+pub fn tracked_cases(duration: f64) -> Vec<MissionCase> {
+    let form = truth_forms::by_name("tether_drag/slack_cable").expect("a truth form");
+    let seed = 201;
+    let hidden = Hidden::from_stream(&form, stream(form.name, seed) ^ 0x6d, (0.0, 1.0));
+    vec![
+        MissionCase {
+            name: format!("mt_tether_drag__slack_cable_{seed}"),
+            seed,
+            duration,
+            hidden: vec![hidden],
+            tracked: true,
+        },
+        MissionCase {
+            name: "mt_null_1".into(),
+            seed: 202,
+            duration,
+            hidden: Vec::new(),
+            tracked: true,
+        },
+    ]
 }

@@ -38,6 +38,8 @@ pub struct MissionPlan {
     pub mission: Mission,
     /// What is logged (at every control tick).
     pub channels: Vec<ChannelKind>,
+    /// Standard deviation of the tracked positions `y.x`, `y.y` where they are logged \[m\].
+    pub tracking_noise: f64,
     /// Initial position of the body origin, world frame \[m\].
     pub position: Vec3,
     /// Initial heading \[rad\].
@@ -135,6 +137,7 @@ pub fn uauv2_mission(seed: u64, duration: f64) -> MissionPlan {
             ChannelKind::Yaw,
             ChannelKind::R,
         ],
+        tracking_noise: 0.0,
         position: Vec3::new(0.0, 0.0, 0.3),
         yaw,
     }
@@ -285,7 +288,13 @@ pub fn fly(
     let n_samples = (plan.duration / period).round() as usize + 1;
     let sub = (period / dt).round().max(1.0) as usize;
     let h = period / sub as f64;
-    let mut log = Recorder::new(model, &names, &plan.channels, n_samples, 0.0);
+    let mut log = Recorder::new(
+        model,
+        &names,
+        &plan.channels,
+        n_samples,
+        plan.tracking_noise,
+    );
     let mut stepper = Stepper::new(&cmd, env);
     let mut water = *env;
     let mut values = Vec::with_capacity(names.len());

@@ -74,6 +74,8 @@ pub struct ForceContext<'a> {
     pub vehicle: &'a VehicleParams,
     /// Gravitational acceleration [m/s²].
     pub gravity: f64,
+    /// Water density [kg/m³].
+    pub density: f64,
 }
 
 /// A parametric model extension. Parameters arrive as a slice in the order of

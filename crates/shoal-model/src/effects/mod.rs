@@ -4,17 +4,18 @@
 //!
 //! Every effect is one type implementing [`Effect`], in its own file of this module, listed
 //! once in [`catalogue`]. The trait, its parameters and what its hooks see are in `effect.rs`,
-//! the laws in time that several effects share in `laws.rs`; the effects build on those two,
+//! the laws in time that several effects share in `laws.rs`, the parameters that come once
+//! per thruster in `per_thruster.rs`; the effects build on those three,
 //! and this file on the effects. An effect declares its parameters ([`ParamInfo`]: unit, bounds, the
 //! *null* value at which it vanishes) and overrides only the hooks it needs:
 //!
 //! | hook | when | used by |
 //! |---|---|---|
-//! | [`Effect::configure`] | once, when the model is built | lag, damping, added mass, pump flow |
+//! | [`Effect::configure`] | once, when the model is built | lag, per-thruster gain, damping, added mass, pump flow |
 //! | [`Effect::current`] | kinematics | water current |
 //! | [`Effect::command`] | each thruster, before the thrust curve | dead band |
 //! | [`Effect::thrust`] | each thruster, after the thrust curve | gain, asymmetry, sag, inflow, saturation |
-//! | [`Effect::force`] | each step, added to the thrusters' force | buoyancy offset, restoring moment, thrust coupling |
+//! | [`Effect::force`] | each step, added to the thrusters' force | buoyancy offset, restoring moment, thrust coupling, tether |
 //! | [`Effect::depth_offset`] | each depth reading | depth-sensor bias |
 //! | [`Effect::delay`] | each sensor sample | sensor delay |
 //!
@@ -32,8 +33,10 @@ mod depth_sensor_bias;
 mod effect;
 mod inflow_thrust_loss;
 mod laws;
+mod per_thruster;
 mod restoring_moment;
 mod sensor_delay;
+mod tether_drag;
 mod thrust_asymmetry;
 mod thrust_coupling;
 mod thrust_gain;
@@ -55,17 +58,21 @@ pub use depth_sensor_bias::{
 pub use inflow_thrust_loss::{
     InflowThrustLoss, InflowThrustLossLinear, InflowThrustLossPower, reduced as inflow_reduced,
 };
+pub use per_thruster::MAX_THRUSTERS;
 pub use restoring_moment::{RestoringMoment, RestoringMomentDrift, RestoringMomentSettling};
 pub use sensor_delay::SensorDelay;
+pub use tether_drag::{TetherDrag, TetherTaut};
 pub use thrust_asymmetry::{ThrustAsymmetry, ThrustAsymmetryCurve, ThrustAsymmetrySided};
 pub use thrust_coupling::{ThrustCoupling, ThrustCouplingDirection};
-pub use thrust_gain::{ThrustGain, ThrustGainCurve, ThrustGainKnee};
+pub use thrust_gain::{ThrustGain, ThrustGainCurve, ThrustGainKnee, ThrustGainPerThruster};
 pub use thrust_saturation::{ThrustSaturation, ThrustSaturationAsymmetric, ThrustSaturationSmooth};
 pub use thruster_deadband::{
     ThrusterDeadband, ThrusterDeadbandAsymmetric, ThrusterDeadbandGate, ThrusterDeadbandSoft,
     ThrusterDeadbandSoftAsymmetric,
 };
-pub use thruster_lag::{ThrusterLag, ThrusterLagSecondOrder, ThrusterLagSlew, ThrusterLagUpDown};
+pub use thruster_lag::{
+    ThrusterLag, ThrusterLagPerThruster, ThrusterLagSecondOrder, ThrusterLagSlew, ThrusterLagUpDown,
+};
 pub use water_current::WaterCurrent;
 
 pub use effect::{Effect, ForceContext, ParamInfo, Stage, ThrustContext};
@@ -83,9 +90,11 @@ pub fn catalogue() -> Vec<Arc<dyn Effect>> {
         Arc::new(ThrusterLagSecondOrder),
         Arc::new(ThrusterLagUpDown),
         Arc::new(ThrusterLagSlew),
+        Arc::new(ThrusterLagPerThruster),
         Arc::new(ThrustGain),
         Arc::new(ThrustGainCurve),
         Arc::new(ThrustGainKnee),
+        Arc::new(ThrustGainPerThruster),
         Arc::new(ThrustAsymmetry),
         Arc::new(ThrustAsymmetryCurve),
         Arc::new(ThrustAsymmetrySided),
@@ -123,6 +132,8 @@ pub fn catalogue() -> Vec<Arc<dyn Effect>> {
         Arc::new(ThrustSaturation),
         Arc::new(ThrustSaturationSmooth),
         Arc::new(ThrustSaturationAsymmetric),
+        Arc::new(TetherDrag),
+        Arc::new(TetherTaut),
     ]
 }
 

@@ -195,6 +195,7 @@ mod tests {
             thrust_moment: Vec3::zeros(),
             vehicle,
             gravity: 9.81,
+            density: 1000.0,
         }
     }
 

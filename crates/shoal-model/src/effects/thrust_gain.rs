@@ -13,8 +13,11 @@
 //! ESC whose output is not linear in its input, a propeller that loads differently). A `knee`
 //! form has the gain k up to a knee command n_k and changing linearly by s from there to full
 //! command — a throttle map with a breakpoint (n_k = 0: a gain linear in the command).
+//! A `per_thruster` form gives every thruster its own gain k_i (motors, propellers or ESCs
+//! that differ one by one), applied to its thrust curve when the model is built.
 
 use super::effect::{Effect, ParamInfo, ThrustContext};
+use super::per_thruster;
 use crate::vehicle_params::VehicleParams;
 
 /// The gain k of both forms.
@@ -166,5 +169,44 @@ impl Effect for ThrustGainKnee {
     }
     fn thrust(&self, p: &[f64], ctx: &ThrustContext<'_>, f: f64) -> f64 {
         Self::gain(p, ctx.command, ctx.thruster.max_command) * f
+    }
+}
+
+/// The `per_thruster` form: every thruster has its own gain, `f_i = k_i · f_static,i` — motors
+/// from different batches, a nicked or fouled propeller, ESCs calibrated one by one. On a
+/// vehicle whose thrusters turn it (differential thrust for yaw, roll or pitch) unequal gains
+/// show as a turn the commands do not ask for and as a response that differs by direction.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ThrustGainPerThruster;
+
+impl Effect for ThrustGainPerThruster {
+    fn name(&self) -> &'static str {
+        "thrust_gain"
+    }
+    fn form(&self) -> &'static str {
+        "per_thruster"
+    }
+    fn summary(&self) -> &'static str {
+        "each thruster's thrust scaled by its own k_i"
+    }
+    fn explanation(&self) -> &'static str {
+        "Motors, propellers or ESCs that differ one by one (different batches, a nicked \
+         propeller, a separate calibration): each thruster's force is scaled by its own \
+         factor, so differential thrust turns the hull more or less than the model expects."
+    }
+    fn params(&self, vehicle: &VehicleParams) -> Vec<ParamInfo> {
+        per_thruster::params(
+            vehicle,
+            &per_thruster::GAIN_NAMES,
+            k_param("thrust scale factor of thruster i (vehicle file order)"),
+        )
+    }
+    fn not_applicable(&self, vehicle: &VehicleParams) -> Option<String> {
+        per_thruster::not_applicable(vehicle)
+    }
+    fn configure(&self, p: &[f64], vehicle: &mut VehicleParams) {
+        for (th, k) in vehicle.thrusters.iter_mut().zip(p) {
+            th.curve.scale(*k);
+        }
     }
 }

@@ -12,11 +12,13 @@
 //! [`ThrusterParams::lag`]: crate::thruster::ThrusterParams::lag
 
 //!
-//! Three more forms of the family compete with the first-order lag: `second_order` (two equal
+//! Four more forms of the family compete with the first-order lag: `second_order` (two equal
 //! stages in series, an S-shaped spin-up), `up_down` (different time constants spinning up
-//! and down) and `slew` (the motor command ramps at a limited rate: a step becomes a ramp
-//! whose length grows with the step — an ESC with a soft start or a current limit).
+//! and down), `slew` (the motor command ramps at a limited rate: a step becomes a ramp
+//! whose length grows with the step — an ESC with a soft start or a current limit) and
+//! `per_thruster` (each thruster its own first-order lag τ_i: motors that differ one by one).
 use super::effect::{Effect, ParamInfo};
+use super::per_thruster;
 use crate::vehicle_params::VehicleParams;
 
 /// See the module documentation.
@@ -180,6 +182,54 @@ impl Effect for ThrusterLagSlew {
     fn configure(&self, p: &[f64], vehicle: &mut VehicleParams) {
         for th in &mut vehicle.thrusters {
             th.ramp += p[0];
+        }
+    }
+}
+
+/// The `per_thruster` form: every thruster has its own first-order lag τ_i — motors that
+/// differ one by one (a worn bearing, a heavier propeller, an ESC with another filter). On a
+/// vehicle that turns by differential thrust, unequal lags show as a turn after every step of
+/// a command that should only have moved it straight.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ThrusterLagPerThruster;
+
+impl Effect for ThrusterLagPerThruster {
+    fn name(&self) -> &'static str {
+        "thruster_lag"
+    }
+    fn form(&self) -> &'static str {
+        "per_thruster"
+    }
+    fn summary(&self) -> &'static str {
+        "each thruster's thrust follows its command through its own first-order lag τ_i"
+    }
+    fn explanation(&self) -> &'static str {
+        "Motor and propeller inertia that differ one by one (a worn bearing, a heavier \
+         propeller, another ESC): after a command step each thruster's force settles with \
+         its own time constant."
+    }
+    fn params(&self, vehicle: &VehicleParams) -> Vec<ParamInfo> {
+        per_thruster::params(
+            vehicle,
+            &per_thruster::LAG_NAMES,
+            ParamInfo {
+                name: "tau_s",
+                unit: "s",
+                lo: 0.0,
+                hi: 2.0,
+                null: 0.0,
+                typical: 0.3,
+                doc: "time constant added to thruster i's lag (vehicle file order)",
+                shape: false,
+            },
+        )
+    }
+    fn not_applicable(&self, vehicle: &VehicleParams) -> Option<String> {
+        per_thruster::not_applicable(vehicle)
+    }
+    fn configure(&self, p: &[f64], vehicle: &mut VehicleParams) {
+        for (th, tau) in vehicle.thrusters.iter_mut().zip(p) {
+            th.lag += tau;
         }
     }
 }

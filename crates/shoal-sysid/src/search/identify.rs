@@ -93,6 +93,7 @@ pub fn excitation(family: &str) -> &'static str {
         "thrust_coupling" => "vertical thrust steps with the heading logged",
         "thrust_saturation" => "full-scale commands next to half-scale ones",
         "restoring_moment" => "resting at depth with roll and pitch logged (the resting tilt)",
+        "tether_drag" => "travelling away from the anchor and back with the position tracked",
         _ => "an experiment that drives this effect alone",
     }
 }
@@ -112,6 +113,21 @@ pub fn direct_channels(family: &str) -> Option<(&'static [ChannelKind], &'static
             ],
             "not fitted: these runs log neither roll nor pitch (nor their rates), where a \
              shifted centre of gravity shows first",
+        )),
+        // A tether's pull grows with the distance from its anchor: without the position (or
+        // the horizontal velocity) a log cannot place the hull relative to the anchor, and
+        // the cable's drag is just more drag, or less thrust, at speed — the damping-error and
+        // inflow families' marks (on the BlueROV yaw runs it fitted C_d·d at its bound as a
+        // stand-in for the damping error; in a mission the inflow loss won instead of it).
+        "tether_drag" => Some((
+            &[
+                ChannelKind::X,
+                ChannelKind::Y,
+                ChannelKind::U,
+                ChannelKind::V,
+            ],
+            "not fitted: these runs log neither the horizontal position nor the horizontal \
+             velocity, which a tether's pull depends on (its distance from the anchor)",
         )),
         _ => None,
     }

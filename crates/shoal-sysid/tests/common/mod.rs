@@ -35,7 +35,7 @@ pub fn measured(exp: Exp, hidden: &[(&str, Vec<f64>)], seed: u64) -> MeasuredRun
         hidden
             .iter()
             .map(|(n, p)| EffectInstance {
-                effect: by_name(n).expect("catalogue effect"),
+                effect: catalogue_effect(n),
                 params: p.clone(),
             })
             .collect(),
@@ -50,6 +50,15 @@ pub fn measured(exp: Exp, hidden: &[(&str, Vec<f64>)], seed: u64) -> MeasuredRun
     let csv = run.to_csv();
     MeasuredRun::parse(&csv, std::path::Path::new(&format!("{}.csv", e.name)))
         .expect("synthetic CSV parses")
+}
+
+/// The catalogue effect `family` in its default form, or `family/form`.
+pub fn catalogue_effect(name: &str) -> std::sync::Arc<dyn shoal_model::effects::Effect> {
+    let effect = match name.split_once('/') {
+        Some((family, form)) => shoal_model::effects::by_name_form(family, Some(form)),
+        None => by_name(name),
+    };
+    effect.unwrap_or_else(|| panic!("no catalogue effect {name}"))
 }
 
 /// One run as the search sees it with the μAUV² preset as baseline (60/40 split, 20 ms

@@ -193,6 +193,7 @@ mod tests {
             thrust_moment: Vec3::zeros(),
             vehicle: &vehicle,
             gravity: 9.81,
+            density: 1000.0,
         };
         vehicle.body.damping(&nu) - e.force(&[], &ctx)
     }

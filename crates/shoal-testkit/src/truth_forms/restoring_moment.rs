@@ -199,6 +199,7 @@ impl TruthHook for SloshingWater {
             thrust_moment: Vec3::zeros(),
             vehicle: &model.params,
             gravity: env.gravity,
+            density: env.density,
         };
         let m = RestoringMoment.force(&dr, &ctx);
         // The moment, held over the step like every other force.

@@ -2,7 +2,8 @@
 //! thrusters and commands as the fitting side assumes:
 //!
 //! * `thrust_gain/per_thruster` — each motor has its own gain (motors from different batches, a
-//!   nicked propeller): port k(1 + r), starboard k(1 − r), top k.
+//!   nicked propeller): port k(1 + r), starboard k(1 − r), top k. The catalogue's
+//!   `per_thruster` form has this law: the form is matched.
 //! * `thrust_gain/command_dependent` — the gain varies with the command, k(n) = k·(|n|/50 %)^e:
 //!   the thrust curve's exponent differs from the baseline's 2 (an ESC whose output is not
 //!   linear in its input). The catalogue's `curve` form has this law: the form is matched.
@@ -12,6 +13,9 @@
 //! * `thrust_gain/smooth_step` — the gain moves from k₁ to k₂ along a logistic curve in the
 //!   command, centred on n_c with width w: a throttle map that bends smoothly rather than at
 //!   a breakpoint (an ESC's calibration curve interpolated through a few points).
+//! * `thrust_gain/worn_propeller` — one propeller (port) is worn or fouled: it loses a share of
+//!   its thrust that grows with its speed, k_port = 1 − w·(|n|/100 %)², the others are as
+//!   measured — a gain of its own thruster *and* of the command, which no fitting form has.
 
 use super::{ExpKind, FormParam, Part, TruthForm, logistic, truth_effect_meta};
 use shoal_model::effects::{Effect, ThrustContext, ThrustGainKnee};
@@ -27,6 +31,9 @@ const COMMAND_DEPENDENT_LAW: &str = "thrust × k·(|n|/50 %)^e";
 const TWO_SLOPE: &str = "thrust_gain/two_slope";
 const TWO_SLOPE_LAW: &str =
     "thrust × k₁ for |n| ≤ n_k, × k₁ + (k₂ − k₁)·(|n| − n_k)/(n_max − n_k) above";
+
+const WORN: &str = "thrust_gain/worn_propeller";
+const WORN_LAW: &str = "port thrust × (1 − w·(|n|/100 %)²), the others as measured";
 
 const SMOOTH_STEP: &str = "thrust_gain/smooth_step";
 const SMOOTH_STEP_LAW: &str = "thrust × (k₁ + (k₂ − k₁)·σ((|n| − n_c)/w)), σ logistic";
@@ -133,6 +140,20 @@ pub(super) fn forms() -> Vec<TruthForm> {
                 }))
             },
         },
+        TruthForm {
+            name: WORN,
+            family: "thrust_gain",
+            law: WORN_LAW,
+            params: vec![FormParam::magnitude(
+                "w",
+                "-",
+                0.2,
+                0.4,
+                "share of the port thrust lost at full command",
+            )],
+            excites: &[ExpKind::Heave, ExpKind::Yaw],
+            build: |p| Part::Effect(Arc::new(Worn { w: p[0] })),
+        },
     ]
 }
 
@@ -175,6 +196,24 @@ impl Effect for PerThruster {
             _ => 0.0,
         };
         self.k * (1.0 + r) * f
+    }
+}
+
+/// See the module documentation.
+#[derive(Debug)]
+struct Worn {
+    /// Share of the port thrust lost at full command \[-\].
+    w: f64,
+}
+
+impl Effect for Worn {
+    truth_effect_meta!(WORN, WORN_LAW);
+    fn thrust(&self, _p: &[f64], ctx: &ThrustContext<'_>, f: f64) -> f64 {
+        if ctx.thruster.name == "port" {
+            (1.0 - self.w * (ctx.command / 100.0).powi(2)) * f
+        } else {
+            f
+        }
     }
 }
 
