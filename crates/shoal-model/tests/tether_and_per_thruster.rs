@@ -20,15 +20,7 @@ fn tether(form: &str, p: &[f64], position: Vec3, attitude: Quat, nu: Vec6) -> Ve
     };
     e.force(
         p,
-        &ForceContext {
-            t: 0.0,
-            rigid: &rigid,
-            thrust_force: Vec3::zeros(),
-            thrust_moment: Vec3::zeros(),
-            vehicle: &vehicle,
-            gravity: 9.81,
-            density: 1000.0,
-        },
+        &ForceContext::idle(0.0, &rigid, &vehicle, &Environment::default()),
     )
 }
 
@@ -89,19 +81,39 @@ fn the_cable_drags_across_its_length_in_proportion_to_it() {
 
 #[test]
 fn a_taut_cable_pulls_back_only_beyond_its_length() {
-    let at = Vec3::new(3.0, 0.0, 4.0); // 5 m from the anchor
+    let at = Vec3::new(3.0, 0.0, 4.0); // 3 m north of the anchor, 4 m deep
     let rest = Vec6::zeros();
     let level = Quat::identity();
-    // Within its length: slack.
-    let f = tether("taut", &[10.0, 5.5, 0.0, 0.0, 0.0], at, level, rest);
+    // Within its horizontal length: slack.
+    let f = tether("taut", &[10.0, 3.5, 0.0, 0.0, 0.0], at, level, rest);
     assert!(close(&f, &Vec6::zeros()), "{f}");
-    // 1 m beyond a 4-m cable at 10 N/m: 10 N back towards the anchor, −10 · (0.6, 0, 0.8).
-    let f = tether("taut", &[10.0, 4.0, 0.0, 0.0, 0.0], at, level, rest);
-    assert!(close(&f, &Vec6::new(-6.0, 0.0, -8.0, 0.0, 0.0, 0.0)), "{f}");
-    // The same hull and cable with the anchor moved 6 m north, to (6, 0): the hull is 5 m from
-    // it, along (−0.6, 0, 0.8), and is pulled north and up.
-    let f = tether("taut", &[10.0, 4.0, 0.0, 6.0, 0.0], at, level, rest);
-    assert!(close(&f, &Vec6::new(6.0, 0.0, -8.0, 0.0, 0.0, 0.0)), "{f}");
+    // 1 m beyond a 2-m cable at 10 N/m: 10 N back towards the anchor, horizontally (south).
+    let f = tether("taut", &[10.0, 2.0, 0.0, 0.0, 0.0], at, level, rest);
+    assert!(close(&f, &Vec6::new(-10.0, 0.0, 0.0, 0.0, 0.0, 0.0)), "{f}");
+    // The anchor moved to (6, 4): the hull is 5 m from it horizontally, along (−0.6, −0.8);
+    // 3 m beyond a 2-m cable: 30 N towards (0.6, 0.8); attached 0.1 m aft, the moment about
+    // z is x F_y = −0.1 · 24 = −2.4 N·m.
+    let f = tether(
+        "taut",
+        &[10.0, 2.0, -0.1, 6.0, 4.0],
+        at + Vec3::new(0.1, 0.0, 0.0),
+        level,
+        rest,
+    );
+    assert!(
+        close(&f, &Vec6::new(18.0, 24.0, 0.0, 0.0, 0.0, -2.4)),
+        "{f}"
+    );
+    // Straight below the anchor, however deep: no pull (a vertical pull would be a buoyancy
+    // that grows with depth).
+    let f = tether(
+        "taut",
+        &[10.0, 0.5, 0.0, 0.0, 0.0],
+        Vec3::new(0.0, 0.0, 30.0),
+        level,
+        rest,
+    );
+    assert!(close(&f, &Vec6::zeros()), "{f}");
 }
 
 /// The μAUV² with the thrust hooks of `effects`: its thrust curves and lags after configuring.

@@ -9,7 +9,7 @@
 //! cargo run --release -p shoal-testkit --example make_testset -- --out out/long --length 240 --noise 2
 //! ```
 //!
-//! Options: `--subset full|pinned` (default full: 322 cases; pinned: the 64 whose verdicts the
+//! Options: `--subset full|pinned` (default full: 328 cases; pinned: the 65 whose verdicts the
 //! tests pin), `--length S` log length in seconds (default 120), `--noise M` sensor noise as a
 //! multiple of the μAUV² preset's (default 1). The output is deterministic.
 

@@ -78,6 +78,27 @@ pub struct ForceContext<'a> {
     pub density: f64,
 }
 
+impl<'a> ForceContext<'a> {
+    /// What a force hook sees of the hull `rigid` of `vehicle` at time `t` \[s\] with the
+    /// thrusters idle, in water of `env` — for evaluating a force law on its own.
+    pub fn idle(
+        t: f64,
+        rigid: &'a RigidState,
+        vehicle: &'a VehicleParams,
+        env: &crate::rigid_body::Environment,
+    ) -> Self {
+        Self {
+            t,
+            rigid,
+            thrust_force: Vec3::zeros(),
+            thrust_moment: Vec3::zeros(),
+            vehicle,
+            gravity: env.gravity,
+            density: env.density,
+        }
+    }
+}
+
 /// A parametric model extension. Parameters arrive as a slice in the order of
 /// [`Effect::params`], already checked against their bounds.
 pub trait Effect: Send + Sync + fmt::Debug {

@@ -188,15 +188,12 @@ mod tests {
     use crate::rigid_body::RigidState;
 
     fn ctx<'a>(rigid: &'a RigidState, vehicle: &'a VehicleParams, t: f64) -> ForceContext<'a> {
-        ForceContext {
+        ForceContext::idle(
             t,
             rigid,
-            thrust_force: Vec3::zeros(),
-            thrust_moment: Vec3::zeros(),
             vehicle,
-            gravity: 9.81,
-            density: 1000.0,
-        }
+            &crate::rigid_body::Environment::default(),
+        )
     }
 
     #[test]

@@ -23,10 +23,14 @@
 //! cable (a vehicle straight below its anchor diving along the cable feels none of it), and
 //! pulls at the attachment point, so sway and yaw of a hull with an aft tether couple.
 //!
-//! **`taut`.** A cable of length ℓ that runs out: within ℓ of the anchor it is slack and does
-//! nothing, beyond it it pulls back like a spring of stiffness k, F = −k (r − ℓ) ê, ê the
+//! **`taut`.** A cable that runs out as the vehicle travels: within a horizontal distance ℓ of
+//! the anchor it is slack and does nothing, beyond it it pulls back towards the anchor like a
+//! spring of stiffness k, F = −k (r_h − ℓ) ê_h, r_h and ê_h the horizontal distance and
 //! direction from the anchor to the attachment point — a tether on a fixed length, a safety
-//! line.
+//! line. The pull is taken horizontal: a cable straight above a hull pulling it up would be a
+//! vertical force that grows with depth, which `buoyancy_offset` (`depth`) already describes
+//! and no log can tell from it (fitted on a yaw run that held its place, such a cable took a
+//! depth-sensor drift for itself).
 
 use super::effect::{Effect, ForceContext, ParamInfo};
 use crate::math::{Vec3, Vec6, join6};
@@ -160,12 +164,12 @@ impl Effect for TetherTaut {
         "taut"
     }
     fn summary(&self) -> &'static str {
-        "a cable of length ℓ from the surface pulls the hull back once it runs out"
+        "a cable from the surface pulls the hull back horizontally once it runs out at ℓ"
     }
     fn explanation(&self) -> &'static str {
         "A tether or safety line of fixed length from an anchor on the surface: slack within \
-         ℓ of the anchor, beyond it the cable stretches and pulls the attachment point back \
-         towards the anchor with k·(r − ℓ)."
+         a horizontal distance ℓ of the anchor, beyond it the cable stretches and pulls the \
+         attachment point back towards the anchor, horizontally, with k·(r_h − ℓ)."
     }
     fn params(&self, _vehicle: &VehicleParams) -> Vec<ParamInfo> {
         let mut p = vec![
@@ -186,7 +190,7 @@ impl Effect for TetherTaut {
                 hi: 100.0,
                 null: 5.0,
                 typical: 5.0,
-                doc: "length of the cable from the anchor",
+                doc: "horizontal distance from the anchor at which the cable runs out",
                 shape: true,
             },
         ];
@@ -198,11 +202,12 @@ impl Effect for TetherTaut {
             return Vec6::zeros();
         }
         let (a, pos, _) = attachment(&p[2..], ctx);
-        let r = pos.norm();
+        let horizontal = Vec3::new(pos.x, pos.y, 0.0);
+        let r = horizontal.norm();
         if r <= p[1] {
             return Vec6::zeros();
         }
-        let f = -p[0] * (r - p[1]) * pos / r;
+        let f = -p[0] * (r - p[1]) * horizontal / r;
         wrench_at(&a, &f, ctx)
     }
 }

@@ -21,6 +21,20 @@ use super::effect::{Effect, ParamInfo};
 use super::per_thruster;
 use crate::vehicle_params::VehicleParams;
 
+/// The time constant τ of the first-order and per-thruster forms, 0 … 2 s.
+fn tau_param(doc: &'static str) -> ParamInfo {
+    ParamInfo {
+        name: "tau_s",
+        unit: "s",
+        lo: 0.0,
+        hi: 2.0,
+        null: 0.0,
+        typical: 0.3,
+        doc,
+        shape: false,
+    }
+}
+
 /// See the module documentation.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct ThrusterLag;
@@ -40,16 +54,7 @@ impl Effect for ThrusterLag {
          constant τ instead of jumping (one-state thruster model, linearised)."
     }
     fn params(&self, _vehicle: &VehicleParams) -> Vec<ParamInfo> {
-        vec![ParamInfo {
-            name: "tau_s",
-            unit: "s",
-            lo: 0.0,
-            hi: 2.0,
-            null: 0.0,
-            typical: 0.3,
-            doc: "time constant added to each thruster's lag",
-            shape: false,
-        }]
+        vec![tau_param("time constant added to each thruster's lag")]
     }
     fn configure(&self, p: &[f64], vehicle: &mut VehicleParams) {
         for th in &mut vehicle.thrusters {
@@ -212,16 +217,7 @@ impl Effect for ThrusterLagPerThruster {
         per_thruster::params(
             vehicle,
             &per_thruster::LAG_NAMES,
-            ParamInfo {
-                name: "tau_s",
-                unit: "s",
-                lo: 0.0,
-                hi: 2.0,
-                null: 0.0,
-                typical: 0.3,
-                doc: "time constant added to thruster i's lag (vehicle file order)",
-                shape: false,
-            },
+            tau_param("time constant added to thruster i's lag (vehicle file order)"),
         )
     }
     fn not_applicable(&self, vehicle: &VehicleParams) -> Option<String> {

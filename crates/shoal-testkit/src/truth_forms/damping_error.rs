@@ -186,15 +186,8 @@ mod tests {
         let vehicle = presets::uauv2();
         let mut rigid = RigidState::at_rest(Vec3::new(0.0, 0.0, 1.0), Quat::identity());
         rigid.nu = nu;
-        let ctx = ForceContext {
-            t: 0.0,
-            rigid: &rigid,
-            thrust_force: Vec3::zeros(),
-            thrust_moment: Vec3::zeros(),
-            vehicle: &vehicle,
-            gravity: 9.81,
-            density: 1000.0,
-        };
+        let env = shoal_model::rigid_body::Environment::default();
+        let ctx = ForceContext::idle(0.0, &rigid, &vehicle, &env);
         vehicle.body.damping(&nu) - e.force(&[], &ctx)
     }
 

@@ -460,6 +460,24 @@ impl TruthHook for Truth {
 /// The descriptive methods of an [`Effect`] that is a truth form: not fittable (no parameters;
 /// the values live in the struct), named after its form, summarised and explained by its law.
 macro_rules! truth_effect_meta {
+    // A type that carries its name and law in fields `name` and `law`.
+    (fields) => {
+        fn name(&self) -> &'static str {
+            self.name
+        }
+        fn summary(&self) -> &'static str {
+            self.law
+        }
+        fn explanation(&self) -> &'static str {
+            self.law
+        }
+        fn params(
+            &self,
+            _vehicle: &shoal_model::vehicle::VehicleParams,
+        ) -> Vec<shoal_model::effects::ParamInfo> {
+            Vec::new()
+        }
+    };
     ($name:expr, $law:expr) => {
         fn name(&self) -> &'static str {
             $name

@@ -20,7 +20,7 @@
 use super::{ExpKind, FormParam, Part, TruthForm, truth_effect_meta};
 use crate::synth::TruthHook;
 use shoal_model::effects::{Effect, ForceContext, RestoringMoment, RestoringMomentSettling};
-use shoal_model::math::{Vec3, Vec6};
+use shoal_model::math::Vec6;
 use shoal_model::rigid_body::Environment;
 use shoal_model::vehicle::{VehicleModel, VehicleState};
 use std::sync::Arc;
@@ -192,15 +192,7 @@ impl TruthHook for SloshingWater {
         let (roll, pitch, _) = rigid.attitude.euler_angles();
         let (xi_r, xi_p) = self.surface.get_or_insert((roll.sin(), pitch.sin()));
         let dr = [self.x0 - self.s * *xi_p, self.y0 + self.s * *xi_r];
-        let ctx = ForceContext {
-            t: state.time,
-            rigid,
-            thrust_force: Vec3::zeros(),
-            thrust_moment: Vec3::zeros(),
-            vehicle: &model.params,
-            gravity: env.gravity,
-            density: env.density,
-        };
+        let ctx = ForceContext::idle(state.time, rigid, &model.params, env);
         let m = RestoringMoment.force(&dr, &ctx);
         // The moment, held over the step like every other force.
         state.tau += m;

@@ -12,7 +12,7 @@
 //! and attach it at body x = x_att. No designed experiment shows them (see
 //! [`TruthForm::excites`]): they are hidden in the closed-loop missions only.
 
-use super::{FormParam, Part, TruthForm};
+use super::{FormParam, Part, TruthForm, truth_effect_meta};
 use shoal_model::effects::{Effect, ForceContext, TetherDrag};
 use shoal_model::math::{Vec3, Vec6, join6};
 use std::sync::Arc;
@@ -64,6 +64,7 @@ pub(super) fn forms() -> Vec<TruthForm> {
             build: |p| {
                 Part::Effect(Arc::new(Cable {
                     name: SLACK,
+                    law: SLACK_LAW,
                     cd_d: p[0],
                     slack: p[1],
                     c_t: 0.0,
@@ -90,6 +91,7 @@ pub(super) fn forms() -> Vec<TruthForm> {
             build: |p| {
                 Part::Effect(Arc::new(Cable {
                     name: ALONG,
+                    law: ALONG_LAW,
                     cd_d: p[0],
                     slack: 0.0,
                     c_t: p[1],
@@ -104,6 +106,7 @@ pub(super) fn forms() -> Vec<TruthForm> {
 #[derive(Debug)]
 struct Cable {
     name: &'static str,
+    law: &'static str,
     cd_d: f64,
     slack: f64,
     c_t: f64,
@@ -111,25 +114,7 @@ struct Cable {
 }
 
 impl Effect for Cable {
-    fn name(&self) -> &'static str {
-        self.name
-    }
-    fn summary(&self) -> &'static str {
-        if self.name == SLACK {
-            SLACK_LAW
-        } else {
-            ALONG_LAW
-        }
-    }
-    fn explanation(&self) -> &'static str {
-        self.summary()
-    }
-    fn params(
-        &self,
-        _vehicle: &shoal_model::vehicle::VehicleParams,
-    ) -> Vec<shoal_model::effects::ParamInfo> {
-        Vec::new()
-    }
+    truth_effect_meta!(fields);
     fn force(&self, _p: &[f64], ctx: &ForceContext<'_>) -> Vec6 {
         let r = ctx.rigid;
         let a = Vec3::new(self.x_att, 0.0, 0.0);
@@ -160,7 +145,7 @@ impl Effect for Cable {
 mod tests {
     use super::*;
     use shoal_model::presets;
-    use shoal_model::rigid_body::RigidState;
+    use shoal_model::rigid_body::{Environment, RigidState};
 
     fn force(form: &str, p: &[f64], position: Vec3, nu: Vec6) -> Vec6 {
         let f = forms()
@@ -178,15 +163,7 @@ mod tests {
         };
         e.force(
             &[],
-            &ForceContext {
-                t: 0.0,
-                rigid: &rigid,
-                thrust_force: Vec3::zeros(),
-                thrust_moment: Vec3::zeros(),
-                vehicle: &vehicle,
-                gravity: 9.81,
-                density: 1000.0,
-            },
+            &ForceContext::idle(0.0, &rigid, &vehicle, &Environment::default()),
         )
     }
 

@@ -1,6 +1,7 @@
 //! Re-anchored replays (multiple shooting with the measured states as the shooting nodes): a
 //! long run is replayed in horizons, and at the start of each horizon the states the log
-//! measures — depth, roll, pitch, yaw and the body rates — are set to what the measurements
+//! measures — depth, roll, pitch, yaw, the body rates and a tracked horizontal position — are
+//! set to what the measurements
 //! show there, while every state the log does not measure (velocities, ballast, actuator
 //! states, the attitude angles it lacks) runs on through the model. An open-loop replay of a
 //! closed-loop mission drifts away from the vehicle and never returns (a model a few per cent
@@ -66,6 +67,8 @@ pub struct Anchor {
     pub rpy: [Option<Local>; 3],
     /// Gyro readings p, q, r [rad/s].
     pub rates: [Option<Local>; 3],
+    /// Tracked position x, y of the body origin \[m\].
+    pub position: [Option<Local>; 2],
 }
 
 impl Anchor {
@@ -87,10 +90,12 @@ impl Anchor {
                 fit(ChannelKind::Q),
                 fit(ChannelKind::R),
             ],
+            position: [fit(ChannelKind::X), fit(ChannelKind::Y)],
         };
         let any = a.depth.is_some()
             || a.rpy.iter().any(Option::is_some)
-            || a.rates.iter().any(Option::is_some);
+            || a.rates.iter().any(Option::is_some)
+            || a.position.iter().any(Option::is_some);
         any.then_some(a)
     }
 
@@ -130,6 +135,11 @@ impl Anchor {
         for (i, m) in self.rates.iter().enumerate() {
             if let Some(m) = m {
                 rigid.nu[3 + i] = m.at(ahead) - p.imu.gyro_bias[i];
+            }
+        }
+        for (i, m) in self.position.iter().enumerate() {
+            if let Some(m) = m {
+                rigid.position[i] = m.at(ahead);
             }
         }
         if let Some(d) = self.depth {
