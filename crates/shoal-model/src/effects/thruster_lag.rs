@@ -21,7 +21,7 @@ use super::effect::{Effect, ParamInfo};
 use super::per_thruster;
 use crate::vehicle_params::VehicleParams;
 
-/// The time constant τ of the first-order and per-thruster forms, 0 … 2 s.
+/// A time constant τ of the first-order, up/down and per-thruster forms, 0 … 2 s.
 fn tau_param(doc: &'static str) -> ParamInfo {
     ParamInfo {
         name: "tau_s",
@@ -127,13 +127,7 @@ impl Effect for ThrusterLagUpDown {
     fn params(&self, _vehicle: &VehicleParams) -> Vec<ParamInfo> {
         let p = |name, doc| ParamInfo {
             name,
-            unit: "s",
-            lo: 0.0,
-            hi: 2.0,
-            null: 0.0,
-            typical: 0.3,
-            doc,
-            shape: false,
+            ..tau_param(doc)
         };
         vec![
             p("tau_up_s", "time constant while the thrust magnitude grows"),
