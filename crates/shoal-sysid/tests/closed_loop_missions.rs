@@ -29,19 +29,24 @@ fn case(name: &str) -> MissionCase {
         .unwrap_or_else(|| panic!("no mission case {name}"))
 }
 
-fn verdict(name: &str) -> Verdict {
-    let c = case(name);
-    let csv = c.csv(&Disturbance::default());
+/// The verdict on mission `c` flown under `dist`, searched re-anchored (`auto`).
+fn verdict_of(c: &MissionCase, dist: &Disturbance) -> Verdict {
+    let csv = c.csv(dist);
     let v = Verdict::new(
         &c.expected(),
         search_log_with(&csv, &c.name, 1, Horizon::Auto),
     );
     eprintln!(
-        "{name}: expected {:?}, found {}",
+        "{}: expected {:?}, found {}",
+        c.name,
         v.expected,
         v.found_text()
     );
     v
+}
+
+fn verdict(name: &str) -> Verdict {
+    verdict_of(&case(name), &Disturbance::default())
 }
 
 /// A thruster that slews its command (a matched form of `thruster_lag`), hidden in a mission
@@ -76,17 +81,7 @@ fn a_mission_with_nothing_hidden_gives_an_empty_verdict() {
 #[ignore = "campaign (scripts/campaign.sh): two full searches of five-minute missions"]
 fn a_tether_in_a_tracked_mission_is_named() {
     for c in tracked_cases(CI_MISSION_S) {
-        let csv = c.csv(&Disturbance::NONE);
-        let v = Verdict::new(
-            &c.expected(),
-            search_log_with(&csv, &c.name, 1, Horizon::Auto),
-        );
-        eprintln!(
-            "{}: expected {:?}, found {}",
-            c.name,
-            v.expected,
-            v.found_text()
-        );
+        let v = verdict_of(&c, &Disturbance::NONE);
         assert!(
             v.exact(),
             "{}: extras {:?}, missing {:?}",

@@ -10,8 +10,9 @@
 //! range (laws in run time stretched to the mission: [`STRETCHED`]), and three null missions
 //! (disturbances only). `water_current` is left out: the
 //! mission logs carry no position, and the wandering current is on every case already; so is
-//! `tether_drag`, whose pull depends on where the hull is (the search does not fit it without
-//! a position). [`tracked_cases`] are missions that log the tracked position, for it.
+//! every family the search fits only on channels a mission does not log
+//! ([`shoal_sysid::search::direct_channels`]: `tether_drag`, whose pull depends on where the
+//! hull is). [`tracked_cases`] are missions that log the tracked position, for it.
 //!
 //! Everything is deterministic in the case's seed.
 
@@ -25,6 +26,7 @@ use shoal_model::presets;
 use shoal_model::rigid_body::Environment;
 use shoal_model::vehicle::VehicleModel;
 use shoal_sysid::log::run::{ChannelKind, MeasuredRun};
+use shoal_sysid::search::direct_channels;
 
 /// Mission length of the set \[s\] (10 minutes).
 pub const MISSION_S: f64 = 600.0;
@@ -123,8 +125,12 @@ pub fn cases(duration: f64) -> Vec<MissionCase> {
     let mut out = Vec::new();
     let families = shoal_model::effects::names();
     let mut seed = 0;
-    let untracked = |f: &&str| !matches!(*f, "water_current" | "tether_drag");
-    for family in families.into_iter().filter(untracked) {
+    let logged = uauv2_mission(1, duration).channels;
+    let fitted = |f: &&str| {
+        *f != "water_current"
+            && direct_channels(f).is_none_or(|(needs, _)| needs.iter().any(|c| logged.contains(c)))
+    };
+    for family in families.into_iter().filter(fitted) {
         let Some(form) = form_of(family) else {
             continue;
         };

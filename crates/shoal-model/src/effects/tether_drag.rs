@@ -73,37 +73,38 @@ fn geometry_params() -> [ParamInfo; 3] {
     ]
 }
 
-/// Where the cable meets the hull, for the geometry `g` = (x_att, anchor x, anchor y): the
-/// attachment point `a` (body frame), its position relative to the anchor and its velocity
-/// through the water (world frame) [m, m/s].
-fn attachment(g: &[f64], ctx: &ForceContext<'_>) -> (Vec3, Vec3, Vec3) {
-    let r = ctx.rigid;
-    let a = Vec3::new(g[0], 0.0, 0.0);
-    let v = Vec3::new(r.nu[0], r.nu[1], r.nu[2]);
-    let w = Vec3::new(r.nu[3], r.nu[4], r.nu[5]);
-    let anchor = Vec3::new(g[1], g[2], 0.0);
-    let pos = r.position + r.attitude.transform_vector(&a) - anchor;
-    let vel = r.attitude.transform_vector(&(v + w.cross(&a)));
-    (a, pos, vel)
-}
-
-/// The world-frame force `f` [N] at the body point `a` [m] as a body-frame wrench [N, N·m].
-fn wrench_at(a: &Vec3, f: &Vec3, ctx: &ForceContext<'_>) -> Vec6 {
-    let fb = ctx.rigid.attitude.inverse_transform_vector(f);
-    join6(&fb, &a.cross(&fb))
-}
-
 /// See the module documentation.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct TetherDrag;
 
 impl TetherDrag {
+    /// Where the cable meets the hull, for the geometry `g` = (x_att \[m\], anchor x \[m\],
+    /// anchor y \[m\]): the attachment point `a` (body frame), its position relative to the
+    /// anchor and its velocity through the water (world frame) [m, m/s].
+    pub fn attachment(g: &[f64], ctx: &ForceContext<'_>) -> (Vec3, Vec3, Vec3) {
+        let r = ctx.rigid;
+        let a = Vec3::new(g[0], 0.0, 0.0);
+        let v = Vec3::new(r.nu[0], r.nu[1], r.nu[2]);
+        let w = Vec3::new(r.nu[3], r.nu[4], r.nu[5]);
+        let anchor = Vec3::new(g[1], g[2], 0.0);
+        let pos = r.position + r.attitude.transform_vector(&a) - anchor;
+        let vel = r.attitude.transform_vector(&(v + w.cross(&a)));
+        (a, pos, vel)
+    }
+
+    /// The world-frame force `f` \[N\] at the body point `a` \[m\] as a body-frame wrench
+    /// [N, N·m].
+    pub fn wrench_at(a: &Vec3, f: &Vec3, ctx: &ForceContext<'_>) -> Vec6 {
+        let fb = ctx.rigid.attitude.inverse_transform_vector(f);
+        join6(&fb, &a.cross(&fb))
+    }
+
     /// The force on the hull, world frame \[N\], of a cable with drag area per length `cd_d`
     /// \[m\] from the anchor to the attachment point at `pos` from it, moving at `vel`
     /// through water of density `rho` [kg/m³].
     pub fn cable_force(cd_d: f64, pos: &Vec3, vel: &Vec3, rho: f64) -> Vec3 {
         let len = pos.norm();
-        if cd_d == 0.0 || len < 1e-9 {
+        if len < 1e-9 {
             return Vec3::zeros();
         }
         let e = pos / len;
@@ -146,9 +147,9 @@ impl Effect for TetherDrag {
         if p[0] == 0.0 {
             return Vec6::zeros();
         }
-        let (a, pos, vel) = attachment(&p[1..], ctx);
+        let (a, pos, vel) = Self::attachment(&p[1..], ctx);
         let f = Self::cable_force(p[0], &pos, &vel, ctx.density);
-        wrench_at(&a, &f, ctx)
+        Self::wrench_at(&a, &f, ctx)
     }
 }
 
@@ -201,13 +202,13 @@ impl Effect for TetherTaut {
         if p[0] == 0.0 {
             return Vec6::zeros();
         }
-        let (a, pos, _) = attachment(&p[2..], ctx);
+        let (a, pos, _) = TetherDrag::attachment(&p[2..], ctx);
         let horizontal = Vec3::new(pos.x, pos.y, 0.0);
         let r = horizontal.norm();
         if r <= p[1] {
             return Vec6::zeros();
         }
         let f = -p[0] * (r - p[1]) * horizontal / r;
-        wrench_at(&a, &f, ctx)
+        TetherDrag::wrench_at(&a, &f, ctx)
     }
 }

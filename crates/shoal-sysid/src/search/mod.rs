@@ -115,6 +115,7 @@ mod verdict;
 
 pub use candidate::{Candidate, FormScore};
 pub use fitted::{Fit, FittedEffect, ParamEstimate};
+pub use identify::direct_channels;
 pub use measures::{bic, delta_bic, gain};
 pub use options::SearchOptions;
 pub use orchestrate::search;

@@ -350,17 +350,22 @@ pub fn all() -> Vec<TruthForm> {
     .collect()
 }
 
-/// The catalogue families with a truth form that some designed experiment shows (every
-/// family but those seen only in the closed-loop missions), in catalogue order.
+/// The truth forms that some designed experiment shows (all but those hidden only in the
+/// closed-loop missions, [`TruthForm::excites`]), in catalogue order of their families: what
+/// the designed test sets and the recovery benchmark draw from.
+pub fn designed() -> Vec<TruthForm> {
+    all()
+        .into_iter()
+        .filter(|f| !f.excites.is_empty())
+        .collect()
+}
+
+/// The catalogue families with a [`designed`] truth form, in catalogue order.
 pub fn designed_families() -> Vec<&'static str> {
-    let forms = all();
+    let forms = designed();
     shoal_model::effects::names()
         .into_iter()
-        .filter(|n| {
-            forms
-                .iter()
-                .any(|f| f.family == *n && !f.excites.is_empty())
-        })
+        .filter(|n| forms.iter().any(|f| f.family == *n))
         .collect()
 }
 

@@ -14,7 +14,7 @@
 
 use super::{FormParam, Part, TruthForm, truth_effect_meta};
 use shoal_model::effects::{Effect, ForceContext, TetherDrag};
-use shoal_model::math::{Vec3, Vec6, join6};
+use shoal_model::math::{Vec3, Vec6};
 use std::sync::Arc;
 
 /// The anchor: on the surface above the start of the closed-loop missions
@@ -116,12 +116,8 @@ struct Cable {
 impl Effect for Cable {
     truth_effect_meta!(fields);
     fn force(&self, _p: &[f64], ctx: &ForceContext<'_>) -> Vec6 {
-        let r = ctx.rigid;
-        let a = Vec3::new(self.x_att, 0.0, 0.0);
-        let v = Vec3::new(r.nu[0], r.nu[1], r.nu[2]);
-        let w = Vec3::new(r.nu[3], r.nu[4], r.nu[5]);
-        let pos = r.position + r.attitude.transform_vector(&a) - ANCHOR;
-        let vel = r.attitude.transform_vector(&(v + w.cross(&a)));
+        let geometry = [self.x_att, ANCHOR.x, ANCHOR.y];
+        let (a, pos, vel) = TetherDrag::attachment(&geometry, ctx);
         let len = pos.norm();
         if len < 1e-9 {
             return Vec6::zeros();
@@ -133,11 +129,7 @@ impl Effect for Cable {
         let e = pos / len;
         let vt = e * vel.dot(&e);
         let along = -0.125 * ctx.density * self.c_t * self.cd_d * len * vt.norm() * vt;
-        let f = ctx
-            .rigid
-            .attitude
-            .inverse_transform_vector(&(across + along));
-        join6(&f, &a.cross(&f))
+        TetherDrag::wrench_at(&a, &(across + along), ctx)
     }
 }
 
