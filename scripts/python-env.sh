@@ -2,7 +2,7 @@
 # The project's one Python environment: a venv in .venv at the repository root (SHOAL_VENV
 # overrides the place) holding the `shoal` package built from this checkout with its RL and
 # test extras (`pip install "./python[rl,test]"`: numpy, iceoryx2 0.10, PettingZoo, Gymnasium,
-# pytest) and maturin, which builds the extension module in release mode with cargo into the
+# pytest, rosbags and mcap) and maturin, which builds the extension module in release mode with cargo into the
 # workspace's target directory. The tests (scripts/test.sh, crates/shoal-cli/tests/python_agent.rs),
 # `shoal bench --agents python` and README use it.
 #
@@ -33,7 +33,7 @@ if ! "$py" -c 'import pip' >/dev/null 2>&1; then
     python3 -m venv --clear "$venv" >&2
 fi
 stamp="$venv/.shoal-built"
-if [ -f "$stamp" ] && "$py" -c 'import shoal, shoal.rl, shoal.agent, pytest' >/dev/null 2>&1 &&
+if [ -f "$stamp" ] && "$py" -c 'import shoal, shoal.rl, shoal.agent, pytest, rosbags, mcap' >/dev/null 2>&1 &&
     [ -z "$(find crates python/shoal python/shoal_agent python/pyproject.toml Cargo.toml Cargo.lock \
         -newer "$stamp" -type f ! -path '*/__pycache__/*' 2>/dev/null | head -n 1)" ]; then
     echo "$py"

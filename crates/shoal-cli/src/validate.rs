@@ -4,6 +4,7 @@
 use crate::Failure;
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressStyle};
+use shoal_rosbag::Mapping;
 use shoal_sysid::log::format::TimeUnit;
 use shoal_sysid::log::segments::{GapMode, Segments};
 use shoal_sysid::validate::{Config, Horizon, Progress, RunInput, ValidateError, Vehicle};
@@ -15,13 +16,18 @@ use std::time::Instant;
 /// Arguments of `shoal validate`.
 #[derive(clap::Args, Debug)]
 pub struct ValidateArgs {
-    /// Measured runs (CSV, see docs/validation.md) to fit on; without --holdout each is split
-    /// into an estimation part and a later validation part.
-    #[arg(required = true, value_name = "RUN.csv")]
+    /// Measured runs to fit on: CSV files (see docs/validation.md), or rosbag2s (an `.mcap`
+    /// file or a rosbag2 folder, read through --mapping); without --holdout each is split into
+    /// an estimation part and a later validation part.
+    #[arg(required = true, value_name = "RUN.csv|BAG")]
     pub runs: Vec<PathBuf>,
     /// Runs used only for scoring, never for fitting.
-    #[arg(long, num_args = 1.., value_name = "RUN.csv")]
+    #[arg(long, num_args = 1.., value_name = "RUN.csv|BAG")]
     pub holdout: Vec<PathBuf>,
+    /// How the rosbag2s among the runs map onto inputs and channels (TOML: topic, field,
+    /// scale/offset, clock and axes per `u.` and `y.` name; docs/validation.md "Your rosbag2").
+    #[arg(long, value_name = "MAPPING.toml")]
+    pub mapping: Option<PathBuf>,
     /// Vehicle model in the world-file format (its first vehicle group) [default: the μAUV²
     /// preset].
     #[arg(long, value_name = "FILE")]
@@ -126,8 +132,15 @@ pub fn validate(args: &ValidateArgs) -> Result<ExitCode, Failure> {
     pb.enable_steady_tick(std::time::Duration::from_millis(200));
     let started = OnceLock::new();
     let stage = Mutex::new(StageClock::default());
-    let files = |paths: &[PathBuf]| -> Vec<RunInput> {
-        paths.iter().cloned().map(RunInput::File).collect()
+    let mapping = match &args.mapping {
+        Some(p) => Some(Mapping::read(p).map_err(|e| Failure::Input(e.to_string()))?),
+        None => None,
+    };
+    let files = |paths: &[PathBuf]| -> Result<Vec<RunInput>, Failure> {
+        paths
+            .iter()
+            .map(|p| run_input(p, mapping.as_ref()))
+            .collect()
     };
     let progress = |p: Progress<'_>| match p {
         Progress::Fit { name } => {
@@ -176,8 +189,8 @@ pub fn validate(args: &ValidateArgs) -> Result<ExitCode, Failure> {
     };
     let v = shoal_sysid::validate::validate(
         &config(args),
-        &files(&args.runs),
-        &files(&args.holdout),
+        &files(&args.runs)?,
+        &files(&args.holdout)?,
         &progress,
     )
     .map_err(input_error)?;
@@ -223,6 +236,22 @@ pub fn validate(args: &ValidateArgs) -> Result<ExitCode, Failure> {
         written.plots.len()
     );
     Ok(ExitCode::SUCCESS)
+}
+
+/// A CSV file as it is; a bag read through the mapping.
+fn run_input(path: &Path, mapping: Option<&Mapping>) -> Result<RunInput, Failure> {
+    if !shoal_rosbag::is_bag(path) {
+        return Ok(RunInput::File(path.to_path_buf()));
+    }
+    let Some(mapping) = mapping else {
+        return Err(Failure::Input(format!(
+            "{}: a rosbag2 needs --mapping MAPPING.toml (which topic and field is each input \
+             and channel; docs/validation.md \"Your rosbag2\")",
+            path.display()
+        )));
+    };
+    let run = shoal_rosbag::read_bag(path, mapping).map_err(|e| Failure::Input(e.to_string()))?;
+    Ok(RunInput::Measured(Box::new(run)))
 }
 
 /// The stage of the search running now, for the progress line.

@@ -46,6 +46,9 @@ pub enum RunInput {
         /// The CSV text, header first.
         csv: String,
     },
+    /// A run already read (by another reader: a rosbag2 through its mapping); it is split at
+    /// gaps and checked like a file.
+    Measured(Box<MeasuredRun>),
 }
 
 impl RunInput {
@@ -54,6 +57,7 @@ impl RunInput {
         match self {
             RunInput::File(p) => p,
             RunInput::Text { name, .. } => Path::new(name),
+            RunInput::Measured(run) => &run.path,
         }
     }
 }
@@ -410,6 +414,7 @@ fn read_runs(
         let run = match input {
             RunInput::File(p) => MeasuredRun::read_with(p, read),
             RunInput::Text { name, csv } => MeasuredRun::parse_with(csv, Path::new(name), read),
+            RunInput::Measured(run) => Ok(run.as_ref().clone()),
         }?;
         let segments = run.split_at_gaps(gaps)?;
         progress(Progress::Read {

@@ -136,18 +136,24 @@ pub struct IngestInfo {
     pub dropped_segments: usize,
     /// Largest step between rows allowed within a segment \[s\] (0: not checked).
     pub gap_limit: f64,
+    /// For runs read by another reader than the CSV one (a rosbag2): what it read, in its
+    /// words; the CSV fields above are then unused.
+    pub source: Option<String>,
 }
 
 impl fmt::Display for IngestInfo {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "{} rows, separator {}, time in {}, {} comment line(s)",
-            self.file_rows,
-            self.separator.name(),
-            self.time_unit,
-            self.comment_lines
-        )?;
+        match &self.source {
+            Some(s) => write!(f, "{} rows, {s}", self.file_rows)?,
+            None => write!(
+                f,
+                "{} rows, separator {}, time in {}, {} comment line(s)",
+                self.file_rows,
+                self.separator.name(),
+                self.time_unit,
+                self.comment_lines
+            )?,
+        }
         if self.trailing_separator {
             write!(f, ", trailing separators")?;
         }

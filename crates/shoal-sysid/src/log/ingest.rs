@@ -348,6 +348,7 @@ fn read_run<R: BufRead>(src: R, path: &Path, opts: &ReadOptions) -> Result<Measu
         segments: 0,
         dropped_segments: 0,
         gap_limit: 0.0,
+        source: None,
     };
     let name = path
         .file_stem()

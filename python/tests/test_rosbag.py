@@ -1,0 +1,154 @@
+"""`shoal validate` on rosbag2s written by a real ROS 2 tool chain (PyPI's `rosbags`, not
+shoal): the development logs of ../shared/data/validation_dev as a ROS 2 logger records them
+(`rosbag_writer.py`: a topic per signal, each at its own rate and clock, PWM commands on
+change, absolute pressure at 40 Hz, header stamps with jitter, a measurement topic starting
+late, a vendor message type, a topic nobody maps) give the verdicts pinned for their CSVs
+(crates/shoal-sysid/tests/verdicts/validation_dev.tsv, the development-log test's settings:
+20 ms replay, 60/40 split). And bad bags and mappings give errors that name what and where.
+
+The two logs whose searches take longest (`dev_h_combo`, `dev_h_inflow`; the CSV test leaves
+them to its campaign too) run only with SHOAL_CAMPAIGN=1."""
+
+import json
+import os
+import subprocess
+from pathlib import Path
+
+import pytest
+
+import rosbag_writer as bags
+from conftest import REPO
+
+DEV = REPO.parent / "shared" / "data" / "validation_dev"
+PINNED = REPO / "crates" / "shoal-sysid" / "tests" / "verdicts" / "validation_dev.tsv"
+CAMPAIGN_ONLY = {"dev_h_combo", "dev_h_inflow"}
+
+
+def pinned() -> dict:
+    out = {}
+    for line in PINNED.read_text().splitlines():
+        if line.startswith("#") or not line.strip():
+            continue
+        case, _hidden, found = line.split("\t")
+        out[case] = [] if found == "-" else found.split(",")
+    return out
+
+
+PINNED_VERDICTS = pinned()
+
+
+def case_params():
+    for name in sorted(PINNED_VERDICTS):
+        marks = []
+        if name in CAMPAIGN_ONLY and os.environ.get("SHOAL_CAMPAIGN") != "1":
+            marks.append(pytest.mark.skip(reason="campaign only (SHOAL_CAMPAIGN=1)"))
+        yield pytest.param(name, marks=marks)
+
+
+def bag_of(name: str, tmp: Path) -> tuple:
+    csv = DEV / f"{name}.csv"
+    assert csv.is_file(), f"the development logs belong beside the repository: no {csv}"
+    bag = bags.write_bag(csv, tmp / name)
+    mapping = tmp / f"{name}.toml"
+    mapping.write_text(bags.mapping_for(bags.read_csv(csv)))
+    return bag, mapping
+
+
+def validate(exe: Path, out: Path, *args: str) -> subprocess.CompletedProcess:
+    cmd = [str(exe), "validate", *args, "--dt", "0.02", "--quiet", "--no-plots", "--threads", "1",
+           "--out", str(out)]
+    return subprocess.run(cmd, capture_output=True, text=True, timeout=900)
+
+
+@pytest.mark.parametrize("name", list(case_params()))
+def test_a_bag_gives_the_verdict_of_its_csv(shoal_bin, tmp_path, name):
+    bag, mapping = bag_of(name, tmp_path)
+    p = validate(shoal_bin, tmp_path / "out", str(bag), "--mapping", str(mapping))
+    assert p.returncode == 0, p.stderr
+    report = json.loads((tmp_path / "out" / "report.json").read_text())
+    assert sorted(report["verdict"]["effects"]) == sorted(PINNED_VERDICTS[name]), (
+        f"{name}: the bag's verdict differs from the CSV's pinned one\n{p.stdout}"
+    )
+    run = report["runs"][0] if isinstance(report["runs"], list) else None
+    assert run is None or "rosbag2" in json.dumps(run), run
+
+
+def test_the_bag_holds_what_a_ros2_logger_writes(tmp_path):
+    """The bag is what the test claims: its own rates, jitter, a late topic, a vendor type."""
+    from mcap.reader import make_reader
+
+    bag, _ = bag_of("dev_y_gain", tmp_path)
+    (mcap_file,) = sorted(bag.glob("*.mcap"))
+    times = {}
+    schemas = {}
+    with open(mcap_file, "rb") as f:
+        for schema, channel, message in make_reader(f).iter_messages():
+            times.setdefault(channel.topic, []).append(message.log_time)
+            schemas[channel.topic] = (schema.name, schema.encoding, channel.message_encoding)
+    assert schemas["/uauv2/pump"] == ("uauv2_msgs/msg/Pump", "ros2msg", "cdr")
+    assert schemas["/uauv2/imu"][0] == "sensor_msgs/msg/Imu"
+    csv_rows = len(bags.read_csv(DEV / "dev_y_gain.csv")["t"])
+    # The IMU starts late; the commands only on change (far fewer than the rows).
+    assert len(times["/uauv2/imu"]) == csv_rows - int(bags.LATE_S * 50)
+    assert len(times["/uauv2/thrusters"]) < csv_rows / 4
+    assert min(times["/uauv2/imu"]) > min(times["/uauv2/thrusters"]) + 0.3e9
+
+
+def test_bad_bags_and_mappings_are_named(shoal_bin, tmp_path):
+    bag, mapping = bag_of("dev_h_lag2", tmp_path)
+    text = mapping.read_text()
+
+    def fails(*args, want):
+        p = validate(shoal_bin, tmp_path / "o", *args)
+        assert p.returncode == 2, (args, p.returncode, p.stderr)
+        assert want in p.stderr, (want, p.stderr)
+        assert "panicked" not in p.stderr
+
+    # No mapping.
+    fails(str(bag), want="needs --mapping")
+    # A topic the bag does not have.
+    m = tmp_path / "topic.toml"
+    m.write_text(text.replace("/uauv2/tilts", "/uauv2/tilt"))
+    fails(str(bag), "--mapping", str(m), want="topic `/uauv2/tilt` has no messages")
+    # A field path that does not exist names the type's fields.
+    m = tmp_path / "field.toml"
+    m.write_text(text.replace('field = "fluid_pressure"', 'field = "pressure"'))
+    fails(str(bag), "--mapping", str(m),
+          want="`pressure` is not a field of sensor_msgs/FluidPressure (its fields: header, "
+               "fluid_pressure, variance)")
+    # An index past the end of a sequence names the message.
+    m = tmp_path / "index.toml"
+    m.write_text(text.replace('"data[2]"', '"data[3]"'))
+    fails(str(bag), "--mapping", str(m), want="topic `/uauv2/thrusters`, message 1, field `data[3]`")
+    # A typo in the mapping file.
+    m = tmp_path / "typo.toml"
+    m.write_text(text.replace("topic =", "topik =", 1))
+    fails(str(bag), "--mapping", str(m), want="unknown field `topik`")
+    # A truncated bag.
+    (mcap_file,) = sorted(bag.glob("*.mcap"))
+    cut = tmp_path / "cut.mcap"
+    cut.write_bytes(mcap_file.read_bytes()[: mcap_file.stat().st_size // 2])
+    fails(str(cut), "--mapping", str(mapping), want="breaks off")
+    # Not an MCAP file.
+    junk = tmp_path / "junk.mcap"
+    junk.write_bytes(b"not a bag at all")
+    fails(str(junk), "--mapping", str(mapping), want="not an MCAP file")
+
+
+def test_a_topic_without_a_schema_is_named(shoal_bin, tmp_path):
+    """A channel written without a message definition (schema id 0) cannot be decoded."""
+    from mcap.writer import Writer
+
+    path = tmp_path / "noschema.mcap"
+    with open(path, "wb") as f:
+        w = Writer(f)
+        w.start(profile="ros2")
+        ch = w.register_channel(topic="/p", message_encoding="cdr", schema_id=0)
+        for k in range(3):
+            w.add_message(ch, log_time=k * 10**8, data=b"\0\1\0\0" + bytes(24), publish_time=k * 10**8)
+        w.finish()
+    mapping = tmp_path / "m.toml"
+    mapping.write_text('[channels]\n"y.depth" = { topic = "/p", field = "fluid_pressure" }\n')
+    p = validate(shoal_bin, tmp_path / "o", str(path), "--mapping", str(mapping))
+    assert p.returncode == 2, p.stderr
+    assert "topic `/p`: the channel has no schema" in p.stderr, p.stderr
