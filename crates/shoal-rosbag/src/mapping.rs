@@ -2,6 +2,7 @@
 //!
 //! ```toml
 //! [defaults]
+//! namespace = "/auv1"     # topics not starting with `/` are under it (`imu` → `/auv1/imu`)
 //! clock = "header"        # or "log"; per entry as well (default: header when the type has one)
 //! frame = "enu"           # ROS's REP 103 (x forward, y left, z up); or "ned" as shoal
 //!
@@ -121,6 +122,7 @@ struct FileDoc {
 #[derive(Deserialize, Default)]
 #[serde(deny_unknown_fields)]
 struct DefaultsDoc {
+    namespace: Option<String>,
     clock: Option<Clock>,
     frame: Option<Frame>,
 }
@@ -243,6 +245,11 @@ fn entry(key: &str, feeds: Feeds, e: &EntryDoc, d: &DefaultsDoc) -> Result<Entry
     if e.topic.trim().is_empty() || e.field.trim().is_empty() {
         return Err(format!("`{key}`: topic and field must not be empty"));
     }
+    let topic = match (&d.namespace, e.topic.starts_with('/')) {
+        (_, true) => e.topic.clone(),
+        (Some(ns), false) => format!("/{}/{}", ns.trim_matches('/'), e.topic),
+        (None, false) => format!("/{}", e.topic),
+    };
     if let Some(p) = &e.depth_from_pressure {
         if feeds != Feeds::Channel(ChannelKind::Depth) {
             return Err(format!(
@@ -271,7 +278,7 @@ fn entry(key: &str, feeds: Feeds, e: &EntryDoc, d: &DefaultsDoc) -> Result<Entry
     Ok(Entry {
         key: key.to_string(),
         feeds,
-        topic: e.topic.clone(),
+        topic,
         field: e.field.trim().to_string(),
         scale,
         offset,
@@ -308,6 +315,17 @@ mod tests {
         assert_eq!(depth.clock, Some(Clock::Header));
         assert_eq!(depth.frame, Frame::Enu);
         assert_eq!(m.topics(), ["/p", "/t"]);
+    }
+
+    #[test]
+    fn relative_topics_are_under_the_namespace() {
+        let m = parse(
+            "[defaults]\nnamespace = \"/auv1/\"\n[channels]\n\"y.r\" = { topic = \"imu\", \
+             field = \"angular_velocity.z\" }\n\"y.yaw\" = { topic = \"/tracker/imu\", field = \
+             \"orientation\" }\n",
+        )
+        .unwrap();
+        assert_eq!(m.topics(), ["/auv1/imu", "/tracker/imu"]);
     }
 
     #[test]
