@@ -33,7 +33,7 @@ if ! "$py" -c 'import pip' >/dev/null 2>&1; then
     python3 -m venv --clear "$venv" >&2
 fi
 stamp="$venv/.shoal-built"
-if [ -f "$stamp" ] && "$py" -c 'import shoal, shoal.rl, shoal.agent, pytest, rosbags, mcap' >/dev/null 2>&1 &&
+if [ -f "$stamp" ] && "$py" -c 'import shoal, shoal.rl, shoal.agent, pytest, rosbags, mcap, mcap_ros2, jsonschema' >/dev/null 2>&1 &&
     [ -z "$(find crates python/shoal python/shoal_agent python/pyproject.toml Cargo.toml Cargo.lock \
         -newer "$stamp" -type f ! -path '*/__pycache__/*' 2>/dev/null | head -n 1)" ]; then
     echo "$py"

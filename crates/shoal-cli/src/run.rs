@@ -47,6 +47,10 @@ pub struct RunArgs {
     /// Skip `replay.html`, the interactive 3D replay (also `[output] replay = false`).
     #[arg(long)]
     pub no_replay: bool,
+    /// Also write `run.mcap`: the run for Foxglove (3D scene, plots) and ROS 2 tools (also
+    /// `[output] mcap = true`; topics and size budget: docs/mcap.md).
+    #[arg(long)]
+    pub mcap: bool,
     /// Print only the summary (no progress bar).
     #[arg(long, short)]
     pub quiet: bool,
@@ -134,6 +138,9 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, Failure> {
     }
     if args.no_plots {
         desc.output.plots = false;
+    }
+    if args.mcap {
+        desc.output.mcap = true;
     }
     if let Some(t) = &args.timing {
         desc.agents.lockstep = t == "lockstep";

@@ -96,6 +96,39 @@ pub fn bag_files(path: &Path) -> Result<Vec<PathBuf>, BagError> {
     Ok(vec![path.to_path_buf()])
 }
 
+/// The longest record read \[bytes\]: a corrupt length (or a chunk's) beyond it is an error
+/// rather than an allocation of that size. Real bags' records are a few MiB at most (an image).
+pub const RECORD_LIMIT: usize = 256 << 20;
+
+/// The messages of the MCAP file at `file`, streamed (memory: one chunk).
+fn open_mcap(
+    file: &Path,
+) -> Result<impl Iterator<Item = mcap::McapResult<mcap::Message<'static>>>, BagError> {
+    use std::io::{Read, Seek};
+    let fail = |m: String| BagError::new(file, None, m);
+    let mut f =
+        std::fs::File::open(file).map_err(|e| fail(format!("cannot read the file: {e}")))?;
+    let mut magic = [0u8; 8];
+    let n = f
+        .read(&mut magic)
+        .map_err(|e| fail(format!("cannot read the file: {e}")))?;
+    if magic[..n] != mcap::MAGIC[..] {
+        return Err(fail(
+            "not an MCAP file (it does not start with MCAP's magic bytes): shoal reads \
+             rosbag2 with the MCAP storage"
+                .into(),
+        ));
+    }
+    f.rewind()
+        .map_err(|e| fail(format!("cannot read the file: {e}")))?;
+    let options =
+        mcap::sans_io::LinearReaderOptions::default().with_record_length_limit(RECORD_LIMIT);
+    Ok(mcap::io::MessageReader::new_with_options(
+        std::io::BufReader::with_capacity(1 << 20, f),
+        options,
+    ))
+}
+
 /// A mapped topic's decoding: its schema, what to keep, where each entry's values are.
 struct TopicPlan {
     schema: Schema,
@@ -118,19 +151,7 @@ pub fn read_series(path: &Path, mapping: &Mapping) -> Result<(Vec<Series>, BagSu
         ..BagSummary::default()
     };
     for file in &files {
-        let bytes = std::fs::read(file)
-            .map_err(|e| BagError::new(file, None, format!("cannot read the file: {e}")))?;
-        if !bytes.starts_with(mcap::MAGIC) {
-            return Err(BagError::new(
-                file,
-                None,
-                "not an MCAP file (it does not start with MCAP's magic bytes): shoal reads \
-                 rosbag2 with the MCAP storage"
-                    .into(),
-            ));
-        }
-        let stream = mcap::MessageStream::new(&bytes)
-            .map_err(|e| BagError::new(file, None, format!("not a readable MCAP file: {e}")))?;
+        let stream = open_mcap(file)?;
         for (k, message) in stream.enumerate() {
             let message = message.map_err(|e| {
                 BagError::new(

@@ -42,7 +42,10 @@ pub mod col {
     pub const PITCH: usize = 5;
     pub const YAW: usize = 6;
     pub const U: usize = 7;
+    pub const V: usize = 8;
     pub const W: usize = 9;
+    pub const P: usize = 10;
+    pub const Q: usize = 11;
     pub const R: usize = 12;
     pub const DEPTH_READING: usize = 13;
     pub const BALLAST: usize = 14;
@@ -131,9 +134,14 @@ pub fn push_row(
     out.extend(st.actuators.tilt.iter().copied());
 }
 
-/// Rows drained from every vehicle, in vehicle-id order.
+/// Rows drained from every vehicle, in vehicle-id order, and the reception attempts of the
+/// same steps.
 #[derive(Clone, Debug, Default)]
 pub struct RecordBatch {
     /// Per vehicle (index = vehicle id): its flat rows.
     pub rows: Vec<Vec<f64>>,
+    /// Every reception attempt decided since the last drain, in the order the medium decided
+    /// them — only when the world logs them for the run driver (a world whose
+    /// `[output] mcap` is on, [`crate::sim::Sim::new`]); empty otherwise.
+    pub frames: Vec<crate::comm::Heard>,
 }

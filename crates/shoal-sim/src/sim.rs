@@ -73,7 +73,9 @@ pub struct Sim {
 }
 
 impl Sim {
-    /// Spawns every vehicle of `desc` and prepares the schedule.
+    /// Spawns every vehicle of `desc` and prepares the schedule. A recording world
+    /// ([`SimOptions::record`]) whose `[output] mcap` is on also logs every reception attempt
+    /// for [`Sim::drain`] (`run.mcap` writes them).
     pub fn new(desc: &WorldDesc, opts: SimOptions) -> Self {
         match Self::new_until(desc, opts, &Cancel::new()) {
             Ok(sim) => sim,
@@ -106,7 +108,12 @@ impl Sim {
             desc.ambient,
         ));
         world.insert_resource(Connectivity::new(desc.dt));
-        world.insert_resource(Ledger::default());
+        let mut ledger = Ledger::default();
+        if opts.record && desc.output.mcap {
+            // run.mcap writes the frames as the rows are drained (RecordBatch::frames).
+            ledger.log_for_drain();
+        }
+        world.insert_resource(ledger);
         let every = if opts.record {
             (1.0 / (desc.output.record_hz * desc.dt)).round().max(1.0) as u64
         } else {
@@ -457,16 +464,19 @@ impl Sim {
         all
     }
 
-    /// Takes the trajectory rows recorded since the last drain.
+    /// Takes the trajectory rows recorded since the last drain, and the reception attempts
+    /// decided since then when the world logs them (`[output] mcap`, see
+    /// [`RecordBatch::frames`]).
     pub fn drain(&mut self) -> RecordBatch {
         let n = self.len();
+        let frames = self.world.resource_mut::<Ledger>().drain_logged();
         let mut tracks = self.world.resource_mut::<Tracks>();
         let rows = if tracks.0.is_empty() {
             vec![Vec::new(); n]
         } else {
             tracks.0.iter_mut().map(std::mem::take).collect()
         };
-        RecordBatch { rows }
+        RecordBatch { rows, frames }
     }
 
     /// A 64-bit FNV-1a digest of every vehicle's full state, in id order: equal digests mean

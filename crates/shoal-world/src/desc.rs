@@ -59,6 +59,8 @@ pub struct OutputDesc {
     pub plots: bool,
     /// Write `replay.html`.
     pub replay: bool,
+    /// Write `run.mcap`.
+    pub mcap: bool,
 }
 
 /// A validated world.

@@ -22,6 +22,8 @@ struct FrameInfo {
     sent: f64,
     /// End of the frame \[s\].
     end: f64,
+    /// Payload \[bytes\].
+    bytes: u32,
 }
 
 /// One reception attempt as the ledger keeps it.
@@ -64,40 +66,67 @@ pub struct Ledger {
     /// Every attempt since the replay last drained them, when the medium logs them
     /// ([`crate::comm::Medium::log_links`]).
     heard: Vec<Heard>,
+    /// Every attempt since the run driver last drained them with the trajectory rows
+    /// ([`Ledger::log_for_drain`], [`Ledger::drain_logged`]); `None` when nobody asked.
+    logged: Option<Vec<Heard>>,
     /// The attempts in receiver order while they are folded (kept to reuse its buffers).
     grouped: Option<ByVehicle<Attempt>>,
 }
 
 impl Ledger {
-    /// Enters frames, each `(sender, hand-over time, end)` \[s\]; returns the number of the
-    /// first (the others follow it) for [`Ledger::attempt`].
-    pub(super) fn frames(&mut self, frames: impl Iterator<Item = (u32, f64, f64)>) -> u32 {
+    /// Enters frames, each `(sender, hand-over time [s], end [s], payload [bytes])`; returns
+    /// the number of the first (the others follow it) for [`Ledger::attempt`].
+    pub(super) fn frames(&mut self, frames: impl Iterator<Item = (u32, f64, f64, u32)>) -> u32 {
         let first = self.frames.len() as u32;
         self.frames
-            .extend(frames.map(|(from, sent, end)| FrameInfo { from, sent, end }));
+            .extend(frames.map(|(from, sent, end, bytes)| FrameInfo {
+                from,
+                sent,
+                end,
+                bytes,
+            }));
         first
     }
 
-    /// An attempt at receiver `rx` of frame `frame` (from [`Ledger::frame`]).
+    /// An attempt at receiver `rx` of frame `frame` (from [`Ledger::frames`]).
     pub(super) fn attempt(rx: u32, frame: u32, outcome: Outcome) -> Attempt {
         Attempt { rx, frame, outcome }
     }
 
-    /// Appends one chunk's attempts; with `log`, also to the log the replay drains.
+    /// Appends one chunk's attempts; with `log`, also to the log the replay drains, and to
+    /// the run driver's log when it asked for one ([`Ledger::log_for_drain`]).
     pub(super) fn append(&mut self, attempts: &[Attempt], log: bool) {
         self.attempts.extend_from_slice(attempts);
+        let frames = &self.frames;
+        let heard = attempts.iter().map(|a| {
+            let e = a.event(frames);
+            Heard {
+                t: e.t,
+                from: e.from,
+                to: e.rx,
+                outcome: e.outcome,
+                bytes: frames[a.frame as usize].bytes,
+            }
+        });
         if log {
-            let frames = &self.frames;
-            self.heard.extend(attempts.iter().map(|a| {
-                let e = a.event(frames);
-                Heard {
-                    t: e.t,
-                    from: e.from,
-                    to: e.rx,
-                    outcome: e.outcome,
-                }
-            }));
+            self.heard.extend(heard.clone());
         }
+        if let Some(l) = &mut self.logged {
+            l.extend(heard);
+        }
+    }
+
+    /// Logs every attempt from now on for [`Ledger::drain_logged`] too (a second log beside
+    /// the replay's, drained by the run driver with the trajectory rows; see
+    /// [`crate::sim::Sim::drain`]).
+    pub fn log_for_drain(&mut self) {
+        self.logged.get_or_insert_with(Vec::new);
+    }
+
+    /// Takes the attempts logged for the run driver since the last call (empty unless
+    /// [`Ledger::log_for_drain`] was called), in the order they were decided.
+    pub fn drain_logged(&mut self) -> Vec<Heard> {
+        self.logged.as_mut().map(std::mem::take).unwrap_or_default()
     }
 
     /// Attempts not yet folded.

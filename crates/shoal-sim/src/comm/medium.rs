@@ -159,8 +159,8 @@ pub struct Medium {
     /// Reception attempts by second of the run (entry `k`: frames that ended in
     /// `[k, k + 1)` s) and outcome (index [`super::Outcome::index`]).
     pub per_second: Vec<[u64; 5]>,
-    /// Whether every reception attempt is also logged in the receiver's
-    /// [`super::CommStats::heard`] (the replay drains them).
+    /// Whether every reception attempt is also logged for the replay, which drains them
+    /// ([`super::Ledger::drain_heard`]).
     pub log_links: bool,
     /// Distinct receivers in the world (for [`Medium::dead_power`]).
     receivers: Vec<shoal_model::optics::Receiver>,

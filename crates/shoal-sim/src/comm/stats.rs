@@ -30,7 +30,7 @@ pub struct CommStats {
     links: LinkMap,
 }
 
-/// One reception attempt at a vehicle, as the replay reads them.
+/// One reception attempt at a vehicle, as the replay and the run driver read them.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Heard {
     /// End of the frame \[s\].
@@ -41,6 +41,8 @@ pub struct Heard {
     pub to: u32,
     /// What happened.
     pub outcome: Outcome,
+    /// The frame's payload (the link-layer header added on the air not counted) \[bytes\].
+    pub bytes: u32,
 }
 
 impl CommStats {

@@ -320,7 +320,8 @@ pub fn comm_deliver_system(
     let second0 = t0.floor();
     let frame0 = ledger.frames(logical.iter().map(|l| {
         let f = l.first();
-        (f.tx, f.sent, f.end)
+        let bytes = u32::try_from(f.payload.len()).unwrap_or(u32::MAX);
+        (f.tx, f.sent, f.end, bytes)
     }));
     let states = par.for_each_with(
         Loop::Delivery,

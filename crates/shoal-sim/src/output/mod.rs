@@ -1,6 +1,7 @@
 //! Run outputs: `trajectories.csv` streamed batch by batch (time-major, one row per vehicle and
-//! sample, units in the column names), `summary.json` (small for any vehicle count),
-//! `vehicles.csv` (one row per vehicle), and plots (`depth.png/svg`: depth of
+//! sample, units in the column names), `run.mcap` (when the world asks for it: the run for
+//! Foxglove and ROS 2 tools, streamed the same way, [`mcap`]), `summary.json` (small for any
+//! vehicle count), `vehicles.csv` (one row per vehicle), and plots (`depth.png/svg`: depth of
 //! every vehicle against time with its setpoint; `top.png/svg`: tracks seen from above with
 //! the pool and obstacles; `heading.png/svg`; drawn by `plots`). [`Summary::to_text`] is the
 //! end-of-run report for people.
@@ -12,7 +13,8 @@
 //! removed and the error names the file with the operating system's reason.
 //!
 //! **Order.** [`RunOutput::finish`] writes `summary.json` first, then the tables
-//! (`trajectories.csv`, `vehicles.csv`, the communication tables), then `replay.html` (when
+//! (`trajectories.csv`, `vehicles.csv`, the communication tables), then `run.mcap` (when the
+//! world asked for it; written during the run, committed here), then `replay.html` (when
 //! the run driver set [`RunOutput::replay`]), then the plots, so when a later file fails (a full
 //! disk, a file-size limit) the summary is already there. The first summary lists the files
 //! the run is about to write; if fewer were written (a failure, or plots skipped after a stop
@@ -34,6 +36,7 @@ use std::path::{Path, PathBuf};
 use vehicles_csv::write_vehicles_csv;
 
 mod accumulated;
+pub mod mcap;
 mod numbers;
 mod plots;
 mod summary;
@@ -81,6 +84,8 @@ pub struct RunOutput {
     /// Every this many vehicles one is drawn in the plots (at most [`PLOT_VEHICLES`]).
     plot_stride: usize,
     csv_rows: u64,
+    /// `run.mcap`, when the world asks for it (`[output] mcap`).
+    mcap: Option<mcap::McapOutput>,
     /// External agents' part of the summary (set by the run driver before `finish`).
     pub agents: Option<crate::agents::AgentsSummary>,
     /// The replay to write as `replay.html` (set by the run driver before `finish`, e.g.
@@ -98,7 +103,8 @@ pub struct RunOutput {
 pub type BeforeFile = dyn Fn(&Path) + Send + Sync;
 
 impl RunOutput {
-    /// Creates `dir` (and parents) and starts `trajectories.csv` (under its temporary name).
+    /// Creates `dir` (and parents) and starts `trajectories.csv` (under its temporary name),
+    /// and `run.mcap` when `desc` asks for it (`[output] mcap`).
     pub fn create(dir: &Path, desc: &WorldDesc) -> Result<Self, OutputError> {
         std::fs::create_dir_all(dir).map_err(|reason| OutputError::Folder {
             path: dir.to_path_buf(),
@@ -139,6 +145,11 @@ impl RunOutput {
         let width = header.len();
         csv.write_record(&header)?;
         let expected_rows = (desc.duration * desc.output.record_hz).max(1.0) as u64;
+        let mcap = if desc.output.mcap {
+            Some(mcap::McapOutput::create(&dir.join(mcap::FILE_NAME), desc)?)
+        } else {
+            None
+        };
         Ok(Self {
             dir: dir.to_path_buf(),
             csv,
@@ -151,6 +162,7 @@ impl RunOutput {
             plots: desc.output.plots,
             plot_stride: desc.vehicles.len().div_ceil(PLOT_VEHICLES).max(1),
             csv_rows: 0,
+            mcap,
             agents: None,
             replay: None,
             before_file: None,
@@ -163,8 +175,12 @@ impl RunOutput {
         &self.dir
     }
 
-    /// Writes a batch of rows (time-major) and updates the statistics.
+    /// Writes a batch of rows (time-major) to `trajectories.csv` (and `run.mcap`, with the
+    /// batch's reception attempts) and updates the statistics.
     pub fn write(&mut self, batch: &RecordBatch) -> Result<(), OutputError> {
+        if let Some(m) = &mut self.mcap {
+            m.write(batch)?;
+        }
         let strides: Vec<usize> = (0..batch.rows.len())
             .map(|i| self.maps[self.kind_of[i] as usize].len())
             .collect();
@@ -246,6 +262,7 @@ impl RunOutput {
             csv,
             acc,
             csv_rows,
+            mcap,
             agents,
             replay,
             before_file,
@@ -271,6 +288,12 @@ impl RunOutput {
                     .map(|t| dir.join(t)),
             );
         }
+        let mcap_path = dir.join(mcap::FILE_NAME);
+        if mcap.is_some() {
+            planned.push(mcap_path.clone());
+        }
+        // Its summary section, so the summary can say what it holds; committed in order.
+        let mcap = mcap.map(mcap::McapOutput::finish);
         let replay_path = dir.join("replay.html");
         if replay.is_some() {
             planned.push(replay_path.clone());
@@ -284,6 +307,10 @@ impl RunOutput {
         summary.comm = comm;
         summary.agents = agents;
         summary.trajectory_rows = csv_rows;
+        summary.mcap = match &mcap {
+            Some(Ok(m)) => Some(m.summary.clone()),
+            _ => None,
+        };
         summary.files = planned.iter().map(|p| p.display().to_string()).collect();
         begin(&json_path);
         write_summary(&json_path, &summary)?;
@@ -296,6 +323,7 @@ impl RunOutput {
                 summary.comm.as_ref().map(|c| c.vehicles.as_slice()),
             ),
             summary.comm.is_some().then_some(sim),
+            mcap,
             replay.as_ref().map(|r| (replay_path.as_path(), r)),
             &snaps,
             &plots,
@@ -326,7 +354,8 @@ fn write_summary(path: &Path, summary: &Summary) -> Result<PathBuf, FileError> {
 }
 
 /// The part of [`RunOutput::finish`] after the summary: commits the trajectories, writes
-/// `vehicles.csv`, the communication tables (when there was traffic) and the replay, and
+/// `vehicles.csv` and the communication tables (when there was traffic), commits `run.mcap`
+/// (finished, or the error that finishing it met), writes the replay, and
 /// draws the plots until `skip_plots` says so, calling `begin` with each file's name before
 /// it begins it and adding each file to `written` as it is complete.
 #[allow(clippy::too_many_arguments)]
@@ -334,6 +363,7 @@ fn write_tables_and_plots(
     trajectories: CsvFile,
     vehicles: (&Path, &[VehicleSummary], Option<&[VehicleComm]>),
     comm: Option<&Sim>,
+    mcap: Option<Result<mcap::FinishedMcap, FileError>>,
     replay: Option<(&Path, &crate::replay::ReplayData)>,
     snaps: &[VehicleView<'_>],
     plots: &[(&'static str, Plot)],
@@ -348,6 +378,11 @@ fn write_tables_and_plots(
     written.push(write_vehicles_csv(vehicles.0, vehicles.1, vehicles.2)?);
     if let Some(sim) = comm {
         crate::comm_report::write_tables(dir, sim, snaps, begin, written)?;
+    }
+    if let Some(m) = mcap {
+        let m = m?;
+        begin(m.path());
+        written.push(m.commit()?);
     }
     if let Some((path, data)) = replay {
         begin(path);

@@ -135,6 +135,10 @@ pub struct Summary {
     /// External agents (absent when no vehicle has one).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub agents: Option<crate::agents::AgentsSummary>,
+    /// What `run.mcap` holds and what its size budget left out (absent when it was not
+    /// asked for, or could not be finished).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mcap: Option<super::mcap::McapSummary>,
 }
 
 impl Summary {
@@ -252,6 +256,7 @@ impl Summary {
             files: Vec::new(),
             comm: None,
             agents: None,
+            mcap: None,
         }
     }
 
@@ -407,6 +412,15 @@ impl Summary {
             "\ndigest {}  ·  {} trajectory rows\n",
             self.digest, self.trajectory_rows
         ));
+        if let Some(m) = &self.mcap {
+            s.push_str(&format!(
+                "run.mcap: {} messages, {:.1} MB ({:.1} MB of messages before compression){}\n",
+                m.messages,
+                m.bytes as f64 / 1e6,
+                m.message_bytes as f64 / 1e6,
+                m.dropped().map(|d| format!("; {d}")).unwrap_or_default()
+            ));
+        }
         if !self.files.is_empty() {
             s.push_str("wrote:\n");
             for f in &self.files {

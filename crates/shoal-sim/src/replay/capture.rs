@@ -198,7 +198,8 @@ impl ReplayRecorder {
     }
 }
 
-fn obstacle_meta(o: &shoal_world::geometry::Obstacle) -> ObstacleMeta {
+/// The replay's description of obstacle `o` (`run.mcap` draws obstacles from it too).
+pub(crate) fn obstacle_meta(o: &shoal_world::geometry::Obstacle) -> ObstacleMeta {
     let t = o.pose.translation;
     let r = o.pose.rotation;
     let mut m = ObstacleMeta {

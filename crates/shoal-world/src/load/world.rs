@@ -200,6 +200,7 @@ pub(super) fn build(
             record_hz: wf.output.record_hz,
             plots: wf.output.plots,
             replay: wf.output.replay,
+            mcap: wf.output.mcap,
         },
     }))
 }

@@ -104,6 +104,9 @@ pub struct OutputSpec {
     /// Write `replay.html`, the run's interactive 3D replay.
     #[serde(default = "d_true")]
     pub replay: bool,
+    /// Write `run.mcap`, the run for Foxglove and ROS 2 tools (off by default).
+    #[serde(default)]
+    pub mcap: bool,
 }
 
 impl Default for OutputSpec {
@@ -112,6 +115,7 @@ impl Default for OutputSpec {
             record_hz: d_record_hz(),
             plots: true,
             replay: true,
+            mcap: false,
         }
     }
 }

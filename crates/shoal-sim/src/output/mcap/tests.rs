@@ -1,0 +1,487 @@
+//! A small run written to `run.mcap` and read back with the `mcap` crate: the topics, their
+//! schemas and encodings, message counts (recorded samples × vehicles, reception attempts),
+//! times in order, every CDR message decoded back to the recorded values, every JSON message
+//! valid against its schema and equal to the rows, the size estimate of the budget, thinning,
+//! and a folder that cannot be written.
+
+use super::foxglove::{FrameTransforms, SceneUpdate};
+use super::plain::OpticalFrame;
+use super::ros2::{self, Float64MultiArray, FluidPressure, Imu};
+use super::*;
+use crate::output::RunOutput;
+use crate::recorder::FIXED;
+use crate::sim::{Sim, SimOptions};
+use serde_json::Value;
+use shoal_world::cancel::Cancel;
+use std::collections::BTreeMap;
+
+/// Three μAUV² in a row heading east with four modems each, beaconing; a post in the pool.
+const WORLD: &str = r#"
+name = "mcap test"
+seed = 7
+duration = 2.0
+dt = 0.01
+[pool]
+size = [6.0, 4.0, 2.0]
+[[obstacles]]
+name = "post"
+shape = "cylinder"
+radius = 0.2
+height = 2.0
+position = [4.5, 3.0, 1.0]
+[[vehicles]]
+name = "a"
+count = 3
+grid = { origin = [1.0, 1.0, 0.6], spacing = [0.0, 0.5], columns = 1 }
+heading_deg = 90
+mission = [{ t = 0, mode = "auto", depth = 0.8, yaw_deg = 90, surge = 0.05 }]
+behaviour = { kind = "beacon", period = 0.2, payload_bytes = 20, jitter = 0.1 }
+[[vehicles.model.modems]]
+name = "front"
+position = [0.125, 0.0, 0.0]
+direction = [1.0, 0.0, 0.0]
+[[vehicles.model.modems]]
+name = "right"
+position = [0.0, 0.078, 0.0]
+direction = [0.0, 1.0, 0.0]
+[[vehicles.model.modems]]
+name = "back"
+position = [-0.125, 0.0, 0.0]
+direction = [-1.0, 0.0, 0.0]
+[[vehicles.model.modems]]
+name = "left"
+position = [0.0, -0.078, 0.0]
+direction = [0.0, -1.0, 0.0]
+[output]
+record_hz = 10.0
+mcap = true
+"#;
+
+fn desc() -> WorldDesc {
+    shoal_world::load::load_str(WORLD, Path::new("mcap-test.toml")).unwrap()
+}
+
+fn dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("shoal-mcap-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// The run: every drained batch (drained every 37 steps, so samples and attempts cross
+/// batch boundaries) and the file's bytes; `every` overrides the plan's sample thinning.
+fn run(name: &str, every: Option<u64>) -> (WorldDesc, Vec<RecordBatch>, McapSummary, Vec<u8>) {
+    run_on(name, every, 1)
+}
+
+/// [`run`] on `threads` threads (every loop split over them).
+fn run_on(
+    name: &str,
+    every: Option<u64>,
+    threads: usize,
+) -> (WorldDesc, Vec<RecordBatch>, McapSummary, Vec<u8>) {
+    let desc = desc();
+    let opts = SimOptions {
+        threads,
+        record: true,
+    };
+    let mut sim = Sim::new(&desc, opts);
+    sim.set_min_parallel(1);
+    let path = dir(name).join(FILE_NAME);
+    let mut out = McapOutput::create(&path, &desc).unwrap();
+    if let Some(k) = every {
+        out.plan.sample_every = k;
+        out.summary.sample_every = k;
+    }
+    let mut batches = Vec::new();
+    while sim.step_count() < desc.steps() {
+        sim.run(37.min(desc.steps() - sim.step_count()));
+        let b = sim.drain();
+        out.write(&b).unwrap();
+        batches.push(b);
+    }
+    let done = out.finish().unwrap();
+    let summary = done.summary.clone();
+    assert!(!path.exists(), "the file appears only when committed");
+    assert_eq!(done.commit().unwrap(), path);
+    let bytes = std::fs::read(&path).unwrap();
+    let _ = std::fs::remove_dir_all(path.parent().unwrap());
+    (desc, batches, summary, bytes)
+}
+
+/// Every recorded row: `rows[vehicle][sample]`.
+fn rows(desc: &WorldDesc, batches: &[RecordBatch]) -> Vec<Vec<Vec<f64>>> {
+    (0..desc.vehicles.len())
+        .map(|i| {
+            let s = recorder::stride(&desc.vehicles[i].model);
+            batches
+                .iter()
+                .flat_map(|b| b.rows[i].chunks(s).map(<[f64]>::to_vec))
+                .collect()
+        })
+        .collect()
+}
+
+/// One message as read back.
+struct Read {
+    topic: String,
+    schema: String,
+    schema_encoding: String,
+    schema_data: Vec<u8>,
+    encoding: String,
+    log_time: u64,
+    publish_time: u64,
+    data: Vec<u8>,
+}
+
+fn read(bytes: &[u8]) -> Vec<Read> {
+    mcap::MessageStream::new(bytes)
+        .unwrap()
+        .map(|m| {
+            let m = m.unwrap();
+            let s = m.channel.schema.as_ref().unwrap();
+            Read {
+                topic: m.channel.topic.clone(),
+                schema: s.name.clone(),
+                schema_encoding: s.encoding.clone(),
+                schema_data: s.data.to_vec(),
+                encoding: m.channel.message_encoding.clone(),
+                log_time: m.log_time,
+                publish_time: m.publish_time,
+                data: m.data.to_vec(),
+            }
+        })
+        .collect()
+}
+
+fn on<'a>(msgs: &'a [Read], topic: &str) -> std::vec::IntoIter<&'a Read> {
+    let all: Vec<&Read> = msgs.iter().filter(|m| m.topic == topic).collect();
+    all.into_iter()
+}
+
+#[test]
+fn every_topic_has_a_message_per_sample_and_vehicle_in_time_order() {
+    let (desc, batches, summary, bytes) = run("counts", None);
+    let msgs = read(&bytes);
+    let rows = rows(&desc, &batches);
+    let samples = rows[0].len();
+    assert_eq!(samples, 21, "t = 0 … 2 s at 10 Hz");
+    let mut counts: BTreeMap<&str, usize> = BTreeMap::new();
+    for m in &msgs {
+        *counts.entry(m.topic.as_str()).or_default() += 1;
+    }
+    for v in &desc.vehicles {
+        for t in topics::TOPICS {
+            assert_eq!(counts[format!("/{}/{t}", v.name).as_str()], samples, "{t}");
+        }
+    }
+    let attempts: usize = batches.iter().map(|b| b.frames.len()).sum();
+    assert!(attempts > 50, "the beacons are heard: {attempts}");
+    assert_eq!(counts["/tf"], samples);
+    assert_eq!(counts["/scene"], 1);
+    assert_eq!(counts["/optical/frames"], attempts);
+    assert_eq!(counts.len(), 4 + 6 * desc.vehicles.len());
+    // Time order, simulated time in ns; every sample's time is on its messages.
+    assert!(msgs.windows(2).all(|w| w[0].log_time <= w[1].log_time));
+    assert!(msgs.iter().all(|m| m.publish_time == m.log_time));
+    let tf: Vec<u64> = on(&msgs, "/tf").map(|m| m.log_time).collect();
+    let want: Vec<u64> = rows[0].iter().map(|r| ns(r[col::T])).collect();
+    assert_eq!(tf, want);
+    assert_eq!(*tf.last().unwrap(), 2_000_000_000);
+    // The links draw every attempt, each at the end of its sample interval.
+    let lines: usize = on(&msgs, "/links")
+        .map(|m| {
+            serde_json::from_slice::<SceneUpdate>(&m.data)
+                .unwrap()
+                .entities
+                .len()
+        })
+        .sum();
+    assert_eq!(lines, attempts);
+    assert!(on(&msgs, "/links").all(|m| want.contains(&m.log_time)));
+    let n = desc.vehicles.len();
+    assert_eq!(
+        (
+            summary.messages as usize,
+            summary.samples_recorded,
+            summary.samples_written
+        ),
+        (msgs.len(), 21, 21)
+    );
+    assert_eq!((summary.vehicles, summary.vehicles_in_world), (n, n));
+    assert_eq!(summary.frames_written as usize, attempts);
+    assert_eq!(summary.bytes as usize, bytes.len());
+    assert_eq!(summary.dropped(), None);
+}
+
+#[test]
+fn schemas_are_named_and_encoded_as_foxglove_and_ros_2_read_them() {
+    let (_, _, _, bytes) = run("schemas", None);
+    let msgs = read(&bytes);
+    let kind = |topic: &str| {
+        let m = msgs.iter().find(|m| m.topic == topic).unwrap();
+        (
+            m.schema.as_str(),
+            m.schema_encoding.as_str(),
+            m.encoding.as_str(),
+        )
+    };
+    assert_eq!(
+        kind("/tf"),
+        ("foxglove.FrameTransforms", "jsonschema", "json")
+    );
+    assert_eq!(
+        kind("/scene"),
+        ("foxglove.SceneUpdate", "jsonschema", "json")
+    );
+    assert_eq!(
+        kind("/links"),
+        ("foxglove.SceneUpdate", "jsonschema", "json")
+    );
+    assert_eq!(
+        kind("/optical/frames"),
+        ("shoal.OpticalFrame", "jsonschema", "json")
+    );
+    assert_eq!(
+        kind("/a-1/state"),
+        ("shoal.VehicleState", "jsonschema", "json")
+    );
+    assert_eq!(
+        kind("/a-1/pressure"),
+        ("sensor_msgs/msg/FluidPressure", "ros2msg", "cdr")
+    );
+    assert_eq!(kind("/a-1/imu"), ("sensor_msgs/msg/Imu", "ros2msg", "cdr"));
+    for t in ["thrusters", "tilts", "pump"] {
+        assert_eq!(
+            kind(&format!("/a-1/{t}")),
+            ("std_msgs/msg/Float64MultiArray", "ros2msg", "cdr")
+        );
+    }
+    let imu = msgs.iter().find(|m| m.topic == "/a-0/imu").unwrap();
+    let text = String::from_utf8(imu.schema_data.clone()).unwrap();
+    assert_eq!(Some(text), ros2::definition("sensor_msgs/msg/Imu"));
+    // Every JSON message is valid against its channel's schema.
+    let mut validators: BTreeMap<String, jsonschema::Validator> = BTreeMap::new();
+    for m in msgs.iter().filter(|m| m.encoding == "json") {
+        let v = validators.entry(m.schema.clone()).or_insert_with(|| {
+            let schema: Value = serde_json::from_slice(&m.schema_data).unwrap();
+            jsonschema::validator_for(&schema).unwrap()
+        });
+        let msg: Value = serde_json::from_slice(&m.data).unwrap();
+        let errors: Vec<String> = v.iter_errors(&msg).map(|e| e.to_string()).collect();
+        assert!(errors.is_empty(), "{} on {}: {errors:?}", m.schema, m.topic);
+    }
+    assert_eq!(validators.len(), 4);
+}
+
+#[test]
+fn messages_decode_to_the_recorded_values() {
+    let (desc, batches, _, bytes) = run("values", None);
+    let msgs = read(&bytes);
+    let rows = rows(&desc, &batches);
+    let rho_g = desc.env.density * desc.env.gravity;
+    for (i, v) in desc.vehicles.iter().enumerate() {
+        let topic = |t: &str| format!("/{}/{t}", v.name);
+        let n_thr = v.model.params.thrusters.len();
+        let pressure = on(&msgs, &topic("pressure"));
+        let imu = on(&msgs, &topic("imu"));
+        let thr = on(&msgs, &topic("thrusters"));
+        let tilts = on(&msgs, &topic("tilts"));
+        let pump = on(&msgs, &topic("pump"));
+        let state = on(&msgs, &topic("state"));
+        let all = pressure.zip(imu).zip(thr).zip(tilts).zip(pump).zip(state);
+        let mut k = 0;
+        for (((((p, m), th), ti), pu), st) in all {
+            let row = &rows[i][k];
+            let stamp = ros2::Time::from_ns(ns(row[col::T]));
+            let p: FluidPressure = ros2::decode(&p.data).unwrap();
+            assert_eq!(p.header.stamp, stamp);
+            assert_eq!(p.header.frame_id, v.name);
+            assert_eq!(
+                p.fluid_pressure,
+                101_325.0 + rho_g * row[col::DEPTH_READING]
+            );
+            assert_eq!(p.variance, 0.0);
+            let m: Imu = ros2::decode(&m.data).unwrap();
+            assert_eq!(m, topics::imu_of(p.header.clone(), row));
+            let q = enu::attitude(row[col::ROLL], row[col::PITCH], row[col::YAW]);
+            assert_eq!(m.orientation.w, q.quaternion().w);
+            assert_eq!(m.angular_velocity.y, -row[col::Q]);
+            assert_eq!(m.linear_acceleration_covariance[0], -1.0);
+            let th: Float64MultiArray = ros2::decode(&th.data).unwrap();
+            assert_eq!(th.data, row[FIXED.len()..FIXED.len() + n_thr]);
+            assert_eq!(th.layout.dim[0].label, "top,port,stbd");
+            let ti: Float64MultiArray = ros2::decode(&ti.data).unwrap();
+            assert_eq!(ti.layout.dim[0].label, "alpha,beta");
+            assert_eq!(ti.data, row[FIXED.len() + n_thr..]);
+            let pu: Float64MultiArray = ros2::decode(&pu.data).unwrap();
+            assert_eq!(pu.data, [row[col::PUMP]]);
+            let st: Value = serde_json::from_slice(&st.data).unwrap();
+            for (j, name) in FIXED.iter().enumerate() {
+                if j != col::MODE {
+                    assert_eq!(st[name].as_f64(), Some(row[j]), "{name}");
+                }
+            }
+            k += 1;
+        }
+        assert_eq!(k, rows[i].len());
+    }
+    // The poses in /tf are the rows' in ENU.
+    for (k, m) in on(&msgs, "/tf").enumerate() {
+        let tf: FrameTransforms = serde_json::from_slice(&m.data).unwrap();
+        for (i, t) in tf.transforms.iter().enumerate() {
+            assert_eq!(t.child_frame_id, desc.vehicles[i].name);
+            assert_eq!(
+                t,
+                &scene::transform(t.timestamp, &desc.vehicles[i].name, &rows[i][k])
+            );
+            assert_eq!(t.translation.z, -rows[i][k][col::Z]);
+        }
+    }
+    // Every attempt as the medium decided it, with the vehicles' names.
+    let frames: Vec<OpticalFrame> = on(&msgs, "/optical/frames")
+        .map(|m| serde_json::from_slice(&m.data).unwrap())
+        .collect();
+    let names: Vec<String> = desc.vehicles.iter().map(|v| v.name.clone()).collect();
+    let mut want: Vec<OpticalFrame> = batches
+        .iter()
+        .flat_map(|b| b.frames.iter().map(|h| OpticalFrame::of(h, &names)))
+        .collect();
+    want.sort_by(|a, b| {
+        a.t_s
+            .total_cmp(&b.t_s)
+            .then(a.sender_id.cmp(&b.sender_id))
+            .then(a.receiver_id.cmp(&b.receiver_id))
+    });
+    assert_eq!(frames, want);
+    assert!(
+        frames
+            .iter()
+            .any(|f| f.outcome == "delivered" && f.bytes == 20)
+    );
+}
+
+#[test]
+fn the_scene_holds_the_hulls_the_pool_and_the_obstacle() {
+    let (desc, _, _, bytes) = run("scene", None);
+    let msgs = read(&bytes);
+    let m = on(&msgs, "/scene").next().unwrap();
+    let s: SceneUpdate = serde_json::from_slice(&m.data).unwrap();
+    let ids: Vec<&str> = s.entities.iter().map(|e| e.id.as_str()).collect();
+    assert_eq!(
+        ids,
+        ["hull/a-0", "hull/a-1", "hull/a-2", "pool", "obstacle/post"]
+    );
+    let h = desc.vehicles[0].model.params.body.hull_size;
+    let hull = &s.entities[0];
+    assert!(hull.frame_locked && hull.frame_id == "a-0");
+    assert_eq!(hull.cylinders[0].size, [h.z, h.y, h.x].into());
+    // The pool: 12 edges from the surface (z = 0) down to its floor, east 4 m, north 6 m.
+    let pool = &s.entities[3].lines[0].points;
+    assert_eq!(pool.len(), 24);
+    let max = |f: fn(&foxglove::Vector3) -> f64| pool.iter().map(f).fold(f64::MIN, f64::max);
+    let min = |f: fn(&foxglove::Vector3) -> f64| pool.iter().map(f).fold(f64::MAX, f64::min);
+    assert_eq!((max(|p| p.x), max(|p| p.y), max(|p| p.z)), (4.0, 6.0, 0.0));
+    assert_eq!(min(|p| p.z), -2.0);
+    // The post stands upright at east 3, north 4.5, its centre 1 m down.
+    let post = &s.entities[4].cylinders[0];
+    assert_eq!(post.pose.position, [3.0, 4.5, -1.0].into());
+    let o = post.pose.orientation;
+    let q = shoal_model::math::Quat::from_quaternion(nalgebra::Quaternion::new(o.w, o.x, o.y, o.z));
+    assert!(
+        (q * shoal_model::math::Vec3::z()).z.abs() > 1.0 - 1e-9,
+        "{o:?}"
+    );
+    assert_eq!(post.size, [0.4, 0.4, 2.0].into());
+}
+
+#[test]
+fn the_size_estimate_covers_what_a_sample_takes() {
+    let (desc, _, summary, bytes) = run("budget", None);
+    let msgs = read(&bytes);
+    // Each message's record (31 B) and index entry (16 B) with its payload.
+    let record = |m: &Read| m.data.len() as u64 + 47;
+    let vehicles = desc.vehicles.len() as u64;
+    let per_vehicle: u64 = msgs
+        .iter()
+        .filter(|m| m.topic.starts_with("/a-") || m.topic == "/tf")
+        .map(record)
+        .sum::<u64>()
+        / (summary.samples_written * vehicles);
+    let actuators = (desc.vehicles[0].model.params.thrusters.len()
+        + desc.vehicles[0].model.params.tilts.len()) as u64;
+    let estimate = BYTES_PER_VEHICLE_SAMPLE + BYTES_PER_ACTUATOR * actuators;
+    assert!(per_vehicle <= estimate, "{per_vehicle} B > {estimate} B");
+    assert!(
+        per_vehicle * 3 > estimate * 2,
+        "{per_vehicle} B ≪ {estimate} B"
+    );
+}
+
+#[test]
+fn a_thinned_run_keeps_every_kth_sample_and_says_so() {
+    let (desc, _, summary, bytes) = run("thinned", Some(3));
+    let msgs = read(&bytes);
+    // Samples 0, 3, …, 18 of 21.
+    assert_eq!(on(&msgs, "/tf").count(), 7);
+    assert_eq!(
+        on(&msgs, &format!("/{}/imu", desc.vehicles[2].name)).count(),
+        7
+    );
+    assert_eq!(on(&msgs, "/tf").nth(1).unwrap().log_time, 300_000_000);
+    assert_eq!((summary.samples_written, summary.samples_recorded), (7, 21));
+    assert_eq!(
+        summary.dropped().as_deref(),
+        Some("kept 1 sample in 3 (7 of 21) (size budget, docs/mcap.md)")
+    );
+}
+
+#[test]
+fn an_unwritable_folder_is_an_error_that_names_the_file() {
+    let path = Path::new("/nonexistent-shoal-folder/out/run.mcap");
+    let e = McapOutput::create(path, &desc()).err().unwrap();
+    assert_eq!(e.path, path);
+    assert!(
+        e.to_string()
+            .starts_with("cannot write /nonexistent-shoal-folder/out/run.mcap: "),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_run_output_commits_run_mcap_after_the_tables_and_summarises_it() {
+    let desc = desc();
+    let d = dir("run-output");
+    let mut sim = Sim::new(&desc, SimOptions::default());
+    let mut out = RunOutput::create(&d, &desc).unwrap();
+    while sim.step_count() < desc.steps() {
+        sim.run(50);
+        out.write(&sim.drain()).unwrap();
+    }
+    let s = out.finish(&desc, &mut sim, 0.1, &Cancel::new()).unwrap();
+    let m = s.mcap.as_ref().unwrap();
+    assert_eq!(m.samples_written, 21);
+    let files: Vec<String> = s
+        .files
+        .iter()
+        .map(|f| f.rsplit('/').next().unwrap().to_string())
+        .collect();
+    let at = |n: &str| files.iter().position(|f| f == n).unwrap();
+    assert!(at("vehicles.csv") < at("run.mcap") && at("run.mcap") < at("depth.png"));
+    assert_eq!(
+        std::fs::metadata(d.join("run.mcap")).unwrap().len(),
+        m.bytes
+    );
+    let json: Value =
+        serde_json::from_slice(&std::fs::read(d.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(json["mcap"]["messages"], m.messages);
+    assert!(s.to_text().contains("run.mcap: "), "{}", s.to_text());
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn the_file_is_the_same_on_one_and_two_threads() {
+    let (_, _, _, one) = run_on("threads-1", None, 1);
+    let (_, _, _, two) = run_on("threads-2", None, 2);
+    assert!(one == two, "run.mcap differs between 1 and 2 threads");
+}

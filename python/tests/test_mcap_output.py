@@ -1,0 +1,194 @@
+"""`shoal run --mcap` writes `run.mcap` for Foxglove and ROS 2 tools: read back with PyPI's
+`mcap` (and its ROS 2 decoder, `mcap-ros2-support`, which knows nothing of shoal): the
+schemas by name and encoding, one message per recorded sample and vehicle on every
+per-vehicle topic and one per reception attempt, log times in order, every JSON message valid
+against its schema, the ROS 2 messages equal to the trajectories (pressure from the depth
+reading, ENU/FLU attitude), and the summary's account of the file."""
+
+import csv
+import json
+import math
+import resource
+import subprocess
+from collections import Counter, defaultdict
+
+import jsonschema
+import pytest
+from mcap.reader import make_reader
+from mcap_ros2.decoder import DecoderFactory
+
+from conftest import WORLDS, shoal_run
+
+#: The last parts of each vehicle's topics.
+VEHICLE_TOPICS = ["state", "pressure", "imu", "thrusters", "tilts", "pump"]
+
+
+@pytest.fixture(scope="module")
+def run(shoal_bin, tmp_path_factory):
+    """The default world (12 μAUV², beacons, a pillar) for 3 s with `--mcap`: the output
+    folder, its summary, the trajectory rows by vehicle and every message of run.mcap."""
+    out = tmp_path_factory.mktemp("mcap")
+    summary = shoal_run(shoal_bin, WORLDS / "default.toml", out, "--mcap", "--duration", "3")
+    with open(out / "vehicles.csv", newline="") as f:
+        vehicles = [r["name"] for r in csv.DictReader(f)]
+    rows = defaultdict(list)
+    with open(out / "trajectories.csv", newline="") as f:
+        for r in csv.DictReader(f):
+            rows[r["vehicle"]].append(r)
+    messages = []
+    with open(out / "run.mcap", "rb") as f:
+        reader = make_reader(f, decoder_factories=[DecoderFactory()])
+        for schema, channel, message in reader.iter_messages(log_time_order=False):
+            messages.append((schema, channel, message))
+    return out, summary, vehicles, rows, messages
+
+
+def on(messages, topic):
+    return [m for m in messages if m[1].topic == topic]
+
+
+def test_every_topic_has_a_message_per_sample_and_vehicle(run):
+    _, summary, vehicles, rows, messages = run
+    assert len(vehicles) == 12
+    samples = len(rows[vehicles[0]])
+    assert samples == 31 and summary["trajectory_rows"] == samples * len(vehicles)
+    counts = Counter(c.topic for _, c, _ in messages)
+    for v in vehicles:
+        for t in VEHICLE_TOPICS:
+            assert counts[f"/{v}/{t}"] == samples, (v, t)
+    assert counts["/tf"] == samples
+    assert counts["/scene"] == 1
+    attempts = summary["comm"]["receptions"]["attempts"]
+    assert attempts > 100
+    assert counts["/optical/frames"] == attempts
+    lines = sum(len(json.loads(m.data)["entities"]) for _, _, m in on(messages, "/links"))
+    assert lines == attempts
+    assert len(counts) == 4 + 6 * len(vehicles)
+    m = summary["mcap"]
+    assert (m["messages"], m["samples_written"], m["frames_written"]) == (len(messages), samples, attempts)
+
+
+def test_log_times_are_simulated_time_in_order(run):
+    _, _, vehicles, rows, messages = run
+    times = [m.log_time for _, _, m in messages]
+    assert times == sorted(times)
+    assert all(m.publish_time == m.log_time for _, _, m in messages)
+    tf = [m.log_time for _, _, m in on(messages, "/tf")]
+    assert tf == [round(float(r["t_s"]) * 1e9) for r in rows[vehicles[0]]]
+    assert tf[-1] == 3_000_000_000
+
+
+def test_schemas_are_named_and_every_json_message_is_valid(run):
+    _, _, _, _, messages = run
+    kinds = {c.topic: (s.name, s.encoding, c.message_encoding) for s, c, _ in messages}
+    assert kinds["/tf"] == ("foxglove.FrameTransforms", "jsonschema", "json")
+    assert kinds["/scene"] == ("foxglove.SceneUpdate", "jsonschema", "json")
+    assert kinds["/links"] == ("foxglove.SceneUpdate", "jsonschema", "json")
+    assert kinds["/optical/frames"] == ("shoal.OpticalFrame", "jsonschema", "json")
+    assert kinds["/west-0/state"] == ("shoal.VehicleState", "jsonschema", "json")
+    assert kinds["/west-0/pressure"] == ("sensor_msgs/msg/FluidPressure", "ros2msg", "cdr")
+    assert kinds["/west-0/imu"] == ("sensor_msgs/msg/Imu", "ros2msg", "cdr")
+    for t in ["thrusters", "tilts", "pump"]:
+        assert kinds[f"/east-3/{t}"] == ("std_msgs/msg/Float64MultiArray", "ros2msg", "cdr")
+    validators = {}
+    checked = Counter()
+    for schema, channel, message in messages:
+        if channel.message_encoding != "json":
+            continue
+        if schema.id not in validators:
+            s = json.loads(schema.data)
+            validators[schema.id] = jsonschema.validators.validator_for(s)(s)
+        validators[schema.id].validate(json.loads(message.data))
+        checked[schema.name] += 1
+    assert set(checked) == {"foxglove.FrameTransforms", "foxglove.SceneUpdate",
+                            "shoal.OpticalFrame", "shoal.VehicleState"}
+    # Every field of a state has its unit in the schema.
+    state = next(s for s, _, _ in messages if s.name == "shoal.VehicleState")
+    props = json.loads(state.data)["properties"]
+    assert "[m]" in props["depth_reading_m"]["description"]
+    assert "[rad/s]" in props["q_rad_s"]["description"]
+
+
+def test_ros_2_messages_are_the_recorded_values_in_enu(run):
+    out, _, vehicles, rows, _ = run
+    decoded = defaultdict(list)
+    with open(out / "run.mcap", "rb") as f:
+        reader = make_reader(f, decoder_factories=[DecoderFactory()])
+        topics = [f"/{v}/{t}" for v in vehicles for t in ["pressure", "imu", "thrusters", "pump"]]
+        for _, channel, message, msg in reader.iter_decoded_messages(topics=topics):
+            decoded[channel.topic].append((message, msg))
+    rel = {"rel_tol": 1e-6, "abs_tol": 1e-6}
+    for v in vehicles:
+        for k, row in enumerate(rows[v]):
+            t_ns = round(float(row["t_s"]) * 1e9)
+            _, p = decoded[f"/{v}/pressure"][k]
+            assert (p.header.stamp.sec * 10**9 + p.header.stamp.nanosec) == t_ns
+            assert p.header.frame_id == v
+            # 101325 Pa + ρ g · depth reading, with the default world's 1000 kg/m³ and 9.81 m/s².
+            want = 101325.0 + 1000.0 * 9.81 * float(row["depth_reading_m"])
+            assert math.isclose(p.fluid_pressure, want, rel_tol=1e-9, abs_tol=0.01)
+            _, imu = decoded[f"/{v}/imu"][k]
+            yaw = float(row["yaw_rad"])
+            # ENU heading = π/2 − NED heading; the vehicles stay level: a rotation about z.
+            half = (math.pi / 2 - yaw) / 2
+            o = imu.orientation
+            assert math.isclose(abs(o.z), abs(math.sin(half)), abs_tol=2e-3)
+            assert math.isclose(abs(o.w), abs(math.cos(half)), abs_tol=2e-3)
+            assert math.isclose(imu.angular_velocity.z, -float(row["r_rad_s"]), **rel)
+            assert imu.linear_acceleration_covariance[0] == -1.0
+            _, thr = decoded[f"/{v}/thrusters"][k]
+            assert thr.layout.dim[0].label == "top,port,stbd"
+            for name, x in zip(["top", "port", "stbd"], thr.data):
+                assert math.isclose(x, float(row[f"cmd_{name}_pct"]), **rel)
+            _, pump = decoded[f"/{v}/pump"][k]
+            assert list(pump.data) == [float(row["pump"])]
+
+
+def test_tf_places_every_vehicle_east_north_up(run):
+    _, _, vehicles, rows, messages = run
+    for k, (_, _, m) in enumerate(on(messages, "/tf")):
+        tf = json.loads(m.data)["transforms"]
+        assert [t["child_frame_id"] for t in tf] == vehicles
+        for t, v in zip(tf, vehicles):
+            row = rows[v][k]
+            assert t["parent_frame_id"] == "world"
+            got = [t["translation"][a] for a in "xyz"]
+            want = [float(row["y_m"]), float(row["x_m"]), -float(row["z_m"])]
+            assert all(math.isclose(a, b, rel_tol=1e-6, abs_tol=1e-6) for a, b in zip(got, want))
+
+
+def test_the_summary_lists_run_mcap(run):
+    out, summary, _, _, _ = run
+    assert str(out / "run.mcap") in summary["files"]
+    m = summary["mcap"]
+    assert m["bytes"] == (out / "run.mcap").stat().st_size
+    assert m["sample_every"] == 1 and m["vehicles"] == m["vehicles_in_world"] == 12
+    assert not any(p.name.startswith(".") for p in out.iterdir()), "no temporaries left"
+
+
+def test_a_file_size_limit_names_run_mcap_and_leaves_no_partial_file(shoal_bin, tmp_path):
+    """A full disk, as a file-size limit: run.mcap (held in memory until its chunk is whole)
+    is the file that breaks it; the error names it, exit code 1, no truncated file or
+    temporary under the folder, and the summary says what exists."""
+    world = tmp_path / "w.toml"
+    world.write_text(
+        'name = "limited"\nduration = 2.0\n[pool]\nsize = [10.0, 10.0, 3.0]\n'
+        '[[vehicles]]\nname = "auv"\nposition = [5.0, 5.0, 0.5]\n'
+        'mission = [{ t = 0, mode = "auto", depth = 1.0, yaw_deg = 0 }]\n'
+    )
+    out = tmp_path / "out"
+
+    def limit():
+        resource.setrlimit(resource.RLIMIT_FSIZE, (40_000, 40_000))
+
+    p = subprocess.run(
+        [str(shoal_bin), "run", str(world), "--quiet", "--mcap", "--no-replay", "--no-plots",
+         "--out", str(out)],
+        capture_output=True, text=True, timeout=120, preexec_fn=limit,
+    )
+    assert p.returncode == 1, p.stderr
+    assert f"error: cannot write {out / 'run.mcap'}: File too large" in p.stderr
+    names = sorted(f.name for f in out.iterdir())
+    assert names == ["summary.json", "trajectories.csv", "vehicles.csv"]
+    s = json.loads((out / "summary.json").read_text())
+    assert "run.mcap" in s["output_error"] and "mcap" not in s
