@@ -31,12 +31,12 @@ use iceoryx2::service::port_factory::publish_subscribe::PortFactory;
 use shoal_model::ballast::Pump;
 use shoal_model::control::Mode;
 use shoal_model::math::euler_rpy;
+pub use shoal_sim::agents::Flow;
 use shoal_sim::agents::{self, AgentEvent, AgentReport, Order, Rejections, RoundTrip};
 use shoal_sim::orders::FrameOrder;
 use shoal_sim::sim::Sim;
 use shoal_world::cancel::Cancel;
 use shoal_world::desc::AgentsDesc;
-use shoal_world::spec::FallbackSpec;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -119,18 +119,6 @@ fn end_marker(step: u64, t: f64) -> agents::Observation {
         frames: Vec::new(),
         fallback: true,
     }
-}
-
-/// What the run should do after an exchange.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Flow {
-    /// Go on.
-    Continue,
-    /// End the run (fallback `stop`), with the reason.
-    Stop(String),
-    /// A stop was asked for (see [`Host::stop_on`]) while waiting for an agent: end the run
-    /// without this step.
-    Interrupted,
 }
 
 /// The world's end of the bridge.
@@ -444,7 +432,7 @@ impl Host {
         self.ports
             .iter_mut()
             .map(|p| {
-                let r = stats(&mut p.rtt);
+                let r = RoundTrip::of(&mut p.rtt);
                 p.rtt.clear();
                 r
             })
@@ -479,7 +467,7 @@ impl Host {
         self.ports
             .iter_mut()
             .map(|p| {
-                p.report.round_trip = stats(&mut p.rtt);
+                p.report.round_trip = RoundTrip::of(&mut p.rtt);
                 p.report.clone()
             })
             .collect()
@@ -487,11 +475,7 @@ impl Host {
 }
 
 fn lost(cfg: &AgentsDesc, name: &str, how: &str, flow: Flow) -> Flow {
-    if cfg.fallback == FallbackSpec::Stop && flow == Flow::Continue {
-        Flow::Stop(format!("agent `{name}` {how} and the fallback is `stop`"))
-    } else {
-        flow
-    }
+    agents::lost_agent(cfg.fallback, name, how, flow)
 }
 
 enum Reply {
@@ -725,18 +709,4 @@ pub fn encode(o: &agents::Observation, extra: u32) -> Observation {
     }
     w.n_frames = n as u32;
     w
-}
-
-fn stats(v: &mut [f64]) -> RoundTrip {
-    if v.is_empty() {
-        return RoundTrip::default();
-    }
-    v.sort_by(f64::total_cmp);
-    let at = |q: f64| v[((v.len() - 1) as f64 * q).round() as usize];
-    RoundTrip {
-        count: v.len(),
-        median_us: at(0.5),
-        p99_us: at(0.99),
-        max_us: v[v.len() - 1],
-    }
 }

@@ -17,6 +17,7 @@
 //! `shoal sweep` exits 1 also when some of its runs failed or are missing (results.csv lists
 //! them), and 128 + n when a signal stopped it (the table holds the runs that finished).
 
+mod agents;
 mod alloc;
 mod bench;
 mod bench_rows;

@@ -6,11 +6,12 @@
 //! `shoal_sim::output`); agents are told and the shared memory is removed; the exit code is
 //! 128 + the signal number.
 
+use crate::agents::open_agents;
 use crate::{Failure, signals};
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressStyle};
-use shoal_bridge::host::{Flow, Host};
 use shoal_sim::agents::AgentsSummary;
+use shoal_sim::agents::Flow;
 use shoal_sim::prelude::*;
 use shoal_world::cancel::{Cancel, Cause};
 use shoal_world::desc::WorldDesc;
@@ -398,71 +399,6 @@ pub fn execute(desc: &WorldDesc, out_dir: &Path, opts: &Execute<'_>) -> Result<R
         summary: Box::new(summary),
         ending,
     })
-}
-
-/// Opens the world's agent services (when a vehicle group names an agent) and waits for the
-/// agents to attach, printing where they attach.
-fn open_agents(
-    desc: &WorldDesc,
-    quiet: bool,
-    cancel: &Arc<Cancel>,
-) -> Result<Option<Host>, Failure> {
-    if desc.agents.names.is_empty() {
-        return Ok(None);
-    }
-    let counts: Vec<usize> = desc
-        .agents
-        .names
-        .iter()
-        .map(|n| {
-            desc.vehicles
-                .iter()
-                .filter(|v| v.agent.as_deref() == Some(n))
-                .count()
-        })
-        .collect();
-    let mut host = Host::open(&desc.agents, &counts).map_err(|e| Failure::Input(e.to_string()))?;
-    host.stop_on(cancel.clone());
-    if !quiet {
-        eprintln!(
-            "shoal: agents ({}) attach with prefix `{}`: {}",
-            if desc.agents.lockstep {
-                "lock-step"
-            } else {
-                "free-running"
-            },
-            desc.agents.prefix,
-            desc.agents
-                .names
-                .iter()
-                .zip(&counts)
-                .map(|(n, c)| format!("`{n}` ({c} vehicles)"))
-                .collect::<Vec<_>>()
-                .join(", ")
-        );
-    }
-    let wait = Duration::from_secs_f64(desc.agents.attach_timeout);
-    let mut shown = false;
-    let missing = host.wait_for_agents(wait, &mut |missing| {
-        if !quiet && !shown {
-            eprintln!(
-                "shoal: waiting up to {:.0} s for {} to attach (Ctrl-C to stop; \
-                 `--wait-agents SECONDS` waits longer — an agent built for the first time \
-                 can take minutes to compile, so build it before starting the world)",
-                wait.as_secs_f64(),
-                missing.join(", ")
-            );
-            shown = true;
-        }
-        !cancel.is_requested()
-    });
-    if !missing.is_empty() && !quiet {
-        eprintln!(
-            "shoal: starting without {}: their vehicles hold depth and heading until they attach",
-            missing.join(", ")
-        );
-    }
-    Ok(Some(host))
 }
 
 /// `shoal preset`.

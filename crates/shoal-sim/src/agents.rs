@@ -19,6 +19,7 @@ use crate::sim::Sim;
 use bevy_ecs::prelude::Mut;
 use shoal_model::math::wrap_pi;
 use shoal_model::prelude::*;
+use shoal_world::spec::FallbackSpec;
 
 pub use crate::components::External;
 
@@ -147,6 +148,44 @@ pub struct RoundTrip {
     pub max_us: f64,
 }
 
+impl RoundTrip {
+    /// Statistics of round trips `v` \[µs\] (sorts them in place).
+    pub fn of(v: &mut [f64]) -> RoundTrip {
+        if v.is_empty() {
+            return RoundTrip::default();
+        }
+        v.sort_by(f64::total_cmp);
+        let at = |q: f64| v[((v.len() - 1) as f64 * q).round() as usize];
+        RoundTrip {
+            count: v.len(),
+            median_us: at(0.5),
+            p99_us: at(0.99),
+            max_us: v[v.len() - 1],
+        }
+    }
+}
+
+/// What a run does when agent `name` is lost (`how`: hung, died, left): ends with a reason
+/// under the fallback `stop` (unless it already ends), else goes on as `flow` says.
+pub fn lost_agent(fallback: FallbackSpec, name: &str, how: &str, flow: Flow) -> Flow {
+    if fallback == FallbackSpec::Stop && flow == Flow::Continue {
+        Flow::Stop(format!("agent `{name}` {how} and the fallback is `stop`"))
+    } else {
+        flow
+    }
+}
+
+/// What the run should do after an exchange with agents.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Flow {
+    /// Go on.
+    Continue,
+    /// End the run (fallback `stop`), with the reason.
+    Stop(String),
+    /// A stop was asked for while waiting for an agent: end the run without this step.
+    Interrupted,
+}
+
 /// Everything about one agent for the run summary.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct AgentReport {
@@ -207,6 +246,23 @@ impl Sim {
         n_agents: usize,
         grant_position: bool,
     ) -> Vec<Vec<Observation>> {
+        self.observe(n_agents, grant_position, None)
+    }
+
+    /// Observations of agent `agent`'s vehicles whose control tick is at the coming step, as
+    /// [`Sim::observe_agents`] gives them; other agents' vehicles keep their frames (a second
+    /// transport, the ROS 2 bridge, serves one agent index beside the iceoryx2 ones).
+    pub fn observe_agent(&mut self, agent: usize, grant_position: bool) -> Vec<Observation> {
+        self.observe(agent + 1, grant_position, Some(agent))
+            .swap_remove(agent)
+    }
+
+    fn observe(
+        &mut self,
+        n_agents: usize,
+        grant_position: bool,
+        only: Option<usize>,
+    ) -> Vec<Vec<Observation>> {
         let step = self.step_count();
         let t = self.time();
         let mut out = vec![Vec::new(); n_agents];
@@ -214,7 +270,10 @@ impl Sim {
             let mut q = world.query::<(&VehicleId, &External, &mut Inbox)>();
             for (id, ext, mut inbox) in q.iter_mut(world) {
                 let v = fleet.get(*id);
-                if !step.is_multiple_of(v.control.every) || ext.agent >= n_agents {
+                if !step.is_multiple_of(v.control.every)
+                    || ext.agent >= n_agents
+                    || only.is_some_and(|a| a != ext.agent)
+                {
                     continue;
                 }
                 out[ext.agent].push(Observation {

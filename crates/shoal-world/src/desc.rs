@@ -46,8 +46,24 @@ pub struct AgentsDesc {
     pub grant_position: bool,
     /// Free-running pace [simulated s per wall s]; 0 = as fast as possible.
     pub pace: f64,
-    /// Names of the agents the vehicles name, sorted.
+    /// Names of the agents the vehicles name, sorted — but `ros2` (the ROS 2 bridge), when a
+    /// group names it, last: agent indices below it belong to iceoryx2 agents.
     pub names: Vec<String>,
+    /// The ROS 2 bridge, when a vehicle group says `agent = "ros2"`.
+    pub ros2: Option<Ros2Desc>,
+}
+
+/// The ROS 2 bridge of a world (see [`crate::spec::Ros2Spec`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Ros2Desc {
+    /// DDS domain id (0 … 232).
+    pub domain_id: u16,
+    /// ROS namespace of the vehicles' topics.
+    pub namespace: String,
+    /// Free-running real-time factor [simulated s per wall s]; 0 = as fast as possible.
+    pub rtf: f64,
+    /// Agent index of the bridge (the last of [`AgentsDesc::names`]).
+    pub agent: usize,
 }
 
 /// What a run writes.

@@ -36,6 +36,7 @@ pub fn vehicle_world_toml(
         }],
         output: OutputSpec::default(),
         agents: AgentsSpec::default(),
+        ros2: None,
     };
     toml::to_string(&wf)
 }

@@ -100,6 +100,8 @@ pub const RANGES: &[FieldRange] = &[
     r("agents.timeout", C(1e-3), C(3600.0), "s", "wait for an agent's command per tick"),
     r("agents.attach_timeout", C(0.0), C(86400.0), "s", "wait for agents to attach before the run"),
     r("agents.pace", C(0.0), C(1e6), "simulated s per wall s", "0: as fast as possible"),
+    r("ros2.domain_id", C(0.0), C(232.0), "-", "DDS domain (ROS_DOMAIN_ID)"),
+    r("ros2.rtf", C(0.0), C(1e6), "simulated s per wall s", "free-running real-time factor; 0: as fast as possible"),
     r("output.record_hz", C(1e-3), C(1000.0), "Hz", "trajectory rows per simulated second"),
     // Obstacles.
     r("obstacles[].position", C(-BIG), C(BIG), "m", "centre"),

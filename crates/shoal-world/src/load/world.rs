@@ -9,7 +9,7 @@ use super::obstacles::obstacle;
 use super::placement::{check_overlaps, group};
 use super::validator::Validator;
 use crate::cancel::{Cancel, Interrupted};
-use crate::desc::{AgentsDesc, OutputDesc, WorldDesc};
+use crate::desc::{AgentsDesc, OutputDesc, Ros2Desc, WorldDesc};
 use crate::error::{FieldPath, ProblemKind};
 use crate::geometry::Geometry;
 use crate::spec::*;
@@ -95,6 +95,27 @@ pub(super) fn build(
     v.field(&ag.key("timeout"), wf.agents.timeout);
     v.field(&ag.key("attach_timeout"), wf.agents.attach_timeout);
     v.field(&ag.key("pace"), wf.agents.pace);
+    if let Some(r) = &wf.ros2 {
+        let rk = root.key("ros2");
+        v.field(&rk.key("domain_id"), f64::from(r.domain_id));
+        v.field(&rk.key("rtf"), r.rtf);
+        let ok = r.namespace.len() <= 64
+            && r.namespace.starts_with(|c: char| c.is_ascii_alphabetic())
+            && r.namespace
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || c == '_');
+        if !ok {
+            v.push(
+                ProblemKind::Invalid,
+                &rk.key("namespace"),
+                format!(
+                    "namespace `{}`: use 1–64 letters, digits or `_`, starting with a letter \
+                     (a ROS 2 name)",
+                    r.namespace
+                ),
+            );
+        }
+    }
     let out = root.key("output");
     v.field(&out.key("record_hz"), wf.output.record_hz);
     for (gi, g) in wf.vehicles.iter().enumerate() {
@@ -157,8 +178,21 @@ pub(super) fn build(
             .map_or_else(|| "world".into(), |s| s.to_string_lossy().into_owned())
     });
     let mut agent_names: Vec<String> = vehicles.iter().filter_map(|d| d.agent.clone()).collect();
-    agent_names.sort();
+    // The ROS 2 bridge's agent last, so that the iceoryx2 agents keep the indices below it.
+    agent_names.sort_by_key(|n| (n == ROS2_AGENT, n.clone()));
     agent_names.dedup();
+    let ros2 = agent_names
+        .iter()
+        .position(|n| n == ROS2_AGENT)
+        .map(|agent| {
+            let r = wf.ros2.clone().unwrap_or_default();
+            Ros2Desc {
+                domain_id: r.domain_id,
+                namespace: r.namespace,
+                rtf: r.rtf,
+                agent,
+            }
+        });
     let prefix = wf
         .agents
         .prefix
@@ -173,6 +207,7 @@ pub(super) fn build(
         grant_position: wf.agents.grant_position,
         pace: wf.agents.pace,
         names: agent_names,
+        ros2,
     };
     let warnings = advice(&vehicles, &groups, &env);
     Ok(Some(WorldDesc {

@@ -77,6 +77,45 @@ impl AgentsSpec {
     }
 }
 
+/// The ROS 2 bridge (`[ros2]`): vehicle groups with `agent = "ros2"` are driven by ROS 2 nodes
+/// over DDS (crate `shoal-ros2`); timing, timeouts, fallback and positions as in `[agents]`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Ros2Spec {
+    /// DDS domain (ROS_DOMAIN_ID), 0 … 232.
+    #[serde(default)]
+    pub domain_id: u16,
+    /// ROS namespace of the vehicles' topics (`/<namespace>/<vehicle>/imu`); letters, digits
+    /// and `_`, starting with a letter.
+    #[serde(default = "d_ros2_namespace")]
+    pub namespace: String,
+    /// Free-running: simulated seconds per wall-clock second (real-time factor; 0: as fast as
+    /// possible).
+    #[serde(default = "d_rtf")]
+    pub rtf: f64,
+}
+
+impl Default for Ros2Spec {
+    fn default() -> Self {
+        Self {
+            domain_id: 0,
+            namespace: d_ros2_namespace(),
+            rtf: d_rtf(),
+        }
+    }
+}
+
+/// The agent name that puts a vehicle group on the ROS 2 bridge.
+pub const ROS2_AGENT: &str = "ros2";
+
+fn d_ros2_namespace() -> String {
+    "shoal".into()
+}
+
+fn d_rtf() -> f64 {
+    1.0
+}
+
 fn d_agent_timeout() -> f64 {
     1.0
 }

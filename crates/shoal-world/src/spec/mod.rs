@@ -16,7 +16,7 @@ mod modem;
 mod pool;
 mod vehicle;
 
-pub use behaviour::{AgentsSpec, BehaviourSpec, FallbackSpec, TimingSpec};
+pub use behaviour::{AgentsSpec, BehaviourSpec, FallbackSpec, ROS2_AGENT, Ros2Spec, TimingSpec};
 pub use group::{GridSpec, MissionStepSpec, ModeSpec, PumpSpec, RandomSpec, VehicleGroupSpec};
 pub use modem::{AccessSpec, ModemSpec};
 pub use pool::{AttenuationSpec, ObstacleSpec, PoolSpec, ShapeKind, WATER_TYPES, WaterSpec};
@@ -78,6 +78,9 @@ pub struct WorldFile {
     /// How external agent processes attach (used when a vehicle group names an `agent`).
     #[serde(default, skip_serializing_if = "AgentsSpec::is_default")]
     pub agents: AgentsSpec,
+    /// The ROS 2 bridge (used when a vehicle group says `agent = "ros2"`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ros2: Option<Ros2Spec>,
 }
 
 /// Integrator choice.

@@ -52,7 +52,7 @@
 //! `trajectories.csv` does.
 
 mod budget;
-mod enu;
+pub mod enu;
 mod file;
 mod foxglove;
 mod plain;

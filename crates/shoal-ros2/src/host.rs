@@ -1,0 +1,449 @@
+//! The world's end of the ROS 2 bridge: one DDS participant and node (`/shoal_world`), the
+//! topics of every vehicle whose group says `agent = "ros2"`, and the exchange on each of
+//! their control ticks.
+//!
+//! On a tick at simulated time T the world publishes, for each bridged vehicle, its IMU
+//! readings and pressure (stamped T), its odometry when positions are granted, the frames it
+//! received since its last tick (`modem/rx`), then `/tf` (granted) and `/clock` = T.
+//!
+//! * **Lock-step** (`[agents] timing = "lockstep"`): the world then waits, at most
+//!   `[agents] timeout` of wall time (`attach_timeout` until the first command ever arrives:
+//!   the nodes may still be discovering the world), for every vehicle's `setpoint` or
+//!   `actuators` stamped exactly T and for as many `modem/tx` frames stamped T as that
+//!   message's `frames` says. Commands stamped earlier are late and dropped (counted). A
+//!   vehicle is answered by the newest command stamped T. A run is then as reproducible as one
+//!   without agents: what reaches the world, and when in simulated time, does not depend on
+//!   the wall clock.
+//! * **Free-running**: nothing waits; whatever has arrived is applied (the newest command per
+//!   vehicle, every frame), and the world keeps to `[ros2] rtf` × real time.
+//!
+//! A vehicle not answered in time falls back (`[agents] fallback`) with every other vehicle
+//! of the bridge — the bridge is one agent, *hung* — until commands arrive again; `stop` ends
+//! the run. Every command is checked by [`Sim::command_vehicle`] (the rules of iceoryx2
+//! agents: a NaN rejects it, values out of range are clamped, both counted) and an unknown
+//! `mode` or `pump` is counted as invalid; nothing unchecked reaches the world.
+
+use crate::Ros2Error;
+use crate::convert::{self, Answer, ns};
+use crate::msgs::{Clock, FluidPressure, Imu, OpticalFrame, TfMessage, Time, stamp};
+use crate::topics::{VehicleTopics, WorldTopics};
+use ros2_client::{Context, ContextOptions, Node, NodeName, NodeOptions};
+use shoal_sim::agents::{
+    AgentEvent, AgentReport, Flow, Observation, Rejections, RoundTrip, lost_agent,
+};
+use shoal_sim::sim::Sim;
+use shoal_world::cancel::Cancel;
+use shoal_world::desc::{AgentsDesc, Ros2Desc, WorldDesc};
+use std::collections::HashMap;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+/// How often a lock-step wait publishes the sensors of vehicles not yet answered again.
+const REPUBLISH: Duration = Duration::from_millis(200);
+
+/// Events kept in the report; later ones are only counted.
+const MAX_EVENTS: usize = 1000;
+
+/// The world's end of the ROS 2 bridge.
+pub struct Ros2Host {
+    _context: Context,
+    node: Node,
+    world: WorldTopics,
+    vehicles: Vec<VehicleTopics>,
+    /// Vehicle id → index in `vehicles`.
+    index: HashMap<u32, usize>,
+    agents: AgentsDesc,
+    ros2: Ros2Desc,
+    density: f64,
+    gravity: f64,
+    /// Frames to send, per vehicle, not yet claimed by a command.
+    tx: Vec<Vec<OpticalFrame>>,
+    answered_once: bool,
+    hung: bool,
+    report: AgentReport,
+    rtt: Vec<f64>,
+    wall0: Option<Instant>,
+    cancel: Option<Arc<Cancel>>,
+}
+
+impl Ros2Host {
+    /// Opens the bridge for the world `desc` (which must have a `ros2` agent): the node in
+    /// domain `[ros2] domain_id` and every bridged vehicle's topics.
+    pub fn open(desc: &WorldDesc) -> Result<Ros2Host, Ros2Error> {
+        let ros2 = desc.agents.ros2.clone().ok_or(Ros2Error::NotConfigured)?;
+        let context = Context::with_options(ContextOptions::new().domain_id(ros2.domain_id))
+            .map_err(|e| {
+                Ros2Error::Dds(format!(
+                    "DDS participant in domain {}: {e:?}",
+                    ros2.domain_id
+                ))
+            })?;
+        let mut node = context
+            .new_node(
+                NodeName::new("/", "shoal_world").map_err(|e| Ros2Error::Name(format!("{e:?}")))?,
+                NodeOptions::new().enable_rosout(false),
+            )
+            .map_err(|e| Ros2Error::Dds(format!("node: {e:?}")))?;
+        let grant = desc.agents.grant_position;
+        let mut vehicles = Vec::new();
+        let mut index = HashMap::new();
+        for (id, v) in desc.vehicles.iter().enumerate() {
+            if v.agent.as_deref() != Some(shoal_world::spec::ROS2_AGENT) {
+                continue;
+            }
+            index.insert(id as u32, vehicles.len());
+            vehicles.push(VehicleTopics::open(
+                &mut node,
+                &ros2.namespace,
+                id as u32,
+                &v.name,
+                grant,
+            )?);
+        }
+        let world = WorldTopics::open(&mut node, grant)?;
+        let n = vehicles.len();
+        Ok(Ros2Host {
+            _context: context,
+            node,
+            world,
+            vehicles,
+            index,
+            agents: desc.agents.clone(),
+            density: desc.env.density,
+            gravity: desc.env.gravity,
+            tx: vec![Vec::new(); n],
+            answered_once: false,
+            hung: false,
+            report: AgentReport {
+                name: shoal_world::spec::ROS2_AGENT.into(),
+                vehicles: n,
+                attached_at_end: false,
+                events: Vec::new(),
+                events_omitted: 0,
+                replies: 0,
+                late_replies: 0,
+                commands_applied: 0,
+                rejections: Rejections::default(),
+                fallback_ticks: 0,
+                round_trip: RoundTrip::default(),
+            },
+            rtt: Vec::new(),
+            wall0: None,
+            ros2,
+            cancel: None,
+        })
+    }
+
+    /// Gives up waits within about 10 ms once `cancel` asks for a stop.
+    pub fn stop_on(&mut self, cancel: Arc<Cancel>) {
+        self.cancel = Some(cancel);
+    }
+
+    /// The topics' namespace and the vehicles' names, for the start-up line.
+    pub fn describe(&self) -> String {
+        format!(
+            "ROS 2 domain {}, /{}/{{{}}}/…",
+            self.ros2.domain_id,
+            self.ros2.namespace,
+            self.vehicles
+                .iter()
+                .map(|v| v.name.as_str())
+                .collect::<Vec<_>>()
+                .join(",")
+        )
+    }
+
+    fn event(&mut self, t: f64, step: u64, what: &'static str, detail: String) {
+        if self.report.events.len() >= MAX_EVENTS {
+            self.report.events_omitted += 1;
+            return;
+        }
+        self.report.events.push(AgentEvent {
+            t,
+            step,
+            what,
+            detail,
+        });
+    }
+
+    fn stopping(&self) -> bool {
+        self.cancel.as_deref().is_some_and(Cancel::is_requested)
+    }
+
+    /// The exchange before a physics step (see the module doc).
+    pub fn before_step(&mut self, sim: &mut Sim) -> Result<Flow, Ros2Error> {
+        if self.vehicles.is_empty() || !sim.agent_tick_due() {
+            return Ok(Flow::Continue);
+        }
+        let obs = sim.observe_agent(self.ros2.agent, self.agents.grant_position);
+        if obs.is_empty() {
+            return Ok(Flow::Continue);
+        }
+        let wall0 = *self.wall0.get_or_insert_with(Instant::now);
+        let (t, step) = (sim.time(), sim.step_count());
+        let now = stamp(t);
+        self.report.fallback_ticks += obs.iter().filter(|o| o.fallback).count() as u64;
+        let sensors = self.publish_tick(&obs, now)?;
+        let sent = Instant::now();
+        let ids: Vec<u32> = obs.iter().map(|o| o.id).collect();
+        let mut flow = Flow::Continue;
+        if self.agents.lockstep {
+            let timeout = if self.answered_once {
+                self.agents.timeout
+            } else {
+                self.agents.attach_timeout
+            };
+            let answers = self.wait(&ids, now, Duration::from_secs_f64(timeout), &sensors)?;
+            let Some(answers) = answers else {
+                return Ok(Flow::Interrupted);
+            };
+            let complete = answers.len() == ids.len();
+            if complete {
+                self.rtt.push(sent.elapsed().as_secs_f64() * 1e6);
+                if self.hung || !self.answered_once {
+                    let what = if self.answered_once {
+                        "reattached"
+                    } else {
+                        "attached"
+                    };
+                    self.event(t, step, what, String::new());
+                }
+                self.hung = false;
+                self.answered_once = true;
+            } else if !self.hung {
+                let missing: Vec<&str> = ids
+                    .iter()
+                    .filter(|id| !answers.contains_key(id))
+                    .filter_map(|id| self.index.get(id).map(|&k| self.vehicles[k].name.as_str()))
+                    .collect();
+                let detail = format!(
+                    "no command stamped {t:.3} s within the timeout for {}",
+                    missing.join(", ")
+                );
+                if self.answered_once {
+                    self.hung = true;
+                    self.event(t, step, "hung", detail);
+                    sim.set_fallback(self.ros2.agent, self.agents.fallback);
+                    flow = lost_agent(self.agents.fallback, "ros2", "hung", flow);
+                }
+            }
+            self.apply(sim, answers);
+        } else {
+            let answers = self.drain_newest();
+            if !answers.is_empty() && !self.answered_once {
+                self.answered_once = true;
+                self.event(t, step, "attached", String::new());
+            }
+            self.apply(sim, answers);
+            if self.ros2.rtf > 0.0 {
+                loop {
+                    let ahead = t / self.ros2.rtf - wall0.elapsed().as_secs_f64();
+                    if ahead <= 0.0 {
+                        break;
+                    }
+                    if self.stopping() {
+                        return Ok(Flow::Interrupted);
+                    }
+                    std::thread::sleep(Duration::from_secs_f64(ahead.min(0.01)));
+                }
+            }
+        }
+        Ok(flow)
+    }
+
+    /// Publishes a tick's observations (see the module doc); returns each vehicle's sensor
+    /// messages, to publish again while a lock-step wait goes on.
+    fn publish_tick(
+        &mut self,
+        obs: &[Observation],
+        now: Time,
+    ) -> Result<Vec<(usize, Imu, FluidPressure)>, Ros2Error> {
+        let mut tf = TfMessage {
+            transforms: Vec::new(),
+        };
+        let mut sensors = Vec::with_capacity(obs.len());
+        for o in obs {
+            let Some(&k) = self.index.get(&o.id) else {
+                continue;
+            };
+            let v = &self.vehicles[k];
+            let frame = format!("{}/base_link", v.name);
+            let (imu, pressure) = (
+                convert::imu(o, &frame),
+                convert::pressure(o, self.density, self.gravity),
+            );
+            publish(&v.imu, imu.clone())?;
+            publish(&v.pressure, pressure.clone())?;
+            sensors.push((k, imu, pressure));
+            if let (Some(p), Some(odom)) = (o.position, &v.odom) {
+                let (od, ts) = convert::odometry(o, p, &frame);
+                publish(odom, od)?;
+                tf.transforms.push(ts);
+            }
+            for f in &o.frames {
+                publish(&v.rx, convert::received(f))?;
+            }
+        }
+        if let Some(p) = &self.world.tf {
+            publish(p, tf)?;
+        }
+        publish(&self.world.clock, Clock { clock: now })?;
+        Ok(sensors)
+    }
+
+    /// Waits for every vehicle in `ids` to answer the tick `now` (see the module doc); `None`
+    /// when a stop is asked for. Sensor data is best effort and DDS discovery takes a while:
+    /// while a vehicle has not answered, its `sensors` and `/clock` are published again every
+    /// [`REPUBLISH`], so a node that matched after the first publication still sees the tick
+    /// (a node tells ticks apart by their stamps).
+    fn wait(
+        &mut self,
+        ids: &[u32],
+        now: Time,
+        timeout: Duration,
+        sensors: &[(usize, Imu, FluidPressure)],
+    ) -> Result<Option<HashMap<u32, Answer>>, Ros2Error> {
+        let start = Instant::now();
+        let mut republished = Instant::now();
+        let mut answers: HashMap<u32, Answer> = HashMap::new();
+        let mut nap = Duration::from_micros(20);
+        loop {
+            for &id in ids {
+                let Some(&k) = self.index.get(&id) else {
+                    continue;
+                };
+                let v = &self.vehicles[k];
+                let rej = &mut self.report.rejections;
+                while let Some(f) = take(&v.tx, rej) {
+                    self.tx[k].push(f);
+                }
+                for a in take_answers(v, rej) {
+                    self.report.replies += 1;
+                    if a.stamp_ns() == ns(now) {
+                        answers.insert(id, a);
+                    } else if a.stamp_ns() < ns(now) {
+                        self.report.late_replies += 1;
+                    }
+                }
+            }
+            let ready = ids.iter().all(|id| {
+                answers.get(id).is_some_and(|a| {
+                    let k = self.index[id];
+                    self.tx[k].iter().filter(|f| f.stamp == now).count() >= a.frames() as usize
+                })
+            });
+            if ready || start.elapsed() >= timeout {
+                // Frames stamped this tick go with their vehicle's command.
+                for (id, a) in answers.iter_mut() {
+                    let k = self.index[id];
+                    let (mine, rest): (Vec<_>, Vec<_>) = std::mem::take(&mut self.tx[k])
+                        .into_iter()
+                        .partition(|f| f.stamp == now);
+                    self.tx[k] = rest.into_iter().filter(|f| ns(f.stamp) > ns(now)).collect();
+                    a.attach_frames(mine);
+                }
+                return Ok(Some(answers));
+            }
+            if self.stopping() {
+                return Ok(None);
+            }
+            if republished.elapsed() >= REPUBLISH {
+                for (k, imu, pressure) in sensors {
+                    let v = &self.vehicles[*k];
+                    if !answers.contains_key(&v.id) {
+                        publish(&v.imu, imu.clone())?;
+                        publish(&v.pressure, pressure.clone())?;
+                    }
+                }
+                publish(&self.world.clock, Clock { clock: now })?;
+                republished = Instant::now();
+            }
+            std::thread::sleep(nap);
+            nap = (nap * 2).min(Duration::from_micros(500));
+        }
+    }
+
+    /// Free-running: the newest command per vehicle that has arrived, with every frame.
+    fn drain_newest(&mut self) -> HashMap<u32, Answer> {
+        let mut answers = HashMap::new();
+        for (k, v) in self.vehicles.iter().enumerate() {
+            let rej = &mut self.report.rejections;
+            while let Some(f) = take(&v.tx, rej) {
+                self.tx[k].push(f);
+            }
+            let list = take_answers(v, rej);
+            self.report.replies += list.len() as u64;
+            if let Some(mut a) = list.into_iter().max_by_key(Answer::stamp_ns) {
+                a.attach_frames(std::mem::take(&mut self.tx[k]));
+                answers.insert(v.id, a);
+            }
+        }
+        answers
+    }
+
+    fn apply(&mut self, sim: &mut Sim, answers: HashMap<u32, Answer>) {
+        let mut ids: Vec<u32> = answers.keys().copied().collect();
+        ids.sort_unstable();
+        let mut answers = answers;
+        for id in ids {
+            let a = answers.remove(&id).expect("listed above");
+            let rej = &mut self.report.rejections;
+            if let Some(cmd) = a.into_command(id, rej)
+                && sim.command_vehicle(self.ros2.agent, &cmd, rej)
+            {
+                self.report.commands_applied += 1;
+            }
+        }
+    }
+
+    /// Round-trip statistics since the start or the last call, clearing them.
+    pub fn take_round_trips(&mut self) -> RoundTrip {
+        let r = RoundTrip::of(&mut self.rtt);
+        self.rtt.clear();
+        r
+    }
+
+    /// Ends the exchange and returns the bridge's report.
+    pub fn finish(&mut self, _sim: &mut Sim) -> AgentReport {
+        self.report.round_trip = RoundTrip::of(&mut self.rtt);
+        self.report.attached_at_end = self.answered_once && !self.hung;
+        let _ = &self.node;
+        self.report.clone()
+    }
+}
+
+fn publish<T: serde::Serialize + std::fmt::Debug>(
+    p: &ros2_client::Publisher<T>,
+    m: T,
+) -> Result<(), Ros2Error> {
+    p.publish(m)
+        .map_err(|e| Ros2Error::Dds(format!("publish: {e:?}")))
+}
+
+/// The next sample of `s`; one that does not deserialise is counted as malformed and
+/// skipped, never applied.
+fn take<T: serde::de::DeserializeOwned + 'static>(
+    s: &ros2_client::Subscription<T>,
+    rej: &mut Rejections,
+) -> Option<T> {
+    // A bounded number of malformed samples in a row, so a flood cannot hold the world.
+    for _ in 0..64 {
+        match s.take() {
+            Ok(m) => return m.map(|(m, _)| m),
+            Err(_) => rej.malformed += 1,
+        }
+    }
+    None
+}
+
+/// Every setpoint and actuator command that has arrived for vehicle `v`.
+fn take_answers(v: &VehicleTopics, rej: &mut Rejections) -> Vec<Answer> {
+    let mut out = Vec::new();
+    while let Some(s) = take(&v.setpoint, rej) {
+        out.push(Answer::Setpoint(s, Vec::new()));
+    }
+    while let Some(a) = take(&v.actuators, rej) {
+        out.push(Answer::Actuators(a, Vec::new()));
+    }
+    out
+}
