@@ -59,7 +59,7 @@ pub struct BenchArgs {
     /// Instead of the scaling tables: the lock-step round trip to an external agent process
     /// written in these languages (`rust`: the goto_agent example; `python`:
     /// python/examples/goto.py).
-    #[arg(long, value_delimiter = ',', value_parser = ["rust", "python"])]
+    #[arg(long, value_delimiter = ',', value_parser = ["rust", "python", "ros2"])]
     pub agents: Vec<String>,
     /// The Rust agent executable [default: examples/goto_agent next to this binary].
     #[arg(long, value_name = "PATH")]
@@ -410,7 +410,7 @@ fn scaling(a: &BenchArgs, vehicles: &[usize], threads: &[usize]) -> anyhow::Resu
 
 /// The checkout this binary was built in, or the current directory's, if any: the directory
 /// holding `python/shoal/agent`.
-fn checkout() -> Option<PathBuf> {
+pub(crate) fn checkout() -> Option<PathBuf> {
     let starts = [std::env::current_exe().ok(), std::env::current_dir().ok()];
     starts.into_iter().flatten().find_map(|s| {
         s.ancestors()
@@ -456,11 +456,11 @@ fn agent_command(a: &BenchArgs, lang: &str) -> anyhow::Result<std::process::Comm
 }
 
 /// An agent process that is killed if the bench leaves early.
-struct AgentProcess(Child);
+pub(crate) struct AgentProcess(pub(crate) Child);
 
 impl AgentProcess {
     /// Its standard error so far (after it ended).
-    fn stderr(&mut self) -> String {
+    pub(crate) fn stderr(&mut self) -> String {
         let mut s = String::new();
         if let Some(e) = self.0.stderr.as_mut() {
             let _ = e.read_to_string(&mut s);
@@ -469,7 +469,7 @@ impl AgentProcess {
     }
 
     /// Waits up to `limit` for it to end; kills it after that.
-    fn wait(&mut self, limit: Duration) -> Option<std::process::ExitStatus> {
+    pub(crate) fn wait(&mut self, limit: Duration) -> Option<std::process::ExitStatus> {
         let start = Instant::now();
         while start.elapsed() < limit {
             if let Ok(Some(s)) = self.0.try_wait() {
@@ -493,10 +493,10 @@ impl Drop for AgentProcess {
 }
 
 /// One row of the agent table.
-struct AgentCell {
-    ticks: usize,
-    round_trip: shoal_sim::agents::RoundTrip,
-    real_time: f64,
+pub(crate) struct AgentCell {
+    pub(crate) ticks: usize,
+    pub(crate) round_trip: shoal_sim::agents::RoundTrip,
+    pub(crate) real_time: f64,
 }
 
 fn measure_agent(a: &BenchArgs, lang: &str, n: usize) -> anyhow::Result<AgentCell> {
@@ -590,7 +590,14 @@ fn measure_agent(a: &BenchArgs, lang: &str, n: usize) -> anyhow::Result<AgentCel
 
 /// The agent round-trip table.
 fn agents(a: &BenchArgs) -> anyhow::Result<()> {
-    let vehicles = a.vehicles.clone().unwrap_or_else(|| vec![1, 100, 1000]);
+    let ros2_only = a.agents.iter().all(|l| l == "ros2");
+    let vehicles = a.vehicles.clone().unwrap_or_else(|| {
+        if ros2_only {
+            vec![1, 10, 100]
+        } else {
+            vec![1, 100, 1000]
+        }
+    });
     println!(
         "shoal bench --agents — lock-step round trip per control period (0.05 s) to one agent process\n\
          driving every vehicle (goto example); publish observations → all commands back, wall time;\n\
@@ -603,7 +610,11 @@ fn agents(a: &BenchArgs) -> anyhow::Result<()> {
     let mut json = Vec::new();
     for lang in &a.agents {
         for &n in &vehicles {
-            let c = measure_agent(a, lang, n)?;
+            let c = if lang == "ros2" {
+                crate::bench_ros2::measure(a, n)?
+            } else {
+                measure_agent(a, lang, n)?
+            };
             let r = c.round_trip;
             println!(
                 "{:>8} {:>8} {:>7} {:>11.1} {:>11.1} {:>11.1} {:>13.3} {:>12.1}",

@@ -59,6 +59,8 @@ pub struct Ros2Host {
     /// Frames to send, per vehicle, not yet claimed by a command.
     tx: Vec<Vec<OpticalFrame>>,
     answered_once: bool,
+    /// The wait for the nodes to attach (the first tick's) is over.
+    attach_waited: bool,
     hung: bool,
     report: AgentReport,
     rtt: Vec<f64>,
@@ -113,6 +115,7 @@ impl Ros2Host {
             gravity: desc.env.gravity,
             tx: vec![Vec::new(); n],
             answered_once: false,
+            attach_waited: false,
             hung: false,
             report: AgentReport {
                 name: shoal_world::spec::ROS2_AGENT.into(),
@@ -153,6 +156,11 @@ impl Ros2Host {
         )
     }
 
+    /// The bridged vehicles' ROS names (`/<namespace>/<name>/…`), in id order.
+    pub fn vehicle_names(&self) -> Vec<String> {
+        self.vehicles.iter().map(|v| v.name.clone()).collect()
+    }
+
     fn event(&mut self, t: f64, step: u64, what: &'static str, detail: String) {
         if self.report.events.len() >= MAX_EVENTS {
             self.report.events_omitted += 1;
@@ -188,11 +196,15 @@ impl Ros2Host {
         let ids: Vec<u32> = obs.iter().map(|o| o.id).collect();
         let mut flow = Flow::Continue;
         if self.agents.lockstep {
-            let timeout = if self.answered_once {
-                self.agents.timeout
-            } else {
-                self.agents.attach_timeout
+            // Wait for the nodes to attach once (DDS discovery), then `timeout` per tick while
+            // they answer; a bridge whose nodes are absent or hung is not waited for (its
+            // vehicles are under the fallback) until a tick is answered in full again.
+            let timeout = match (self.answered_once, self.attach_waited, self.hung) {
+                (false, false, _) => self.agents.attach_timeout,
+                (true, _, false) => self.agents.timeout,
+                _ => 0.0,
             };
+            self.attach_waited = true;
             let answers = self.wait(&ids, now, Duration::from_secs_f64(timeout), &sensors)?;
             let Some(answers) = answers else {
                 return Ok(Flow::Interrupted);
