@@ -2,7 +2,8 @@
 # The project's one Python environment: a venv in .venv at the repository root (SHOAL_VENV
 # overrides the place) holding the `shoal` package built from this checkout with its RL and
 # test extras (`pip install "./python[rl,test]"`: numpy, iceoryx2 0.10, PettingZoo, Gymnasium,
-# pytest, rosbags and mcap) and maturin, which builds the extension module in release mode with cargo into the
+# pytest, rosbags, mcap, and cyclonedds, on which the ROS 2 agent package shoal_ros2 runs) and
+# maturin, which builds the extension module in release mode with cargo into the
 # workspace's target directory. The tests (scripts/test.sh, crates/shoal-cli/tests/python_agent.rs),
 # `shoal bench --agents python` and README use it.
 #
@@ -33,8 +34,8 @@ if ! "$py" -c 'import pip' >/dev/null 2>&1; then
     python3 -m venv --clear "$venv" >&2
 fi
 stamp="$venv/.shoal-built"
-if [ -f "$stamp" ] && "$py" -c 'import shoal, shoal.rl, shoal.agent, pytest, rosbags, mcap, mcap_ros2, jsonschema' >/dev/null 2>&1 &&
-    [ -z "$(find crates python/shoal python/shoal_agent python/pyproject.toml Cargo.toml Cargo.lock \
+if [ -f "$stamp" ] && "$py" -c 'import shoal, shoal.rl, shoal.agent, pytest, rosbags, mcap, mcap_ros2, jsonschema, cyclonedds' >/dev/null 2>&1 &&
+    [ -z "$(find crates python/shoal python/shoal_agent python/shoal_ros2 python/pyproject.toml Cargo.toml Cargo.lock \
         -newer "$stamp" -type f ! -path '*/__pycache__/*' 2>/dev/null | head -n 1)" ]; then
     echo "$py"
     exit 0

@@ -25,8 +25,9 @@ TAG = 0x5C
 BEACON = struct.Struct("<Bff")
 
 
-class School(Agent):
-    """The school behaviour; state per vehicle, so one instance drives the whole group."""
+class Schooling:
+    """The school behaviour without a transport (shared with `ros2_school.py`): state per
+    vehicle, so one instance drives the whole group."""
 
     def __init__(self) -> None:
         #: Per vehicle: (sender-less) beacons heard as (time, heading, depth).
@@ -34,32 +35,48 @@ class School(Agent):
         #: Per vehicle: time of its next beacon.
         self.next = {}
 
-    def tick(self, o, cmd) -> None:
-        vehicle, time, yaw, depth = o.vehicle, o.time, o.yaw, o.depth
+    def decide(self, vehicle, time, yaw, depth, frames):
+        """One tick of vehicle `vehicle` (its id: staggers the beacons) at `time` [s] with
+        heading `yaw` [rad] and `depth` [m], having received `frames` ((payload, end of
+        reception [s]) in order of arrival). Returns (beacon payload to send on all modems now,
+        or None; auto-mode depth [m], heading [rad] and surge [N] setpoints)."""
         heard = self.heard.setdefault(vehicle, [])
-        for payload, _modem, _power, t in shoal_agent.received(o):
+        for payload, t in frames:
             if len(payload) == BEACON.size and payload[0] == TAG:
                 _, h, d = BEACON.unpack(payload)  # float32 → float, exactly as in Rust
                 heard.append((t, h, d))
         heard[:] = [b for b in heard if time - b[0] < 3.0]
         # Beacon once a second, staggered by vehicle id.
+        beacon = None
         nxt = self.next.setdefault(vehicle, 0.1 * float(vehicle % 10))
         if time + 1e-9 >= nxt:
             # struct rounds to the nearest float32, as Rust's `as f32`.
-            shoal_agent.send(cmd, ALL_MODEMS, BEACON.pack(TAG, yaw, depth), 0.0)
+            beacon = BEACON.pack(TAG, yaw, depth)
             self.next[vehicle] = nxt + 1.0
         if not heard:
-            shoal_agent.set_mode(cmd, mode.AUTO, depth, yaw + 0.4, 0.0, 0.0)
-        else:
-            # Summed in the same order as in Rust, so the result is bit-identical.
-            x, y, d = math.cos(yaw), math.sin(yaw), depth
-            for _, h, dd in heard:
-                x += math.cos(h)
-                y += math.sin(h)
-                d += dd
-            shoal_agent.set_mode(
-                cmd, mode.AUTO, d / float(len(heard) + 1), math.atan2(y, x), 0.03, 0.0
-            )
+            return beacon, (depth, yaw + 0.4, 0.0)
+        # Summed in the same order as in Rust, so the result is bit-identical.
+        x, y, d = math.cos(yaw), math.sin(yaw), depth
+        for _, h, dd in heard:
+            x += math.cos(h)
+            y += math.sin(h)
+            d += dd
+        return beacon, (d / float(len(heard) + 1), math.atan2(y, x), 0.03)
+
+
+class School(Agent):
+    """The school behaviour over shared memory."""
+
+    def __init__(self) -> None:
+        self.school = Schooling()
+
+    def tick(self, o, cmd) -> None:
+        frames = ((payload, t) for payload, _modem, _power, t in shoal_agent.received(o))
+        beacon, (depth, heading, surge) = self.school.decide(o.vehicle, o.time, o.yaw, o.depth,
+                                                            frames)
+        if beacon is not None:
+            shoal_agent.send(cmd, ALL_MODEMS, beacon, 0.0)
+        shoal_agent.set_mode(cmd, mode.AUTO, depth, heading, surge, 0.0)
 
 
 def main(argv) -> int:

@@ -600,7 +600,8 @@ fn agents(a: &BenchArgs) -> anyhow::Result<()> {
     });
     println!(
         "shoal bench --agents — lock-step round trip per control period (0.05 s) to one agent process\n\
-         driving every vehicle (goto example); publish observations → all commands back, wall time;\n\
+         driving every vehicle (iceoryx2: the goto example; ros2: python/bench/ros2_hold.py on Cyclone\n\
+         DDS, the same orders); publish observations → all commands back, wall time;\n\
          world on 1 thread, 20 ticks of warm-up not counted"
     );
     println!(

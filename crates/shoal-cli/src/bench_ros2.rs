@@ -22,7 +22,9 @@ pub fn measure(a: &BenchArgs, n: usize) -> anyhow::Result<AgentCell> {
     let domain = 1 + (pid as usize * 7 + n) % 200;
     let text = shoal_sim::bench::agent_swarm_text(n, &namespace)
         .replace("agent = \"pilot\"", "agent = \"ros2\"")
-        + &format!("[ros2]\nnamespace = \"{namespace}\"\ndomain_id = {domain}\n");
+        + &format!(
+            "[ros2]\nnamespace = \"{namespace}\"\ndomain_id = {domain}\nlocalhost_only = true\n"
+        );
     let desc = shoal_world::load::load_str(&text, std::path::Path::new("<ros2 bench swarm>"))
         .map_err(|e| anyhow::anyhow!("{e}"))?;
     let mut host = Ros2Host::open(&desc)?;
@@ -48,6 +50,8 @@ pub fn measure(a: &BenchArgs, n: usize) -> anyhow::Result<AgentCell> {
             .args([namespace.clone(), domain.to_string()])
             .args(host.vehicle_names())
             .env("PYTHONDONTWRITEBYTECODE", "1")
+            // DDS stays on this machine on both sides.
+            .env("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
             .stdin(Stdio::null())
             .stdout(Stdio::null())
             .stderr(Stdio::piped())

@@ -64,10 +64,11 @@ pub fn imu(o: &Observation, frame: &str) -> Imu {
     }
 }
 
-/// The pressure sensor's reading as an absolute pressure: 101 325 Pa + ρ g · depth reading.
-pub fn pressure(o: &Observation, density: f64, gravity: f64) -> FluidPressure {
+/// The pressure sensor's reading as an absolute pressure: 101 325 Pa + ρ g · depth reading,
+/// in frame `frame`.
+pub fn pressure(o: &Observation, density: f64, gravity: f64, frame: &str) -> FluidPressure {
     FluidPressure {
-        header: header(o.t, "pressure"),
+        header: header(o.t, frame),
         fluid_pressure: SURFACE_PRESSURE_PA + density * gravity * o.sensors.depth,
         variance: 0.0,
     }

@@ -25,9 +25,9 @@
 
 use crate::Ros2Error;
 use crate::convert::{self, Answer, ns};
-use crate::msgs::{Clock, FluidPressure, Imu, OpticalFrame, TfMessage, Time, stamp};
+use crate::msgs::{Clock, FluidPressure, Imu, Odometry, OpticalFrame, TfMessage, Time, stamp};
 use crate::topics::{VehicleTopics, WorldTopics};
-use ros2_client::{Context, ContextOptions, Node, NodeName, NodeOptions};
+use ros2_client::{Context, Node, NodeName, NodeOptions};
 use shoal_sim::agents::{
     AgentEvent, AgentReport, Flow, Observation, Rejections, RoundTrip, lost_agent,
 };
@@ -43,6 +43,29 @@ const REPUBLISH: Duration = Duration::from_millis(200);
 
 /// Events kept in the report; later ones are only counted.
 const MAX_EVENTS: usize = 1000;
+
+/// Whether ROS 2's own switches keep DDS on this machine: `ROS_AUTOMATIC_DISCOVERY_RANGE=
+/// LOCALHOST` (Iron and later) or `ROS_LOCALHOST_ONLY=1` (before).
+pub fn localhost_from_env() -> bool {
+    std::env::var("ROS_AUTOMATIC_DISCOVERY_RANGE")
+        .is_ok_and(|v| v.eq_ignore_ascii_case("localhost"))
+        || std::env::var("ROS_LOCALHOST_ONLY").is_ok_and(|v| v == "1")
+}
+
+/// The DDS participant of the bridge: in `[ros2] domain_id`, on the loopback interface only
+/// when `[ros2] localhost_only` or ROS 2's environment says so (no discovery traffic leaves
+/// the machine), else on every interface, as ROS 2's default.
+fn participant(ros2: &Ros2Desc) -> Result<Context, Ros2Error> {
+    use ros2_client::dds::rustdds::DomainParticipantBuilder;
+    let fail =
+        |e: String| Ros2Error::Dds(format!("DDS participant in domain {}: {e}", ros2.domain_id));
+    let mut b = DomainParticipantBuilder::new(ros2.domain_id);
+    if ros2.localhost_only || localhost_from_env() {
+        b = b.with_only_networks([std::net::Ipv4Addr::LOCALHOST]);
+    }
+    let dp = b.build().map_err(|e| fail(format!("{e:?}")))?;
+    Context::from_domain_participant(dp).map_err(|e| fail(format!("{e:?}")))
+}
 
 /// The world's end of the ROS 2 bridge.
 pub struct Ros2Host {
@@ -62,6 +85,10 @@ pub struct Ros2Host {
     /// The wait for the nodes to attach (the first tick's) is over.
     attach_waited: bool,
     hung: bool,
+    /// Stamp of the tick on which the bridge was declared hung \[ns\].
+    hung_stamp: i64,
+    /// Newest stamp of any reply received \[ns\].
+    newest_reply: i64,
     report: AgentReport,
     rtt: Vec<f64>,
     wall0: Option<Instant>,
@@ -73,13 +100,7 @@ impl Ros2Host {
     /// domain `[ros2] domain_id` and every bridged vehicle's topics.
     pub fn open(desc: &WorldDesc) -> Result<Ros2Host, Ros2Error> {
         let ros2 = desc.agents.ros2.clone().ok_or(Ros2Error::NotConfigured)?;
-        let context = Context::with_options(ContextOptions::new().domain_id(ros2.domain_id))
-            .map_err(|e| {
-                Ros2Error::Dds(format!(
-                    "DDS participant in domain {}: {e:?}",
-                    ros2.domain_id
-                ))
-            })?;
+        let context = participant(&ros2)?;
         let mut node = context
             .new_node(
                 NodeName::new("/", "shoal_world").map_err(|e| Ros2Error::Name(format!("{e:?}")))?,
@@ -92,6 +113,14 @@ impl Ros2Host {
         for (id, v) in desc.vehicles.iter().enumerate() {
             if v.agent.as_deref() != Some(shoal_world::spec::ROS2_AGENT) {
                 continue;
+            }
+            let ros = crate::topics::ros_name(&v.name);
+            if let Some(other) = vehicles.iter().find(|t: &&VehicleTopics| t.name == ros) {
+                return Err(Ros2Error::Name(format!(
+                    "vehicles `{}` and `{}` would share the topics /{}/{ros}/…: rename one \
+                     (ROS names hold letters, digits and single `_`)",
+                    desc.vehicles[other.id as usize].name, v.name, ros2.namespace
+                )));
             }
             index.insert(id as u32, vehicles.len());
             vehicles.push(VehicleTopics::open(
@@ -117,6 +146,8 @@ impl Ros2Host {
             answered_once: false,
             attach_waited: false,
             hung: false,
+            hung_stamp: 0,
+            newest_reply: i64::MIN,
             report: AgentReport {
                 name: shoal_world::spec::ROS2_AGENT.into(),
                 vehicles: n,
@@ -233,11 +264,24 @@ impl Ros2Host {
                     missing.join(", ")
                 );
                 if self.answered_once {
+                    // The commands that did come first, then every vehicle of the bridge under
+                    // the fallback (a command would end a vehicle's fallback).
+                    self.apply(sim, answers);
                     self.hung = true;
+                    self.hung_stamp = ns(now);
+                    // Only replies received from now on are signs of life.
+                    self.newest_reply = i64::MIN;
                     self.event(t, step, "hung", detail);
                     sim.set_fallback(self.ros2.agent, self.agents.fallback);
                     flow = lost_agent(self.agents.fallback, "ros2", "hung", flow);
+                    return Ok(flow);
                 }
+            }
+            if self.hung && self.newest_reply >= self.hung_stamp {
+                // Answering again (a reply to a tick since it hung): waited for from the next
+                // tick on; its vehicles leave the fallback with their next command.
+                self.hung = false;
+                self.event(t, step, "reattached", "answering again".into());
             }
             self.apply(sim, answers);
         } else {
@@ -265,11 +309,7 @@ impl Ros2Host {
 
     /// Publishes a tick's observations (see the module doc); returns each vehicle's sensor
     /// messages, to publish again while a lock-step wait goes on.
-    fn publish_tick(
-        &mut self,
-        obs: &[Observation],
-        now: Time,
-    ) -> Result<Vec<(usize, Imu, FluidPressure)>, Ros2Error> {
+    fn publish_tick(&mut self, obs: &[Observation], now: Time) -> Result<Vec<Sensors>, Ros2Error> {
         let mut tf = TfMessage {
             transforms: Vec::new(),
         };
@@ -280,18 +320,19 @@ impl Ros2Host {
             };
             let v = &self.vehicles[k];
             let frame = format!("{}/base_link", v.name);
-            let (imu, pressure) = (
-                convert::imu(o, &frame),
-                convert::pressure(o, self.density, self.gravity),
-            );
-            publish(&v.imu, imu.clone())?;
-            publish(&v.pressure, pressure.clone())?;
-            sensors.push((k, imu, pressure));
-            if let (Some(p), Some(odom)) = (o.position, &v.odom) {
+            let mut s = Sensors {
+                vehicle: k,
+                imu: convert::imu(o, &frame),
+                pressure: convert::pressure(o, self.density, self.gravity, &frame),
+                odom: None,
+            };
+            if let (Some(p), Some(_)) = (o.position, &v.odom) {
                 let (od, ts) = convert::odometry(o, p, &frame);
-                publish(odom, od)?;
+                s.odom = Some(od);
                 tf.transforms.push(ts);
             }
+            s.publish(v)?;
+            sensors.push(s);
             for f in &o.frames {
                 publish(&v.rx, convert::received(f))?;
             }
@@ -313,7 +354,7 @@ impl Ros2Host {
         ids: &[u32],
         now: Time,
         timeout: Duration,
-        sensors: &[(usize, Imu, FluidPressure)],
+        sensors: &[Sensors],
     ) -> Result<Option<HashMap<u32, Answer>>, Ros2Error> {
         let start = Instant::now();
         let mut republished = Instant::now();
@@ -331,6 +372,7 @@ impl Ros2Host {
                 }
                 for a in take_answers(v, rej) {
                     self.report.replies += 1;
+                    self.newest_reply = self.newest_reply.max(a.stamp_ns());
                     if a.stamp_ns() == ns(now) {
                         answers.insert(id, a);
                     } else if a.stamp_ns() < ns(now) {
@@ -360,11 +402,10 @@ impl Ros2Host {
                 return Ok(None);
             }
             if republished.elapsed() >= REPUBLISH {
-                for (k, imu, pressure) in sensors {
-                    let v = &self.vehicles[*k];
+                for s in sensors {
+                    let v = &self.vehicles[s.vehicle];
                     if !answers.contains_key(&v.id) {
-                        publish(&v.imu, imu.clone())?;
-                        publish(&v.pressure, pressure.clone())?;
+                        s.publish(v)?;
                     }
                 }
                 publish(&self.world.clock, Clock { clock: now })?;
@@ -421,6 +462,26 @@ impl Ros2Host {
         self.report.attached_at_end = self.answered_once && !self.hung;
         let _ = &self.node;
         self.report.clone()
+    }
+}
+
+/// A vehicle's sensor messages of one tick, kept to publish again while the world waits.
+struct Sensors {
+    /// Index in `Ros2Host::vehicles`.
+    vehicle: usize,
+    imu: Imu,
+    pressure: FluidPressure,
+    odom: Option<Odometry>,
+}
+
+impl Sensors {
+    fn publish(&self, v: &VehicleTopics) -> Result<(), Ros2Error> {
+        publish(&v.imu, self.imu.clone())?;
+        publish(&v.pressure, self.pressure.clone())?;
+        if let (Some(o), Some(p)) = (&self.odom, &v.odom) {
+            publish(p, o.clone())?;
+        }
+        Ok(())
     }
 }
 

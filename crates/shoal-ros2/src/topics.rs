@@ -69,19 +69,21 @@ pub fn subscription<T: 'static>(
         .map_err(|e| Ros2Error::Dds(format!("subscription {namespace}/{leaf}: {e:?}")))
 }
 
-/// A vehicle's name as a ROS 2 name: every character but ASCII letters, digits and `_` as
-/// `_`, and a `v` before a leading digit (`school-0` → `school_0`, `3d` → `v3d`).
+/// A vehicle's name as a ROS 2 name: every character but ASCII letters and digits as `_`,
+/// runs of `_` as one, no `_` at the end, and a `v` before a leading digit (`school-0` →
+/// `school_0`, `x--y` → `x_y`, `3d` → `v3d`). Two vehicles whose names come out the same are
+/// refused when the bridge opens.
 pub fn ros_name(vehicle: &str) -> String {
-    let mut s: String = vehicle
-        .chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || c == '_' {
-                c
-            } else {
-                '_'
-            }
-        })
-        .collect();
+    let mut s = String::with_capacity(vehicle.len() + 1);
+    for c in vehicle.chars() {
+        let c = if c.is_ascii_alphanumeric() { c } else { '_' };
+        if !(c == '_' && (s.is_empty() || s.ends_with('_'))) {
+            s.push(c);
+        }
+    }
+    while s.ends_with('_') {
+        s.pop();
+    }
     if s.is_empty() || s.starts_with(|c: char| c.is_ascii_digit()) {
         s.insert(0, 'v');
     }
@@ -199,5 +201,26 @@ impl WorldTopics {
                 None
             },
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::ros_name;
+
+    #[test]
+    fn vehicle_names_become_ros_names() {
+        // The same cases as python/shoal_ros2/swarm.py's `ros_name`.
+        for (name, ros) in [
+            ("school-0", "school_0"),
+            ("x--y", "x_y"),
+            ("3d", "v3d"),
+            ("auv_", "auv"),
+            ("_a", "a"),
+            ("", "v"),
+            ("ü-boot", "boot"),
+        ] {
+            assert_eq!(ros_name(name), ros, "{name}");
+        }
     }
 }

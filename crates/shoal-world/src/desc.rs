@@ -62,6 +62,8 @@ pub struct Ros2Desc {
     pub namespace: String,
     /// Free-running real-time factor [simulated s per wall s]; 0 = as fast as possible.
     pub rtf: f64,
+    /// Keep DDS on the loopback interface.
+    pub localhost_only: bool,
     /// Agent index of the bridge (the last of [`AgentsDesc::names`]).
     pub agent: usize,
 }

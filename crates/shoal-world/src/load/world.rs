@@ -190,6 +190,7 @@ pub(super) fn build(
                 domain_id: r.domain_id,
                 namespace: r.namespace,
                 rtf: r.rtf,
+                localhost_only: r.localhost_only,
                 agent,
             }
         });

@@ -93,6 +93,10 @@ pub struct Ros2Spec {
     /// possible).
     #[serde(default = "d_rtf")]
     pub rtf: f64,
+    /// Keep DDS on the loopback interface (no discovery traffic leaves the machine), as ROS 2's
+    /// `ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST` does (which also turns it on).
+    #[serde(default)]
+    pub localhost_only: bool,
 }
 
 impl Default for Ros2Spec {
@@ -101,6 +105,7 @@ impl Default for Ros2Spec {
             domain_id: 0,
             namespace: d_ros2_namespace(),
             rtf: d_rtf(),
+            localhost_only: false,
         }
     }
 }

@@ -1,0 +1,76 @@
+"""A test agent for shoal's ROS 2 bridge (run as a process by test_ros2.py): drives the given
+vehicles with `shoal_ros2.Ros2Swarm` on Cyclone DDS and logs what it observed.
+
+    python ros2_agent.py LOG NAMESPACE DOMAIN_ID VEHICLES PLAN
+
+VEHICLES: names separated by commas. PLAN (JSON):
+
+* ``setpoints``: per vehicle ``[depth m, heading rad]`` — auto mode with these setpoints;
+* ``follow``: instead, steer by what is observed (depth + 0.1 m, heading + 0.3 rad): commands
+  that depend on every observation, for reproducibility checks;
+* ``actuators``: ``[thrusters %, tilts rad, pump]`` — raw commands for every vehicle instead;
+* ``odometry``: also read ``odom`` (a world that grants positions) and log the position;
+* ``bad``: ``[[vehicle index, time s, "nan_depth" | "bad_mode"], …]`` — at that tick send that
+  vehicle a Setpoint with depth NaN, or with mode 42 (no such mode), instead;
+* ``die``: ``[time s, n]`` — at the tick at that time, answer the first n ≥ 1 vehicles (with
+  setpoints), then die by SIGKILL (nothing closed, nothing said; that tick is not logged);
+* ``wait``, ``idle``: seconds to wait for the first tick, and for any later one before leaving.
+
+LOG gets one JSON line per tick (flushed): ``{"t": s, "stamp": [sec, nanosec], "obs": {vehicle:
+{...}}}`` with each vehicle's converted observation and the raw pressure, variance and frame
+id. Exit status 0 after at least one tick, 1 when none came within ``wait``.
+"""
+
+import json
+import math
+import os
+import signal
+import sys
+
+from shoal_ros2 import Ros2Swarm, Setpoint
+
+
+def main(log_path, namespace, domain_id, vehicles, plan) -> int:
+    names = vehicles.split(",")
+    plan = json.loads(plan)
+    bad = {(int(i), round(float(t) * 1e9)): what for i, t, what in plan.get("bad", [])}
+    die_at, die_after = plan.get("die", [math.inf, 0])
+    ticks = 0
+    odometry = bool(plan.get("odometry"))
+    with open(log_path, "w") as log, Ros2Swarm(namespace, names, int(domain_id),
+                                               odometry=odometry) as swarm:
+        for tick in swarm.ticks(plan.get("wait", 60.0), plan.get("idle", 2.0)):
+            record = {"t": tick.time, "stamp": [tick.stamp.sec, tick.stamp.nanosec], "obs": {}}
+            for v, o in tick.observations.items():
+                record["obs"][v] = {
+                    "depth": o.depth, "roll": o.roll, "pitch": o.pitch, "yaw": o.yaw,
+                    "rates": list(o.rates), "accel": list(o.accel),
+                    "pressure": o.pressure.fluid_pressure, "variance": o.pressure.variance,
+                    "frame_id": o.imu.header.frame_id,
+                    "position": o.position,
+                }
+                if "actuators" in plan:
+                    thrusters, tilts, pump = plan["actuators"]
+                    swarm.send_actuators(v, tick.stamp, thrusters, tilts, pump)
+                    continue
+                if plan.get("follow"):
+                    depth, heading = o.depth + 0.1, o.yaw + 0.3
+                else:
+                    depth, heading = plan["setpoints"][o.index]
+                mode = Setpoint.MODE_AUTO
+                what = bad.get((o.index, tick.stamp.sec * 10**9 + tick.stamp.nanosec))
+                if what == "nan_depth":
+                    depth = math.nan
+                elif what == "bad_mode":
+                    mode = 42
+                swarm.send_setpoint(v, tick.stamp, mode, depth, heading)
+                if abs(tick.time - die_at) < 1e-6 and o.index + 1 == die_after:
+                    os.kill(os.getpid(), signal.SIGKILL)
+            log.write(json.dumps(record) + "\n")
+            log.flush()
+            ticks += 1
+    return 0 if ticks else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main(*sys.argv[1:]))
