@@ -32,7 +32,7 @@ use shoal_model::ballast::Pump;
 use shoal_model::control::Mode;
 use shoal_model::math::euler_rpy;
 pub use shoal_sim::agents::Flow;
-use shoal_sim::agents::{self, AgentEvent, AgentReport, Order, Rejections, RoundTrip};
+use shoal_sim::agents::{self, AgentReport, Order, Rejections, RoundTrip};
 use shoal_sim::orders::FrameOrder;
 use shoal_sim::sim::Sim;
 use shoal_world::cancel::Cancel;
@@ -42,8 +42,6 @@ use std::time::{Duration, Instant};
 
 /// Largest number of vehicles one agent's slice is prepared for; more are allocated on demand.
 const INITIAL_SLICE: usize = 1024;
-/// Events kept per agent; later ones are only counted (an agent that hangs on every tick).
-const MAX_EVENTS: usize = 1000;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum State {
@@ -76,16 +74,7 @@ impl Port {
     }
 
     fn event(&mut self, t: f64, step: u64, what: &'static str, detail: String) {
-        if self.report.events.len() >= MAX_EVENTS {
-            self.report.events_omitted += 1;
-            return;
-        }
-        self.report.events.push(AgentEvent {
-            t,
-            step,
-            what,
-            detail,
-        });
+        self.report.event(t, step, what, detail);
     }
 
     /// The agent said LEAVE: record it, put its vehicles under the fallback and acknowledge

@@ -492,6 +492,58 @@ impl Drop for AgentProcess {
     }
 }
 
+/// A world's end of an agent transport, as the agent table times it.
+pub(crate) trait Exchange {
+    /// The exchange before a physics step.
+    fn exchange(&mut self, sim: &mut Sim) -> anyhow::Result<Flow>;
+    /// Round-trip statistics so far, cleared.
+    fn round_trips(&mut self) -> shoal_sim::agents::RoundTrip;
+}
+
+impl Exchange for Host {
+    fn exchange(&mut self, sim: &mut Sim) -> anyhow::Result<Flow> {
+        Ok(self.before_step(sim)?)
+    }
+    fn round_trips(&mut self) -> shoal_sim::agents::RoundTrip {
+        self.take_round_trips()[0]
+    }
+}
+
+/// Steps `sim` through the exchange of `host`: 100 steps (20 control ticks, 1 s simulated)
+/// of warm-up, round trips cleared, then at least `a.seconds` of wall time and 1 s simulated.
+/// Returns the wall and simulated time of the measured part \[s\].
+pub(crate) fn time_exchange(
+    a: &BenchArgs,
+    sim: &mut Sim,
+    host: &mut impl Exchange,
+) -> anyhow::Result<(f64, f64)> {
+    fn step(sim: &mut Sim, host: &mut impl Exchange) -> anyhow::Result<()> {
+        match host.exchange(sim)? {
+            Flow::Continue => {
+                sim.step();
+                Ok(())
+            }
+            Flow::Stop(why) => anyhow::bail!("{why}"),
+            Flow::Interrupted => anyhow::bail!("interrupted"),
+        }
+    }
+    for _ in 0..100 {
+        step(sim, host)?;
+    }
+    host.round_trips();
+    let start = Instant::now();
+    let t0 = sim.time();
+    loop {
+        for _ in 0..5 {
+            step(sim, host)?;
+        }
+        if start.elapsed().as_secs_f64() >= a.seconds && sim.time() - t0 >= 1.0 {
+            break;
+        }
+    }
+    Ok((start.elapsed().as_secs_f64(), sim.time() - t0))
+}
+
 /// One row of the agent table.
 pub(crate) struct AgentCell {
     pub(crate) ticks: usize,
@@ -534,34 +586,8 @@ fn measure_agent(a: &BenchArgs, lang: &str, n: usize) -> anyhow::Result<AgentCel
             }
         );
     }
-    let step = |sim: &mut Sim, host: &mut Host| -> anyhow::Result<()> {
-        match host.before_step(sim)? {
-            Flow::Continue => {
-                sim.step();
-                Ok(())
-            }
-            Flow::Stop(why) => anyhow::bail!("{why}"),
-            Flow::Interrupted => anyhow::bail!("interrupted"),
-        }
-    };
-    // Warm-up: 20 control ticks (1 s simulated), not measured.
-    for _ in 0..100 {
-        step(&mut sim, &mut host)?;
-    }
-    host.take_round_trips();
-    let start = Instant::now();
-    let t0 = sim.time();
-    loop {
-        for _ in 0..5 {
-            step(&mut sim, &mut host)?;
-        }
-        if start.elapsed().as_secs_f64() >= a.seconds && sim.time() - t0 >= 1.0 {
-            break;
-        }
-    }
-    let wall = start.elapsed().as_secs_f64();
-    let sim_s = sim.time() - t0;
-    let rt = host.take_round_trips()[0];
+    let (wall, sim_s) = time_exchange(a, &mut sim, &mut host)?;
+    let rt = host.round_trips();
     let report = host.finish(&mut sim, Duration::from_secs(2));
     drop(host);
     let status = child.wait(Duration::from_secs(5));

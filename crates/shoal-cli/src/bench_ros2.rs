@@ -5,14 +5,23 @@
 //! 45°, as the iceoryx2 rows' `pilot 1.3 45`). Publish imu and pressure → every vehicle's
 //! setpoint back, wall time, measured by the bridge.
 
-use crate::bench::{AgentCell, AgentProcess, BenchArgs, checkout};
+use crate::bench::{AgentCell, AgentProcess, BenchArgs, Exchange, checkout, time_exchange};
 use anyhow::Context;
 use shoal_ros2::Ros2Host;
 use shoal_sim::agents::Flow;
 use shoal_sim::prelude::*;
 use std::path::PathBuf;
 use std::process::Stdio;
-use std::time::{Duration, Instant};
+use std::time::Duration;
+
+impl Exchange for Ros2Host {
+    fn exchange(&mut self, sim: &mut Sim) -> anyhow::Result<Flow> {
+        Ok(self.before_step(sim)?)
+    }
+    fn round_trips(&mut self) -> shoal_sim::agents::RoundTrip {
+        self.take_round_trips()
+    }
+}
 
 /// One row: `n` vehicles on the ROS 2 bridge.
 pub fn measure(a: &BenchArgs, n: usize) -> anyhow::Result<AgentCell> {
@@ -58,34 +67,9 @@ pub fn measure(a: &BenchArgs, n: usize) -> anyhow::Result<AgentCell> {
             .spawn()
             .context("cannot start the ROS 2 agent (python/bench/ros2_hold.py)")?,
     );
-    let step = |sim: &mut Sim, host: &mut Ros2Host| -> anyhow::Result<()> {
-        match host.before_step(sim)? {
-            Flow::Continue => {
-                sim.step();
-                Ok(())
-            }
-            Flow::Stop(why) => anyhow::bail!("{why}"),
-            Flow::Interrupted => anyhow::bail!("interrupted"),
-        }
-    };
-    // Warm-up: 20 control ticks (1 s simulated; the first waits for discovery), not measured.
-    for _ in 0..100 {
-        step(&mut sim, &mut host)?;
-    }
-    host.take_round_trips();
-    let start = Instant::now();
-    let t0 = sim.time();
-    loop {
-        for _ in 0..5 {
-            step(&mut sim, &mut host)?;
-        }
-        if start.elapsed().as_secs_f64() >= a.seconds && sim.time() - t0 >= 1.0 {
-            break;
-        }
-    }
-    let wall = start.elapsed().as_secs_f64();
-    let sim_s = sim.time() - t0;
-    let rt = host.take_round_trips();
+    // The first ticks wait for DDS discovery: in the warm-up, not measured.
+    let (wall, sim_s) = time_exchange(a, &mut sim, &mut host)?;
+    let rt = host.round_trips();
     let report = host.finish(&mut sim);
     drop(host);
     let status = child.wait(Duration::from_secs(15));

@@ -28,9 +28,7 @@ use crate::convert::{self, Answer, ns};
 use crate::msgs::{Clock, FluidPressure, Imu, Odometry, OpticalFrame, TfMessage, Time, stamp};
 use crate::topics::{VehicleTopics, WorldTopics};
 use ros2_client::{Context, Node, NodeName, NodeOptions};
-use shoal_sim::agents::{
-    AgentEvent, AgentReport, Flow, Observation, Rejections, RoundTrip, lost_agent,
-};
+use shoal_sim::agents::{AgentReport, Flow, Observation, Rejections, RoundTrip, lost_agent};
 use shoal_sim::sim::Sim;
 use shoal_world::cancel::Cancel;
 use shoal_world::desc::{AgentsDesc, Ros2Desc, WorldDesc};
@@ -40,9 +38,6 @@ use std::time::{Duration, Instant};
 
 /// How often a lock-step wait publishes the sensors of vehicles not yet answered again.
 const REPUBLISH: Duration = Duration::from_millis(200);
-
-/// Events kept in the report; later ones are only counted.
-const MAX_EVENTS: usize = 1000;
 
 /// Whether ROS 2's own switches keep DDS on this machine: `ROS_AUTOMATIC_DISCOVERY_RANGE=
 /// LOCALHOST` (Iron and later) or `ROS_LOCALHOST_ONLY=1` (before).
@@ -193,16 +188,7 @@ impl Ros2Host {
     }
 
     fn event(&mut self, t: f64, step: u64, what: &'static str, detail: String) {
-        if self.report.events.len() >= MAX_EVENTS {
-            self.report.events_omitted += 1;
-            return;
-        }
-        self.report.events.push(AgentEvent {
-            t,
-            step,
-            what,
-            detail,
-        });
+        self.report.event(t, step, what, detail);
     }
 
     fn stopping(&self) -> bool {

@@ -213,6 +213,27 @@ pub struct AgentReport {
     pub round_trip: RoundTrip,
 }
 
+/// Events kept per agent report; later ones are only counted (an agent that hangs on every
+/// tick).
+pub const MAX_EVENTS: usize = 1000;
+
+impl AgentReport {
+    /// Records an event at simulated time `t` \[s\], physics step `step` (the first
+    /// [`MAX_EVENTS`]; later ones are counted in `events_omitted`).
+    pub fn event(&mut self, t: f64, step: u64, what: &'static str, detail: String) {
+        if self.events.len() >= MAX_EVENTS {
+            self.events_omitted += 1;
+            return;
+        }
+        self.events.push(AgentEvent {
+            t,
+            step,
+            what,
+            detail,
+        });
+    }
+}
+
 /// The agents part of a run summary.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct AgentsSummary {
