@@ -7,16 +7,16 @@
 //! the world's end of the bridge.
 
 use crate::alloc::live_bytes;
+use crate::bench_agent::{AgentCell, AgentProcess, Exchange, checkout, python, time_exchange};
 use crate::bench_rows::{Bench, Machine, Row};
 use anyhow::Context;
-use shoal_bridge::host::{Flow, Host};
+use shoal_bridge::host::Host;
 use shoal_sim::bench::{SPACING, TRAFFIC_SPACING, swarm_spaced};
 use shoal_sim::phases::{ByPhase, Phase};
 use shoal_sim::prelude::*;
 use shoal_world::desc::WorldDesc;
-use std::io::Read;
 use std::path::{Path, PathBuf};
-use std::process::{Child, Stdio};
+use std::process::Stdio;
 use std::time::{Duration, Instant};
 
 /// 1, 2, 4, … below `cores`, then `cores`: the scaling from one thread to every core.
@@ -408,17 +408,6 @@ fn scaling(a: &BenchArgs, vehicles: &[usize], threads: &[usize]) -> anyhow::Resu
     Ok(())
 }
 
-/// The checkout this binary was built in, or the current directory's, if any: the directory
-/// holding `python/shoal/agent`.
-pub(crate) fn checkout() -> Option<PathBuf> {
-    let starts = [std::env::current_exe().ok(), std::env::current_dir().ok()];
-    starts.into_iter().flatten().find_map(|s| {
-        s.ancestors()
-            .find(|d| d.join("python/shoal/agent/__init__.py").is_file())
-            .map(Path::to_path_buf)
-    })
-}
-
 /// The command line of the goto agent in `lang`, without its arguments.
 fn agent_command(a: &BenchArgs, lang: &str) -> anyhow::Result<std::process::Command> {
     if lang == "rust" {
@@ -441,114 +430,10 @@ fn agent_command(a: &BenchArgs, lang: &str) -> anyhow::Result<std::process::Comm
     let repo = checkout().context(
         "cannot find the checkout's python/ directory (run from inside the shoal repository)",
     )?;
-    let python = a.python.clone().unwrap_or_else(|| {
-        let venv = repo.join(".venv/bin/python");
-        if venv.is_file() {
-            venv
-        } else {
-            PathBuf::from("python3")
-        }
-    });
-    let mut c = std::process::Command::new(python);
+    let mut c = std::process::Command::new(python(a.python.as_deref(), &repo));
     c.arg(repo.join("python/examples/goto.py"))
         .env("PYTHONDONTWRITEBYTECODE", "1");
     Ok(c)
-}
-
-/// An agent process that is killed if the bench leaves early.
-pub(crate) struct AgentProcess(pub(crate) Child);
-
-impl AgentProcess {
-    /// Its standard error so far (after it ended).
-    pub(crate) fn stderr(&mut self) -> String {
-        let mut s = String::new();
-        if let Some(e) = self.0.stderr.as_mut() {
-            let _ = e.read_to_string(&mut s);
-        }
-        s.trim().to_string()
-    }
-
-    /// Waits up to `limit` for it to end; kills it after that.
-    pub(crate) fn wait(&mut self, limit: Duration) -> Option<std::process::ExitStatus> {
-        let start = Instant::now();
-        while start.elapsed() < limit {
-            if let Ok(Some(s)) = self.0.try_wait() {
-                return Some(s);
-            }
-            std::thread::sleep(Duration::from_millis(5));
-        }
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-        None
-    }
-}
-
-impl Drop for AgentProcess {
-    fn drop(&mut self) {
-        if let Ok(None) = self.0.try_wait() {
-            let _ = self.0.kill();
-            let _ = self.0.wait();
-        }
-    }
-}
-
-/// A world's end of an agent transport, as the agent table times it.
-pub(crate) trait Exchange {
-    /// The exchange before a physics step.
-    fn exchange(&mut self, sim: &mut Sim) -> anyhow::Result<Flow>;
-    /// Round-trip statistics so far, cleared.
-    fn round_trips(&mut self) -> shoal_sim::agents::RoundTrip;
-}
-
-impl Exchange for Host {
-    fn exchange(&mut self, sim: &mut Sim) -> anyhow::Result<Flow> {
-        Ok(self.before_step(sim)?)
-    }
-    fn round_trips(&mut self) -> shoal_sim::agents::RoundTrip {
-        self.take_round_trips()[0]
-    }
-}
-
-/// Steps `sim` through the exchange of `host`: 100 steps (20 control ticks, 1 s simulated)
-/// of warm-up, round trips cleared, then at least `a.seconds` of wall time and 1 s simulated.
-/// Returns the wall and simulated time of the measured part \[s\].
-pub(crate) fn time_exchange(
-    a: &BenchArgs,
-    sim: &mut Sim,
-    host: &mut impl Exchange,
-) -> anyhow::Result<(f64, f64)> {
-    fn step(sim: &mut Sim, host: &mut impl Exchange) -> anyhow::Result<()> {
-        match host.exchange(sim)? {
-            Flow::Continue => {
-                sim.step();
-                Ok(())
-            }
-            Flow::Stop(why) => anyhow::bail!("{why}"),
-            Flow::Interrupted => anyhow::bail!("interrupted"),
-        }
-    }
-    for _ in 0..100 {
-        step(sim, host)?;
-    }
-    host.round_trips();
-    let start = Instant::now();
-    let t0 = sim.time();
-    loop {
-        for _ in 0..5 {
-            step(sim, host)?;
-        }
-        if start.elapsed().as_secs_f64() >= a.seconds && sim.time() - t0 >= 1.0 {
-            break;
-        }
-    }
-    Ok((start.elapsed().as_secs_f64(), sim.time() - t0))
-}
-
-/// One row of the agent table.
-pub(crate) struct AgentCell {
-    pub(crate) ticks: usize,
-    pub(crate) round_trip: shoal_sim::agents::RoundTrip,
-    pub(crate) real_time: f64,
 }
 
 fn measure_agent(a: &BenchArgs, lang: &str, n: usize) -> anyhow::Result<AgentCell> {
@@ -586,7 +471,7 @@ fn measure_agent(a: &BenchArgs, lang: &str, n: usize) -> anyhow::Result<AgentCel
             }
         );
     }
-    let (wall, sim_s) = time_exchange(a, &mut sim, &mut host)?;
+    let (wall, sim_s) = time_exchange(a.seconds, &mut sim, &mut host)?;
     let rt = host.round_trips();
     let report = host.finish(&mut sim, Duration::from_secs(2));
     drop(host);
@@ -638,7 +523,7 @@ fn agents(a: &BenchArgs) -> anyhow::Result<()> {
     for lang in &a.agents {
         for &n in &vehicles {
             let c = if lang == "ros2" {
-                crate::bench_ros2::measure(a, n)?
+                crate::bench_ros2::measure(a.python.as_deref(), a.seconds, n)?
             } else {
                 measure_agent(a, lang, n)?
             };

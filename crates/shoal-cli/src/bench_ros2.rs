@@ -5,12 +5,12 @@
 //! 45°, as the iceoryx2 rows' `pilot 1.3 45`). Publish imu and pressure → every vehicle's
 //! setpoint back, wall time, measured by the bridge.
 
-use crate::bench::{AgentCell, AgentProcess, BenchArgs, Exchange, checkout, time_exchange};
+use crate::bench_agent::{AgentCell, AgentProcess, Exchange, checkout, python, time_exchange};
 use anyhow::Context;
 use shoal_ros2::Ros2Host;
 use shoal_sim::agents::Flow;
 use shoal_sim::prelude::*;
-use std::path::PathBuf;
+use std::path::Path;
 use std::process::Stdio;
 use std::time::Duration;
 
@@ -24,7 +24,9 @@ impl Exchange for Ros2Host {
 }
 
 /// One row: `n` vehicles on the ROS 2 bridge.
-pub fn measure(a: &BenchArgs, n: usize) -> anyhow::Result<AgentCell> {
+/// `python`: the interpreter (default: the checkout's venv), `seconds`: the least wall time
+/// measured \[s\].
+pub fn measure(python_exe: Option<&Path>, seconds: f64, n: usize) -> anyhow::Result<AgentCell> {
     let pid = std::process::id();
     let namespace = format!("bench_{pid}_{n}");
     // A domain of its own (1 … 200) so that other runs on the machine do not answer.
@@ -34,7 +36,7 @@ pub fn measure(a: &BenchArgs, n: usize) -> anyhow::Result<AgentCell> {
         + &format!(
             "[ros2]\nnamespace = \"{namespace}\"\ndomain_id = {domain}\nlocalhost_only = true\n"
         );
-    let desc = shoal_world::load::load_str(&text, std::path::Path::new("<ros2 bench swarm>"))
+    let desc = shoal_world::load::load_str(&text, Path::new("<ros2 bench swarm>"))
         .map_err(|e| anyhow::anyhow!("{e}"))?;
     let mut host = Ros2Host::open(&desc)?;
     let mut sim = Sim::new(
@@ -45,16 +47,8 @@ pub fn measure(a: &BenchArgs, n: usize) -> anyhow::Result<AgentCell> {
         },
     );
     let repo = checkout().context("cannot find the checkout's python/ directory")?;
-    let python = a.python.clone().unwrap_or_else(|| {
-        let venv = repo.join(".venv/bin/python");
-        if venv.is_file() {
-            venv
-        } else {
-            PathBuf::from("python3")
-        }
-    });
     let mut child = AgentProcess(
-        std::process::Command::new(python)
+        std::process::Command::new(python(python_exe, &repo))
             .arg(repo.join("python/bench/ros2_hold.py"))
             .args([namespace.clone(), domain.to_string()])
             .args(host.vehicle_names())
@@ -68,7 +62,7 @@ pub fn measure(a: &BenchArgs, n: usize) -> anyhow::Result<AgentCell> {
             .context("cannot start the ROS 2 agent (python/bench/ros2_hold.py)")?,
     );
     // The first ticks wait for DDS discovery: in the warm-up, not measured.
-    let (wall, sim_s) = time_exchange(a, &mut sim, &mut host)?;
+    let (wall, sim_s) = time_exchange(seconds, &mut sim, &mut host)?;
     let rt = host.round_trips();
     let report = host.finish(&mut sim);
     drop(host);

@@ -218,6 +218,23 @@ pub struct AgentReport {
 pub const MAX_EVENTS: usize = 1000;
 
 impl AgentReport {
+    /// The report of agent `name` driving `vehicles` vehicles, before anything happened.
+    pub fn new(name: &str, vehicles: usize) -> AgentReport {
+        AgentReport {
+            name: name.to_string(),
+            vehicles,
+            attached_at_end: false,
+            events: Vec::new(),
+            events_omitted: 0,
+            replies: 0,
+            late_replies: 0,
+            commands_applied: 0,
+            rejections: Rejections::default(),
+            fallback_ticks: 0,
+            round_trip: RoundTrip::default(),
+        }
+    }
+
     /// Records an event at simulated time `t` \[s\], physics step `step` (the first
     /// [`MAX_EVENTS`]; later ones are counted in `events_omitted`).
     pub fn event(&mut self, t: f64, step: u64, what: &'static str, detail: String) {
