@@ -4,7 +4,7 @@
 //! 6-DOF Fossen rigid-body dynamics with added mass, Coriolis, damping and restoring forces
 //! ([`rigid_body`], [`dynamics`]); tilting thrusters ([`thruster`]); the buoyancy tank
 //! ([`ballast`]); pressure sensor and IMU ([`sensors`]); the paper's controllers and modes
-//! ([`control`]); the description of a vehicle kind ([`vehicle_params`]), model extensions
+//! ([`control`]); shoal's frames and ROS's ([`frames`]); the description of a vehicle kind ([`vehicle_params`]), model extensions
 //! ([`effects`]), a whole vehicle ([`vehicle`]) and presets ([`presets`]).
 //!
 //! This crate does no IO and knows nothing of ECS: every function takes plain data and the
@@ -14,6 +14,7 @@ pub mod ballast;
 pub mod control;
 pub mod dynamics;
 pub mod effects;
+pub mod frames;
 pub mod lanes;
 pub mod math;
 pub mod optics;

@@ -1,6 +1,6 @@
 //! Between the world and ROS 2's messages: observations as `Imu`, `FluidPressure`,
 //! `Odometry` and `/tf` in ROS's axes (ENU world, FLU body, REP 103 — the conversions of
-//! `run.mcap`, [`shoal_sim::output::mcap::enu`]), received frames as `OpticalFrame`, and an
+//! `run.mcap`, [`shoal_model::frames`]), received frames as `OpticalFrame`, and an
 //! agent's `Setpoint` or `Actuators` with its `modem/tx` frames as a world command.
 
 use crate::msgs::{
@@ -10,11 +10,11 @@ use crate::msgs::{
 };
 use shoal_model::ballast::Pump;
 use shoal_model::control::Mode;
+use shoal_model::frames as enu;
 use shoal_model::math::{Quat, Vec3, euler_rpy};
 use shoal_sim::agents::{self, Observation, Order, Rejections};
 use shoal_sim::comm::Received;
 use shoal_sim::orders::FrameOrder;
-use shoal_sim::output::mcap::enu;
 use shoal_sim::output::mcap::ros2::SURFACE_PRESSURE_PA;
 
 /// A stamp in nanoseconds (for ordering).

@@ -16,6 +16,9 @@ use crate::decode::decode;
 use crate::mapping::{Clock, Entry, Feeds, Frame, Mapping};
 use crate::schema::Schema;
 use crate::select::{Plan, Target};
+use nalgebra::Quaternion;
+use shoal_model::frames;
+use shoal_model::math::Quat;
 use shoal_sysid::log::run::ChannelKind;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -384,43 +387,37 @@ fn entry_series(
     })
 }
 
-/// −1 for body rates and velocities about or along y and z written in ROS's axes.
+/// −1 for body rates and velocities about or along y and z written in ROS's axes (FLU; the
+/// sign of [`shoal_model::frames::body`]).
 fn frame_sign(e: &Entry) -> f64 {
     use ChannelKind::*;
-    match (e.frame, e.feeds) {
-        (Frame::Enu, Feeds::Channel(Q | R | V | W)) => -1.0,
-        _ => 1.0,
-    }
+    let axis = match (e.frame, e.feeds) {
+        (Frame::Enu, Feeds::Channel(Q | V)) => 1,
+        (Frame::Enu, Feeds::Channel(R | W)) => 2,
+        _ => return 1.0,
+    };
+    let mut unit = [0.0; 3];
+    unit[axis] = 1.0;
+    frames::body(unit)[axis]
 }
 
-/// The channel's angle from a quaternion (x, y, z, w), in shoal's axes \[rad\].
+/// The channel's angle from a quaternion (x, y, z, w), in shoal's axes \[rad\]: a NED/FRD
+/// attitude as it stands, an ENU/FLU one through [`shoal_model::frames::attitude_to_ned`].
 fn angle(e: &Entry, q: [f64; 4]) -> Result<f64, String> {
     let n = q.iter().map(|c| c * c).sum::<f64>().sqrt();
     if n.is_nan() || n <= 1e-6 {
         return Err(format!("quaternion {q:?} has no length: not an attitude"));
     }
-    let [x, y, z, w] = q.map(|c| c / n);
-    let roll = (2.0 * (w * x + y * z)).atan2(1.0 - 2.0 * (x * x + y * y));
-    let pitch = (2.0 * (w * y - z * x)).clamp(-1.0, 1.0).asin();
-    let yaw = (2.0 * (w * z + x * y)).atan2(1.0 - 2.0 * (y * y + z * z));
-    let enu = e.frame == Frame::Enu;
+    let [x, y, z, w] = q;
+    let q = Quat::from_quaternion(Quaternion::new(w, x, y, z));
+    let (roll, pitch, yaw) = match e.frame {
+        Frame::Enu => frames::attitude_to_ned(&q),
+        Frame::Ned => q.euler_angles(),
+    };
     Ok(match e.feeds {
         Feeds::Channel(ChannelKind::Roll) => roll,
-        Feeds::Channel(ChannelKind::Pitch) if enu => -pitch,
         Feeds::Channel(ChannelKind::Pitch) => pitch,
-        Feeds::Channel(ChannelKind::Yaw) if enu => wrap(std::f64::consts::FRAC_PI_2 - yaw),
         Feeds::Channel(ChannelKind::Yaw) => yaw,
         _ => unreachable!("check_target lets quaternions feed attitude channels only"),
     })
-}
-
-/// An angle in (−π, π].
-fn wrap(a: f64) -> f64 {
-    let tau = std::f64::consts::TAU;
-    let w = a - tau * (a / tau).round();
-    if w <= -std::f64::consts::PI {
-        w + tau
-    } else {
-        w
-    }
 }

@@ -36,7 +36,7 @@
 //! `/optical/frames` message is at the end of its frame. Messages are written in time order.
 //!
 //! **Frames.** Everything in the file is in ENU (x east, y north, z up; the surface at z = 0)
-//! with FLU vehicle frames, converted from shoal's NED/FRD as `enu.rs` says: position
+//! with FLU vehicle frames, converted from shoal's NED/FRD as `shoal_model::frames` says: position
 //! `(y, x, −z)`, `roll_ENU = roll`, `pitch_ENU = −pitch`, `yaw_ENU = π/2 − yaw`, body rates
 //! `(p, −q, −r)` — except `/<vehicle>/state`, which keeps `trajectories.csv`'s NED/FRD numbers.
 //!
@@ -52,7 +52,6 @@
 //! `trajectories.csv` does.
 
 mod budget;
-pub mod enu;
 mod file;
 mod foxglove;
 mod plain;

@@ -5,12 +5,12 @@
 //! attempt from sender to receiver, in the colour of its outcome, [`crate::link_key`], that
 //! disappears after [`link_lifetime`]).
 
-use super::enu;
 use super::foxglove::*;
 use crate::comm::Heard;
 use crate::link_key::{Outcome, style};
 use crate::recorder::col;
 use crate::replay::ObstacleMeta;
+use shoal_model::frames as enu;
 use shoal_model::math::{Quat, Vec3};
 use shoal_world::desc::WorldDesc;
 use std::f64::consts::FRAC_PI_2;

@@ -12,6 +12,7 @@ use crate::output::RunOutput;
 use crate::recorder::FIXED;
 use crate::sim::{Sim, SimOptions};
 use serde_json::Value;
+use shoal_model::frames as enu;
 use shoal_world::cancel::Cancel;
 use std::collections::BTreeMap;
 

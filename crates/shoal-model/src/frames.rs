@@ -1,18 +1,22 @@
-//! From shoal's frames to the ones Foxglove and ROS expect, written out once.
+//! shoal's frames and the ones Foxglove and ROS expect, both ways, written out once (the
+//! recorder's `run.mcap`, the ROS 2 bridge and the rosbag2 reader all convert here).
 //!
 //! shoal's world frame is **NED** (x north, y east, z down, origin at the pool's corner on the
 //! surface) and its body frame **FRD** (x forward, y starboard, z down); attitudes are ZYX
 //! Euler angles roll, pitch, yaw in them. Foxglove's 3D panel is z-up, and ROS (REP 103)
 //! uses **ENU** world frames (x east, y north, z up) and **FLU** body frames (x forward,
-//! y port, z up). `run.mcap` is written in ENU/FLU throughout:
+//! y port, z up):
 //!
 //! * position: `(x, y, z)_ENU = (y, x, −z)_NED` — east, north, up; the surface is z = 0, the
 //!   pool's floor `z = −depth`;
 //! * attitude: `roll_ENU = roll`, `pitch_ENU = −pitch`, `yaw_ENU = π/2 − yaw` (heading north
 //!   is `yaw_ENU = π/2`), which is `R_ENU←NED · R(roll, pitch, yaw) · R_FRD←FLU`;
 //! * body rates: `(p, −q, −r)`; body velocities `(u, −v, −w)`.
+//!
+//! Every conversion is its own inverse but the attitude's: [`attitude_to_ned`] undoes
+//! [`attitude`].
 
-use shoal_model::math::{Quat, Vec3};
+use crate::math::{Quat, Vec3, wrap_pi};
 use std::f64::consts::FRAC_PI_2;
 
 /// A NED position \[m\] in ENU \[m\]: east, north, up.
@@ -24,6 +28,13 @@ pub fn position(ned: [f64; 3]) -> [f64; 3] {
 /// angles `roll`, `pitch`, `yaw` \[rad\].
 pub fn attitude(roll: f64, pitch: f64, yaw: f64) -> Quat {
     Quat::from_euler_angles(roll, -pitch, FRAC_PI_2 - yaw)
+}
+
+/// The ZYX Euler angles roll, pitch, yaw \[rad\] in shoal's NED/FRD frames of an attitude
+/// given as a FLU-body-to-ENU-world quaternion (the inverse of [`attitude`]); yaw in (−π, π].
+pub fn attitude_to_ned(enu: &Quat) -> (f64, f64, f64) {
+    let (roll, pitch, yaw) = enu.euler_angles();
+    (roll, -pitch, wrap_pi(FRAC_PI_2 - yaw))
 }
 
 /// The rotation that takes NED world vectors to ENU (a proper rotation: 180° about the
@@ -43,7 +54,7 @@ pub fn body(frd: [f64; 3]) -> [f64; 3] {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use shoal_model::math::quat_from_rpy;
+    use crate::math::quat_from_rpy;
 
     fn near(a: &Quat, b: [f64; 4]) {
         let q = a.quaternion();
@@ -130,6 +141,30 @@ mod tests {
                 apply(&ned_to_enu(), apply(&quat_from_rpy(r, p, y), v)),
             );
         }
+    }
+
+    #[test]
+    fn attitude_to_ned_undoes_attitude() {
+        for (r, p, y) in [
+            (0.3, -0.7, 2.9),
+            (-2.5, 1.2, -0.4),
+            (1.0, 0.1, -3.0),
+            (0.0, -1.5, 1.0),
+        ] {
+            let (r2, p2, y2) = attitude_to_ned(&attitude(r, p, y));
+            for (a, b) in [(r, r2), (p, p2), (y, y2)] {
+                assert!((a - b).abs() < 1e-9, "{r} {p} {y} -> {r2} {p2} {y2}");
+            }
+        }
+        // Heading north in ENU is yaw π/2 there and 0 in NED; 30° nose up in FLU is a
+        // negative ENU pitch and a positive NED one.
+        let h = std::f64::consts::FRAC_PI_4;
+        let north = Quat::from_quaternion(nalgebra::Quaternion::new(h.cos(), 0.0, 0.0, h.sin()));
+        let (_, _, yaw) = attitude_to_ned(&north);
+        assert!(yaw.abs() < 1e-12);
+        let up = Quat::from_euler_angles(0.0, -0.5, FRAC_PI_2);
+        let (_, pitch, yaw) = attitude_to_ned(&up);
+        assert!((pitch - 0.5).abs() < 1e-12 && yaw.abs() < 1e-12);
     }
 
     #[test]
