@@ -8,7 +8,7 @@
 use shoal::model::control::heading_error;
 use shoal::model::math::wrap_pi;
 use shoal::output::plot::{Plot, Series};
-use shoal::sim::analysis::{Segment, point_depth, record_run, segments};
+use shoal::record::analysis::{Segment, point_depth, record_run, segments};
 use shoal::sim::recorder::col;
 use shoal::world::load::load_file;
 use std::path::{Path, PathBuf};

@@ -3,22 +3,22 @@
 //! `paper_section5` draws and tabulates the paper's runs (the same worlds run here through
 //! `record_run`), `hidden_effect` writes two whole measured runs `shoal validate` reads, and
 //! `profile_comm` times a swarm whose beacons are delivered. Plots are checked by
-//! `crates/shoal-sim/tests/support/plots.rs`: SVG lines against the numbers, PNGs decoded
+//! `crates/shoal-record/tests/support/plots.rs`: SVG lines against the numbers, PNGs decoded
 //! with their series' colours in the plot area.
 //!
 //! The examples are built with cargo like the test itself (`cargo test --workspace` has
 //! built them already) and run from `target/<profile>/examples`.
 
-#[path = "../crates/shoal-sim/tests/support/cargo_example.rs"]
+#[path = "../crates/shoal-record/tests/support/cargo_example.rs"]
 mod cargo_example;
-#[path = "../crates/shoal-sim/tests/support/plots.rs"]
+#[path = "../crates/shoal-record/tests/support/plots.rs"]
 mod plots;
 
 use plots::{assert_png_colours, assert_svg_lines};
 use shoal::model::optics::{Ambient, LinkGeometry, budget};
 use shoal::model::presets::uauv2_modem;
 use shoal::output::plot::rgb;
-use shoal::sim::analysis::{point_depth, record_run};
+use shoal::record::analysis::{point_depth, record_run};
 use shoal::sim::recorder::col;
 use shoal::sysid::log::run::MeasuredRun;
 use shoal::world::load::load_file;

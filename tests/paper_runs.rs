@@ -11,7 +11,7 @@
 use shoal::model::presets;
 use shoal::model::rigid_body::Environment;
 use shoal::model::vehicle::VehicleModel;
-use shoal::sim::analysis::{Segment, point_depth, record_run, segments};
+use shoal::record::analysis::{Segment, point_depth, record_run, segments};
 use shoal::sim::recorder::col;
 use shoal::world::load::load_file;
 use std::path::Path;

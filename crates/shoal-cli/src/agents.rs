@@ -3,11 +3,11 @@
 //! agent index). Each exchange runs the iceoryx2 one first, then the ROS 2 one; each takes
 //! only its own vehicles' observations, so neither sees the other's frames.
 
-use crate::Failure;
+use crate::exit::Failure;
 use anyhow::Context;
 use shoal_bridge::host::Host;
 use shoal_ros2::Ros2Host;
-use shoal_sim::agents::{AgentReport, Flow};
+use shoal_sim::agents::{AgentHost, AgentReport, Flow};
 use shoal_sim::sim::Sim;
 use shoal_world::cancel::Cancel;
 use shoal_world::desc::{AgentsDesc, WorldDesc};
@@ -18,11 +18,55 @@ use std::time::Duration;
 pub struct Agents {
     ipc: Option<Host>,
     ros2: Option<Ros2Host>,
+    /// How to wait for the iceoryx2 agents to attach when the run starts.
+    attach: Attach,
 }
 
-impl Agents {
+/// The wait for iceoryx2 agents to attach, and what it says.
+struct Attach {
+    wait: Duration,
+    quiet: bool,
+    cancel: Arc<Cancel>,
+}
+
+impl AgentHost for Agents {
+    fn start(&mut self) -> Result<(), Box<dyn std::error::Error + Send + Sync>> {
+        let Some(host) = self.ipc.as_mut() else {
+            return Ok(());
+        };
+        let Attach {
+            wait,
+            quiet,
+            ref cancel,
+        } = self.attach;
+        let mut shown = false;
+        let missing = host.wait_for_agents(wait, &mut |missing| {
+            if !quiet && !shown {
+                eprintln!(
+                    "shoal: waiting up to {:.0} s for {} to attach (Ctrl-C to stop; \
+                     `--wait-agents SECONDS` waits longer — an agent built for the first time \
+                     can take minutes to compile, so build it before starting the world)",
+                    wait.as_secs_f64(),
+                    missing.join(", ")
+                );
+                shown = true;
+            }
+            !cancel.is_requested()
+        });
+        if !missing.is_empty() && !quiet {
+            eprintln!(
+                "shoal: starting without {}: their vehicles hold depth and heading until they attach",
+                missing.join(", ")
+            );
+        }
+        Ok(())
+    }
+
     /// The exchange before a physics step, on both transports.
-    pub fn before_step(&mut self, sim: &mut Sim) -> anyhow::Result<Flow> {
+    fn before_step(
+        &mut self,
+        sim: &mut Sim,
+    ) -> Result<Flow, Box<dyn std::error::Error + Send + Sync>> {
         let mut flow = Flow::Continue;
         if let Some(h) = self.ipc.as_mut() {
             flow = h.before_step(sim).context("external agents (iceoryx2)")?;
@@ -37,7 +81,7 @@ impl Agents {
     }
 
     /// Ends both exchanges; the reports, iceoryx2 agents first.
-    pub fn finish(&mut self, sim: &mut Sim, grace: Duration) -> Vec<AgentReport> {
+    fn finish(&mut self, sim: &mut Sim, grace: Duration) -> Vec<AgentReport> {
         let mut reports = match self.ipc.as_mut() {
             Some(h) => h.finish(sim, grace),
             None => Vec::new(),
@@ -59,9 +103,10 @@ fn ipc_part(desc: &WorldDesc) -> AgentsDesc {
     a
 }
 
-/// Opens the world's agent services (when a vehicle group names an agent) and waits for the
-/// iceoryx2 agents to attach, printing where they attach; the ROS 2 bridge's nodes are waited
-/// for on the first control tick (lock-step) instead, as DDS discovery takes its time.
+/// Opens the world's agent services (when a vehicle group names an agent), printing where the
+/// iceoryx2 agents attach; the run waits for them when it starts ([`AgentHost::start`]). The
+/// ROS 2 bridge's nodes are waited for on the first control tick (lock-step) instead, as DDS
+/// discovery takes its time.
 pub fn open_agents(
     desc: &WorldDesc,
     quiet: bool,
@@ -91,8 +136,17 @@ pub fn open_agents(
         }
     };
     let cfg = ipc_part(desc);
+    let attach = Attach {
+        wait: Duration::from_secs_f64(cfg.attach_timeout),
+        quiet,
+        cancel: cancel.clone(),
+    };
     if cfg.names.is_empty() {
-        return Ok(Some(Agents { ipc: None, ros2 }));
+        return Ok(Some(Agents {
+            ipc: None,
+            ros2,
+            attach,
+        }));
     }
     let counts: Vec<usize> = cfg
         .names
@@ -118,34 +172,14 @@ pub fn open_agents(
             cfg.names
                 .iter()
                 .zip(&counts)
-                .map(|(n, c)| format!("`{n}` ({c} vehicles)"))
+                .map(|(n, c)| format!("`{n}` ({})", shoal_output::words::count(*c, "vehicle")))
                 .collect::<Vec<_>>()
                 .join(", ")
-        );
-    }
-    let wait = Duration::from_secs_f64(cfg.attach_timeout);
-    let mut shown = false;
-    let missing = host.wait_for_agents(wait, &mut |missing| {
-        if !quiet && !shown {
-            eprintln!(
-                "shoal: waiting up to {:.0} s for {} to attach (Ctrl-C to stop; \
-                 `--wait-agents SECONDS` waits longer — an agent built for the first time \
-                 can take minutes to compile, so build it before starting the world)",
-                wait.as_secs_f64(),
-                missing.join(", ")
-            );
-            shown = true;
-        }
-        !cancel.is_requested()
-    });
-    if !missing.is_empty() && !quiet {
-        eprintln!(
-            "shoal: starting without {}: their vehicles hold depth and heading until they attach",
-            missing.join(", ")
         );
     }
     Ok(Some(Agents {
         ipc: Some(host),
         ros2,
+        attach,
     }))
 }

@@ -163,7 +163,7 @@ pub fn bench(a: &BenchArgs) -> anyhow::Result<()> {
     let threads = a
         .threads
         .clone()
-        .unwrap_or_else(|| default_threads(crate::all_cores()));
+        .unwrap_or_else(|| default_threads(shoal_sim::parallel::all_cores()));
     // A row's child (the variable is set) measures here; anyone else measures each row in a
     // child process of its own.
     if std::env::var_os(crate::bench_rows::CHILD_ENV).is_none() {
@@ -208,7 +208,7 @@ pub fn bench(a: &BenchArgs) -> anyhow::Result<()> {
                 "speed_up": speedup, "bytes_per_vehicle": c.bytes_per_vehicle,
                 "parallel_dispatches": c.parallel_dispatches,
                 "phase_shares": ByPhase(c.phase_shares),
-                "peak_rss_bytes": shoal_sim::output::peak_memory_bytes()
+                "peak_rss_bytes": shoal_record::output::peak_memory_bytes()
             }));
         }
     }
@@ -255,7 +255,7 @@ pub fn bench(a: &BenchArgs) -> anyhow::Result<()> {
                     "frames_per_s": c.frames_per_s, "deliveries_per_s": c.deliveries_per_s, "medium_share": share,
                     "bytes_per_vehicle": c.bytes_per_vehicle, "parallel_dispatches": c.parallel_dispatches,
                     "phase_shares": ByPhase(c.phase_shares),
-                    "peak_rss_bytes": shoal_sim::output::peak_memory_bytes()
+                    "peak_rss_bytes": shoal_record::output::peak_memory_bytes()
                 }));
             }
         }

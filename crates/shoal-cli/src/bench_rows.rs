@@ -73,7 +73,7 @@ impl Machine {
         };
         Self {
             cpu: field("model name").unwrap_or_else(|| "unknown CPU".into()),
-            cores: crate::all_cores(),
+            cores: shoal_sim::parallel::all_cores(),
             clock_hz: field("cpu MHz")
                 .and_then(|v| v.parse::<f64>().ok())
                 .map(|mhz| mhz * 1e6),

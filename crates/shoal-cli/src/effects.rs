@@ -3,7 +3,7 @@
 //! text for people by default (no Markdown escapes on a terminal); `--markdown` prints the
 //! table that docs/validation.md shows.
 
-use crate::Failure;
+use crate::exit::Failure;
 use shoal_model::effects::{self, ParamInfo};
 use shoal_model::presets;
 use shoal_world::load::load_vehicle;

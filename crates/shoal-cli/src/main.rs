@@ -24,13 +24,16 @@ mod bench_agent;
 mod bench_ros2;
 mod bench_rows;
 mod effects;
+mod exit;
 mod render;
 mod run;
 mod signals;
 mod sweep;
+mod terminal;
 mod validate;
 
 use clap::{Parser, Subcommand};
+use exit::Failure;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -82,25 +85,6 @@ enum Command {
         #[arg(default_value = "uauv2")]
         name: String,
     },
-}
-
-/// Working threads of this machine (1 when unknown).
-pub fn all_cores() -> usize {
-    std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
-}
-
-/// Why the program stops early.
-pub enum Failure {
-    /// Bad user input (exit 2); the message is complete.
-    Input(String),
-    /// Anything else (exit 1).
-    Other(anyhow::Error),
-}
-
-impl From<anyhow::Error> for Failure {
-    fn from(e: anyhow::Error) -> Self {
-        Failure::Other(e)
-    }
 }
 
 fn main() -> ExitCode {

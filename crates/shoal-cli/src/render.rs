@@ -1,9 +1,9 @@
 //! `shoal render`: an animated GIF of a finished run, drawn from its `replay.html` without a
-//! browser (see `shoal_sim::replay::gif`).
+//! browser (see `shoal_record::replay::gif`).
 
-use crate::Failure;
-use shoal_sim::replay::gif::{self, GifOptions, View};
-use shoal_sim::replay::html;
+use crate::exit::Failure;
+use shoal_record::replay::gif::{self, GifOptions, View};
+use shoal_record::replay::html;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;

@@ -22,7 +22,6 @@
 //! (`shoal: holding before NAME …`) and goes on when the next signal has come (or after
 //! [`HOLD_LIMIT`]), so a test can send that signal exactly then.
 
-use shoal_sim::output::BeforeFile;
 use shoal_world::cancel::{Cancel, Cause};
 use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM, SIGXFSZ};
 use signal_hook::iterator::Signals;
@@ -91,10 +90,13 @@ pub fn install() -> std::io::Result<Arc<Cancel>> {
     Ok(cancel)
 }
 
+/// What [`output_hold`] gives: a call with each output file's final name.
+pub type Hold = dyn Fn(&Path) + Send + Sync;
+
 /// With `SHOAL_HOLD_BEFORE_OUTPUT=NAME` set, a call for each output file (see the module
 /// documentation) that holds before the file named NAME until `cancel` has one request
 /// more than when the hold began, or [`HOLD_LIMIT`] has passed.
-pub fn output_hold(cancel: &Arc<Cancel>) -> Option<Box<BeforeFile>> {
+pub fn output_hold(cancel: &Arc<Cancel>) -> Option<Box<Hold>> {
     let name = std::env::var_os(HOLD_VAR)?;
     let cancel = cancel.clone();
     Some(Box::new(move |file: &Path| {

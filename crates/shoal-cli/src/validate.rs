@@ -1,7 +1,7 @@
 //! `shoal validate`: measured runs → what the model gets wrong, the effects that explain it,
 //! the fitted extension and its gain on data it did not fit.
 
-use crate::Failure;
+use crate::exit::Failure;
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressStyle};
 use shoal_rosbag::Mapping;

@@ -7,7 +7,7 @@
 //!   `memory-per-vehicle` markers); no other sentence about vehicles gives an amount of memory;
 //! * every `cargo install` in the docs and scripts is `--locked` (without it cargo resolves the
 //!   dependencies again, to versions nobody tested);
-//! * the docs name the link outcomes' colours as the one key (`shoal_sim::link_key`) does.
+//! * the docs name the link outcomes' colours as the one key (`shoal_record::link_key`) does.
 
 mod common;
 
@@ -221,7 +221,7 @@ fn cargo_install_is_locked_everywhere() {
 
 #[test]
 fn the_docs_name_the_link_colours_of_the_one_key() {
-    use shoal_sim::link_key::{LINK_KEY, prose};
+    use shoal_record::link_key::{LINK_KEY, prose};
     let key = prose();
     for f in ["README.md", "docs/replay.md"] {
         let text = folded(&read(&repo().join(f)));

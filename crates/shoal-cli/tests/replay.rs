@@ -5,7 +5,7 @@
 //! refused with a located message. Chromium: `scripts/install-chromium.sh` (run by
 //! `scripts/test.sh`).
 
-#[path = "../../shoal-sim/tests/support/browser.rs"]
+#[path = "../../shoal-record/tests/support/browser.rs"]
 mod browser;
 
 use browser::{assert_no_outside_requests, assert_offline, chromium_observed, html_attr};
@@ -78,7 +78,7 @@ fn the_default_run_writes_a_replay_that_chromium_plays_and_render_draws() {
 
     // The page's data is the run: 12 vehicles, 20 s, and a timeline that adds up to the
     // summary's link totals.
-    let data = shoal_sim::replay::html::read(&page).unwrap();
+    let data = shoal_record::replay::html::read(&page).unwrap();
     let m = &data.meta;
     assert_eq!(m.vehicles, 12);
     assert!((m.duration_s - 20.0).abs() < 1e-9, "{}", m.duration_s);

@@ -111,7 +111,7 @@ fn whole_outputs(out: &Path, signal: &str) -> (serde_json::Value, BTreeSet<Strin
                 );
             }
             Some("html") => {
-                shoal_sim::replay::html::read(&path)
+                shoal_record::replay::html::read(&path)
                     .unwrap_or_else(|e| panic!("{name} does not read back: {e}"));
             }
             Some("json") => {} // summary.json: parsed above

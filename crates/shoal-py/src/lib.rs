@@ -18,6 +18,7 @@
 pub mod args;
 pub mod observe;
 pub mod plot;
+pub mod source;
 pub mod validate;
 pub mod world;
 

@@ -13,22 +13,20 @@ use numpy::IntoPyArray;
 use numpy::ndarray::Array2;
 use pyo3::exceptions::{PyUserWarning, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyString};
+use pyo3::types::PyDict;
 use shoal_sim::batch::{ActuatorOrder, BatchShape, Quantity, SetpointOrder};
 use shoal_sim::comm::Received;
 use shoal_sim::orders::force_limit;
 use shoal_sim::sim::{Sim, SimOptions};
 use shoal_world::desc::WorldDesc;
-use shoal_world::load::{DEFAULT_WORLD, EMBEDDED_NAME, load_file, load_str};
-use std::path::{Path, PathBuf};
+use crate::source::{self, Source};
+use shoal_record::run::{Changes, load_world};
+use shoal_world::cancel::Cancel;
 
 /// Keys of a setpoint command.
 const SETPOINT_KEYS: [&str; 5] = ["mode", "depth", "yaw", "surge", "sway"];
 /// Keys of a raw actuator command.
 const RAW_KEYS: [&str; 3] = ["thrusters", "tilts", "pump"];
-
-/// Name used in messages for world text given directly.
-const TEXT_NAME: &str = "<world text>";
 
 /// A shoal world in this process: `World(world=None, seed=None, threads=None)`.
 ///
@@ -52,33 +50,9 @@ pub struct World {
 
 /// Loads a world from a path or TOML text (`None`: the embedded default world).
 fn load(py: Python<'_>, world: Option<&Bound<'_, PyAny>>) -> PyResult<WorldDesc> {
-    enum Source {
-        Text(String, &'static str),
-        File(PathBuf),
-    }
-    let source = match world.filter(|w| !w.is_none()) {
-        None => Source::Text(DEFAULT_WORLD.to_owned(), EMBEDDED_NAME),
-        Some(w) => match w.cast::<PyString>() {
-            Ok(s) => {
-                let s = s.to_cow()?.into_owned();
-                if s.contains('\n') || s.contains('=') {
-                    Source::Text(s, TEXT_NAME)
-                } else {
-                    Source::File(PathBuf::from(s))
-                }
-            }
-            Err(_) => Source::File(w.extract::<PathBuf>().map_err(|_| {
-                PyValueError::new_err(
-                    "world: expected a world file's path or the TOML text of a world",
-                )
-            })?),
-        },
-    };
-    let loaded = py.detach(|| match &source {
-        Source::Text(t, name) => load_str(t, Path::new(name)),
-        Source::File(p) => load_file(p),
-    });
-    loaded.map_err(|e| WorldError::new_err(e.to_string()))
+    let source = Source::of(world)?;
+    py.detach(|| load_world(source.as_world(), &Changes::default(), &Cancel::new()))
+        .map_err(|e| WorldError::new_err(e.to_string()))
 }
 
 /// Builds the world's simulation (no trajectory recording: the arrays are the output).
@@ -226,15 +200,7 @@ impl World {
         threads: Option<usize>,
     ) -> PyResult<Self> {
         let mut desc = load(py, world)?;
-        let threads = match threads {
-            None => std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get),
-            Some(t @ 1..=256) => t,
-            Some(t) => {
-                return Err(PyValueError::new_err(format!(
-                    "threads = {t}: allowed 1 … 256"
-                )));
-            }
-        };
+        let threads = source::threads(threads)?;
         if let Some(s) = seed {
             desc.seed = s;
         }

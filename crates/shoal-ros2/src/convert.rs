@@ -15,7 +15,7 @@ use shoal_model::math::{Quat, Vec3, euler_rpy};
 use shoal_sim::agents::{self, Observation, Order, Rejections};
 use shoal_sim::comm::Received;
 use shoal_sim::orders::FrameOrder;
-use shoal_sim::output::mcap::ros2::SURFACE_PRESSURE_PA;
+use shoal_record::mcap::ros2::SURFACE_PRESSURE_PA;
 
 /// A stamp in nanoseconds (for ordering).
 pub fn ns(t: Time) -> i64 {

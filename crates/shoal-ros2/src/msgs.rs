@@ -3,14 +3,14 @@
 //!
 //! * the standard ones the world publishes: `sensor_msgs/Imu` and `FluidPressure`,
 //!   `std_msgs/Header`, `builtin_interfaces/Time` and `geometry_msgs` `Quaternion`/`Vector3`
-//!   are `run.mcap`'s ([`shoal_sim::output::mcap::ros2`], one definition in the workspace);
+//!   are `run.mcap`'s ([`shoal_record::mcap::ros2`], one definition in the workspace);
 //!   `nav_msgs/Odometry`, `tf2_msgs/TFMessage` and `rosgraph_msgs/Clock` are here;
 //! * `shoal_msgs` ([`Setpoint`], [`Actuators`], [`OpticalFrame`]): the interface package in
 //!   `crates/shoal-ros2/shoal_msgs/` that a ROS 2 user builds with colcon; a test parses its
 //!   `.msg` files and checks these structs against them (names, types, order).
 
 use serde::{Deserialize, Serialize};
-pub use shoal_sim::output::mcap::ros2::{FluidPressure, Header, Imu, Quaternion, Time, Vector3};
+pub use shoal_record::mcap::ros2::{FluidPressure, Header, Imu, Quaternion, Time, Vector3};
 
 /// `geometry_msgs/msg/Point`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]

@@ -186,6 +186,25 @@ pub enum Flow {
     Interrupted,
 }
 
+/// The agents of a run as the run driver sees them, whatever carries their messages (the
+/// binary joins shared-memory agents and ROS 2 nodes behind it): one exchange before each
+/// physics step, and a report per agent at the end.
+pub trait AgentHost {
+    /// Once the world is built, before its first step: e.g. wait for the agents to attach.
+    fn start(&mut self) -> Result<(), Box<dyn std::error::Error + Send + Sync>> {
+        Ok(())
+    }
+    /// The exchange before a physics step (on a control tick of agent-driven vehicles:
+    /// observations out, commands in and applied through [`Sim::command_vehicle`]); what the
+    /// run does next. An error is a transport failure, not an agent's bad command.
+    fn before_step(
+        &mut self,
+        sim: &mut Sim,
+    ) -> Result<Flow, Box<dyn std::error::Error + Send + Sync>>;
+    /// Ends the exchange, giving agents `grace` to see the end; the reports, one per agent.
+    fn finish(&mut self, sim: &mut Sim, grace: std::time::Duration) -> Vec<AgentReport>;
+}
+
 /// Everything about one agent for the run summary.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct AgentReport {

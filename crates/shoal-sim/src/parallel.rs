@@ -19,6 +19,11 @@ use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
 /// (measured with `shoal bench`: 100 vehicles ran at 0.77× on 2 threads with a threshold of 32).
 pub const MIN_PARALLEL: usize = 256;
 
+/// Working threads of this machine (1 when unknown): the default of a run's `threads`.
+pub fn all_cores() -> usize {
+    std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
+}
+
 /// The loops of a step that run on the pool.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Loop {

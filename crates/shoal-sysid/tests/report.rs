@@ -5,7 +5,7 @@
 //! a look at the figures.
 
 mod common;
-#[path = "../../shoal-sim/tests/support/plots.rs"]
+#[path = "../../shoal-record/tests/support/plots.rs"]
 mod plots;
 
 use common::{Exp, find, measured};

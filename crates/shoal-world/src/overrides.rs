@@ -14,9 +14,10 @@
 //! names none. A caller with the overrides' own source lines (a sweep file) can then point at
 //! them. The extra loading happens only for a world that fails.
 
+use crate::cancel::{Cancel, Interrupted};
 use crate::desc::WorldDesc;
-use crate::error::{FieldPath, Problem, Seg};
-use crate::load::load_str;
+use crate::error::{FieldPath, Problem, Seg, WorldError};
+use crate::load::{LoadError, load_str, load_str_until};
 use std::path::Path;
 
 /// One change: set the field at `path` (dotted, e.g. `vehicles.0.count`) to `value`.
@@ -228,6 +229,78 @@ pub fn apply(
                     .collect(),
             })
         }
+    }
+}
+
+/// Why [`load_until`] could not load a world.
+#[derive(Debug, thiserror::Error)]
+pub enum ChangedError {
+    /// The world text itself has problems (they keep their lines and columns in the file).
+    #[error(transparent)]
+    World(#[from] WorldError),
+    /// The text is a valid world, but not with the overrides: each problem with the override
+    /// that causes it.
+    #[error(transparent)]
+    Overrides(#[from] OverrideError),
+    /// A stop was asked for before the world was complete.
+    #[error("interrupted while loading the world")]
+    Interrupted(#[from] Interrupted),
+}
+
+impl From<LoadError> for ChangedError {
+    fn from(e: LoadError) -> Self {
+        match e {
+            LoadError::World(e) => ChangedError::World(e),
+            LoadError::Interrupted(i) => ChangedError::Interrupted(i),
+        }
+    }
+}
+
+/// The world file `text` (named `file` in messages and for its relative paths) with
+/// `overrides` applied, loaded until `cancel` asks for a stop: what a run's own options (a
+/// seed, a duration, …) make of a world file. Without overrides it is exactly
+/// [`load_str_until`] of the text. A world that fails is checked again without the overrides,
+/// so the problems of the file itself are reported with their lines and those the overrides
+/// cause with the override ([`Located::by`]).
+pub fn load_until(
+    text: &str,
+    file: &Path,
+    overrides: &[Override],
+    cancel: &Cancel,
+) -> Result<WorldDesc, ChangedError> {
+    if overrides.is_empty() {
+        return Ok(load_str_until(text, file, cancel)?);
+    }
+    let base: toml::Table = match toml::from_str(text) {
+        Ok(t) => t,
+        // The loader says where the text is not TOML.
+        Err(_) => return Ok(load_str_until(text, file, cancel)?),
+    };
+    let mut doc = base.clone();
+    let mut paths = Vec::new();
+    for (index, o) in overrides.iter().enumerate() {
+        if let Err(message) = set(&mut doc, &o.path, o.value.clone()) {
+            paths.push(PathProblem {
+                index,
+                path: o.path.clone(),
+                message,
+            });
+        }
+    }
+    if paths.is_empty() {
+        let changed = toml::to_string(&doc).map_err(|e| OverrideError::Write(e.to_string()))?;
+        match load_str_until(&changed, file, cancel) {
+            Ok(desc) => return Ok(desc),
+            Err(LoadError::Interrupted(i)) => return Err(i.into()),
+            Err(LoadError::World(_)) => {}
+        }
+    }
+    // Something is wrong: the file's own problems first, with their lines.
+    load_str_until(text, file, cancel)?;
+    match apply(&base, overrides, file) {
+        Err(e) => Err(e.into()),
+        // (Not reached: the overrides failed above; the loader is deterministic.)
+        Ok(applied) => Ok(applied.desc),
     }
 }
 

@@ -131,9 +131,9 @@ pub fn write(
     parallelism: Option<u32>,
     retry_failed: bool,
     o: &K8sArgs,
-) -> Result<PathBuf, crate::Failure> {
+) -> Result<PathBuf, crate::exit::Failure> {
     if plan.runs.len() > MAX_COMPLETIONS {
-        return Err(crate::Failure::Input(format!(
+        return Err(crate::exit::Failure::Input(format!(
             "the sweep has {} runs; an Indexed Job has at most {MAX_COMPLETIONS} completions",
             plan.runs.len()
         )));
@@ -146,19 +146,19 @@ pub fn write(
             .unwrap_or_default(),
     };
     if path.trim_matches('/').is_empty() || path.split('/').any(|s| s == "..") {
-        return Err(crate::Failure::Input(format!(
+        return Err(crate::exit::Failure::Input(format!(
             "--pvc-path `{path}`: a folder inside the volume (no `..`)"
         )));
     }
     let kdir = dir.join("k8s");
     std::fs::create_dir_all(&kdir).map_err(|e| {
-        crate::Failure::Other(anyhow::anyhow!(
+        crate::exit::Failure::Other(anyhow::anyhow!(
             "cannot create the folder {}: {e}",
             kdir.display()
         ))
     })?;
     let m = manifest(plan, &path, parallelism, retry_failed, o);
-    let text = serde_json::to_string_pretty(&m).map_err(|e| crate::Failure::Other(e.into()))?;
+    let text = serde_json::to_string_pretty(&m).map_err(|e| crate::exit::Failure::Other(e.into()))?;
     write_whole(&kdir.join("job.json"), (text + "\n").as_bytes())
-        .map_err(|e| crate::Failure::Other(e.into()))
+        .map_err(|e| crate::exit::Failure::Other(e.into()))
 }

@@ -43,7 +43,7 @@ pub fn run(l: &Local<'_>, todo: &[usize], cancel: &Arc<Cancel>) -> anyhow::Resul
     }
     let exe = std::env::current_exe().context("cannot find this program's own path")?;
     let jobs = l.jobs.clamp(1, todo.len());
-    let threads = (crate::all_cores() / jobs).max(1);
+    let threads = (shoal_sim::parallel::all_cores() / jobs).max(1);
     let pb = if l.quiet {
         ProgressBar::hidden()
     } else {

@@ -464,9 +464,8 @@ pub fn extract(m: &Metric, summary: &Value) -> Option<Cell> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::run::{Execute, Ran, execute};
+    use shoal_record::run::{Changes, Quiet, Ran, Run, load_world};
     use shoal_world::cancel::Cancel;
-    use std::sync::Arc;
 
     /// Every leaf path of a JSON value in [`SCHEMA`]'s form (`[]` for list entries).
     fn leaf_paths(v: &Value) -> Vec<String> {
@@ -509,20 +508,16 @@ mod tests {
         let tmp = std::env::temp_dir().join(format!("shoal_schema_{}", std::process::id()));
         let mut seen = Vec::new();
         for (world, seconds) in [("worlds/gossip.toml", 4.0), ("worlds/default.toml", 3.0)] {
-            let mut desc = shoal_world::load::load_file(&root.join(world)).unwrap();
-            desc.duration = seconds;
-            desc.output.plots = false;
+            let changes = Changes {
+                duration: Some(seconds),
+                plots: Some(false),
+                replay: Some(false),
+                ..Changes::default()
+            };
+            let cancel = Cancel::new();
+            let desc = load_world(Some(root.join(world).as_path()), &changes, &cancel).unwrap();
             let out = tmp.join(world.replace('/', "_"));
-            let ran = execute(
-                &desc,
-                &out,
-                &Execute {
-                    threads: 1,
-                    replay: false,
-                    quiet: true,
-                    cancel: &Arc::new(Cancel::new()),
-                },
-            );
+            let ran = Run::new(&desc, &out).execute(&mut Quiet, &cancel);
             assert!(matches!(ran, Ok(Ran::Finished { .. })));
             let text = std::fs::read_to_string(out.join("summary.json")).unwrap();
             let v: Value = serde_json::from_str(&text).unwrap();

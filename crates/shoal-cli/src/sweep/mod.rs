@@ -25,7 +25,8 @@ mod run_one;
 mod slurm;
 mod table;
 
-use crate::{Failure, signals};
+use crate::exit::Failure;
+use crate::signals;
 use anyhow::Context;
 use clap::{Subcommand, ValueEnum};
 use plan::Plan;
@@ -130,7 +131,7 @@ fn sweep(a: &SweepArgs) -> Result<ExitCode, Failure> {
         ));
     };
     let cancel = signals::install().context("cannot catch signals")?;
-    let jobs = a.jobs.map_or_else(crate::all_cores, usize::from);
+    let jobs = a.jobs.map_or_else(shoal_sim::parallel::all_cores, usize::from);
     let sweep = file::read(file).map_err(Failure::Input)?;
     let ex = expand::expand(&sweep, &file.display().to_string(), jobs).map_err(Failure::Input)?;
     let dir = absolute(out)?;

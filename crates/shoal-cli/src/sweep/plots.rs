@@ -2,7 +2,7 @@
 //! the mean and the half-width of its 95 % confidence interval) and one figure per metric and
 //! varied parameter (`plots/<metric>_vs_<parameter>.png` and `.svg`): the metric's mean with
 //! its 95 % interval at each value of the parameter, one line per combination of the other
-//! parameters, drawn by [`shoal_sim::ci_plot`].
+//! parameters, drawn by [`shoal_record::ci_plot`].
 //!
 //! The interval is Student's t: mean ± t(0.975, n − 1) · s / √n over the n complete runs of a
 //! point (s the sample standard deviation). A point with one run has its mean and no interval;
@@ -12,7 +12,7 @@ use super::metrics::Cell;
 use super::plan::Plan;
 use super::table::Row;
 use shoal_output::files::write_whole;
-use shoal_sim::ci_plot::{CiGroup, CiPlot, CiPoint};
+use shoal_record::ci_plot::{CiGroup, CiPlot, CiPoint};
 use statrs::distribution::{ContinuousCDF, StudentsT};
 use std::path::{Path, PathBuf};
 

@@ -3,15 +3,18 @@
 //! indexed pod).
 //!
 //! It loads `runs/<hash>/world.toml`, runs it through the same path as `shoal run`
-//! ([`crate::run::execute`]) into the run's folder and writes `result.json` last: `ok`, or
+//! ([`crate::run::execute`], the library's `shoal_record::run::Run`) into the run's folder and writes `result.json` last: `ok`, or
 //! `failed` with the error (a state that became non-finite, an output that could not be
 //! written, a world the node cannot load). A run stopped by a signal writes no result, so it
 //! counts as missing and is run again; so does one whose process dies outright. A run that is
 //! already complete is not run again; one recorded as failed only with `--retry-failed`.
 
 use super::plan::{Plan, RunResult, Status, WORLD, forget_result, run_dir, state, write_result};
-use crate::run::{Ending, Execute, Ran, execute, load};
-use crate::{Failure, signals};
+use crate::exit::run_exit_code;
+use crate::run::{execute, load};
+use shoal_record::run::{Ending, Ran};
+use crate::exit::Failure;
+use crate::signals;
 use shoal_world::load::LoadError;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -145,20 +148,10 @@ fn attempt(
             return Attempt::Stopped(cancel.cause().map_or(ExitCode::FAILURE, signals::exit_code));
         }
     };
-    let ran = execute(
-        &desc,
-        rdir,
-        &Execute {
-            threads,
-            replay: true,
-            quiet: true,
-            cancel,
-        },
-    );
-    match ran {
-        Ok(Ran::StoppedBeforeStart(code)) => Attempt::Stopped(code),
+    match execute(&desc, rdir, threads, true, cancel) {
+        Ok(Ran::StoppedBeforeStart(cause)) => Attempt::Stopped(signals::exit_code(cause)),
         Ok(Ran::Finished { ending, .. }) => {
-            let code = ending.exit_code();
+            let code = run_exit_code(&ending);
             match ending {
                 Ending::Complete => Attempt::Ok,
                 Ending::Interrupted(_) => Attempt::Stopped(code),

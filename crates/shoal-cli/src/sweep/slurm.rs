@@ -297,9 +297,9 @@ pub fn submit(
     todo: &[usize],
     retry_failed: bool,
     o: &SlurmArgs,
-) -> Result<Vec<Submission>, crate::Failure> {
+) -> Result<Vec<Submission>, crate::exit::Failure> {
     let exe = std::env::current_exe().context("cannot find this program's own path")?;
-    check(dir, &exe, o).map_err(crate::Failure::Input)?;
+    check(dir, &exe, o).map_err(crate::exit::Failure::Input)?;
     let id = plan.id();
     let busy = active(dir, &id)?;
     let todo: Vec<usize> = todo.iter().copied().filter(|i| !busy.contains(i)).collect();

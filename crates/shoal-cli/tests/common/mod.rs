@@ -5,7 +5,7 @@
 
 #![allow(dead_code)]
 
-#[path = "../../../shoal-sim/tests/support/cargo_example.rs"]
+#[path = "../../../shoal-record/tests/support/cargo_example.rs"]
 mod cargo_example;
 
 use std::path::{Path, PathBuf};

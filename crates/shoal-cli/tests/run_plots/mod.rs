@@ -1,16 +1,16 @@
 //! The plots of a run checked against its tables: each plot's SVG lines are the numbers of
 //! `trajectories.csv`, `links.csv`, `connectivity.csv` or `summary.json` (through one affine
 //! map per axis, within a pixel), and each PNG decodes and has drawn pixels of its series'
-//! colours inside the plot area (see `shoal-sim/tests/support/plots.rs`).
+//! colours inside the plot area (see `shoal-record/tests/support/plots.rs`).
 
 #![allow(dead_code)]
 
-#[path = "../../../shoal-sim/tests/support/plots.rs"]
+#[path = "../../../shoal-record/tests/support/plots.rs"]
 pub mod plots;
 
 use plots::{Rgb, assert_png_colours, assert_svg_lines};
 use shoal_output::plot::rgb;
-use shoal_sim::link_key;
+use shoal_record::link_key;
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -87,7 +87,7 @@ pub fn assert_depth_and_top(out: &Path, min_depth: usize, min_top: usize) {
 /// `connectivity` (of worlds/gossip.toml: one origin, 64 relays).
 pub fn assert_gossip_plots(out: &Path, vehicles: usize) {
     let links = table(&out.join("links.csv"));
-    // Each outcome in the one colour key's colour (shoal_sim::link_key), in the key's order.
+    // Each outcome in the one colour key's colour (shoal_record::link_key), in the key's order.
     let outcome = |col: &str, o: link_key::Outcome| {
         let pts = links
             .iter()

@@ -3,7 +3,7 @@
 
 #![allow(dead_code)]
 
-#[path = "../../../shoal-sim/tests/support/plots.rs"]
+#[path = "../../../shoal-record/tests/support/plots.rs"]
 mod plots;
 
 pub use crate::common::repo;

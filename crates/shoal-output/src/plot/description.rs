@@ -15,7 +15,7 @@ pub struct Series {
     /// Palette index of the colour.
     pub color: usize,
     /// A colour of its own (red, green, blue) instead of the palette's, e.g. a link outcome's
-    /// from `shoal_sim::link_key`.
+    /// from `shoal_record::link_key`.
     pub rgb: Option<(u8, u8, u8)>,
     /// Dashed (for setpoints and references).
     pub dashed: bool,

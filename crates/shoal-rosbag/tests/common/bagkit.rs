@@ -14,7 +14,7 @@
 
 #![allow(dead_code)]
 
-use shoal_sim::output::mcap::ros2::{
+use shoal_record::mcap::ros2::{
     Float64MultiArray, FluidPressure, Header, Imu, Quaternion, Time, Vector3, definition, encode,
 };
 use std::collections::BTreeMap;

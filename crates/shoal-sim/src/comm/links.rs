@@ -3,37 +3,71 @@
 //! ([`LinkMap`]: a vector sorted by sender, so that folding a batch of attempts sorted by
 //! sender walks it front to back instead of probing a hash table at random).
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
-/// What became of a frame at one receiver. Ordered by how close the frame came to arriving
-/// (the best one is reported when a vehicle has several modems).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+/// What became of a frame at one receiver: the one list of link outcomes, with the codes the
+/// replay's `links` array, `run.mcap`'s `/links` and the colour key of the plots use
+/// ([`Outcome::code`]). How close each came to arriving is [`Outcome::rank`] (a vehicle with
+/// several modems reports the best, [`Outcome::better`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[repr(u32)]
 pub enum Outcome {
-    /// Out of the link budget: range, angle or bit errors.
-    Range,
-    /// The line of sight was blocked (wall, obstacle, hull).
-    Occluded,
-    /// The receiver was transmitting.
-    HalfDuplex,
-    /// Lost to interference from overlapping frames.
-    Collision,
     /// Received.
-    Delivered,
+    Delivered = 0,
+    /// Lost to interference from overlapping frames not weak enough to capture over.
+    Collided = 1,
+    /// The line of sight was blocked (wall, obstacle, hull).
+    Occluded = 2,
+    /// Out of the link budget: range, angle or bit errors.
+    OutOfBudget = 3,
+    /// The receiver was transmitting (half-duplex).
+    HalfDuplex = 4,
 }
 
 impl Outcome {
-    /// Every outcome, in order.
+    /// Every outcome, in code order.
     pub const ALL: [Outcome; 5] = [
-        Outcome::Range,
-        Outcome::Occluded,
-        Outcome::HalfDuplex,
-        Outcome::Collision,
         Outcome::Delivered,
+        Outcome::Collided,
+        Outcome::Occluded,
+        Outcome::OutOfBudget,
+        Outcome::HalfDuplex,
     ];
 
-    /// Position in [`Outcome::ALL`].
+    /// Position in [`Outcome::ALL`] (its code).
     pub fn index(self) -> usize {
         self as usize
+    }
+
+    /// Its code in the replay's `links` array and `run.mcap`'s `/links`.
+    pub fn code(self) -> u32 {
+        self as u32
+    }
+
+    /// The outcome of the code `code`, if there is one.
+    pub fn from_code(code: u32) -> Option<Outcome> {
+        Self::ALL.get(usize::try_from(code).ok()?).copied()
+    }
+
+    /// How close the frame came to arriving: out of budget (0) < occluded < half-duplex <
+    /// collided < delivered (4).
+    pub fn rank(self) -> u8 {
+        match self {
+            Outcome::OutOfBudget => 0,
+            Outcome::Occluded => 1,
+            Outcome::HalfDuplex => 2,
+            Outcome::Collided => 3,
+            Outcome::Delivered => 4,
+        }
+    }
+
+    /// The one of `self` and `other` that came closer to arriving ([`Outcome::rank`]).
+    pub fn better(self, other: Outcome) -> Outcome {
+        if other.rank() > self.rank() {
+            other
+        } else {
+            self
+        }
     }
 }
 
@@ -80,9 +114,9 @@ impl LinkStats {
                 self.latency_sum_s += latency;
                 self.last_delivery = t;
             }
-            Outcome::Range => self.lost_range += 1,
+            Outcome::OutOfBudget => self.lost_range += 1,
             Outcome::Occluded => self.lost_occlusion += 1,
-            Outcome::Collision => self.lost_collision += 1,
+            Outcome::Collided => self.lost_collision += 1,
             Outcome::HalfDuplex => self.lost_half_duplex += 1,
         }
     }
@@ -214,8 +248,8 @@ mod tests {
     fn a_sorted_batch_counts_as_one_attempt_at_a_time() {
         let first = [
             ev(7, Outcome::Delivered, 1.0),
-            ev(3, Outcome::Range, 1.1),
-            ev(7, Outcome::Collision, 1.2),
+            ev(3, Outcome::OutOfBudget, 1.1),
+            ev(7, Outcome::Collided, 1.2),
         ];
         let second = [
             ev(1, Outcome::Delivered, 2.0),

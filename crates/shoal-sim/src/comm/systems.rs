@@ -451,7 +451,7 @@ fn receive(
     tally.by_distance[bin].0 += 1;
     if !m.may_decode(l, rx.me, rx.area) {
         // Undecodable even in the best case (P(delivery) < 1e-12): lost to range.
-        return Outcome::Range;
+        return Outcome::OutOfBudget;
     }
     if rx.scratch.poses.is_empty() {
         let (pos, att) = (rx.pos, rx.att);
@@ -466,7 +466,7 @@ fn receive(
     // Interferers within range of this receiver, once a modem hears the signal.
     rx.scratch.interferers.clear();
     let mut interferers_found = false;
-    let mut best = Outcome::Range;
+    let mut best = Outcome::OutOfBudget;
     let mut got: Option<(usize, f64, f64)> = None;
     for k in 0..rx.scratch.poses.len() {
         let at = AtModem {
@@ -480,12 +480,12 @@ fn receive(
         let p_sig = match at.signal(l, hulls) {
             Ok(p) => p,
             Err(o) => {
-                best = best.max(o);
+                best = best.better(o);
                 continue;
             }
         };
         if own_transmitting(m, own, rx.me, k, f.start, f.end) {
-            best = best.max(Outcome::HalfDuplex);
+            best = best.better(Outcome::HalfDuplex);
             continue;
         }
         if !interferers_found {
@@ -501,7 +501,7 @@ fn receive(
                     got = Some((k, p_sig, snr));
                 }
             }
-            Err(o) => best = best.max(o),
+            Err(o) => best = best.better(o),
         }
     }
     if let Some((modem, power, snr)) = got {
@@ -573,11 +573,11 @@ impl AtModem<'_> {
 
     /// The received power of the copies of `l` this modem can see \[W\], or why it has none:
     /// [`Outcome::Occluded`] if some copy would reach it but was blocked, else
-    /// [`Outcome::Range`].
+    /// [`Outcome::OutOfBudget`].
     fn signal(&self, l: &Logical<'_>, hulls: &mut Vec<(u32, bool)>) -> Result<f64, Outcome> {
         let my = &self.m.consts[self.me as usize][self.k];
         let mut p_sig = 0.0;
-        let mut outcome = Outcome::Range;
+        let mut outcome = Outcome::OutOfBudget;
         for c in l.copies {
             let p = self.m.power_between(c, &self.pose, my);
             if p <= 0.0 {
@@ -586,7 +586,7 @@ impl AtModem<'_> {
             if self.path_clear(&c.pose) && Listener::clear_of_hulls(hulls, self.m, c.tx, self.me) {
                 p_sig += p;
             } else {
-                outcome = outcome.max(Outcome::Occluded);
+                outcome = outcome.better(Outcome::Occluded);
             }
         }
         if p_sig <= 0.0 {
@@ -624,8 +624,8 @@ impl AtModem<'_> {
 
 /// Decodes a frame of `bits` line bits with signal `p_sig` and interference `(total,
 /// largest)` \[W\] at modem `rxm` at `pose`: the SNR if delivered, else the outcome
-/// ([`Outcome::Collision`] when the largest interferer is not weak enough to capture over,
-/// [`Outcome::Range`] for bit errors). Draws one number from `rng` unless it collided.
+/// ([`Outcome::Collided`] when the largest interferer is not weak enough to capture over,
+/// [`Outcome::OutOfBudget`] for bit errors). Draws one number from `rng` unless it collided.
 fn decode(
     m: &Medium,
     rxm: &shoal_model::optics::ModemParams,
@@ -636,7 +636,7 @@ fn decode(
     rng: &mut VehicleRng,
 ) -> Result<f64, Outcome> {
     if p_max * rxm.capture_ratio > p_sig {
-        return Err(Outcome::Collision);
+        return Err(Outcome::Collided);
     }
     // Delivered when a uniform draw is at least the frame error rate. The Chernoff bound
     // FER ≤ n·BER ≤ n·½·e^(−SNR/2) settles most draws without the error function; the
@@ -647,7 +647,7 @@ fn decode(
     let u = rng.random::<f64>();
     let bound = bits as f64 * 0.5 * (-0.5 * snr).exp();
     if u < bound && u < frame_error_rate(ber_ook(snr), bits) {
-        return Err(Outcome::Range);
+        return Err(Outcome::OutOfBudget);
     }
     Ok(snr)
 }

@@ -10,7 +10,7 @@ use super::{
     GroupMeta, LINK_BUDGET, LinkEvent, Meta, ObstacleMeta, PANEL, PANEL_BUDGET_BYTES, ReplayData,
     Timeline,
 };
-use crate::comm::{CommStats, Ledger, Medium, Outcome as CommOutcome};
+use crate::comm::{CommStats, Ledger, Medium, Outcome};
 use crate::components::{Clock, VehicleId};
 use crate::connectivity::Connectivity;
 use crate::fleet::Fleet;
@@ -98,7 +98,7 @@ impl ReplayRecorder {
             links_kept: 0,
             links_total: 0,
             timeline: Timeline::default(),
-            outcomes: super::outcome_key(),
+            outcomes: Vec::new(),
         };
         Self {
             data: ReplayData {
@@ -127,13 +127,13 @@ impl ReplayRecorder {
         let tl = &mut m.timeline;
         let n = m.vehicles.max(1) as f64;
         for c in &medium.per_second {
-            let k = |o: CommOutcome| c[o.index()];
+            let k = |o: Outcome| c[o.index()];
             tl.attempted.push(c.iter().sum());
-            tl.delivered.push(k(CommOutcome::Delivered));
-            tl.collided.push(k(CommOutcome::Collision));
-            tl.occluded.push(k(CommOutcome::Occluded));
-            tl.out_of_budget.push(k(CommOutcome::Range));
-            tl.half_duplex.push(k(CommOutcome::HalfDuplex));
+            tl.delivered.push(k(Outcome::Delivered));
+            tl.collided.push(k(Outcome::Collided));
+            tl.occluded.push(k(Outcome::Occluded));
+            tl.out_of_budget.push(k(Outcome::OutOfBudget));
+            tl.half_duplex.push(k(Outcome::HalfDuplex));
         }
         for s in &conn.samples {
             tl.components.push(s.components as u64);
@@ -199,7 +199,7 @@ impl ReplayRecorder {
 }
 
 /// The replay's description of obstacle `o` (`run.mcap` draws obstacles from it too).
-pub(crate) fn obstacle_meta(o: &shoal_world::geometry::Obstacle) -> ObstacleMeta {
+pub fn obstacle_meta(o: &shoal_world::geometry::Obstacle) -> ObstacleMeta {
     let t = o.pose.translation;
     let r = o.pose.rotation;
     let mut m = ObstacleMeta {
@@ -290,7 +290,7 @@ pub fn replay_system(
             t: h.t as f32,
             from: h.from,
             to: h.to,
-            outcome: h.outcome.into(),
+            outcome: h.outcome,
         }));
         rec.keep_links();
     }

@@ -1,6 +1,6 @@
-//! The replay of a run: what `replay.html` shows, gathered while the world runs and written as
-//! one self-contained page (three.js and the data embedded; it opens from `file://` with no
-//! network).
+//! The replay of a run: what `replay.html` shows, gathered while the world runs
+//! ([`capture`]). Crate `shoal-record` writes it as one self-contained page (three.js and the
+//! data embedded; it opens from `file://` with no network), reads it back and draws its GIF.
 //!
 //! **Data model** ([`ReplayData`]): a JSON header ([`Meta`]: world, pool, obstacles, groups,
 //! vehicles, frame rate, quantisation, the per-second timeline) and little-endian binary
@@ -20,10 +20,10 @@
 //! the timeline counts all of them). The `panel` holds a row every [`Meta::panel_dt`]
 //! seconds ([`panel_dt`]: 1 s, or 2, 5, 10 … s when [`PANEL_BUDGET_BYTES`] requires it): row
 //! `k` describes `t = k · panel_dt` (the page shows row `⌊t / panel_dt⌋`). [`ReplayData::check`] says whether the arrays agree
-//! with the header; [`html::write`] refuses data that does not.
+//! with the header; the page writer refuses data that does not.
 //!
-//! **Size budget** (base64 adds a third; measured with [`demo::demo`] and
-//! `examples/replay_demo.rs`; see `docs/replay.md`):
+//! **Size budget** (base64 adds a third; measured with shoal-record's synthetic replay,
+//! `crates/shoal-record/examples/replay_demo.rs`; see `docs/replay.md`):
 //!
 //! | part | bytes in the page |
 //! |---|---|
@@ -44,11 +44,7 @@
 
 use serde::{Deserialize, Serialize};
 
-pub mod demo;
-pub mod html;
-
 pub mod capture;
-pub mod gif;
 
 /// Bytes of pose data (`pos` + `att`) a replay may hold before the frame rate is lowered.
 pub const POSE_BUDGET_BYTES: usize = 12 << 20;
@@ -75,7 +71,7 @@ pub const PANEL: [&str; 7] = [
     "neighbours",
 ];
 
-pub use crate::link_key::Outcome;
+pub use crate::comm::Outcome;
 
 /// Bytes of pose data per vehicle and frame: `pos` (3 × u16) and `att` (3 × i16).
 pub const POSE_BYTES_PER_VEHICLE_FRAME: usize = 12;
@@ -190,9 +186,10 @@ pub struct Meta {
     pub links_total: u64,
     /// Per-second link and connectivity series (the timeline strip).
     pub timeline: Timeline,
-    /// How the page shows each link outcome, by outcome code: [`outcome_key`], the one colour
-    /// key of [`crate::link_key`] (pages written before it existed get today's key).
-    #[serde(default = "outcome_key")]
+    /// How the page shows each link outcome, by outcome code: the one colour key, which the
+    /// page writer (crate `shoal-record`) puts here; empty while the replay is gathered (a
+    /// page written before the key existed gets today's key when it is read back).
+    #[serde(default)]
     pub outcomes: Vec<OutcomeMeta>,
 }
 
@@ -203,18 +200,6 @@ pub struct OutcomeMeta {
     pub name: String,
     /// Colour, `#rrggbb`.
     pub color: String,
-}
-
-/// The colour key of link outcomes ([`crate::link_key::LINK_KEY`]) as the page's header
-/// carries it, by outcome code.
-pub fn outcome_key() -> Vec<OutcomeMeta> {
-    crate::link_key::LINK_KEY
-        .iter()
-        .map(|s| OutcomeMeta {
-            name: s.label.to_string(),
-            color: crate::link_key::hex(s.outcome),
-        })
-        .collect()
 }
 
 /// An obstacle, as three.js draws it.

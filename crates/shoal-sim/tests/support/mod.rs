@@ -1,5 +1,4 @@
 //! Helpers shared by the integration tests (each test binary uses some of them).
 #![allow(dead_code)]
 
-pub mod browser;
 pub mod world;

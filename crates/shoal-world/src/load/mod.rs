@@ -80,7 +80,7 @@ fn never_interrupted(r: Result<WorldDesc, LoadError>) -> Result<WorldDesc, World
 
 /// Reads a file as UTF-8 text; a byte sequence that is not UTF-8 is a problem located at its
 /// line and column.
-fn read_text(path: &Path) -> Result<String, WorldError> {
+pub fn read_text(path: &Path) -> Result<String, WorldError> {
     let io = |message: String, line_col: Option<(usize, usize)>| {
         WorldError::single(
             path,

@@ -12,8 +12,8 @@ mod support;
 use std::path::{Path, PathBuf};
 use support::browser::{self, chromium, chromium_observed, html_attr};
 
-use shoal_sim::replay::demo::demo;
-use shoal_sim::replay::html;
+use shoal_record::replay::demo::demo;
+use shoal_record::replay::html;
 
 /// Vehicles of the demo replay the browser opens.
 const VEHICLES: usize = 12;
@@ -85,7 +85,7 @@ fn the_replay_renders_in_headless_chromium() {
 }
 
 /// The page draws link lines and its legend in the colours of the one key
-/// (`shoal_sim::link_key`), which it reads from the header.
+/// (`shoal_record::link_key`), which it reads from the header.
 #[test]
 fn links_and_legend_wear_the_colours_of_the_one_key() {
     let d = dir("key");
@@ -97,10 +97,10 @@ fn links_and_legend_wear_the_colours_of_the_one_key() {
     );
     let dom = String::from_utf8_lossy(&out.stdout);
     assert_eq!(html_attr(&dom, "data-status").as_deref(), Some("ok"));
-    let key = &shoal_sim::link_key::LINK_KEY;
+    let key = &shoal_record::link_key::LINK_KEY;
     let hex: Vec<String> = key
         .iter()
-        .map(|k| shoal_sim::link_key::hex(k.outcome))
+        .map(|k| shoal_record::link_key::hex(k.outcome))
         .collect();
     // The colours the link lines are drawn in.
     assert_eq!(html_attr(&dom, "data-link-colors"), Some(hex.join(" ")));

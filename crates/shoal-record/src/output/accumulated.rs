@@ -2,7 +2,7 @@
 //! ([`VehicleAcc`]: distance, greatest depth and speed, whether it was steered, and the samples
 //! kept for the plots, [`PlotPoint`]): the summary and the plots are drawn from it.
 
-use crate::recorder::{col, mode_of_code};
+use shoal_sim::recorder::{col, mode_of_code};
 use shoal_model::prelude::*;
 
 /// What the outputs keep of one vehicle from its trajectory rows.
@@ -44,7 +44,7 @@ pub(super) struct PlotPoint {
 }
 
 impl VehicleAcc {
-    /// Adds one trajectory row (the columns of [`crate::recorder::col`]), keeping it for the
+    /// Adds one trajectory row (the columns of [`shoal_sim::recorder::col`]), keeping it for the
     /// plots when `keep`.
     pub(super) fn add_row(&mut self, row: &[f64], keep: bool) {
         let a = self;

@@ -9,8 +9,8 @@ use super::plain::OpticalFrame;
 use super::ros2::{self, Float64MultiArray, FluidPressure, Imu};
 use super::*;
 use crate::output::RunOutput;
-use crate::recorder::FIXED;
-use crate::sim::{Sim, SimOptions};
+use shoal_sim::recorder::FIXED;
+use shoal_sim::sim::{Sim, SimOptions};
 use serde_json::Value;
 use shoal_model::frames as enu;
 use shoal_world::cancel::Cancel;
@@ -459,7 +459,7 @@ fn a_run_output_commits_run_mcap_after_the_tables_and_summarises_it() {
         sim.run(50);
         out.write(&sim.drain()).unwrap();
     }
-    let s = out.finish(&desc, &mut sim, 0.1, &Cancel::new()).unwrap();
+    let s = out.finish(&mut sim, 0.1, &Cancel::new()).unwrap();
     let m = s.mcap.as_ref().unwrap();
     assert_eq!(m.samples_written, 21);
     let files: Vec<String> = s

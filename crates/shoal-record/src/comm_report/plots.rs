@@ -6,11 +6,11 @@
 
 use super::summary::{CommSummary, DistanceBin};
 use super::tables::per_second;
-use crate::comm::Outcome;
-use crate::connectivity::Connectivity;
+use shoal_sim::comm::Outcome;
+use shoal_sim::connectivity::Connectivity;
 use crate::link_key;
-use crate::sim::Sim;
-use crate::view::VehicleView;
+use shoal_sim::sim::Sim;
+use shoal_sim::view::VehicleView;
 use shoal_model::optics::{LinkGeometry, budget};
 use shoal_output::plot::{Plot, Series};
 use shoal_world::desc::WorldDesc;
@@ -246,13 +246,11 @@ pub fn connectivity_plot(desc: &WorldDesc, conn: &Connectivity, snaps: &[Vehicle
 /// `k` by [`Outcome::index`]), each outcome in its colour and with its label from
 /// [`crate::link_key`].
 pub fn links_plot(world: &str, per_second: &[[u64; 5]], duration: f64) -> Plot {
-    // In the key's order.
-    let mut outcomes = Outcome::ALL;
-    outcomes.sort_by_key(|&o| link_key::Outcome::from(o).code());
-    let series = outcomes
+    // In the key's order (the outcomes' code order).
+    let series = Outcome::ALL
         .iter()
         .map(|&o| {
-            let key = link_key::style(o.into());
+            let key = link_key::style(o);
             Series {
                 label: Some(if key.detail.is_empty() {
                     key.label.to_string()

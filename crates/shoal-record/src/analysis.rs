@@ -2,8 +2,8 @@
 //! and measure each segment (overshoot, time to enter a band, 10–90 % rate, final error).
 //! Used by the paper-reproduction tests and the comparison in `docs/paper-comparison.md`.
 
-use crate::recorder::{self, col};
-use crate::sim::{Sim, SimOptions};
+use shoal_sim::recorder::{self, col};
+use shoal_sim::sim::{Sim, SimOptions};
 use shoal_model::math::wrap_pi;
 use shoal_world::desc::WorldDesc;
 

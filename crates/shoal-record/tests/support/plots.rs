@@ -223,7 +223,7 @@ pub fn dots(svg: &str) -> Vec<(Rgb, (f64, f64))> {
 }
 
 /// Asserts that the figure of means with 95 % intervals `path` (an SVG of
-/// `shoal_sim::ci_plot`) draws `groups`: per colour, a dot per (mean, half-width) in
+/// `shoal_record::ci_plot`) draws `groups`: per colour, a dot per (mean, half-width) in
 /// category order (left to right) and a vertical bar from mean − half to mean + half where
 /// the half-width is not 0, with one affine map of the vertical axis that takes every mean
 /// and every bar end to its pixel within 1 px.

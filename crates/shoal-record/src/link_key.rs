@@ -8,9 +8,9 @@
 //!   ([`crate::replay::Meta::outcomes`], [`crate::replay::outcome_key`]), from which the
 //!   viewer colours its lines, legend and timeline.
 //!
-//! It also defines the five outcomes themselves ([`Outcome`], with the codes of the replay's
-//! `links` array, and how the medium's [`crate::comm::Outcome`] maps onto them), so that the
-//! replay, the GIF and the plots all build on it and it builds on nothing of theirs.
+//! The outcomes themselves, and their codes in the replay's `links` array, are the medium's
+//! ([`shoal_sim::comm::Outcome`], the one list); this file only says how each looks, so that
+//! the replay, the GIF and the plots all build on it and it builds on nothing of theirs.
 //!
 //! The colours read on white (plots), on the GIF's pale water and on the replay's dark water,
 //! and keep apart from the first group colours (tab10 blue, orange, green) that the vehicles
@@ -18,58 +18,7 @@
 //! budget: too far, wrong angle, bit errors) are grey. Docs name the colours by
 //! [`OutcomeStyle::colour_name`] ([`prose`]; a test keeps README.md and docs/replay.md in step).
 
-use crate::comm::Outcome as CommOutcome;
-use serde::{Deserialize, Serialize};
-
-/// Outcome of a link attempt, as people see it and as coded in the replay's `links` array.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[repr(u32)]
-pub enum Outcome {
-    /// Received.
-    Delivered = 0,
-    /// Lost to a collision with another frame (interference).
-    Collided = 1,
-    /// The line of sight was blocked (wall, obstacle or hull).
-    Occluded = 2,
-    /// Out of the link budget: range, angle or bit errors.
-    OutOfBudget = 3,
-    /// The receiver was transmitting (half-duplex).
-    HalfDuplex = 4,
-}
-
-impl Outcome {
-    /// Every outcome, in code order.
-    pub const ALL: [Outcome; 5] = [
-        Outcome::Delivered,
-        Outcome::Collided,
-        Outcome::Occluded,
-        Outcome::OutOfBudget,
-        Outcome::HalfDuplex,
-    ];
-
-    /// The outcome of the code `code` in the `links` array, if there is one.
-    pub fn from_code(code: u32) -> Option<Outcome> {
-        Self::ALL.get(usize::try_from(code).ok()?).copied()
-    }
-
-    /// Its code in the `links` array.
-    pub fn code(self) -> u32 {
-        self as u32
-    }
-}
-
-impl From<CommOutcome> for Outcome {
-    /// The medium's outcome of a reception as people see it.
-    fn from(o: CommOutcome) -> Self {
-        match o {
-            CommOutcome::Delivered => Outcome::Delivered,
-            CommOutcome::Collision => Outcome::Collided,
-            CommOutcome::Occluded => Outcome::Occluded,
-            CommOutcome::Range => Outcome::OutOfBudget,
-            CommOutcome::HalfDuplex => Outcome::HalfDuplex,
-        }
-    }
-}
+pub use shoal_sim::comm::Outcome;
 
 /// How one link outcome is shown.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

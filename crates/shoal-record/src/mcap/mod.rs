@@ -3,7 +3,7 @@
 //! vehicle's, e.g. for `shoal validate` through its mapping file). A run writes it when asked
 //! (`shoal run --mcap`, or `[output] mcap = true`), beside `trajectories.csv`, sampled like the
 //! trajectories (`record_hz`) and streamed: each batch of rows the run driver drains
-//! ([`crate::recorder::RecordBatch`], with the reception attempts of the same steps) is written
+//! ([`shoal_sim::recorder::RecordBatch`], with the reception attempts of the same steps) is written
 //! at once, so memory does not grow with the run beyond the file's index (one chunk of 4 MiB,
 //! the attempts of one record interval, and an index entry per channel and chunk: ≈ 40 MB for
 //! a file of 1,000 vehicles at its budget).
@@ -66,8 +66,8 @@ pub use budget::{
     BYTES_PER_ACTUATOR, BYTES_PER_VEHICLE_SAMPLE, FRAME_BUDGET, MAX_VEHICLES, SAMPLE_BUDGET_BYTES,
 };
 
-use crate::comm::Heard;
-use crate::recorder::{self, RecordBatch, col};
+use shoal_sim::comm::Heard;
+use shoal_sim::recorder::{self, RecordBatch, col};
 use budget::{FrameQuota, Plan};
 use file::McapFile;
 use serde::Serialize;

@@ -3,13 +3,14 @@
 //! `summary.json`, printed by [`Summary::to_text`] at the end of a run).
 
 use super::accumulated::VehicleAcc;
-use crate::parallel::Dispatches;
-use crate::phases::{ByPhase, RunPhases};
-use crate::sim::Sim;
-use crate::view::VehicleView;
+use shoal_sim::parallel::Dispatches;
+use shoal_sim::phases::{ByPhase, RunPhases};
+use shoal_sim::sim::Sim;
+use shoal_sim::view::VehicleView;
 use serde::Serialize;
 use shoal_model::math::wrap_pi;
 use shoal_model::prelude::*;
+use shoal_output::words::{count, factor};
 use shoal_world::cancel::Cause;
 use shoal_world::desc::WorldDesc;
 
@@ -79,7 +80,7 @@ pub struct Summary {
     /// Working threads.
     pub threads: usize,
     /// The loops split over the thread pool, per kind (all zero on one thread and for loops
-    /// under [`crate::parallel::MIN_PARALLEL`] vehicles): proof that a run took the parallel
+    /// under [`shoal_sim::parallel::MIN_PARALLEL`] vehicles): proof that a run took the parallel
     /// path.
     pub parallel_dispatches: Dispatches,
     /// Where the wall time went, by phase of the step and the writing of rows during the run
@@ -107,7 +108,7 @@ pub struct Summary {
     /// `simulated_s` equals `planned_s` — the writing of its plots (`files` lists what exists).
     pub interrupted: bool,
     /// Ended early because a vehicle's state stopped being finite: which, when, and its last
-    /// finite state ([`crate::fault::SimFault`]); results after that step are not physical.
+    /// finite state ([`shoal_sim::fault::SimFault`]); results after that step are not physical.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub failed: Option<String>,
     /// What asked for the stop, e.g. `SIGTERM` (absent when not interrupted).
@@ -134,11 +135,11 @@ pub struct Summary {
     pub comm: Option<crate::comm_report::CommSummary>,
     /// External agents (absent when no vehicle has one).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub agents: Option<crate::agents::AgentsSummary>,
+    pub agents: Option<shoal_sim::agents::AgentsSummary>,
     /// What `run.mcap` holds and what its size budget left out (absent when it was not
     /// asked for, or could not be finished).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub mcap: Option<super::mcap::McapSummary>,
+    pub mcap: Option<crate::mcap::McapSummary>,
 }
 
 impl Summary {
@@ -270,15 +271,14 @@ impl Summary {
             (None, _, false) => "simulated".into(),
         };
         s.push_str(&format!(
-            "{}: {} vehicles, {status} {:.1} s of {:.1} s in {:.2} s wall time ({:.1}× real time, {} thread{})\n",
+            "{}: {}, {status} {:.1} s of {:.1} s in {:.2} s wall time ({}× real time, {})\n",
             self.world,
-            self.vehicles,
+            count(self.vehicles, "vehicle"),
             self.simulated_s,
             self.planned_s,
             self.wall_s,
-            self.real_time_factor,
-            self.threads,
-            if self.threads == 1 { "" } else { "s" }
+            factor(self.real_time_factor),
+            count(self.threads, "thread"),
         ));
         if let Some(b) = self.peak_memory_bytes {
             let b = b as f64;

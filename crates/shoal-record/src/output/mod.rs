@@ -21,9 +21,9 @@
 //! request) it is written again with the files that exist, the error and the stop request.
 
 use crate::comm_report::VehicleComm;
-use crate::recorder::{self, RecordBatch, col, mode_of_code};
-use crate::sim::Sim;
-use crate::view::VehicleView;
+use shoal_sim::recorder::{self, RecordBatch, col, mode_of_code};
+use shoal_sim::sim::Sim;
+use shoal_sim::view::VehicleView;
 use accumulated::VehicleAcc;
 use numbers::write_num;
 use shoal_model::prelude::*;
@@ -34,9 +34,10 @@ use shoal_world::desc::WorldDesc;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use vehicles_csv::write_vehicles_csv;
+use crate::mcap;
 
 mod accumulated;
-pub mod mcap;
+
 mod numbers;
 mod plots;
 mod summary;
@@ -68,8 +69,11 @@ const PLOT_POINTS: usize = 1500;
 /// Most vehicles drawn in a plot.
 const PLOT_VEHICLES: usize = 200;
 
-/// Streams a run's outputs into a folder.
-pub struct RunOutput {
+/// Streams a run's outputs into a folder. The run driver ([`crate::run::Run`]) makes one,
+/// writes the recorded rows into it as the world runs and finishes it; it gives it what only
+/// the driver knows (the agents' reports, the replay, the time spent writing) on the way.
+pub struct RunOutput<'d> {
+    desc: &'d WorldDesc,
     dir: PathBuf,
     csv: CsvFile,
     /// Per vehicle kind: where each of its row values goes in the CSV record.
@@ -87,25 +91,22 @@ pub struct RunOutput {
     /// `run.mcap`, when the world asks for it (`[output] mcap`).
     mcap: Option<mcap::McapOutput>,
     /// External agents' part of the summary (set by the run driver before `finish`).
-    pub agents: Option<crate::agents::AgentsSummary>,
-    /// The replay to write as `replay.html` (set by the run driver before `finish`, e.g.
-    /// from [`Sim::take_replay`]).
-    pub replay: Option<crate::replay::ReplayData>,
+    pub(crate) agents: Option<shoal_sim::agents::AgentsSummary>,
+    /// The replay to write as `replay.html` (set by the run driver before `finish`, from
+    /// [`Sim::take_replay`]).
+    pub(crate) replay: Option<crate::replay::ReplayData>,
     /// Called with each output file's final name just before [`RunOutput::finish`] begins
-    /// it (set by the run driver, e.g. to report progress).
-    pub before_file: Option<Box<BeforeFile>>,
+    /// it (set by the run driver: its [`crate::run::Watch::before_file`]).
+    pub(crate) before_file: Option<&'d dyn Fn(&Path)>,
     /// Wall time the run driver spent draining recorded rows and writing them while the world
     /// ran \[s\] (added up by the driver; reported in [`Summary::phases_s`]).
-    pub writing_s: f64,
+    pub(crate) writing_s: f64,
 }
 
-/// What [`RunOutput::before_file`] holds: a call with each output file's final name.
-pub type BeforeFile = dyn Fn(&Path) + Send + Sync;
-
-impl RunOutput {
+impl<'d> RunOutput<'d> {
     /// Creates `dir` (and parents) and starts `trajectories.csv` (under its temporary name),
     /// and `run.mcap` when `desc` asks for it (`[output] mcap`).
-    pub fn create(dir: &Path, desc: &WorldDesc) -> Result<Self, OutputError> {
+    pub fn create(dir: &Path, desc: &'d WorldDesc) -> Result<Self, OutputError> {
         std::fs::create_dir_all(dir).map_err(|reason| OutputError::Folder {
             path: dir.to_path_buf(),
             reason,
@@ -151,6 +152,7 @@ impl RunOutput {
             None
         };
         Ok(Self {
+            desc,
             dir: dir.to_path_buf(),
             csv,
             maps,
@@ -173,6 +175,16 @@ impl RunOutput {
     /// The output folder.
     pub fn dir(&self) -> &Path {
         &self.dir
+    }
+
+    /// Steps the world's run has planned.
+    pub fn steps(&self) -> u64 {
+        self.desc.steps()
+    }
+
+    /// Vehicles of the world.
+    pub fn vehicles(&self) -> usize {
+        self.desc.vehicles.len()
     }
 
     /// Writes a batch of rows (time-major) to `trajectories.csv` (and `run.mcap`, with the
@@ -234,11 +246,11 @@ impl RunOutput {
     /// written before it stays.
     pub fn finish(
         self,
-        desc: &WorldDesc,
         sim: &mut Sim,
         wall_s: f64,
         cancel: &Cancel,
     ) -> Result<Summary, OutputError> {
+        let desc = self.desc;
         // The request that ended the run (if any) still has its plots; any other skips them.
         let seen = cancel.requests().min(1);
         sim.fold_comm();

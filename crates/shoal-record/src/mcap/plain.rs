@@ -1,12 +1,12 @@
 //! The plain-number messages of `run.mcap`, in JSON with JSON Schemas of shoal's own:
 //! `shoal.VehicleState` (`/<vehicle>/state`: one recorded trajectory row, its fields named
-//! like the columns of `trajectories.csv`, [`crate::recorder::FIXED`]) and
+//! like the columns of `trajectories.csv`, [`shoal_sim::recorder::FIXED`]) and
 //! `shoal.OpticalFrame` (`/optical/frames`: one reception attempt). Each schema field's
 //! description gives its unit, so Foxglove's plots can be read without this page.
 
-use crate::comm::Heard;
-use crate::link_key::{LINK_KEY, Outcome, style};
-use crate::recorder::{FIXED, col, mode_of_code};
+use shoal_sim::comm::Heard;
+use crate::link_key::{LINK_KEY, style};
+use shoal_sim::recorder::{FIXED, col, mode_of_code};
 use serde::ser::SerializeMap;
 use serde::{Deserialize, Serialize};
 use serde_json::{Value, json};
@@ -132,7 +132,7 @@ impl OpticalFrame {
             receiver: name(h.to),
             sender_id: h.from,
             receiver_id: h.to,
-            outcome: style(Outcome::from(h.outcome)).label.to_string(),
+            outcome: style(h.outcome).label.to_string(),
             bytes: h.bytes,
         }
     }
@@ -179,7 +179,7 @@ mod tests {
     fn a_row_is_an_object_of_its_columns() {
         let mut row = vec![0.0; FIXED.len()];
         row[col::X] = 1.5;
-        row[col::MODE] = crate::recorder::mode_code(shoal_model::control::Mode::Auto);
+        row[col::MODE] = shoal_sim::recorder::mode_code(shoal_model::control::Mode::Auto);
         row[col::DEPTH_SP] = f64::NAN;
         let v = serde_json::to_value(VehicleState(&row)).unwrap();
         assert_eq!(v["x_m"], 1.5);

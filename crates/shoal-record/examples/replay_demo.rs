@@ -1,4 +1,4 @@
-//! Writes a synthetic demo replay (see `shoal_sim::replay::demo`) and prints its size by part:
+//! Writes a synthetic demo replay (see `shoal_record::replay::demo`) and prints its size by part:
 //! how big `replay.html` gets for a swarm and a duration.
 //!
 //! `cargo run -p shoal-sim --example replay_demo -- [vehicles] [seconds] [out.html]`
@@ -6,7 +6,7 @@
 
 use std::path::PathBuf;
 
-use shoal_sim::replay::{demo::demo, html};
+use shoal_record::replay::{demo::demo, html};
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();

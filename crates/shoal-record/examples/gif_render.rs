@@ -1,4 +1,4 @@
-//! Measures `shoal_sim::replay::gif::render` on synthetic 100-s replays of 12 and 1,000
+//! Measures `shoal_record::replay::gif::render` on synthetic 100-s replays of 12 and 1,000
 //! vehicles circling in formation, with links to their formation neighbours.
 //!
 //! ```sh
@@ -7,8 +7,8 @@
 //! Prints vehicles, replay frames, GIF frames, image size, render time and file size; the GIFs
 //! are left in OUT_DIR (default: the system's temporary folder).
 
-use shoal_sim::replay::gif::{GifOptions, View, render};
-use shoal_sim::replay::{GroupMeta, LinkEvent, Meta, Outcome, ReplayData, Timeline};
+use shoal_record::replay::gif::{GifOptions, View, render};
+use shoal_record::replay::{GroupMeta, LinkEvent, Meta, Outcome, ReplayData, Timeline};
 use std::f64::consts::{PI, TAU};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -133,7 +133,7 @@ fn formation(
         links_kept: links.len(),
         links_total: links.len() as u64,
         timeline: Timeline::default(),
-        outcomes: shoal_sim::replay::outcome_key(),
+        outcomes: shoal_record::replay::outcome_key(),
     };
     ReplayData {
         meta,

@@ -2,9 +2,9 @@
 //! outcome), `connectivity.csv` (per second: the communication graph) and `link_pairs.csv`
 //! (per sender → receiver), each written whole through [`shoal_output::files`].
 
-use crate::comm::Outcome;
-use crate::sim::Sim;
-use crate::view::VehicleView;
+use shoal_sim::comm::Outcome;
+use shoal_sim::sim::Sim;
+use shoal_sim::view::VehicleView;
 use shoal_output::files::FileError;
 use std::path::{Path, PathBuf};
 
@@ -70,9 +70,9 @@ pub fn write_links_csv(path: &Path, sim: &Sim) -> Result<PathBuf, FileError> {
             k.to_string(),
             attempted.to_string(),
             n(Outcome::Delivered).to_string(),
-            n(Outcome::Collision).to_string(),
+            n(Outcome::Collided).to_string(),
             n(Outcome::Occluded).to_string(),
-            n(Outcome::Range).to_string(),
+            n(Outcome::OutOfBudget).to_string(),
             n(Outcome::HalfDuplex).to_string(),
             if attempted > 0 {
                 format!("{:.6}", n(Outcome::Delivered) as f64 / attempted as f64)

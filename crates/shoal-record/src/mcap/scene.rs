@@ -6,9 +6,9 @@
 //! disappears after [`link_lifetime`]).
 
 use super::foxglove::*;
-use crate::comm::Heard;
+use shoal_sim::comm::Heard;
 use crate::link_key::{Outcome, style};
-use crate::recorder::col;
+use shoal_sim::recorder::col;
 use crate::replay::ObstacleMeta;
 use shoal_model::frames as enu;
 use shoal_model::math::{Quat, Vec3};
@@ -196,7 +196,7 @@ pub fn links(
         let (Some(a), Some(b)) = (position(h.from), position(h.to)) else {
             continue;
         };
-        let o = Outcome::from(h.outcome);
+        let o = h.outcome;
         let s = style(o);
         let name = |i: u32| names.get(i as usize).cloned().unwrap_or_default();
         let mut e = SceneEntity::new(stamp, WORLD, format!("link/{k}"));
@@ -260,7 +260,7 @@ mod tests {
 
     #[test]
     fn a_row_places_its_frame_in_enu() {
-        let mut row = vec![0.0; crate::recorder::FIXED.len()];
+        let mut row = vec![0.0; shoal_sim::recorder::FIXED.len()];
         (row[col::X], row[col::Y], row[col::Z]) = (1.0, 2.0, 0.5);
         row[col::YAW] = FRAC_PI_2;
         let t = transform(Time::default(), "a", &row);

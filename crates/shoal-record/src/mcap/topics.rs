@@ -2,14 +2,14 @@
 //! `/<vehicle>/state` (JSON, [`super::plain::VehicleState`]), `/<vehicle>/pressure`,
 //! `/<vehicle>/imu`, `/<vehicle>/thrusters`, `/<vehicle>/tilts` and `/<vehicle>/pump` (ROS 2
 //! messages in CDR, [`super::ros2`]), each sample's values read from its trajectory row
-//! ([`crate::recorder`]).
+//! ([`shoal_sim::recorder`]).
 
 use super::file::McapFile;
 use super::plain::VehicleState;
 use super::ros2::{
     self, Float64MultiArray, FluidPressure, Header, Imu, Quaternion, SURFACE_PRESSURE_PA, Vector3,
 };
-use crate::recorder::{FIXED, col};
+use shoal_sim::recorder::{FIXED, col};
 use shoal_model::frames as enu;
 use shoal_model::prelude::*;
 use shoal_output::files::FileError;

@@ -85,6 +85,12 @@ fn write_part(w: &mut impl Write, name: &str, data: &ReplayData) -> io::Result<(
         "CSS" => w.write_all(CSS.as_bytes()),
         "THREE" => w.write_all(THREE.as_bytes()),
         "VIEWER" => w.write_all(VIEWER.as_bytes()),
+        // The colour key is the page's: a replay as gathered has none yet.
+        "META" if data.meta.outcomes.is_empty() => {
+            let mut meta = data.meta.clone();
+            meta.outcomes = super::outcome_key();
+            serde_json::to_writer(EscapeLt(&mut *w), &meta).map_err(io::Error::from)
+        }
         "META" => serde_json::to_writer(EscapeLt(&mut *w), &data.meta).map_err(io::Error::from),
         "POS" => base64_of(w, &data.pos, |v, b| b.extend_from_slice(&v.to_le_bytes())),
         "ATT" => base64_of(w, &data.att, |v, b| b.extend_from_slice(&v.to_le_bytes())),
@@ -164,8 +170,12 @@ pub fn read(path: &Path) -> Result<ReplayData, ReadError> {
 
 /// The data of the page text `page`.
 fn parse(page: &str) -> Result<ReplayData, String> {
-    let meta: Meta = serde_json::from_str(element(page, META_ID)?)
+    let mut meta: Meta = serde_json::from_str(element(page, META_ID)?)
         .map_err(|e| format!("the header ({META_ID}) is not a replay header: {e}"))?;
+    if meta.outcomes.is_empty() {
+        // A page written before the key travelled in its header.
+        meta.outcomes = super::outcome_key();
+    }
     let pos = decode(page, POS_ID, 2, |b| u16::from_le_bytes([b[0], b[1]]))?;
     let att = decode(page, ATT_ID, 2, |b| i16::from_le_bytes([b[0], b[1]]))?;
     let panel = decode(page, PANEL_ID, 4, |b| {
@@ -261,6 +271,35 @@ mod tests {
         let page = std::fs::read_to_string(&p).unwrap();
         assert!(page.contains(r#"a \u003c/script>\u003c!-- world"#));
         assert!(!d.join(".replay.html.tmp").exists());
+        let _ = std::fs::remove_dir_all(&d);
+    }
+
+    /// A replay as the world gathers it has no colour key: the page gets the one key of
+    /// `crate::link_key`, by outcome code, in its header.
+    #[test]
+    fn a_gathered_replay_gets_the_colour_key_in_its_header() {
+        let d = dir("key");
+        let mut data = demo(3, 2.0);
+        data.meta.outcomes.clear();
+        let back = read(&write(&d.join("replay.html"), &data).unwrap()).unwrap();
+        let key: Vec<(String, String)> = crate::link_key::LINK_KEY
+            .iter()
+            .map(|k| {
+                let (r, g, b) = k.rgb;
+                (k.label.to_string(), format!("#{r:02x}{g:02x}{b:02x}"))
+            })
+            .collect();
+        let header: Vec<(String, String)> = back
+            .meta
+            .outcomes
+            .iter()
+            .map(|o| (o.name.clone(), o.color.clone()))
+            .collect();
+        assert_eq!(header, key);
+        for (i, o) in back.meta.outcomes.iter().enumerate() {
+            let code = Outcome::from_code(i as u32).unwrap();
+            assert_eq!(o.name, crate::link_key::style(code).label);
+        }
         let _ = std::fs::remove_dir_all(&d);
     }
 

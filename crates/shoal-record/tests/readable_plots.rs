@@ -7,12 +7,13 @@
 //!   and a distance bin with nothing delivered reads as 0 (a whole marker on the 0 line);
 //! * the gossip world's communication graph shows the links of its flood, which ends long
 //!   before the run does;
-//! * `links_over_time` colours each outcome by the one key of `shoal_sim::link_key`.
+//! * `links_over_time` colours each outcome by the one key of `shoal_record::link_key`.
 
 mod support;
 
-use shoal_sim::comm_report::{self, DistanceBin};
-use shoal_sim::link_key::LINK_KEY;
+use shoal_record::comm_report::{self, DistanceBin};
+use shoal_record::link_key::{LINK_KEY, Outcome};
+use shoal_record::output::RunOutput;
 use shoal_sim::prelude::*;
 use shoal_world::cancel::Cancel;
 use std::path::{Path, PathBuf};
@@ -44,9 +45,7 @@ fn run_with_outputs(desc: &shoal_world::desc::WorldDesc, out: &Path) -> Sim {
         sim.run(500.min(steps - sim.step_count()));
         output.write(&sim.drain()).unwrap();
     }
-    output
-        .finish(desc, &mut sim, 1.0, &Cancel::default())
-        .unwrap();
+    output.finish(&mut sim, 1.0, &Cancel::default()).unwrap();
     sim
 }
 
@@ -211,9 +210,19 @@ fn the_gossip_graph_shows_the_links_of_its_flood() {
 
 #[test]
 fn link_outcomes_are_drawn_in_the_colours_of_the_one_key() {
-    // Second 0: 1 out of budget, 2 occluded, 3 half-duplex, 4 collided, 5 delivered (the
-    // medium's order of outcomes).
-    let per_second = [[1, 2, 3, 4, 5]; 3];
+    // Each second: 1 out of budget, 2 occluded, 3 half-duplex, 4 collided, 5 delivered
+    // (counts by `Outcome::index`).
+    let mut second = [0u64; 5];
+    for (o, n) in [
+        (Outcome::OutOfBudget, 1),
+        (Outcome::Occluded, 2),
+        (Outcome::HalfDuplex, 3),
+        (Outcome::Collided, 4),
+        (Outcome::Delivered, 5),
+    ] {
+        second[o.index()] = n;
+    }
+    let per_second = [second; 3];
     let want = |label: &str| match label {
         "out of budget" => 1.0,
         "occluded" => 2.0,
