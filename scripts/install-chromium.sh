@@ -1,5 +1,5 @@
 #!/usr/bin/env sh
-# Installs Chromium for the replay's headless-browser tests (crates/shoal-sim/tests/replay_browser.rs)
+# Installs Chromium for the replay's headless-browser tests (crates/shoal-record/tests/replay_browser.rs)
 # and for measuring the viewer (scripts/replay-frame-times.py).
 #
 # Idempotent: does nothing when `chromium` is already on PATH. Otherwise, as root on Debian/Ubuntu

@@ -1,21 +1,21 @@
 #!/usr/bin/env sh
 # Regenerates the vendored three.js bundle of replay.html:
-#   crates/shoal-sim/assets/replay/three-<version>.min.js   (esbuild IIFE, global THREE)
-#   crates/shoal-sim/assets/replay/THREE-LICENSE            (three's LICENSE, MIT)
+#   crates/shoal-record/assets/replay/three-<version>.min.js   (esbuild IIFE, global THREE)
+#   crates/shoal-record/assets/replay/THREE-LICENSE            (three's LICENSE, MIT)
 #
-# The export list lives in crates/shoal-sim/assets/replay/three-entry.js: only those names are
+# The export list lives in crates/shoal-record/assets/replay/three-entry.js: only those names are
 # bundled (tree-shaken, minified, the MIT @license header kept by --legal-comments=inline).
 # Needs node and npm (Debian: apt-get install -y nodejs npm) and the npm registry; cargo and CI
 # never do: the bundle is committed and embedded with include_str!.
 #
 # Usage: scripts/vendor-three.sh [three-version]   (default 0.187.0; another version also needs
-# the file name in crates/shoal-sim/src/replay/html.rs changed). Idempotent: same inputs give
+# the file name in crates/shoal-record/src/replay/html.rs changed). Idempotent: same inputs give
 # the same bundle.
 set -eu
 cd "$(dirname "$0")/.."
 version=${1:-0.187.0}
 esbuild_version=0.28.2
-assets=crates/shoal-sim/assets/replay
+assets=crates/shoal-record/assets/replay
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 echo "scripts/vendor-three.sh: npm install three@$version esbuild@$esbuild_version into $tmp"

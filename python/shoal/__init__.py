@@ -7,6 +7,7 @@
   Gymnasium env (``VehicleEnv``, one vehicle) for training (``pip install "shoal[rl]"``);
 - :mod:`shoal.agent` — agents in a separate process attached to ``shoal run`` over iceoryx2
   shared memory;
+- :func:`run` — ``shoal run`` as a function: a world file (or text) → the same output files;
 - :func:`validate` — ``shoal validate`` as a function: measured runs (paths or columns of
   numbers) → the effects the model lacks, fitted, with their gain on held-out data
   (:mod:`shoal.validation`).
@@ -30,6 +31,7 @@ from ._shoal import (
     __version__,
     plot,
 )
+from .running import RunResult, run
 from .validation import Report, validate
 
 __all__ = [
@@ -38,11 +40,13 @@ __all__ = [
     "QUANTITIES",
     "CommandError",
     "Report",
+    "RunResult",
     "SimulationError",
     "ValidationError",
     "World",
     "WorldError",
     "__version__",
     "plot",
+    "run",
     "validate",
 ]

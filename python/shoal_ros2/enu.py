@@ -4,7 +4,7 @@ shoal's world frame is **NED** (x north, y east, z down; the surface at z = 0) a
 frame **FRD** (x forward, y starboard, z down); attitudes are ZYX Euler angles roll, pitch, yaw
 [rad] in them. ROS (REP 103) uses **ENU** world frames (x east, y north, z up) and **FLU** body
 frames (x forward, y port, z up). The bridge publishes in ENU/FLU, converted as the Rust side's
-``crates/shoal-sim/src/output/mcap/enu.rs`` says; this module undoes it:
+``crates/shoal-model/src/frames.rs`` says; this module undoes it:
 
 * position: ``(north, east, down) = (y, x, −z)`` of an ENU point [m];
 * attitude: ``roll = roll_ENU``, ``pitch = −pitch_ENU``, ``yaw = π/2 − yaw_ENU`` [rad], yaw

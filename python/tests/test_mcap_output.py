@@ -1,9 +1,10 @@
 """`shoal run --mcap` writes `run.mcap` for Foxglove and ROS 2 tools: read back with PyPI's
-`mcap` (and its ROS 2 decoder, `mcap-ros2-support`, which knows nothing of shoal): the
-schemas by name and encoding, one message per recorded sample and vehicle on every
-per-vehicle topic and one per reception attempt, log times in order, every JSON message valid
-against its schema, the ROS 2 messages equal to the trajectories (pressure from the depth
-reading, ENU/FLU attitude), and the summary's account of the file."""
+`mcap` (and its ROS 2 decoder, `mcap-ros2-support`) and with `rosbags`' `AnyReader`, neither
+of which knows anything of shoal: the ROS 2 profile, the schemas by name and encoding, one
+message per recorded sample and vehicle on every per-vehicle topic and one per reception
+attempt, log times in order, every message decoded by the definitions in the file and equal
+to the trajectories (pressure from the depth reading, ENU/FLU attitude with its sign), and
+the summary's account of the file."""
 
 import csv
 import json
@@ -12,7 +13,7 @@ import resource
 import subprocess
 from collections import Counter, defaultdict
 
-import jsonschema
+from rosbags.highlevel import AnyReader
 import pytest
 from mcap.reader import make_reader
 from mcap_ros2.decoder import DecoderFactory
@@ -38,8 +39,8 @@ def run(shoal_bin, tmp_path_factory):
     messages = []
     with open(out / "run.mcap", "rb") as f:
         reader = make_reader(f, decoder_factories=[DecoderFactory()])
-        for schema, channel, message in reader.iter_messages(log_time_order=False):
-            messages.append((schema, channel, message))
+        for schema, channel, message, msg in reader.iter_decoded_messages(log_time_order=False):
+            messages.append((schema, channel, message, msg))
     return out, summary, vehicles, rows, messages
 
 
@@ -52,7 +53,7 @@ def test_every_topic_has_a_message_per_sample_and_vehicle(run):
     assert len(vehicles) == 12
     samples = len(rows[vehicles[0]])
     assert samples == 31 and summary["trajectory_rows"] == samples * len(vehicles)
-    counts = Counter(c.topic for _, c, _ in messages)
+    counts = Counter(c.topic for _, c, _, _ in messages)
     for v in vehicles:
         for t in VEHICLE_TOPICS:
             assert counts[f"/{v}/{t}"] == samples, (v, t)
@@ -61,7 +62,7 @@ def test_every_topic_has_a_message_per_sample_and_vehicle(run):
     attempts = summary["comm"]["receptions"]["attempts"]
     assert attempts > 100
     assert counts["/optical/frames"] == attempts
-    lines = sum(len(json.loads(m.data)["entities"]) for _, _, m in on(messages, "/links"))
+    lines = sum(len(d.entities) for _, _, _, d in on(messages, "/links"))
     assert lines == attempts
     assert len(counts) == 4 + 6 * len(vehicles)
     m = summary["mcap"]
@@ -70,43 +71,57 @@ def test_every_topic_has_a_message_per_sample_and_vehicle(run):
 
 def test_log_times_are_simulated_time_in_order(run):
     _, _, vehicles, rows, messages = run
-    times = [m.log_time for _, _, m in messages]
+    times = [m.log_time for _, _, m, _ in messages]
     assert times == sorted(times)
-    assert all(m.publish_time == m.log_time for _, _, m in messages)
-    tf = [m.log_time for _, _, m in on(messages, "/tf")]
+    assert all(m.publish_time == m.log_time for _, _, m, _ in messages)
+    tf = [m.log_time for _, _, m, _ in on(messages, "/tf")]
     assert tf == [round(float(r["t_s"]) * 1e9) for r in rows[vehicles[0]]]
     assert tf[-1] == 3_000_000_000
 
 
-def test_schemas_are_named_and_every_json_message_is_valid(run):
-    _, _, _, _, messages = run
-    kinds = {c.topic: (s.name, s.encoding, c.message_encoding) for s, c, _ in messages}
-    assert kinds["/tf"] == ("foxglove.FrameTransforms", "jsonschema", "json")
-    assert kinds["/scene"] == ("foxglove.SceneUpdate", "jsonschema", "json")
-    assert kinds["/links"] == ("foxglove.SceneUpdate", "jsonschema", "json")
-    assert kinds["/optical/frames"] == ("shoal.OpticalFrame", "jsonschema", "json")
-    assert kinds["/west-0/state"] == ("shoal.VehicleState", "jsonschema", "json")
+def test_schemas_are_ros_2_definitions_and_every_message_cdr(run):
+    out, _, _, _, messages = run
+    with open(out / "run.mcap", "rb") as f:
+        assert make_reader(f).get_header().profile == "ros2"
+    kinds = {c.topic: (s.name, s.encoding, c.message_encoding) for s, c, _, _ in messages}
+    assert kinds["/tf"] == ("tf2_msgs/msg/TFMessage", "ros2msg", "cdr")
+    assert kinds["/scene"] == ("foxglove_msgs/msg/SceneUpdate", "ros2msg", "cdr")
+    assert kinds["/links"] == ("foxglove_msgs/msg/SceneUpdate", "ros2msg", "cdr")
+    assert kinds["/optical/frames"] == ("shoal_msgs/msg/ReceptionAttempt", "ros2msg", "cdr")
+    assert kinds["/west-0/state"] == ("shoal_msgs/msg/VehicleState", "ros2msg", "cdr")
     assert kinds["/west-0/pressure"] == ("sensor_msgs/msg/FluidPressure", "ros2msg", "cdr")
     assert kinds["/west-0/imu"] == ("sensor_msgs/msg/Imu", "ros2msg", "cdr")
     for t in ["thrusters", "tilts", "pump"]:
         assert kinds[f"/east-3/{t}"] == ("std_msgs/msg/Float64MultiArray", "ros2msg", "cdr")
-    validators = {}
-    checked = Counter()
-    for schema, channel, message in messages:
-        if channel.message_encoding != "json":
-            continue
-        if schema.id not in validators:
-            s = json.loads(schema.data)
-            validators[schema.id] = jsonschema.validators.validator_for(s)(s)
-        validators[schema.id].validate(json.loads(message.data))
-        checked[schema.name] += 1
-    assert set(checked) == {"foxglove.FrameTransforms", "foxglove.SceneUpdate",
-                            "shoal.OpticalFrame", "shoal.VehicleState"}
-    # Every field of a state has its unit in the schema.
-    state = next(s for s, _, _ in messages if s.name == "shoal.VehicleState")
-    props = json.loads(state.data)["properties"]
-    assert "[m]" in props["depth_reading_m"]["description"]
-    assert "[rad/s]" in props["q_rad_s"]["description"]
+    assert {e for _, e, _ in kinds.values()} == {"ros2msg"}
+    # Every field of a state has its unit in the definition.
+    state = next(s for s, _, _, _ in messages if s.name == "shoal_msgs/msg/VehicleState")
+    text = state.data.decode()
+    assert "float64 depth_reading_m # the pressure sensor's depth reading" in text
+    assert "float64 q_rad_s # pitch rate about body y (FRD) [rad/s]" in text
+
+
+def test_rosbags_any_reader_reads_every_topic_as_the_trajectories(run):
+    """The ROS 2 profile, as a rosbag2 reader checks it: `rosbags`' AnyReader opens the file
+    (it refuses any other profile and any non-ROS 2 schema), registers the types from the
+    file's definitions and decodes every message; the states equal the trajectory rows."""
+    out, summary, vehicles, rows, messages = run
+    counts = Counter()
+    states = defaultdict(list)
+    with AnyReader([out / "run.mcap"]) as reader:
+        for conn, _, raw in reader.messages():
+            msg = reader.deserialize(raw, conn.msgtype)
+            counts[conn.topic] += 1
+            if conn.topic.endswith("/state"):
+                states[conn.topic.split("/")[1]].append(msg)
+    assert counts == Counter(c.topic for _, c, _, _ in messages)
+    for v in vehicles:
+        assert len(states[v]) == len(rows[v])
+        for st, row in zip(states[v], rows[v]):
+            assert st.mode == row["mode"]
+            for name in ["t_s", "x_m", "z_m", "yaw_rad", "depth_reading_m", "ballast_m3"]:
+                assert math.isclose(getattr(st, name), float(row[name]), rel_tol=1e-9,
+                                    abs_tol=1e-9), (v, name)
 
 
 def test_ros_2_messages_are_the_recorded_values_in_enu(run):
@@ -130,10 +145,12 @@ def test_ros_2_messages_are_the_recorded_values_in_enu(run):
             _, imu = decoded[f"/{v}/imu"][k]
             yaw = float(row["yaw_rad"])
             # ENU heading = π/2 − NED heading; the vehicles stay level: a rotation about z.
+            # q and −q are the same rotation: the angle's half-sine from (z, w) must vanish
+            # against the expected one (a mirrored heading −yaw does not).
             half = (math.pi / 2 - yaw) / 2
             o = imu.orientation
-            assert math.isclose(abs(o.z), abs(math.sin(half)), abs_tol=2e-3)
-            assert math.isclose(abs(o.w), abs(math.cos(half)), abs_tol=2e-3)
+            assert math.isclose(o.z * math.cos(half) - o.w * math.sin(half), 0.0, abs_tol=2e-3)
+            assert math.isclose(math.hypot(o.z, o.w), 1.0, abs_tol=2e-3)
             assert math.isclose(imu.angular_velocity.z, -float(row["r_rad_s"]), **rel)
             assert imu.linear_acceleration_covariance[0] == -1.0
             _, thr = decoded[f"/{v}/thrusters"][k]
@@ -146,13 +163,13 @@ def test_ros_2_messages_are_the_recorded_values_in_enu(run):
 
 def test_tf_places_every_vehicle_east_north_up(run):
     _, _, vehicles, rows, messages = run
-    for k, (_, _, m) in enumerate(on(messages, "/tf")):
-        tf = json.loads(m.data)["transforms"]
-        assert [t["child_frame_id"] for t in tf] == vehicles
-        for t, v in zip(tf, vehicles):
+    for k, (_, _, _, m) in enumerate(on(messages, "/tf")):
+        assert [t.child_frame_id for t in m.transforms] == vehicles
+        for t, v in zip(m.transforms, vehicles):
             row = rows[v][k]
-            assert t["parent_frame_id"] == "world"
-            got = [t["translation"][a] for a in "xyz"]
+            assert t.header.frame_id == "world"
+            tr = t.transform.translation
+            got = [tr.x, tr.y, tr.z]
             want = [float(row["y_m"]), float(row["x_m"]), -float(row["z_m"])]
             assert all(math.isclose(a, b, rel_tol=1e-6, abs_tol=1e-6) for a, b in zip(got, want))
 

@@ -323,7 +323,7 @@ def test_the_shoal_msgs_constants_are_the_msg_files():
 
 
 def test_ros_frames_convert_back_to_shoal_s():
-    """ENU/FLU → NED/FRD as crates/shoal-sim/src/output/mcap/enu.rs converts the other way."""
+    """ENU/FLU → NED/FRD as crates/shoal-model/src/frames.rs converts the other way."""
     # Level, heading east (NED yaw π/2): the FLU body is aligned with ENU — the identity.
     q = enu.attitude_from_ned(0.0, 0.0, math.pi / 2)
     assert [q.x, q.y, q.z] == pytest.approx([0, 0, 0], abs=1e-15) and q.w == pytest.approx(1)

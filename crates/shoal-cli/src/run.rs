@@ -11,7 +11,9 @@ use crate::exit::{Failure, run_exit_code};
 use crate::signals;
 use crate::terminal::Terminal;
 use anyhow::Context;
-use shoal_record::run::{Changes, LoadWorldError, Ran, Run, RunOption, load_world};
+use shoal_record::run::{
+    Changes, LoadWorldError, Ran, Run, RunOption, default_out, load_world,
+};
 use shoal_world::cancel::{Cancel, Cause};
 use shoal_world::desc::WorldDesc;
 use shoal_world::load::{EMBEDDED_NAME, LoadError, load_file_until};
@@ -115,25 +117,6 @@ fn stopped_before_start(cause: Cause, phase: &str) -> ExitCode {
     signals::exit_code(cause)
 }
 
-fn slug(name: &str) -> String {
-    let s: String = name
-        .chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() {
-                c.to_ascii_lowercase()
-            } else {
-                '-'
-            }
-        })
-        .collect();
-    let s = s
-        .split('-')
-        .filter(|p| !p.is_empty())
-        .collect::<Vec<_>>()
-        .join("-");
-    if s.is_empty() { "world".into() } else { s }
-}
-
 /// `shoal run`: flags → world overrides → [`Run`].
 pub fn run(args: &RunArgs) -> Result<ExitCode, Failure> {
     let cancel = signals::install().context("cannot catch signals")?;
@@ -159,7 +142,7 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, Failure> {
     let out_dir = args
         .out
         .clone()
-        .unwrap_or_else(|| PathBuf::from("out").join(slug(&desc.name)));
+        .unwrap_or_else(|| default_out(&desc.name));
     let threads = args
         .threads
         .map_or_else(shoal_sim::parallel::all_cores, usize::from);

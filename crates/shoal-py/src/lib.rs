@@ -18,6 +18,7 @@
 pub mod args;
 pub mod observe;
 pub mod plot;
+pub mod run;
 pub mod source;
 pub mod validate;
 pub mod world;
@@ -73,6 +74,7 @@ fn _shoal(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
     m.add_class::<world::World>()?;
     m.add_function(wrap_pyfunction!(plot::plot, m)?)?;
+    m.add_function(wrap_pyfunction!(run::run, m)?)?;
     m.add_class::<validate::Validation>()?;
     m.add_function(wrap_pyfunction!(validate::validate, m)?)?;
     m.add("ValidationError", py.get_type::<ValidationError>())?;

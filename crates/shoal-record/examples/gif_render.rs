@@ -2,7 +2,7 @@
 //! vehicles circling in formation, with links to their formation neighbours.
 //!
 //! ```sh
-//! cargo run --release -p shoal-sim --example gif_render [OUT_DIR]
+//! cargo run --release -p shoal-record --example gif_render [OUT_DIR]
 //! ```
 //! Prints vehicles, replay frames, GIF frames, image size, render time and file size; the GIFs
 //! are left in OUT_DIR (default: the system's temporary folder).

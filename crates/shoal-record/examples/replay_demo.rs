@@ -1,7 +1,7 @@
 //! Writes a synthetic demo replay (see `shoal_record::replay::demo`) and prints its size by part:
 //! how big `replay.html` gets for a swarm and a duration.
 //!
-//! `cargo run -p shoal-sim --example replay_demo -- [vehicles] [seconds] [out.html]`
+//! `cargo run -p shoal-record --example replay_demo -- [vehicles] [seconds] [out.html]`
 //! (defaults: 12 vehicles, 60 s, `replay-demo.html`).
 
 use std::path::PathBuf;

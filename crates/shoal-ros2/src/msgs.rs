@@ -2,35 +2,19 @@
 //! (the order is the wire order of CDR):
 //!
 //! * the standard ones the world publishes: `sensor_msgs/Imu` and `FluidPressure`,
-//!   `std_msgs/Header`, `builtin_interfaces/Time` and `geometry_msgs` `Quaternion`/`Vector3`
-//!   are `run.mcap`'s ([`shoal_record::mcap::ros2`], one definition in the workspace);
-//!   `nav_msgs/Odometry`, `tf2_msgs/TFMessage` and `rosgraph_msgs/Clock` are here;
+//!   `std_msgs/Header`, `builtin_interfaces/Time`, `tf2_msgs/TFMessage` and `geometry_msgs`
+//!   `Point`, `Pose`, `Quaternion`, `Transform`, `TransformStamped`, `Vector3` are `run.mcap`'s
+//!   ([`shoal_record::mcap::ros2`], one definition in the workspace); `nav_msgs/Odometry` and
+//!   `rosgraph_msgs/Clock` are here;
 //! * `shoal_msgs` ([`Setpoint`], [`Actuators`], [`OpticalFrame`]): the interface package in
 //!   `crates/shoal-ros2/shoal_msgs/` that a ROS 2 user builds with colcon; a test parses its
 //!   `.msg` files and checks these structs against them (names, types, order).
 
 use serde::{Deserialize, Serialize};
-pub use shoal_record::mcap::ros2::{FluidPressure, Header, Imu, Quaternion, Time, Vector3};
-
-/// `geometry_msgs/msg/Point`.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct Point {
-    /// \[m\]
-    pub x: f64,
-    /// \[m\]
-    pub y: f64,
-    /// \[m\]
-    pub z: f64,
-}
-
-/// `geometry_msgs/msg/Pose`.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Pose {
-    /// Position \[m\].
-    pub position: Point,
-    /// Orientation (unit quaternion).
-    pub orientation: Quaternion,
-}
+pub use shoal_record::mcap::ros2::{
+    FluidPressure, Header, Imu, Point, Pose, Quaternion, TfMessage, Time, Transform,
+    TransformStamped, Vector3,
+};
 
 /// `geometry_msgs/msg/PoseWithCovariance`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -71,33 +55,6 @@ pub struct Odometry {
     pub pose: PoseWithCovariance,
     /// Velocity in `child_frame_id`.
     pub twist: TwistWithCovariance,
-}
-
-/// `geometry_msgs/msg/Transform`.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Transform {
-    /// Translation \[m\].
-    pub translation: Vector3,
-    /// Rotation.
-    pub rotation: Quaternion,
-}
-
-/// `geometry_msgs/msg/TransformStamped`.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct TransformStamped {
-    /// Stamp and parent frame.
-    pub header: Header,
-    /// Child frame.
-    pub child_frame_id: String,
-    /// Child in parent.
-    pub transform: Transform,
-}
-
-/// `tf2_msgs/msg/TFMessage`.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct TfMessage {
-    /// The transforms.
-    pub transforms: Vec<TransformStamped>,
 }
 
 /// `rosgraph_msgs/msg/Clock`.

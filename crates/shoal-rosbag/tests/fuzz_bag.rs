@@ -118,7 +118,7 @@ proptest! {
 
     #[test]
     fn random_message_bodies_never_panic(body in proptest::collection::vec(any::<u8>(), 0..400), le in any::<bool>()) {
-        let text = shoal_record::mcap::ros2::definition("sensor_msgs/msg/Imu").unwrap();
+        let text = shoal_record::mcap::definition("sensor_msgs/msg/Imu").unwrap();
         let schema = Schema::parse("sensor_msgs/msg/Imu", &text).unwrap();
         let mut plan = Plan::new();
         plan.add(&schema, "orientation").unwrap();

@@ -58,10 +58,10 @@ pub mod col {
     pub const CONTACT: usize = 21;
 }
 
-/// Values per row for a vehicle kind: the fixed columns, one command per thruster [%] and one
-/// angle per tilt drive \[rad\].
+/// Values per row for a vehicle kind: the fixed columns, one command per thruster [%], one
+/// angle per tilt drive \[rad\] and one commanded angle per tilt drive \[rad\].
 pub fn stride(model: &VehicleModel) -> usize {
-    FIXED.len() + model.params.thrusters.len() + model.params.tilts.len()
+    FIXED.len() + model.params.thrusters.len() + 2 * model.params.tilts.len()
 }
 
 /// Column names of a kind's rows.
@@ -80,6 +80,13 @@ pub fn columns(model: &VehicleModel) -> Vec<String> {
             .tilts
             .iter()
             .map(|t| format!("tilt_{}_rad", t.name)),
+    );
+    c.extend(
+        model
+            .params
+            .tilts
+            .iter()
+            .map(|t| format!("cmd_{}_rad", t.name)),
     );
     c
 }
@@ -132,6 +139,8 @@ pub fn push_row(
     let n = model.params.thrusters.len();
     out.extend((0..n).map(|i| cmd.thrusters.get(i).copied().unwrap_or(0.0)));
     out.extend(st.actuators.tilt.iter().copied());
+    let k = model.params.tilts.len();
+    out.extend((0..k).map(|i| cmd.tilts.get(i).copied().unwrap_or(0.0)));
 }
 
 /// Rows drained from every vehicle, in vehicle-id order, and the reception attempts of the

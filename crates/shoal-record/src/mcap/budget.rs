@@ -3,7 +3,7 @@
 //!
 //! * **Vehicles**: at most [`MAX_VEHICLES`] have topics (and a frame in `/tf`): every
 //!   `⌈n / 1000⌉`-th vehicle by id, the way the plots pick theirs. An MCAP file holds at most
-//!   65,535 channels, and six per vehicle leave room for about 10,900.
+//!   65,535 channels, and seven per vehicle leave room for about 9,300.
 //! * **Samples**: the per-vehicle topics and `/tf` take every `k`-th recorded sample, the
 //!   smallest `k` whose messages — estimated at [`BYTES_PER_VEHICLE_SAMPLE`] plus
 //!   [`BYTES_PER_ACTUATOR`] per thruster and tilt drive, uncompressed — fit in
@@ -20,11 +20,11 @@
 /// Most vehicles with topics in `run.mcap`.
 pub const MAX_VEHICLES: usize = 1000;
 /// Uncompressed bytes the per-vehicle messages of one sample may take in all (state, pressure,
-/// IMU, thrusters, tilts, pump and the vehicle's `/tf` entry, with their MCAP records).
+/// IMU, thrusters, tilts, tilt angles, pump and the vehicle's `/tf` entry, with their MCAP records).
 pub const SAMPLE_BUDGET_BYTES: u64 = 512 << 20;
 /// Estimated uncompressed bytes of one vehicle's messages in one sample, without its actuators
-/// (measured: ≈ 1.5 kB for a μAUV² with a short name; a test keeps it above the real size).
-pub const BYTES_PER_VEHICLE_SAMPLE: u64 = 1900;
+/// (measured: ≈ 1.2 kB for a μAUV² with a short name; a test keeps it above the real size and within 1.5× of it).
+pub const BYTES_PER_VEHICLE_SAMPLE: u64 = 1400;
 /// Estimated bytes per thruster or tilt drive and sample (its value in the state's arrays
 /// and its name in their labels).
 pub const BYTES_PER_ACTUATOR: u64 = 24;
@@ -106,10 +106,10 @@ mod tests {
         let p = Plan::new(&[5; 12], 100.0, 10.0);
         assert_eq!(p.vehicles, (0..12).collect::<Vec<_>>());
         assert_eq!(p.sample_every, 1);
-        // 12 vehicles × 2020 B: 1000 s fit (242 MB), 10,000 s need every 5th sample
-        // (2.42 GB of 537 MB).
+        // 12 vehicles × 1520 B: 1000 s fit (182 MB), 10,000 s need every 4th sample
+        // (1.82 GB of 537 MB).
         assert_eq!(Plan::new(&[5; 12], 1000.0, 10.0).sample_every, 1);
-        assert_eq!(Plan::new(&[5; 12], 10_000.0, 10.0).sample_every, 5);
+        assert_eq!(Plan::new(&[5; 12], 10_000.0, 10.0).sample_every, 4);
     }
 
     #[test]
@@ -117,8 +117,8 @@ mod tests {
         let p = Plan::new(&[5; 10_000], 100.0, 10.0);
         assert_eq!(p.vehicles.len(), 1000);
         assert_eq!(p.vehicles[..3], [0, 10, 20]);
-        // 1001 samples × 1000 vehicles × 2020 B = 2.0 GB: every 4th sample.
-        assert_eq!(p.sample_every, 4);
+        // 1001 samples × 1000 vehicles × 1520 B = 1.52 GB: every 3rd sample.
+        assert_eq!(p.sample_every, 3);
         let per_sample = 1000 * (BYTES_PER_VEHICLE_SAMPLE + 5 * BYTES_PER_ACTUATOR);
         assert!(1001u64.div_ceil(p.sample_every) * per_sample <= SAMPLE_BUDGET_BYTES);
     }

@@ -6,6 +6,7 @@
 //! compression, zstd, single-threaded so the bytes do not depend on the machine) in memory
 //! until it is whole. Every failure is a [`FileError`] naming the file and the reason.
 
+use super::msgdef::definition;
 use mcap::records::MessageHeader;
 use mcap::write::NoSeek;
 use mcap::{McapError, WriteOptions, Writer};
@@ -32,8 +33,6 @@ pub struct McapFile {
     messages: u64,
     /// Their payloads \[bytes\].
     message_bytes: u64,
-    /// A buffer for JSON messages.
-    json: Vec<u8>,
 }
 
 /// A finished MCAP file, still under its temporary name.
@@ -54,7 +53,7 @@ impl McapFile {
         let file = AtomicFile::create(path)?;
         let sink = NoSeek::new(BufWriter::with_capacity(1 << 16, file));
         let writer = WriteOptions::new()
-            .profile("")
+            .profile("ros2")
             .library(format!("shoal {}", env!("CARGO_PKG_VERSION")))
             .compression(Some(mcap::Compression::Zstd))
             .chunk_size(Some(CHUNK_BYTES))
@@ -68,35 +67,46 @@ impl McapFile {
             sequence: Vec::new(),
             messages: 0,
             message_bytes: 0,
-            json: Vec::new(),
         })
     }
 
-    /// Adds the schema `name` in `encoding` (`jsonschema`, `ros2msg`); returns its id.
-    pub fn schema(&mut self, name: &str, encoding: &str, data: &[u8]) -> Result<u16, FileError> {
+    /// Adds the schema `name` in `encoding`; returns its id.
+    fn schema(&mut self, name: &str, encoding: &str, data: &[u8]) -> Result<u16, FileError> {
         let path = &self.path;
         self.writer
             .add_schema(name, encoding, data)
             .map_err(|e| error(path, e))
     }
 
-    /// Adds the channel `topic` of `schema` with messages in `encoding` (`json`, `cdr`) and
-    /// `metadata`; returns its id.
+    /// Adds the ROS 2 schema of type `name` (e.g. `sensor_msgs/msg/Imu`) with its complete
+    /// definition ([`super::msgdef::definition`]); its id.
+    pub fn ros2_schema(&mut self, name: &str) -> Result<u16, FileError> {
+        let text = definition(name).ok_or_else(|| FileError {
+            path: self.path.clone(),
+            reason: std::io::Error::other(format!("no definition of {name}")),
+        })?;
+        self.schema(name, "ros2msg", text.as_bytes())
+    }
+
+    /// Adds a CDR channel on `topic` with `schema` and `metadata`, and the QoS rosbag2 records
+    /// (`offered_qos_profiles`: `latched` for a topic written once, which a late subscriber
+    /// must still get); its id.
     pub fn channel(
         &mut self,
         schema: u16,
         topic: &str,
-        encoding: &str,
+        latched: bool,
         metadata: &[(&str, String)],
     ) -> Result<u16, FileError> {
-        let meta: BTreeMap<String, String> = metadata
+        let mut meta: BTreeMap<String, String> = metadata
             .iter()
             .map(|(k, v)| (k.to_string(), v.clone()))
             .collect();
+        meta.insert("offered_qos_profiles".into(), qos(latched));
         let path = &self.path;
         let id = self
             .writer
-            .add_channel(schema, topic, encoding, &meta)
+            .add_channel(schema, topic, "cdr", &meta)
             .map_err(|e| error(path, e))?;
         if self.sequence.len() <= usize::from(id) {
             self.sequence.resize(usize::from(id) + 1, 0);
@@ -104,8 +114,6 @@ impl McapFile {
         Ok(id)
     }
 
-    /// Writes `data` on `channel` at `ns` nanoseconds of simulated time (its log and publish
-    /// time).
     pub fn write(&mut self, channel: u16, ns: u64, data: &[u8]) -> Result<(), FileError> {
         let seq = &mut self.sequence[usize::from(channel)];
         *seq = seq.wrapping_add(1);
@@ -122,25 +130,6 @@ impl McapFile {
         self.messages += 1;
         self.message_bytes += data.len() as u64;
         Ok(())
-    }
-
-    /// Writes `msg` in JSON on `channel` at `ns` nanoseconds.
-    pub fn write_json<T: Serialize>(
-        &mut self,
-        channel: u16,
-        ns: u64,
-        msg: &T,
-    ) -> Result<(), FileError> {
-        let mut json = std::mem::take(&mut self.json);
-        json.clear();
-        let done = serde_json::to_writer(&mut json, msg)
-            .map_err(|e| FileError {
-                path: self.path.clone(),
-                reason: e.into(),
-            })
-            .and_then(|()| self.write(channel, ns, &json));
-        self.json = json;
-        done
     }
 
     /// Writes the ROS 2 message `msg` in CDR ([`super::ros2::encode`]) on `channel` at `ns`
@@ -190,4 +179,18 @@ fn error(path: &Path, e: McapError) -> FileError {
         path: path.to_path_buf(),
         reason,
     }
+}
+
+/// One QoS profile in rosbag2's YAML form: reliable, volatile (or transient local when
+/// `latched`), keep last 10 (1), the other policies at their defaults.
+fn qos(latched: bool) -> String {
+    let (durability, depth) = if latched {
+        ("transient_local", 1)
+    } else {
+        ("volatile", 10)
+    };
+    let never = "\n    sec: 2147483647\n    nsec: 4294967295";
+    format!(
+        "- history: keep_last\n  depth: {depth}\n  reliability: reliable\n  durability: {durability}\n  deadline:{never}\n  lifespan:{never}\n  liveliness: automatic\n  liveliness_lease_duration:{never}\n  avoid_ros_namespace_conventions: false\n"
+    )
 }

@@ -1,123 +1,17 @@
-//! Foxglove's message types as `run.mcap` writes them in JSON: `foxglove.FrameTransforms`
-//! (`/tf`) and `foxglove.SceneUpdate` (`/scene`, `/links`), field for field as in the JSON
-//! Schemas Foxglove publishes, which are vendored beside this file (`schemas/`, from
-//! <https://github.com/foxglove/foxglove-sdk> `schemas/jsonschema` at ca8a1ce, MIT licence)
-//! and written into the file as the channels' schemas. Those schemas require every field, so
-//! the primitives a message does not use are written as empty lists ([`Empty`]).
+//! Foxglove's scene messages as `run.mcap` writes them (`/scene`, `/links`): the ROS 2
+//! package `foxglove_msgs`' `SceneUpdate` and the types it uses, field for field in wire order
+//! as in that package's `.msg` files (the form without the later `uuid` and `lineage` fields,
+//! which Foxglove reads as well, since it decodes by the schema in the file), written in CDR
+//! like every message of the file, so that the file keeps the ROS 2 profile and `ros2 bag`
+//! and `rosbags` read it. Definitions: [`DEFS`] (comments are shoal's).
 //!
 //! Lengths are in metres, times in seconds and nanoseconds, colours in 0 … 1.
 
+use super::msgdef::MsgDef;
+use super::ros2::{Duration, Point, Pose, Time, Vector3};
 use serde::{Deserialize, Serialize};
 
-/// The JSON Schema of `foxglove.FrameTransforms`.
-pub const FRAME_TRANSFORMS_SCHEMA: &str = include_str!("schemas/FrameTransforms.json");
-/// The JSON Schema of `foxglove.SceneUpdate`.
-pub const SCENE_UPDATE_SCHEMA: &str = include_str!("schemas/SceneUpdate.json");
-
-/// A time: whole seconds and nanoseconds (`time` in Foxglove's schemas).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct Time {
-    /// Whole seconds \[s\].
-    pub sec: u32,
-    /// Nanoseconds, below 10⁹ \[ns\].
-    pub nsec: u32,
-}
-
-impl Time {
-    /// The time `ns` nanoseconds after the start.
-    pub fn from_ns(ns: u64) -> Self {
-        Self {
-            sec: u32::try_from(ns / 1_000_000_000).unwrap_or(u32::MAX),
-            nsec: (ns % 1_000_000_000) as u32,
-        }
-    }
-}
-
-/// A length of time (`duration` in Foxglove's schemas).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct Duration {
-    /// Whole seconds \[s\].
-    pub sec: i32,
-    /// Nanoseconds, below 10⁹ \[ns\].
-    pub nsec: u32,
-}
-
-/// A vector or a point \[m\] (or sizes \[m\]).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct Vector3 {
-    /// x \[m\].
-    pub x: f64,
-    /// y \[m\].
-    pub y: f64,
-    /// z \[m\].
-    pub z: f64,
-}
-
-impl From<[f64; 3]> for Vector3 {
-    fn from(v: [f64; 3]) -> Self {
-        Self {
-            x: v[0],
-            y: v[1],
-            z: v[2],
-        }
-    }
-}
-
-/// A rotation as a unit quaternion (dimensionless).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Quaternion {
-    /// x (dimensionless).
-    pub x: f64,
-    /// y (dimensionless).
-    pub y: f64,
-    /// z (dimensionless).
-    pub z: f64,
-    /// w (dimensionless).
-    pub w: f64,
-}
-
-impl Quaternion {
-    /// No rotation.
-    pub const IDENTITY: Self = Self {
-        x: 0.0,
-        y: 0.0,
-        z: 0.0,
-        w: 1.0,
-    };
-}
-
-impl From<shoal_model::math::Quat> for Quaternion {
-    fn from(q: shoal_model::math::Quat) -> Self {
-        let q = q.quaternion();
-        Self {
-            x: q.i,
-            y: q.j,
-            z: q.k,
-            w: q.w,
-        }
-    }
-}
-
-/// A position \[m\] and an orientation.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Pose {
-    /// Position \[m\].
-    pub position: Vector3,
-    /// Orientation.
-    pub orientation: Quaternion,
-}
-
-impl Pose {
-    /// At `position` \[m\], not rotated.
-    pub fn at(position: [f64; 3]) -> Self {
-        Self {
-            position: position.into(),
-            orientation: Quaternion::IDENTITY,
-        }
-    }
-}
-
-/// A colour: red, green, blue and opacity, each 0 … 1.
+/// `foxglove_msgs/msg/Color`: sRGB and opacity, each 0 … 1.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Color {
     /// Red, 0 … 1.
@@ -126,12 +20,12 @@ pub struct Color {
     pub g: f64,
     /// Blue, 0 … 1.
     pub b: f64,
-    /// Opacity, 0 … 1.
+    /// Opacity, 0 (clear) … 1.
     pub a: f64,
 }
 
 impl Color {
-    /// The sRGB colour `rgb` (0 … 255 each) with opacity `a` (0 … 1).
+    /// The 8-bit sRGB colour `rgb` with opacity `a` (0 … 1).
     pub fn rgb(rgb: (u8, u8, u8), a: f64) -> Self {
         let c = |x: u8| f64::from(x) / 255.0;
         Self {
@@ -143,7 +37,8 @@ impl Color {
     }
 }
 
-/// An empty list: a primitive kind a message does not use (the schemas require the field).
+/// A list of primitives of a kind `run.mcap` never draws (arrows, triangles, models): always
+/// empty, written as a sequence of length 0.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Empty;
 
@@ -165,94 +60,72 @@ impl<'de> Deserialize<'de> for Empty {
     }
 }
 
-/// Where a child frame is in its parent frame (`foxglove.FrameTransform`).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct FrameTransform {
-    /// When.
-    pub timestamp: Time,
-    /// The parent frame (`world`).
-    pub parent_frame_id: String,
-    /// The child frame (a vehicle's name).
-    pub child_frame_id: String,
-    /// The child's origin in the parent frame \[m\].
-    pub translation: Vector3,
-    /// The child's orientation in the parent frame.
-    pub rotation: Quaternion,
-}
-
-/// Several transforms at once (`foxglove.FrameTransforms`).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct FrameTransforms {
-    /// The transforms.
-    pub transforms: Vec<FrameTransform>,
-}
-
-/// A box (`foxglove.CubePrimitive`).
+/// `foxglove_msgs/msg/CubePrimitive`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct CubePrimitive {
-    /// Centre and orientation.
+    /// Centre and orientation \[m\].
     pub pose: Pose,
-    /// Extents along its axes \[m\].
+    /// Edge lengths \[m\].
     pub size: Vector3,
     /// Colour.
     pub color: Color,
 }
 
-/// A sphere or ellipsoid (`foxglove.SpherePrimitive`).
+/// `foxglove_msgs/msg/SpherePrimitive`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SpherePrimitive {
-    /// Centre and orientation.
+    /// Centre and orientation \[m\].
     pub pose: Pose,
-    /// Diameters along its axes \[m\].
+    /// Diameters along x, y, z \[m\].
     pub size: Vector3,
     /// Colour.
     pub color: Color,
 }
 
-/// A cylinder along its local z axis (`foxglove.CylinderPrimitive`).
+/// `foxglove_msgs/msg/CylinderPrimitive`: flat faces perpendicular to z.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct CylinderPrimitive {
-    /// Centre and orientation.
+    /// Centre and orientation \[m\].
     pub pose: Pose,
-    /// Diameters along x and y, height along z \[m\].
+    /// Size of its bounding box \[m\].
     pub size: Vector3,
-    /// Bottom radius as a fraction of the size (1: a cylinder).
+    /// Bottom face's diameter over the box's, 0 … 1.
     pub bottom_scale: f64,
-    /// Top radius as a fraction of the size (1: a cylinder).
+    /// Top face's diameter over the box's, 0 … 1.
     pub top_scale: f64,
     /// Colour.
     pub color: Color,
 }
 
-/// Line segments (`foxglove.LinePrimitive`).
+/// `foxglove_msgs/msg/LinePrimitive`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct LinePrimitive {
-    /// 0 line strip, 1 line loop, 2 line list (segments 0-1, 2-3, …).
+    /// [`LINE_LIST`] and the other drawing modes of the type.
     #[serde(rename = "type")]
     pub kind: u8,
-    /// Origin of the points.
+    /// Origin of the points \[m\].
     pub pose: Pose,
-    /// Thickness \[m\] (or pixels when `scale_invariant`).
+    /// Line width \[m\] (or pixels when `scale_invariant`).
     pub thickness: f64,
     /// Whether `thickness` is in screen pixels.
     pub scale_invariant: bool,
     /// The points \[m\].
-    pub points: Vec<Vector3>,
-    /// Colour of every segment.
+    pub points: Vec<Point>,
+    /// Colour of the whole line (when `colors` is empty).
     pub color: Color,
-    /// Per-point colours (none: `color`).
+    /// Colours per point.
     pub colors: Vec<Color>,
-    /// Point indices (none: the points in order).
+    /// Indices into `points` (empty: all, in order).
     pub indices: Vec<u32>,
 }
 
-/// The line list kind of [`LinePrimitive::kind`].
+/// `LinePrimitive::kind` of separate segments: 0–1, 2–3, …
 pub const LINE_LIST: u8 = 2;
 
-/// A text label (`foxglove.TextPrimitive`).
+/// `foxglove_msgs/msg/TextPrimitive`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct TextPrimitive {
-    /// Where.
+    /// Centre of the text \[m\].
     pub pose: Pose,
     /// Whether it always faces the camera.
     pub billboard: bool,
@@ -266,7 +139,7 @@ pub struct TextPrimitive {
     pub text: String,
 }
 
-/// A key and its value (`foxglove.KeyValuePair`).
+/// `foxglove_msgs/msg/KeyValuePair`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct KeyValuePair {
     /// Key.
@@ -275,24 +148,24 @@ pub struct KeyValuePair {
     pub value: String,
 }
 
-/// One thing in the 3D scene (`foxglove.SceneEntity`).
+/// `foxglove_msgs/msg/SceneEntity`: primitives sharing one frame.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SceneEntity {
-    /// When.
+    /// When it was made (simulated time).
     pub timestamp: Time,
-    /// The frame its primitives are in.
+    /// Its frame.
     pub frame_id: String,
-    /// Identifier: an entity replaces the one of the same id on its topic.
+    /// Replaces an earlier entity of the same id on the topic.
     pub id: String,
-    /// How long it stays (zero: until replaced).
+    /// Removed after this long (0: stays).
     pub lifetime: Duration,
-    /// Whether it moves with `frame_id` (true) or stays where it was put in the fixed frame.
+    /// Whether it follows its frame as the frame moves.
     pub frame_locked: bool,
-    /// Extra facts.
+    /// Key-value pairs shown beside it.
     pub metadata: Vec<KeyValuePair>,
     /// Arrows (none).
     pub arrows: Empty,
-    /// Boxes.
+    /// Cubes.
     pub cubes: Vec<CubePrimitive>,
     /// Spheres.
     pub spheres: Vec<SpherePrimitive>,
@@ -300,16 +173,16 @@ pub struct SceneEntity {
     pub cylinders: Vec<CylinderPrimitive>,
     /// Lines.
     pub lines: Vec<LinePrimitive>,
-    /// Triangles (none).
+    /// Triangle lists (none).
     pub triangles: Empty,
-    /// Labels.
+    /// Texts.
     pub texts: Vec<TextPrimitive>,
-    /// Meshes (none).
+    /// Models (none).
     pub models: Empty,
 }
 
 impl SceneEntity {
-    /// An entity with no primitives yet.
+    /// An entity with no primitives, at `timestamp` in `frame_id`.
     pub fn new(timestamp: Time, frame_id: &str, id: String) -> Self {
         Self {
             timestamp,
@@ -330,11 +203,92 @@ impl SceneEntity {
     }
 }
 
-/// Entities added or replaced (`foxglove.SceneUpdate`; `run.mcap` deletes none).
+/// `foxglove_msgs/msg/SceneUpdate`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SceneUpdate {
-    /// Deletions (none: entities end by their lifetime).
+    /// Entities to delete (none: entities are replaced by id or expire).
     pub deletions: Empty,
-    /// The entities.
+    /// Entities to add or replace.
     pub entities: Vec<SceneEntity>,
 }
+
+/// The definitions of `foxglove_msgs/msg/SceneUpdate` and the types it uses.
+pub const DEFS: &[MsgDef] = &[
+    MsgDef {
+        name: "foxglove_msgs/msg/SceneUpdate",
+        text: "# An update to the entities of a 3D scene.\nfoxglove_msgs/SceneEntityDeletion[] deletions\nfoxglove_msgs/SceneEntity[] entities\n",
+        uses: &["foxglove_msgs/SceneEntityDeletion", "foxglove_msgs/SceneEntity"],
+    },
+    MsgDef {
+        name: "foxglove_msgs/SceneEntityDeletion",
+        text: "# Removes entities published earlier.\nbuiltin_interfaces/Time timestamp\nuint8 MATCHING_ID=0\nuint8 ALL=1\nuint8 type\nstring id\n",
+        uses: &["builtin_interfaces/Time"],
+    },
+    MsgDef {
+        name: "foxglove_msgs/SceneEntity",
+        text: "# Primitives in one frame of reference.\nbuiltin_interfaces/Time timestamp\nstring frame_id\nstring id\nbuiltin_interfaces/Duration lifetime # 0: stays\nbool frame_locked\nfoxglove_msgs/KeyValuePair[] metadata\nfoxglove_msgs/ArrowPrimitive[] arrows\nfoxglove_msgs/CubePrimitive[] cubes\nfoxglove_msgs/SpherePrimitive[] spheres\nfoxglove_msgs/CylinderPrimitive[] cylinders\nfoxglove_msgs/LinePrimitive[] lines\nfoxglove_msgs/TriangleListPrimitive[] triangles\nfoxglove_msgs/TextPrimitive[] texts\nfoxglove_msgs/ModelPrimitive[] models\n",
+        uses: &[
+            "builtin_interfaces/Time",
+            "builtin_interfaces/Duration",
+            "foxglove_msgs/KeyValuePair",
+            "foxglove_msgs/ArrowPrimitive",
+            "foxglove_msgs/CubePrimitive",
+            "foxglove_msgs/SpherePrimitive",
+            "foxglove_msgs/CylinderPrimitive",
+            "foxglove_msgs/LinePrimitive",
+            "foxglove_msgs/TriangleListPrimitive",
+            "foxglove_msgs/TextPrimitive",
+            "foxglove_msgs/ModelPrimitive",
+        ],
+    },
+    MsgDef {
+        name: "foxglove_msgs/KeyValuePair",
+        text: "# A key and its value.\nstring key\nstring value\n",
+        uses: &[],
+    },
+    MsgDef {
+        name: "foxglove_msgs/ArrowPrimitive",
+        text: "# An arrow along +x of its pose (lengths in m).\ngeometry_msgs/Pose pose\nfloat64 shaft_length\nfloat64 shaft_diameter\nfloat64 head_length\nfloat64 head_diameter\nfoxglove_msgs/Color color\n",
+        uses: &["geometry_msgs/Pose", "foxglove_msgs/Color"],
+    },
+    MsgDef {
+        name: "foxglove_msgs/CubePrimitive",
+        text: "# A box (m).\ngeometry_msgs/Pose pose\ngeometry_msgs/Vector3 size\nfoxglove_msgs/Color color\n",
+        uses: &["geometry_msgs/Pose", "geometry_msgs/Vector3", "foxglove_msgs/Color"],
+    },
+    MsgDef {
+        name: "foxglove_msgs/SpherePrimitive",
+        text: "# An ellipsoid (diameters in m).\ngeometry_msgs/Pose pose\ngeometry_msgs/Vector3 size\nfoxglove_msgs/Color color\n",
+        uses: &["geometry_msgs/Pose", "geometry_msgs/Vector3", "foxglove_msgs/Color"],
+    },
+    MsgDef {
+        name: "foxglove_msgs/CylinderPrimitive",
+        text: "# A cylinder or truncated cone, flat faces perpendicular to z (m).\ngeometry_msgs/Pose pose\ngeometry_msgs/Vector3 size\nfloat64 bottom_scale\nfloat64 top_scale\nfoxglove_msgs/Color color\n",
+        uses: &["geometry_msgs/Pose", "geometry_msgs/Vector3", "foxglove_msgs/Color"],
+    },
+    MsgDef {
+        name: "foxglove_msgs/LinePrimitive",
+        text: "# Points joined by lines (m).\nuint8 LINE_STRIP=0\nuint8 LINE_LOOP=1\nuint8 LINE_LIST=2\nuint8 type\ngeometry_msgs/Pose pose\nfloat64 thickness\nbool scale_invariant\ngeometry_msgs/Point[] points\nfoxglove_msgs/Color color\nfoxglove_msgs/Color[] colors\nuint32[] indices\n",
+        uses: &["geometry_msgs/Pose", "geometry_msgs/Point", "foxglove_msgs/Color"],
+    },
+    MsgDef {
+        name: "foxglove_msgs/TriangleListPrimitive",
+        text: "# Triangles from triples of points (m).\ngeometry_msgs/Pose pose\ngeometry_msgs/Point[] points\nfoxglove_msgs/Color color\nfoxglove_msgs/Color[] colors\nuint32[] indices\n",
+        uses: &["geometry_msgs/Pose", "geometry_msgs/Point", "foxglove_msgs/Color"],
+    },
+    MsgDef {
+        name: "foxglove_msgs/TextPrimitive",
+        text: "# A text label (m).\ngeometry_msgs/Pose pose\nbool billboard\nfloat64 font_size\nbool scale_invariant\nfoxglove_msgs/Color color\nstring text\n",
+        uses: &["geometry_msgs/Pose", "foxglove_msgs/Color"],
+    },
+    MsgDef {
+        name: "foxglove_msgs/ModelPrimitive",
+        text: "# A 3D model from a URL or embedded data.\ngeometry_msgs/Pose pose\ngeometry_msgs/Vector3 scale\nfoxglove_msgs/Color color\nbool override_color\nstring url\nstring media_type\nuint8[] data\n",
+        uses: &["geometry_msgs/Pose", "geometry_msgs/Vector3", "foxglove_msgs/Color"],
+    },
+    MsgDef {
+        name: "foxglove_msgs/Color",
+        text: "# sRGB and opacity, each 0 to 1.\nfloat64 r\nfloat64 g\nfloat64 b\nfloat64 a\n",
+        uses: &[],
+    },
+];

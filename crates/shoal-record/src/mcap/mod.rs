@@ -11,25 +11,29 @@
 //! **Topics** (`<vehicle>` is the vehicle's name as in `trajectories.csv`; every vehicle
 //! has each of its topics, up to [`MAX_VEHICLES`]):
 //!
-//! | topic | schema (encoding) | messages | content |
+//! | topic | type | messages | content |
 //! |---|---|---|---|
-//! | `/tf` | `foxglove.FrameTransforms` (json) | one per sample | every vehicle's pose: parent `world`, child `<vehicle>` |
-//! | `/scene` | `foxglove.SceneUpdate` (json) | one, at the first sample | each hull (a cylinder in its vehicle's frame, its name above), the pool's outline, the obstacles |
-//! | `/links` | `foxglove.SceneUpdate` (json) | one per sample interval with attempts | a line per reception attempt, sender → receiver at the sample's poses, coloured by outcome ([`crate::link_key`]), gone after two sample intervals (at least 0.5 s) |
-//! | `/optical/frames` | `shoal.OpticalFrame` (json) | one per reception attempt | time, sender, receiver, outcome, payload bytes |
-//! | `/<vehicle>/state` | `shoal.VehicleState` (json) | one per sample | the trajectory row: pose, body velocities, depth reading, mode, setpoints, ballast, pump, demands |
-//! | `/<vehicle>/pressure` | `sensor_msgs/msg/FluidPressure` (cdr) | one per sample | `101325 Pa + ρ g · depth reading` (the world's water density and gravity), variance 0 |
-//! | `/<vehicle>/imu` | `sensor_msgs/msg/Imu` (cdr) | one per sample | attitude and body rates, ENU/FLU; no acceleration (`linear_acceleration_covariance[0] = −1`) |
-//! | `/<vehicle>/thrusters` | `std_msgs/msg/Float64MultiArray` (cdr) | one per sample | one command per thruster in the vehicle file's order \[%\]; the dimension's label names them |
-//! | `/<vehicle>/tilts` | `std_msgs/msg/Float64MultiArray` (cdr) | one per sample | tilt angles in the vehicle file's order \[rad\] |
-//! | `/<vehicle>/pump` | `std_msgs/msg/Float64MultiArray` (cdr) | one per sample | one element: −1 out, 0 off, +1 in |
+//! | `/tf` | `tf2_msgs/msg/TFMessage` | one per sample | every vehicle's pose: parent `world`, child `<vehicle>` |
+//! | `/scene` | `foxglove_msgs/msg/SceneUpdate` | one, at the first sample (latched) | each hull (a cylinder in its vehicle's frame, its name above), the pool's outline, the obstacles |
+//! | `/links` | `foxglove_msgs/msg/SceneUpdate` | one per sample interval with attempts | a line per reception attempt, sender → receiver at the sample's poses, coloured by outcome ([`crate::link_key`]), gone after two sample intervals (at least 0.5 s) |
+//! | `/optical/frames` | `shoal_msgs/msg/ReceptionAttempt` | one per reception attempt | time, sender, receiver, outcome, payload bytes |
+//! | `/<vehicle>/state` | `shoal_msgs/msg/VehicleState` | one per sample | the trajectory row: pose, body velocities, depth reading, mode, setpoints, ballast, pump, demands |
+//! | `/<vehicle>/pressure` | `sensor_msgs/msg/FluidPressure` | one per sample | `101325 Pa + ρ g · depth reading` (the world's water density and gravity), variance 0 |
+//! | `/<vehicle>/imu` | `sensor_msgs/msg/Imu` | one per sample | attitude and body rates, ENU/FLU; no acceleration (`linear_acceleration_covariance[0] = −1`) |
+//! | `/<vehicle>/thrusters` | `std_msgs/msg/Float64MultiArray` | one per sample | one command per thruster in the vehicle file's order \[%\]; the dimension's label names them |
+//! | `/<vehicle>/tilts` | `std_msgs/msg/Float64MultiArray` | one per sample | the commanded tilt angles (what the controller or agent sent the drives) in the vehicle file's order \[rad\] |
+//! | `/<vehicle>/tilt_angles` | `std_msgs/msg/Float64MultiArray` | one per sample | the drives' angles, lagging the commands by their slew rate \[rad\] |
+//! | `/<vehicle>/pump` | `std_msgs/msg/Float64MultiArray` | one per sample | one element: −1 out, 0 off, +1 in |
 //!
-//! The JSON schemas of `foxglove.*` are Foxglove's own (`foxglove.rs`), those of `shoal.*`
-//! give each field's unit (`plain.rs`); the ROS 2 schemas are `.msg` definitions with their
-//! dependencies in rosbag2's form and the messages CDR with the 4-byte encapsulation header
-//! `00 01 00 00` ([`ros2`]). The pressure is computed from the depth sensor's reading (noise
-//! and quantisation included), but the IMU's attitude and rates are the **true** ones: the
-//! recorder keeps no IMU readings.
+//! **ROS 2 profile.** The file is a rosbag2 MCAP: profile `ros2`, every schema a `.msg`
+//! definition with its dependencies in rosbag2's form (`ros2msg`, [`definition`]), every
+//! message CDR with the 4-byte encapsulation header `00 01 00 00` ([`ros2`]), every channel
+//! with the QoS rosbag2 records (`offered_qos_profiles`). So `ros2 bag`, PyPI's `rosbags`
+//! (`AnyReader`) and `shoal validate` (through a mapping file) read it, and Foxglove draws the
+//! scene from `foxglove_msgs` and `/tf`. shoal's own two types are defined in the file
+//! ([`plain`]); the scene's follow the `foxglove_msgs` package ([`foxglove`]). The pressure is
+//! computed from the depth sensor's reading (noise and quantisation included), but the IMU's
+//! attitude and rates are the **true** ones: the recorder keeps no IMU readings.
 //!
 //! **Time.** Every message's log time and publish time, and every header stamp, is the
 //! simulated time of its sample in nanoseconds from the start of the run; an attempt's
@@ -53,11 +57,14 @@
 
 mod budget;
 mod file;
-mod foxglove;
-mod plain;
+pub mod foxglove;
+mod msgdef;
+pub mod plain;
 pub mod ros2;
 mod scene;
 mod topics;
+
+pub use msgdef::definition;
 
 #[cfg(test)]
 mod tests;
@@ -171,7 +178,7 @@ pub struct McapOutput {
     channels: [u16; 4],
     /// The still scene, until it is written with the first sample.
     scene: Option<foxglove::SceneUpdate>,
-    lifetime: foxglove::Duration,
+    lifetime: ros2::Duration,
     /// Attempts drained but not yet written: those after the last sample.
     pending: Vec<Heard>,
     /// Time of the last sample \[s\].
@@ -201,32 +208,17 @@ impl McapOutput {
             .map(|v| v.model.params.thrusters.len() + v.model.params.tilts.len())
             .collect();
         let plan = Plan::new(&actuators, desc.duration, desc.output.record_hz);
-        let json = |f: &mut McapFile, name: &str, schema: &str| {
-            f.schema(name, "jsonschema", schema.as_bytes())
-        };
-        let transforms = json(
-            &mut file,
-            "foxglove.FrameTransforms",
-            foxglove::FRAME_TRANSFORMS_SCHEMA,
-        )?;
-        let update = json(
-            &mut file,
-            "foxglove.SceneUpdate",
-            foxglove::SCENE_UPDATE_SCHEMA,
-        )?;
-        let frames = json(
-            &mut file,
-            "shoal.OpticalFrame",
-            &plain::optical_frame_schema().to_string(),
-        )?;
+        let transforms = file.ros2_schema("tf2_msgs/msg/TFMessage")?;
+        let update = file.ros2_schema("foxglove_msgs/msg/SceneUpdate")?;
+        let frames = file.ros2_schema(plain::RECEPTION_ATTEMPT)?;
         let mut channels = [0; 4];
-        for (c, (schema, topic)) in channels.iter_mut().zip([
-            (transforms, "/tf"),
-            (update, "/scene"),
-            (update, "/links"),
-            (frames, "/optical/frames"),
+        for (c, (schema, topic, latched)) in channels.iter_mut().zip([
+            (transforms, "/tf", false),
+            (update, "/scene", true),
+            (update, "/links", false),
+            (frames, "/optical/frames", false),
         ]) {
-            *c = file.channel(schema, topic, "json", &[])?;
+            *c = file.channel(schema, topic, latched, &[])?;
         }
         let schemas = Schemas::add(&mut file)?;
         let mut topics = Vec::with_capacity(plan.vehicles.len());
@@ -236,7 +228,7 @@ impl McapOutput {
                 &mut file, &schemas, i, &v.name, &v.model, &desc.env,
             )?);
         }
-        let scene = scene::still_scene(desc, &plan.vehicles, foxglove::Time::default());
+        let scene = scene::still_scene(desc, &plan.vehicles, ros2::Time::default());
         Ok(Self {
             file,
             quota: FrameQuota::new(desc.duration),
@@ -293,11 +285,11 @@ impl McapOutput {
                     &kept,
                     &self.names,
                     |id| row_at(batch, &self.strides, id as usize, k).map(scene::row_position),
-                    foxglove::Time::from_ns(ns(t)),
+                    ros2::Time::from_ns(ns(t)),
                     self.lifetime,
                     self.summary.frames_written - kept.len() as u64,
                 );
-                self.file.write_json(self.channels[LINKS], ns(t), &update)?;
+                self.file.write_cdr(self.channels[LINKS], ns(t), &update)?;
             }
             if self
                 .summary
@@ -323,8 +315,8 @@ impl McapOutput {
             .map(|(_, h)| *h)
             .collect();
         for h in &kept {
-            let msg = plain::OpticalFrame::of(h, &self.names);
-            self.file.write_json(self.channels[FRAMES], ns(h.t), &msg)?;
+            let msg = plain::ReceptionAttempt::of(h, &self.names);
+            self.file.write_cdr(self.channels[FRAMES], ns(h.t), &msg)?;
         }
         self.summary.frames += due.len() as u64;
         self.summary.frames_written += kept.len() as u64;
@@ -334,10 +326,10 @@ impl McapOutput {
     /// Writes sample `k` of `batch` at `ns` nanoseconds: the still scene the first time,
     /// `/tf`, and every planned vehicle's topics.
     fn sample(&mut self, batch: &RecordBatch, k: usize, ns: u64) -> Result<(), FileError> {
-        let stamp = foxglove::Time::from_ns(ns);
+        let stamp = ros2::Time::from_ns(ns);
         if let Some(mut scene) = self.scene.take() {
             scene.entities.iter_mut().for_each(|e| e.timestamp = stamp);
-            self.file.write_json(self.channels[SCENE], ns, &scene)?;
+            self.file.write_cdr(self.channels[SCENE], ns, &scene)?;
         }
         let transforms = self
             .plan
@@ -348,8 +340,8 @@ impl McapOutput {
                 Some(scene::transform(stamp, &self.names[i], row))
             })
             .collect();
-        let tf = foxglove::FrameTransforms { transforms };
-        self.file.write_json(self.channels[TF], ns, &tf)?;
+        let tf = ros2::TfMessage { transforms };
+        self.file.write_cdr(self.channels[TF], ns, &tf)?;
         for (topics, &i) in self.topics.iter().zip(&self.plan.vehicles) {
             if let Some(row) = row_at(batch, &self.strides, i, k) {
                 topics.write(&mut self.file, row, ns)?;

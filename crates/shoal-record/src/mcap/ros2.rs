@@ -1,17 +1,19 @@
-//! The ROS 2 messages of `run.mcap`: `sensor_msgs/msg/FluidPressure`, `sensor_msgs/msg/Imu`
-//! and `std_msgs/msg/Float64MultiArray` as serde structs, their message definitions, and
-//! their CDR encoding — what `ros2 bag record` writes into an MCAP file, so that the topics
+//! The standard ROS 2 messages of `run.mcap` and the ROS 2 bridge (`sensor_msgs`
+//! `FluidPressure` and `Imu`, `std_msgs` `Float64MultiArray` and `Header`, `geometry_msgs`,
+//! `tf2_msgs/msg/TFMessage`, `builtin_interfaces`) as serde structs, their message definitions,
+//! and the CDR encoding of every message in the file — what `ros2 bag record` writes into an MCAP file, so that the topics
 //! read like a logged vehicle's (e.g. by `shoal validate` through a mapping file).
 //!
 //! * **Schemas** (encoding `ros2msg`): the type's `.msg` definition followed by those of every
 //!   type it uses, the way rosbag2 stores them — depth first, each dependency once, after a
-//!   line of 80 `=` and a line `MSG: <package>/<Type>` ([`definition`]). The definitions here
+//!   line of 80 `=` and a line `MSG: <package>/<Type>` ([`super::msgdef`]). The definitions here
 //!   declare the same fields, in the same order, as the ROS 2 packages' files (`sensor_msgs`,
-//!   `std_msgs`, `geometry_msgs`, `builtin_interfaces`); their comments are shoal's.
+//!   `std_msgs`, `geometry_msgs`, `tf2_msgs`, `builtin_interfaces`); their comments are shoal's.
 //! * **Messages** (encoding `cdr`): plain CDR, little-endian, after the 4-byte encapsulation
 //!   header `00 01 00 00` ([`encode`], [`decode`]), serialized by the `cdr-encoding` crate;
 //!   alignment counts from the end of that header, as in ROS 2.
 
+use super::msgdef::MsgDef;
 use byteorder::LittleEndian;
 use serde::{Deserialize, Serialize};
 
@@ -84,6 +86,125 @@ pub struct Vector3 {
     pub z: f64,
 }
 
+impl From<[f64; 3]> for Vector3 {
+    fn from(v: [f64; 3]) -> Self {
+        Self {
+            x: v[0],
+            y: v[1],
+            z: v[2],
+        }
+    }
+}
+
+impl Quaternion {
+    /// No rotation.
+    pub const IDENTITY: Self = Self {
+        x: 0.0,
+        y: 0.0,
+        z: 0.0,
+        w: 1.0,
+    };
+}
+
+impl From<shoal_model::math::Quat> for Quaternion {
+    fn from(q: shoal_model::math::Quat) -> Self {
+        let q = q.quaternion();
+        Self {
+            x: q.i,
+            y: q.j,
+            z: q.k,
+            w: q.w,
+        }
+    }
+}
+
+/// `builtin_interfaces/msg/Duration`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Duration {
+    /// Whole seconds \[s\].
+    pub sec: i32,
+    /// Nanoseconds, below 10⁹ \[ns\].
+    pub nanosec: u32,
+}
+
+impl Duration {
+    /// `s` seconds, to the nearest nanosecond (at most `i32::MAX` s).
+    pub fn from_secs(s: f64) -> Self {
+        let ns = (s.max(0.0) * 1e9).round() as u64;
+        Self {
+            sec: i32::try_from(ns / 1_000_000_000).unwrap_or(i32::MAX),
+            nanosec: (ns % 1_000_000_000) as u32,
+        }
+    }
+}
+
+/// `geometry_msgs/msg/Point` \[m\].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Point {
+    /// x \[m\].
+    pub x: f64,
+    /// y \[m\].
+    pub y: f64,
+    /// z \[m\].
+    pub z: f64,
+}
+
+impl From<[f64; 3]> for Point {
+    fn from(v: [f64; 3]) -> Self {
+        Self {
+            x: v[0],
+            y: v[1],
+            z: v[2],
+        }
+    }
+}
+
+/// `geometry_msgs/msg/Pose`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Pose {
+    /// Position \[m\].
+    pub position: Point,
+    /// Orientation.
+    pub orientation: Quaternion,
+}
+
+impl Pose {
+    /// At `position` \[m\], not rotated.
+    pub fn at(position: [f64; 3]) -> Self {
+        Self {
+            position: position.into(),
+            orientation: Quaternion::IDENTITY,
+        }
+    }
+}
+
+/// `geometry_msgs/msg/Transform`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Transform {
+    /// Translation \[m\].
+    pub translation: Vector3,
+    /// Rotation.
+    pub rotation: Quaternion,
+}
+
+/// `geometry_msgs/msg/TransformStamped`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TransformStamped {
+    /// Stamp and parent frame.
+    pub header: Header,
+    /// The child frame.
+    pub child_frame_id: String,
+    /// Parent to child.
+    pub transform: Transform,
+}
+
+/// `tf2_msgs/msg/TFMessage`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TfMessage {
+    /// The transforms.
+    pub transforms: Vec<TransformStamped>,
+}
+
 /// `sensor_msgs/msg/Imu`, in ROS's frames (ENU world, FLU body).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Imu {
@@ -151,15 +272,8 @@ impl Float64MultiArray {
     }
 }
 
-/// A `.msg` definition: type name, text, and the types it uses (sorted, as rosbag2 visits
-/// them).
-struct MsgDef {
-    name: &'static str,
-    text: &'static str,
-    uses: &'static [&'static str],
-}
-
-const DEFS: [MsgDef; 9] = [
+/// The standard types' definitions.
+pub const DEFS: &[MsgDef] = &[
     MsgDef {
         name: "sensor_msgs/msg/FluidPressure",
         text: "# Pressure of a fluid.\nstd_msgs/Header header\nfloat64 fluid_pressure # absolute, in Pa\nfloat64 variance # in Pa^2; 0: unknown\n",
@@ -209,32 +323,37 @@ const DEFS: [MsgDef; 9] = [
         text: "# A vector in free space.\nfloat64 x\nfloat64 y\nfloat64 z\n",
         uses: &[],
     },
+    MsgDef {
+        name: "geometry_msgs/Point",
+        text: "# A position in free space.\nfloat64 x\nfloat64 y\nfloat64 z\n",
+        uses: &[],
+    },
+    MsgDef {
+        name: "geometry_msgs/Pose",
+        text: "# A position and an orientation.\nPoint position\nQuaternion orientation\n",
+        uses: &["geometry_msgs/Point", "geometry_msgs/Quaternion"],
+    },
+    MsgDef {
+        name: "geometry_msgs/Transform",
+        text: "# A transform from a parent frame to a child frame.\nVector3 translation\nQuaternion rotation\n",
+        uses: &["geometry_msgs/Vector3", "geometry_msgs/Quaternion"],
+    },
+    MsgDef {
+        name: "geometry_msgs/TransformStamped",
+        text: "# A transform from header.frame_id to child_frame_id at header.stamp.\nstd_msgs/Header header\nstring child_frame_id\nTransform transform\n",
+        uses: &["std_msgs/Header", "geometry_msgs/Transform"],
+    },
+    MsgDef {
+        name: "tf2_msgs/msg/TFMessage",
+        text: "# Transforms between frames.\ngeometry_msgs/TransformStamped[] transforms\n",
+        uses: &["geometry_msgs/TransformStamped"],
+    },
+    MsgDef {
+        name: "builtin_interfaces/Duration",
+        text: "# A duration: whole seconds and nanoseconds.\nint32 sec\nuint32 nanosec # below 1e9\n",
+        uses: &[],
+    },
 ];
-
-/// The line before each dependency's definition: 80 `=`.
-const RULE: &str =
-    "================================================================================";
-
-/// The complete definition of `name` (e.g. `sensor_msgs/msg/Imu`) in rosbag2's `ros2msg`
-/// form, or `None` for a type not written here.
-pub fn definition(name: &str) -> Option<String> {
-    fn add(name: &str, seen: &mut Vec<&'static str>, out: &mut String) -> Option<()> {
-        let d = DEFS.iter().find(|d| d.name == name)?;
-        out.push_str(d.text);
-        for &dep in d.uses {
-            if seen.contains(&dep) {
-                continue;
-            }
-            seen.push(dep);
-            out.push_str(&format!("\n{RULE}\nMSG: {dep}\n"));
-            add(dep, seen, out)?;
-        }
-        Some(())
-    }
-    let mut out = String::new();
-    add(name, &mut Vec::new(), &mut out)?;
-    Some(out)
-}
 
 /// `msg` in CDR, little-endian, after the encapsulation header [`CDR_LE`].
 pub fn encode<T: Serialize>(msg: &T) -> std::io::Result<Vec<u8>> {
@@ -256,33 +375,6 @@ pub fn decode<T: serde::de::DeserializeOwned>(bytes: &[u8]) -> std::io::Result<T
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn definitions_append_each_dependency_once_depth_first() {
-        let imu = definition("sensor_msgs/msg/Imu").unwrap();
-        let rule = "=".repeat(80);
-        let heads: Vec<&str> = imu
-            .lines()
-            .filter_map(|l| l.strip_prefix("MSG: "))
-            .collect();
-        assert_eq!(
-            heads,
-            [
-                "geometry_msgs/Quaternion",
-                "geometry_msgs/Vector3",
-                "std_msgs/Header",
-                "builtin_interfaces/Time"
-            ]
-        );
-        assert!(imu.starts_with("# An inertial measurement."));
-        assert!(imu.contains(&format!("\n\n{rule}\nMSG: std_msgs/Header\n")));
-        assert_eq!(imu.matches(&rule).count(), 4);
-        let arr = definition("std_msgs/msg/Float64MultiArray").unwrap();
-        assert!(
-            arr.ends_with("uint32 stride # elements per step of it, times the inner dimensions\n")
-        );
-        assert!(definition("nav_msgs/msg/Odometry").is_none());
-    }
 
     #[test]
     fn cdr_has_the_header_alignment_and_round_trips() {

@@ -1,11 +1,13 @@
-//! The 3D scene of `run.mcap` in Foxglove's messages, all in ENU ([`super::enu`]): the
-//! vehicles' poses (`/tf`: frame `world` → one frame per vehicle, FLU), the still scene
+//! The 3D scene of `run.mcap`, all in ENU ([`shoal_model::frames`]): the vehicles' poses
+//! (`/tf`, `tf2_msgs/msg/TFMessage`: frame `world` → one frame per vehicle, FLU), and in
+//! Foxglove's `foxglove_msgs/msg/SceneUpdate` the still scene
 //! (`/scene`, once: each hull as a cylinder in its vehicle's frame with its name above it,
 //! the pool's outline, the obstacles) and the optical links (`/links`: a line per reception
 //! attempt from sender to receiver, in the colour of its outcome, [`crate::link_key`], that
 //! disappears after [`link_lifetime`]).
 
 use super::foxglove::*;
+use super::ros2::{Duration, Header, Point, Pose, Time, Transform, TransformStamped};
 use shoal_sim::comm::Heard;
 use crate::link_key::{Outcome, style};
 use shoal_sim::recorder::col;
@@ -25,12 +27,7 @@ const OBSTACLE_RGB: (u8, u8, u8) = (154, 139, 112);
 /// How long a link's line stays \[s\]: two record intervals, at least half a second, so
 /// links flash rather than accumulate.
 pub fn link_lifetime(record_hz: f64) -> Duration {
-    let s = (2.0 / record_hz).max(0.5);
-    let ns = (s * 1e9).round() as u64;
-    Duration {
-        sec: i32::try_from(ns / 1_000_000_000).unwrap_or(i32::MAX),
-        nsec: (ns % 1_000_000_000) as u32,
-    }
+    Duration::from_secs((2.0 / record_hz).max(0.5))
 }
 
 /// The ENU position \[m\] of the body origin in a trajectory row.
@@ -39,13 +36,17 @@ pub fn row_position(row: &[f64]) -> [f64; 3] {
 }
 
 /// The pose of vehicle `name` from its trajectory row, as a transform from `world`.
-pub fn transform(stamp: Time, name: &str, row: &[f64]) -> FrameTransform {
-    FrameTransform {
-        timestamp: stamp,
-        parent_frame_id: WORLD.to_string(),
+pub fn transform(stamp: Time, name: &str, row: &[f64]) -> TransformStamped {
+    TransformStamped {
+        header: Header {
+            stamp,
+            frame_id: WORLD.to_string(),
+        },
         child_frame_id: name.to_string(),
-        translation: row_position(row).into(),
-        rotation: enu::attitude(row[col::ROLL], row[col::PITCH], row[col::YAW]).into(),
+        transform: Transform {
+            translation: row_position(row).into(),
+            rotation: enu::attitude(row[col::ROLL], row[col::PITCH], row[col::YAW]).into(),
+        },
     }
 }
 
@@ -88,7 +89,7 @@ fn hull(desc: &WorldDesc, i: usize, stamp: Time) -> SceneEntity {
     let along_x = Quat::from_axis_angle(&Vec3::y_axis(), FRAC_PI_2);
     e.cylinders.push(CylinderPrimitive {
         pose: Pose {
-            position: Vector3::default(),
+            position: Point::default(),
             orientation: along_x.into(),
         },
         size: [h.z, h.y, h.x].into(),
@@ -110,7 +111,7 @@ fn hull(desc: &WorldDesc, i: usize, stamp: Time) -> SceneEntity {
 /// The pool's outline: the twelve edges of its box, the surface at z = 0.
 fn pool(desc: &WorldDesc, stamp: Time) -> SceneEntity {
     let p = desc.geometry.pool;
-    let corner = |n: f64, e: f64, d: f64| Vector3::from(enu::position([n, e, d]));
+    let corner = |n: f64, e: f64, d: f64| Point::from(enu::position([n, e, d]));
     let mut points = Vec::with_capacity(24);
     for (a, b) in [(0.0, 0.0), (p.x, 0.0), (p.x, p.y), (0.0, p.y)]
         .iter()
@@ -252,10 +253,10 @@ mod tests {
             link_lifetime(10.0),
             Duration {
                 sec: 0,
-                nsec: 500_000_000
+                nanosec: 500_000_000
             }
         );
-        assert_eq!(link_lifetime(1.0), Duration { sec: 2, nsec: 0 });
+        assert_eq!(link_lifetime(1.0), Duration { sec: 2, nanosec: 0 });
     }
 
     #[test]
@@ -264,10 +265,10 @@ mod tests {
         (row[col::X], row[col::Y], row[col::Z]) = (1.0, 2.0, 0.5);
         row[col::YAW] = FRAC_PI_2;
         let t = transform(Time::default(), "a", &row);
-        assert_eq!(t.translation, Vector3::from([2.0, 1.0, -0.5]));
-        assert!(t.rotation.w > 1.0 - 1e-12, "{t:?}");
+        assert_eq!(t.transform.translation, [2.0, 1.0, -0.5].into());
+        assert!(t.transform.rotation.w > 1.0 - 1e-12, "{t:?}");
         assert_eq!(
-            (t.parent_frame_id.as_str(), t.child_frame_id.as_str()),
+            (t.header.frame_id.as_str(), t.child_frame_id.as_str()),
             ("world", "a")
         );
     }

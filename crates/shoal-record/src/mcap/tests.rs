@@ -1,17 +1,16 @@
 //! A small run written to `run.mcap` and read back with the `mcap` crate: the topics, their
 //! schemas and encodings, message counts (recorded samples × vehicles, reception attempts),
-//! times in order, every CDR message decoded back to the recorded values, every JSON message
-//! valid against its schema and equal to the rows, the size estimate of the budget, thinning,
-//! and a folder that cannot be written.
+//! times in order, the ROS 2 profile (every schema a `.msg` definition, every message CDR),
+//! every message decoded back to the recorded values, the size estimate of the budget,
+//! thinning, and a folder that cannot be written.
 
-use super::foxglove::{FrameTransforms, SceneUpdate};
-use super::plain::OpticalFrame;
-use super::ros2::{self, Float64MultiArray, FluidPressure, Imu};
+use super::foxglove::SceneUpdate;
+use super::plain::ReceptionAttempt;
+use super::ros2::{self, Float64MultiArray, FluidPressure, Imu, TfMessage};
 use super::*;
 use crate::output::RunOutput;
 use shoal_sim::recorder::FIXED;
 use shoal_sim::sim::{Sim, SimOptions};
-use serde_json::Value;
 use shoal_model::frames as enu;
 use shoal_world::cancel::Cancel;
 use std::collections::BTreeMap;
@@ -181,7 +180,7 @@ fn every_topic_has_a_message_per_sample_and_vehicle_in_time_order() {
     assert_eq!(counts["/tf"], samples);
     assert_eq!(counts["/scene"], 1);
     assert_eq!(counts["/optical/frames"], attempts);
-    assert_eq!(counts.len(), 4 + 6 * desc.vehicles.len());
+    assert_eq!(counts.len(), 4 + 7 * desc.vehicles.len());
     // Time order, simulated time in ns; every sample's time is on its messages.
     assert!(msgs.windows(2).all(|w| w[0].log_time <= w[1].log_time));
     assert!(msgs.iter().all(|m| m.publish_time == m.log_time));
@@ -192,7 +191,7 @@ fn every_topic_has_a_message_per_sample_and_vehicle_in_time_order() {
     // The links draw every attempt, each at the end of its sample interval.
     let lines: usize = on(&msgs, "/links")
         .map(|m| {
-            serde_json::from_slice::<SceneUpdate>(&m.data)
+            ros2::decode::<SceneUpdate>(&m.data)
                 .unwrap()
                 .entities
                 .len()
@@ -216,9 +215,14 @@ fn every_topic_has_a_message_per_sample_and_vehicle_in_time_order() {
 }
 
 #[test]
-fn schemas_are_named_and_encoded_as_foxglove_and_ros_2_read_them() {
+fn the_file_is_a_ros_2_bag_every_schema_a_msg_definition_every_message_cdr() {
     let (_, _, _, bytes) = run("schemas", None);
     let msgs = read(&bytes);
+    // The header's profile: after the magic (8 bytes), opcode 1, record length (u64), then
+    // the profile as a u32-prefixed string.
+    assert_eq!(bytes[8], 0x01);
+    let len = u32::from_le_bytes(bytes[17..21].try_into().unwrap()) as usize;
+    assert_eq!(&bytes[21..21 + len], b"ros2");
     let kind = |topic: &str| {
         let m = msgs.iter().find(|m| m.topic == topic).unwrap();
         (
@@ -227,52 +231,26 @@ fn schemas_are_named_and_encoded_as_foxglove_and_ros_2_read_them() {
             m.encoding.as_str(),
         )
     };
-    assert_eq!(
-        kind("/tf"),
-        ("foxglove.FrameTransforms", "jsonschema", "json")
-    );
-    assert_eq!(
-        kind("/scene"),
-        ("foxglove.SceneUpdate", "jsonschema", "json")
-    );
-    assert_eq!(
-        kind("/links"),
-        ("foxglove.SceneUpdate", "jsonschema", "json")
-    );
-    assert_eq!(
-        kind("/optical/frames"),
-        ("shoal.OpticalFrame", "jsonschema", "json")
-    );
-    assert_eq!(
-        kind("/a-1/state"),
-        ("shoal.VehicleState", "jsonschema", "json")
-    );
-    assert_eq!(
-        kind("/a-1/pressure"),
-        ("sensor_msgs/msg/FluidPressure", "ros2msg", "cdr")
-    );
-    assert_eq!(kind("/a-1/imu"), ("sensor_msgs/msg/Imu", "ros2msg", "cdr"));
-    for t in ["thrusters", "tilts", "pump"] {
+    let ros = |t| (t, "ros2msg", "cdr");
+    assert_eq!(kind("/tf"), ros("tf2_msgs/msg/TFMessage"));
+    assert_eq!(kind("/scene"), ros("foxglove_msgs/msg/SceneUpdate"));
+    assert_eq!(kind("/links"), ros("foxglove_msgs/msg/SceneUpdate"));
+    assert_eq!(kind("/optical/frames"), ros("shoal_msgs/msg/ReceptionAttempt"));
+    assert_eq!(kind("/a-1/state"), ros("shoal_msgs/msg/VehicleState"));
+    assert_eq!(kind("/a-1/pressure"), ros("sensor_msgs/msg/FluidPressure"));
+    assert_eq!(kind("/a-1/imu"), ros("sensor_msgs/msg/Imu"));
+    for t in ["thrusters", "tilts", "tilt_angles", "pump"] {
         assert_eq!(
             kind(&format!("/a-1/{t}")),
-            ("std_msgs/msg/Float64MultiArray", "ros2msg", "cdr")
+            ros("std_msgs/msg/Float64MultiArray")
         );
     }
-    let imu = msgs.iter().find(|m| m.topic == "/a-0/imu").unwrap();
-    let text = String::from_utf8(imu.schema_data.clone()).unwrap();
-    assert_eq!(Some(text), ros2::definition("sensor_msgs/msg/Imu"));
-    // Every JSON message is valid against its channel's schema.
-    let mut validators: BTreeMap<String, jsonschema::Validator> = BTreeMap::new();
-    for m in msgs.iter().filter(|m| m.encoding == "json") {
-        let v = validators.entry(m.schema.clone()).or_insert_with(|| {
-            let schema: Value = serde_json::from_slice(&m.schema_data).unwrap();
-            jsonschema::validator_for(&schema).unwrap()
-        });
-        let msg: Value = serde_json::from_slice(&m.data).unwrap();
-        let errors: Vec<String> = v.iter_errors(&msg).map(|e| e.to_string()).collect();
-        assert!(errors.is_empty(), "{} on {}: {errors:?}", m.schema, m.topic);
+    // Every schema is its type's complete definition, every message CDR.
+    for m in &msgs {
+        let text = String::from_utf8(m.schema_data.clone()).unwrap();
+        assert_eq!(Some(text), definition(&m.schema), "{}", m.topic);
+        assert_eq!(&m.data[..4], &ros2::CDR_LE, "{}", m.topic);
     }
-    assert_eq!(validators.len(), 4);
 }
 
 #[test]
@@ -288,11 +266,12 @@ fn messages_decode_to_the_recorded_values() {
         let imu = on(&msgs, &topic("imu"));
         let thr = on(&msgs, &topic("thrusters"));
         let tilts = on(&msgs, &topic("tilts"));
+        let angles = on(&msgs, &topic("tilt_angles"));
         let pump = on(&msgs, &topic("pump"));
         let state = on(&msgs, &topic("state"));
-        let all = pressure.zip(imu).zip(thr).zip(tilts).zip(pump).zip(state);
+        let all = pressure.zip(imu).zip(thr).zip(tilts).zip(angles).zip(pump).zip(state);
         let mut k = 0;
-        for (((((p, m), th), ti), pu), st) in all {
+        for ((((((p, m), th), ti), an), pu), st) in all {
             let row = &rows[i][k];
             let stamp = ros2::Time::from_ns(ns(row[col::T]));
             let p: FluidPressure = ros2::decode(&p.data).unwrap();
@@ -314,14 +293,23 @@ fn messages_decode_to_the_recorded_values() {
             assert_eq!(th.layout.dim[0].label, "top,port,stbd");
             let ti: Float64MultiArray = ros2::decode(&ti.data).unwrap();
             assert_eq!(ti.layout.dim[0].label, "alpha,beta");
-            assert_eq!(ti.data, row[FIXED.len() + n_thr..]);
+            assert_eq!(ti.data, row[FIXED.len() + n_thr + 2..]);
+            let an: Float64MultiArray = ros2::decode(&an.data).unwrap();
+            assert_eq!(an.layout.dim[0].label, "alpha,beta");
+            assert_eq!(an.data, row[FIXED.len() + n_thr..FIXED.len() + n_thr + 2]);
             let pu: Float64MultiArray = ros2::decode(&pu.data).unwrap();
             assert_eq!(pu.data, [row[col::PUMP]]);
-            let st: Value = serde_json::from_slice(&st.data).unwrap();
-            for (j, name) in FIXED.iter().enumerate() {
-                if j != col::MODE {
-                    assert_eq!(st[name].as_f64(), Some(row[j]), "{name}");
-                }
+            let st: StateMsg = ros2::decode(&st.data).unwrap();
+            let mode = recorder::mode_of_code(row[col::MODE]);
+            assert_eq!(st.mode, mode.name());
+            let numbers: Vec<f64> = st.before.iter().chain(&st.after).copied().collect();
+            let want: Vec<f64> = (0..FIXED.len())
+                .filter(|&j| j != col::MODE)
+                .map(|j| row[j])
+                .collect();
+            assert_eq!(numbers.len(), want.len());
+            for (a, b) in numbers.iter().zip(&want) {
+                assert!(a == b || (a.is_nan() && b.is_nan()), "{a} {b}");
             }
             k += 1;
         }
@@ -329,24 +317,24 @@ fn messages_decode_to_the_recorded_values() {
     }
     // The poses in /tf are the rows' in ENU.
     for (k, m) in on(&msgs, "/tf").enumerate() {
-        let tf: FrameTransforms = serde_json::from_slice(&m.data).unwrap();
+        let tf: TfMessage = ros2::decode(&m.data).unwrap();
         for (i, t) in tf.transforms.iter().enumerate() {
             assert_eq!(t.child_frame_id, desc.vehicles[i].name);
             assert_eq!(
                 t,
-                &scene::transform(t.timestamp, &desc.vehicles[i].name, &rows[i][k])
+                &scene::transform(t.header.stamp, &desc.vehicles[i].name, &rows[i][k])
             );
-            assert_eq!(t.translation.z, -rows[i][k][col::Z]);
+            assert_eq!(t.transform.translation.z, -rows[i][k][col::Z]);
         }
     }
     // Every attempt as the medium decided it, with the vehicles' names.
-    let frames: Vec<OpticalFrame> = on(&msgs, "/optical/frames")
-        .map(|m| serde_json::from_slice(&m.data).unwrap())
+    let frames: Vec<ReceptionAttempt> = on(&msgs, "/optical/frames")
+        .map(|m| ros2::decode(&m.data).unwrap())
         .collect();
     let names: Vec<String> = desc.vehicles.iter().map(|v| v.name.clone()).collect();
-    let mut want: Vec<OpticalFrame> = batches
+    let mut want: Vec<ReceptionAttempt> = batches
         .iter()
-        .flat_map(|b| b.frames.iter().map(|h| OpticalFrame::of(h, &names)))
+        .flat_map(|b| b.frames.iter().map(|h| ReceptionAttempt::of(h, &names)))
         .collect();
     want.sort_by(|a, b| {
         a.t_s
@@ -367,7 +355,7 @@ fn the_scene_holds_the_hulls_the_pool_and_the_obstacle() {
     let (desc, _, _, bytes) = run("scene", None);
     let msgs = read(&bytes);
     let m = on(&msgs, "/scene").next().unwrap();
-    let s: SceneUpdate = serde_json::from_slice(&m.data).unwrap();
+    let s: SceneUpdate = ros2::decode(&m.data).unwrap();
     let ids: Vec<&str> = s.entities.iter().map(|e| e.id.as_str()).collect();
     assert_eq!(
         ids,
@@ -380,8 +368,8 @@ fn the_scene_holds_the_hulls_the_pool_and_the_obstacle() {
     // The pool: 12 edges from the surface (z = 0) down to its floor, east 4 m, north 6 m.
     let pool = &s.entities[3].lines[0].points;
     assert_eq!(pool.len(), 24);
-    let max = |f: fn(&foxglove::Vector3) -> f64| pool.iter().map(f).fold(f64::MIN, f64::max);
-    let min = |f: fn(&foxglove::Vector3) -> f64| pool.iter().map(f).fold(f64::MAX, f64::min);
+    let max = |f: fn(&ros2::Point) -> f64| pool.iter().map(f).fold(f64::MIN, f64::max);
+    let min = |f: fn(&ros2::Point) -> f64| pool.iter().map(f).fold(f64::MAX, f64::min);
     assert_eq!((max(|p| p.x), max(|p| p.y), max(|p| p.z)), (4.0, 6.0, 0.0));
     assert_eq!(min(|p| p.z), -2.0);
     // The post stands upright at east 3, north 4.5, its centre 1 m down.
@@ -473,7 +461,7 @@ fn a_run_output_commits_run_mcap_after_the_tables_and_summarises_it() {
         std::fs::metadata(d.join("run.mcap")).unwrap().len(),
         m.bytes
     );
-    let json: Value =
+    let json: serde_json::Value =
         serde_json::from_slice(&std::fs::read(d.join("summary.json")).unwrap()).unwrap();
     assert_eq!(json["mcap"]["messages"], m.messages);
     assert!(s.to_text().contains("run.mcap: "), "{}", s.to_text());
@@ -485,4 +473,13 @@ fn the_file_is_the_same_on_one_and_two_threads() {
     let (_, _, _, one) = run_on("threads-1", None, 1);
     let (_, _, _, two) = run_on("threads-2", None, 2);
     assert!(one == two, "run.mcap differs between 1 and 2 threads");
+}
+
+/// `shoal_msgs/msg/VehicleState` as a reader without shoal's types sees it: the numbers
+/// before the mode, the mode's name, the numbers after it.
+#[derive(serde::Deserialize)]
+struct StateMsg {
+    before: [f64; 16],
+    mode: String,
+    after: [f64; 5],
 }

@@ -1,6 +1,7 @@
 //! The topics of one vehicle in `run.mcap` and the messages of one recorded sample on them:
-//! `/<vehicle>/state` (JSON, [`super::plain::VehicleState`]), `/<vehicle>/pressure`,
-//! `/<vehicle>/imu`, `/<vehicle>/thrusters`, `/<vehicle>/tilts` and `/<vehicle>/pump` (ROS 2
+//! `/<vehicle>/state` ([`super::plain::VehicleState`]), `/<vehicle>/pressure`,
+//! `/<vehicle>/imu`, `/<vehicle>/thrusters`, `/<vehicle>/tilts` (the commanded angles),
+//! `/<vehicle>/tilt_angles` (the drives' angles) and `/<vehicle>/pump` (ROS 2
 //! messages in CDR, [`super::ros2`]), each sample's values read from its trajectory row
 //! ([`shoal_sim::recorder`]).
 
@@ -17,7 +18,7 @@ use shoal_output::files::FileError;
 /// The schemas the vehicles' topics share (ids in the file).
 #[derive(Clone, Copy, Debug)]
 pub struct Schemas {
-    /// `shoal.VehicleState` (jsonschema).
+    /// `shoal_msgs/msg/VehicleState`.
     pub state: u16,
     /// `sensor_msgs/msg/FluidPressure` (ros2msg).
     pub pressure: u16,
@@ -30,21 +31,11 @@ pub struct Schemas {
 impl Schemas {
     /// Adds the schemas to `file`.
     pub fn add(file: &mut McapFile) -> Result<Self, FileError> {
-        let state = super::plain::vehicle_state_schema().to_string();
-        let mut ros = |name: &str| {
-            let text = ros2::definition(name).unwrap_or_default();
-            file.schema(name, "ros2msg", text.as_bytes())
-        };
-        let (pressure, imu, array) = (
-            ros("sensor_msgs/msg/FluidPressure")?,
-            ros("sensor_msgs/msg/Imu")?,
-            ros("std_msgs/msg/Float64MultiArray")?,
-        );
         Ok(Self {
-            state: file.schema("shoal.VehicleState", "jsonschema", state.as_bytes())?,
-            pressure,
-            imu,
-            array,
+            state: file.ros2_schema(super::plain::VEHICLE_STATE)?,
+            pressure: file.ros2_schema("sensor_msgs/msg/FluidPressure")?,
+            imu: file.ros2_schema("sensor_msgs/msg/Imu")?,
+            array: file.ros2_schema("std_msgs/msg/Float64MultiArray")?,
         })
     }
 }
@@ -52,20 +43,30 @@ impl Schemas {
 /// One vehicle's topics.
 pub struct VehicleTopics {
     name: String,
-    /// Channels: state, pressure, IMU, thrusters, tilts, pump.
-    channels: [u16; 6],
+    /// Channels: state, pressure, IMU, thrusters, tilts, tilt angles, pump.
+    channels: [u16; 7],
     /// The thrusters' names, comma-separated (the label of the array's dimension).
     thrusters: String,
     /// The tilt drives' names, comma-separated.
     tilts: String,
     /// Thrusters \[count\].
     n_thrusters: usize,
+    /// Tilt drives \[count\].
+    n_tilts: usize,
     /// Water density \[kg/m³\] times gravity \[m/s²\]: pressure per metre of depth \[Pa/m\].
     rho_g: f64,
 }
 
 /// The last part of each topic's name, in the order of [`VehicleTopics::channels`].
-pub const TOPICS: [&str; 6] = ["state", "pressure", "imu", "thrusters", "tilts", "pump"];
+pub const TOPICS: [&str; 7] = [
+    "state",
+    "pressure",
+    "imu",
+    "thrusters",
+    "tilts",
+    "tilt_angles",
+    "pump",
+];
 
 impl VehicleTopics {
     /// Adds the topics of vehicle `id` named `name` with `model` to `file`; `env` gives the
@@ -79,22 +80,15 @@ impl VehicleTopics {
         env: &Environment,
     ) -> Result<Self, FileError> {
         let s = schemas;
-        let kinds = [
-            (s.state, "json"),
-            (s.pressure, "cdr"),
-            (s.imu, "cdr"),
-            (s.array, "cdr"),
-            (s.array, "cdr"),
-            (s.array, "cdr"),
-        ];
+        let kinds = [s.state, s.pressure, s.imu, s.array, s.array, s.array, s.array];
         // The id keeps two vehicles of the same name on channels of their own.
         let meta = [
             ("vehicle", name.to_string()),
             ("vehicle_id", id.to_string()),
         ];
-        let mut channels = [0u16; 6];
-        for ((c, (schema, enc)), topic) in channels.iter_mut().zip(kinds).zip(TOPICS) {
-            *c = file.channel(schema, &format!("/{name}/{topic}"), enc, &meta)?;
+        let mut channels = [0u16; 7];
+        for ((c, schema), topic) in channels.iter_mut().zip(kinds).zip(TOPICS) {
+            *c = file.channel(schema, &format!("/{name}/{topic}"), false, &meta)?;
         }
         let p = &model.params;
         let join = |names: Vec<&str>| names.join(",");
@@ -104,24 +98,27 @@ impl VehicleTopics {
             thrusters: join(p.thrusters.iter().map(|t| t.name.as_str()).collect()),
             tilts: join(p.tilts.iter().map(|t| t.name.as_str()).collect()),
             n_thrusters: p.thrusters.len(),
+            n_tilts: p.tilts.len(),
             rho_g: env.density * env.gravity,
         })
     }
 
     /// Writes the sample `row` (a trajectory row of this vehicle) at `ns` nanoseconds.
     pub fn write(&self, file: &mut McapFile, row: &[f64], ns: u64) -> Result<(), FileError> {
-        let [state, pressure, imu, thrusters, tilts, pump] = self.channels;
-        file.write_json(state, ns, &VehicleState(&row[..FIXED.len()]))?;
+        let [state, pressure, imu, thrusters, tilts, angles, pump] = self.channels;
+        file.write_cdr(state, ns, &VehicleState(&row[..FIXED.len()]))?;
         let header = Header {
             stamp: ros2::Time::from_ns(ns),
             frame_id: self.name.clone(),
         };
         file.write_cdr(pressure, ns, &self.pressure(header.clone(), row))?;
         file.write_cdr(imu, ns, &imu_of(header, row))?;
-        let (thr, tilt) = row[FIXED.len()..].split_at(self.n_thrusters);
+        let (thr, rest) = row[FIXED.len()..].split_at(self.n_thrusters);
+        let (angle, commanded) = rest.split_at(self.n_tilts.min(rest.len()));
         for (channel, label, data) in [
             (thrusters, self.thrusters.as_str(), thr.to_vec()),
-            (tilts, self.tilts.as_str(), tilt.to_vec()),
+            (tilts, self.tilts.as_str(), commanded.to_vec()),
+            (angles, self.tilts.as_str(), angle.to_vec()),
             (pump, "pump", vec![row[col::PUMP]]),
         ] {
             file.write_cdr(channel, ns, &Float64MultiArray::vector(label, data))?;

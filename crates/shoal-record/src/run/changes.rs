@@ -1,13 +1,16 @@
 //! A run's own options as changes of its world file ([`Changes`]), and the world they make
 //! ([`load_world`]). Each option is a dotted-path override of the world file
 //! ([`shoal_world::overrides`]), so the world loader checks it exactly as it checks the file:
-//! `--duration 0` is refused with the file's own range (1e-3 … 1e7 s), not a range of the
-//! command line's.
+//! `--seed -1` is refused with the file's own range, not a range of the command line's. The
+//! one exception is the duration: it is checked against the file's range for `duration`
+//! (1e-3 … 1e7 s, at most 1e10 steps) but set after loading, so that a run may stop before
+//! the end of its missions (`shoal run world.toml --duration 5` runs their first 5 s; steps
+//! after the end never come), where a world file must not name a step after its own end.
 
 use shoal_world::cancel::{Cancel, Interrupted};
 use shoal_world::desc::WorldDesc;
 use shoal_world::error::WorldError;
-use shoal_world::load::{DEFAULT_WORLD, EMBEDDED_NAME, read_text};
+use shoal_world::load::{DEFAULT_WORLD, EMBEDDED_NAME, ranges, read_text, too_many_steps};
 use shoal_world::overrides::{ChangedError, Override, OverrideError, load_until};
 use std::path::Path;
 
@@ -192,6 +195,44 @@ pub fn load_world<'a>(
         WorldSource::Embedded => (DEFAULT_WORLD.to_string(), Path::new(EMBEDDED_NAME)),
         WorldSource::Text { text, name } => (text.to_string(), Path::new(name)),
     };
+    let mut rest = changes.clone();
+    let duration = rest.duration.take();
+    let mut desc = load_changed(&text, file, &rest, cancel)?;
+    if let Some(d) = duration {
+        desc.duration = run_length(d, desc.dt)?;
+    }
+    Ok(desc)
+}
+
+/// `d` \[s\] if it is a run length the world file's range allows at steps of `dt` \[s\].
+fn run_length(d: f64, dt: f64) -> Result<f64, LoadWorldError> {
+    let option = RunOption::Duration;
+    let Some(range) = ranges::lookup("duration") else {
+        return Ok(d);
+    };
+    if !range.admits(d, None, None) {
+        let message = format!(
+            "{} is out of range; allowed: {} {} — {}",
+            ranges::fmt_num(d),
+            range.allowed("duration", None, None),
+            range.unit,
+            range.why
+        );
+        return Err(LoadWorldError::Option { option, message });
+    }
+    match too_many_steps(d, dt) {
+        Some(message) => Err(LoadWorldError::Option { option, message }),
+        None => Ok(d),
+    }
+}
+
+/// The world of the text `text` (named `file`) with `changes` as overrides of its fields.
+fn load_changed(
+    text: &str,
+    file: &Path,
+    changes: &Changes,
+    cancel: &Cancel,
+) -> Result<WorldDesc, LoadWorldError> {
     let changes = changes.changes();
     let overrides: Vec<Override> = changes
         .iter()
@@ -200,7 +241,7 @@ pub fn load_world<'a>(
             value: c.value.clone(),
         })
         .collect();
-    load_until(&text, file, &overrides, cancel).map_err(|e| match e {
+    load_until(text, file, &overrides, cancel).map_err(|e| match e {
         ChangedError::World(e) => e.into(),
         ChangedError::Interrupted(i) => i.into(),
         ChangedError::Overrides(OverrideError::Problems { paths, world }) => {
@@ -226,4 +267,63 @@ pub fn load_world<'a>(
         }
         ChangedError::Overrides(e) => LoadWorldError::Combined(e.to_string()),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn load(changes: &Changes) -> Result<WorldDesc, LoadWorldError> {
+        load_world(WorldSource::Embedded, changes, &Cancel::new())
+    }
+
+    /// The default world's missions have steps at 70 s: a 5-s run is their beginning, not an
+    /// error (a world file may not name a step after its own end; a run may stop early).
+    #[test]
+    fn a_run_may_stop_before_its_missions_end() {
+        let full = load(&Changes::default()).unwrap();
+        assert_eq!(full.duration, 100.0);
+        let short = load(&Changes {
+            duration: Some(5.0),
+            ..Changes::default()
+        })
+        .unwrap();
+        assert_eq!(short.duration, 5.0);
+        assert_eq!(short.steps(), 500);
+    }
+
+    /// The duration's range is the world file's: 0, NaN and more than 1e7 s are refused with
+    /// it, and so are more than 1e10 steps.
+    #[test]
+    fn the_duration_is_checked_with_the_files_range() {
+        for d in [0.0, 1e-4, f64::NAN, 2e7] {
+            let e = load(&Changes {
+                duration: Some(d),
+                ..Changes::default()
+            })
+            .unwrap_err();
+            let LoadWorldError::Option { option, message } = e else {
+                panic!("{d}: {e}");
+            };
+            assert_eq!(option, RunOption::Duration);
+            assert!(
+                message.contains("allowed: 0.001 ≤ duration ≤ 1e7 s"),
+                "{d}: {message}"
+            );
+        }
+        let world = "name = \"fine\"\nduration = 1.0\ndt = 1e-6\n[pool]\nsize = [2.0, 2.0, 1.0]\n";
+        let e = load_world(
+            WorldSource::Text {
+                text: world,
+                name: "w.toml",
+            },
+            &Changes {
+                duration: Some(1e5),
+                ..Changes::default()
+            },
+            &Cancel::new(),
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("more than 1e10"), "{e}");
+    }
 }

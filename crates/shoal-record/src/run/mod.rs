@@ -11,14 +11,16 @@
 //! ([`Ran`]) says how it ended ([`Ending`]).
 //!
 //! One file per concern: `changes` (options → overrides → a world), `watch` (progress),
-//! `ending` (how a run ended), `driver` (the run itself).
+//! `ending` (how a run ended), `driver` (the run itself), `out_dir` (the default folder).
 
 mod changes;
 mod driver;
 mod ending;
+mod out_dir;
 mod watch;
 
 pub use changes::{Changes, LoadWorldError, RunOption, WorldSource, load_world};
 pub use driver::{Run, RunError};
 pub use ending::{Ending, Ran};
+pub use out_dir::default_out;
 pub use watch::{Progress, Quiet, Watch};

@@ -30,6 +30,7 @@ pub use memory::{DEFAULT_BYTES_PER_VEHICLE, MemoryBudget};
 pub use messages::unit_of;
 pub use names::{service_word, valid_service_word};
 pub use validator::Validator;
+pub use world::too_many_steps;
 pub use vehicle::{merge, vehicle_spec};
 
 use crate::cancel::{Cancel, Interrupted};

@@ -257,6 +257,27 @@ pub fn fmt_num(x: f64) -> String {
 }
 
 impl FieldRange {
+    /// Whether the finite number `x` lies in the range, `lo`/`hi` being the values of
+    /// [`End::Field`] ends where known (an end of unknown value does not limit).
+    pub fn admits(&self, x: f64, lo: Option<f64>, hi: Option<f64>) -> bool {
+        let value = |e: End, v: Option<f64>| match e {
+            End::Open(a) | End::Closed(a) => Some(a),
+            End::Field(_) | End::OpenField(_) => v,
+            End::None => None,
+        };
+        let ok_lo = match (self.lo, value(self.lo, lo)) {
+            (End::Open(_) | End::OpenField(_), Some(a)) => x > a,
+            (_, Some(a)) => x >= a,
+            (_, None) => true,
+        };
+        let ok_hi = match (self.hi, value(self.hi, hi)) {
+            (End::Open(_) | End::OpenField(_), Some(b)) => x < b,
+            (_, Some(b)) => x <= b,
+            (_, None) => true,
+        };
+        x.is_finite() && ok_lo && ok_hi
+    }
+
     /// The allowed range as text, e.g. `1e-3 ≤ mass ≤ 1e5`; `lo`/`hi` are the values of
     /// [`End::Field`] ends where known.
     pub fn allowed(&self, name: &str, lo: Option<f64>, hi: Option<f64>) -> String {

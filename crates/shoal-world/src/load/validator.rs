@@ -103,24 +103,9 @@ impl Validator<'_> {
         hi: Option<f64>,
     ) -> bool {
         let name = path.last_key().unwrap_or("value");
-        let value = |e: End, v: Option<f64>| match e {
-            End::Open(a) | End::Closed(a) => Some(a),
-            End::Field(_) | End::OpenField(_) => v,
-            End::None => None,
-        };
-        let ok_lo = match (r.lo, value(r.lo, lo)) {
-            (End::Open(_) | End::OpenField(_), Some(a)) => x > a,
-            (_, Some(a)) => x >= a,
-            (_, None) => true,
-        };
-        let ok_hi = match (r.hi, value(r.hi, hi)) {
-            (End::Open(_) | End::OpenField(_), Some(b)) => x < b,
-            (_, Some(b)) => x <= b,
-            (_, None) => true,
-        };
         let subnormal = x != 0.0 && x.abs() < f64::MIN_POSITIVE;
         let too_small = r.zero_or > 0.0 && x > 0.0 && x < r.zero_or;
-        if x.is_finite() && ok_lo && ok_hi && !subnormal && !too_small {
+        if r.admits(x, lo, hi) && !subnormal && !too_small {
             return true;
         }
         let what = if !x.is_finite() {

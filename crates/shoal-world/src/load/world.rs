@@ -17,6 +17,20 @@ use shoal_model::optics::Ambient;
 use shoal_model::prelude::*;
 use std::path::{Path, PathBuf};
 
+/// Most steps a run may take \[count\].
+const MAX_STEPS: f64 = 1e10;
+
+/// What is wrong with `duration` \[s\] at steps of `dt` \[s\] when the run would take more
+/// than [`MAX_STEPS`] steps.
+pub fn too_many_steps(duration: f64, dt: f64) -> Option<String> {
+    (duration / dt > MAX_STEPS).then(|| {
+        format!(
+            "duration / dt = {duration} / {dt} = {:e} steps, more than 1e10; raise dt or shorten the run",
+            duration / dt
+        )
+    })
+}
+
 pub(super) fn build(
     wf: &WorldFile,
     file: &Path,
@@ -27,23 +41,14 @@ pub(super) fn build(
     let root = FieldPath::root();
     v.field(&root.key("duration"), wf.duration);
     let dt_ok = v.field(&root.key("dt"), wf.dt);
-    if dt_ok && wf.duration / wf.dt > 1e10 {
+    if dt_ok && let Some(message) = too_many_steps(wf.duration, wf.dt) {
         // Point at whichever of the two the file writes (dt when both are).
         let at = if v.sm.locate(&root.key("dt")).is_some() {
             "dt"
         } else {
             "duration"
         };
-        v.push(
-            ProblemKind::Range,
-            &root.key(at),
-            format!(
-                "duration / dt = {} / {} = {:e} steps, more than 1e10; raise dt or shorten the run",
-                wf.duration,
-                wf.dt,
-                wf.duration / wf.dt
-            ),
-        );
+        v.push(ProblemKind::Range, &root.key(at), message);
     }
     let pool = root.key("pool");
     v.fields(&pool.key("size"), &wf.pool.size);

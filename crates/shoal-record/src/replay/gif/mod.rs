@@ -31,7 +31,7 @@
 //! Shapes are drawn with hard edges (plotters' blended edge pixels would land on unrelated
 //! palette entries, see `Crisp`); only text keeps its smooth edges.
 //!
-//! **Measured** (`cargo run --release -p shoal-sim --example gif_render`: synthetic 100-s
+//! **Measured** (`cargo run --release -p shoal-record --example gif_render`: synthetic 100-s
 //! replays of vehicles circling in formation in a 20 × 12 × 4 m or a 60 × 40 × 10 m pool, as
 //! many replay frames as the pose budget allows, links to formation neighbours; default
 //! options unless said; 251 GIF frames of 800 × about 1,050 px; a 2-core machine at a load of
