@@ -298,7 +298,10 @@ mod tests {
         // The tick labels' band: below the axis, above the axis title.
         let dark = |x: u32, y: u32| img.get_pixel(x, y).0.iter().all(|&c| c < 128);
         let band = || (bottom + 6..bottom + 22).flat_map(|y| (0..600).map(move |x| (x, y)));
-        let inked: Vec<u32> = band().filter(|&(x, y)| dark(x, y)).map(|(x, _)| x).collect();
+        let inked: Vec<u32> = band()
+            .filter(|&(x, y)| dark(x, y))
+            .map(|(x, _)| x)
+            .collect();
         let last = inked.iter().copied().max().unwrap_or(0);
         // "1000.0" in 13 px letters is about 33 px wide: centred on the axis' right end, its
         // ink reaches more than 12 px past it, and stops short of the image's edge.

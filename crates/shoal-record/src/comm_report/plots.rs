@@ -6,13 +6,13 @@
 
 use super::summary::{CommSummary, DistanceBin};
 use super::tables::per_second;
-use shoal_sim::comm::Outcome;
-use shoal_sim::connectivity::Connectivity;
 use crate::link_key;
-use shoal_sim::sim::Sim;
-use shoal_sim::view::VehicleView;
 use shoal_model::optics::{LinkGeometry, budget};
 use shoal_output::plot::{Plot, Series};
+use shoal_sim::comm::Outcome;
+use shoal_sim::connectivity::Connectivity;
+use shoal_sim::sim::Sim;
+use shoal_sim::view::VehicleView;
 use shoal_world::desc::WorldDesc;
 
 /// The 95 % Wilson score interval of a proportion: `k` successes in `n` trials (n > 0).
@@ -182,6 +182,11 @@ pub fn delivery_plot(
     }
 }
 
+/// The colour of the communication graph's edges (navy): a link is a delivered frame, so not
+/// the grey that [`crate::link_key`] gives frames out of budget, nor any colour of that key
+/// or of the first groups.
+pub const EDGE_RGB: (u8, u8, u8) = (20, 40, 90);
+
 /// The communication graph seen from above, at the last sample that had an edge (the end of
 /// the run when there was traffic to the end; otherwise the last window with a delivered
 /// frame, and the title says so), with the vehicles where they are at the end.
@@ -194,9 +199,11 @@ pub fn connectivity_plot(desc: &WorldDesc, conn: &Connectivity, snaps: &[Vehicle
     let edges = busy.map_or(&[][..], |b| b.1);
     let mut series: Vec<Series> = edges
         .iter()
-        .map(|&(a, b)| Series {
+        .enumerate()
+        .map(|(k, &(a, b))| Series {
+            label: (k == 0).then(|| format!("link: a frame delivered within {} s", conn.window)),
             points: vec![pos(a), pos(b)],
-            color: 7,
+            rgb: Some(EDGE_RGB),
             ..Default::default()
         })
         .collect();
