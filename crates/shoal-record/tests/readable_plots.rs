@@ -7,6 +7,8 @@
 //!   and a distance bin with nothing delivered reads as 0 (a whole marker on the 0 line);
 //! * `depth.png` draws a depth setpoint only where the vehicle holds a depth (not the 0 a
 //!   vehicle records while off);
+//! * the link budget curve in `delivery_vs_distance.png` is the model's best case, labelled
+//!   so, and the observed ratios lie under it;
 //! * the gossip world's communication graph shows the links of its flood, which ends long
 //!   before the run does;
 //! * `links_over_time` colours each outcome by the one key of `shoal_record::link_key`, and
@@ -279,6 +281,69 @@ fn the_gossip_graph_shows_the_links_of_its_flood() {
         "{}",
         plot.title
     );
+}
+
+/// The link budget curve of `delivery_vs_distance` is the best case the model allows for the
+/// run's vehicles and water, and says so: in the gossip world (vehicles a metre or two apart,
+/// 4 LED copies each) every distance bin with a delivered frame lies within its range, and no
+/// bin's ratio is clearly above it (the lower end of its 95 % interval at most the curve at
+/// the bin's nearer edge).
+#[test]
+fn observed_delivery_lies_under_the_link_budget_curve() {
+    let (desc, sim) = support::world::run_world_file("gossip");
+    let snaps = sim.views();
+    let c = comm_report::summarize(&desc, &sim, &snaps).unwrap();
+    let plots = comm_report::plots(&desc, &sim, &snaps, &c);
+    let plot = &plots
+        .iter()
+        .find(|(name, _)| *name == "delivery_vs_distance")
+        .unwrap()
+        .1;
+    let curve = plot
+        .series
+        .iter()
+        .find(|s| s.dashed && s.label.is_some())
+        .expect("a labelled link-budget curve");
+    // The curve at distance `d`: its value at the nearest sample at or before `d` (it falls
+    // with distance, so this is not below it).
+    let at = |d: f64| {
+        curve
+            .points
+            .iter()
+            .rev()
+            .find(|p| p.0 <= d)
+            .map_or(1.0, |p| p.1)
+    };
+    let mut checked = 0;
+    for b in c.by_distance.iter().filter(|b| b.attempts >= 5 && b.delivered > 0) {
+        let (lo, _) = comm_report::wilson(b.delivered, b.attempts);
+        let bound = at(b.from_m);
+        eprintln!(
+            "{:.1}–{:.1} m: {} of {} delivered, curve {bound:.3}",
+            b.from_m, b.to_m, b.delivered, b.attempts
+        );
+        assert!(
+            bound > 0.0 && lo <= bound,
+            "{:.1}–{:.1} m: {} of {} delivered (95 % interval from {lo:.3}), the curve says at \
+             most {bound:.3}",
+            b.from_m,
+            b.to_m,
+            b.delivered,
+            b.attempts
+        );
+        checked += 1;
+    }
+    assert!(checked >= 3, "only {checked} distance bins with deliveries");
+    let label = curve.label.as_deref().unwrap();
+    for words in [
+        "best case (upper bound)",
+        "LED copies on axis",
+        "receiver at the floor",
+        "no interference",
+        "frames (run mean)",
+    ] {
+        assert!(label.contains(words), "the curve's label does not say \"{words}\": {label}");
+    }
 }
 
 /// How far apart two colours are: the sum of their channels' differences (the measure of

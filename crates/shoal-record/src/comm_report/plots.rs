@@ -4,10 +4,10 @@
 //! (`links_over_time`), the graph over time (`connectivity_over_time`) and, when the world
 //! floods a value, how many vehicles knew it over time (`gossip`).
 
+use super::envelope::delivery_envelope;
 use super::summary::{CommSummary, DistanceBin};
 use super::tables::per_second;
 use crate::link_key;
-use shoal_model::optics::{LinkGeometry, budget};
 use shoal_output::plot::{Plot, Series};
 use shoal_sim::comm::Outcome;
 use shoal_sim::connectivity::Connectivity;
@@ -90,33 +90,14 @@ pub fn plots(
     plots
 }
 
-/// The on-axis link budget of the first modem for the run's mean frame length: delivery
-/// probability against distance up to the cut-off range, labelled.
+/// The link budget's best case for the run's vehicles and water ([`delivery_envelope`]) as
+/// the dashed curve the observed ratios lie under, labelled with what it assumes.
 fn budget_curve(desc: &WorldDesc, snaps: &[VehicleView<'_>], c: &CommSummary) -> Option<Series> {
-    let m = snaps.iter().find_map(|s| s.model.params.modems.first())?;
     let bits = c.mean_frame_bits.round().max(1.0) as u64;
-    let points = (1..=120)
-        .map(|k| {
-            let d = k as f64 * c.cutoff_range_m / 120.0;
-            let b = budget(
-                &m.led,
-                &m.rx,
-                &LinkGeometry::on_axis(d),
-                desc.attenuation,
-                &desc.ambient,
-                1.0,
-                0.0,
-                bits,
-            );
-            (d, 1.0 - b.fer)
-        })
-        .collect();
+    let e = delivery_envelope(desc, snaps, c.cutoff_range_m, bits)?;
     Some(Series {
-        label: Some(format!(
-            "link budget: one LED on axis, {:.0}-byte frames (run mean)",
-            bits as f64 / f64::from(m.bits_per_byte)
-        )),
-        points,
+        label: Some(e.label),
+        points: e.points,
         color: 7,
         dashed: true,
         ..Default::default()
