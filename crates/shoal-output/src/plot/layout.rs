@@ -124,7 +124,7 @@ impl Plot {
         let half = axis
             .key_points(X_TICKS)
             .last()
-            .map(|v| <RangedCoordf64 as ValueFormatter<f64>>::format(v))
+            .map(<RangedCoordf64 as ValueFormatter<f64>>::format)
             .and_then(|l| area.estimate_text_size(&l, &font).ok())
             .map_or(0, |(w, _)| w.div_ceil(2) + 4);
         half.max(12)
