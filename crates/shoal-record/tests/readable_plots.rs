@@ -5,9 +5,14 @@
 //!   world's round pillar is a circle in `top.png`, not an ellipse;
 //! * in `delivery_vs_distance.png` each observed ratio is a marker drawn over its interval bar,
 //!   and a distance bin with nothing delivered reads as 0 (a whole marker on the 0 line);
+//! * `depth.png` draws a depth setpoint only where the vehicle holds a depth (not the 0 a
+//!   vehicle records while off);
+//! * the link budget curve in `delivery_vs_distance.png` is the model's best case, labelled
+//!   so, and the observed ratios lie under it;
 //! * the gossip world's communication graph shows the links of its flood, which ends long
 //!   before the run does;
-//! * `links_over_time` colours each outcome by the one key of `shoal_record::link_key`.
+//! * `links_over_time` colours each outcome by the one key of `shoal_record::link_key`, and
+//!   the communication graph's edges are in a colour that key does not use.
 
 mod support;
 
@@ -115,6 +120,56 @@ fn maps_draw_north_and_east_at_one_scale() {
     let _ = std::fs::remove_dir_all(&out);
 }
 
+/// A vehicle that starts off (not yet commanded, its depth setpoint recorded as 0) and is
+/// told to hold 0.5 m at t = 2 s: `depth.svg` draws the setpoint (dashed) only from then on,
+/// not as a line at 0 m while the vehicle is off.
+#[test]
+fn the_depth_setpoint_is_drawn_only_where_depth_is_held() {
+    let text = r#"
+name = "off_then_diving"
+seed = 1
+duration = 4.0
+dt = 0.01
+[pool]
+size = [4.0, 4.0, 3.0]
+[[vehicles]]
+name = "auv"
+position = [2.0, 2.0, 1.0]
+mission = [
+  { t = 0, mode = "off" },
+  { t = 2, mode = "diving", depth = 0.5 },
+]
+[output]
+record_hz = 20.0
+"#;
+    let desc = shoal_world::load::load_str(text, Path::new("off_then_diving.toml")).unwrap();
+    let out = dir("setpoint");
+    run_with_outputs(&desc, &out);
+    let svg = std::fs::read_to_string(out.join("depth.svg")).unwrap();
+    let (x0, _, x1, _) = support::plots::plot_area(&svg);
+    // The horizontal axis is the run's time, 0 to 4 s.
+    let t = |x: f64| (x - x0) / (x1 - x0) * desc.duration;
+    // The setpoint's dashes: 1 px lines in the vehicle's group colour (the reading is 2 px).
+    let dashes: Vec<f64> = support::plots::lines(&svg)
+        .iter()
+        .filter(|l| l.width == 1 && l.stroke == shoal_output::plot::rgb(0))
+        .flat_map(|l| l.points.iter().map(|p| t(p.0)))
+        .collect();
+    let first = dashes.iter().copied().fold(f64::INFINITY, f64::min);
+    let last = dashes.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    eprintln!("setpoint dashes from t = {first:.2} s to {last:.2} s");
+    assert!(
+        (first - 2.0).abs() < 0.15,
+        "the setpoint is drawn from t = {first:.2} s; the vehicle holds a depth from 2 s \
+         (off before: no setpoint)"
+    );
+    assert!(
+        last > 3.7,
+        "the setpoint ends at t = {last:.2} s, the run at 4 s"
+    );
+    let _ = std::fs::remove_dir_all(&out);
+}
+
 /// Bins of 0.1 m: all of 100 delivered at 0.55 m, half of 200 at 2.05 m, none of 200 at
 /// 3.55 m.
 fn bins() -> Vec<DistanceBin> {
@@ -188,11 +243,31 @@ fn the_gossip_graph_shows_the_links_of_its_flood() {
     assert!(sim.connectivity().last_edges.is_empty());
     let plot = comm_report::connectivity_plot(&desc, sim.connectivity(), &snaps);
     // Edges are the two-point lines without a start mark (vehicles are marked).
-    let edges = plot
+    let edge_lines: Vec<_> = plot
         .series
         .iter()
         .filter(|s| s.points.len() == 2 && !s.mark_start)
-        .count();
+        .collect();
+    let edges = edge_lines.len();
+    // An edge (a delivered frame) is in a colour of its own: none of the link key's (grey
+    // there is "out of budget"), told apart as the key tells its colours apart, nor a
+    // vehicle's.
+    let vehicles: Vec<_> = plot.series.iter().filter(|s| s.mark_start).collect();
+    for e in &edge_lines {
+        let c = e.drawn_rgb();
+        for key in &LINK_KEY {
+            assert!(
+                colour_distance(c, key.rgb) > 120,
+                "edges drawn in {c:?}, like \"{}\" {:?} of the link key",
+                key.label,
+                key.rgb
+            );
+        }
+        assert!(
+            vehicles.iter().all(|v| v.drawn_rgb() != c),
+            "edges in a vehicle's colour"
+        );
+    }
     let n = desc.vehicles.len();
     assert!(
         edges >= n - 1,
@@ -206,6 +281,75 @@ fn the_gossip_graph_shows_the_links_of_its_flood() {
         "{}",
         plot.title
     );
+}
+
+/// The link budget curve of `delivery_vs_distance` is the best case the model allows for the
+/// run's vehicles and water, and says so: in the gossip world (vehicles a metre or two apart,
+/// 4 LED copies each) every distance bin with a delivered frame lies within its range, and no
+/// bin's ratio is clearly above it (the lower end of its 95 % interval at most the curve at
+/// the bin's nearer edge).
+#[test]
+fn observed_delivery_lies_under_the_link_budget_curve() {
+    let (desc, sim) = support::world::run_world_file("gossip");
+    let snaps = sim.views();
+    let c = comm_report::summarize(&desc, &sim, &snaps).unwrap();
+    let plots = comm_report::plots(&desc, &sim, &snaps, &c);
+    let plot = &plots
+        .iter()
+        .find(|(name, _)| *name == "delivery_vs_distance")
+        .unwrap()
+        .1;
+    let curve = plot
+        .series
+        .iter()
+        .find(|s| s.dashed && s.label.is_some())
+        .expect("a labelled link-budget curve");
+    // The curve at distance `d`: its value at the nearest sample at or before `d` (it falls
+    // with distance, so this is not below it).
+    let at = |d: f64| {
+        curve
+            .points
+            .iter()
+            .rev()
+            .find(|p| p.0 <= d)
+            .map_or(1.0, |p| p.1)
+    };
+    let mut checked = 0;
+    for b in c.by_distance.iter().filter(|b| b.attempts >= 5 && b.delivered > 0) {
+        let (lo, _) = comm_report::wilson(b.delivered, b.attempts);
+        let bound = at(b.from_m);
+        eprintln!(
+            "{:.1}–{:.1} m: {} of {} delivered, curve {bound:.3}",
+            b.from_m, b.to_m, b.delivered, b.attempts
+        );
+        assert!(
+            bound > 0.0 && lo <= bound,
+            "{:.1}–{:.1} m: {} of {} delivered (95 % interval from {lo:.3}), the curve says at \
+             most {bound:.3}",
+            b.from_m,
+            b.to_m,
+            b.delivered,
+            b.attempts
+        );
+        checked += 1;
+    }
+    assert!(checked >= 3, "only {checked} distance bins with deliveries");
+    let label = curve.label.as_deref().unwrap();
+    for words in [
+        "best case (upper bound)",
+        "LED copies on axis",
+        "receiver at the floor",
+        "no interference",
+        "frames (run mean)",
+    ] {
+        assert!(label.contains(words), "the curve's label does not say \"{words}\": {label}");
+    }
+}
+
+/// How far apart two colours are: the sum of their channels' differences (the measure of
+/// the link key's own test).
+fn colour_distance(a: (u8, u8, u8), b: (u8, u8, u8)) -> u32 {
+    u32::from(a.0.abs_diff(b.0)) + u32::from(a.1.abs_diff(b.1)) + u32::from(a.2.abs_diff(b.2))
 }
 
 #[test]

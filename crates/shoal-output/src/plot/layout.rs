@@ -9,12 +9,17 @@ use super::legend::{
 use super::range::{clip_polyline, data_range};
 use super::style::register_font;
 use plotters::coord::Shift;
+use plotters::coord::ranged1d::{Ranged, ValueFormatter};
 use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 /// Size of a plot's title \[px\], and the smallest it is shrunk to so that it fits.
 const TITLE_PX: u32 = 20;
 const TITLE_MIN_PX: u32 = 11;
+/// Size of the axes' tick labels \[px\].
+pub(super) const TICK_FONT_PX: u32 = 13;
+/// How many ticks with labels the horizontal axis has at most (plotters' default).
+const X_TICKS: usize = 11;
 
 /// The axis ranges of a plot as drawn, and its scales ([`Plot::ranges_drawn`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -100,10 +105,29 @@ impl Plot {
         ChartBuilder::on(area)
             .caption(&self.title, ("sans-serif", title_px))
             .margin(12)
+            .margin_right(self.right_margin(area))
             .x_label_area_size(40)
             .y_label_area_size(60)
             .build_cartesian_2d(x.0..x.1, ya..yb)
             .map_err(|e| e.to_string())
+    }
+
+    /// The margin right of the plot area \[px\]: 12, or more so that the label of the last
+    /// tick of the horizontal axis, centred on it (at most on the plot area's right edge),
+    /// is drawn whole. Measured on the ranges before a map widens them ([`Plot::ranges`]), so
+    /// the plot area is the same size when the ranges are decided and when they are drawn;
+    /// 4 px spare for the label of a widened range.
+    fn right_margin<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> u32 {
+        let (x0, x1) = self.ranges().0;
+        let axis = RangedCoordf64::from(x0..x1);
+        let font: TextStyle = ("sans-serif", TICK_FONT_PX).into_font().into();
+        let half = axis
+            .key_points(X_TICKS)
+            .last()
+            .map(<RangedCoordf64 as ValueFormatter<f64>>::format)
+            .and_then(|l| area.estimate_text_size(&l, &font).ok())
+            .map_or(0, |(w, _)| w.div_ceil(2) + 4);
+        half.max(12)
     }
 
     /// Everything drawn, in plot-area fractions (y from the top), clipped to the ranges.

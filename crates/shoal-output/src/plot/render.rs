@@ -3,7 +3,7 @@
 //! ([`Plot::write`], [`Plot::write_until`]).
 
 use super::description::Plot;
-use super::layout::Layout;
+use super::layout::{Layout, TICK_FONT_PX};
 use super::legend::LegendPlace;
 use super::legend_draw::{draw_legend_below, draw_legend_corner};
 use super::range::clip_polyline;
@@ -76,7 +76,7 @@ impl Plot {
             .configure_mesh()
             .x_desc(&self.x_label)
             .y_desc(&self.y_label)
-            .label_style(("sans-serif", 13))
+            .label_style(("sans-serif", TICK_FONT_PX))
             .draw()
             .map_err(|e| e.to_string())?;
         self.draw_outlines(&mut chart, x, y)?;
@@ -269,6 +269,46 @@ mod tests {
                 .filter(|&(x, _)| !(4..596).contains(&x))
                 .any(|(x, y)| dark(x, y)),
             "the title runs off the image"
+        );
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// The last tick label of the horizontal axis (centred on the plot area's right edge)
+    /// is drawn whole inside the image, not cut off at its right edge.
+    #[test]
+    fn the_last_x_tick_label_lies_inside_the_image() {
+        let dir = std::env::temp_dir().join(format!("shoal_plot_ticks_{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        // Ticks every 100 up to 1000: the last label, "1000.0", is centred on the right edge.
+        let plot = Plot {
+            title: "ticks".into(),
+            series: vec![Series {
+                points: vec![(0.0, 0.0), (1000.0, 1.0)],
+                ..Default::default()
+            }],
+            x_range: Some((0.0, 1000.0)),
+            size: (600, 300),
+            ..Default::default()
+        };
+        plot.write(&dir.join("ticks")).unwrap();
+        let img = image::open(dir.join("ticks.png")).unwrap().to_rgb8();
+        let at = plot.ranges_drawn().unwrap();
+        let right = at.origin.0 + at.area.0;
+        let bottom = (at.origin.1 + at.area.1) as u32;
+        // The tick labels' band: below the axis, above the axis title.
+        let dark = |x: u32, y: u32| img.get_pixel(x, y).0.iter().all(|&c| c < 128);
+        let band = || (bottom + 6..bottom + 22).flat_map(|y| (0..600).map(move |x| (x, y)));
+        let inked: Vec<u32> = band()
+            .filter(|&(x, y)| dark(x, y))
+            .map(|(x, _)| x)
+            .collect();
+        let last = inked.iter().copied().max().unwrap_or(0);
+        // "1000.0" in 13 px letters is about 33 px wide: centred on the axis' right end, its
+        // ink reaches more than 12 px past it, and stops short of the image's edge.
+        assert!(
+            f64::from(last) > right + 12.0 && last < 600 - 3,
+            "the last tick label's ink ends at x = {last} (the axis ends at {right:.0}, the \
+             image at 600): it is cut off"
         );
         let _ = std::fs::remove_dir_all(&dir);
     }

@@ -7,12 +7,15 @@
 //! time).
 //!
 //! `summary` builds the communication section of `summary.json`, `tables` writes the tables,
-//! `plots` draws from both; this file only gathers them.
+//! `envelope` computes the link budget's best case against distance, `plots` draws from
+//! them; this file only gathers them.
 
+mod envelope;
 mod plots;
 mod summary;
 mod tables;
 
+pub use envelope::{Envelope, delivery_envelope};
 pub use plots::{DELIVERY_MARKER_PX, connectivity_plot, delivery_plot, links_plot, plots, wilson};
 pub use summary::{CommSummary, DistanceBin, GossipSummary, VehicleComm, summarize};
 pub use tables::{

@@ -4,15 +4,15 @@
 //! (`links_over_time`), the graph over time (`connectivity_over_time`) and, when the world
 //! floods a value, how many vehicles knew it over time (`gossip`).
 
+use super::envelope::delivery_envelope;
 use super::summary::{CommSummary, DistanceBin};
 use super::tables::per_second;
+use crate::link_key;
+use shoal_output::plot::{Plot, Series};
 use shoal_sim::comm::Outcome;
 use shoal_sim::connectivity::Connectivity;
-use crate::link_key;
 use shoal_sim::sim::Sim;
 use shoal_sim::view::VehicleView;
-use shoal_model::optics::{LinkGeometry, budget};
-use shoal_output::plot::{Plot, Series};
 use shoal_world::desc::WorldDesc;
 
 /// The 95 % Wilson score interval of a proportion: `k` successes in `n` trials (n > 0).
@@ -90,33 +90,14 @@ pub fn plots(
     plots
 }
 
-/// The on-axis link budget of the first modem for the run's mean frame length: delivery
-/// probability against distance up to the cut-off range, labelled.
+/// The link budget's best case for the run's vehicles and water ([`delivery_envelope`]) as
+/// the dashed curve the observed ratios lie under, labelled with what it assumes.
 fn budget_curve(desc: &WorldDesc, snaps: &[VehicleView<'_>], c: &CommSummary) -> Option<Series> {
-    let m = snaps.iter().find_map(|s| s.model.params.modems.first())?;
     let bits = c.mean_frame_bits.round().max(1.0) as u64;
-    let points = (1..=120)
-        .map(|k| {
-            let d = k as f64 * c.cutoff_range_m / 120.0;
-            let b = budget(
-                &m.led,
-                &m.rx,
-                &LinkGeometry::on_axis(d),
-                desc.attenuation,
-                &desc.ambient,
-                1.0,
-                0.0,
-                bits,
-            );
-            (d, 1.0 - b.fer)
-        })
-        .collect();
+    let e = delivery_envelope(desc, snaps, c.cutoff_range_m, bits)?;
     Some(Series {
-        label: Some(format!(
-            "link budget: one LED on axis, {:.0}-byte frames (run mean)",
-            bits as f64 / f64::from(m.bits_per_byte)
-        )),
-        points,
+        label: Some(e.label),
+        points: e.points,
         color: 7,
         dashed: true,
         ..Default::default()
@@ -182,6 +163,11 @@ pub fn delivery_plot(
     }
 }
 
+/// The colour of the communication graph's edges (navy): a link is a delivered frame, so not
+/// the grey that [`crate::link_key`] gives frames out of budget, nor any colour of that key
+/// or of the first groups.
+pub const EDGE_RGB: (u8, u8, u8) = (20, 40, 90);
+
 /// The communication graph seen from above, at the last sample that had an edge (the end of
 /// the run when there was traffic to the end; otherwise the last window with a delivered
 /// frame, and the title says so), with the vehicles where they are at the end.
@@ -194,9 +180,11 @@ pub fn connectivity_plot(desc: &WorldDesc, conn: &Connectivity, snaps: &[Vehicle
     let edges = busy.map_or(&[][..], |b| b.1);
     let mut series: Vec<Series> = edges
         .iter()
-        .map(|&(a, b)| Series {
+        .enumerate()
+        .map(|(k, &(a, b))| Series {
+            label: (k == 0).then(|| format!("link: a frame delivered within {} s", conn.window)),
             points: vec![pos(a), pos(b)],
-            color: 7,
+            rgb: Some(EDGE_RGB),
             ..Default::default()
         })
         .collect();

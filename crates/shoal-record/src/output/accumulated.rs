@@ -2,8 +2,8 @@
 //! ([`VehicleAcc`]: distance, greatest depth and speed, whether it was steered, and the samples
 //! kept for the plots, [`PlotPoint`]): the summary and the plots are drawn from it.
 
-use shoal_sim::recorder::{col, mode_of_code};
 use shoal_model::prelude::*;
+use shoal_sim::recorder::{col, mode_of_code};
 
 /// What the outputs keep of one vehicle from its trajectory rows.
 #[derive(Clone, Debug, Default)]
@@ -35,7 +35,8 @@ pub(super) struct PlotPoint {
     pub(super) y: f64,
     /// Depth reading \[m\].
     pub(super) depth: f64,
-    /// Depth setpoint \[m\].
+    /// Depth setpoint \[m\]; NaN where the vehicle's mode holds no depth ([`holds_depth`]: a
+    /// vehicle off, turning, drifting or under raw commands records 0, which is no setpoint).
     pub(super) depth_sp: f64,
     /// Heading \[rad\].
     pub(super) yaw: f64,
@@ -59,22 +60,30 @@ impl VehicleAcc {
         a.max_depth = a.max_depth.max(row[col::Z]);
         let speed = (row[col::U].powi(2) + row[col::U + 1].powi(2) + row[col::W].powi(2)).sqrt();
         a.max_speed = a.max_speed.max(speed);
+        let mode = mode_of_code(row[col::MODE]);
         if keep {
             a.plot.push(PlotPoint {
                 t: row[col::T],
                 x: row[col::X],
                 y: row[col::Y],
                 depth: row[col::DEPTH_READING],
-                depth_sp: row[col::DEPTH_SP],
+                depth_sp: if holds_depth(mode) {
+                    row[col::DEPTH_SP]
+                } else {
+                    f64::NAN
+                },
                 yaw: row[col::YAW],
                 yaw_sp: row[col::YAW_SP],
             });
         }
-        a.steered |= matches!(
-            mode_of_code(row[col::MODE]),
-            Mode::Turning | Mode::Drift | Mode::Auto
-        );
+        a.steered |= matches!(mode, Mode::Turning | Mode::Drift | Mode::Auto);
         a.rows += 1;
         a.last = Some(here);
     }
+}
+
+/// Whether the controller holds a depth in mode `m` (its heave loop runs on the depth
+/// setpoint: diving, buoyancy and auto; `shoal_model::control`).
+pub(super) fn holds_depth(m: Mode) -> bool {
+    matches!(m, Mode::Diving | Mode::Buoyancy | Mode::Auto)
 }

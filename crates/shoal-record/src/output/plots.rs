@@ -14,7 +14,8 @@ fn shown(acc: &[VehicleAcc], stride: usize) -> Vec<usize> {
 }
 
 /// Depth reading against time for the vehicles drawn (every `stride`-th), with one setpoint
-/// line per group.
+/// line per group, drawn only where the vehicle holds a depth (a gap while it is off, turning,
+/// drifting or under raw commands: [`PlotPoint::depth_sp`]).
 pub(super) fn depth_plot(acc: &[VehicleAcc], stride: usize, desc: &WorldDesc) -> Plot {
     let shown = shown(acc, stride);
     let mut series = Vec::new();
@@ -51,7 +52,7 @@ pub(super) fn depth_plot(acc: &[VehicleAcc], stride: usize, desc: &WorldDesc) ->
     };
     Plot {
         title: format!(
-            "{}: depth reading (solid) and setpoint (dashed){note}",
+            "{}: depth reading (solid) and setpoint (dashed, where depth is held){note}",
             desc.name
         ),
         x_label: "time [s]".into(),
