@@ -49,6 +49,7 @@ use shoal_model::dynamics::RigidState;
 use shoal_model::effects::{Effect, EffectInstance, Effects};
 use shoal_model::rigid_body::Environment;
 use shoal_model::vehicle::{VehicleModel, VehicleParams, VehicleState};
+use shoal_output::words::with_unit;
 use std::fmt;
 use std::sync::Arc;
 
@@ -200,7 +201,7 @@ impl FormParam {
     /// The range as text, e.g. `±0.01 … 0.03 m` or `2.5 … 5 rad/s`.
     pub fn range_text(&self) -> String {
         let sign = if self.draw == Draw::Signed { "±" } else { "" };
-        format!("{sign}{} … {} {}", self.lo, self.hi, self.unit)
+        with_unit(&format!("{sign}{} … {}", self.lo, self.hi), self.unit)
     }
 }
 
