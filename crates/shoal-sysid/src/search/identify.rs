@@ -8,7 +8,7 @@
 //! threshold — the log cannot separate the two: the verdict reports
 //! "A or B" with the manoeuvre that would separate them.
 
-use super::Step;
+use super::step::Step;
 use super::context::Search;
 use super::fitted::Fit;
 use super::measures::{delta_bic_eff, gain};

@@ -1,7 +1,7 @@
 //! The search from start to verdict: round 1 (every family alone, forms competing), forward
 //! rounds, backward checks and swaps, then identifiability, stability and the verdict.
 
-use super::Step;
+use super::step::Step;
 use super::candidate::{Candidate, FormScore};
 use super::context::{FormInfo, Search};
 use super::fit::Ctx;

@@ -16,7 +16,7 @@
 //! backward check then tests each member against the model with the other, and stability
 //! selection each on its own, as for any chosen effect.
 
-use super::Step;
+use super::step::Step;
 use super::candidate::Candidate;
 use super::context::Search;
 use super::fitted::Fit;

@@ -11,7 +11,7 @@
 //! lowers the whole model's BIC. The best such change is made and the others are tried again
 //! on the new model, until none helps (at most one pass per family and one more).
 
-use super::Step;
+use super::step::Step;
 use super::candidate::Candidate;
 use super::context::Search;
 use super::fitted::Fit;

@@ -10,7 +10,7 @@
 //! which it passes. (The backward checks' effective-ΔBIC rule is not repeated: a resample
 //! duplicates blocks, and its count of independent samples is not defined.)
 
-use super::Step;
+use super::step::Step;
 use super::context::Search;
 use super::fit::Ctx;
 use super::fitted::Fit;
