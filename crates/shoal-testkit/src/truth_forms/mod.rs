@@ -48,7 +48,6 @@ mod water_current;
 use crate::synth::TruthHook;
 pub use exp_kind::ExpKind;
 pub use form_param::{Draw, FormParam};
-use rand_chacha::ChaCha8Rng;
 use shoal_model::control::ActuatorCommands;
 use shoal_model::dynamics::RigidState;
 use shoal_model::effects::{EffectInstance, Effects};
@@ -232,6 +231,7 @@ impl TruthHook for Truth {
 mod tests {
     use super::*;
     use rand::SeedableRng;
+    use rand_chacha::ChaCha8Rng;
     use std::collections::BTreeSet;
 
     #[test]
