@@ -217,6 +217,76 @@ mod tests {
         );
     }
 
+    /// An outcome whose channels have these validation RMSEs before and after.
+    fn outcome(rmse: &[(ChannelKind, f64, f64)]) -> Outcome {
+        use crate::evaluate::evaluation::{ChannelMetrics, Evaluation};
+        use crate::evaluate::stats::LjungBox;
+        use crate::search::{Fit, Verdict};
+        let fit = |after: bool| {
+            let metrics = rmse
+                .iter()
+                .map(|&(k, b, a)| {
+                    let m = ChannelMetrics {
+                        n_est: 100,
+                        sse_est: 1.0,
+                        rho1_est: 0.0,
+                        n_val: 100,
+                        rmse: if after { a } else { b },
+                        fit_pct: 50.0,
+                        rmse_est: 0.1,
+                        ljung_box: LjungBox {
+                            q: 1.0,
+                            lags: 10,
+                            p_value: 0.5,
+                        },
+                        resolution: 0.001,
+                    };
+                    (k, m)
+                })
+                .collect();
+            Fit {
+                effects: Vec::new(),
+                k: 0,
+                eval: Evaluation {
+                    runs: Vec::new(),
+                    metrics,
+                },
+                evaluations: 0,
+                free: Vec::new(),
+                cov: None,
+                cov_white: None,
+            }
+        };
+        Outcome {
+            baseline: fit(false),
+            candidates: Vec::new(),
+            chosen: fit(true),
+            stepwise: fit(true),
+            verdict: Verdict::default(),
+            factors: Default::default(),
+        }
+    }
+
+    /// The BlueROV yaw_3 case as its table showed it: y.yaw 86.8 % better (RMSE 0.2 → 0.0264
+    /// rad), y.depth 37 % worse (0.01 → 0.0137 m); the headline's mean is 24.9 %.
+    #[test]
+    fn an_outcome_that_worsens_a_channel_says_so_in_its_headline() {
+        let (d, y) = (ChannelKind::Depth, ChannelKind::Yaw);
+        let out = outcome(&[(d, 0.01, 0.0137), (y, 0.2, 0.0264)]);
+        let worse = out.worsened_channels();
+        assert_eq!(worse.len(), 1);
+        assert_eq!(worse[0].0, d);
+        assert!((worse[0].1 + 37.0).abs() < 1e-9, "{worse:?}");
+        assert!((out.validation_gain_pct() - 24.9).abs() < 1e-9);
+        let h = headline(&out);
+        assert!(h.starts_with("validation RMSE 24.9 % lower"), "{h}");
+        assert!(h.ends_with("; made worse: y.depth (RMSE 37.0 % higher)"), "{h}");
+        // Nothing made worse: nothing said.
+        let fine = outcome(&[(d, 0.01, 0.009), (y, 0.2, 0.1)]);
+        assert!(fine.worsened_channels().is_empty());
+        assert!(!headline(&fine).contains("worse"));
+    }
+
     #[test]
     fn one_channel_is_not_counted_as_many() {
         let d = ChannelKind::Depth;
