@@ -280,7 +280,10 @@ mod tests {
         assert!((out.validation_gain_pct() - 24.9).abs() < 1e-9);
         let h = headline(&out);
         assert!(h.starts_with("validation RMSE 24.9 % lower"), "{h}");
-        assert!(h.ends_with("; made worse: y.depth (RMSE 37.0 % higher)"), "{h}");
+        assert!(
+            h.ends_with("; made worse: y.depth (RMSE 37.0 % higher)"),
+            "{h}"
+        );
         // Nothing made worse: nothing said.
         let fine = outcome(&[(d, 0.01, 0.009), (y, 0.2, 0.1)]);
         assert!(fine.worsened_channels().is_empty());

@@ -8,11 +8,11 @@
 //! threshold — the log cannot separate the two: the verdict reports
 //! "A or B" with the manoeuvre that would separate them.
 
-use super::step::Step;
 use super::context::Search;
 use super::fitted::Fit;
 use super::measures::{delta_bic_eff, gain};
 use super::par::par_map;
+use super::step::Step;
 use super::verdict::Ambiguity;
 use crate::evaluate::blocks::heldout_t;
 use crate::log::run::ChannelKind;
