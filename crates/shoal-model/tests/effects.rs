@@ -126,6 +126,34 @@ fn catalogue_is_complete_and_consistent() {
     }
 }
 
+/// Each family carries its facts once: its forms share its name, no family is listed twice
+/// (two entries would be two sets of facts for one family), and the manoeuvres that separate
+/// it name other catalogue families.
+#[test]
+fn families_carry_their_facts() {
+    let fams = shoal_model::effects::families();
+    let all = names();
+    assert_eq!(fams.len(), all.len(), "a family listed twice");
+    for f in &fams {
+        let name = f.name();
+        for e in &f.forms {
+            assert_eq!(e.name(), name, "form {} in family {name}", e.form());
+        }
+        assert!(!f.facts.excitation.is_empty(), "{name}");
+        for (other, how) in f.facts.separations {
+            assert!(
+                all.contains(other) && *other != name && !how.is_empty(),
+                "{name}: separation from {other}"
+            );
+        }
+        if let Some(d) = f.facts.direct {
+            assert!(!d.channels.is_empty() && !d.why_not_fitted.is_empty(), "{name}");
+        }
+        assert_eq!(shoal_model::effects::facts(name), Some(f.facts));
+    }
+    assert_eq!(shoal_model::effects::facts("no_such_family"), None);
+}
+
 // ---------------------------------------------------------------------------------------
 // Null values change nothing — in a scenario that would show the effect.
 

@@ -27,6 +27,16 @@ pub fn plural(noun: &str) -> String {
     format!("{noun}s")
 }
 
+/// `value` followed by its unit, or alone where the unit says the quantity is dimensionless
+/// (`-` or empty): `with_unit("0.12", "m")` is `0.12 m`, `with_unit("1.319", "-")` is `1.319`.
+pub fn with_unit(value: &str, unit: &str) -> String {
+    if unit.is_empty() || unit == "-" {
+        value.to_string()
+    } else {
+        format!("{value} {unit}")
+    }
+}
+
 /// A ratio `x` (e.g. simulated seconds per wall-clock second) with the digits that matter:
 /// one decimal from 1 up (`12.3`), two significant digits below (`0.43`, `0.0021`), `0` for
 /// zero and the value as it is when not finite.
@@ -55,6 +65,14 @@ mod tests {
         assert_eq!(count(2, "entry"), "2 entries");
         assert_eq!(count(2, "day"), "2 days");
         assert_eq!(count(1, "thread"), "1 thread");
+    }
+
+    #[test]
+    fn dimensionless_values_print_no_unit() {
+        assert_eq!(with_unit("1.319", "-"), "1.319");
+        assert_eq!(with_unit("1.319", ""), "1.319");
+        assert_eq!(with_unit("0.12", "m"), "0.12 m");
+        assert_eq!(with_unit("2", "rad/s"), "2 rad/s");
     }
 
     #[test]

@@ -23,6 +23,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use shoal_model::presets;
 use shoal_model::rigid_body::Environment;
+use shoal_output::words::with_unit;
 use shoal_sysid::log::run::MeasuredRun;
 use std::collections::BTreeSet;
 
@@ -78,14 +79,15 @@ impl Hidden {
         }
     }
 
-    /// `form (name = value unit, …)`, values with four significant digits.
+    /// `form (name = value unit, …)`, values with four significant digits (no unit after a
+    /// dimensionless value).
     pub fn describe(&self) -> String {
         let p: Vec<String> = self
             .form
             .params
             .iter()
             .zip(&self.values)
-            .map(|(p, v)| format!("{} = {} {}", p.name, format_g(*v, 4), p.unit))
+            .map(|(p, v)| format!("{} = {}", p.name, with_unit(&format_g(*v, 4), p.unit)))
             .collect();
         format!("{} ({})", self.form.name, p.join(", "))
     }
@@ -374,6 +376,22 @@ pub fn truth_json(cases: &[CaseSpec]) -> String {
 mod tests {
     use super::*;
     use shoal_sysid::log::run::ChannelKind;
+
+    /// A dimensionless parameter prints without a unit ("a = 0.25", not "a = 0.25 -"); the
+    /// others with theirs.
+    #[test]
+    fn descriptions_print_no_unit_after_a_dimensionless_value() {
+        let hidden = Hidden {
+            form: truth_forms::by_name("battery_sag/knee").expect("the knee form"),
+            values: vec![0.25, 60.0, 10.0],
+        };
+        assert_eq!(
+            hidden.describe(),
+            "battery_sag/knee (a = 0.25, t_k_s = 60 s, w_s = 10 s)"
+        );
+        let a = &hidden.form.params[0];
+        assert_eq!(a.range_text(), "0.2 … 0.35");
+    }
 
     #[test]
     fn sets_cover_every_form_and_family_and_names_are_unique() {

@@ -9,7 +9,9 @@
 //! The rigid mass itself is fixed by the weight and stays.
 
 use super::effect::{Effect, ParamInfo};
+use super::family::{Family, FamilyFacts, Regressor};
 use crate::vehicle_params::VehicleParams;
+use std::sync::Arc;
 
 /// See the module documentation.
 #[derive(Clone, Copy, Debug, Default)]
@@ -41,5 +43,18 @@ impl Effect for AddedMassError {
     fn configure(&self, p: &[f64], vehicle: &mut VehicleParams) {
         vehicle.body.added_mass *= p[0];
         vehicle.body.inertia_cg *= p[0];
+    }
+}
+
+/// The family: its forms, default first, and its facts.
+pub(super) fn family() -> Family {
+    Family {
+        forms: vec![Arc::new(AddedMassError)],
+        facts: FamilyFacts {
+            excitation: "short, hard accelerations from rest",
+            direct: None,
+            regressor: Regressor::Time,
+            separations: &[],
+        },
     }
 }

@@ -10,7 +10,9 @@
 //! Applies only to vehicles with a buoyancy tank.
 
 use super::effect::{Effect, ParamInfo};
+use super::family::{Family, FamilyFacts, Regressor};
 use crate::vehicle_params::VehicleParams;
+use std::sync::Arc;
 
 /// See the module documentation.
 #[derive(Clone, Copy, Debug, Default)]
@@ -50,5 +52,18 @@ impl Effect for BallastMass {
         if let Some(b) = &mut vehicle.ballast {
             b.flow = p[0] * 1e-6;
         }
+    }
+}
+
+/// The family: its forms, default first, and its facts.
+pub(super) fn family() -> Family {
+    Family {
+        forms: vec![Arc::new(BallastMass)],
+        facts: FamilyFacts {
+            excitation: "pump phases with the thrusters off",
+            direct: None,
+            regressor: Regressor::Time,
+            separations: &[],
+        },
     }
 }

@@ -11,8 +11,10 @@
 //! that levels off; a `power` form k(t) = 1 − a·(t/100 s)^p has a shape exponent p for a sag
 //! that accelerates (p > 1: a cell nearing the knee of its discharge curve) or slows (p < 1).
 use super::effect::{Effect, ParamInfo, ThrustContext};
+use super::family::{Family, FamilyFacts, Regressor};
 use super::laws::{POWER_T_REF, settled, settling_tau_param, time_exponent_param};
 use crate::vehicle_params::VehicleParams;
+use std::sync::Arc;
 
 /// The fraction a of the thrust a sag takes (the exponential and power forms).
 fn fraction_param(doc: &'static str) -> ParamInfo {
@@ -123,5 +125,26 @@ impl Effect for BatterySagPower {
     fn thrust(&self, p: &[f64], ctx: &ThrustContext<'_>, f: f64) -> f64 {
         let x = (ctx.t.max(0.0) / POWER_T_REF).powf(p[1]);
         (1.0 - p[0] * x).max(0.0) * f
+    }
+}
+
+/// The family: its forms, default first, and its facts.
+pub(super) fn family() -> Family {
+    Family {
+        forms: vec![
+            Arc::new(BatterySag),
+            Arc::new(BatterySagExponential),
+            Arc::new(BatterySagPower),
+        ],
+        facts: FamilyFacts {
+            excitation: "the same command step repeated at the start and at the end of a long run",
+            direct: None,
+            regressor: Regressor::Time,
+            separations: &[(
+                "thrust_gain",
+                "repeat the same command step at the start and at the end of the run (a sag \
+             changes the response over time, a gain does not)",
+            )],
+        },
     }
 }

@@ -18,9 +18,11 @@
 //! the depth sensor's bias and the battery's sag.
 
 use super::effect::{Effect, ForceContext, ParamInfo};
+use super::family::{Family, FamilyFacts, Regressor};
 use super::laws::{settled, settling_tau_param};
 use crate::math::{Vec6, join6};
 use crate::vehicle_params::VehicleParams;
+use std::sync::Arc;
 
 /// See the module documentation.
 #[derive(Clone, Copy, Debug, Default)]
@@ -193,5 +195,23 @@ impl Effect for BuoyancyOffsetSettling {
     }
     fn force(&self, p: &[f64], ctx: &ForceContext<'_>) -> Vec6 {
         vertical_force(p[0] + p[1] * settled(ctx.t, p[2]), ctx)
+    }
+}
+
+/// The family: its forms, default first, and its facts.
+pub(super) fn family() -> Family {
+    Family {
+        forms: vec![
+            Arc::new(BuoyancyOffset),
+            Arc::new(BuoyancyOffsetDrift),
+            Arc::new(BuoyancyOffsetDepth),
+            Arc::new(BuoyancyOffsetSettling),
+        ],
+        facts: FamilyFacts {
+            excitation: "idle phases (all thrusters off) at several depths",
+            direct: None,
+            regressor: Regressor::Time,
+            separations: &[],
+        },
     }
 }

@@ -12,8 +12,10 @@
 //! and bottom, are shaped differently (a camera dome, a flat belly).
 
 use super::effect::{Effect, ForceContext, ParamInfo};
+use super::family::{Family, FamilyFacts, Regressor};
 use crate::math::Vec6;
 use crate::vehicle_params::VehicleParams;
+use std::sync::Arc;
 
 /// Reference speeds per degree of freedom for laws that depend on speed: translations
 /// [m/s], rotations \[rad/s\] — a small vehicle's typical cruise (the μAUV²'s heave speed at
@@ -162,5 +164,22 @@ impl Effect for DampingErrorPower {
             let x = nu[i] / NU_REF[i];
             -p[0] * d[i] * NU_REF[i] * NU_REF[i] * x.abs().powf(p[1] - 1.0) * x
         })
+    }
+}
+
+/// The family: its forms, default first, and its facts.
+pub(super) fn family() -> Family {
+    Family {
+        forms: vec![
+            Arc::new(DampingError),
+            Arc::new(DampingErrorDirection),
+            Arc::new(DampingErrorPower),
+        ],
+        facts: FamilyFacts {
+            excitation: "coasting down from several speeds",
+            direct: None,
+            regressor: Regressor::Rate,
+            separations: &[],
+        },
     }
 }

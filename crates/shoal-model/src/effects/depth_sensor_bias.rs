@@ -15,8 +15,10 @@
 //! `b₀ + Δ·(1 − e^(−(t/τ)^k))`, a settling whose start is slow (k > 1: the sensor warms through
 //! more than one thermal mass, or the vehicle crosses a thermocline).
 use super::effect::{Effect, ParamInfo};
+use super::family::{Family, FamilyFacts, Regressor};
 use super::laws::{POWER_T_REF, settled, settling_tau_param, time_exponent_param};
 use crate::vehicle_params::VehicleParams;
+use std::sync::Arc;
 
 /// The reading's constant offset b₀ \[m\], shared by both forms.
 fn b0_param() -> ParamInfo {
@@ -191,5 +193,28 @@ impl Effect for DepthSensorBiasSCurve {
         // The settling law in the time variable (t/τ)^k.
         let x = t.max(0.0) / p[2].max(1e-3);
         p[0] + p[1] * settled(x.powf(p[3]), 1.0)
+    }
+}
+
+/// The family: its forms, default first, and its facts.
+pub(super) fn family() -> Family {
+    Family {
+        forms: vec![
+            Arc::new(DepthSensorBias),
+            Arc::new(DepthSensorBiasSettling),
+            Arc::new(DepthSensorBiasPower),
+            Arc::new(DepthSensorBiasSCurve),
+        ],
+        facts: FamilyFacts {
+            excitation: "a surface check (the reading at zero depth) at the start and at the end",
+            direct: None,
+            regressor: Regressor::Time,
+            separations: &[(
+                "buoyancy_offset",
+                "surface at the start and at the end (a sensor bias reads ≠ 0 at the surface, a \
+             buoyancy offset does not) and hold a depth with the thrusters off (a buoyancy \
+             offset moves the vehicle, a sensor bias only the reading)",
+            )],
+        },
     }
 }

@@ -16,7 +16,9 @@
 //!
 //! A `linear` form competes, `f = f_static − k·|f_static|·u_a`.
 use super::effect::{Effect, ParamInfo, ThrustContext};
+use super::family::{Family, FamilyFacts, Regressor};
 use crate::vehicle_params::VehicleParams;
+use std::sync::Arc;
 
 /// See the module documentation.
 #[derive(Clone, Copy, Debug, Default)]
@@ -151,5 +153,22 @@ impl Effect for InflowThrustLossPower {
         let u = ctx.inflow;
         let rel = p[0] * u.signum() * (u.abs() / INFLOW_REF).powf(p[1]);
         reduced(f, rel * f.abs())
+    }
+}
+
+/// The family: its forms, default first, and its facts.
+pub(super) fn family() -> Family {
+    Family {
+        forms: vec![
+            Arc::new(InflowThrustLoss),
+            Arc::new(InflowThrustLossLinear),
+            Arc::new(InflowThrustLossPower),
+        ],
+        facts: FamilyFacts {
+            excitation: "the same command from rest and while already moving along the thrust axis",
+            direct: None,
+            regressor: Regressor::Command,
+            separations: &[],
+        },
     }
 }

@@ -3,7 +3,7 @@
 //! is not neutral, a delayed sensor, …
 //!
 //! Every effect is one type implementing [`Effect`], in its own file of this module, listed
-//! once in [`catalogue`]. The trait, its parameters and what its hooks see are in `effect.rs`,
+//! once in [`families`] with its facts ([`FamilyFacts`]). The trait, its parameters and what its hooks see are in `effect.rs`,
 //! the laws in time that several effects share in `laws.rs`, the parameters that come once
 //! per thruster in `per_thruster.rs`; the effects build on those three,
 //! and this file on the effects. An effect declares its parameters ([`ParamInfo`]: unit, bounds, the
@@ -21,8 +21,8 @@
 //!
 //! The same effects drive `shoal run` (a vehicle model built with them,
 //! `VehicleModel::with_effects`) and the model search of `shoal validate`, so a fitted
-//! extension runs unchanged in a world. Adding an effect means adding a file here and a line to
-//! [`catalogue`]; nothing in the search changes.
+//! extension runs unchanged in a world. Adding an effect family means adding a file here (its
+//! forms and its required facts) and a line to [`families`]; nothing in the search changes.
 
 mod added_mass_error;
 mod ballast_mass;
@@ -31,6 +31,7 @@ mod buoyancy_offset;
 mod damping_error;
 mod depth_sensor_bias;
 mod effect;
+mod family;
 mod inflow_thrust_loss;
 mod laws;
 mod per_thruster;
@@ -76,65 +77,49 @@ pub use thruster_lag::{
 pub use water_current::WaterCurrent;
 
 pub use effect::{Effect, ForceContext, ParamInfo, Stage, ThrustContext};
+pub use family::{DirectChannels, Family, FamilyFacts, Regressor};
 
 use crate::math::{Vec3, Vec6};
 use crate::thruster::ThrusterParams;
 use crate::vehicle_params::VehicleParams;
 use std::sync::Arc;
 
-/// The built-in effects in catalogue order (see `../shared/spec/validation.md`), every form
-/// of a family after its first (default) form.
-pub fn catalogue() -> Vec<Arc<dyn Effect>> {
+/// The built-in effect families in catalogue order (see `../shared/spec/validation.md`), each
+/// with its forms and its facts: adding a family means adding its file and a line here.
+pub fn families() -> Vec<Family> {
     vec![
-        Arc::new(ThrusterLag),
-        Arc::new(ThrusterLagSecondOrder),
-        Arc::new(ThrusterLagUpDown),
-        Arc::new(ThrusterLagSlew),
-        Arc::new(ThrusterLagPerThruster),
-        Arc::new(ThrustGain),
-        Arc::new(ThrustGainCurve),
-        Arc::new(ThrustGainKnee),
-        Arc::new(ThrustGainPerThruster),
-        Arc::new(ThrustAsymmetry),
-        Arc::new(ThrustAsymmetryCurve),
-        Arc::new(ThrustAsymmetrySided),
-        Arc::new(ThrusterDeadband),
-        Arc::new(ThrusterDeadbandSoft),
-        Arc::new(ThrusterDeadbandGate),
-        Arc::new(ThrusterDeadbandAsymmetric),
-        Arc::new(ThrusterDeadbandSoftAsymmetric),
-        Arc::new(BatterySag),
-        Arc::new(BatterySagExponential),
-        Arc::new(BatterySagPower),
-        Arc::new(InflowThrustLoss),
-        Arc::new(InflowThrustLossLinear),
-        Arc::new(InflowThrustLossPower),
-        Arc::new(BuoyancyOffset),
-        Arc::new(BuoyancyOffsetDrift),
-        Arc::new(BuoyancyOffsetDepth),
-        Arc::new(BuoyancyOffsetSettling),
-        Arc::new(BallastMass),
-        Arc::new(DampingError),
-        Arc::new(DampingErrorDirection),
-        Arc::new(DampingErrorPower),
-        Arc::new(AddedMassError),
-        Arc::new(RestoringMoment),
-        Arc::new(RestoringMomentDrift),
-        Arc::new(RestoringMomentSettling),
-        Arc::new(WaterCurrent),
-        Arc::new(DepthSensorBias),
-        Arc::new(DepthSensorBiasSettling),
-        Arc::new(DepthSensorBiasPower),
-        Arc::new(DepthSensorBiasSCurve),
-        Arc::new(SensorDelay),
-        Arc::new(ThrustCoupling),
-        Arc::new(ThrustCouplingDirection),
-        Arc::new(ThrustSaturation),
-        Arc::new(ThrustSaturationSmooth),
-        Arc::new(ThrustSaturationAsymmetric),
-        Arc::new(TetherDrag),
-        Arc::new(TetherTaut),
+        thruster_lag::family(),
+        thrust_gain::family(),
+        thrust_asymmetry::family(),
+        thruster_deadband::family(),
+        battery_sag::family(),
+        inflow_thrust_loss::family(),
+        buoyancy_offset::family(),
+        ballast_mass::family(),
+        damping_error::family(),
+        added_mass_error::family(),
+        restoring_moment::family(),
+        water_current::family(),
+        depth_sensor_bias::family(),
+        sensor_delay::family(),
+        thrust_coupling::family(),
+        thrust_saturation::family(),
+        tether_drag::family(),
     ]
+}
+
+/// The built-in effects in catalogue order, every form of a family after its first (default)
+/// form.
+pub fn catalogue() -> Vec<Arc<dyn Effect>> {
+    families().into_iter().flat_map(|f| f.forms).collect()
+}
+
+/// The facts of the built-in family `name` (`None`: no such family).
+pub fn facts(name: &str) -> Option<FamilyFacts> {
+    families()
+        .into_iter()
+        .find(|f| f.name() == name)
+        .map(|f| f.facts)
 }
 
 /// The built-in effect of that family name, in its default (first) form.
@@ -163,13 +148,7 @@ pub fn forms(name: &str) -> Vec<&'static str> {
 
 /// Names of the built-in effect families in catalogue order (each once).
 pub fn names() -> Vec<&'static str> {
-    let mut out: Vec<&'static str> = Vec::new();
-    for e in catalogue() {
-        if !out.contains(&e.name()) {
-            out.push(e.name());
-        }
-    }
-    out
+    families().iter().map(Family::name).collect()
 }
 
 /// One effect with its parameter values.

@@ -22,9 +22,11 @@
 //! Roll and pitch show it directly; logs without them see it only through the tilted thrust.
 
 use super::effect::{Effect, ForceContext, ParamInfo};
+use super::family::{DirectChannels, Family, FamilyFacts, Regressor};
 use super::laws::{settled, settling_tau_param};
 use crate::math::{Vec3, Vec6, join6};
 use crate::vehicle_params::VehicleParams;
+use std::sync::Arc;
 
 /// See the module documentation.
 #[derive(Clone, Copy, Debug, Default)]
@@ -177,6 +179,27 @@ impl Effect for RestoringMomentSettling {
     fn force(&self, p: &[f64], ctx: &ForceContext<'_>) -> Vec6 {
         let k = settled(ctx.t, p[4]);
         weight_moment(Vec3::new(p[0] + p[2] * k, p[1] + p[3] * k, 0.0), ctx)
+    }
+}
+
+/// The family: its forms, default first, and its facts.
+pub(super) fn family() -> Family {
+    Family {
+        forms: vec![
+            Arc::new(RestoringMoment),
+            Arc::new(RestoringMomentDrift),
+            Arc::new(RestoringMomentSettling),
+        ],
+        facts: FamilyFacts {
+            excitation: "resting at depth with roll and pitch logged (the resting tilt)",
+            direct: Some(DirectChannels {
+                channels: &["roll", "pitch", "p", "q"],
+                why_not_fitted: "not fitted: these runs log neither roll nor pitch (nor their rates), where a \
+             shifted centre of gravity shows first",
+            }),
+            regressor: Regressor::Time,
+            separations: &[],
+        },
     }
 }
 

@@ -8,7 +8,9 @@
 //! held back by δ).
 
 use super::effect::{Effect, ParamInfo};
+use super::family::{Family, FamilyFacts, Regressor};
 use crate::vehicle_params::VehicleParams;
+use std::sync::Arc;
 
 /// See the module documentation.
 #[derive(Clone, Copy, Debug, Default)]
@@ -39,5 +41,18 @@ impl Effect for SensorDelay {
     }
     fn delay(&self, p: &[f64]) -> f64 {
         p[0]
+    }
+}
+
+/// The family: its forms, default first, and its facts.
+pub(super) fn family() -> Family {
+    Family {
+        forms: vec![Arc::new(SensorDelay)],
+        facts: FamilyFacts {
+            excitation: "fast command reversals",
+            direct: None,
+            regressor: Regressor::Time,
+            separations: &[],
+        },
     }
 }

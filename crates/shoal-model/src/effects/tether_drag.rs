@@ -33,8 +33,10 @@
 //! depth-sensor drift for itself).
 
 use super::effect::{Effect, ForceContext, ParamInfo};
+use super::family::{DirectChannels, Family, FamilyFacts, Regressor};
 use crate::math::{Vec3, Vec6, join6};
 use crate::vehicle_params::VehicleParams;
+use std::sync::Arc;
 
 /// The attachment point's body-frame `x`, a shape parameter of both forms.
 fn x_att_param() -> ParamInfo {
@@ -210,5 +212,27 @@ impl Effect for TetherTaut {
         }
         let f = -p[0] * (r - p[1]) * horizontal / r;
         TetherDrag::wrench_at(&a, &f, ctx)
+    }
+}
+
+/// The family: its forms, default first, and its facts.
+pub(super) fn family() -> Family {
+    Family {
+        forms: vec![Arc::new(TetherDrag), Arc::new(TetherTaut)],
+        facts: FamilyFacts {
+            excitation: "travelling away from the anchor and back with the position tracked",
+            // A tether's pull grows with the distance from its anchor: without the position (or the
+            // horizontal velocity) a log cannot place the hull relative to the anchor, and the
+            // cable's drag is just more drag, or less thrust, at speed — the damping-error and
+            // inflow families' marks (on the BlueROV yaw runs it fitted C_d·d at its bound as a
+            // stand-in for the damping error; in a mission the inflow loss won instead of it).
+            direct: Some(DirectChannels {
+                channels: &["x", "y", "u", "v"],
+                why_not_fitted: "not fitted: these runs log neither the horizontal position nor the horizontal \
+             velocity, which a tether's pull depends on (its distance from the anchor)",
+            }),
+            regressor: Regressor::Time,
+            separations: &[],
+        },
     }
 }

@@ -14,8 +14,10 @@
 //! the hull, or one of them nicked).
 
 use super::effect::{Effect, ParamInfo, ThrustContext};
+use super::family::{Family, FamilyFacts, Regressor};
 use super::thrust_gain::command_factor;
 use crate::vehicle_params::VehicleParams;
+use std::sync::Arc;
 
 /// See the module documentation.
 #[derive(Clone, Copy, Debug, Default)]
@@ -151,5 +153,22 @@ impl Effect for ThrustAsymmetrySided {
         } else {
             f
         }
+    }
+}
+
+/// The family: its forms, default first, and its facts.
+pub(super) fn family() -> Family {
+    Family {
+        forms: vec![
+            Arc::new(ThrustAsymmetry),
+            Arc::new(ThrustAsymmetryCurve),
+            Arc::new(ThrustAsymmetrySided),
+        ],
+        facts: FamilyFacts {
+            excitation: "equal forward and reverse commands",
+            direct: None,
+            regressor: Regressor::Command,
+            separations: &[],
+        },
     }
 }

@@ -14,8 +14,10 @@
 //! one side of the hull only.
 
 use super::effect::{Effect, ForceContext, ParamInfo};
+use super::family::{Family, FamilyFacts, Regressor};
 use crate::math::Vec6;
 use crate::vehicle_params::VehicleParams;
+use std::sync::Arc;
 
 /// See the module documentation.
 #[derive(Clone, Copy, Debug, Default)]
@@ -115,5 +117,18 @@ impl Effect for ThrustCouplingDirection {
         let fz = ctx.thrust_force.z;
         let k_z = if fz >= 0.0 { p[0] } else { p[1] };
         yaw_moment(k_z * fz + p[2] * ctx.thrust_force.x)
+    }
+}
+
+/// The family: its forms, default first, and its facts.
+pub(super) fn family() -> Family {
+    Family {
+        forms: vec![Arc::new(ThrustCoupling), Arc::new(ThrustCouplingDirection)],
+        facts: FamilyFacts {
+            excitation: "vertical thrust steps with the heading logged",
+            direct: None,
+            regressor: Regressor::Command,
+            separations: &[],
+        },
     }
 }

@@ -17,8 +17,10 @@
 //! that differ one by one), applied to its thrust curve when the model is built.
 
 use super::effect::{Effect, ParamInfo, ThrustContext};
+use super::family::{Family, FamilyFacts, Regressor};
 use super::per_thruster;
 use crate::vehicle_params::VehicleParams;
+use std::sync::Arc;
 
 /// The gain k of both forms.
 fn k_param(doc: &'static str) -> ParamInfo {
@@ -208,5 +210,23 @@ impl Effect for ThrustGainPerThruster {
         for (th, k) in vehicle.thrusters.iter_mut().zip(p) {
             th.curve.scale(*k);
         }
+    }
+}
+
+/// The family: its forms, default first, and its facts.
+pub(super) fn family() -> Family {
+    Family {
+        forms: vec![
+            Arc::new(ThrustGain),
+            Arc::new(ThrustGainCurve),
+            Arc::new(ThrustGainKnee),
+            Arc::new(ThrustGainPerThruster),
+        ],
+        facts: FamilyFacts {
+            excitation: "steps to several command levels in both directions",
+            direct: None,
+            regressor: Regressor::Command,
+            separations: &[],
+        },
     }
 }

@@ -14,7 +14,9 @@
 //! of each direction's maximum (an ESC whose current limit binds earlier one way than the
 //! other).
 use super::effect::{Effect, ParamInfo, Stage, ThrustContext};
+use super::family::{Family, FamilyFacts, Regressor};
 use crate::vehicle_params::VehicleParams;
+use std::sync::Arc;
 
 /// See the module documentation.
 #[derive(Clone, Copy, Debug, Default)]
@@ -160,5 +162,22 @@ impl Effect for ThrustSaturationAsymmetric {
     fn thrust(&self, p: &[f64], ctx: &ThrustContext<'_>, f: f64) -> f64 {
         let (fwd, rev) = ctx.thruster.curve.limits(ctx.thruster.max_command);
         f.clamp(-p[1] * rev, p[0] * fwd)
+    }
+}
+
+/// The family: its forms, default first, and its facts.
+pub(super) fn family() -> Family {
+    Family {
+        forms: vec![
+            Arc::new(ThrustSaturation),
+            Arc::new(ThrustSaturationSmooth),
+            Arc::new(ThrustSaturationAsymmetric),
+        ],
+        facts: FamilyFacts {
+            excitation: "full-scale commands next to half-scale ones",
+            direct: None,
+            regressor: Regressor::Command,
+            separations: &[],
+        },
     }
 }

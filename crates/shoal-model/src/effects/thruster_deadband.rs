@@ -19,8 +19,10 @@
 //! A `soft_asymmetric` form: the soft knee with its own width for each direction.
 
 use super::effect::{Effect, ParamInfo};
+use super::family::{Family, FamilyFacts, Regressor};
 use crate::thruster::ThrusterParams;
 use crate::vehicle_params::VehicleParams;
+use std::sync::Arc;
 
 /// The band's width d₀ \[%\], shared by every form (`doc` says what it means in that form).
 fn d0_param(doc: &'static str) -> ParamInfo {
@@ -208,5 +210,24 @@ impl Effect for ThrusterDeadbandAsymmetric {
     fn command(&self, p: &[f64], thruster: &ThrusterParams, n: f64) -> f64 {
         let d = if n >= 0.0 { p[0] } else { p[1] };
         ThrusterDeadband.command(&[d], thruster, n)
+    }
+}
+
+/// The family: its forms, default first, and its facts.
+pub(super) fn family() -> Family {
+    Family {
+        forms: vec![
+            Arc::new(ThrusterDeadband),
+            Arc::new(ThrusterDeadbandSoft),
+            Arc::new(ThrusterDeadbandGate),
+            Arc::new(ThrusterDeadbandAsymmetric),
+            Arc::new(ThrusterDeadbandSoftAsymmetric),
+        ],
+        facts: FamilyFacts {
+            excitation: "slow ramps through zero and small commands (±5–15 %)",
+            direct: None,
+            regressor: Regressor::Command,
+            separations: &[],
+        },
     }
 }

@@ -18,8 +18,10 @@
 //! whose length grows with the step — an ESC with a soft start or a current limit) and
 //! `per_thruster` (each thruster its own first-order lag τ_i: motors that differ one by one).
 use super::effect::{Effect, ParamInfo};
+use super::family::{Family, FamilyFacts, Regressor};
 use super::per_thruster;
 use crate::vehicle_params::VehicleParams;
+use std::sync::Arc;
 
 /// A time constant τ of the first-order, up/down and per-thruster forms, 0 … 2 s.
 fn tau_param(doc: &'static str) -> ParamInfo {
@@ -221,5 +223,24 @@ impl Effect for ThrusterLagPerThruster {
         for (th, tau) in vehicle.thrusters.iter_mut().zip(p) {
             th.lag += tau;
         }
+    }
+}
+
+/// The family: its forms, default first, and its facts.
+pub(super) fn family() -> Family {
+    Family {
+        forms: vec![
+            Arc::new(ThrusterLag),
+            Arc::new(ThrusterLagSecondOrder),
+            Arc::new(ThrusterLagUpDown),
+            Arc::new(ThrusterLagSlew),
+            Arc::new(ThrusterLagPerThruster),
+        ],
+        facts: FamilyFacts {
+            excitation: "short command steps (0.5–2 s) up and down",
+            direct: None,
+            regressor: Regressor::Command,
+            separations: &[],
+        },
     }
 }

@@ -9,8 +9,10 @@
 //! negligible in pools and, in a depth-only log, indistinguishable from a depth-sensor drift.
 
 use super::effect::{Effect, ParamInfo};
+use super::family::{Family, FamilyFacts, Regressor};
 use crate::math::Vec3;
 use crate::vehicle_params::VehicleParams;
+use std::sync::Arc;
 
 /// See the module documentation.
 #[derive(Clone, Copy, Debug, Default)]
@@ -45,5 +47,18 @@ impl Effect for WaterCurrent {
     }
     fn current(&self, p: &[f64]) -> Vec3 {
         Vec3::new(p[0], p[1], 0.0)
+    }
+}
+
+/// The family: its forms, default first, and its facts.
+pub(super) fn family() -> Family {
+    Family {
+        forms: vec![Arc::new(WaterCurrent)],
+        facts: FamilyFacts {
+            excitation: "holding station with the position tracked",
+            direct: None,
+            regressor: Regressor::Time,
+            separations: &[],
+        },
     }
 }

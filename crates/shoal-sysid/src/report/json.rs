@@ -269,6 +269,7 @@ pub(super) fn report(
             "validation_gain_pct": out.validation_gain_pct(),
             "changed_channels": changed.iter().map(|k| label(*k)).collect::<Vec<_>>(),
             "changed_channels_gain_pct": on_changed,
+            "worsened_channels": out.worsened_channels().iter().map(|(k, g)| (label(*k), json!(g))).collect::<Map<String, Value>>(),
             "residuals_white_before": base.eval.residuals_white(),
             "residuals_white_after": fin.eval.residuals_white(),
             "channels": per_channel,

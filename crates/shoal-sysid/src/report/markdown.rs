@@ -14,6 +14,7 @@ use crate::evaluate::evaluation::rmse_gain_pct;
 use crate::log::run::ChannelKind;
 use crate::search::{Candidate, FittedEffect, Outcome, SearchOptions};
 use shoal_model::vehicle::VehicleParams;
+use shoal_output::words::with_unit;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
@@ -281,11 +282,8 @@ fn params(s: &mut String, e: &FittedEffect, vehicle: &VehicleParams) {
     let _ = writeln!(s, "|---|---|---|---|---|---|");
     let infos = e.effect.params(vehicle);
     for p in &e.params {
-        let unit = if p.unit == "-" || p.unit.is_empty() {
-            String::new()
-        } else {
-            format!(" {}", p.unit)
-        };
+        // " m" after a value, nothing after a dimensionless one.
+        let unit = with_unit("", &p.unit);
         let doc = infos
             .iter()
             .find(|i| i.name == p.name)

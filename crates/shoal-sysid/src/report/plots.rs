@@ -113,7 +113,10 @@ pub(super) fn write_all(
     let cmd = signature::command_input(ds);
     for e in &out.chosen.effects {
         let name = e.effect.name();
-        let reg = signature::regressor_of(name);
+        // Only catalogue families have a signature to plot.
+        let Some(reg) = signature::regressor_of(name) else {
+            continue;
+        };
         // Without a varying thruster input, time is all there is.
         let input = cmd.as_deref().filter(|_| reg == Regressor::Command);
         let reg = if reg == Regressor::Command && input.is_none() {

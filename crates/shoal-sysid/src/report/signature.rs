@@ -9,27 +9,14 @@ use crate::evaluate::dataset::{Dataset, RunData};
 use crate::evaluate::evaluation::Evaluation;
 use crate::log::run::ChannelKind;
 
-/// What a family's residual signature is plotted against.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Regressor {
-    /// The command of the most active thruster input [%].
-    Command,
-    /// Time since the run's start \[s\].
-    Time,
-    /// The rate of the channel: the measured value itself for rates and velocities, else the
-    /// measured value differenced over 0.2 s (channel unit per second).
-    Rate,
-}
+pub use shoal_model::effects::Regressor;
 
-/// The regressor that shows the family `name`: thruster effects against the command, damping
-/// against the rate, everything else (battery sag, sensor bias, …) against time.
-pub fn regressor_of(name: &str) -> Regressor {
-    match name {
-        "thruster_lag" | "thrust_gain" | "thrust_asymmetry" | "thruster_deadband"
-        | "thrust_saturation" | "inflow_thrust_loss" | "thrust_coupling" => Regressor::Command,
-        "damping_error" => Regressor::Rate,
-        _ => Regressor::Time,
-    }
+/// The regressor that shows the family `name` (its
+/// [`FamilyFacts::regressor`](shoal_model::effects::FamilyFacts::regressor)): thruster effects
+/// against the command, damping against the rate, the others (battery sag, sensor bias, …)
+/// against time. `None`: not a catalogue family.
+pub fn regressor_of(name: &str) -> Option<Regressor> {
+    shoal_model::effects::facts(name).map(|f| f.regressor)
 }
 
 /// Half-width of the differencing window of [`Regressor::Rate`] \[s\].
@@ -196,12 +183,13 @@ mod tests {
 
     #[test]
     fn families_map_to_the_regressor_that_shows_them() {
-        assert_eq!(regressor_of("thruster_deadband"), Regressor::Command);
-        assert_eq!(regressor_of("thrust_asymmetry"), Regressor::Command);
-        assert_eq!(regressor_of("battery_sag"), Regressor::Time);
-        assert_eq!(regressor_of("depth_sensor_bias"), Regressor::Time);
-        assert_eq!(regressor_of("damping_error"), Regressor::Rate);
-        assert_eq!(regressor_of("water_current"), Regressor::Time);
+        assert_eq!(regressor_of("thruster_deadband"), Some(Regressor::Command));
+        assert_eq!(regressor_of("thrust_asymmetry"), Some(Regressor::Command));
+        assert_eq!(regressor_of("battery_sag"), Some(Regressor::Time));
+        assert_eq!(regressor_of("depth_sensor_bias"), Some(Regressor::Time));
+        assert_eq!(regressor_of("damping_error"), Some(Regressor::Rate));
+        assert_eq!(regressor_of("water_current"), Some(Regressor::Time));
+        assert_eq!(regressor_of("no_such_family"), None);
     }
 
     #[test]

@@ -8,14 +8,15 @@
 //! threshold — the log cannot separate the two: the verdict reports
 //! "A or B" with the manoeuvre that would separate them.
 
-use super::Step;
 use super::context::Search;
 use super::fitted::Fit;
 use super::measures::{delta_bic_eff, gain};
 use super::par::par_map;
+use super::step::Step;
 use super::verdict::Ambiguity;
 use crate::evaluate::blocks::heldout_t;
 use crate::log::run::ChannelKind;
+use shoal_model::effects::{self, FamilyFacts};
 
 /// Block t below which the held-out data cannot prefer one of two models.
 const AMBIGUOUS_T: f64 = 2.0;
@@ -70,86 +71,81 @@ pub(super) fn ambiguities(
     out
 }
 
-/// What excites an effect family most clearly, in words.
-pub fn excitation(family: &str) -> &'static str {
-    match family {
-        "thruster_lag" => "short command steps (0.5–2 s) up and down",
-        "thrust_gain" => "steps to several command levels in both directions",
-        "thrust_asymmetry" => "equal forward and reverse commands",
-        "thruster_deadband" => "slow ramps through zero and small commands (±5–15 %)",
-        "battery_sag" => "the same command step repeated at the start and at the end of a long run",
-        "inflow_thrust_loss" => {
-            "the same command from rest and while already moving along the thrust axis"
-        }
-        "buoyancy_offset" => "idle phases (all thrusters off) at several depths",
-        "ballast_mass" => "pump phases with the thrusters off",
-        "damping_error" => "coasting down from several speeds",
-        "added_mass_error" => "short, hard accelerations from rest",
-        "water_current" => "holding station with the position tracked",
-        "depth_sensor_bias" => {
-            "a surface check (the reading at zero depth) at the start and at the end"
-        }
-        "sensor_delay" => "fast command reversals",
-        "thrust_coupling" => "vertical thrust steps with the heading logged",
-        "thrust_saturation" => "full-scale commands next to half-scale ones",
-        "restoring_moment" => "resting at depth with roll and pitch logged (the resting tilt)",
-        "tether_drag" => "travelling away from the anchor and back with the position tracked",
-        _ => "an experiment that drives this effect alone",
-    }
+/// The channels the family shows in first, where it has such channels, and why the family is
+/// not fitted on runs that log none of them (its
+/// [`FamilyFacts::direct`](shoal_model::effects::FamilyFacts::direct)).
+pub fn direct_channels(family: &str) -> Option<(Vec<ChannelKind>, &'static str)> {
+    let direct = effects::facts(family)?.direct?;
+    let kinds = direct
+        .channels
+        .iter()
+        .filter_map(|c| ChannelKind::from_name(c))
+        .collect();
+    Some((kinds, direct.why_not_fitted))
 }
 
-/// The channels a family shows in first, where it has such channels, and why the family is
-/// not fitted on runs that log none of them. Without them only second-order marks remain (a
-/// tilted hull's thrust pointing a little off), too easily taken for the direct marks of
-/// other families (a thrust loss, a buoyancy offset) for a verdict to rest on.
-pub fn direct_channels(family: &str) -> Option<(&'static [ChannelKind], &'static str)> {
-    match family {
-        "restoring_moment" => Some((
-            &[
-                ChannelKind::Roll,
-                ChannelKind::Pitch,
-                ChannelKind::P,
-                ChannelKind::Q,
-            ],
-            "not fitted: these runs log neither roll nor pitch (nor their rates), where a \
-             shifted centre of gravity shows first",
-        )),
-        // A tether's pull grows with the distance from its anchor: without the position (or
-        // the horizontal velocity) a log cannot place the hull relative to the anchor, and
-        // the cable's drag is just more drag, or less thrust, at speed — the damping-error and
-        // inflow families' marks (on the BlueROV yaw runs it fitted C_d·d at its bound as a
-        // stand-in for the damping error; in a mission the inflow loss won instead of it).
-        "tether_drag" => Some((
-            &[
-                ChannelKind::X,
-                ChannelKind::Y,
-                ChannelKind::U,
-                ChannelKind::V,
-            ],
-            "not fitted: these runs log neither the horizontal position nor the horizontal \
-             velocity, which a tether's pull depends on (its distance from the anchor)",
-        )),
-        _ => None,
-    }
-}
-
-/// The manoeuvre that would tell `a` from `b`.
+/// The manoeuvre that would tell `a` from `b`: the one either family's facts name for the
+/// other, else what excites each.
 pub fn manoeuvre(a: &str, b: &str) -> String {
-    let pair = |x: &str, y: &str| (a == x && b == y) || (a == y && b == x);
-    if pair("buoyancy_offset", "depth_sensor_bias") {
-        return "surface at the start and at the end (a sensor bias reads ≠ 0 at the surface, a \
-                buoyancy offset does not) and hold a depth with the thrusters off (a buoyancy \
-                offset moves the vehicle, a sensor bias only the reading)"
-            .into();
+    let (fa, fb) = (effects::facts(a), effects::facts(b));
+    let named = |f: Option<FamilyFacts>, other: &str| {
+        f.and_then(|f| f.separations.iter().find(|s| s.0 == other).map(|s| s.1))
+    };
+    if let Some(m) = named(fa, b).or_else(|| named(fb, a)) {
+        return m.into();
     }
-    if pair("thrust_gain", "battery_sag") {
-        return "repeat the same command step at the start and at the end of the run (a sag \
-                changes the response over time, a gain does not)"
-            .into();
-    }
+    let excites = |f: Option<FamilyFacts>, name: &str| {
+        f.map_or_else(
+            || format!("an experiment that drives {name} alone"),
+            |f| f.excitation.to_string(),
+        )
+    };
     format!(
         "to tell {a} from {b}: {} (excites {a}); {} (excites {b})",
-        excitation(a),
-        excitation(b)
+        excites(fa, a),
+        excites(fb, b)
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every family's facts name log channels the log reader knows: a misspelt channel would
+    /// silently make the family's direct channels empty.
+    #[test]
+    fn direct_channels_are_log_channels() {
+        for f in effects::families() {
+            if let Some(d) = f.facts.direct {
+                let kinds = direct_channels(f.name()).unwrap().0;
+                assert_eq!(
+                    kinds.len(),
+                    d.channels.len(),
+                    "{}: {:?}",
+                    f.name(),
+                    d.channels
+                );
+            }
+        }
+        let (kinds, _) = direct_channels("restoring_moment").unwrap();
+        use ChannelKind::*;
+        assert_eq!(kinds, vec![Roll, Pitch, P, Q]);
+        assert!(direct_channels("thrust_gain").is_none());
+    }
+
+    /// A pair with a manoeuvre of its own gets it in either order; others get what excites each.
+    #[test]
+    fn manoeuvres_come_from_the_families_facts() {
+        let m = manoeuvre("buoyancy_offset", "depth_sensor_bias");
+        assert_eq!(m, manoeuvre("depth_sensor_bias", "buoyancy_offset"));
+        assert!(m.starts_with("surface at the start and at the end"), "{m}");
+        assert!(
+            manoeuvre("thrust_gain", "battery_sag").starts_with("repeat the same command step")
+        );
+        assert_eq!(
+            manoeuvre("thruster_lag", "sensor_delay"),
+            "to tell thruster_lag from sensor_delay: short command steps (0.5–2 s) up and down \
+             (excites thruster_lag); fast command reversals (excites sensor_delay)"
+        );
+    }
 }

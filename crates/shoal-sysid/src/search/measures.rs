@@ -53,24 +53,31 @@ pub fn gain_resampled(a: &Evaluation, b: &Evaluation, rs: Option<&Resample>) -> 
     if n > 0 { s / n as f64 } else { 0.0 }
 }
 
-/// The mean over every channel of `a` of the relative reduction of its pooled validation
-/// RMSE from `a` to `b` [%] (each channel's
+/// Every channel of `a` (that `b` also measures) with the relative reduction of its pooled
+/// validation RMSE from `a` to `b` [%] (its
 /// [`rmse_gain_pct`](crate::evaluate::evaluation::rmse_gain_pct), as a report's table shows
-/// them; 0 without channels).
-pub fn mean_channel_gain_pct(a: &Evaluation, b: &Evaluation) -> f64 {
-    let gains: Vec<f64> = a
-        .metrics
+/// it; negative: `b` made the channel worse), in channel order.
+pub fn channel_gains_pct(a: &Evaluation, b: &Evaluation) -> Vec<(ChannelKind, f64)> {
+    a.metrics
         .iter()
         .filter_map(|(k, ma)| {
-            b.metrics
-                .get(k)
-                .map(|mb| crate::evaluate::evaluation::rmse_gain_pct(ma.rmse, mb.rmse))
+            b.metrics.get(k).map(|mb| {
+                (
+                    *k,
+                    crate::evaluate::evaluation::rmse_gain_pct(ma.rmse, mb.rmse),
+                )
+            })
         })
-        .collect();
+        .collect()
+}
+
+/// The mean over every channel of [`channel_gains_pct`] [%] (0 without channels).
+pub fn mean_channel_gain_pct(a: &Evaluation, b: &Evaluation) -> f64 {
+    let gains = channel_gains_pct(a, b);
     if gains.is_empty() {
         0.0
     } else {
-        gains.iter().sum::<f64>() / gains.len() as f64
+        gains.iter().map(|g| g.1).sum::<f64>() / gains.len() as f64
     }
 }
 

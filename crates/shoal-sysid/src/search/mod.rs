@@ -111,6 +111,7 @@ mod refine;
 pub mod rules;
 mod scan;
 mod stability;
+mod step;
 mod verdict;
 
 pub use candidate::{Candidate, FormScore};
@@ -121,18 +122,5 @@ pub use options::SearchOptions;
 pub use orchestrate::search;
 pub use outcome::Outcome;
 pub use par::par_map;
+pub use step::Step;
 pub use verdict::{Ambiguity, Possible, Unexplained, Verdict};
-
-/// What a search reports while it runs (to [`search`]'s `progress`).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Step<'a> {
-    /// A stage begins: what it does and, when known in advance, how many fits it makes.
-    Stage {
-        /// What the stage does.
-        stage: &'a str,
-        /// Candidate fits it makes, when known.
-        fits: Option<usize>,
-    },
-    /// A candidate fit finished (its name).
-    Fit(&'a str),
-}

@@ -1,7 +1,6 @@
 //! The search from start to verdict: round 1 (every family alone, forms competing), forward
 //! rounds, backward checks and swaps, then identifiability, stability and the verdict.
 
-use super::Step;
 use super::candidate::{Candidate, FormScore};
 use super::context::{FormInfo, Search};
 use super::fit::Ctx;
@@ -12,6 +11,7 @@ use super::options::{SearchOptions, families};
 use super::outcome::Outcome;
 use super::par::par_map;
 use super::rules::{choose, judge, skipped};
+use super::step::Step;
 use super::{identify, pairs, refine, stability, verdict};
 use crate::evaluate::dataset::Dataset;
 use shoal_model::effects::Effect;

@@ -3,7 +3,7 @@
 
 use super::candidate::Candidate;
 use super::fitted::Fit;
-use super::measures::{changed, gain, mean_channel_gain_pct};
+use super::measures::{changed, channel_gains_pct, gain, mean_channel_gain_pct};
 use super::verdict::Verdict;
 use crate::log::run::ChannelKind;
 use std::collections::BTreeMap;
@@ -44,5 +44,15 @@ impl Outcome {
     pub fn changed_channels_gain_pct(&self) -> (Vec<ChannelKind>, f64) {
         let (b, c) = (&self.baseline.eval, &self.chosen.eval);
         (changed(b, c), 100.0 * gain(b, c))
+    }
+
+    /// The channels the chosen model makes worse: those whose validation RMSE it raises, each
+    /// with its (negative) gain [%] as the table's `gain` column shows it, in channel order.
+    /// The headline's mean can hide them.
+    pub fn worsened_channels(&self) -> Vec<(ChannelKind, f64)> {
+        channel_gains_pct(&self.baseline.eval, &self.chosen.eval)
+            .into_iter()
+            .filter(|g| g.1 < 0.0)
+            .collect()
     }
 }

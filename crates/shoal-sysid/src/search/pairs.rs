@@ -16,12 +16,12 @@
 //! backward check then tests each member against the model with the other, and stability
 //! selection each on its own, as for any chosen effect.
 
-use super::Step;
 use super::candidate::Candidate;
 use super::context::Search;
 use super::fitted::Fit;
 use super::par::par_map;
 use super::rules::{best_passing, judge_set};
+use super::step::Step;
 
 /// A family and one of its forms.
 type FamilyForm<'a> = (&'a str, &'a str);

@@ -11,12 +11,12 @@
 //! lowers the whole model's BIC. The best such change is made and the others are tried again
 //! on the new model, until none helps (at most one pass per family and one more).
 
-use super::Step;
 use super::candidate::Candidate;
 use super::context::Search;
 use super::fitted::Fit;
 use super::measures::bic;
 use super::par::par_map;
+use super::step::Step;
 
 /// Smallest BIC reduction for which a form replaces the chosen one (the BIC threshold of a
 /// swap: two forms that fit equally well keep the one chosen first).

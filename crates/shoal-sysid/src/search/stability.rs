@@ -10,12 +10,12 @@
 //! which it passes. (The backward checks' effective-ΔBIC rule is not repeated: a resample
 //! duplicates blocks, and its count of independent samples is not defined.)
 
-use super::Step;
 use super::context::Search;
 use super::fit::Ctx;
 use super::fitted::Fit;
 use super::measures::{bic_resampled, closure_resampled, gain_resampled, material_resampled};
 use super::par::par_map;
+use super::step::Step;
 use crate::evaluate::blocks::{Resample, heldout_t};
 use crate::evaluate::lm::LmOptions;
 use std::collections::BTreeMap;

@@ -12,8 +12,11 @@
 //!
 //! M is the effective mass or inertia of the axis, M_RB + M_A, of the baseline.
 
-use super::{ExpKind, FormParam, NU_REF, Part, TruthForm};
+use super::exp_kind::ExpKind;
+use super::form_param::FormParam;
+use super::truth_form::{Part, TruthForm};
 use crate::synth::TruthHook;
+use shoal_model::effects::NU_REF;
 use shoal_model::rigid_body::Environment;
 use shoal_model::vehicle::{VehicleModel, VehicleState};
 

@@ -9,7 +9,9 @@
 //! Both integrate the tank volume themselves (the mass and weight follow it as in the
 //! baseline's variable-mass model) and hand the actuators a stopped pump.
 
-use super::{ExpKind, FormParam, Part, TruthForm};
+use super::exp_kind::ExpKind;
+use super::form_param::FormParam;
+use super::truth_form::{Part, TruthForm};
 use crate::synth::TruthHook;
 use shoal_model::ballast::Pump;
 use shoal_model::control::ActuatorCommands;

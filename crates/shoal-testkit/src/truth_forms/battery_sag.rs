@@ -14,7 +14,11 @@
 //!   mid-run and the ESCs' low-voltage protection limits their output, so the thrust holds,
 //!   drops by a within a few w around t_k and stays down (k(0) = 1).
 
-use super::{ExpKind, FormParam, Part, TruthForm, logistic, truth_effect_meta};
+use super::effect_meta::truth_effect_meta;
+use super::exp_kind::ExpKind;
+use super::form_param::FormParam;
+use super::logistic::logistic;
+use super::truth_form::{Part, TruthForm};
 use crate::synth::TruthHook;
 use shoal_model::control::ActuatorCommands;
 use shoal_model::effects::{Effect, ThrustContext};

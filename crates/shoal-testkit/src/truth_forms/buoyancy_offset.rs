@@ -22,7 +22,10 @@
 //! All act as the catalogue's force along the world vertical at the centre of buoyancy
 //! (positive: heavier), with the value of the moment.
 
-use super::{ExpKind, FormParam, Part, TruthForm, truth_effect_meta};
+use super::effect_meta::truth_effect_meta;
+use super::exp_kind::ExpKind;
+use super::form_param::FormParam;
+use super::truth_form::{Part, TruthForm};
 use shoal_model::effects::{
     BuoyancyOffset, BuoyancyOffsetDrift, BuoyancyOffsetSettling, Effect, ForceContext,
 };

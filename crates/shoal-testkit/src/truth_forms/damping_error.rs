@@ -22,7 +22,11 @@
 //!
 //! All are forces on the hull computed from its velocity through the water.
 
-use super::{ExpKind, FormParam, NU_REF, Part, TruthForm, truth_effect_meta};
+use super::effect_meta::truth_effect_meta;
+use super::exp_kind::ExpKind;
+use super::form_param::FormParam;
+use super::truth_form::{Part, TruthForm};
+use shoal_model::effects::NU_REF;
 use shoal_model::effects::{DampingErrorDirection, DampingErrorPower, Effect, ForceContext};
 use shoal_model::math::Vec6;
 use std::sync::Arc;

@@ -15,7 +15,11 @@
 //!
 //! All change only what the pressure sensor reports, not the motion.
 
-use super::{ExpKind, FormParam, Part, TruthForm, logistic, truth_effect_meta};
+use super::effect_meta::truth_effect_meta;
+use super::exp_kind::ExpKind;
+use super::form_param::FormParam;
+use super::logistic::logistic;
+use super::truth_form::{Part, TruthForm};
 use shoal_model::effects::Effect;
 use std::sync::Arc;
 

@@ -15,7 +15,10 @@
 //! u_a is the axial inflow: the thruster's speed through the water along its thrust direction.
 //! The thrust never changes sign through the loss.
 
-use super::{ExpKind, FormParam, Part, TruthForm, truth_effect_meta};
+use super::effect_meta::truth_effect_meta;
+use super::exp_kind::ExpKind;
+use super::form_param::FormParam;
+use super::truth_form::{Part, TruthForm};
 use shoal_model::effects::{Effect, ThrustContext, inflow_reduced as reduced};
 use std::sync::Arc;
 

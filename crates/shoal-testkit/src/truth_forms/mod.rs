@@ -28,7 +28,11 @@ mod battery_sag;
 mod buoyancy_offset;
 mod damping_error;
 mod depth_sensor_bias;
+mod effect_meta;
+mod exp_kind;
+mod form_param;
 mod inflow_thrust_loss;
+mod logistic;
 mod restoring_moment;
 mod sensor_delay;
 mod tether_drag;
@@ -38,256 +42,23 @@ mod thrust_gain;
 mod thrust_saturation;
 mod thruster_deadband;
 mod thruster_lag;
+mod truth_form;
 mod water_current;
 
-use crate::design;
-use crate::synth::{Experiment, TruthHook};
-use rand::RngExt;
-use rand_chacha::ChaCha8Rng;
+use crate::synth::TruthHook;
+pub use exp_kind::ExpKind;
+pub use form_param::{Draw, FormParam};
 use shoal_model::control::ActuatorCommands;
 use shoal_model::dynamics::RigidState;
-use shoal_model::effects::{Effect, EffectInstance, Effects};
+use shoal_model::effects::{EffectInstance, Effects};
 use shoal_model::rigid_body::Environment;
 use shoal_model::vehicle::{VehicleModel, VehicleParams, VehicleState};
 use std::fmt;
-use std::sync::Arc;
+pub use truth_form::{Part, TruthForm};
 
 /// Typical speeds of the designed experiments per degree of freedom, the reference for forms
 /// whose law depends on speed (the catalogue's, [`shoal_model::effects::NU_REF`]).
 pub use shoal_model::effects::NU_REF;
-
-/// Which designed μAUV² experiment ([`crate::design`]).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub enum ExpKind {
-    /// Diving mode, 1-DOF heave ([`design::uauv2_heave`]): logs depth, heading and yaw rate.
-    Heave,
-    /// Turning mode, 1-DOF yaw ([`design::uauv2_yaw`]): logs heading, yaw rate, depth and
-    /// the tracked position.
-    Yaw,
-    /// Diving mode with the attitude logged ([`design::uauv2_trim`]): logs depth, roll,
-    /// pitch, heading and yaw rate.
-    Trim,
-}
-
-impl ExpKind {
-    /// Every experiment.
-    pub const ALL: [ExpKind; 3] = [ExpKind::Heave, ExpKind::Yaw, ExpKind::Trim];
-
-    /// The experiment for `seed`, `duration` \[s\] long.
-    pub fn experiment(self, seed: u64, duration: f64) -> Experiment {
-        match self {
-            ExpKind::Heave => design::uauv2_heave(seed, duration),
-            ExpKind::Yaw => design::uauv2_yaw(seed, duration),
-            ExpKind::Trim => design::uauv2_trim(seed, duration),
-        }
-    }
-
-    /// Short tag used in case names: `h`, `y` or `t`.
-    pub fn tag(self) -> &'static str {
-        match self {
-            ExpKind::Heave => "h",
-            ExpKind::Yaw => "y",
-            ExpKind::Trim => "t",
-        }
-    }
-
-    /// Lower-case name: `heave`, `yaw` or `trim`.
-    pub fn name(self) -> &'static str {
-        match self {
-            ExpKind::Heave => "heave",
-            ExpKind::Yaw => "yaw",
-            ExpKind::Trim => "trim",
-        }
-    }
-}
-
-/// How a parameter's value is drawn.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Draw {
-    /// A magnitude: uniform within the part of `lo … hi` that the magnitude band selects.
-    Magnitude,
-    /// A magnitude as above, with a random sign.
-    Signed,
-    /// A magnitude whose effect grows as the value falls (a factor below one, a time
-    /// constant's inverse): the band's weak end is `hi`, its strong end `lo`.
-    Deficit,
-    /// A shape parameter (phase, direction, …): uniform over all of `lo … hi`, whatever the
-    /// band.
-    Shape,
-}
-
-/// One parameter of a truth form.
-#[derive(Clone, Debug, PartialEq)]
-pub struct FormParam {
-    /// Name with its unit as a suffix where it has one (e.g. `omega_rad_s`).
-    pub name: &'static str,
-    /// Unit in words (e.g. `rad/s`, `-`).
-    pub unit: &'static str,
-    /// Smallest value (magnitude for [`Draw::Signed`]; the strong end for [`Draw::Deficit`]),
-    /// in [`FormParam::unit`].
-    pub lo: f64,
-    /// Largest value (magnitude for [`Draw::Signed`]; the weak end for [`Draw::Deficit`]), in
-    /// [`FormParam::unit`].
-    pub hi: f64,
-    /// How it is drawn.
-    pub draw: Draw,
-    /// What it means.
-    pub doc: &'static str,
-}
-
-impl FormParam {
-    /// A magnitude in `lo … hi` [`unit`](FormParam::unit).
-    pub const fn magnitude(
-        name: &'static str,
-        unit: &'static str,
-        lo: f64,
-        hi: f64,
-        doc: &'static str,
-    ) -> Self {
-        Self {
-            name,
-            unit,
-            lo,
-            hi,
-            draw: Draw::Magnitude,
-            doc,
-        }
-    }
-
-    /// A magnitude in `lo … hi` [`unit`](FormParam::unit) with a random sign.
-    pub const fn signed(
-        name: &'static str,
-        unit: &'static str,
-        lo: f64,
-        hi: f64,
-        doc: &'static str,
-    ) -> Self {
-        Self {
-            draw: Draw::Signed,
-            ..Self::magnitude(name, unit, lo, hi, doc)
-        }
-    }
-
-    /// A magnitude in `lo … hi` [`unit`](FormParam::unit) whose effect is the stronger the
-    /// smaller it is.
-    pub const fn deficit(
-        name: &'static str,
-        unit: &'static str,
-        lo: f64,
-        hi: f64,
-        doc: &'static str,
-    ) -> Self {
-        Self {
-            draw: Draw::Deficit,
-            ..Self::magnitude(name, unit, lo, hi, doc)
-        }
-    }
-
-    /// A shape parameter uniform in `lo … hi` [`unit`](FormParam::unit).
-    pub const fn shape(
-        name: &'static str,
-        unit: &'static str,
-        lo: f64,
-        hi: f64,
-        doc: &'static str,
-    ) -> Self {
-        Self {
-            draw: Draw::Shape,
-            ..Self::magnitude(name, unit, lo, hi, doc)
-        }
-    }
-
-    /// The range as text, e.g. `±0.01 … 0.03 m` or `2.5 … 5 rad/s`.
-    pub fn range_text(&self) -> String {
-        let sign = if self.draw == Draw::Signed { "±" } else { "" };
-        format!("{sign}{} … {} {}", self.lo, self.hi, self.unit)
-    }
-}
-
-/// How a truth form enters the simulation.
-pub enum Part {
-    /// Through the model's effect hooks (stateless laws). The effect carries its own values;
-    /// its [`Effect::params`] is empty.
-    Effect(Arc<dyn Effect>),
-    /// Around every physics step and sample (laws with state of their own).
-    Hook(Box<dyn TruthHook>),
-}
-
-impl fmt::Debug for Part {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Part::Effect(e) => write!(f, "Effect({})", e.name()),
-            Part::Hook(_) => write!(f, "Hook"),
-        }
-    }
-}
-
-/// A truth form: one law of one catalogue family's physics.
-#[derive(Clone, Debug)]
-pub struct TruthForm {
-    /// `family/form`, e.g. `thruster_lag/slew_rate`.
-    pub name: &'static str,
-    /// The catalogue effect whose physics this is (`Effect::name()`), the expected verdict.
-    pub family: &'static str,
-    /// The law in one line.
-    pub law: &'static str,
-    /// The parameters, in the order [`TruthForm::part`] takes them.
-    pub params: Vec<FormParam>,
-    /// The designed experiments whose logs show it. Empty for a form none shows — a tether
-    /// needs the hull to travel, which the designed experiments do not (and an open-loop
-    /// surge leg cannot: the μAUV² is directionally unstable and spins within seconds); such
-    /// forms are hidden only in the closed-loop missions ([`crate::closed_loop`]).
-    pub excites: &'static [ExpKind],
-    /// Builds the part from parameter values.
-    build: fn(&[f64]) -> Part,
-}
-
-impl TruthForm {
-    /// The form's own name (after the `/`).
-    pub fn form(&self) -> &'static str {
-        self.name.split_once('/').map_or(self.name, |(_, f)| f)
-    }
-
-    /// Draws parameter values: magnitudes uniformly within `band`, a sub-interval of 0 … 1 from
-    /// the weak to the strong end of each magnitude's range ((0, 1) is the whole range,
-    /// (0.5, 1) its stronger half); shapes over their whole range.
-    pub fn draw(&self, rng: &mut ChaCha8Rng, band: (f64, f64)) -> Vec<f64> {
-        let (b0, b1) = (band.0.clamp(0.0, 1.0), band.1.clamp(0.0, 1.0));
-        self.params
-            .iter()
-            .map(|p| {
-                let u = match p.draw {
-                    Draw::Shape => rng.random_range(0.0..1.0),
-                    _ => b0 + (b1 - b0) * rng.random_range(0.0..1.0),
-                };
-                let v = match p.draw {
-                    Draw::Deficit => p.hi - (p.hi - p.lo) * u,
-                    _ => p.lo + (p.hi - p.lo) * u,
-                };
-                if p.draw == Draw::Signed && rng.random_bool(0.5) {
-                    -v
-                } else {
-                    v
-                }
-            })
-            .collect()
-    }
-
-    /// The part for parameter `values` (in the order of [`TruthForm::params`]).
-    ///
-    /// # Panics
-    /// If `values` has the wrong length.
-    pub fn part(&self, values: &[f64]) -> Part {
-        assert_eq!(
-            values.len(),
-            self.params.len(),
-            "{} takes {} parameters",
-            self.name,
-            self.params.len()
-        );
-        (self.build)(values)
-    }
-}
 
 /// The truth forms whose law a fitting form of their family has: (truth form, fitting form).
 /// They stay in the test set; the other forms of each family differ from every fitting form.
@@ -312,12 +83,6 @@ pub const MATCHED: [(&str, &str); 19] = [
     ("restoring_moment/flooding_end", "settling"),
     ("thrust_gain/per_thruster", "per_thruster"),
 ];
-
-/// The logistic function 1/(1 + e^(−x)): the S-shaped law of several truth forms (a battery's
-/// knee, a thermocline, a throttle map that bends smoothly).
-pub(super) fn logistic(x: f64) -> f64 {
-    1.0 / (1.0 + (-x).exp())
-}
 
 /// The fitting form whose law truth form `name` (`family/form`) has, if any ([`MATCHED`]).
 pub fn matched_by(name: &str) -> Option<&'static str> {
@@ -462,51 +227,11 @@ impl TruthHook for Truth {
     }
 }
 
-/// The descriptive methods of an [`Effect`] that is a truth form: not fittable (no parameters;
-/// the values live in the struct), named after its form, summarised and explained by its law.
-macro_rules! truth_effect_meta {
-    // A type that carries its name and law in fields `name` and `law`.
-    (fields) => {
-        fn name(&self) -> &'static str {
-            self.name
-        }
-        fn summary(&self) -> &'static str {
-            self.law
-        }
-        fn explanation(&self) -> &'static str {
-            self.law
-        }
-        fn params(
-            &self,
-            _vehicle: &shoal_model::vehicle::VehicleParams,
-        ) -> Vec<shoal_model::effects::ParamInfo> {
-            Vec::new()
-        }
-    };
-    ($name:expr, $law:expr) => {
-        fn name(&self) -> &'static str {
-            $name
-        }
-        fn summary(&self) -> &'static str {
-            $law
-        }
-        fn explanation(&self) -> &'static str {
-            $law
-        }
-        fn params(
-            &self,
-            _vehicle: &shoal_model::vehicle::VehicleParams,
-        ) -> Vec<shoal_model::effects::ParamInfo> {
-            Vec::new()
-        }
-    };
-}
-pub(crate) use truth_effect_meta;
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use rand::SeedableRng;
+    use rand_chacha::ChaCha8Rng;
     use std::collections::BTreeSet;
 
     #[test]

@@ -17,7 +17,10 @@
 //!
 //! All act as the catalogue's moment of the weight about the displaced centre of gravity.
 
-use super::{ExpKind, FormParam, Part, TruthForm, truth_effect_meta};
+use super::effect_meta::truth_effect_meta;
+use super::exp_kind::ExpKind;
+use super::form_param::FormParam;
+use super::truth_form::{Part, TruthForm};
 use crate::synth::TruthHook;
 use shoal_model::effects::{Effect, ForceContext, RestoringMoment, RestoringMomentSettling};
 use shoal_model::math::Vec6;

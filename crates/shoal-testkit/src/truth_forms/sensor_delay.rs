@@ -12,7 +12,9 @@
 //! the sensors see a hull state taken from the history of the true one. Before the run the
 //! vehicle is taken to have been at rest where it starts.
 
-use super::{ExpKind, FormParam, Part, TruthForm};
+use super::exp_kind::ExpKind;
+use super::form_param::FormParam;
+use super::truth_form::{Part, TruthForm};
 use crate::synth::TruthHook;
 use shoal_model::control::ActuatorCommands;
 use shoal_model::dynamics::RigidState;

@@ -12,7 +12,9 @@
 //! and attach it at body x = x_att. No designed experiment shows them (see
 //! [`TruthForm::excites`]): they are hidden in the closed-loop missions only.
 
-use super::{FormParam, Part, TruthForm, truth_effect_meta};
+use super::effect_meta::truth_effect_meta;
+use super::form_param::FormParam;
+use super::truth_form::{Part, TruthForm};
 use shoal_model::effects::{Effect, ForceContext, TetherDrag};
 use shoal_model::math::{Vec3, Vec6};
 use std::sync::Arc;

@@ -18,7 +18,10 @@
 //! `reverse_exponent`, its `sided` form (reverse factor k_rev·(1 ± d) port/starboard, k_rev on
 //! the centre line) `reverse_per_thruster`.
 
-use super::{ExpKind, FormParam, Part, TruthForm, truth_effect_meta};
+use super::effect_meta::truth_effect_meta;
+use super::exp_kind::ExpKind;
+use super::form_param::FormParam;
+use super::truth_form::{Part, TruthForm};
 use shoal_model::effects::{Effect, ThrustContext};
 use std::sync::Arc;
 

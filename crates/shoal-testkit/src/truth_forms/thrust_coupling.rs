@@ -13,7 +13,10 @@
 //! F_z is the thrusters' force along body z. All reuse the catalogue's moment with an arm that
 //! depends on the thrust.
 
-use super::{ExpKind, FormParam, Part, TruthForm, truth_effect_meta};
+use super::effect_meta::truth_effect_meta;
+use super::exp_kind::ExpKind;
+use super::form_param::FormParam;
+use super::truth_form::{Part, TruthForm};
 use shoal_model::effects::{Effect, ForceContext, ThrustCoupling, ThrustCouplingDirection};
 use shoal_model::math::Vec6;
 use std::sync::Arc;

@@ -17,7 +17,11 @@
 //!   its thrust that grows with its speed, k_port = 1 − w·(|n|/100 %)², the others are as
 //!   measured — a gain of its own thruster *and* of the command, which no fitting form has.
 
-use super::{ExpKind, FormParam, Part, TruthForm, logistic, truth_effect_meta};
+use super::effect_meta::truth_effect_meta;
+use super::exp_kind::ExpKind;
+use super::form_param::FormParam;
+use super::logistic::logistic;
+use super::truth_form::{Part, TruthForm};
 use shoal_model::effects::{Effect, ThrustContext, ThrustGainKnee};
 use std::sync::Arc;
 

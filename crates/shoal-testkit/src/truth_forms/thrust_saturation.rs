@@ -19,7 +19,10 @@
 //! stage). Fitting forms have since matched `asymmetric_caps` (`asymmetric`) and
 //! `algebraic_soft` (`smooth`, whose sharpness is fitted).
 
-use super::{ExpKind, FormParam, Part, TruthForm, truth_effect_meta};
+use super::effect_meta::truth_effect_meta;
+use super::exp_kind::ExpKind;
+use super::form_param::FormParam;
+use super::truth_form::{Part, TruthForm};
 use shoal_model::effects::{
     Effect, Stage, ThrustContext, ThrustSaturationAsymmetric, ThrustSaturationSmooth,
 };

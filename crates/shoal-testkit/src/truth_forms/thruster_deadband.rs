@@ -16,7 +16,10 @@
 //!   as 1 − e^(−(|n|/d)²): nothing at the smallest commands, the unchanged curve well above d,
 //!   a Gaussian-shaped onset between (friction that a turning motor sheds gradually).
 
-use super::{ExpKind, FormParam, Part, TruthForm, truth_effect_meta};
+use super::effect_meta::truth_effect_meta;
+use super::exp_kind::ExpKind;
+use super::form_param::FormParam;
+use super::truth_form::{Part, TruthForm};
 use shoal_model::effects::{Effect, ThrusterDeadbandAsymmetric, ThrusterDeadbandSoftAsymmetric};
 use shoal_model::thruster::ThrusterParams;
 use std::sync::Arc;

@@ -15,7 +15,10 @@
 //! All act on the command the thrust curve sees (the motor speed, ∝ command); the log keeps
 //! the commanded values.
 
-use super::{ExpKind, FormParam, Part, TruthForm, truth_effect_meta};
+use super::effect_meta::truth_effect_meta;
+use super::exp_kind::ExpKind;
+use super::form_param::FormParam;
+use super::truth_form::{Part, TruthForm};
 use crate::synth::TruthHook;
 use shoal_model::control::ActuatorCommands;
 use shoal_model::effects::{Effect, ThrusterLagSlew};

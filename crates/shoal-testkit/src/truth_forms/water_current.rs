@@ -10,7 +10,9 @@
 //! Both are horizontal currents in the world frame, changed every simulation step (slowly
 //! enough that the hull's inertia against the changing flow is negligible).
 
-use super::{ExpKind, FormParam, Part, TruthForm};
+use super::exp_kind::ExpKind;
+use super::form_param::FormParam;
+use super::truth_form::{Part, TruthForm};
 use crate::synth::TruthHook;
 use shoal_model::control::ActuatorCommands;
 use shoal_model::math::Vec3;
