@@ -121,6 +121,18 @@ def test_raw_actuators_drive_forward_and_a_subset_is_commanded_by_id():
     assert (w.thrust[2, 1:] > 0).all() and (w.thrust[:2] == 0).all()
 
 
+def test_every_reported_mode_code_names_a_mode_in_MODES():
+    # python/README.md: `mode` is a code into shoal.MODES, 6 being raw actuator commands.
+    assert shoal.MODES == ["off", "diving", "buoyancy", "turning", "drift", "auto", "raw"]
+    w = shoal.World(THREE, threads=1)
+    w.set_actuators(thrusters=[0.0, 10.0, 10.0], tilts=[0.0, 0.0], pump=0, vehicles=[1])
+    w.step()
+    assert [shoal.MODES[m] for m in w.mode] == ["off", "raw", "off"]
+    w.set_setpoints(depth=0.5, yaw=0.0, surge=0.0, sway=0.0, mode="drift", vehicles=[2])
+    w.step()
+    assert [shoal.MODES[m] for m in w.mode] == ["off", "raw", "drift"]
+
+
 def test_jittered_frames_are_heard_and_simultaneous_ones_are_lost_to_half_duplex():
     w = shoal.World(PAIR, threads=1)
     w.send([0, 1], [b"from a", b"from b"], delay=[0.0, 0.02])  # 20 ms apart

@@ -587,11 +587,9 @@ pub fn decode(c: &Command, rej: &mut Rejections) -> Option<agents::Command> {
         protocol::kind::RAW => Order::Raw {
             thrusters: c.thrusters.to_vec(),
             tilts: c.tilts.to_vec(),
-            pump: match c.pump {
-                -1 => Pump::Empty,
-                0 => Pump::Off,
-                1 => Pump::Fill,
-                _ => {
+            pump: match Pump::from_wire(c.pump.into()) {
+                Some(p) => p,
+                None => {
                     rej.invalid += 1;
                     return None;
                 }

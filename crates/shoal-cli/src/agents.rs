@@ -122,6 +122,7 @@ pub fn open_agents(
                 Ros2Host::open(desc).map_err(|e| Failure::Input(format!("ROS 2 bridge: {e}")))?;
             h.stop_on(cancel.clone());
             if !quiet {
+                h.announce_waits(|text| eprintln!("shoal: {text}"));
                 eprintln!(
                     "shoal: ROS 2 nodes ({}) drive their vehicles on {}",
                     if desc.agents.lockstep {

@@ -26,6 +26,17 @@ impl Pump {
         }
     }
 
+    /// The pump command of its wire code in both agent transports (the iceoryx2 `Command` and
+    /// the ROS 2 `Actuators` message): −1 empty, 0 off, +1 fill; any other value is `None`.
+    pub fn from_wire(code: i64) -> Option<Pump> {
+        match code {
+            -1 => Some(Pump::Empty),
+            0 => Some(Pump::Off),
+            1 => Some(Pump::Fill),
+            _ => None,
+        }
+    }
+
     /// The pump command nearest to a signed value (< −0.5 empty, > 0.5 fill, else off).
     pub fn from_sign(v: f64) -> Pump {
         if v > 0.5 {
@@ -68,6 +79,19 @@ impl BallastParams {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn pump_wire_codes_are_the_signs_and_nothing_else() {
+        // The agent wire code is the pump's sign: −1 empty, 0 off, +1 fill.
+        for p in [Pump::Empty, Pump::Off, Pump::Fill] {
+            assert_eq!(Pump::from_wire(p.sign() as i64), Some(p));
+        }
+        assert_eq!(Pump::from_wire(-1), Some(Pump::Empty));
+        assert_eq!(Pump::from_wire(1), Some(Pump::Fill));
+        for bad in [2, -2, 127, -128, i64::MAX] {
+            assert_eq!(Pump::from_wire(bad), None, "{bad}");
+        }
+    }
 
     #[test]
     fn pump_fills_at_flow_and_stops_at_capacity() {

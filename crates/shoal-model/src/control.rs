@@ -46,6 +46,28 @@ impl Mode {
         Mode::Raw,
     ];
 
+    /// Every mode by its command code (the index): 0 `off`, 1 `diving` … 5 `auto` (the
+    /// agents' and Python's setpoint codes, the μAUV² paper's mode numbers) and 6 `raw`. The
+    /// one table of mode codes.
+    pub const BY_CODE: [Mode; 7] = [
+        Mode::Off,
+        Mode::Diving,
+        Mode::Buoyancy,
+        Mode::Turning,
+        Mode::Drift,
+        Mode::Auto,
+        Mode::Raw,
+    ];
+
+    /// The command code of the mode: its index in [`Mode::BY_CODE`] (0 … 6).
+    pub fn code(self) -> usize {
+        // Every mode is in the table (a test checks it); `raw` is the last.
+        Mode::BY_CODE
+            .iter()
+            .position(|m| *m == self)
+            .unwrap_or(Mode::BY_CODE.len() - 1)
+    }
+
     /// Lower-case name as used in world files.
     pub fn name(self) -> &'static str {
         match self {
@@ -648,6 +670,26 @@ fn split_sum_diff(d_des: f64, s_des: f64, ff: f64, fr: f64) -> (f64, f64) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn mode_codes_are_the_paper_numbers_with_off_and_raw() {
+        // The μAUV² paper numbers its modes 1 (diving) … 5 (auto); off is 0 and raw 6.
+        let want = [
+            (Mode::Off, 0, "off"),
+            (Mode::Diving, 1, "diving"),
+            (Mode::Buoyancy, 2, "buoyancy"),
+            (Mode::Turning, 3, "turning"),
+            (Mode::Drift, 4, "drift"),
+            (Mode::Auto, 5, "auto"),
+            (Mode::Raw, 6, "raw"),
+        ];
+        assert_eq!(Mode::BY_CODE.len(), want.len());
+        for (mode, code, name) in want {
+            assert_eq!(mode.code(), code, "{name}");
+            assert_eq!(Mode::BY_CODE[code], mode, "{name}");
+            assert_eq!(Mode::BY_CODE[code].name(), name);
+        }
+    }
 
     #[test]
     fn heading_error_turns_positive_at_180() {

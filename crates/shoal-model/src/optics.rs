@@ -206,19 +206,71 @@ impl LinkGeometry {
     }
 }
 
-/// DC channel gain H (see the module doc); 0 outside the LED's forward half-space or the
-/// receiver's field of view.
+/// Per-modem constants of the link budget, precomputed once per design: the transmitting
+/// side ([`ModemConsts::coef`], [`ModemConsts::order`]) and the receiving side
+/// ([`ModemConsts::cos_fov`], [`ModemConsts::area`]) of [`received_power`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ModemConsts {
+    /// P_t (m+1)/(2π) of the LED \[W\].
+    pub coef: f64,
+    /// Lambertian order m \[1\].
+    pub order: f64,
+    /// cos of the receiver's field of view \[1\].
+    pub cos_fov: f64,
+    /// Photodiode area \[m²\].
+    pub area: f64,
+}
+
+impl ModemConsts {
+    /// The constants of a modem.
+    pub fn of(m: &ModemParams) -> Self {
+        Self::of_parts(&m.led, &m.rx, m.led.power)
+    }
+
+    /// The constants of LED `led` driven at optical power `power` \[W\] and receiver `rx`.
+    fn of_parts(led: &Led, rx: &Receiver, power: f64) -> Self {
+        let order = lambertian_order(led.half_angle);
+        Self {
+            coef: power * (order + 1.0) / (2.0 * std::f64::consts::PI),
+            order,
+            cos_fov: rx.fov.cos(),
+            area: rx.area,
+        }
+    }
+}
+
+/// Received optical power \[W\] `P_t · H` from a transmitter with constants `tx` to a
+/// receiver with constants `rx` over geometry `g` in water of `attenuation` \[1/m\] (see the
+/// module doc); 0 outside the LED's forward half-space or the receiver's field of view. The
+/// one link budget of the crate: [`channel_gain`] is its value at 1 W.
 #[inline]
-pub fn channel_gain(led: &Led, rx: &Receiver, g: &LinkGeometry, attenuation: f64) -> f64 {
-    if g.cos_tx <= 0.0 || g.cos_rx < rx.fov.cos() || g.distance <= 0.0 {
+pub fn received_power(
+    tx: &ModemConsts,
+    rx: &ModemConsts,
+    g: &LinkGeometry,
+    attenuation: f64,
+) -> f64 {
+    if g.cos_tx <= 0.0 || g.cos_rx < rx.cos_fov || g.distance <= 0.0 {
         return 0.0;
     }
-    let m = lambertian_order(led.half_angle);
-    (m + 1.0) / (2.0 * std::f64::consts::PI * g.distance * g.distance)
-        * g.cos_tx.powf(m)
+    let ct = if (tx.order - 1.0).abs() < 1e-9 {
+        g.cos_tx
+    } else {
+        g.cos_tx.powf(tx.order)
+    };
+    tx.coef / (g.distance * g.distance)
+        * ct
         * rx.area
         * g.cos_rx
         * (-attenuation * g.distance).exp()
+}
+
+/// DC channel gain H \[1\] (see the module doc): [`received_power`] of `led` at 1 W; 0
+/// outside the LED's forward half-space or the receiver's field of view.
+#[inline]
+pub fn channel_gain(led: &Led, rx: &Receiver, g: &LinkGeometry, attenuation: f64) -> f64 {
+    let c = ModemConsts::of_parts(led, rx, 1.0);
+    received_power(&c, &c, g, attenuation)
 }
 
 /// Background photocurrent from ambient light at depth `z` \[m\] \[A\].

@@ -192,3 +192,53 @@ fn airtime_of_uart_frames() {
     assert!((m.airtime(26) - 32.0 * 10.0 / 19_200.0).abs() < 1e-15);
     assert_eq!(m.frame_bits(26), 320);
 }
+
+#[test]
+fn received_power_with_precomputed_constants_matches_the_hand_calculation() {
+    // The medium's form of the budget: P_r of the hand calculation above (2.0 m on axis, pool
+    // water) is 2.348706e-8 W, with the sender's LED and the receiver's photodiode.
+    let m = uauv2_modem();
+    let rel = |a: f64, e: f64| ((a - e) / e).abs();
+    let (tx, rx) = (ModemConsts::of(&m), ModemConsts::of(&m));
+    let p = received_power(&tx, &rx, &LinkGeometry::on_axis(2.0), POOL_C);
+    assert!(rel(p, 2.348_706e-8) < 1e-6, "P_r = {p}");
+    // A receiver with half the photodiode area and a 30° field of view gets half the power on
+    // axis and nothing 35° off its normal; the sender's side is unchanged.
+    let mut small = m.clone();
+    small.rx.area = 3.5e-6;
+    small.rx.fov = 30f64.to_radians();
+    let half = received_power(
+        &tx,
+        &ModemConsts::of(&small),
+        &LinkGeometry::on_axis(2.0),
+        POOL_C,
+    );
+    assert!(rel(half, 2.348_706e-8 / 2.0) < 1e-6, "P_r = {half}");
+    let aside = LinkGeometry {
+        distance: 2.0,
+        cos_tx: 1.0,
+        cos_rx: 35f64.to_radians().cos(),
+    };
+    assert_eq!(
+        received_power(&tx, &ModemConsts::of(&small), &aside, POOL_C),
+        0.0
+    );
+    // A 25° LED at 0.2 W (m = ln 2 / −ln cos 25° = 7.045875): coef = 0.2 (m+1)/(2π)
+    // = 0.256108 W; 20° off its axis at 1.5 m: 0.256108/2.25 · (cos 20°)^m · 7e-6 · e^(−0.105)
+    //   = 0.113826 · 0.645151 · 7e-6 · 0.900325 = 4.628065e-7 W.
+    let mut narrow = m.clone();
+    narrow.led = Led {
+        power: 0.2,
+        half_angle: 25f64.to_radians(),
+    };
+    let g = LinkGeometry {
+        distance: 1.5,
+        cos_tx: 20f64.to_radians().cos(),
+        cos_rx: 1.0,
+    };
+    let p = received_power(&ModemConsts::of(&narrow), &rx, &g, POOL_C);
+    assert!(rel(p, 4.628_065e-7) < 1e-5, "P_r = {p}");
+    // And the channel gain is the same budget at 1 W.
+    let h = channel_gain(&narrow.led, &m.rx, &g, POOL_C);
+    assert!(rel(0.2 * h, p) < 1e-12, "{h} vs {p}");
+}

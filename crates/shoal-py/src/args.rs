@@ -2,9 +2,9 @@
 //! (the same for every vehicle) or a 1-D array-like with one value per vehicle; a C-contiguous
 //! float64 numpy array is read in place (no copy), anything else is converted once. Shapes,
 //! types and vehicle ids are checked here; values (NaN, ranges, codes) by
-//! [`shoal_sim::batch`], and every problem is a [`crate::CommandError`].
+//! [`shoal_sim::batch`], and every problem is a [`crate::errors::CommandError`].
 
-use crate::CommandError;
+use crate::errors::CommandError;
 use numpy::{
     AllowTypeChange, PyArrayDescrMethods, PyArrayLike1, PyArrayLike2, PyUntypedArray,
     PyUntypedArrayMethods,
@@ -14,7 +14,7 @@ use pyo3::types::{PyByteArray, PyBytes, PyString};
 use shoal_sim::batch::{Column, MODES, Rows};
 use shoal_sim::orders::FrameOrder;
 
-/// A [`crate::CommandError`] about `field` (no vehicle).
+/// A [`crate::errors::CommandError`] about `field` (no vehicle).
 pub fn bad(field: &str, message: impl std::fmt::Display) -> PyErr {
     CommandError::new_err(format!("{field}: {message}"))
 }

@@ -40,7 +40,7 @@ pub fn quantity<'py>(
     let n = shape.vehicles;
     let width = q.width(shape);
     let len = n * width.unwrap_or(1);
-    let err = |e: shoal_sim::batch::CommandError| crate::command_error(py, &e);
+    let err = |e: shoal_sim::batch::CommandError| crate::errors::command_error(py, &e);
     match q.dtype() {
         Dtype::F64 => {
             let mut v = vec![0.0; len];

@@ -4,7 +4,7 @@
 //! JSON text, the fitted vehicle as a world file, the report files written on request). The
 //! Python half (`python/shoal/validate.py`) builds the `Report` objects from it.
 
-use crate::ValidationError;
+use crate::errors::ValidationError;
 use numpy::{AllowTypeChange, PyArrayLike1};
 use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;

@@ -8,20 +8,21 @@
 //! sensor readings observed afterwards are the ones the next tick's controller sees.
 
 use crate::args::{self, FloatRows, bad};
-use crate::{SimulationError, WorldError, command_error, observe};
+use crate::errors::{SimulationError, WorldError, command_error};
+use crate::observe;
+use crate::source::{self, Source};
 use numpy::IntoPyArray;
 use numpy::ndarray::Array2;
 use pyo3::exceptions::{PyUserWarning, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use shoal_record::run::{Changes, load_world};
 use shoal_sim::batch::{ActuatorOrder, BatchShape, Quantity, SetpointOrder};
 use shoal_sim::comm::Received;
 use shoal_sim::orders::force_limit;
 use shoal_sim::sim::{Sim, SimOptions};
-use shoal_world::desc::WorldDesc;
-use crate::source::{self, Source};
-use shoal_record::run::{Changes, load_world};
 use shoal_world::cancel::Cancel;
+use shoal_world::desc::WorldDesc;
 
 /// Keys of a setpoint command.
 const SETPOINT_KEYS: [&str; 5] = ["mode", "depth", "yaw", "surge", "sway"];

@@ -12,10 +12,10 @@ use shoal_model::ballast::Pump;
 use shoal_model::control::Mode;
 use shoal_model::frames as enu;
 use shoal_model::math::{Quat, Vec3, euler_rpy};
+use shoal_record::mcap::ros2::SURFACE_PRESSURE_PA;
 use shoal_sim::agents::{self, Observation, Order, Rejections};
 use shoal_sim::comm::Received;
 use shoal_sim::orders::FrameOrder;
-use shoal_record::mcap::ros2::SURFACE_PRESSURE_PA;
 
 /// A stamp in nanoseconds (for ordering).
 pub fn ns(t: Time) -> i64 {
@@ -192,11 +192,9 @@ impl Answer {
                 (order, frames)
             }
             Answer::Actuators(a, frames) => {
-                let pump = match a.pump {
-                    -1 => Pump::Empty,
-                    0 => Pump::Off,
-                    1 => Pump::Fill,
-                    _ => {
+                let pump = match Pump::from_wire(a.pump.into()) {
+                    Some(p) => p,
+                    None => {
                         rej.invalid += 1;
                         return None;
                     }

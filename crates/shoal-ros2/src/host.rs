@@ -23,8 +23,8 @@
 //! agents: a NaN rejects it, values out of range are clamped, both counted) and an unknown
 //! `mode` or `pump` is counted as invalid; nothing unchecked reaches the world.
 
-use crate::Ros2Error;
 use crate::convert::{self, Answer, ns};
+use crate::error::Ros2Error;
 use crate::msgs::{Clock, FluidPressure, Imu, Odometry, OpticalFrame, TfMessage, Time, stamp};
 use crate::topics::{VehicleTopics, WorldTopics};
 use ros2_client::{Context, Node, NodeName, NodeOptions};
@@ -38,6 +38,30 @@ use std::time::{Duration, Instant};
 
 /// How often a lock-step wait publishes the sensors of vehicles not yet answered again.
 const REPUBLISH: Duration = Duration::from_millis(200);
+
+/// How long the first tick's wait for the nodes goes on before it is announced (nodes already
+/// running answer within DDS discovery, well under it).
+const ATTACH_NOTICE_AFTER: Duration = Duration::from_secs(1);
+
+/// What the world says while it waits up to `wait` for the ROS 2 nodes of the vehicles
+/// `missing` (their ROS names) to answer the first tick: the domain, the topics it listens
+/// on, how long, and how to stop or wait longer.
+pub fn attach_wait_notice(ros2: &Ros2Desc, missing: &[&str], wait: Duration) -> String {
+    let names = if missing.len() == 1 {
+        missing[0].to_string()
+    } else {
+        format!("{{{}}}", missing.join(","))
+    };
+    format!(
+        "waiting up to {:.0} s for ROS 2 nodes (domain {}) to answer the first tick: \
+         /{ns}/{names}/setpoint (shoal_msgs/Setpoint) or /{ns}/{names}/actuators \
+         (shoal_msgs/Actuators) stamped with /clock (Ctrl-C to stop; `--wait-agents SECONDS` \
+         or `[agents] attach_timeout` sets the wait; unanswered vehicles fall back)",
+        wait.as_secs_f64(),
+        ros2.domain_id,
+        ns = ros2.namespace,
+    )
+}
 
 /// Whether ROS 2's own switches keep DDS on this machine: `ROS_AUTOMATIC_DISCOVERY_RANGE=
 /// LOCALHOST` (Iron and later) or `ROS_LOCALHOST_ONLY=1` (before).
@@ -88,6 +112,9 @@ pub struct Ros2Host {
     rtt: Vec<f64>,
     wall0: Option<Instant>,
     cancel: Option<Arc<Cancel>>,
+    /// Told [`attach_wait_notice`] when the first tick's wait goes on (see
+    /// [`Ros2Host::announce_waits`]).
+    notice: Option<Box<dyn FnMut(&str) + Send>>,
 }
 
 impl Ros2Host {
@@ -148,12 +175,19 @@ impl Ros2Host {
             wall0: None,
             ros2,
             cancel: None,
+            notice: None,
         })
     }
 
     /// Gives up waits within about 10 ms once `cancel` asks for a stop.
     pub fn stop_on(&mut self, cancel: Arc<Cancel>) {
         self.cancel = Some(cancel);
+    }
+
+    /// Has `notice` told what the world waits for ([`attach_wait_notice`]) once the first
+    /// tick's lock-step wait for the nodes has gone on for a second.
+    pub fn announce_waits(&mut self, notice: impl FnMut(&str) + Send + 'static) {
+        self.notice = Some(Box::new(notice));
     }
 
     /// The topics' namespace and the vehicles' names, for the start-up line.
@@ -204,13 +238,15 @@ impl Ros2Host {
             // Wait for the nodes to attach once (DDS discovery), then `timeout` per tick while
             // they answer; a bridge whose nodes are absent or hung is not waited for (its
             // vehicles are under the fallback) until a tick is answered in full again.
+            let attaching = !self.answered_once && !self.attach_waited;
             let timeout = match (self.answered_once, self.attach_waited, self.hung) {
                 (false, false, _) => self.agents.attach_timeout,
                 (true, _, false) => self.agents.timeout,
                 _ => 0.0,
             };
             self.attach_waited = true;
-            let answers = self.wait(&ids, now, Duration::from_secs_f64(timeout), &sensors)?;
+            let timeout = Duration::from_secs_f64(timeout);
+            let answers = self.wait(&ids, now, timeout, attaching, &sensors)?;
             let Some(answers) = answers else {
                 return Ok(Flow::Interrupted);
             };
@@ -228,11 +264,7 @@ impl Ros2Host {
                 self.hung = false;
                 self.answered_once = true;
             } else if !self.hung {
-                let missing: Vec<&str> = ids
-                    .iter()
-                    .filter(|id| !answers.contains_key(id))
-                    .filter_map(|id| self.index.get(id).map(|&k| self.vehicles[k].name.as_str()))
-                    .collect();
+                let missing = self.unanswered(&ids, &answers);
                 let detail = format!(
                     "no command stamped {t:.3} s within the timeout for {}",
                     missing.join(", ")
@@ -322,15 +354,18 @@ impl Ros2Host {
     /// when a stop is asked for. Sensor data is best effort and DDS discovery takes a while:
     /// while a vehicle has not answered, its `sensors` and `/clock` are published again every
     /// [`REPUBLISH`], so a node that matched after the first publication still sees the tick
-    /// (a node tells ticks apart by their stamps).
+    /// (a node tells ticks apart by their stamps). When `attaching`, a wait that goes on past
+    /// [`ATTACH_NOTICE_AFTER`] is announced ([`Ros2Host::announce_waits`]).
     fn wait(
         &mut self,
         ids: &[u32],
         now: Time,
         timeout: Duration,
+        attaching: bool,
         sensors: &[Sensors],
     ) -> Result<Option<HashMap<u32, Answer>>, Ros2Error> {
         let start = Instant::now();
+        let mut announce = attaching && timeout > ATTACH_NOTICE_AFTER;
         let mut republished = Instant::now();
         let mut answers: HashMap<u32, Answer> = HashMap::new();
         let mut nap = Duration::from_micros(20);
@@ -375,6 +410,13 @@ impl Ros2Host {
             if self.stopping() {
                 return Ok(None);
             }
+            if announce && start.elapsed() >= ATTACH_NOTICE_AFTER {
+                announce = false;
+                let text = attach_wait_notice(&self.ros2, &self.unanswered(ids, &answers), timeout);
+                if let Some(f) = self.notice.as_mut() {
+                    f(&text);
+                }
+            }
             if republished.elapsed() >= REPUBLISH {
                 for s in sensors {
                     let v = &self.vehicles[s.vehicle];
@@ -388,6 +430,14 @@ impl Ros2Host {
             std::thread::sleep(nap);
             nap = (nap * 2).min(Duration::from_micros(500));
         }
+    }
+
+    /// The ROS names of the vehicles in `ids` without an answer in `answers`.
+    fn unanswered(&self, ids: &[u32], answers: &HashMap<u32, Answer>) -> Vec<&str> {
+        ids.iter()
+            .filter(|id| !answers.contains_key(id))
+            .filter_map(|id| self.index.get(id).map(|&k| self.vehicles[k].name.as_str()))
+            .collect()
     }
 
     /// Free-running: the newest command per vehicle that has arrived, with every frame.
@@ -493,4 +543,38 @@ fn take_answers(v: &VehicleTopics, rej: &mut Rejections) -> Vec<Answer> {
         out.push(Answer::Actuators(a, Vec::new()));
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_attach_wait_says_what_it_waits_for_how_long_and_how_to_stop() {
+        let ros2 = Ros2Desc {
+            domain_id: 7,
+            namespace: "pool".into(),
+            rtf: 1.0,
+            localhost_only: true,
+            agent: 0,
+        };
+        let two = attach_wait_notice(&ros2, &["a1", "b2"], Duration::from_secs(60));
+        for part in [
+            "up to 60 s",
+            "domain 7",
+            "/pool/{a1,b2}/setpoint",
+            "/pool/{a1,b2}/actuators",
+            "/clock",
+            "Ctrl-C to stop",
+            "--wait-agents SECONDS",
+        ] {
+            assert!(two.contains(part), "`{part}` missing in: {two}");
+        }
+        let one = attach_wait_notice(&ros2, &["a1"], Duration::from_secs_f64(2.5));
+        assert!(
+            one.contains("up to 2 s") || one.contains("up to 3 s"),
+            "{one}"
+        );
+        assert!(one.contains("/pool/a1/setpoint"), "{one}");
+    }
 }

@@ -11,29 +11,18 @@
 //!   ROS 2 user);
 //! * [`topics`] — one vehicle's topics and QoS;
 //! * [`convert`] — observations to ROS messages in ROS's axes, commands back;
-//! * [`host`] — the world's end: publishing, lock-step or free-running timing, fallback.
+//! * [`host`] — the world's end: publishing, lock-step or free-running timing, fallback;
+//! * [`error`] — what can go wrong opening or running the bridge.
 //!
 //! The rules for commands (validation, fallback, what is counted) are `shoal_sim::agents`',
 //! the same as for iceoryx2 agents (`shoal-bridge`); docs/ros2.md has the topics, the timing
 //! and how to use the bridge from a ROS 2 installation.
 
 pub mod convert;
+pub mod error;
 pub mod host;
 pub mod msgs;
 pub mod topics;
 
+pub use error::Ros2Error;
 pub use host::Ros2Host;
-
-/// A problem opening or running the bridge.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-pub enum Ros2Error {
-    /// The world has no group with `agent = "ros2"`.
-    #[error("the world has no vehicle group with agent = \"ros2\"")]
-    NotConfigured,
-    /// A topic or node name ROS 2 does not accept.
-    #[error("ROS 2 name: {0}")]
-    Name(String),
-    /// DDS refused an operation (participant, topic, publish).
-    #[error("DDS: {0}")]
-    Dds(String),
-}

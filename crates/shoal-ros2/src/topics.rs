@@ -4,7 +4,7 @@
 //! effort (keep last 10, as `rclcpp::SensorDataQoS`), frames and commands reliable (keep
 //! last 100).
 
-use crate::Ros2Error;
+use crate::error::Ros2Error;
 use crate::msgs::{
     Actuators, Clock, FluidPressure, Imu, Odometry, OpticalFrame, Setpoint, TfMessage,
 };

@@ -279,3 +279,32 @@ fn a_model_with_effects_round_trips_through_vehicle_world_toml() {
     assert_eq!(again.vehicles[0].model.effects, m.effects);
     assert_eq!(again.vehicles[0].model.params, m.params);
 }
+
+#[test]
+fn every_unknown_field_and_bad_number_is_reported_at_once() {
+    // Two typos (lines 2 and 7) and a negative time step (line 3): one error names all three,
+    // in file order, each with its line, field and suggestion or allowed range.
+    let text = "seed = 1\ndurration = 5.0\ndt = -0.01\n[pool]\nsize = [4.0, 4.0, 2.0]\n\
+                [[vehicles]]\npositon = [1.0, 1.0, 0.5]\nposition = [1.0, 1.0, 0.5]\n";
+    let e = err(text);
+    let lines: Vec<Option<usize>> = e.problems.iter().map(|p| p.line_col.map(|l| l.0)).collect();
+    assert_eq!(lines, [Some(2), Some(3), Some(7)], "{e}");
+    let kinds: Vec<ProblemKind> = e.problems.iter().map(|p| p.kind).collect();
+    assert_eq!(
+        kinds,
+        [ProblemKind::UnknownField, ProblemKind::Range, ProblemKind::UnknownField],
+        "{e}"
+    );
+    let msg = e.to_string();
+    for part in [
+        "bad.toml:2:",
+        "did you mean `duration`",
+        "bad.toml:3:",
+        "allowed",
+        "bad.toml:7:",
+        "`positon`",
+        "did you mean `position`",
+    ] {
+        assert!(msg.contains(part), "`{part}` missing in:\n{msg}");
+    }
+}

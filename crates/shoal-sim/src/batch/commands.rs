@@ -14,22 +14,22 @@ use shoal_model::prelude::*;
 use std::f64::consts::PI;
 use std::sync::Arc;
 
-/// The controller modes a command may ask for, by code (the agent protocol's codes).
-pub const MODES: [Mode; 6] = [
-    Mode::Off,
-    Mode::Diving,
-    Mode::Buoyancy,
-    Mode::Turning,
-    Mode::Drift,
-    Mode::Auto,
-];
+/// The controller modes a setpoint command may ask for, by code (the agent protocol's
+/// codes): [`Mode::BY_CODE`] without `raw`, which [`Sim::set_actuators`] sets.
+pub const MODES: [Mode; 6] = {
+    let mut modes = [Mode::Off; 6];
+    let mut i = 0;
+    while i < modes.len() {
+        modes[i] = Mode::BY_CODE[i];
+        i += 1;
+    }
+    modes
+};
 
-/// The code of `mode` in [`MODES`]; [`Mode::Raw`] (raw actuator commands) is 6.
+/// The code of `mode` ([`Mode::code`]): its index in [`MODES`], or 6 for [`Mode::Raw`] (raw
+/// actuator commands).
 pub fn mode_code(mode: Mode) -> i64 {
-    MODES
-        .iter()
-        .position(|m| *m == mode)
-        .map_or(6, |i| i as i64)
+    mode.code() as i64
 }
 /// New setpoints for the built-in controller; a field left `None` keeps each vehicle's
 /// current value.

@@ -1,5 +1,6 @@
-//! The optical medium itself: frames on the air ([`Transmission`]), the link budget with
-//! precomputed constants ([`ModemConsts`], [`received_power`], [`cutoff_range`]) and the
+//! The optical medium itself: frames on the air ([`Transmission`]), the cut-off range of the
+//! link budget ([`cutoff_range`]; the budget itself, with its precomputed constants, is
+//! [`shoal_model::optics::received_power`]) and the
 //! [`Medium`] resource with its power bounds and hull-occlusion tests.
 
 use super::grid::Grid;
@@ -7,9 +8,9 @@ use super::stats::{DIST_BINS, LAT_BINS};
 use bevy_ecs::prelude::*;
 use shoal_model::math::{Quat, Vec3};
 use shoal_model::optics::{
-    Ambient, LinkGeometry, ModemParams, ModemPose, channel_gain, lambertian_order, noise_variance,
-    reception,
+    Ambient, LinkGeometry, ModemParams, ModemPose, channel_gain, noise_variance, reception,
 };
+pub use shoal_model::optics::{ModemConsts, received_power};
 use shoal_model::vehicle::VehicleModel;
 use shoal_world::geometry::segment_hits_hull;
 use std::collections::HashMap;
@@ -61,56 +62,6 @@ impl Logical<'_> {
     pub(super) fn first(&self) -> &Transmission {
         self.copies[0]
     }
-}
-
-/// Per-modem constants of the link budget, precomputed once per design.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ModemConsts {
-    /// P_t (m+1)/(2π) of the LED \[W\].
-    pub coef: f64,
-    /// Lambertian order m.
-    pub order: f64,
-    /// cos of the receiver's field of view.
-    pub cos_fov: f64,
-    /// Photodiode area \[m²\].
-    pub area: f64,
-}
-
-impl ModemConsts {
-    /// The constants of a modem.
-    pub fn of(m: &ModemParams) -> Self {
-        let order = lambertian_order(m.led.half_angle);
-        Self {
-            coef: m.led.power * (order + 1.0) / (2.0 * std::f64::consts::PI),
-            order,
-            cos_fov: m.rx.fov.cos(),
-            area: m.rx.area,
-        }
-    }
-}
-
-/// Received optical power \[W\]: `P_t · H` of [`shoal_model::optics::channel_gain`] with the
-/// constants precomputed.
-#[inline]
-pub fn received_power(
-    tx: &ModemConsts,
-    rx: &ModemConsts,
-    g: &LinkGeometry,
-    attenuation: f64,
-) -> f64 {
-    if g.cos_tx <= 0.0 || g.cos_rx < rx.cos_fov || g.distance <= 0.0 {
-        return 0.0;
-    }
-    let ct = if (tx.order - 1.0).abs() < 1e-9 {
-        g.cos_tx
-    } else {
-        g.cos_tx.powf(tx.order)
-    };
-    tx.coef / (g.distance * g.distance)
-        * ct
-        * rx.area
-        * g.cos_rx
-        * (-attenuation * g.distance).exp()
 }
 
 /// The optical medium of a world.
@@ -472,43 +423,5 @@ impl Medium {
             &self.poses[to as usize].0,
             (from, to),
         )
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use shoal_model::optics::Led;
-    use shoal_model::presets::uauv2_modem;
-
-    #[test]
-    fn precomputed_power_equals_the_link_budget() {
-        let mut narrow = uauv2_modem();
-        narrow.led = Led {
-            power: 0.2,
-            half_angle: 25f64.to_radians(),
-        };
-        for tx in [uauv2_modem(), narrow] {
-            let rx = uauv2_modem();
-            for (d, ct, cr) in [
-                (1.0, 1.0, 1.0),
-                (2.3, 0.8, 0.6),
-                (3.1, 0.2, 0.51),
-                (0.5, 0.95, 0.49),
-                (1.0, -0.1, 1.0),
-            ] {
-                let g = LinkGeometry {
-                    distance: d,
-                    cos_tx: ct,
-                    cos_rx: cr,
-                };
-                let want = tx.led.power * channel_gain(&tx.led, &rx.rx, &g, 0.1);
-                let got = received_power(&ModemConsts::of(&tx), &ModemConsts::of(&rx), &g, 0.1);
-                assert!(
-                    (got - want).abs() <= 1e-12 * want.abs().max(1e-30),
-                    "{got} vs {want}"
-                );
-            }
-        }
     }
 }

@@ -3,7 +3,8 @@
 //! them, and reject overlaps and vehicles outside the pool. User input never panics: every
 //! problem becomes a [`Problem`] naming the file, line/column and field.
 //!
-//! One module per concern: `messages` (serde/TOML problems made readable), `validator`
+//! One module per concern: `parse` (the serde stage, every unknown key), `messages`
+//! (serde/TOML problems made readable), `validator`
 //! (located problems, range checks), [`ranges`] (the allowed range of every number), `world`
 //! (top level, pool, water, agents, output), `obstacles`, `vehicle` (a model: preset +
 //! overrides, every parameter), `behaviour`, `mission`, `placement` (groups, placement,
@@ -19,6 +20,7 @@ mod messages;
 mod mission;
 mod names;
 mod obstacles;
+mod parse;
 mod placement;
 pub mod ranges;
 mod validator;
@@ -29,6 +31,7 @@ pub use export::vehicle_world_toml;
 pub use memory::{DEFAULT_BYTES_PER_VEHICLE, MemoryBudget};
 pub use messages::unit_of;
 pub use names::{service_word, valid_service_word};
+pub use parse::parse_world_file;
 pub use validator::Validator;
 pub use world::too_many_steps;
 pub use vehicle::{merge, vehicle_spec};
@@ -37,7 +40,6 @@ use crate::cancel::{Cancel, Interrupted};
 use crate::desc::WorldDesc;
 use crate::error::{FieldPath, Problem, ProblemKind, SourceMap, WorldError};
 use crate::spec::*;
-use messages::toml_problem;
 use shoal_model::prelude::*;
 use std::path::Path;
 use world::build;
@@ -184,11 +186,12 @@ fn load_text(
     cancel: &Cancel,
 ) -> Result<WorldDesc, LoadError> {
     let sm = SourceMap::new(text);
-    let wf = parse_world_file(text, file, &sm)?;
+    // Unknown keys are problems, but the rest of the file is still checked.
+    let (wf, unknown) = parse::parse_collecting(text, file, &sm)?;
     cancel.check()?;
     let mut v = Validator {
         sm: &sm,
-        problems: Vec::new(),
+        problems: unknown,
     };
     let desc = build(&wf, file, budget, &mut v, cancel)?;
     if v.problems.is_empty() {
@@ -205,22 +208,4 @@ fn load_text(
         }
         .into())
     }
-}
-
-/// The serde stage alone: TOML → [`WorldFile`] with located errors.
-pub fn parse_world_file(
-    text: &str,
-    file: &Path,
-    sm: &SourceMap<'_>,
-) -> Result<WorldFile, WorldError> {
-    let de = toml::de::Deserializer::parse(text)
-        .map_err(|e| WorldError::single(file, toml_problem(&e, None, sm, ProblemKind::Syntax)))?;
-    serde_path_to_error::deserialize(de).map_err(|e| {
-        let path = FieldPath::parse(&e.path().to_string());
-        let inner = e.into_inner();
-        WorldError::single(
-            file,
-            toml_problem(&inner, Some(path), sm, ProblemKind::Invalid),
-        )
-    })
 }
