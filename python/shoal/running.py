@@ -19,7 +19,7 @@ from ._shoal import run as _run
 class RunResult:
     """A finished run: its folder, how it ended and what ``summary.json`` says."""
 
-    #: The output folder.
+    #: The output folder (absolute).
     out: Path
     #: ``"complete"`` (every planned step ran) or ``"agents-stopped"``.
     ending: str
@@ -63,6 +63,6 @@ def run(
         mcap=mcap,
         quiet=quiet,
     )
-    folder = Path(folder)
+    folder = Path(folder).resolve()
     summary = json.loads((folder / "summary.json").read_text())
     return RunResult(out=folder, ending=ending, summary=summary)

@@ -25,10 +25,11 @@ def without_timing(x):
 
 def test_python_writes_what_the_command_writes(shoal_bin, tmp_path):
     world = WORLDS / "gossip.toml"
+    # (shoal_run adds --no-plots and --no-replay.)
     cli = shoal_run(shoal_bin, world, tmp_path / "cli", "--duration", "4", "--seed", "11",
-                    "--no-replay", "--mcap")
-    py = shoal.run(world, tmp_path / "py", duration=4, seed=11, replay=False, mcap=True,
-                   quiet=True)
+                    "--mcap")
+    py = shoal.run(world, tmp_path / "py", duration=4, seed=11, plots=False, replay=False,
+                   mcap=True, quiet=True)
     assert py.ending == "complete"
     assert py.out == tmp_path / "py"
     assert sorted(p.name for p in py.out.iterdir()) == sorted(

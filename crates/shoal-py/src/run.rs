@@ -8,7 +8,7 @@
 //! the agents attach to.
 
 use crate::source::{self, Source};
-use crate::{SimulationError, WorldError};
+use crate::errors::{SimulationError, WorldError};
 use pyo3::exceptions::{PyKeyboardInterrupt, PyOSError};
 use pyo3::prelude::*;
 use shoal_output::words::factor;
