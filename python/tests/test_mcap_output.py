@@ -16,6 +16,7 @@ import jsonschema
 import pytest
 from mcap.reader import make_reader
 from mcap_ros2.decoder import DecoderFactory
+from shoal_ros2 import enu
 
 from conftest import WORLDS, shoal_run
 
@@ -129,11 +130,11 @@ def test_ros_2_messages_are_the_recorded_values_in_enu(run):
             assert math.isclose(p.fluid_pressure, want, rel_tol=1e-9, abs_tol=0.01)
             _, imu = decoded[f"/{v}/imu"][k]
             yaw = float(row["yaw_rad"])
-            # ENU heading = π/2 − NED heading; the vehicles stay level: a rotation about z.
-            half = (math.pi / 2 - yaw) / 2
+            # Python's one NED→ENU (shoal_ros2.enu); the vehicles stay level: about z only.
+            want_q = enu.attitude_from_ned(0.0, 0.0, yaw)
             o = imu.orientation
-            assert math.isclose(abs(o.z), abs(math.sin(half)), abs_tol=2e-3)
-            assert math.isclose(abs(o.w), abs(math.cos(half)), abs_tol=2e-3)
+            assert math.isclose(abs(o.z), abs(want_q.z), abs_tol=2e-3)
+            assert math.isclose(abs(o.w), abs(want_q.w), abs_tol=2e-3)
             assert math.isclose(imu.angular_velocity.z, -float(row["r_rad_s"]), **rel)
             assert imu.linear_acceleration_covariance[0] == -1.0
             _, thr = decoded[f"/{v}/thrusters"][k]
