@@ -275,8 +275,14 @@ fn run_interruptibly(
         }));
         let _ = tx.send((done, failed.into_inner().ok().flatten()));
     });
+    // A receiver is not shared between threads; behind a lock, the wait releases the GIL.
+    let rx = Mutex::new(rx);
+    let wait = || match rx.lock() {
+        Ok(r) => r.recv_timeout(Duration::from_millis(100)),
+        Err(_) => Err(RecvTimeoutError::Disconnected),
+    };
     loop {
-        match py.detach(|| rx.recv_timeout(Duration::from_millis(100))) {
+        match py.detach(wait) {
             Ok((Ok(done), None)) => return Ok(done),
             Ok((Ok(_), Some(e))) => return Err(e),
             Ok((Err(panic), _)) => resume_unwind(panic),
