@@ -108,7 +108,7 @@ def test_bad_bags_and_mappings_are_named(shoal_bin, tmp_path):
         assert "panicked" not in p.stderr
 
     # No mapping.
-    fails(str(bag), want="needs --mapping")
+    fails(str(bag), want="needs a mapping file")
     # A topic the bag does not have.
     m = tmp_path / "topic.toml"
     m.write_text(text.replace("/uauv2/tilts", "/uauv2/tilt"))
@@ -122,7 +122,7 @@ def test_bad_bags_and_mappings_are_named(shoal_bin, tmp_path):
     # An index past the end of a sequence names the message.
     m = tmp_path / "index.toml"
     m.write_text(text.replace('"data[2]"', '"data[3]"'))
-    fails(str(bag), "--mapping", str(m), want="topic `/uauv2/thrusters`, message 1, field `data[3]`")
+    fails(str(bag), "--mapping", str(m), want="topic `/uauv2/thrusters`, message 1: std_msgs/msg/Float64MultiArray : `data[3]` is past the end of `data`: index 3")
     # A typo in the mapping file.
     m = tmp_path / "typo.toml"
     m.write_text(text.replace("topic =", "topik =", 1))

@@ -60,14 +60,21 @@ fn a_rosbag2_folder_without_a_mapping_is_refused_and_other_folders_say_what_they
 }
 
 #[test]
-fn a_csv_is_read_as_csv_whatever_its_name() {
-    let path = scratch("dive.mcap");
+fn a_csv_is_read_as_csv_whatever_its_name_but_a_bags() {
+    let path = scratch("dive.log");
     std::fs::write(&path, CSV).unwrap();
     let run = Readers::default()
         .read(&path, &ReadOptions::default())
         .unwrap();
     assert_eq!(run.t, [0.0, 0.1, 0.2]);
     assert_eq!(run.channels[0].values, [0.5, 0.5, 0.5]);
+    // Named as a bag, it is taken for one (a damaged bag gets the bag reader's diagnosis).
+    let named = scratch("dive.mcap");
+    std::fs::write(&named, CSV).unwrap();
+    let e = Readers::default()
+        .read(&named, &ReadOptions::default())
+        .unwrap_err();
+    assert!(e.message.contains("needs a mapping file"), "{e}");
 }
 
 /// A reader of files starting with `FAKE`: three rows at depth 2 m.

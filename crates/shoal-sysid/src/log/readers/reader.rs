@@ -28,7 +28,8 @@ impl Sniff<'_> {
     pub const HEAD_BYTES: usize = 16;
 
     /// Whether the log is a rosbag2, by content: an MCAP file, a sqlite3 bag, or a folder
-    /// holding `metadata.yaml` or `.mcap` files.
+    /// holding `metadata.yaml` or `.mcap` files — or by name, a file named `.mcap` or `.db3`
+    /// (so that a damaged bag gets the bag reader's diagnosis, not the CSV reader's).
     pub fn is_bag(&self) -> bool {
         if self.is_dir {
             let Ok(dir) = std::fs::read_dir(self.path) else {
@@ -40,7 +41,12 @@ impl Sniff<'_> {
                     || p.extension().is_some_and(|x| x == "mcap" || x == "db3")
             });
         }
-        self.head.starts_with(MCAP_MAGIC) || self.head.starts_with(SQLITE_MAGIC)
+        self.head.starts_with(MCAP_MAGIC)
+            || self.head.starts_with(SQLITE_MAGIC)
+            || self
+                .path
+                .extension()
+                .is_some_and(|x| x == "mcap" || x == "db3")
     }
 }
 
