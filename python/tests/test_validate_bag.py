@@ -5,7 +5,6 @@ given without a mapping is recognised by its content and the error says a mappin
 progress goes to stderr unless ``quiet``; and Ctrl-C interrupts a validation at once."""
 
 import json
-import os
 import signal
 import subprocess
 import sys
@@ -13,21 +12,12 @@ import time
 
 import pytest
 
-import rosbag_writer as bags
 import shoal
 from conftest import REPO
+from test_rosbag import bag_of
 
 DEV = REPO.parent / "shared" / "data" / "validation_dev"
 ONLY = "thrust_gain,damping_error"
-
-
-def bag_of(name, tmp):
-    csv = DEV / f"{name}.csv"
-    assert csv.is_file(), f"the development logs belong beside the repository: no {csv}"
-    bag = bags.write_bag(csv, tmp / name)
-    mapping = tmp / f"{name}.toml"
-    mapping.write_text(bags.mapping_for(bags.read_csv(csv)))
-    return bag, mapping
 
 
 def test_python_reads_a_bag_through_its_mapping_as_the_command_line(shoal_bin, tmp_path):
