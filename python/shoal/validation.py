@@ -1,10 +1,14 @@
 """``shoal.validate`` (this module: ``shoal.validation``): what the simulation gets wrong on measured runs, the effects that explain
 it, the fitted vehicle and its gain on data it did not fit — ``shoal validate`` as a function.
 
-Runs are paths of CSV logs (docs/validation.md) or columns of numbers: a mapping from the CSV
+Runs are paths of logs — CSV (docs/validation.md), or rosbag2s (an ``.mcap`` file or a rosbag2
+folder) read through ``mapping=``, a mapping TOML as ``shoal validate --mapping`` takes; each
+file is recognised by its content — or columns of numbers: a mapping from the CSV
 format's column names (``t``, ``u.top``, …, ``y.depth``, …) to 1-D arrays (a ``dict`` of numpy
 arrays, a pandas ``DataFrame``, …), optionally named as ``(name, columns)``. The search runs
-with the GIL released; ``progress(kind, message)`` hears of every file read (``read``),
+with the GIL released (Ctrl-C raises ``KeyboardInterrupt``); by default progress is reported on
+stderr as ``shoal validate`` reports it (``quiet=True`` silences it); ``progress(kind, message)``
+instead hears of every file read (``read``),
 inputs clamped to the vehicle's limits (``clamped``), the start (``start``), each stage of the
 search as it begins (``stage``, with its number of fits when known) and every fit (``fit``).
 
@@ -17,6 +21,7 @@ from __future__ import annotations
 
 import json
 import os
+import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Iterable, Mapping, Optional, Sequence, Union
@@ -143,6 +148,27 @@ def _names(v: Union[str, Iterable[str], None]) -> list[str]:
     return [str(s) for s in v]
 
 
+class _StderrProgress:
+    """Progress on stderr as ``shoal validate`` prints it: files read, clamped inputs, the start,
+    each stage, and every 10th fit of a stage (``kind`` and ``message`` as ``progress`` hears
+    them)."""
+
+    def __init__(self) -> None:
+        self.fits = 0
+
+    def __call__(self, kind: str, message: str) -> None:
+        if kind == "fit":
+            self.fits += 1
+            if self.fits % 10 == 0:
+                print(f"  {self.fits} fits, last: {message}", file=sys.stderr, flush=True)
+            return
+        if kind == "stage":
+            self.fits = 0
+        prefix = "  " if kind == "clamped" else "shoal: "
+        word = "read " if kind == "read" else ""
+        print(f"{prefix}{word}{message}", file=sys.stderr, flush=True)
+
+
 def validate(
     runs: Union[Run, Sequence[Run]],
     holdout: Union[Run, Sequence[Run], None] = None,
@@ -159,6 +185,8 @@ def validate(
     threads: Optional[int] = None,
     progress: Optional[Callable[[str, str], Any]] = None,
     horizon: Union[str, float] = "open",
+    mapping: Union[str, "os.PathLike[str]", None] = None,
+    quiet: bool = False,
 ) -> Report:
     """Validates a vehicle model against measured runs, as ``shoal validate`` does.
 
@@ -172,8 +200,13 @@ def validate(
     search (results do not depend on it); ``horizon`` how runs are replayed: ``"open"`` (open
     loop, the default), a number of seconds (re-anchored to the measured depth, attitude and
     rates that often) or ``"auto"`` (a horizon chosen from the data), for long and closed-loop
-    runs. Returns a :class:`Report`.
+    runs. ``mapping`` is the mapping TOML through which rosbag2s among the runs are read (which
+    topic and field is each input and channel; docs/validation.md "Your rosbag2"). Progress goes
+    to ``progress(kind, message)`` if given, else to stderr unless ``quiet``. Returns a
+    :class:`Report`.
     """
+    if progress is None and not quiet:
+        progress = _StderrProgress()
     native = _shoal.validate(
         _runs(runs, "runs"),
         _runs(holdout, "holdout"),
@@ -189,6 +222,7 @@ def validate(
         threads,
         progress,
         str(horizon),
+        None if mapping is None else os.fspath(mapping),
     )
     data = json.loads(native.report_json())
     v = data["verdict"]

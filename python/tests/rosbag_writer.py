@@ -32,6 +32,7 @@ from pathlib import Path
 import numpy as np
 from rosbags.rosbag2 import StoragePlugin, Writer
 from rosbags.typesys import Stores, get_types_from_msg, get_typestore
+from shoal_ros2 import enu, msgs
 
 #: Header-stamp jitter around each sample's time [ns].
 JITTER_NS = 400_000
@@ -140,9 +141,11 @@ def write_bag(csv_path: Path, out: Path, seed: int = 1, channels: tuple = ("y.de
             if ns < start:
                 continue
             stamp = jitter(ns)
-            yaw_enu = math.pi / 2 - cols["y.yaw"][k]
-            q = Quaternion(x=0.0, y=0.0, z=math.sin(yaw_enu / 2), w=math.cos(yaw_enu / 2))
-            w = Vector3(x=0.0, y=0.0, z=-cols["y.r"][k])
+            # Python's one NED→ENU (shoal_ros2.enu): attitude, and FRD rates as FLU.
+            o = enu.attitude_from_ned(0.0, 0.0, cols["y.yaw"][k])
+            q = Quaternion(x=o.x, y=o.y, z=o.z, w=o.w)
+            wx, wy, wz = enu.frd(msgs.Vector3(x=0.0, y=0.0, z=cols["y.r"][k]))
+            w = Vector3(x=wx, y=wy, z=wz)
             msg = Imu(header=header(stamp, "imu"), orientation=q,
                       orientation_covariance=np.zeros(9), angular_velocity=w,
                       angular_velocity_covariance=np.zeros(9),

@@ -17,6 +17,7 @@ from rosbags.highlevel import AnyReader
 import pytest
 from mcap.reader import make_reader
 from mcap_ros2.decoder import DecoderFactory
+from shoal_ros2 import enu
 
 from conftest import WORLDS, shoal_run
 
@@ -144,13 +145,12 @@ def test_ros_2_messages_are_the_recorded_values_in_enu(run):
             assert math.isclose(p.fluid_pressure, want, rel_tol=1e-9, abs_tol=0.01)
             _, imu = decoded[f"/{v}/imu"][k]
             yaw = float(row["yaw_rad"])
-            # ENU heading = π/2 − NED heading; the vehicles stay level: a rotation about z.
-            # q and −q are the same rotation: the angle's half-sine from (z, w) must vanish
-            # against the expected one (a mirrored heading −yaw does not).
-            half = (math.pi / 2 - yaw) / 2
+            # Python's one NED→ENU (shoal_ros2.enu) of the row's attitude. q and −q are the
+            # same rotation: |q · q_want| = 1 (a mirrored heading −yaw gives less).
+            want_q = enu.attitude_from_ned(float(row["roll_rad"]), float(row["pitch_rad"]), yaw)
             o = imu.orientation
-            assert math.isclose(o.z * math.cos(half) - o.w * math.sin(half), 0.0, abs_tol=2e-3)
-            assert math.isclose(math.hypot(o.z, o.w), 1.0, abs_tol=2e-3)
+            dot = o.x * want_q.x + o.y * want_q.y + o.z * want_q.z + o.w * want_q.w
+            assert math.isclose(abs(dot), 1.0, abs_tol=1e-9), (v, k, o, want_q)
             assert math.isclose(imu.angular_velocity.z, -float(row["r_rad_s"]), **rel)
             assert imu.linear_acceleration_covariance[0] == -1.0
             _, thr = decoded[f"/{v}/thrusters"][k]

@@ -11,12 +11,15 @@ them to its campaign too) run only with SHOAL_CAMPAIGN=1."""
 
 import json
 import os
+import re
 import subprocess
+import sys
 from pathlib import Path
 
 import pytest
 
 import rosbag_writer as bags
+import shoal
 from conftest import REPO
 
 DEV = REPO.parent / "shared" / "data" / "validation_dev"
@@ -105,7 +108,7 @@ def test_bad_bags_and_mappings_are_named(shoal_bin, tmp_path):
         assert "panicked" not in p.stderr
 
     # No mapping.
-    fails(str(bag), want="needs --mapping")
+    fails(str(bag), want="needs a mapping file")
     # A topic the bag does not have.
     m = tmp_path / "topic.toml"
     m.write_text(text.replace("/uauv2/tilts", "/uauv2/tilt"))
@@ -119,7 +122,7 @@ def test_bad_bags_and_mappings_are_named(shoal_bin, tmp_path):
     # An index past the end of a sequence names the message.
     m = tmp_path / "index.toml"
     m.write_text(text.replace('"data[2]"', '"data[3]"'))
-    fails(str(bag), "--mapping", str(m), want="topic `/uauv2/thrusters`, message 1, field `data[3]`")
+    fails(str(bag), "--mapping", str(m), want="topic `/uauv2/thrusters`, message 1: std_msgs/msg/Float64MultiArray : `data[3]` is past the end of `data`: index 3")
     # A typo in the mapping file.
     m = tmp_path / "typo.toml"
     m.write_text(text.replace("topic =", "topik =", 1))
@@ -197,3 +200,43 @@ def test_a_runs_mcap_gives_the_verdict_of_its_csv(shoal_bin, tmp_path):
     for ch, row in text["channels"].items():
         assert bag["channels"][ch]["rmse_after"] == pytest.approx(row["rmse_after"], rel=1e-4)
         assert bag["channels"][ch]["rmse_before"] == pytest.approx(row["rmse_before"], rel=1e-4)
+
+
+MAPPINGS = REPO / "examples" / "rosbag2"
+
+
+def test_every_shipped_mapping_names_a_bag_that_exists_or_a_documented_command_writes(
+        tmp_path):
+    """Each `examples/rosbag2/*.toml` shows `shoal validate BAG --mapping <itself>`; BAG is in
+    the repository, or the run directory of a `shoal run --mcap --out DIR` shown before it
+    (DIR/run.mcap), or what a script shown before it writes (`… SCRIPT.py BAG`) — which is run
+    here, and its bag read through the mapping."""
+    seen = 0
+    for mapping in sorted(MAPPINGS.glob("*.toml")):
+        comments = "\n".join(l[1:].strip() for l in mapping.read_text().splitlines()
+                             if l.startswith("#")).replace("\\\n", " ")
+        rel = f"examples/rosbag2/{mapping.name}"
+        m = re.search(r"shoal validate (\S+) --mapping " + re.escape(rel), comments)
+        assert m, f"{mapping.name}: no `shoal validate BAG --mapping {rel}` in its comments"
+        bag = m.group(1)
+        before = comments[: m.start()]
+        run = re.search(r"shoal run (\S+) --mcap --out (\S+)", before)
+        script = re.search(r"(examples/\S+\.py) " + re.escape(bag) + r"\b", before)
+        if (REPO / bag).exists():
+            pass
+        elif run and f"{run.group(2)}/run.mcap" == bag:
+            assert (REPO / run.group(1)).is_file(), f"{mapping.name}: no world {run.group(1)}"
+        elif script:
+            written = tmp_path / Path(bag).name
+            subprocess.run([sys.executable, REPO / script.group(1), written], check=True,
+                           capture_output=True, text=True, timeout=600)
+            vehicle = re.search(r"--vehicle (\S+)", comments[m.start():])
+            r = shoal.validate(written, mapping=mapping, effects="thrust_gain", dt=0.02,
+                               threads=1, quiet=True,
+                               vehicle=REPO / vehicle.group(1) if vehicle else None)
+            assert r.data["runs"], r.data
+        else:
+            raise AssertionError(f"{mapping.name}: `{bag}` exists nowhere and no command "
+                                 "shown before writes it")
+        seen += 1
+    assert seen >= 2

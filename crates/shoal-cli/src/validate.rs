@@ -4,7 +4,6 @@
 use crate::exit::Failure;
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressStyle};
-use shoal_rosbag::Mapping;
 use shoal_sysid::log::format::TimeUnit;
 use shoal_sysid::log::segments::{GapMode, Segments};
 use shoal_sysid::validate::{Config, Horizon, Progress, RunInput, ValidateError, Vehicle};
@@ -78,9 +77,12 @@ pub struct ValidateArgs {
     pub quiet: bool,
 }
 
-/// The library's settings from the command line.
-fn config(args: &ValidateArgs) -> Config {
-    Config {
+/// The library's settings from the command line; files are read through shoal-rosbag's
+/// readers (CSV, and rosbag2s through --mapping).
+fn config(args: &ValidateArgs) -> Result<Config, Failure> {
+    let readers = shoal_rosbag::readers(args.mapping.as_deref())
+        .map_err(|e| Failure::Input(e.to_string()))?;
+    Ok(Config {
         vehicle: args.vehicle.clone().map_or(Vehicle::Preset, Vehicle::File),
         split: args.split,
         dt: args.dt,
@@ -92,7 +94,8 @@ fn config(args: &ValidateArgs) -> Config {
         effects: args.effects.clone(),
         threads: args.threads.map(usize::from),
         horizon: args.horizon,
-    }
+        readers,
+    })
 }
 
 /// A library error as the command line says it: settings by their flags.
@@ -132,15 +135,9 @@ pub fn validate(args: &ValidateArgs) -> Result<ExitCode, Failure> {
     pb.enable_steady_tick(std::time::Duration::from_millis(200));
     let started = OnceLock::new();
     let stage = Mutex::new(StageClock::default());
-    let mapping = match &args.mapping {
-        Some(p) => Some(Mapping::read(p).map_err(|e| Failure::Input(e.to_string()))?),
-        None => None,
-    };
-    let files = |paths: &[PathBuf]| -> Result<Vec<RunInput>, Failure> {
-        paths
-            .iter()
-            .map(|p| run_input(p, mapping.as_ref()))
-            .collect()
+    let config = config(args)?;
+    let files = |paths: &[PathBuf]| -> Vec<RunInput> {
+        paths.iter().map(|p| RunInput::File(p.clone())).collect()
     };
     let progress = |p: Progress<'_>| match p {
         Progress::Fit { name } => {
@@ -188,9 +185,9 @@ pub fn validate(args: &ValidateArgs) -> Result<ExitCode, Failure> {
         }
     };
     let v = shoal_sysid::validate::validate(
-        &config(args),
-        &files(&args.runs)?,
-        &files(&args.holdout)?,
+        &config,
+        &files(&args.runs),
+        &files(&args.holdout),
         &progress,
     )
     .map_err(input_error)?;
@@ -236,22 +233,6 @@ pub fn validate(args: &ValidateArgs) -> Result<ExitCode, Failure> {
         written.plots.len()
     );
     Ok(ExitCode::SUCCESS)
-}
-
-/// A CSV file as it is; a bag read through the mapping.
-fn run_input(path: &Path, mapping: Option<&Mapping>) -> Result<RunInput, Failure> {
-    if !shoal_rosbag::is_bag(path) {
-        return Ok(RunInput::File(path.to_path_buf()));
-    }
-    let Some(mapping) = mapping else {
-        return Err(Failure::Input(format!(
-            "{}: a rosbag2 needs --mapping MAPPING.toml (which topic and field is each input \
-             and channel; docs/validation.md \"Your rosbag2\")",
-            path.display()
-        )));
-    };
-    let run = shoal_rosbag::read_bag(path, mapping).map_err(|e| Failure::Input(e.to_string()))?;
-    Ok(RunInput::Measured(Box::new(run)))
 }
 
 /// The stage of the search running now, for the progress line.

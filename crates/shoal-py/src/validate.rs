@@ -1,12 +1,14 @@
 //! `shoal.validate`'s compiled half: measured runs (paths, or columns of numbers) and settings
-//! handed to [`shoal_sysid::validate::validate`] with the GIL released, progress passed back
-//! to a Python callable, and the finished validation kept as [`Validation`] (its report as
+//! handed to [`shoal_sysid::validate::validate`] on a thread of its own (the caller waits with
+//! the GIL released and Ctrl-C still raising `KeyboardInterrupt`), files read through
+//! `shoal_rosbag::readers` (CSV, and rosbag2s through `mapping`, as `shoal validate` reads
+//! them), progress passed back to a Python callable, and the finished validation kept as [`Validation`] (its report as
 //! JSON text, the fitted vehicle as a world file, the report files written on request). The
 //! Python half (`python/shoal/validate.py`) builds the `Report` objects from it.
 
 use crate::errors::ValidationError;
 use numpy::{AllowTypeChange, PyArrayLike1};
-use pyo3::exceptions::{PyOSError, PyValueError};
+use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 use shoal_sysid::log::format::TimeUnit;
@@ -14,7 +16,11 @@ use shoal_sysid::log::segments::GapMode;
 use shoal_sysid::validate::{Config, Progress, RunInput, ValidateError, Vehicle};
 use std::fmt::Write as _;
 use std::path::PathBuf;
-use std::sync::Mutex;
+use std::panic::{AssertUnwindSafe, catch_unwind, resume_unwind};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::{RecvTimeoutError, channel};
+use std::sync::{Arc, Mutex};
+use std::time::Duration;
 
 /// A finished validation (see `shoal.validate`).
 #[pyclass(frozen, module = "shoal._shoal")]
@@ -170,7 +176,7 @@ fn progress_message(p: &Progress<'_>) -> (&'static str, String) {
 /// The compiled `shoal._shoal.validate`: see `shoal.validate` (python/shoal/validate.py),
 /// which normalises the runs into paths and `(name, [(header, values)])` tuples.
 #[pyfunction]
-#[pyo3(signature = (runs, holdout, vehicle, channels, effects, split, dt, time_unit, gaps, max_gap, min_segment, threads, progress, horizon))]
+#[pyo3(signature = (runs, holdout, vehicle, channels, effects, split, dt, time_unit, gaps, max_gap, min_segment, threads, progress, horizon, mapping=None))]
 pub fn validate(
     py: Python<'_>,
     runs: Vec<Bound<'_, PyAny>>,
@@ -187,6 +193,7 @@ pub fn validate(
     threads: Option<usize>,
     progress: Option<Py<PyAny>>,
     horizon: &str,
+    mapping: Option<PathBuf>,
 ) -> PyResult<Validation> {
     let inputs = |list: &[Bound<'_, PyAny>], what: &str| -> PyResult<Vec<RunInput>> {
         list.iter()
@@ -199,6 +206,15 @@ pub fn validate(
         None => None,
         Some(u) => Some(u.parse::<TimeUnit>().map_err(PyValueError::new_err)?),
     };
+    let readers = shoal_rosbag::readers(mapping.as_deref()).map_err(|e| {
+        let err = ValidationError::new_err(e.to_string());
+        let v = err.value(py);
+        let _ = v.setattr("setting", "mapping");
+        let _ = v.setattr("file", e.file.clone());
+        let _ = v.setattr("line", None::<usize>);
+        let _ = v.setattr("column", None::<String>);
+        err
+    })?;
     let config = Config {
         vehicle: vehicle.map_or(Vehicle::Preset, Vehicle::File),
         split,
@@ -211,24 +227,76 @@ pub fn validate(
         effects,
         threads,
         horizon: horizon.parse().map_err(PyValueError::new_err)?,
+        readers,
     };
-    // The callable is called from the search's threads, each taking the GIL for the call; the
-    // first exception it raises is raised once the search is done.
-    let failed: Mutex<Option<PyErr>> = Mutex::new(None);
-    let report = |p: Progress<'_>| {
-        let Some(cb) = &progress else { return };
-        let (kind, message) = progress_message(&p);
-        Python::attach(|py| {
-            if let Err(e) = cb.call1(py, (kind, message))
-                && let Ok(mut f) = failed.lock()
-            {
-                f.get_or_insert(e);
-            }
-        });
-    };
-    let done = py.detach(|| shoal_sysid::validate::validate(&config, &runs, &holdout, &report));
-    if let Some(e) = failed.into_inner().ok().flatten() {
-        return Err(e);
-    }
+    let done = run_interruptibly(py, config, runs, holdout, progress)?;
     done.map(Validation).map_err(|e| error(py, &e))
+}
+
+/// What the validation's thread unwinds with when Ctrl-C stopped it.
+struct Cancelled;
+
+/// Runs the validation on a thread of its own while this one waits with the GIL released,
+/// looking for signals every 0.1 s: Ctrl-C raises `KeyboardInterrupt` at once and stops the
+/// search at its next stage (its fits in flight finish unheard). The progress callable is
+/// called from the search's threads, each taking the GIL for the call; the first exception it
+/// raises is raised once the search is done.
+fn run_interruptibly(
+    py: Python<'_>,
+    config: Config,
+    runs: Vec<RunInput>,
+    holdout: Vec<RunInput>,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Result<shoal_sysid::validate::Validation, ValidateError>> {
+    let cancelled = Arc::new(AtomicBool::new(false));
+    let stop = Arc::clone(&cancelled);
+    let (tx, rx) = channel();
+    std::thread::spawn(move || {
+        let failed: Mutex<Option<PyErr>> = Mutex::new(None);
+        let report = |p: Progress<'_>| {
+            if stop.load(Ordering::Relaxed) {
+                if matches!(p, Progress::Stage { .. }) {
+                    resume_unwind(Box::new(Cancelled));
+                }
+                return;
+            }
+            let Some(cb) = &progress else { return };
+            let (kind, message) = progress_message(&p);
+            Python::attach(|py| {
+                if let Err(e) = cb.call1(py, (kind, message))
+                    && let Ok(mut f) = failed.lock()
+                {
+                    f.get_or_insert(e);
+                }
+            });
+        };
+        let done = catch_unwind(AssertUnwindSafe(|| {
+            shoal_sysid::validate::validate(&config, &runs, &holdout, &report)
+        }));
+        let _ = tx.send((done, failed.into_inner().ok().flatten()));
+    });
+    // A receiver is not shared between threads; behind a lock, the wait releases the GIL.
+    let rx = Mutex::new(rx);
+    let wait = || match rx.lock() {
+        Ok(r) => r.recv_timeout(Duration::from_millis(100)),
+        Err(_) => Err(RecvTimeoutError::Disconnected),
+    };
+    loop {
+        match py.detach(wait) {
+            Ok((Ok(done), None)) => return Ok(done),
+            Ok((Ok(_), Some(e))) => return Err(e),
+            Ok((Err(panic), _)) => resume_unwind(panic),
+            Err(RecvTimeoutError::Timeout) => {
+                if let Err(e) = py.check_signals() {
+                    cancelled.store(true, Ordering::Relaxed);
+                    return Err(e);
+                }
+            }
+            Err(RecvTimeoutError::Disconnected) => {
+                return Err(PyRuntimeError::new_err(
+                    "the validation's thread ended without a result",
+                ));
+            }
+        }
+    }
 }

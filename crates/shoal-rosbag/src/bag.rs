@@ -20,7 +20,7 @@ use nalgebra::Quaternion;
 use shoal_model::frames;
 use shoal_model::math::Quat;
 use shoal_sysid::log::run::ChannelKind;
-use std::collections::HashMap;
+use std::collections::{BTreeSet, HashMap};
 use std::path::{Path, PathBuf};
 
 /// A problem with a bag, naming the file and, where it is in one, the topic, the message and
@@ -153,6 +153,8 @@ pub fn read_series(path: &Path, mapping: &Mapping) -> Result<(Vec<Series>, BagSu
         files: files.len(),
         ..BagSummary::default()
     };
+    // Every topic in the bag, for the message when a mapped one is not there.
+    let mut seen: BTreeSet<String> = BTreeSet::new();
     for file in &files {
         let stream = open_mcap(file)?;
         for (k, message) in stream.enumerate() {
@@ -161,12 +163,18 @@ pub fn read_series(path: &Path, mapping: &Mapping) -> Result<(Vec<Series>, BagSu
                     file,
                     None,
                     format!(
-                        "the file breaks off after {k} message(s): {e} (a recording cut short? \
-                         `mcap recover` rewrites what can be read)"
+                        "the file breaks off after {k} message(s) ({e}): a recording cut \
+                         short, its recorder stopped before it closed the file (killed, power \
+                         lost, disk full). shoal reads whole MCAP files only: record the run \
+                         again, stopping `ros2 bag record` with Ctrl-C so that it closes the \
+                         file"
                     ),
                 )
             })?;
             let topic = &message.channel.topic;
+            if !seen.contains(topic) {
+                seen.insert(topic.clone());
+            }
             if topics.binary_search(&topic.as_str()).is_err() {
                 summary.passed_over += 1;
                 continue;
@@ -200,9 +208,16 @@ pub fn read_series(path: &Path, mapping: &Mapping) -> Result<(Vec<Series>, BagSu
                 path,
                 Some(format!("entry `{}`", e.key)),
                 format!(
-                    "topic `{}` has no messages in the bag (check the name: `ros2 bag info` \
-                     lists the topics)",
-                    e.topic
+                    "topic `{}` has no messages in the bag; its topics: {}",
+                    e.topic,
+                    if seen.is_empty() {
+                        "none (the bag holds no messages)".to_string()
+                    } else {
+                        seen.iter()
+                            .map(|t| format!("`{t}`"))
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    }
                 ),
             ));
         };
@@ -354,8 +369,7 @@ fn entry_series(
                 path,
                 place(),
                 format!(
-                    "no finite value ({raw}): the array is shorter than the index, or the \
-                     sensor wrote {raw} (entry `{}`)",
+                    "no finite value: the sensor wrote {raw} (entry `{}`)",
                     e.key
                 ),
             ));

@@ -155,8 +155,21 @@ impl<'de> Visitor<'de> for ArraySeed<'_, '_> {
             };
             match seq.next_element_seed(seed)? {
                 Some(()) => i += 1,
-                None => return Ok(()),
+                None => break,
             }
+        }
+        // An index the mapping reads that this message's array does not reach.
+        let past = match self.sel {
+            Sel::Elems(list) => list.iter().map(|(k, _)| *k).filter(|&k| k >= i).min(),
+            _ => None,
+        };
+        match past {
+            Some(k) => Err(A::Error::custom(format!(
+                "`{name}[{k}]` is past the end of `{name}`: index {k}, but this message's \
+                 `{name}` has {i} element(s)",
+                name = self.field.name
+            ))),
+            None => Ok(()),
         }
     }
 }

@@ -10,7 +10,14 @@
 //! * [`decode`] — messages decoded by their schema (CDR with the `cdr-encoding` crate);
 //! * [`bag`] — the bag's files and messages (Foxglove's `mcap` crate) into time series;
 //! * [`assemble`] — the series onto one time base: a measured run, as the CSV reader makes
-//!   one from a multi-rate log.
+//!   one from a multi-rate log;
+//! * [`reader`] — [`BagReader`], this crate behind the validation's one log seam
+//!   (`shoal_sysid::log::readers::LogReader`), and [`readers`], the list `shoal validate`
+//!   and Python's `shoal.validate` read runs through.
+//!
+//! Why the seam is in `shoal-sysid` and this reader here: a bag read becomes shoal-sysid's
+//! `MeasuredRun`, so this crate depends on `shoal-sysid`; the seam there lets the validation
+//! read any format without knowing MCAP, CDR or mappings, and keeps the dependencies one way.
 //!
 //! Only the bag's own schemas are used: any ROS 2 message type with numbers in it can be
 //! mapped, standard (sensor_msgs/FluidPressure, sensor_msgs/Imu, nav_msgs/Odometry,
@@ -30,22 +37,10 @@ pub mod assemble;
 pub mod bag;
 pub mod decode;
 pub mod mapping;
+pub mod reader;
 pub mod schema;
 pub mod select;
 
 pub use bag::BagError;
 pub use mapping::{Mapping, MappingError};
-use shoal_sysid::log::run::MeasuredRun;
-use std::path::Path;
-
-/// Reads the bag at `path` (an `.mcap` file or a rosbag2 folder) into one measured run.
-pub fn read_bag(path: &Path, mapping: &Mapping) -> Result<MeasuredRun, BagError> {
-    let (series, summary) = bag::read_series(path, mapping)?;
-    assemble::assemble(path, &series, &summary)
-}
-
-/// Whether `path` names a bag rather than a CSV run: an `.mcap` file, or a folder (a rosbag2
-/// folder holds `metadata.yaml` and `.mcap` files).
-pub fn is_bag(path: &Path) -> bool {
-    path.is_dir() || path.extension().is_some_and(|x| x == "mcap" || x == "db3")
-}
+pub use reader::{BagReader, read_bag, readers};

@@ -36,6 +36,7 @@
 
 use serde::Deserialize;
 use shoal_sysid::log::run::ChannelKind;
+use shoal_world::load::suggest;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -200,8 +201,12 @@ impl Mapping {
                         .iter()
                         .map(|(_, n)| format!("y.{n}"))
                         .collect();
+                    let all: Vec<&str> = names.iter().map(String::as_str).collect();
+                    let hint = suggest(key, &all)
+                        .map(|s| format!(" — did you mean `{s}`?"))
+                        .unwrap_or_default();
                     err(format!(
-                        "[channels] `{key}`: not a channel (allowed: {})",
+                        "[channels] `{key}`: not a channel{hint} (allowed: {})",
                         names.join(", ")
                     ))
                 })?;

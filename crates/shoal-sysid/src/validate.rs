@@ -10,6 +10,7 @@ use crate::evaluate::evaluation::rmse_gain_pct;
 use crate::evaluate::open_loop::ReplayOptions;
 use crate::log::format::{ReadOptions, TimeUnit};
 use crate::log::limits::ClampNote;
+use crate::log::readers::Readers;
 use crate::log::run::{ChannelKind, MeasuredRun, RunError};
 use crate::log::segments::{GapMode, GapOptions, Segments};
 use crate::report::{
@@ -37,7 +38,8 @@ pub enum Vehicle {
 /// One measured run to read.
 #[derive(Clone, Debug)]
 pub enum RunInput {
-    /// A log file (CSV as docs/validation.md describes).
+    /// A log file or folder, read by the first of [`Config::readers`] that recognises it by
+    /// content (CSV as docs/validation.md describes; a rosbag2 through its mapping).
     File(PathBuf),
     /// CSV text already in memory; `name` stands for the file name in messages and reports.
     Text {
@@ -92,6 +94,10 @@ pub struct Config {
     /// seconds (given, or chosen from the data): for long and closed-loop runs, on which an
     /// open-loop replay drifts away (see [`Horizon`]).
     pub horizon: Horizon,
+    /// The readers files are read through, the first that recognises a file reading it
+    /// (default: CSV, and a rosbag2 refused for want of a mapping; `shoal_rosbag::readers`
+    /// adds the rosbag2 reader with its mapping).
+    pub readers: Readers,
 }
 
 impl Default for Config {
@@ -108,6 +114,7 @@ impl Default for Config {
             effects: Vec::new(),
             threads: None,
             horizon: Horizon::Open,
+            readers: Readers::default(),
         }
     }
 }
@@ -405,6 +412,7 @@ fn baseline(v: &Vehicle) -> Result<(VehicleSpec, Environment, String), ValidateE
 /// Reads `inputs` and splits each at its gaps; reports each file read.
 fn read_runs(
     inputs: &[RunInput],
+    readers: &Readers,
     read: &ReadOptions,
     gaps: &GapOptions,
     progress: &(dyn Fn(Progress<'_>) + Sync),
@@ -412,7 +420,7 @@ fn read_runs(
     let mut runs = Vec::new();
     for input in inputs {
         let run = match input {
-            RunInput::File(p) => MeasuredRun::read_with(p, read),
+            RunInput::File(p) => readers.read(p, read),
             RunInput::Text { name, csv } => MeasuredRun::parse_with(csv, Path::new(name), read),
             RunInput::Measured(run) => Ok(run.as_ref().clone()),
         }?;
@@ -452,8 +460,8 @@ pub fn validate(
         min_duration: config.min_segment,
         ..Default::default()
     };
-    let est = read_runs(runs, &read, &gaps, progress)?;
-    let hold = read_runs(holdouts, &read, &gaps, progress)?;
+    let est = read_runs(runs, &config.readers, &read, &gaps, progress)?;
+    let hold = read_runs(holdouts, &config.readers, &read, &gaps, progress)?;
     let mut dataset = Dataset::new(
         &params,
         env,

@@ -8,7 +8,10 @@
 //!   streaming and linear in the rows, on `header.rs` (the header line) and `data_lines.rs`
 //!   (only the data lines, with the file's line numbers);
 //! * [`segments`] — runs split at gaps in time;
-//! * [`limits`] — inputs checked against the actuator limits, rounding clamped and counted.
+//! * [`limits`] — inputs checked against the actuator limits, rounding clamped and counted;
+//! * [`readers`] — the seam every log format implements ([`readers::LogReader`]) and the list
+//!   a validation reads its files through ([`readers::Readers`]): CSV here, rosbag2 in crate
+//!   `shoal-rosbag`.
 //!
 //! Nothing here knows the later stages (`evaluate`, `search`, `report`).
 
@@ -18,5 +21,6 @@ mod header;
 pub mod ingest;
 pub mod limits;
 pub(crate) mod numbers;
+pub mod readers;
 pub mod run;
 pub mod segments;

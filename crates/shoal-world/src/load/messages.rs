@@ -92,7 +92,9 @@ pub(super) fn levenshtein(a: &str, b: &str) -> usize {
     prev[b.len()]
 }
 
-pub(super) fn suggest<'a>(name: &str, expected: &[&'a str]) -> Option<&'a str> {
+/// The allowed name `name` was probably meant to be (its `_deg` form, or the nearest by edit
+/// distance, within a third of its length), for a "did you mean" in messages.
+pub fn suggest<'a>(name: &str, expected: &[&'a str]) -> Option<&'a str> {
     // A unit-less name whose `_deg` form exists: the classic wrong-unit mistake.
     if let Some(e) = expected.iter().find(|e| **e == format!("{name}_deg")) {
         return Some(e);

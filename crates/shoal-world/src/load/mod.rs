@@ -29,7 +29,7 @@ mod world;
 
 pub use export::vehicle_world_toml;
 pub use memory::{DEFAULT_BYTES_PER_VEHICLE, MemoryBudget};
-pub use messages::unit_of;
+pub use messages::{suggest, unit_of};
 pub use names::{service_word, valid_service_word};
 pub use parse::parse_world_file;
 pub use validator::Validator;
