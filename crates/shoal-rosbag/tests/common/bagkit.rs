@@ -14,8 +14,9 @@
 
 #![allow(dead_code)]
 
+use shoal_record::mcap::definition;
 use shoal_record::mcap::ros2::{
-    Float64MultiArray, FluidPressure, Header, Imu, Quaternion, Time, Vector3, definition, encode,
+    Float64MultiArray, FluidPressure, Header, Imu, Quaternion, Time, Vector3, encode,
 };
 use std::collections::BTreeMap;
 use std::io::Cursor;
