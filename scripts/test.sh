@@ -103,9 +103,12 @@ phase tests
 pytest_log=$(mktemp)
 pytest_start=$(date +%s)
 (
+    # `|| rc=$?`: under `set -e` a failing pytest would end this subshell before its exit
+    # code is written, and the table would say "pytest ?".
+    rc=0
     SHOAL_BIN="$target/debug/shoal" "$python" -m pytest -q -p no:cacheprovider python/tests \
-        >"$pytest_log" 2>&1
-    echo "exit $?" >>"$pytest_log"
+        >"$pytest_log" 2>&1 || rc=$?
+    echo "exit $rc" >>"$pytest_log"
     echo "$(($(date +%s) - pytest_start))" >"$pytest_log.time"
 ) &
 pytest_pid=$!

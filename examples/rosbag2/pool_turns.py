@@ -83,11 +83,10 @@ def main(out: Path) -> Path:
             zero = Vector3(x=0.0, y=0.0, z=0.0)
             out_msgs = [("/mavros/imu/data", ts.types["sensor_msgs/msg/Imu"](
                 header=head, orientation=Quaternion(x=o.x, y=o.y, z=o.z, w=o.w),
-                orientation_covariance=[0.0] * 9, angular_velocity=Vector3(x=wx, y=wy, z=wz),
-                angular_velocity_covariance=[0.0] * 9, linear_acceleration=zero,
-                linear_acceleration_covariance=[-1.0] + [0.0] * 8))]
+                orientation_covariance=np.zeros(9), angular_velocity=Vector3(x=wx, y=wy, z=wz),
+                angular_velocity_covariance=np.zeros(9), linear_acceleration=zero,
+                linear_acceleration_covariance=np.array([-1.0] + [0.0] * 8)))]
             if k % SLOW == 0:
-
                 pwm = np.array([round(1500 + 4 * x) for x in u] + [1500, 1500], dtype=np.uint16)
                 out_msgs.append(("/mavros/rc/out", ts.types["mavros_msgs/msg/RCOut"](
                     header=head, channels=pwm)))

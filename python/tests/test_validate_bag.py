@@ -34,7 +34,8 @@ def test_python_reads_a_bag_through_its_mapping_as_the_command_line(shoal_bin, t
     assert r.data["verdict"] == cli["verdict"]
     assert r.effect_names == ["thrust_gain"]
     for name, ch in r.channels.items():
-        assert ch.rmse_before == pytest.approx(cli["channels"][name]["rmse_before"], rel=1e-12)
+        want = cli["verdict"]["channels"][name]["rmse_before"]
+        assert ch.rmse_before == pytest.approx(want, rel=1e-12), name
 
 
 def test_a_bag_without_a_mapping_is_recognised_by_content(tmp_path):
@@ -50,11 +51,13 @@ def test_a_bag_without_a_mapping_is_recognised_by_content(tmp_path):
 
 def test_a_bad_mapping_names_the_setting_and_file(tmp_path):
     bag, mapping = bag_of("dev_y_gain", tmp_path)
-    mapping.write_text(mapping.read_text().replace('"y.depth"', '"y.dpth"'))
+    text = mapping.read_text()
+    assert '"y.yaw"' in text
+    mapping.write_text(text.replace('"y.yaw"', '"y.yew"'))
     with pytest.raises(shoal.ValidationError) as e:
         shoal.validate(bag, mapping=mapping, quiet=True)
     assert e.value.setting == "mapping" and e.value.file == mapping, str(e.value)
-    assert "did you mean `y.depth`?" in str(e.value)
+    assert "did you mean `y.yaw`?" in str(e.value)
 
 
 def test_progress_goes_to_stderr_unless_quiet(capfd):

@@ -11,6 +11,7 @@ use std::path::PathBuf;
 pub const TEXT_NAME: &str = "<world text>";
 
 /// A world as Python named it.
+#[derive(Clone, Debug)]
 pub enum Source {
     /// The embedded default world of `shoal run`.
     Embedded,

@@ -38,6 +38,8 @@ const RAW_KEYS: [&str; 3] = ["thrusters", "tilts", "pump"];
 /// number). Units are SI, angles in radians, depth positive down (north-east-down frame).
 #[pyclass(module = "shoal._shoal")]
 pub struct World {
+    /// Where the world came from (read again by `reset` with another seed).
+    source: Source,
     desc: WorldDesc,
     sim: Sim,
     threads: usize,
@@ -49,10 +51,14 @@ pub struct World {
     warned_sync: bool,
 }
 
-/// Loads a world from a path or TOML text (`None`: the embedded default world).
-fn load(py: Python<'_>, world: Option<&Bound<'_, PyAny>>) -> PyResult<WorldDesc> {
-    let source = Source::of(world)?;
-    py.detach(|| load_world(source.as_world(), &Changes::default(), &Cancel::new()))
+/// Loads the world of `source` with `seed` in place of its own, as `shoal run --seed` does:
+/// the seed is the world file's, so it draws the placement as well as the vehicles' streams.
+fn load(py: Python<'_>, source: &Source, seed: Option<u64>) -> PyResult<WorldDesc> {
+    let changes = Changes {
+        seed,
+        ..Changes::default()
+    };
+    py.detach(|| load_world(source.as_world(), &changes, &Cancel::new()))
         .map_err(|e| WorldError::new_err(e.to_string()))
 }
 
@@ -200,11 +206,9 @@ impl World {
         seed: Option<u64>,
         threads: Option<usize>,
     ) -> PyResult<Self> {
-        let mut desc = load(py, world)?;
+        let source = Source::of(world)?;
+        let desc = load(py, &source, seed)?;
         let threads = source::threads(threads)?;
-        if let Some(s) = seed {
-            desc.seed = s;
-        }
         for w in &desc.warnings {
             let msg = std::ffi::CString::new(format!("{}: {w}", desc.source.display()))
                 .unwrap_or_default();
@@ -220,6 +224,7 @@ impl World {
             .max()
             .unwrap_or(0);
         Ok(Self {
+            source,
             desc,
             sim,
             threads,
@@ -232,14 +237,16 @@ impl World {
     }
 
     /// Rebuilds the world at t = 0 with `seed` (default: the seed in force), exactly as a
-    /// new `World` of the same file and seed.
+    /// new `World` of the same file and seed (another seed reads the world again: the seed
+    /// draws its placement too).
     #[pyo3(signature = (seed=None))]
-    fn reset(&mut self, py: Python<'_>, seed: Option<u64>) {
-        if let Some(s) = seed {
-            self.desc.seed = s;
+    fn reset(&mut self, py: Python<'_>, seed: Option<u64>) -> PyResult<()> {
+        if let Some(s) = seed.filter(|&s| s != self.desc.seed) {
+            self.desc = load(py, &self.source, Some(s))?;
         }
         self.sim = build(py, &self.desc, self.threads);
         self.received.clear();
+        Ok(())
     }
 
     /// Applies `commands` (a dict, see below) and advances `steps` physics steps (default:

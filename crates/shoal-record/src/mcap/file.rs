@@ -6,7 +6,7 @@
 //! compression, zstd, single-threaded so the bytes do not depend on the machine) in memory
 //! until it is whole. Every failure is a [`FileError`] naming the file and the reason.
 
-use super::msgdef::definition;
+use super::definitions::definition;
 use mcap::records::MessageHeader;
 use mcap::write::NoSeek;
 use mcap::{McapError, WriteOptions, Writer};
@@ -79,7 +79,7 @@ impl McapFile {
     }
 
     /// Adds the ROS 2 schema of type `name` (e.g. `sensor_msgs/msg/Imu`) with its complete
-    /// definition ([`super::msgdef::definition`]); its id.
+    /// definition ([`super::definitions::definition`]); its id.
     pub fn ros2_schema(&mut self, name: &str) -> Result<u16, FileError> {
         let text = definition(name).ok_or_else(|| FileError {
             path: self.path.clone(),

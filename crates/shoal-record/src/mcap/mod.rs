@@ -58,13 +58,14 @@
 mod budget;
 mod file;
 pub mod foxglove;
+mod definitions;
 mod msgdef;
 pub mod plain;
 pub mod ros2;
 mod scene;
 mod topics;
 
-pub use msgdef::definition;
+pub use definitions::definition;
 
 #[cfg(test)]
 mod tests;

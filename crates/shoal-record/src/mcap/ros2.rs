@@ -6,7 +6,7 @@
 //!
 //! * **Schemas** (encoding `ros2msg`): the type's `.msg` definition followed by those of every
 //!   type it uses, the way rosbag2 stores them — depth first, each dependency once, after a
-//!   line of 80 `=` and a line `MSG: <package>/<Type>` ([`super::msgdef`]). The definitions here
+//!   line of 80 `=` and a line `MSG: <package>/<Type>` ([`super::definitions`]). The definitions here
 //!   declare the same fields, in the same order, as the ROS 2 packages' files (`sensor_msgs`,
 //!   `std_msgs`, `geometry_msgs`, `tf2_msgs`, `builtin_interfaces`); their comments are shoal's.
 //! * **Messages** (encoding `cdr`): plain CDR, little-endian, after the 4-byte encapsulation
