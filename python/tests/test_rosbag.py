@@ -242,6 +242,12 @@ def test_every_shipped_mapping_names_a_bag_that_exists_or_a_documented_command_w
     assert seen >= 2
 
 
+@pytest.mark.xfail(strict=True, reason=(
+    "open (issue 48, item 4): a recorded row holds the command in force over the control "
+    "period that ENDS at the row's time (computed one period earlier), and run.mcap stamps "
+    "it at the row's time, so a zero-order-hold replay applies every command one control "
+    "period (50 ms) late; the residual follows d/dt depth (r = +0.41), 1.5 mm against a "
+    "0.67 mm noise floor"))
 def test_the_documented_round_trip_explains_a_runs_own_mcap(shoal_bin, tmp_path):
     """docs/mcap.md's round trip — `shoal run worlds/paper_diving.toml --mcap`, then
     `shoal validate run.mcap --mapping examples/rosbag2/uauv2_run.toml` — gives an empty
