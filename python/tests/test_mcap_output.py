@@ -154,12 +154,15 @@ def test_ros_2_messages_are_the_recorded_values_in_enu(run):
             assert math.isclose(abs(dot), 1.0, abs_tol=1e-9), (v, k, o, want_q)
             assert math.isclose(imu.angular_velocity.z, -float(row["r_rad_s"]), **rel)
             assert imu.linear_acceleration_covariance[0] == -1.0
+            # Commands are stamped when they came into force: the next row's (which holds
+            # the interval ending there); the last sample's are its own.
+            nxt = rows[v][min(k + 1, len(rows[v]) - 1)]
             _, thr = decoded[f"/{v}/thrusters"][k]
             assert thr.layout.dim[0].label == "top,port,stbd"
             for name, x in zip(["top", "port", "stbd"], thr.data):
-                assert math.isclose(x, float(row[f"cmd_{name}_pct"]), **rel)
+                assert math.isclose(x, float(nxt[f"cmd_{name}_pct"]), **rel)
             _, pump = decoded[f"/{v}/pump"][k]
-            assert list(pump.data) == [float(row["pump"])]
+            assert list(pump.data) == [float(nxt["pump"])]
 
 
 def test_tf_places_every_vehicle_east_north_up(run):

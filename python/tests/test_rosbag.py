@@ -178,10 +178,14 @@ def test_a_runs_mcap_gives_the_verdict_of_its_csv(shoal_bin, tmp_path):
     # what it sent the drives; the drives' own lag is the model's.
     cols = ["t_s", "cmd_top_pct", "cmd_port_pct", "cmd_stbd_pct", "cmd_alpha_rad",
             "cmd_beta_rad", "pump", "depth_reading_m"]
+    # A row's commands are those of the interval ending at its time; run.mcap stamps them
+    # when they came into force (the sample before), and so does this CSV.
     with open(tmp_path / "run.csv", "w") as f:
         f.write("t,u.top,u.port,u.stbd,u.alpha,u.beta,u.pump,y.depth\n")
-        for r in rows:
-            f.write(",".join(r[c] for c in cols) + "\n")
+        for k, r in enumerate(rows):
+            nxt = rows[min(k + 1, len(rows) - 1)]
+            vals = [r["t_s"]] + [nxt[c] for c in cols[1:-1]] + [r["depth_reading_m"]]
+            f.write(",".join(vals) + "\n")
     mapping = REPO / "examples" / "rosbag2" / "uauv2_run.toml"
     reports = []
     for src, out in [(run / "run.mcap", "v_mcap"), (tmp_path / "run.csv", "v_csv")]:
@@ -242,19 +246,13 @@ def test_every_shipped_mapping_names_a_bag_that_exists_or_a_documented_command_w
     assert seen >= 2
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "open (issue 48, item 4): a recorded row holds the command in force over the control "
-    "period that ENDS at the row's time (computed one period earlier), and run.mcap stamps "
-    "it at the row's time, so a zero-order-hold replay applies every command one control "
-    "period (50 ms) late; the residual follows d/dt depth (r = +0.41), 1.5 mm against a "
-    "0.67 mm noise floor"))
 def test_the_documented_round_trip_explains_a_runs_own_mcap(shoal_bin, tmp_path):
     """docs/mcap.md's round trip — `shoal run worlds/paper_diving.toml --mcap`, then
     `shoal validate run.mcap --mapping examples/rosbag2/uauv2_run.toml` — gives an empty
     verdict: the model that made the run explains it, with no unexplained structure. (The
-    `tilts` topic carried the drives' true angles, which the mapping feeds in as commands:
-    the model's tilt drives then lagged them a second time and y.depth kept a structure
-    correlated with u.beta, 2.2× the noise floor.)"""
+    `tilts` topic carried the drives' true angles, which the mapping feeds in as commands,
+    and every command was stamped at the end of the control period it acted in, so the
+    replay applied it 50 ms late: y.depth kept a structure 2.2× the noise floor.)"""
     run = tmp_path / "dive"
     p = subprocess.run([str(shoal_bin), "run", str(REPO / "worlds" / "paper_diving.toml"),
                         "--mcap", "--quiet", "--no-plots", "--no-replay", "--out", str(run)],

@@ -38,6 +38,11 @@
 //! **Time.** Every message's log time and publish time, and every header stamp, is the
 //! simulated time of its sample in nanoseconds from the start of the run; an attempt's
 //! `/optical/frames` message is at the end of its frame. Messages are written in time order.
+//! The commands (`thrusters`, `tilts`, `pump`) are stamped when they came into force, as a
+//! logger records a command when it is sent: a trajectory row holds the commands of the
+//! interval that *ends* at its time, so a sample's commands are those of the next recorded
+//! row (the last sample's, its own). A zero-order-hold replay of the file then applies each
+//! command over the interval it acted on, not one control period late.
 //!
 //! **Frames.** Everything in the file is in ENU (x east, y north, z up; the surface at z = 0)
 //! with FLU vehicle frames, converted from shoal's NED/FRD as `shoal_model::frames` says: position
@@ -184,6 +189,10 @@ pub struct McapOutput {
     pending: Vec<Heard>,
     /// Time of the last sample \[s\].
     last_t: f64,
+    /// The last written sample whose commands wait for the next recorded row (which holds
+    /// the commands in force from that sample on): its time \[ns\] and its own rows (the
+    /// fallback at the end of the run), by planned vehicle.
+    commands_due: Option<(u64, Vec<Vec<f64>>)>,
     summary: McapSummary,
 }
 
@@ -245,6 +254,7 @@ impl McapOutput {
             lifetime: scene::link_lifetime(desc.output.record_hz),
             pending: Vec::new(),
             last_t: 0.0,
+            commands_due: None,
             summary: McapSummary {
                 vehicles: plan.vehicles.len(),
                 vehicles_in_world: desc.vehicles.len(),
@@ -278,6 +288,14 @@ impl McapOutput {
             else {
                 continue;
             };
+            // The commands of the last written sample are in this row: in force from then.
+            if let Some((at, _)) = self.commands_due.take() {
+                for (topics, &i) in self.topics.iter().zip(&self.plan.vehicles) {
+                    if let Some(row) = row_at(batch, &self.strides, i, k) {
+                        topics.write_commands(&mut self.file, row, at)?;
+                    }
+                }
+            }
             let due = self.pending.partition_point(|h| h.t <= t);
             let due: Vec<Heard> = self.pending.drain(..due).collect();
             let kept = self.frames(&due, t)?;
@@ -325,9 +343,16 @@ impl McapOutput {
     }
 
     /// Writes sample `k` of `batch` at `ns` nanoseconds: the still scene the first time,
-    /// `/tf`, and every planned vehicle's topics.
+    /// `/tf`, and every planned vehicle's state topics; its commands wait for the next row.
     fn sample(&mut self, batch: &RecordBatch, k: usize, ns: u64) -> Result<(), FileError> {
         let stamp = ros2::Time::from_ns(ns);
+        let rows: Vec<Vec<f64>> = self
+            .plan
+            .vehicles
+            .iter()
+            .map(|&i| row_at(batch, &self.strides, i, k).map_or_else(Vec::new, <[f64]>::to_vec))
+            .collect();
+        self.commands_due = Some((ns, rows));
         if let Some(mut scene) = self.scene.take() {
             scene.entities.iter_mut().for_each(|e| e.timestamp = stamp);
             self.file.write_cdr(self.channels[SCENE], ns, &scene)?;
@@ -345,7 +370,7 @@ impl McapOutput {
         self.file.write_cdr(self.channels[TF], ns, &tf)?;
         for (topics, &i) in self.topics.iter().zip(&self.plan.vehicles) {
             if let Some(row) = row_at(batch, &self.strides, i, k) {
-                topics.write(&mut self.file, row, ns)?;
+                topics.write_state(&mut self.file, row, ns)?;
             }
         }
         self.summary.samples_written += 1;
@@ -356,6 +381,15 @@ impl McapOutput {
     /// them at) and the file's summary section; returns the file, not yet committed, and
     /// what it holds.
     pub fn finish(mut self) -> Result<FinishedMcap, FileError> {
+        // The last sample's commands: no row follows; the interval that ended there is the
+        // best account of what was sent last.
+        if let Some((at, rows)) = self.commands_due.take() {
+            for (topics, row) in self.topics.iter().zip(&rows) {
+                if !row.is_empty() {
+                    topics.write_commands(&mut self.file, row, at)?;
+                }
+            }
+        }
         let rest = std::mem::take(&mut self.pending);
         if let Some(end) = rest.last().map(|h| h.t) {
             self.frames(&rest, end)?;

@@ -288,17 +288,19 @@ fn messages_decode_to_the_recorded_values() {
             assert_eq!(m.orientation.w, q.quaternion().w);
             assert_eq!(m.angular_velocity.y, -row[col::Q]);
             assert_eq!(m.linear_acceleration_covariance[0], -1.0);
+            // The commands in force from this sample on: the next row's (the last, its own).
+            let next = &rows[i][(k + 1).min(rows[i].len() - 1)];
             let th: Float64MultiArray = ros2::decode(&th.data).unwrap();
-            assert_eq!(th.data, row[FIXED.len()..FIXED.len() + n_thr]);
+            assert_eq!(th.data, next[FIXED.len()..FIXED.len() + n_thr]);
             assert_eq!(th.layout.dim[0].label, "top,port,stbd");
             let ti: Float64MultiArray = ros2::decode(&ti.data).unwrap();
             assert_eq!(ti.layout.dim[0].label, "alpha,beta");
-            assert_eq!(ti.data, row[FIXED.len() + n_thr + 2..]);
+            assert_eq!(ti.data, next[FIXED.len() + n_thr + 2..]);
             let an: Float64MultiArray = ros2::decode(&an.data).unwrap();
             assert_eq!(an.layout.dim[0].label, "alpha,beta");
             assert_eq!(an.data, row[FIXED.len() + n_thr..FIXED.len() + n_thr + 2]);
             let pu: Float64MultiArray = ros2::decode(&pu.data).unwrap();
-            assert_eq!(pu.data, [row[col::PUMP]]);
+            assert_eq!(pu.data, [next[col::PUMP]]);
             let st: StateMsg = ros2::decode(&st.data).unwrap();
             let mode = recorder::mode_of_code(row[col::MODE]);
             assert_eq!(st.mode, mode.name());

@@ -103,9 +103,10 @@ impl VehicleTopics {
         })
     }
 
-    /// Writes the sample `row` (a trajectory row of this vehicle) at `ns` nanoseconds.
-    pub fn write(&self, file: &mut McapFile, row: &[f64], ns: u64) -> Result<(), FileError> {
-        let [state, pressure, imu, thrusters, tilts, angles, pump] = self.channels;
+    /// Writes what the vehicle is and measures at the sample `row` (a trajectory row of this
+    /// vehicle) at `ns` nanoseconds: its state, pressure, IMU and the drives' tilt angles.
+    pub fn write_state(&self, file: &mut McapFile, row: &[f64], ns: u64) -> Result<(), FileError> {
+        let [state, pressure, imu, _, _, angles, _] = self.channels;
         file.write_cdr(state, ns, &VehicleState(&row[..FIXED.len()]))?;
         let header = Header {
             stamp: ros2::Time::from_ns(ns),
@@ -113,17 +114,37 @@ impl VehicleTopics {
         };
         file.write_cdr(pressure, ns, &self.pressure(header.clone(), row))?;
         file.write_cdr(imu, ns, &imu_of(header, row))?;
-        let (thr, rest) = row[FIXED.len()..].split_at(self.n_thrusters);
-        let (angle, commanded) = rest.split_at(self.n_tilts.min(rest.len()));
+        let (_, angle, _) = self.actuators(row);
+        let data = Float64MultiArray::vector(&self.tilts, angle.to_vec());
+        file.write_cdr(angles, ns, &data)
+    }
+
+    /// Writes the commands `row` holds (thrusters, tilts, pump) at `ns` nanoseconds: the
+    /// commands in force over the interval that ends at `row`'s time, written at its start,
+    /// as a logger records a command when it is sent.
+    pub fn write_commands(
+        &self,
+        file: &mut McapFile,
+        row: &[f64],
+        ns: u64,
+    ) -> Result<(), FileError> {
+        let [_, _, _, thrusters, tilts, _, pump] = self.channels;
+        let (thr, _, commanded) = self.actuators(row);
         for (channel, label, data) in [
             (thrusters, self.thrusters.as_str(), thr.to_vec()),
             (tilts, self.tilts.as_str(), commanded.to_vec()),
-            (angles, self.tilts.as_str(), angle.to_vec()),
             (pump, "pump", vec![row[col::PUMP]]),
         ] {
             file.write_cdr(channel, ns, &Float64MultiArray::vector(label, data))?;
         }
         Ok(())
+    }
+
+    /// A row's thruster commands, tilt angles and tilt commands.
+    fn actuators<'r>(&self, row: &'r [f64]) -> (&'r [f64], &'r [f64], &'r [f64]) {
+        let (thr, rest) = row[FIXED.len()..].split_at(self.n_thrusters.min(row.len() - FIXED.len()));
+        let (angle, commanded) = rest.split_at(self.n_tilts.min(rest.len()));
+        (thr, angle, commanded)
     }
 
     /// The pressure at the sensor: the surface's plus ρ g times the depth reading \[Pa\].
