@@ -53,7 +53,7 @@
 //! topics; the per-vehicle topics and `/tf` thin to every k-th sample to stay within
 //! [`SAMPLE_BUDGET_BYTES`] (512 MiB of messages before compression), and at most
 //! [`FRAME_BUDGET`] attempts (200,000) are written. The chunks are compressed with
-//! zstd (≈ 5×). What was left out is in the summary ([`McapSummary`]).
+//! zstd (≈ 4×). What was left out is in the summary ([`McapSummary`]).
 //!
 //! **Failures.** The file is written under `.run.mcap.tmp` and appears as `run.mcap` only
 //! when complete ([`shoal_output::files`]); an error names `run.mcap` and the reason
