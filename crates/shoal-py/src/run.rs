@@ -13,8 +13,7 @@ use pyo3::exceptions::{PyKeyboardInterrupt, PyOSError};
 use pyo3::prelude::*;
 use shoal_output::words::factor;
 use shoal_record::run::{
-    Changes, Ending, LoadWorldError, Progress, Quiet, Ran, Run, RunOption, Watch, default_out,
-    load_world,
+    Changes, Ending, LoadWorldError, Progress, Quiet, Ran, Run, Watch, default_out, load_world,
 };
 use shoal_world::cancel::{Cancel, Cause};
 use std::path::PathBuf;
@@ -25,20 +24,6 @@ const PYTHON_SIGNAL: Cause = Cause {
     name: "SIGINT",
     code: 2,
 };
-
-/// The keyword of `shoal.run` for an option, in messages.
-fn keyword(option: RunOption) -> &'static str {
-    match option {
-        RunOption::Seed => "seed",
-        RunOption::Duration => "duration",
-        RunOption::Plots => "plots",
-        RunOption::Replay => "replay",
-        RunOption::Mcap => "mcap",
-        RunOption::Timing => "timing",
-        RunOption::Prefix => "prefix",
-        RunOption::WaitAgents => "wait_agents",
-    }
-}
 
 /// Progress as lines on stderr (about every tenth of the run), and Python's signals checked
 /// after each chunk of steps.
@@ -110,7 +95,7 @@ pub fn run(
         .detach(|| load_world(source.as_world(), &changes, &cancel))
         .map_err(|e| match e {
             LoadWorldError::Option { option, message } => {
-                WorldError::new_err(format!("{}: {message}", keyword(option)))
+                WorldError::new_err(format!("{}: {message}", option.name()))
             }
             e => WorldError::new_err(e.to_string()),
         })?;
