@@ -1,4 +1,4 @@
-//! Writes a synthetic demo replay (see `shoal_record::replay::demo`) and prints its size by part:
+//! Writes a synthetic demo replay (the test kit `tests/support/demo.rs`) and prints its size by part:
 //! how big `replay.html` gets for a swarm and a duration.
 //!
 //! `cargo run -p shoal-record --example replay_demo -- [vehicles] [seconds] [out.html]`
@@ -6,7 +6,12 @@
 
 use std::path::PathBuf;
 
-use shoal_record::replay::{demo::demo, html};
+use shoal_record::replay::html;
+
+#[path = "../tests/support/demo.rs"]
+#[allow(dead_code, reason = "the example uses the demo itself, not its constants")]
+mod demo;
+use demo::demo;
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();

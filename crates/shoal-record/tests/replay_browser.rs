@@ -12,7 +12,7 @@ mod support;
 use std::path::{Path, PathBuf};
 use support::browser::{self, chromium, chromium_observed, html_attr};
 
-use shoal_record::replay::demo::demo;
+use support::demo::demo;
 use shoal_record::replay::html;
 
 /// Vehicles of the demo replay the browser opens.

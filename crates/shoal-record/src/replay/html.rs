@@ -265,6 +265,7 @@ mod tests {
         let d = dir("roundtrip");
         let mut data = demo(7, 4.0);
         data.meta.world = "a </script><!-- world & \"quotes\"".into();
+        data.meta.outcomes = crate::replay::outcome_key();
         let p = write(&d.join("replay.html"), &data).unwrap();
         let back = read(&p).unwrap();
         assert_eq!(back, data);

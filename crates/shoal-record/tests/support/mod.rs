@@ -2,6 +2,7 @@
 #![allow(dead_code)]
 
 pub mod browser;
+pub mod demo;
 pub mod plots;
 // The same scenes as shoal-sim's own tests build.
 #[path = "../../../shoal-sim/tests/support/world.rs"]

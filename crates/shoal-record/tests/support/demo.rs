@@ -1,5 +1,7 @@
 //! A synthetic replay for tests, size measurements and the viewer's development: no physics,
-//! but geometry and counts that agree with each other.
+//! but geometry and counts that agree with each other. A test kit, not part of the product:
+//! shoal-record's unit tests, its browser tests and its `replay_demo` example include this
+//! file (`#[path]`).
 //!
 //! [`demo`]`(n, seconds)`: `n` vehicles of one μAUV²-sized group (or two, from 8 vehicles) on
 //! horizontal circles about a vertical cylinder (radius 0.6 m, floor to surface) in the middle
@@ -23,7 +25,7 @@
 
 use std::f64::consts::{PI, TAU};
 
-use super::{
+use shoal_sim::replay::{
     GroupMeta, LINK_BUDGET, LinkEvent, Meta, ObstacleMeta, Outcome, PANEL, ReplayData, Timeline,
     frame_count, frame_dt, panel_dt,
 };
@@ -277,7 +279,8 @@ pub fn demo(n_vehicles: usize, seconds: f64) -> ReplayData {
             links_kept: links.len(),
             links_total,
             timeline,
-            outcomes: super::outcome_key(),
+            // The page's writer fills in the one colour key (`html::write`).
+            outcomes: Vec::new(),
         },
         pos,
         att,
