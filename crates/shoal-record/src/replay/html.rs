@@ -359,9 +359,15 @@ mod tests {
         let d = dir("order");
         let p = write(&d.join("r.html"), &demo(2, 1.0)).unwrap();
         let page = std::fs::read_to_string(&p).unwrap();
-        let mut after = page.find(THREE).expect("the three.js bundle is in the page");
+        let mut after = page
+            .find(THREE)
+            .expect("the three.js bundle is in the page");
         for (k, (name, text)) in VIEWER_FILES.into_iter().enumerate() {
-            assert_eq!(page.matches(text).count(), 1, "{name} is not in the page once");
+            assert_eq!(
+                page.matches(text).count(),
+                1,
+                "{name} is not in the page once"
+            );
             let at = page.find(text).unwrap();
             assert!(at > after, "{name} comes before the file it follows");
             assert!(
