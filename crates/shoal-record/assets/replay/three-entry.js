@@ -1,4 +1,4 @@
-// The three.js exports replay.js uses (THREE.<name>); scripts/vendor-three.sh bundles exactly
+// The three.js exports the viewer files (replay-data.js, replay-scene.js, replay.js) use (THREE.<name>); scripts/vendor-three.sh bundles exactly
 // these into three-<version>.min.js (esbuild IIFE, global THREE, tree-shaken, minified).
 // Add a name here when replay.js starts using it, then rerun the script; the unit test
 // `replay::html::tests::the_bundle_exports_what_the_viewer_uses` checks the two agree.

@@ -4,9 +4,12 @@
 //! the style sheet (`replay.css`), the JSON header (`shoal-meta`, every `<` written as
 //! `\u003c` so no string can end the element), the four arrays as base64 of little-endian
 //! values (`shoal-pos`, `shoal-att`, `shoal-panel`, `shoal-links`, each in its own
-//! `<script type="application/octet-stream">`), the vendored three.js bundle and the viewer
-//! (`replay.js`). All of them are embedded in the binary with `include_str!`; nothing is
-//! loaded from anywhere when the page opens.
+//! `<script type="application/octet-stream">`), the vendored three.js bundle and the viewer:
+//! three files, one after the other in the one `<script>` of the marker `VIEWER`, in this
+//! order: `replay-data.js` (decoding the embedded data, formatting helpers), `replay-scene.js`
+//! (the three.js scene and its per-frame update) and `replay.js` (state, controls, timeline,
+//! panel and the render loop; it runs the viewer). All of them are embedded in the binary
+//! with `include_str!`; nothing is loaded from anywhere when the page opens.
 //!
 //! [`write()`] streams the page through an [`AtomicFile`] (the arrays are converted and
 //! base64-encoded in small chunks, never copied whole); [`read()`] parses a page back, for
@@ -29,8 +32,19 @@ pub const THREE_VERSION: &str = "0.187.0";
 const TEMPLATE: &str = include_str!("../../assets/replay/replay.html");
 /// The style sheet.
 const CSS: &str = include_str!("../../assets/replay/replay.css");
-/// The viewer.
+/// The viewer, part 1: decoding the embedded data, formatting helpers.
+const VIEWER_DATA: &str = include_str!("../../assets/replay/replay-data.js");
+/// The viewer, part 2: the three.js scene and its per-frame update.
+const VIEWER_SCENE: &str = include_str!("../../assets/replay/replay-scene.js");
+/// The viewer, part 3: state, controls, timeline, panel, render loop (runs the other two).
 const VIEWER: &str = include_str!("../../assets/replay/replay.js");
+/// The viewer's files by name, in the order the page embeds them (each uses what the ones
+/// before it define).
+const VIEWER_FILES: [(&str, &str); 3] = [
+    ("replay-data.js", VIEWER_DATA),
+    ("replay-scene.js", VIEWER_SCENE),
+    ("replay.js", VIEWER),
+];
 /// three.js and OrbitControls as one IIFE defining the global `THREE`.
 const THREE: &str = include_str!("../../assets/replay/three-0.187.0.min.js");
 
@@ -84,7 +98,10 @@ fn write_part(w: &mut impl Write, name: &str, data: &ReplayData) -> io::Result<(
     match name {
         "CSS" => w.write_all(CSS.as_bytes()),
         "THREE" => w.write_all(THREE.as_bytes()),
-        "VIEWER" => w.write_all(VIEWER.as_bytes()),
+        "VIEWER" => VIEWER_FILES.iter().try_for_each(|(_, text)| {
+            w.write_all(text.as_bytes())?;
+            w.write_all(b"\n")
+        }),
         // The colour key is the page's: a replay as gathered has none yet.
         "META" if data.meta.outcomes.is_empty() => {
             let mut meta = data.meta.clone();
@@ -308,18 +325,15 @@ mod tests {
     /// header (`meta.outcomes`, the one key of `crate::link_key`).
     #[test]
     fn the_viewer_takes_link_colours_from_the_header() {
-        for (name, text) in [
-            ("replay.html", TEMPLATE),
-            ("replay.js", VIEWER),
-            ("replay.css", CSS),
-        ] {
+        let page = [("replay.html", TEMPLATE), ("replay.css", CSS)];
+        for (name, text) in page.into_iter().chain(VIEWER_FILES) {
             let lower = text.to_ascii_lowercase();
             for k in &crate::link_key::LINK_KEY {
                 let hex = crate::link_key::hex(k.outcome);
                 assert!(!lower.contains(&hex), "{name} writes {hex} ({})", k.label);
             }
         }
-        assert!(VIEWER.contains("meta.outcomes"));
+        assert!(VIEWER_DATA.contains("meta.outcomes"));
         assert!(
             !TEMPLATE.contains("style=\"background"),
             "replay.html has colour swatches of its own"
@@ -338,9 +352,38 @@ mod tests {
         let _ = std::fs::remove_dir_all(&d);
     }
 
+    /// The viewer's files are in the page, each once, after the three.js bundle, in the
+    /// order of `VIEWER_FILES` (each uses what the ones before it define) and in one
+    /// `<script>` element.
+    #[test]
+    fn the_viewer_files_are_embedded_in_order() {
+        let d = dir("order");
+        let p = write(&d.join("r.html"), &demo(2, 1.0)).unwrap();
+        let page = std::fs::read_to_string(&p).unwrap();
+        let mut after = page
+            .find(THREE)
+            .expect("the three.js bundle is in the page");
+        for (k, (name, text)) in VIEWER_FILES.into_iter().enumerate() {
+            assert_eq!(
+                page.matches(text).count(),
+                1,
+                "{name} is not in the page once"
+            );
+            let at = page.find(text).unwrap();
+            assert!(at > after, "{name} comes before the file it follows");
+            assert!(
+                k == 0 || !page[after..at].contains("<script"),
+                "{name} is in a script element of its own"
+            );
+            after = at;
+        }
+        let _ = std::fs::remove_dir_all(&d);
+    }
+
     #[test]
     fn embedded_text_cannot_end_its_element() {
-        for (name, text) in [("replay.css", CSS), ("replay.js", VIEWER), ("three", THREE)] {
+        let others = [("replay.css", CSS), ("three", THREE)];
+        for (name, text) in others.into_iter().chain(VIEWER_FILES) {
             let lower = text.to_ascii_lowercase();
             for bad in ["</script", "</style", "<!--", "@@"] {
                 assert!(!lower.contains(bad), "{name} contains {bad}");
@@ -353,18 +396,21 @@ mod tests {
         assert!(THREE.starts_with("var THREE=("), "an IIFE defining THREE");
     }
 
-    /// Every `THREE.Name` replay.js uses is an export of the bundle (the list in
+    /// Every `THREE.Name` the viewer's files use is an export of the bundle (the list in
     /// assets/replay/three-entry.js; scripts/vendor-three.sh rebuilds the bundle from it).
     #[test]
     fn the_bundle_exports_what_the_viewer_uses() {
         let mut missing = Vec::new();
-        for (i, _) in VIEWER.match_indices("THREE.") {
-            let name: String = VIEWER[i + 6..]
-                .chars()
-                .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
-                .collect();
-            if !THREE.contains(&format!("{name}:()=>")) && !missing.contains(&name) {
-                missing.push(name);
+        for (file, viewer) in VIEWER_FILES {
+            for (i, _) in viewer.match_indices("THREE.") {
+                let name: String = viewer[i + 6..]
+                    .chars()
+                    .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
+                    .collect();
+                let missed = format!("{name} ({file})");
+                if !THREE.contains(&format!("{name}:()=>")) && !missing.contains(&missed) {
+                    missing.push(missed);
+                }
             }
         }
         assert!(
@@ -376,11 +422,8 @@ mod tests {
     #[test]
     fn no_url_outside_the_page() {
         // The page's own parts (the bundle's license header names three's site in a comment).
-        for (name, text) in [
-            ("replay.html", TEMPLATE),
-            ("replay.css", CSS),
-            ("replay.js", VIEWER),
-        ] {
+        let page = [("replay.html", TEMPLATE), ("replay.css", CSS)];
+        for (name, text) in page.into_iter().chain(VIEWER_FILES) {
             for bad in ["http://", "https://", "url(", "@import", "src=", "href="] {
                 assert!(!text.contains(bad), "{name} contains {bad}");
             }
