@@ -11,9 +11,7 @@ use crate::exit::{Failure, run_exit_code};
 use crate::signals;
 use crate::terminal::Terminal;
 use anyhow::Context;
-use shoal_record::run::{
-    Changes, LoadWorldError, Ran, Run, RunOption, default_out, load_world,
-};
+use shoal_record::run::{Changes, LoadWorldError, Ran, Run, RunOption, default_out, load_world};
 use shoal_world::cancel::{Cancel, Cause};
 use shoal_world::desc::WorldDesc;
 use shoal_world::load::{EMBEDDED_NAME, LoadError, load_file_until};
@@ -139,10 +137,7 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, Failure> {
         }
         Err(e) => return Err(Failure::Input(e.to_string())),
     };
-    let out_dir = args
-        .out
-        .clone()
-        .unwrap_or_else(|| default_out(&desc.name));
+    let out_dir = args.out.clone().unwrap_or_else(|| default_out(&desc.name));
     let threads = args
         .threads
         .map_or_else(shoal_sim::parallel::all_cores, usize::from);

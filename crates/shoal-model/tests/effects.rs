@@ -147,7 +147,10 @@ fn families_carry_their_facts() {
             );
         }
         if let Some(d) = f.facts.direct {
-            assert!(!d.channels.is_empty() && !d.why_not_fitted.is_empty(), "{name}");
+            assert!(
+                !d.channels.is_empty() && !d.why_not_fitted.is_empty(),
+                "{name}"
+            );
         }
         assert_eq!(shoal_model::effects::facts(name), Some(f.facts));
     }

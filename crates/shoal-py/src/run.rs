@@ -7,8 +7,8 @@
 //! raised. Worlds with external agents are refused: they need the `shoal run` process that
 //! the agents attach to.
 
-use crate::source::{self, Source};
 use crate::errors::{SimulationError, WorldError};
+use crate::source::{self, Source};
 use pyo3::exceptions::{PyKeyboardInterrupt, PyOSError};
 use pyo3::prelude::*;
 use shoal_output::words::factor;

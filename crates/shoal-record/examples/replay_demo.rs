@@ -9,7 +9,10 @@ use std::path::PathBuf;
 use shoal_record::replay::html;
 
 #[path = "../tests/support/demo.rs"]
-#[allow(dead_code, reason = "the example uses the demo itself, not its constants")]
+#[allow(
+    dead_code,
+    reason = "the example uses the demo itself, not its constants"
+)]
 mod demo;
 use demo::demo;
 

@@ -2,9 +2,9 @@
 //! and measure each segment (overshoot, time to enter a band, 10–90 % rate, final error).
 //! Used by the paper-reproduction tests and the comparison in `docs/paper-comparison.md`.
 
+use shoal_model::math::wrap_pi;
 use shoal_sim::recorder::{self, col};
 use shoal_sim::sim::{Sim, SimOptions};
-use shoal_model::math::wrap_pi;
 use shoal_world::desc::WorldDesc;
 
 /// Every recorded row of a whole run, split per vehicle: `rows[vehicle][sample][column]`

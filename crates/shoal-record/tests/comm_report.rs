@@ -35,4 +35,3 @@ fn gossip_floods_the_swarm_hop_by_hop_at_the_pace_of_ticks_and_airtime() {
             && g.mean_time_per_hop_s <= period + jitter + airtime + interval
     );
 }
-

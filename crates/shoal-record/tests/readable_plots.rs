@@ -315,7 +315,11 @@ fn observed_delivery_lies_under_the_link_budget_curve() {
             .map_or(1.0, |p| p.1)
     };
     let mut checked = 0;
-    for b in c.by_distance.iter().filter(|b| b.attempts >= 5 && b.delivered > 0) {
+    for b in c
+        .by_distance
+        .iter()
+        .filter(|b| b.attempts >= 5 && b.delivered > 0)
+    {
         let (lo, _) = comm_report::wilson(b.delivered, b.attempts);
         let bound = at(b.from_m);
         eprintln!(
@@ -342,7 +346,10 @@ fn observed_delivery_lies_under_the_link_budget_curve() {
         "no interference",
         "frames (run mean)",
     ] {
-        assert!(label.contains(words), "the curve's label does not say \"{words}\": {label}");
+        assert!(
+            label.contains(words),
+            "the curve's label does not say \"{words}\": {label}"
+        );
     }
 }
 

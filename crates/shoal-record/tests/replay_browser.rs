@@ -12,8 +12,8 @@ mod support;
 use std::path::{Path, PathBuf};
 use support::browser::{self, chromium, chromium_observed, html_attr};
 
-use support::demo::demo;
 use shoal_record::replay::html;
+use support::demo::demo;
 
 /// Vehicles of the demo replay the browser opens.
 const VEHICLES: usize = 12;

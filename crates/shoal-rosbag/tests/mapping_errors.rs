@@ -36,7 +36,10 @@ fn a_missing_topic_lists_the_bags_topics() {
     let bag = kit_bag("missing_topic.mcap");
     let m = mapping_with(r#"topic = "pressure""#, r#"topic = "depth""#);
     let e = read_bag(&bag, &m).unwrap_err().to_string();
-    assert!(e.contains("topic `/auv/depth` has no messages in the bag"), "{e}");
+    assert!(
+        e.contains("topic `/auv/depth` has no messages in the bag"),
+        "{e}"
+    );
     // Every topic the kit writes, mapped or not, in name order.
     assert!(
         e.contains(
@@ -53,7 +56,10 @@ fn a_misspelt_channel_gets_a_did_you_mean() {
     let e = Mapping::parse(&text, Path::new("m.toml"))
         .unwrap_err()
         .to_string();
-    assert!(e.contains("`y.dpth`: not a channel — did you mean `y.depth`?"), "{e}");
+    assert!(
+        e.contains("`y.dpth`: not a channel — did you mean `y.depth`?"),
+        "{e}"
+    );
     // Nothing near: no guess, the list only.
     let text = bagkit::MAPPING.replace(r#""y.depth""#, r#""y.salinity""#);
     let e = Mapping::parse(&text, Path::new("m.toml"))

@@ -29,8 +29,12 @@ fn an_mcap_without_a_mapping_is_refused_by_content_whatever_its_name() {
     for name in ["run.mcap", "run.csv", "run"] {
         let path = scratch(name);
         std::fs::write(&path, &bytes).unwrap();
-        let e = match validate(&Config::default(), &[RunInput::File(path.clone())], &[], &quiet)
-        {
+        let e = match validate(
+            &Config::default(),
+            &[RunInput::File(path.clone())],
+            &[],
+            &quiet,
+        ) {
             Ok(_) => panic!("{name}: an MCAP read without a mapping"),
             Err(e) => e.to_string(),
         };
@@ -46,7 +50,11 @@ fn an_mcap_without_a_mapping_is_refused_by_content_whatever_its_name() {
 fn a_rosbag2_folder_without_a_mapping_is_refused_and_other_folders_say_what_they_are_not() {
     let bag = scratch("bag_dir");
     std::fs::create_dir_all(&bag).unwrap();
-    std::fs::write(bag.join("metadata.yaml"), "rosbag2_bagfile_information: {}\n").unwrap();
+    std::fs::write(
+        bag.join("metadata.yaml"),
+        "rosbag2_bagfile_information: {}\n",
+    )
+    .unwrap();
     let e = Readers::default()
         .read(&bag, &ReadOptions::default())
         .unwrap_err();

@@ -292,7 +292,11 @@ fn every_unknown_field_and_bad_number_is_reported_at_once() {
     let kinds: Vec<ProblemKind> = e.problems.iter().map(|p| p.kind).collect();
     assert_eq!(
         kinds,
-        [ProblemKind::UnknownField, ProblemKind::Range, ProblemKind::UnknownField],
+        [
+            ProblemKind::UnknownField,
+            ProblemKind::Range,
+            ProblemKind::UnknownField
+        ],
         "{e}"
     );
     let msg = e.to_string();

@@ -158,7 +158,8 @@ pub fn write(
         ))
     })?;
     let m = manifest(plan, &path, parallelism, retry_failed, o);
-    let text = serde_json::to_string_pretty(&m).map_err(|e| crate::exit::Failure::Other(e.into()))?;
+    let text =
+        serde_json::to_string_pretty(&m).map_err(|e| crate::exit::Failure::Other(e.into()))?;
     write_whole(&kdir.join("job.json"), (text + "\n").as_bytes())
         .map_err(|e| crate::exit::Failure::Other(e.into()))
 }

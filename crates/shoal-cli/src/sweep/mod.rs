@@ -131,7 +131,9 @@ fn sweep(a: &SweepArgs) -> Result<ExitCode, Failure> {
         ));
     };
     let cancel = signals::install().context("cannot catch signals")?;
-    let jobs = a.jobs.map_or_else(shoal_sim::parallel::all_cores, usize::from);
+    let jobs = a
+        .jobs
+        .map_or_else(shoal_sim::parallel::all_cores, usize::from);
     let sweep = file::read(file).map_err(Failure::Input)?;
     let ex = expand::expand(&sweep, &file.display().to_string(), jobs).map_err(Failure::Input)?;
     let dir = absolute(out)?;

@@ -10,11 +10,11 @@
 //! already complete is not run again; one recorded as failed only with `--retry-failed`.
 
 use super::plan::{Plan, RunResult, Status, WORLD, forget_result, run_dir, state, write_result};
+use crate::exit::Failure;
 use crate::exit::run_exit_code;
 use crate::run::{execute, load};
-use shoal_record::run::{Ending, Ran};
-use crate::exit::Failure;
 use crate::signals;
+use shoal_record::run::{Ending, Ran};
 use shoal_world::load::LoadError;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;

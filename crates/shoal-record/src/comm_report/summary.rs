@@ -3,11 +3,11 @@
 //! communication graph over time, the result of flooding a value, and each vehicle's counters
 //! (for `vehicles.csv`).
 
+use serde::Serialize;
 use shoal_sim::comm::{DIST_BIN, LinkStats, latency_bin_centre};
 use shoal_sim::connectivity::ConnSample;
 use shoal_sim::sim::Sim;
 use shoal_sim::view::VehicleView;
-use serde::Serialize;
 use shoal_world::desc::WorldDesc;
 use shoal_world::spec::BehaviourSpec;
 

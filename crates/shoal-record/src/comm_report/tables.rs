@@ -2,10 +2,10 @@
 //! outcome), `connectivity.csv` (per second: the communication graph) and `link_pairs.csv`
 //! (per sender → receiver), each written whole through [`shoal_output::files`].
 
+use shoal_output::files::FileError;
 use shoal_sim::comm::Outcome;
 use shoal_sim::sim::Sim;
 use shoal_sim::view::VehicleView;
-use shoal_output::files::FileError;
 use std::path::{Path, PathBuf};
 
 /// Most vehicles for which `link_pairs.csv` is written (it has up to one row per pair of

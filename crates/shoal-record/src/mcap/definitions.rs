@@ -76,8 +76,8 @@ mod tests {
     #[test]
     fn every_used_type_is_defined_and_declared() {
         let primitives = [
-            "bool", "byte", "char", "int8", "uint8", "int16", "uint16", "int32", "uint32",
-            "int64", "uint64", "float32", "float64", "string",
+            "bool", "byte", "char", "int8", "uint8", "int16", "uint16", "int32", "uint32", "int64",
+            "uint64", "float32", "float64", "string",
         ];
         for d in tables().into_iter().flatten() {
             let pkg = d.name.split('/').next().unwrap();
@@ -105,7 +105,11 @@ mod tests {
                 } else {
                     format!("{pkg}/{base}")
                 };
-                assert!(d.uses.contains(&full.as_str()), "{}: {full} not in uses", d.name);
+                assert!(
+                    d.uses.contains(&full.as_str()),
+                    "{}: {full} not in uses",
+                    d.name
+                );
             }
         }
     }

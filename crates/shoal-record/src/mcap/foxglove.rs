@@ -217,7 +217,10 @@ pub const DEFS: &[MsgDef] = &[
     MsgDef {
         name: "foxglove_msgs/msg/SceneUpdate",
         text: "# An update to the entities of a 3D scene.\nfoxglove_msgs/SceneEntityDeletion[] deletions\nfoxglove_msgs/SceneEntity[] entities\n",
-        uses: &["foxglove_msgs/SceneEntityDeletion", "foxglove_msgs/SceneEntity"],
+        uses: &[
+            "foxglove_msgs/SceneEntityDeletion",
+            "foxglove_msgs/SceneEntity",
+        ],
     },
     MsgDef {
         name: "foxglove_msgs/SceneEntityDeletion",
@@ -254,27 +257,47 @@ pub const DEFS: &[MsgDef] = &[
     MsgDef {
         name: "foxglove_msgs/CubePrimitive",
         text: "# A box (m).\ngeometry_msgs/Pose pose\ngeometry_msgs/Vector3 size\nfoxglove_msgs/Color color\n",
-        uses: &["geometry_msgs/Pose", "geometry_msgs/Vector3", "foxglove_msgs/Color"],
+        uses: &[
+            "geometry_msgs/Pose",
+            "geometry_msgs/Vector3",
+            "foxglove_msgs/Color",
+        ],
     },
     MsgDef {
         name: "foxglove_msgs/SpherePrimitive",
         text: "# An ellipsoid (diameters in m).\ngeometry_msgs/Pose pose\ngeometry_msgs/Vector3 size\nfoxglove_msgs/Color color\n",
-        uses: &["geometry_msgs/Pose", "geometry_msgs/Vector3", "foxglove_msgs/Color"],
+        uses: &[
+            "geometry_msgs/Pose",
+            "geometry_msgs/Vector3",
+            "foxglove_msgs/Color",
+        ],
     },
     MsgDef {
         name: "foxglove_msgs/CylinderPrimitive",
         text: "# A cylinder or truncated cone, flat faces perpendicular to z (m).\ngeometry_msgs/Pose pose\ngeometry_msgs/Vector3 size\nfloat64 bottom_scale\nfloat64 top_scale\nfoxglove_msgs/Color color\n",
-        uses: &["geometry_msgs/Pose", "geometry_msgs/Vector3", "foxglove_msgs/Color"],
+        uses: &[
+            "geometry_msgs/Pose",
+            "geometry_msgs/Vector3",
+            "foxglove_msgs/Color",
+        ],
     },
     MsgDef {
         name: "foxglove_msgs/LinePrimitive",
         text: "# Points joined by lines (m).\nuint8 LINE_STRIP=0\nuint8 LINE_LOOP=1\nuint8 LINE_LIST=2\nuint8 type\ngeometry_msgs/Pose pose\nfloat64 thickness\nbool scale_invariant\ngeometry_msgs/Point[] points\nfoxglove_msgs/Color color\nfoxglove_msgs/Color[] colors\nuint32[] indices\n",
-        uses: &["geometry_msgs/Pose", "geometry_msgs/Point", "foxglove_msgs/Color"],
+        uses: &[
+            "geometry_msgs/Pose",
+            "geometry_msgs/Point",
+            "foxglove_msgs/Color",
+        ],
     },
     MsgDef {
         name: "foxglove_msgs/TriangleListPrimitive",
         text: "# Triangles from triples of points (m).\ngeometry_msgs/Pose pose\ngeometry_msgs/Point[] points\nfoxglove_msgs/Color color\nfoxglove_msgs/Color[] colors\nuint32[] indices\n",
-        uses: &["geometry_msgs/Pose", "geometry_msgs/Point", "foxglove_msgs/Color"],
+        uses: &[
+            "geometry_msgs/Pose",
+            "geometry_msgs/Point",
+            "foxglove_msgs/Color",
+        ],
     },
     MsgDef {
         name: "foxglove_msgs/TextPrimitive",
@@ -284,7 +307,11 @@ pub const DEFS: &[MsgDef] = &[
     MsgDef {
         name: "foxglove_msgs/ModelPrimitive",
         text: "# A 3D model from a URL or embedded data.\ngeometry_msgs/Pose pose\ngeometry_msgs/Vector3 scale\nfoxglove_msgs/Color color\nbool override_color\nstring url\nstring media_type\nuint8[] data\n",
-        uses: &["geometry_msgs/Pose", "geometry_msgs/Vector3", "foxglove_msgs/Color"],
+        uses: &[
+            "geometry_msgs/Pose",
+            "geometry_msgs/Vector3",
+            "foxglove_msgs/Color",
+        ],
     },
     MsgDef {
         name: "foxglove_msgs/Color",

@@ -61,9 +61,9 @@
 //! `trajectories.csv` does.
 
 mod budget;
+mod definitions;
 mod file;
 pub mod foxglove;
-mod definitions;
 mod msgdef;
 pub mod plain;
 pub mod ros2;
@@ -79,12 +79,12 @@ pub use budget::{
     BYTES_PER_ACTUATOR, BYTES_PER_VEHICLE_SAMPLE, FRAME_BUDGET, MAX_VEHICLES, SAMPLE_BUDGET_BYTES,
 };
 
-use shoal_sim::comm::Heard;
-use shoal_sim::recorder::{self, RecordBatch, col};
 use budget::{FrameQuota, Plan};
 use file::McapFile;
 use serde::Serialize;
 use shoal_output::files::{AtomicFile, FileError};
+use shoal_sim::comm::Heard;
+use shoal_sim::recorder::{self, RecordBatch, col};
 use shoal_world::desc::WorldDesc;
 use std::path::{Path, PathBuf};
 use topics::{Schemas, VehicleTopics};

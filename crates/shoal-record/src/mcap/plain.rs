@@ -178,7 +178,15 @@ mod tests {
         let names: Vec<&str> = fields(text).iter().map(|x| x.1).collect();
         assert_eq!(
             names,
-            ["t_s", "sender", "receiver", "sender_id", "receiver_id", "outcome", "bytes"]
+            [
+                "t_s",
+                "sender",
+                "receiver",
+                "sender_id",
+                "receiver_id",
+                "outcome",
+                "bytes"
+            ]
         );
     }
 }

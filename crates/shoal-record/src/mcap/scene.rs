@@ -8,12 +8,12 @@
 
 use super::foxglove::*;
 use super::ros2::{Duration, Header, Point, Pose, Time, Transform, TransformStamped};
-use shoal_sim::comm::Heard;
 use crate::link_key::{Outcome, style};
-use shoal_sim::recorder::col;
 use crate::replay::ObstacleMeta;
 use shoal_model::frames as enu;
 use shoal_model::math::{Quat, Vec3};
+use shoal_sim::comm::Heard;
+use shoal_sim::recorder::col;
 use shoal_world::desc::WorldDesc;
 use std::f64::consts::FRAC_PI_2;
 

@@ -9,9 +9,9 @@ use super::plain::ReceptionAttempt;
 use super::ros2::{self, Float64MultiArray, FluidPressure, Imu, TfMessage};
 use super::*;
 use crate::output::RunOutput;
+use shoal_model::frames as enu;
 use shoal_sim::recorder::FIXED;
 use shoal_sim::sim::{Sim, SimOptions};
-use shoal_model::frames as enu;
 use shoal_world::cancel::Cancel;
 use std::collections::BTreeMap;
 
@@ -190,12 +190,7 @@ fn every_topic_has_a_message_per_sample_and_vehicle_in_time_order() {
     assert_eq!(*tf.last().unwrap(), 2_000_000_000);
     // The links draw every attempt, each at the end of its sample interval.
     let lines: usize = on(&msgs, "/links")
-        .map(|m| {
-            ros2::decode::<SceneUpdate>(&m.data)
-                .unwrap()
-                .entities
-                .len()
-        })
+        .map(|m| ros2::decode::<SceneUpdate>(&m.data).unwrap().entities.len())
         .sum();
     assert_eq!(lines, attempts);
     assert!(on(&msgs, "/links").all(|m| want.contains(&m.log_time)));
@@ -235,7 +230,10 @@ fn the_file_is_a_ros_2_bag_every_schema_a_msg_definition_every_message_cdr() {
     assert_eq!(kind("/tf"), ros("tf2_msgs/msg/TFMessage"));
     assert_eq!(kind("/scene"), ros("foxglove_msgs/msg/SceneUpdate"));
     assert_eq!(kind("/links"), ros("foxglove_msgs/msg/SceneUpdate"));
-    assert_eq!(kind("/optical/frames"), ros("shoal_msgs/msg/ReceptionAttempt"));
+    assert_eq!(
+        kind("/optical/frames"),
+        ros("shoal_msgs/msg/ReceptionAttempt")
+    );
     assert_eq!(kind("/a-1/state"), ros("shoal_msgs/msg/VehicleState"));
     assert_eq!(kind("/a-1/pressure"), ros("sensor_msgs/msg/FluidPressure"));
     assert_eq!(kind("/a-1/imu"), ros("sensor_msgs/msg/Imu"));
@@ -269,7 +267,13 @@ fn messages_decode_to_the_recorded_values() {
         let angles = on(&msgs, &topic("tilt_angles"));
         let pump = on(&msgs, &topic("pump"));
         let state = on(&msgs, &topic("state"));
-        let all = pressure.zip(imu).zip(thr).zip(tilts).zip(angles).zip(pump).zip(state);
+        let all = pressure
+            .zip(imu)
+            .zip(thr)
+            .zip(tilts)
+            .zip(angles)
+            .zip(pump)
+            .zip(state);
         let mut k = 0;
         for ((((((p, m), th), ti), an), pu), st) in all {
             let row = &rows[i][k];

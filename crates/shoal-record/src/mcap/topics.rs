@@ -10,10 +10,10 @@ use super::plain::VehicleState;
 use super::ros2::{
     self, Float64MultiArray, FluidPressure, Header, Imu, Quaternion, SURFACE_PRESSURE_PA, Vector3,
 };
-use shoal_sim::recorder::{FIXED, col};
 use shoal_model::frames as enu;
 use shoal_model::prelude::*;
 use shoal_output::files::FileError;
+use shoal_sim::recorder::{FIXED, col};
 
 /// The schemas the vehicles' topics share (ids in the file).
 #[derive(Clone, Copy, Debug)]
@@ -80,7 +80,9 @@ impl VehicleTopics {
         env: &Environment,
     ) -> Result<Self, FileError> {
         let s = schemas;
-        let kinds = [s.state, s.pressure, s.imu, s.array, s.array, s.array, s.array];
+        let kinds = [
+            s.state, s.pressure, s.imu, s.array, s.array, s.array, s.array,
+        ];
         // The id keeps two vehicles of the same name on channels of their own.
         let meta = [
             ("vehicle", name.to_string()),
@@ -142,7 +144,8 @@ impl VehicleTopics {
 
     /// A row's thruster commands, tilt angles and tilt commands.
     fn actuators<'r>(&self, row: &'r [f64]) -> (&'r [f64], &'r [f64], &'r [f64]) {
-        let (thr, rest) = row[FIXED.len()..].split_at(self.n_thrusters.min(row.len() - FIXED.len()));
+        let (thr, rest) =
+            row[FIXED.len()..].split_at(self.n_thrusters.min(row.len() - FIXED.len()));
         let (angle, commanded) = rest.split_at(self.n_tilts.min(rest.len()));
         (thr, angle, commanded)
     }

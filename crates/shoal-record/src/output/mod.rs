@@ -21,20 +21,20 @@
 //! request) it is written again with the files that exist, the error and the stop request.
 
 use crate::comm_report::VehicleComm;
-use shoal_sim::recorder::{self, RecordBatch, col, mode_of_code};
-use shoal_sim::sim::Sim;
-use shoal_sim::view::VehicleView;
+use crate::mcap;
 use accumulated::VehicleAcc;
 use numbers::write_num;
 use shoal_model::prelude::*;
 use shoal_output::files::{CsvFile, FileError, write_whole};
 use shoal_output::plot::{Plot, PlotError};
+use shoal_sim::recorder::{self, RecordBatch, col, mode_of_code};
+use shoal_sim::sim::Sim;
+use shoal_sim::view::VehicleView;
 use shoal_world::cancel::Cancel;
 use shoal_world::desc::WorldDesc;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use vehicles_csv::write_vehicles_csv;
-use crate::mcap;
 
 mod accumulated;
 

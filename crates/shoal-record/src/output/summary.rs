@@ -3,14 +3,14 @@
 //! `summary.json`, printed by [`Summary::to_text`] at the end of a run).
 
 use super::accumulated::VehicleAcc;
-use shoal_sim::parallel::Dispatches;
-use shoal_sim::phases::{ByPhase, RunPhases};
-use shoal_sim::sim::Sim;
-use shoal_sim::view::VehicleView;
 use serde::Serialize;
 use shoal_model::math::wrap_pi;
 use shoal_model::prelude::*;
 use shoal_output::words::{count, factor};
+use shoal_sim::parallel::Dispatches;
+use shoal_sim::phases::{ByPhase, RunPhases};
+use shoal_sim::sim::Sim;
+use shoal_sim::view::VehicleView;
 use shoal_world::cancel::Cause;
 use shoal_world::desc::WorldDesc;
 

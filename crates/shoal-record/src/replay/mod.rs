@@ -24,5 +24,8 @@ pub fn outcome_key() -> Vec<OutcomeMeta> {
 /// The synthetic replay of the tests (a test kit, compiled only for them).
 #[cfg(test)]
 #[path = "../../tests/support/demo.rs"]
-#[allow(dead_code, reason = "the unit tests use the demo itself, not every constant")]
+#[allow(
+    dead_code,
+    reason = "the unit tests use the demo itself, not every constant"
+)]
 pub(crate) mod demo;

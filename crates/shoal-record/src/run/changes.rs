@@ -107,10 +107,26 @@ impl Changes {
                 .and_then(|s| i64::try_from(s).ok())
                 .map(toml::Value::Integer),
         );
-        push(RunOption::Duration, "duration", self.duration.map(toml::Value::Float));
-        push(RunOption::Plots, "output.plots", self.plots.map(toml::Value::Boolean));
-        push(RunOption::Replay, "output.replay", self.replay.map(toml::Value::Boolean));
-        push(RunOption::Mcap, "output.mcap", self.mcap.map(toml::Value::Boolean));
+        push(
+            RunOption::Duration,
+            "duration",
+            self.duration.map(toml::Value::Float),
+        );
+        push(
+            RunOption::Plots,
+            "output.plots",
+            self.plots.map(toml::Value::Boolean),
+        );
+        push(
+            RunOption::Replay,
+            "output.replay",
+            self.replay.map(toml::Value::Boolean),
+        );
+        push(
+            RunOption::Mcap,
+            "output.mcap",
+            self.mcap.map(toml::Value::Boolean),
+        );
         push(
             RunOption::Timing,
             "agents.timing",
@@ -187,7 +203,10 @@ pub fn load_world<'a>(
     {
         return Err(LoadWorldError::Option {
             option: RunOption::Seed,
-            message: format!("seed = {s}: allowed 0 … {} (a world file's integers)", i64::MAX),
+            message: format!(
+                "seed = {s}: allowed 0 … {} (a world file's integers)",
+                i64::MAX
+            ),
         });
     }
     let (text, file) = match source.into() {

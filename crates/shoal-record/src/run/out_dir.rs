@@ -34,8 +34,14 @@ mod tests {
 
     #[test]
     fn names_become_path_words() {
-        assert_eq!(default_out("Paper diving (5.2)"), PathBuf::from("out/paper-diving-5-2"));
-        assert_eq!(default_out("default swarm"), PathBuf::from("out/default-swarm"));
+        assert_eq!(
+            default_out("Paper diving (5.2)"),
+            PathBuf::from("out/paper-diving-5-2")
+        );
+        assert_eq!(
+            default_out("default swarm"),
+            PathBuf::from("out/default-swarm")
+        );
         assert_eq!(default_out("λ!"), PathBuf::from("out/world"));
     }
 }

@@ -33,8 +33,8 @@ pub use messages::{suggest, unit_of};
 pub use names::{service_word, valid_service_word};
 pub use parse::parse_world_file;
 pub use validator::Validator;
-pub use world::too_many_steps;
 pub use vehicle::{merge, vehicle_spec};
+pub use world::too_many_steps;
 
 use crate::cancel::{Cancel, Interrupted};
 use crate::desc::WorldDesc;
