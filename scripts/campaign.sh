@@ -11,7 +11,10 @@
 #                    pairs (tests/null_and_pairs.rs) and the closed-loop missions
 #                    (tests/closed_loop_missions.rs);
 #   all seeds        tests/hidden_effects.rs with SHOAL_ALL_SEEDS=1 (the suite: one case per
-#                    effect; here 3–4 seeds per effect in every experiment that excites it).
+#                    effect; here 3–4 seeds per effect in every experiment that excites it);
+#   campaign bags    the development logs the suite skips as rosbag2s (python/tests/
+#                    test_rosbag.py with SHOAL_CAMPAIGN=1: dev_h_combo, dev_h_inflow), in the
+#                    project's venv (scripts/python-env.sh).
 #
 # Extra arguments go to both cargo nextest calls (e.g. a test filter: `scripts/campaign.sh
 # slow_leak`).
@@ -30,5 +33,12 @@ rc=0
 cargo nextest run -p shoal-sysid --run-ignored only --no-fail-fast --no-tests=warn "$@" || rc=$?
 SHOAL_ALL_SEEDS=1 cargo nextest run -p shoal-sysid --test hidden_effects --no-fail-fast \
     --no-tests=warn "$@" || rc=$?
+# The bag cases the suite skips (only when no test filter was given).
+if [ "$#" = 0 ]; then
+    python=$(scripts/python-env.sh)
+    cargo build -q --bin shoal
+    SHOAL_CAMPAIGN=1 SHOAL_BIN="$(pwd)/target/debug/shoal" "$python" -m pytest -q \
+        -p no:cacheprovider python/tests/test_rosbag.py -k "dev_h_combo or dev_h_inflow" || rc=$?
+fi
 echo "scripts/campaign.sh: $(($(date +%s) - start)) s; $([ "$rc" = 0 ] && echo passed || echo FAILED)"
 exit "$rc"
