@@ -79,3 +79,32 @@ def test_a_short_run_of_a_long_mission_is_its_beginning(tmp_path):
     r = shoal.run(None, tmp_path / "d", duration=2, plots=False, replay=False, quiet=True)
     assert r.summary["simulated_s"] == pytest.approx(2.0)
     assert r.summary["planned_s"] == pytest.approx(2.0)
+
+
+def test_ctrl_c_stops_a_quiet_run_and_its_outputs_are_written(tmp_path):
+    """Quiet or not, the run looks at Python's signals after each chunk of steps: Ctrl-C
+    stops it at a step boundary, the outputs up to there are written, then
+    KeyboardInterrupt is raised."""
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    out = tmp_path / "stopped"
+    script = (
+        "import shoal\n"
+        f"shoal.run({str(WORLDS / 'flock_1000.toml')!r}, {str(out)!r}, duration=600, "
+        "plots=False, replay=False, quiet=True)\n"
+        "print('finished')\n"
+    )
+    p = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE,
+                         stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 120
+    while not (out / ".trajectories.csv.tmp").exists() and time.monotonic() < deadline:
+        assert p.poll() is None, p.communicate()
+        time.sleep(0.2)
+    p.send_signal(signal.SIGINT)
+    stdout, err = p.communicate(timeout=120)
+    assert "KeyboardInterrupt" in err and "finished" not in stdout, err
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["interrupted"] and 0 < summary["simulated_s"] < 600, summary

@@ -86,6 +86,12 @@ impl Mode {
         Mode::ALL.into_iter().find(|m| m.name() == s)
     }
 
+    /// Whether the controller holds a depth in this mode (its heave loop runs on the depth
+    /// setpoint: diving, buoyancy and auto); in the others a depth setpoint means nothing.
+    pub fn holds_depth(self) -> bool {
+        matches!(self, Mode::Diving | Mode::Buoyancy | Mode::Auto)
+    }
+
     /// Whether the mode needs the μAUV² thruster layout.
     pub fn needs_layout(self) -> bool {
         !matches!(self, Mode::Off | Mode::Raw)

@@ -13,7 +13,7 @@ use pyo3::exceptions::{PyKeyboardInterrupt, PyOSError};
 use pyo3::prelude::*;
 use shoal_output::words::factor;
 use shoal_record::run::{
-    Changes, Ending, LoadWorldError, Progress, Quiet, Ran, Run, Watch, default_out, load_world,
+    Changes, Ending, LoadWorldError, Progress, Ran, Run, Watch, default_out, load_world,
 };
 use shoal_world::cancel::{Cancel, Cause};
 use std::path::PathBuf;
@@ -109,19 +109,17 @@ pub fn run(
         )));
     }
     let out = out.unwrap_or_else(|| default_out(&desc.name));
+    // Lines even when quiet: they also check Python's signals (Ctrl-C).
+    let mut lines = Lines {
+        quiet,
+        cancel: &cancel,
+        next_tenth: 0,
+        steps: 1,
+    };
     let ran = py.detach(|| {
-        let run = Run::new(&desc, &out).threads(threads);
-        if quiet {
-            run.execute(&mut Quiet, &cancel)
-        } else {
-            let mut lines = Lines {
-                quiet,
-                cancel: &cancel,
-                next_tenth: 0,
-                steps: 1,
-            };
-            run.execute(&mut lines, &cancel)
-        }
+        Run::new(&desc, &out)
+            .threads(threads)
+            .execute(&mut lines, &cancel)
     });
     let ran = ran.map_err(|e| PyOSError::new_err(e.to_string()))?;
     let ending = match ran {

@@ -381,7 +381,7 @@ mod tests {
                 continue; // the mission's last leg, cut short
             }
             let (k0, k1) = (at(s.t), at(end) - 1);
-            if matches!(sp.mode, Mode::Diving | Mode::Buoyancy | Mode::Auto) {
+            if sp.mode.holds_depth() {
                 let (e0, e1) = (depth[k0] - sp.depth, depth[k1] - sp.depth);
                 let ok = e1.abs() < 0.03 && (e1.abs() <= 0.25 * e0.abs() || e0.abs() < 0.05);
                 assert!(ok, "leg {i} ({:?}): depth error {e0} → {e1} m", sp.mode);

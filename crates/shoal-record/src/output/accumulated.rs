@@ -35,7 +35,7 @@ pub(super) struct PlotPoint {
     pub(super) y: f64,
     /// Depth reading \[m\].
     pub(super) depth: f64,
-    /// Depth setpoint \[m\]; NaN where the vehicle's mode holds no depth ([`holds_depth`]: a
+    /// Depth setpoint \[m\]; NaN where the vehicle's mode holds no depth ([`Mode::holds_depth`]: a
     /// vehicle off, turning, drifting or under raw commands records 0, which is no setpoint).
     pub(super) depth_sp: f64,
     /// Heading \[rad\].
@@ -67,7 +67,7 @@ impl VehicleAcc {
                 x: row[col::X],
                 y: row[col::Y],
                 depth: row[col::DEPTH_READING],
-                depth_sp: if holds_depth(mode) {
+                depth_sp: if mode.holds_depth() {
                     row[col::DEPTH_SP]
                 } else {
                     f64::NAN
@@ -80,10 +80,4 @@ impl VehicleAcc {
         a.rows += 1;
         a.last = Some(here);
     }
-}
-
-/// Whether the controller holds a depth in mode `m` (its heave loop runs on the depth
-/// setpoint: diving, buoyancy and auto; `shoal_model::control`).
-pub(super) fn holds_depth(m: Mode) -> bool {
-    matches!(m, Mode::Diving | Mode::Buoyancy | Mode::Auto)
 }
