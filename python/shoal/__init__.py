@@ -8,6 +8,8 @@
 - :mod:`shoal.agent` — agents in a separate process attached to ``shoal run`` over iceoryx2
   shared memory;
 - :func:`run` — ``shoal run`` as a function: a world file (or text) → the same output files;
+- :func:`read_log` — a measured run (CSV, or a rosbag2 through a mapping) as numpy columns,
+  as ``shoal validate`` reads it;
 - :func:`validate` — ``shoal validate`` as a function: measured runs (paths or columns of
   numbers) → the effects the model lacks, fitted, with their gain on held-out data
   (:mod:`shoal.validation`).
@@ -31,6 +33,7 @@ from ._shoal import (
     __version__,
     plot,
 )
+from .logs import Log, read_log
 from .running import RunResult, run
 from .validation import Report, validate
 
@@ -39,6 +42,7 @@ __all__ = [
     "MODES",
     "QUANTITIES",
     "CommandError",
+    "Log",
     "Report",
     "RunResult",
     "SimulationError",
@@ -47,6 +51,7 @@ __all__ = [
     "WorldError",
     "__version__",
     "plot",
+    "read_log",
     "run",
     "validate",
 ]

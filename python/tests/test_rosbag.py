@@ -2,9 +2,12 @@
 shoal): the development logs of ../shared/data/validation_dev as a ROS 2 logger records them
 (`rosbag_writer.py`: a topic per signal, each at its own rate and clock, PWM commands on
 change, absolute pressure at 40 Hz, header stamps with jitter, a measurement topic starting
-late, a vendor message type, a topic nobody maps) give the verdicts pinned for their CSVs
-(crates/shoal-sysid/tests/verdicts/validation_dev.tsv, the development-log test's settings:
-20 ms replay, 60/40 split). And bad bags and mappings give errors that name what and where.
+late, a vendor message type, a topic nobody maps) give the verdicts pinned for their CSVs — the same effects
+(crates/shoal-sysid/tests/verdicts/validation_dev.tsv), forms and parameters within ±10 %
+(validation_dev_fits.tsv), with the development-log test's settings: 20 ms replay, 60/40
+split — and, without a search, the same run row by row: each row of the bag's run (read by
+`shoal.read_log`) holds the CSV's commands in force at its time and the CSV's sample it was
+stamped from. And bad bags and mappings give errors that name what and where.
 
 The two logs whose searches take longest (`dev_h_combo`, `dev_h_inflow`; the CSV test leaves
 them to its campaign too) run only with SHOAL_CAMPAIGN=1."""
@@ -16,6 +19,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import rosbag_writer as bags
@@ -24,6 +28,9 @@ from conftest import REPO
 
 DEV = REPO.parent / "shared" / "data" / "validation_dev"
 PINNED = REPO / "crates" / "shoal-sysid" / "tests" / "verdicts" / "validation_dev.tsv"
+PINNED_FITS = PINNED.with_name("validation_dev_fits.tsv")
+#: How far a fitted parameter may be from its pinned value (fraction of it; as the Rust test).
+FIT_TOL = 0.10
 CAMPAIGN_ONLY = {"dev_h_combo", "dev_h_inflow"}
 
 
@@ -38,6 +45,23 @@ def pinned() -> dict:
 
 
 PINNED_VERDICTS = pinned()
+
+
+def pinned_fits() -> dict:
+    """Case → (sorted `effect/form`s, {`effect.param`: value})."""
+    out = {}
+    for line in PINNED_FITS.read_text().splitlines():
+        if line.startswith("#") or not line.strip():
+            continue
+        case, forms, params = line.split("\t")
+        forms = [] if forms == "-" else forms.split(",")
+        params = {} if params == "-" else {
+            k: float(v) for k, v in (p.split("=") for p in params.split(","))}
+        out[case] = (sorted(forms), params)
+    return out
+
+
+PINNED_FITS_BY_CASE = pinned_fits()
 
 
 def case_params():
@@ -69,14 +93,73 @@ def test_a_bag_gives_the_verdict_of_its_csv(shoal_bin, tmp_path, name):
     p = validate(shoal_bin, tmp_path / "out", str(bag), "--mapping", str(mapping))
     assert p.returncode == 0, p.stderr
     report = json.loads((tmp_path / "out" / "report.json").read_text())
-    assert sorted(report["verdict"]["effects"]) == sorted(PINNED_VERDICTS[name]), (
+    verdict = report["verdict"]
+    assert sorted(verdict["effects"]) == sorted(PINNED_VERDICTS[name]), (
         f"{name}: the bag's verdict differs from the CSV's pinned one\n{p.stdout}"
     )
+    forms, params = PINNED_FITS_BY_CASE[name]
+    got = sorted(f"{e}/{f}" for e, f in zip(verdict["effects"], verdict["forms"]))
+    assert got == forms, f"{name}: the bag's forms differ from the CSV's pinned ones"
+    assert sorted(verdict["params"]) == sorted(params), name
+    for k, want in params.items():
+        assert abs(verdict["params"][k] - want) <= FIT_TOL * abs(want), (
+            f"{name}: {k} = {verdict['params'][k]} from the bag, pinned {want} from the CSV")
     # The run was read from the bag (its ingest names the container and the topics), not from
     # a CSV beside it.
     (run,) = report["runs"]
     source = run["ingest"]["source"]
     assert source.startswith("rosbag2, 1 MCAP file(s)") and "/uauv2/" in source, source
+
+
+@pytest.mark.parametrize("name", sorted(PINNED_VERDICTS))
+def test_a_bags_run_is_its_csvs_row_by_row(tmp_path, name):
+    """Without a search: the bag's run as `shoal validate` reads it, row by row, against the
+    CSV the bag was written from (read here with numpy, and by shoal). Each row lies at a
+    sample's header stamp (within the writer's jitter: a reader taking the log times, up to
+    3.4 ms late, fails); each input is the CSV's command in force at the row's time (the
+    last CSV sample at or before it: a command held a sample too long or too short fails);
+    each channel sample is the CSV's value at the sample it was stamped from (a pressure
+    converted with another g or density, a heading mirrored, a rate of the wrong sign fail),
+    and no sample is missing or invented."""
+    bag, mapping = bag_of(name, tmp_path)
+    csv = DEV / f"{name}.csv"
+    ref = bags.read_csv(csv)
+    log = shoal.read_log(bag, mapping=mapping)
+    text = shoal.read_log(csv)
+    # The CSV's run is the file's numbers.
+    assert list(text.columns) == list(ref), name
+    for k, v in ref.items():
+        np.testing.assert_array_equal(text.columns[k], v, err_msg=k)
+    assert log.source.startswith(f"{len(log.t)} rows, rosbag2, 1 MCAP file(s)"), log.source
+    t_csv = ref["t"]
+    # Every input's first message is at the CSV's first time: the run starts there.
+    t = t_csv[0] + log.t
+    near = np.clip(np.searchsorted(t_csv, t), 1, len(t_csv) - 1)
+    near = np.where(t - t_csv[near - 1] < t_csv[near] - t, near - 1, near)
+    stamp_err = np.abs(t - t_csv[near])
+    assert stamp_err.max() <= bags.JITTER_NS * 1e-9 + 1e-9, (
+        f"{name}: a row {stamp_err.max() * 1e3:.3f} ms from every CSV sample")
+    # The command in force: the last CSV row at or before the row's time (commands are
+    # logged exactly at their rows' times; 1 ns of rounding in the stamps).
+    held = np.searchsorted(t_csv, t + 1e-9, side="right") - 1
+    inputs = [c for c in ref if c.startswith("u.")]
+    assert sorted(c for c in log.columns if c.startswith("u.")) == sorted(inputs)
+    for c in inputs:
+        np.testing.assert_allclose(log.columns[c], ref[c][held], rtol=0, atol=1e-9,
+                                   err_msg=f"{name}: {c}")
+    channels = [c for c in ref if c.startswith("y.")]
+    assert sorted(c for c in log.columns if c.startswith("y.")) == sorted(channels)
+    late = t_csv >= t_csv[0] + bags.LATE_S - 1e-9
+    for c in channels:
+        rows = ~np.isnan(log.columns[c])
+        k = near[rows]
+        written = late & (np.arange(len(t_csv)) % 5 != 4 if c == "y.depth" else True)
+        # One sample per written CSV sample, none twice.
+        assert np.array_equal(np.sort(k), np.flatnonzero(written)), f"{name}: {c} samples"
+        got, want = log.columns[c][rows], ref[c][k]
+        diff = np.angle(np.exp(1j * (got - want))) if c == "y.yaw" else got - want
+        assert np.abs(diff).max() <= 1e-9, (
+            f"{name}: {c} differs by {np.abs(diff).max():.3g} from the CSV's samples")
 
 
 def test_the_bag_holds_what_a_ros2_logger_writes(tmp_path):

@@ -2,6 +2,7 @@
 (one reader seam, shoal_sysid::log::readers): a development log recorded as a ROS 2 logger
 records it (``rosbag_writer.py``) gives Python the command line's verdict and table; a bag
 given without a mapping is recognised by its content and the error says a mapping is needed;
+`shoal.read_log` reads logs through the same readers and raises their errors;
 progress goes to stderr unless ``quiet``; and Ctrl-C interrupts a validation at once."""
 
 import json
@@ -92,3 +93,30 @@ def test_ctrl_c_interrupts_a_validation_at_once(tmp_path):
     assert "KeyboardInterrupt" in err, err
     assert "finished" not in out
     assert waited < 2.0, f"{waited:.1f} s from Ctrl-C to the exception"
+
+
+def test_read_log_names_what_it_cannot_read(tmp_path):
+    """`shoal.read_log` reads through the validation's readers, so its errors are theirs: a
+    bad mapping names the setting and the file, a broken CSV row its file, line and column,
+    a bag without a mapping says a mapping is needed."""
+    bag, mapping = bag_of("dev_y_gain", tmp_path)
+    bad = tmp_path / "bad.toml"
+    bad.write_text(mapping.read_text().replace('"y.yaw"', '"y.yew"'))
+    with pytest.raises(shoal.ValidationError) as e:
+        shoal.read_log(bag, mapping=bad)
+    assert e.value.setting == "mapping" and e.value.file == bad, str(e.value)
+    with pytest.raises(shoal.ValidationError) as e:
+        shoal.read_log(bag)
+    assert "needs a mapping file" in str(e.value)
+    csv = tmp_path / "broken.csv"
+    csv.write_text("t,u.top,y.depth\n0,0,0.5\n0.02,zero,0.5\n")
+    with pytest.raises(shoal.ValidationError) as e:
+        shoal.read_log(csv)
+    assert (e.value.file, e.value.line, e.value.column) == (csv, 3, "u.top"), str(e.value)
+    # A readable one: the columns of the file, the time from its first row.
+    csv.write_text("t,u.top,y.depth\n1.0,5,0.5\n1.02,,\n1.04,7,0.52\n")
+    log = shoal.read_log(csv)
+    assert list(log.columns) == ["t", "u.top", "y.depth"]
+    assert log.columns["u.top"].tolist() == [5.0, 5.0, 7.0]
+    t, depth = log.samples("y.depth")
+    assert t.tolist() == [1.0, 1.04] and depth.tolist() == [0.5, 0.52]

@@ -44,3 +44,49 @@ pub fn command_error(py: Python<'_>, e: &shoal_sim::batch::CommandError) -> PyEr
     let _ = v.setattr("field", e.field.clone());
     err
 }
+
+/// A Python [`ValidationError`] with message `message` and attributes `setting` (the keyword
+/// argument at fault), `file`, `line` and `column` (where a file is at fault; None otherwise).
+pub fn validation_error(
+    py: Python<'_>,
+    message: String,
+    setting: Option<&str>,
+    file: Option<std::path::PathBuf>,
+    line: Option<usize>,
+    column: Option<String>,
+) -> PyErr {
+    let err = ValidationError::new_err(message);
+    let v = err.value(py);
+    // Setting attributes on a fresh exception cannot fail but for memory; the message says
+    // the same.
+    let _ = v.setattr("setting", setting);
+    let _ = v.setattr("file", file);
+    let _ = v.setattr("line", line);
+    let _ = v.setattr("column", column);
+    err
+}
+
+/// A log that cannot be read ([`shoal_sysid::log::run::RunError`]) as a [`ValidationError`]
+/// naming its file, line (0: the file as a whole) and column.
+pub fn run_error(py: Python<'_>, e: &shoal_sysid::log::run::RunError) -> PyErr {
+    validation_error(
+        py,
+        e.to_string(),
+        None,
+        Some(e.file.clone()),
+        Some(e.line),
+        e.column.as_ref().map(|c| c.1.clone()),
+    )
+}
+
+/// A mapping file that cannot be read as a [`ValidationError`] of setting `mapping`.
+pub fn mapping_error(py: Python<'_>, e: &shoal_rosbag::MappingError) -> PyErr {
+    validation_error(
+        py,
+        e.to_string(),
+        Some("mapping"),
+        Some(e.file.clone()),
+        None,
+        None,
+    )
+}

@@ -12,6 +12,8 @@
 //! - [`plot`]: line plots (PNG, SVG) for the examples, drawn by shoal's own plotting;
 //! - [`errors`]: the Python exceptions (`WorldError`, `CommandError`, `ValidationError`,
 //!   `SimulationError`);
+//! - [`log`]: one measured run (a CSV, or a rosbag2 through a mapping) read into columns of
+//!   numbers, without a search;
 //! - [`validate`]: `shoal validate` on measured runs (paths or columns of numbers), whose
 //!   settings errors raise [`ValidationError`] naming the setting, file, line or column.
 //!
@@ -19,6 +21,7 @@
 
 pub mod args;
 pub mod errors;
+pub mod log;
 pub mod observe;
 pub mod plot;
 pub mod run;
@@ -37,6 +40,7 @@ fn _shoal(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<world::World>()?;
     m.add_function(wrap_pyfunction!(plot::plot, m)?)?;
     m.add_function(wrap_pyfunction!(run::run, m)?)?;
+    m.add_function(wrap_pyfunction!(log::read_log, m)?)?;
     m.add_class::<validate::Validation>()?;
     m.add_function(wrap_pyfunction!(validate::validate, m)?)?;
     m.add("ValidationError", py.get_type::<ValidationError>())?;

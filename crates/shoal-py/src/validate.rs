@@ -6,7 +6,7 @@
 //! JSON text, the fitted vehicle as a world file, the report files written on request). The
 //! Python half (`python/shoal/validate.py`) builds the `Report` objects from it.
 
-use crate::errors::ValidationError;
+use crate::errors;
 use numpy::{AllowTypeChange, PyArrayLike1};
 use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
@@ -107,27 +107,13 @@ fn run_input(item: &Bound<'_, PyAny>, which: &str) -> PyResult<RunInput> {
 /// argument at fault, or None), `file`, `line` and `column` (where a run is at fault, else
 /// None).
 fn error(py: Python<'_>, e: &ValidateError) -> PyErr {
-    let err = ValidationError::new_err(e.to_string());
-    let v = err.value(py);
-    let (setting, file, line, column) = match e {
+    match e {
         ValidateError::Setting { setting, .. } | ValidateError::UnknownName { setting, .. } => {
-            (Some(*setting), None, None, None)
+            errors::validation_error(py, e.to_string(), Some(setting), None, None, None)
         }
-        ValidateError::Run(r) => (
-            None,
-            Some(r.file.clone()),
-            Some(r.line),
-            r.column.as_ref().map(|c| c.1.clone()),
-        ),
-        _ => (None, None, None, None),
-    };
-    // Setting attributes on a fresh exception cannot fail but for memory; the message says
-    // the same.
-    let _ = v.setattr("setting", setting);
-    let _ = v.setattr("file", file);
-    let _ = v.setattr("line", line);
-    let _ = v.setattr("column", column);
-    err
+        ValidateError::Run(r) => errors::run_error(py, r),
+        _ => errors::validation_error(py, e.to_string(), None, None, None, None),
+    }
 }
 
 /// Progress as `(kind, message)`: kind `read`, `clamped`, `start` or `fit`.
@@ -206,15 +192,8 @@ pub fn validate(
         None => None,
         Some(u) => Some(u.parse::<TimeUnit>().map_err(PyValueError::new_err)?),
     };
-    let readers = shoal_rosbag::readers(mapping.as_deref()).map_err(|e| {
-        let err = ValidationError::new_err(e.to_string());
-        let v = err.value(py);
-        let _ = v.setattr("setting", "mapping");
-        let _ = v.setattr("file", e.file.clone());
-        let _ = v.setattr("line", None::<usize>);
-        let _ = v.setattr("column", None::<String>);
-        err
-    })?;
+    let readers =
+        shoal_rosbag::readers(mapping.as_deref()).map_err(|e| errors::mapping_error(py, &e))?;
     let config = Config {
         vehicle: vehicle.map_or(Vehicle::Preset, Vehicle::File),
         split,

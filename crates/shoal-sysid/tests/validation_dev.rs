@@ -4,8 +4,10 @@
 //!
 //! * they all load with the μAUV² preset: the diving logs' tilt at −1.5708 is clamped to −π/2
 //!   and counted on every row, nothing else is touched (trial `logs_load_with_the_uauv2_preset`);
-//! * each log's verdict is pinned in `tests/verdicts/validation_dev.tsv` (trial `log::<name>`:
-//!   its search, compared with the pinned verdict, the difference shown when it changes);
+//! * each log's verdict is pinned in `tests/verdicts/validation_dev.tsv` and the forms and
+//!   parameters of its chosen model (±10 %) in `tests/verdicts/validation_dev_fits.tsv`
+//!   (trial `log::<name>`: its search, compared with both, the difference shown when it
+//!   changes; python/tests/test_rosbag.py holds the same logs written as rosbag2s to both);
 //! * the table (trial `table`) lists exactly the logs of `expected.json` with their hidden
 //!   effects; every verdict names exactly the hidden effects — none missing, none extra — but
 //!   on [`ALLOWED_MISS`], the one log allowed to miss; and both null logs give an empty verdict.
@@ -21,6 +23,7 @@
 mod common;
 
 use common::pinned::{Table, check_verdict};
+use common::pinned_fits::{FitTable, check_fit};
 use libtest_mimic::{Arguments, Failed, Trial};
 use shoal_model::presets;
 use shoal_sysid::evaluate::open_loop::InputMap;
@@ -101,6 +104,13 @@ fn table_path() -> PathBuf {
     ))
 }
 
+fn fits_path() -> PathBuf {
+    PathBuf::from(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/verdicts/validation_dev_fits.tsv"
+    ))
+}
+
 /// The hidden effects of each log, from `expected.json` (sorted by name).
 fn expected() -> BTreeMap<String, Vec<String>> {
     let dir = folder();
@@ -125,6 +135,22 @@ fn table() -> Result<(), Failed> {
     let table = Table::read(&table_path());
     let cases: Vec<(String, Vec<String>)> = expected.into_iter().collect();
     table.check_cases(&cases);
+    let names: Vec<String> = cases.iter().map(|c| c.0.clone()).collect();
+    let fits = FitTable::read(&fits_path());
+    fits.check_cases(&names);
+    // The fits table pins the models of the verdicts: the same effects, in their forms.
+    for (r, f) in table.rows.iter().zip(&fits.rows) {
+        let families: Vec<&str> = f
+            .forms
+            .iter()
+            .map(|x| x.split('/').next().unwrap_or(""))
+            .collect();
+        assert_eq!(
+            families, r.found,
+            "{}: line {} of the fits table",
+            r.case, f.line
+        );
+    }
     for r in &table.rows {
         println!(
             "{:16} {} hidden {{{}}} found {{{}}}",
@@ -174,6 +200,7 @@ fn log(name: String) -> Result<(), Failed> {
             .collect::<Vec<_>>()
     );
     check_verdict(&Table::read(&table_path()), &name, &v.effects, &detail);
+    check_fit(&FitTable::read(&fits_path()), &name, &out.chosen);
     Ok(())
 }
 

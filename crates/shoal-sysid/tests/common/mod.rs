@@ -191,4 +191,5 @@ pub fn channel_gains(out: &Outcome) -> Vec<(String, f64)> {
 }
 
 pub mod pinned;
+pub mod pinned_fits;
 pub mod replays;
