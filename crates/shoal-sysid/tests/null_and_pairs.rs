@@ -1,5 +1,6 @@
 //! No false discovery: runs that the baseline explains (only sensor noise and quantisation)
-//! give an empty verdict. And two effects hidden together are both named, each in the form
+//! give an empty verdict, and the rule that demotes fits too small to matter physically holds
+//! on both sides of its threshold. And two effects hidden together are both named, each in the form
 //! it was hidden in, with its parameters within 20 % of the truth (a delay within one logger
 //! sample and a half).
 //!
@@ -89,6 +90,85 @@ fn fits_of_noise_are_too_small_to_matter_physically() {
     assert!(
         small > 0,
         "the gates opened, some fit of noise reaches the verdict"
+    );
+}
+
+/// The search with every statistical gate opened (as in
+/// [`fits_of_noise_are_too_small_to_matter_physically`]), among the thrust-gain family only,
+/// with `physical_ratio` as the physical-size rule's threshold.
+fn open_gates_search(ds: &Dataset, physical_ratio: f64) -> shoal_sysid::search::Outcome {
+    use shoal_sysid::search::{SearchOptions, search};
+    let opts = SearchOptions {
+        effects: vec![shoal_model::effects::by_name("thrust_gain").unwrap()],
+        threads: 1,
+        min_gain: f64::NEG_INFINITY,
+        bic_threshold: f64::INFINITY,
+        backward_eff_bic_threshold: f64::INFINITY,
+        z_threshold: 0.0,
+        t_threshold: f64::NEG_INFINITY,
+        min_material: f64::NEG_INFINITY,
+        min_closure: f64::NEG_INFINITY,
+        stability_threshold: 0.0,
+        physical_ratio,
+        ..Default::default()
+    };
+    search(ds, &presets::uauv2(), &opts, &|_| {})
+}
+
+/// The physical size the verdict gives a demoted effect (`… (most: y.yaw, 0.53 ×)`).
+fn demoted_size(out: &shoal_sysid::search::Outcome) -> f64 {
+    let reason = &out
+        .verdict
+        .possible
+        .iter()
+        .find(|p| p.reason.starts_with("too small to matter physically"))
+        .unwrap_or_else(|| panic!("not demoted as too small: {:?}", out.verdict.possible))
+        .reason;
+    let at = reason.rfind(", ").unwrap() + 2;
+    reason[at..].trim_end_matches(" ×)").parse().unwrap()
+}
+
+/// The physical-size rule on both sides of its threshold: a thrust gain hidden at 1.005 and
+/// at 1.02 on a turning run moves the yaw's held-out prediction by 0.5 and 2 noise floors
+/// (measured with the threshold out of reach, where every fit is demoted and the verdict says
+/// by how much; proportional to the gain's distance from 1, as a small gain error's effect on
+/// the heading is). With the default threshold (1 noise floor) and every statistical gate
+/// opened, the smaller is demoted as too small to matter and the larger is named: a threshold
+/// below 0.5 or above 2 fails.
+#[test]
+fn the_physical_size_rule_names_an_effect_above_one_noise_floor_and_not_below() {
+    let small = common::dataset(measured(Exp::Yaw, &[("thrust_gain", vec![1.005])], 21));
+    let large = common::dataset(measured(Exp::Yaw, &[("thrust_gain", vec![1.02])], 21));
+    let (s, l) = (
+        demoted_size(&open_gates_search(&small, f64::INFINITY)),
+        demoted_size(&open_gates_search(&large, f64::INFINITY)),
+    );
+    assert!(
+        (0.3..0.8).contains(&s),
+        "k = 1.005 moves the yaw by {s} noise floors"
+    );
+    assert!(
+        (1.4..3.0).contains(&l),
+        "k = 1.02 moves the yaw by {l} noise floors"
+    );
+    assert!(
+        (l / s - 4.0).abs() < 0.4,
+        "the size grows with the gain's distance from 1: {l} / {s}"
+    );
+    let default = shoal_sysid::search::SearchOptions::default().physical_ratio;
+    let below = open_gates_search(&small, default);
+    assert!(
+        below.chosen.names().is_empty(),
+        "{:?}",
+        below.chosen.names()
+    );
+    assert!((demoted_size(&below) - s).abs() < 1e-9);
+    let above = open_gates_search(&large, default);
+    assert_eq!(
+        above.chosen.names(),
+        ["thrust_gain"],
+        "{:?}",
+        above.verdict.possible
     );
 }
 

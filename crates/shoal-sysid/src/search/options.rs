@@ -41,6 +41,11 @@ pub struct SearchOptions {
     /// Fraction of the gap between the held-out RMSE and the noise floor that makes an
     /// effect material however small its share of the baseline's error (default 0.5).
     pub min_closure: f64,
+    /// How far an effect must move some channel's held-out prediction (RMS) to be named, in
+    /// units of that channel's noise floor (default [`PHYSICAL_RATIO`](super::verdict::PHYSICAL_RATIO),
+    /// 1): an effect that changes every prediction by less than the sensor noise is
+    /// physically nothing, however much it lowers an RMSE statistically.
+    pub physical_ratio: f64,
     /// Smallest held-out block t statistic that counts (default 0).
     pub t_threshold: f64,
     /// Block-bootstrap resamples for stability selection (default 8; 0: no stability check).
@@ -70,6 +75,7 @@ impl Default for SearchOptions {
             t_threshold: 0.0,
             min_material: 0.02,
             min_closure: 0.5,
+            physical_ratio: super::verdict::PHYSICAL_RATIO,
             stability_draws: 8,
             stability_threshold: 0.8,
             seed: 0x5140a1,

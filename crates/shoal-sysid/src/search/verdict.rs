@@ -104,15 +104,16 @@ pub(super) fn conclude(
             });
             drop.push(name);
         } else if let Some((k, size)) =
-            physical_size(s, stepwise, &name).filter(|(_, size)| *size < PHYSICAL_RATIO)
+            physical_size(s, stepwise, &name).filter(|(_, size)| *size < opts.physical_ratio)
         {
             possible.push(Possible {
                 effect: name.clone(),
                 form,
                 reason: format!(
                     "too small to matter physically: at its fitted size it moves no channel's \
-                     held-out prediction by as much as {PHYSICAL_RATIO} × the channel's noise \
-                     floor (most: y.{}, {size:.2} ×)",
+                     held-out prediction by as much as {} × the channel's noise floor (most: \
+                     y.{}, {size:.2} ×)",
+                    opts.physical_ratio,
                     k.name()
                 ),
                 stability: freq,
@@ -155,8 +156,9 @@ pub(super) fn conclude(
     (chosen, verdict)
 }
 
-/// How far an effect must move some channel's held-out prediction (RMS) to be named, in units
-/// of that channel's noise floor: an effect that changes every prediction by less than the
+/// The default of [`SearchOptions::physical_ratio`](crate::search::SearchOptions::physical_ratio): how far an effect must move some
+/// channel's held-out prediction (RMS) to be named, in units of that channel's noise floor
+/// (`tests/null_and_pairs.rs` puts the threshold on each side of measured sizes): an effect that changes every prediction by less than the
 /// sensor noise is physically nothing, however much it lowers an RMSE statistically.
 pub const PHYSICAL_RATIO: f64 = 1.0;
 
