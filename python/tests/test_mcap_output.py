@@ -3,7 +3,8 @@
 of which knows anything of shoal: the ROS 2 profile, the schemas by name and encoding, one
 message per recorded sample and vehicle on every per-vehicle topic and one per reception
 attempt, log times in order, every message decoded by the definitions in the file and equal
-to the trajectories (pressure from the depth reading, ENU/FLU attitude with its sign), and
+to the trajectories (pressure from the depth reading, ENU/FLU attitude with its sign, and
+body axes pointing where a turning vehicle heads, by hand), and
 the summary's account of the file."""
 
 import csv
@@ -176,6 +177,53 @@ def test_tf_places_every_vehicle_east_north_up(run):
             got = [tr.x, tr.y, tr.z]
             want = [float(row["y_m"]), float(row["x_m"]), -float(row["z_m"])]
             assert all(math.isclose(a, b, rel_tol=1e-6, abs_tol=1e-6) for a, b in zip(got, want))
+
+
+def body_axes(q):
+    """Forward and up body axes (FLU x and z) of the unit quaternion `q` in ENU."""
+    x, y, z, w = q.x, q.y, q.z, q.w
+    forward = (1 - 2 * (y * y + z * z), 2 * (x * y + w * z), 2 * (x * z - w * y))
+    up = (2 * (x * z + w * y), 2 * (y * z - w * x), 1 - 2 * (x * x + y * y))
+    return forward, up
+
+
+def want_axes(row):
+    """The same axes by hand from the row's NED/FRD roll φ, pitch θ and yaw ψ (REP 103):
+    forward (sin ψ cos θ, cos ψ cos θ, sin θ) in (east, north, up); up FRD's −z."""
+    phi, theta, psi = (float(row[c]) for c in ["roll_rad", "pitch_rad", "yaw_rad"])
+    a = math.cos(psi) * math.sin(theta) * math.cos(phi) + math.sin(psi) * math.sin(phi)
+    b = math.sin(psi) * math.sin(theta) * math.cos(phi) - math.cos(psi) * math.sin(phi)
+    forward = (math.sin(psi) * math.cos(theta), math.cos(psi) * math.cos(theta), math.sin(theta))
+    return forward, (-b, -a, math.cos(theta) * math.cos(phi))
+
+
+def test_imu_and_tf_point_the_vehicle_where_it_heads(shoal_bin, tmp_path):
+    """worlds/paper_turning.toml turns from north through east to south and back to 45°:
+    headings whose mirror, north–east swap and ENU angle all differ from them (the default
+    world's 0° and 180° are blind to a mirrored heading). Each sample's IMU orientation and
+    /tf rotation, turned into body axes, point where the row's roll, pitch and yaw say — by
+    hand, not through shoal_ros2.enu."""
+    summary = shoal_run(shoal_bin, WORLDS / "paper_turning.toml", tmp_path, "--mcap",
+                        "--duration", "30")
+    assert summary["mcap"]["messages"] > 0
+    with open(tmp_path / "trajectories.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    (name,) = {r["vehicle"] for r in rows}
+    yaws = [float(r["yaw_rad"]) for r in rows]
+    assert any(abs(math.sin(y)) > 0.5 and abs(math.cos(y)) > 0.5 for y in yaws), "no diagonal heading"
+    got = defaultdict(list)
+    with open(tmp_path / "run.mcap", "rb") as f:
+        reader = make_reader(f, decoder_factories=[DecoderFactory()])
+        for _, channel, _, msg in reader.iter_decoded_messages(topics=[f"/{name}/imu", "/tf"]):
+            q = msg.orientation if channel.topic.endswith("imu") else msg.transforms[0].transform.rotation
+            got[channel.topic].append(body_axes(q))
+    for topic, axes in got.items():
+        assert len(axes) == len(rows), topic
+        for k, ((fwd, up), row) in enumerate(zip(axes, rows)):
+            want_fwd, want_up = want_axes(row)
+            # trajectories.csv keeps 7 significant digits.
+            assert all(math.isclose(a, b, abs_tol=1e-6) for a, b in zip(fwd + up, want_fwd + want_up)), (
+                topic, k, row["t_s"], fwd, up, want_fwd, want_up)
 
 
 def test_the_summary_lists_run_mcap(run):

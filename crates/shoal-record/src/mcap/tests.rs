@@ -1,7 +1,8 @@
 //! A small run written to `run.mcap` and read back with the `mcap` crate: the topics, their
 //! schemas and encodings, message counts (recorded samples × vehicles, reception attempts),
 //! times in order, the ROS 2 profile (every schema a `.msg` definition, every message CDR),
-//! every message decoded back to the recorded values, the size estimate of the budget,
+//! every message decoded back to the recorded values (attitudes against hand-computed body
+//! axes on a heading that is not a symmetry of the NED↔ENU change), the size estimate of the budget,
 //! thinning, and a folder that cannot be written.
 
 use super::foxglove::SceneUpdate;
@@ -15,7 +16,9 @@ use shoal_sim::sim::{Sim, SimOptions};
 use shoal_world::cancel::Cancel;
 use std::collections::BTreeMap;
 
-/// Three μAUV² in a row heading east with four modems each, beaconing; a post in the pool.
+/// Three μAUV² in a row heading 200° (south-south-west: a heading whose mirror −ψ, whose
+/// swap of north and east and whose ENU angle π/2 − ψ all differ from it) with four modems
+/// each, beaconing; a post in the pool.
 const WORLD: &str = r#"
 name = "mcap test"
 seed = 7
@@ -33,8 +36,8 @@ position = [4.5, 3.0, 1.0]
 name = "a"
 count = 3
 grid = { origin = [1.0, 1.0, 0.6], spacing = [0.0, 0.5], columns = 1 }
-heading_deg = 90
-mission = [{ t = 0, mode = "auto", depth = 0.8, yaw_deg = 90, surge = 0.05 }]
+heading_deg = 200
+mission = [{ t = 0, mode = "auto", depth = 0.8, yaw_deg = 200, surge = 0.05 }]
 behaviour = { kind = "beacon", period = 0.2, payload_bytes = 20, jitter = 0.1 }
 [[vehicles.model.modems]]
 name = "front"
@@ -251,6 +254,41 @@ fn the_file_is_a_ros_2_bag_every_schema_a_msg_definition_every_message_cdr() {
     }
 }
 
+/// The body axes of an ENU/FLU attitude `q` against the row's NED/FRD roll φ, pitch θ and
+/// yaw ψ by hand (REP 103): forward = (sin ψ cos θ, cos ψ cos θ, sin θ) in (east, north, up),
+/// up = FRD's −z: (−b, −a, cos θ cos φ) with a = cos ψ sin θ cos φ + sin ψ sin φ and
+/// b = sin ψ sin θ cos φ − cos ψ sin φ. A mirrored heading, north and east swapped, or a
+/// sign of roll or pitch lost fails.
+fn assert_attitude(q: &ros2::Quaternion, row: &[f64], what: &str) {
+    let (x, y, z, w) = (q.x, q.y, q.z, q.w);
+    let forward = [
+        1.0 - 2.0 * (y * y + z * z),
+        2.0 * (x * y + w * z),
+        2.0 * (x * z - w * y),
+    ];
+    let up = [
+        2.0 * (x * z + w * y),
+        2.0 * (y * z - w * x),
+        1.0 - 2.0 * (x * x + y * y),
+    ];
+    let (phi, theta, psi) = (row[col::ROLL], row[col::PITCH], row[col::YAW]);
+    let a = psi.cos() * theta.sin() * phi.cos() + psi.sin() * phi.sin();
+    let b = psi.sin() * theta.sin() * phi.cos() - psi.cos() * phi.sin();
+    let want_forward = [
+        psi.sin() * theta.cos(),
+        psi.cos() * theta.cos(),
+        theta.sin(),
+    ];
+    let want_up = [-b, -a, theta.cos() * phi.cos()];
+    for j in 0..3 {
+        assert!(
+            (forward[j] - want_forward[j]).abs() < 1e-12 && (up[j] - want_up[j]).abs() < 1e-12,
+            "{what}: forward {forward:?} up {up:?}, want {want_forward:?} {want_up:?} \
+             (roll {phi}, pitch {theta}, yaw {psi})"
+        );
+    }
+}
+
 #[test]
 fn messages_decode_to_the_recorded_values() {
     let (desc, batches, _, bytes) = run("values", None);
@@ -288,8 +326,7 @@ fn messages_decode_to_the_recorded_values() {
             assert_eq!(p.variance, 0.0);
             let m: Imu = ros2::decode(&m.data).unwrap();
             assert_eq!(m, topics::imu_of(p.header.clone(), row));
-            let q = enu::attitude(row[col::ROLL], row[col::PITCH], row[col::YAW]);
-            assert_eq!(m.orientation.w, q.quaternion().w);
+            assert_attitude(&m.orientation, row, "imu");
             assert_eq!(m.angular_velocity.y, -row[col::Q]);
             assert_eq!(m.linear_acceleration_covariance[0], -1.0);
             // The commands in force from this sample on: the next row's (the last, its own).
@@ -330,7 +367,10 @@ fn messages_decode_to_the_recorded_values() {
                 t,
                 &scene::transform(t.header.stamp, &desc.vehicles[i].name, &rows[i][k])
             );
-            assert_eq!(t.transform.translation.z, -rows[i][k][col::Z]);
+            // ENU: x east, y north, z up.
+            let (tr, row) = (&t.transform.translation, &rows[i][k]);
+            assert_eq!([tr.x, tr.y, tr.z], [row[col::Y], row[col::X], -row[col::Z]]);
+            assert_attitude(&t.transform.rotation, row, "/tf");
         }
     }
     // Every attempt as the medium decided it, with the vehicles' names.
