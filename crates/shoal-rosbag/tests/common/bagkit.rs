@@ -21,6 +21,7 @@
 
 #![allow(dead_code)]
 
+use super::cdr::{self, Body};
 use shoal_record::mcap::definition;
 use shoal_record::mcap::ros2::{
     Float64MultiArray, FluidPressure, Header, Imu, Quaternion, Time, Vector3, encode,
@@ -211,6 +212,21 @@ pub fn message(s: &Sample) -> Vec<u8> {
         )),
     };
     out.expect("a message serialises into memory")
+}
+
+/// The message of sample `s` written by hand with its layout ([`super::cdr`]): the same
+/// bytes as [`message`] (a test checks it), with where each value lies.
+pub fn body(s: &Sample) -> Body {
+    let t = s.stamp_ns as f64 * 1e-9;
+    match s.topic {
+        IMU => {
+            let [roll, pitch, yaw] = attitude_enu(t);
+            let q = quaternion_zyx(roll, pitch, yaw);
+            cdr::imu(s.stamp_ns, q, rates_flu(t), [0.0, 0.0, 9.81], &[0.0; 9])
+        }
+        PRESSURE => cdr::fluid_pressure(s.stamp_ns, SURFACE_PA + RHO_G * depth_m(t), 0.0),
+        i => cdr::float64_multi_array(LABELS[i - THRUSTERS], &array(i, s.k, t)),
+    }
 }
 
 /// How a bag of the kit is written.
