@@ -12,7 +12,9 @@
 //!   whole) — and to record the run again;
 //! * bytes flipped anywhere in a bag of plain (uncompressed) chunks: a sane run (times from 0
 //!   strictly increasing, a value per row for every input, finite values) or an error naming
-//!   the file; never a panic, an abort or a hang — and at least a measured share of cases read.
+//!   the file; never a panic, an abort or a hang — and at least a measured share of cases read;
+//! * a record claiming to run past its chunk's end (which overflows the MCAP library's
+//!   arithmetic): an error naming the file, not a panic.
 //!
 //! Each fuzz is a seeded loop (`PROPTEST_CASES` raises its length for a campaign:
 //! `PROPTEST_CASES=20000 cargo test --release -p shoal-rosbag --test fuzz_bag`).
@@ -258,4 +260,33 @@ fn flipped_bytes_give_a_sane_run_or_an_error_naming_the_file() {
     let share = read as f64 / n as f64;
     eprintln!("{share:.3} of {n} flipped bags read");
     assert!(share >= 0.5, "{share:.3} read");
+}
+
+#[test]
+fn a_record_running_past_its_chunks_end_is_an_error_not_a_panic() {
+    // The MCAP library (0.26) overflows on this length in builds with overflow checks.
+    let mut bytes = bagkit::bag_with(&chunked(2, false), |_, _| {});
+    let first = bagkit::schedule(2)[0];
+    let data = bagkit::message(&first);
+    let at = bytes.windows(data.len()).position(|w| w == data).unwrap();
+    // A message record: opcode 0x05, length (u64), channel (u16), sequence (u32), log and
+    // publish times (u64 each), data.
+    let record = at - (2 + 4 + 8 + 8) - 9;
+    assert_eq!(bytes[record], 0x05, "a message record");
+    let length = u64::from_le_bytes(bytes[record + 1..record + 9].try_into().unwrap());
+    // Past its chunk (of 40 messages) but within the file.
+    let longer = length + 20_000;
+    assert!((record + 9 + longer as usize) < bytes.len());
+    bytes[record + 1..record + 9].copy_from_slice(&longer.to_le_bytes());
+    let path = scratch("past_chunk.mcap");
+    std::fs::write(&path, &bytes).unwrap();
+    let msg = match read_bag(&path, &mapping()) {
+        Ok(run) => panic!("a run of {} rows from a corrupt bag", run.t.len()),
+        Err(e) => e.to_string(),
+    };
+    assert!(msg.starts_with(&path.display().to_string()), "{msg}");
+    assert!(
+        msg.contains("the file breaks off after 0 message(s)"),
+        "{msg}"
+    );
 }
