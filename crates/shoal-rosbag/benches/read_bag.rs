@@ -4,9 +4,10 @@
 //! message of a mapped topic decoded by its schema, the time base built. Issue 34's aim:
 //! ≤ 2 s on 2 cores. `cargo bench -p shoal-rosbag --bench read_bag`.
 
-#[path = "../tests/common/bagkit.rs"]
-mod bagkit;
+#[path = "../tests/common/mod.rs"]
+mod common;
 
+use common::bagkit;
 use criterion::{Criterion, criterion_group, criterion_main};
 use shoal_rosbag::{Mapping, read_bag};
 use std::path::Path;

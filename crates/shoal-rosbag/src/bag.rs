@@ -103,10 +103,11 @@ pub fn bag_files(path: &Path) -> Result<Vec<PathBuf>, BagError> {
 /// rather than an allocation of that size. Real bags' records are a few MiB at most (an image).
 pub const RECORD_LIMIT: usize = 256 << 20;
 
-/// The messages of the MCAP file at `file`, streamed (memory: one chunk).
+/// The messages of the MCAP file at `file`, streamed (memory: one chunk); a record the MCAP
+/// library cannot read is an error (see [`Guarded`]).
 fn open_mcap(
     file: &Path,
-) -> Result<impl Iterator<Item = mcap::McapResult<mcap::Message<'static>>>, BagError> {
+) -> Result<impl Iterator<Item = Result<mcap::Message<'static>, String>>, BagError> {
     use std::io::{Read, Seek};
     let fail = |m: String| BagError::new(file, None, m);
     let mut f =
@@ -126,10 +127,43 @@ fn open_mcap(
         .map_err(|e| fail(format!("cannot read the file: {e}")))?;
     let options =
         mcap::sans_io::LinearReaderOptions::default().with_record_length_limit(RECORD_LIMIT);
-    Ok(mcap::io::MessageReader::new_with_options(
-        std::io::BufReader::with_capacity(1 << 20, f),
-        options,
-    ))
+    Ok(Guarded {
+        stream: mcap::io::MessageReader::new_with_options(
+            std::io::BufReader::with_capacity(1 << 20, f),
+            options,
+        ),
+        failed: false,
+    })
+}
+
+/// An MCAP message stream whose reader's panics are errors. The MCAP library (0.26) trusts
+/// some lengths in the file: a record inside an uncompressed chunk that claims to run past
+/// the chunk's end overflows its arithmetic, which panics in builds with overflow checks
+/// (debug builds, tests) where release builds go on to an error. Caught here, a corrupt file
+/// is an error in every build; the stream ends after it.
+struct Guarded<I> {
+    stream: I,
+    failed: bool,
+}
+
+impl<I: Iterator<Item = mcap::McapResult<mcap::Message<'static>>>> Iterator for Guarded<I> {
+    type Item = Result<mcap::Message<'static>, String>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        if self.failed {
+            return None;
+        }
+        let stream = &mut self.stream;
+        match std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| stream.next())) {
+            Ok(next) => next.map(|m| m.map_err(|e| e.to_string())),
+            Err(_) => {
+                self.failed = true;
+                Some(Err(
+                    "a corrupt record: the MCAP reader failed on a length in it".into(),
+                ))
+            }
+        }
+    }
 }
 
 /// A mapped topic's decoding: its schema, what to keep, where each entry's values are.
