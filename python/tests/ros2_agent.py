@@ -1,5 +1,5 @@
-"""A test agent for shoal's ROS 2 bridge (run as a process by test_ros2.py): drives the given
-vehicles with `shoal_ros2.Ros2Swarm` on Cyclone DDS and logs what it observed.
+"""A test agent for shoal's ROS 2 bridge (run as a process by test_ros2_run.py): drives the
+given vehicles with `shoal_ros2.Ros2Swarm` on Cyclone DDS and logs what it observed.
 
     python ros2_agent.py LOG NAMESPACE DOMAIN_ID VEHICLES PLAN
 
