@@ -6,7 +6,10 @@ test_ros2_run.py).
   the standard messages, and the `.msg` files of shoal_msgs) writes and reads the same CDR bytes.
 * `shoal_ros2.enu` converts ROS's ENU/FLU frames back to shoal's NED/FRD, by hand values.
 * `Ros2Swarm` assembles a tick from topics arriving in any order and answers on the right
-  topics (against a stand-in world made of plain Cyclone DDS readers and writers).
+  topics, against a stand-in world made of plain Cyclone DDS readers and writers in this
+  process: a tick lacking a vehicle, or a vehicle's pressure, is seen incomplete (an older tick
+  written after it is the one returned), a stale stamp makes no tick, and each answer goes
+  once to its own vehicle's topics (the next sample on each is one sent after it).
 
 DDS stays on the loopback interface (`localhost_dds`).
 """
@@ -153,7 +156,8 @@ def test_ros_frames_convert_back_to_shoal_s():
 def test_a_tick_is_assembled_from_topics_in_any_order_and_answered(localhost_dds):
     """A stand-in world (plain Cyclone DDS endpoints with the bridge's topics and QoS)
     publishes a tick's imu and pressure out of order, one sample last: the tick is complete only
-    then; the answers arrive stamped with it on the right vehicle's topics."""
+    then (seen by the ticks returned before it, not by waiting); the answers arrive stamped
+    with it on the right vehicle's topics; its samples again, and older ones, make no tick."""
     from cyclonedds.domain import DomainParticipant
     from cyclonedds.pub import DataWriter
     from cyclonedds.sub import DataReader
@@ -174,27 +178,49 @@ def test_a_tick_is_assembled_from_topics_in_any_order_and_answered(localhost_dds
     setpoints = {v: DataReader(dp, topic(Setpoint, v, "setpoint"), qos=qos.COMMANDS)
                  for v in names}
     tx = {v: DataReader(dp, topic(OpticalFrame, v, "modem/tx"), qos=qos.COMMANDS) for v in names}
+    # The stand-in's own reader of b's pressure, beside the swarm's.
+    witness = DataReader(dp, topic(FluidPressure, "b", "pressure"), qos=qos.SENSOR_DATA)
 
     def head(t):
         return Header(stamp=enu.stamp(t), frame_id="x")
 
+    def sensors(v, t, depth=0.0, rpy=(0.0, 0.0, 0.0), rates=(0.0, 0.0, 0.0), order="ip"):
+        """Vehicle `v`'s imu (i) and pressure (p) stamped `t`, in `order`."""
+        for what in order:
+            if what == "i":
+                imu[v].write(Imu(header=head(t), orientation=enu.attitude_from_ned(*rpy),
+                                 angular_velocity=msgs.Vector3(*rates)))
+            else:
+                pressure[v].write(FluidPressure(header=head(t),
+                                                fluid_pressure=enu.pressure_from_depth(depth)))
+
+    def complete(t):
+        """Every vehicle's samples stamped `t` (depth `t` m); the tick the swarm returns next."""
+        for v in names:
+            sensors(v, t, depth=t)
+        got = swarm.wait_tick(60.0)  # returns once complete: a safety net, not a claim
+        assert got is not None, f"the tick at {t} s never completed"
+        return got
+
     with Ros2Swarm(namespace, names, domain) as swarm:
-        deadline = time.monotonic() + 10
-        while not all(w.get_matched_subscriptions() for w in [*imu.values(), *rx.values()]):
-            assert time.monotonic() < deadline, "no discovery within 10 s"
+        deadline = time.monotonic() + 60  # a safety net, not a claim
+        while not all(w.get_matched_subscriptions()
+                      for w in [*imu.values(), *pressure.values(), *rx.values()]):
+            assert time.monotonic() < deadline, "no discovery within 60 s"
             time.sleep(0.01)
         t = 1.25
+        sensors("b", t, depth=0.5, rpy=(0.0, 0.0, 2.0), rates=(0.1, 0.2, 0.3), order="pi")
+        # Each writer's samples arrive in the order written (or not at all): once a tick written
+        # after b's samples is complete, b's samples of t have arrived. The swarm returns the
+        # newest complete tick: it returns the older one, so t was not complete.
+        got = complete(1.15)
+        assert got.time == 1.15, "a tick without a-1 is not complete"
+        assert got.observations["b"].depth == pytest.approx(1.15), "and t's b is not in it"
+        sensors("a-1", t, rpy=(0.1, 0.2, -1.0), order="i")
+        assert complete(1.2).time == 1.2, "a tick without a-1's pressure is not complete"
         rx["b"].write(OpticalFrame(stamp=enu.stamp(1.23), sender=0, modem=2, payload=b"hi"))
-        pressure["b"].write(FluidPressure(header=head(t), fluid_pressure=enu.pressure_from_depth(
-            0.5)))
-        imu["b"].write(Imu(header=head(t), orientation=enu.attitude_from_ned(0.0, 0.0, 2.0),
-                           angular_velocity=msgs.Vector3(0.1, 0.2, 0.3)))
-        assert swarm.wait_tick(0.3) is None, "a tick without a-1 is not complete"
-        imu["a-1"].write(Imu(header=head(t), orientation=enu.attitude_from_ned(0.1, 0.2, -1.0)))
-        assert swarm.wait_tick(0.3) is None, "a tick without a-1's pressure is not complete"
-        pressure["a-1"].write(FluidPressure(header=head(t), fluid_pressure=enu.pressure_from_depth(
-            1.5)))
-        tick = swarm.wait_tick(5.0)
+        sensors("a-1", t, depth=1.5, order="p")
+        tick = swarm.wait_tick(60.0)
         assert tick is not None and tick.time == t and tick.stamp == enu.stamp(t)
         a, b = tick.observations["a-1"], tick.observations["b"]
         assert (a.index, b.index) == (0, 1)
@@ -206,26 +232,39 @@ def test_a_tick_is_assembled_from_topics_in_any_order_and_answered(localhost_dds
         swarm.send_frame("b", tick.stamp, b"\x01\x02", modem=3, delay=0.01)
         swarm.send_setpoint("b", tick.stamp, Setpoint.MODE_AUTO, 1.0, 0.5, 0.02, frames=1)
         swarm.send_setpoint("a-1", tick.time, Setpoint.MODE_DIVING, 2.0, -0.5)
-        # An older stamp is stale once a tick has been returned.
-        imu["a-1"].write(Imu(header=head(1.2)))
-        pressure["a-1"].write(FluidPressure(header=head(1.2)))
-        imu["b"].write(Imu(header=head(1.2)))
-        pressure["b"].write(FluidPressure(header=head(1.2)))
-        assert swarm.wait_tick(0.3) is None
+        # Once t has been returned, its samples again (as a world republishes a tick it waits
+        # for) and older ones are stale: they make no tick. Cyclone DDS delivers to the readers
+        # of this process within write() — the witness has them as soon as it returns — so a
+        # poll right after sees them in the swarm's readers too.
+        witness.take(N=100)
+        for s in (t, 1.2):
+            for v in names:
+                sensors(v, s)
+        assert [enu.seconds(s.header.stamp) for s in witness.take(N=100)] == [t, 1.2]
+        assert swarm.wait_tick(0.0) is None, "a stale stamp made a tick"
+        assert complete(1.3).time == 1.3, "and the next tick is the one after t"
 
-        def take(reader, n, within=5.0):
+        def take(reader, n, within=60.0):  # returns once n have come: a safety net
             got, deadline = [], time.monotonic() + within
             while len(got) < n and time.monotonic() < deadline:
                 got += reader.take(N=10)
                 time.sleep(0.01)
             return got
 
-        (sa,), (sb,), (fb,) = take(setpoints["a-1"], 1), take(setpoints["b"], 1), take(tx["b"], 1)
+        # Each answer once, on its vehicle's topics only: after it, the next sample on each
+        # topic is one sent now (a reliable writer's samples arrive in the order written).
+        for v in names:
+            swarm.send_frame(v, 1.3, b"now")
+            swarm.send_setpoint(v, 1.3, Setpoint.MODE_KEEP, 0.0, 0.0)
+        (sa, na), (sb, nb) = take(setpoints["a-1"], 2), take(setpoints["b"], 2)
         assert (sa.stamp, sa.mode, sa.depth, sa.heading) == (enu.stamp(t), 2, 2.0, -0.5)
         assert (sb.stamp, sb.mode, sb.depth, sb.heading, sb.surge, sb.frames) == (
             enu.stamp(t), 6, 1.0, 0.5, 0.02, 1)
+        assert na.stamp == nb.stamp == enu.stamp(1.3)
+        (fb, nfb) = take(tx["b"], 2)
         assert (fb.stamp, fb.modem, fb.delay, bytes(fb.payload)) == (enu.stamp(t), 3, 0.01,
                                                                      b"\x01\x02")
-        assert take(tx["a-1"], 1, within=0.5) == []
+        assert bytes(nfb.payload) == b"now"
+        assert [bytes(f.payload) for f in take(tx["a-1"], 1)] == [b"now"]
         with pytest.raises(KeyError, match="vehicle `c`"):
             swarm.send_setpoint("c", t, 6, 1.0, 0.0)
