@@ -17,6 +17,7 @@ VEHICLES: names separated by commas. PLAN (JSON):
 * ``last``: the time of the run's last control tick [s]: once it is answered and logged, wait
   for the end of standard input (the test closes it when the world has ended, so the answers
   are not lost with the participant), then leave — the end counted in ticks, not waited for;
+* ``density``: the world's water density [kg/m³] for depth from pressure (default 1000);
 * ``wait``, ``idle``: seconds to wait for the first tick, and for any later one before leaving
   (safety nets for a world that stalls or ends early; 60 s each).
 
@@ -47,7 +48,8 @@ def main(log_path, namespace, domain_id, vehicles, plan) -> int:
     ticks = 0
     odometry = bool(plan.get("odometry"))
     with open(log_path, "w") as log, Ros2Swarm(namespace, names, int(domain_id),
-                                               odometry=odometry, odom_grace=idle) as swarm:
+                                               odometry=odometry, odom_grace=idle,
+                                               density=plan.get("density", 1000.0)) as swarm:
         for tick in swarm.ticks(plan.get("wait", 60.0), idle):
             record = {"t": tick.time, "stamp": [tick.stamp.sec, tick.stamp.nanosec], "obs": {}}
             for v, o in tick.observations.items():

@@ -2,8 +2,11 @@
 `ros2_agent.py` (package `shoal_ros2` on Cyclone DDS), each test on its own namespace and DDS
 domain, DDS on the loopback (`localhost_dds`).
 
-* The Imu and FluidPressure the agent receives are the run's own trajectories.csv (depth from
-  pressure = the depth reading; attitude and rates within the IMU's noise).
+* The Imu and FluidPressure the agent receives are the run's own trajectories.csv: in sea water
+  (`[water] density = 1025`) the raw FluidPressure is 101325 Pa + ρ g × the depth reading by
+  hand, and with the centre of gravity moved off the centre line (the vehicles swing in roll
+  and pitch) roll, pitch, p and q, far from 0, are the run's within the IMU's noise; yaw and r
+  while turning to the setpoints.
 * The vehicles reach the depth and heading sent as setpoints; raw Actuators drive the thrusters
   and tilts, and with positions granted `odom` is the true position; a NaN depth and an unknown
   mode are counted as rejections and not applied; two runs give the same digest; and
@@ -52,8 +55,9 @@ TIMEOUT = 60.0
 
 
 def world(namespace, domain, *, duration, fallback="hold", timeout=TIMEOUT, seed=5,
-          grant_position=False):
-    """Two μAUV² at 0.8 m heading north, driven over ROS 2 in lock-step."""
+          grant_position=False, extra=""):
+    """Two μAUV² at 0.8 m heading north, driven over ROS 2 in lock-step; `extra`: TOML
+    appended (tables for the vehicle group's model, `[water]`)."""
     return f"""
 name = "ros2_test"
 seed = {seed}
@@ -85,7 +89,7 @@ attitude_noise_deg = {math.degrees(ATTITUDE_NOISE)}
 gyro_noise = {GYRO_NOISE}
 gyro_bias = [0.0, 0.0, 0.0]
 accel_noise = 0.02
-
+{extra}
 [output]
 record_hz = 10.0
 """
@@ -219,8 +223,8 @@ SETPOINTS = [[1.2, math.pi / 2], [1.4, -2.0]]
 
 def test_observations_are_the_run_s_and_setpoints_are_reached(ros2_shoal, tmp_path):
     """Every tick answered for both vehicles; the depth from pressure is the depth reading;
-    attitude and rates are the run's within the IMU's noise (r while the vehicles turn to their
-    headings); the setpoints are reached."""
+    yaw and r, while the vehicles turn to their headings, are the run's within the IMU's noise
+    (roll, pitch, p and q: `test_sea_water_pressure_…`); the setpoints are reached."""
     duration = 40.0
     run = run_with_agent(ros2_shoal, tmp_path, {"setpoints": SETPOINTS}, duration=duration)
     ticks = len(run.ticks)
@@ -253,6 +257,63 @@ def test_observations_are_the_run_s_and_setpoints_are_reached(ros2_shoal, tmp_pa
         assert abs(wrapped(float(last["yaw_rad"]) - heading)) < math.radians(2), last
     # The rates compared include turns (a sign error would show).
     assert turning >= 20, turning
+
+
+#: Sea water [kg/m³] (`[water] density`), and by hand what the bridge's FluidPressure adds to
+#: ρ g × depth: the atmosphere at the surface [Pa]; shoal's gravity [m/s²].
+SEA_WATER = 1025.0
+ATMOSPHERE = 101325.0
+GRAVITY = 9.81
+#: Sea water, and the vehicles' centre of gravity 4 mm forward and 3 mm to port of the centre
+#: of buoyancy (15 mm below it, as the μAUV² preset has it): released level, they pitch nose
+#: down and roll to port, swinging about −15° and −11° (and rise: buoyant in sea water).
+SWINGING = f"""
+[vehicles.model.body]
+cog = [0.004, -0.003, 0.015]
+
+[water]
+density = {SEA_WATER}
+"""
+
+
+def test_sea_water_pressure_and_swinging_attitude_and_rates_are_the_run_s(ros2_shoal, tmp_path):
+    """Zero thrust in sea water with an off-centre centre of gravity: at every recorded tick
+    the FluidPressure is 101325 Pa + 1025 kg/m³ × 9.81 m/s² × the run's depth reading (a bridge
+    using 1000 kg/m³ is off by over 49 Pa there), and roll, pitch, p and q — most of them
+    further from 0 than the tolerance, and roll apart from pitch, p from q, so that a wrong
+    sign or a swapped axis would miss — are the run's within the IMU's noise."""
+    plan = {"actuators": [[0.0, 0.0, 0.0], [0.0, 0.0], 0], "density": SEA_WATER}
+    run = run_with_agent(ros2_shoal, tmp_path, plan, duration=3.0, extra=SWINGING)
+    assert run.report["commands_applied"] == 2 * len(run.ticks), run.report
+    tol = {"roll": SIGMAS * ATTITUDE_NOISE, "pitch": SIGMAS * ATTITUDE_NOISE,
+           "p": SIGMAS * GYRO_NOISE, "q": SIGMAS * GYRO_NOISE}
+    signs = dict.fromkeys(tol, 0)  # rows where a wrong sign would miss by over twice tol
+    apart = {"roll, pitch": 0, "p, q": 0}  # rows where swapping the two would miss so
+    compared = 0
+    for v in VEHICLES:
+        for row in run.rows[v][1:-1]:  # from 0.1 s (at 0 all is level and still) to the last tick
+            t = float(row["t_s"])
+            o = run.tick_at(t)["obs"][v]
+            depth = float(row["depth_reading_m"])
+            assert depth > 0.2, row  # deep: 1000 kg/m³ would be off by 25 g × depth > 49 Pa
+            # CSV: 7 significant digits of the depth, ≈ 1e-7 m ≈ 1e-3 Pa.
+            assert o["pressure"] == pytest.approx(ATMOSPHERE + SEA_WATER * GRAVITY * depth,
+                                                  abs=0.01), (v, t, depth)
+            assert o["depth"] == pytest.approx(depth, rel=1e-6), (v, t)
+            truth = {"roll": float(row["roll_rad"]), "pitch": float(row["pitch_rad"]),
+                     "p": float(row["p_rad_s"]), "q": float(row["q_rad_s"])}
+            got = {"roll": o["roll"], "pitch": o["pitch"], "p": o["rates"][0],
+                   "q": o["rates"][1]}
+            for name in tol:
+                miss = abs(wrapped(got[name] - truth[name]))
+                assert miss < tol[name], (v, t, name, got[name], truth[name])
+                signs[name] += abs(truth[name]) > tol[name]
+            apart["roll, pitch"] += abs(truth["roll"] - truth["pitch"]) > 2 * tol["roll"]
+            apart["p, q"] += abs(truth["p"] - truth["q"]) > 2 * tol["p"]
+            compared += 1
+    assert compared == 2 * 29, compared
+    # Of the 58 rows (seed 5: 52 to 58, and 36 and 54).
+    assert min(signs.values()) >= 50 and min(apart.values()) >= 30, (signs, apart)
 
 
 def test_raw_actuator_commands_apply_and_odometry_is_the_true_position(ros2_shoal, tmp_path):
