@@ -1,6 +1,9 @@
-"""Shared fixtures of the Python tests: the repository, its shipped worlds and the `shoal`
-binary (SHOAL_BIN, else built with cargo into the workspace's target directory)."""
+"""Shared fixtures of the Python tests: the repository, its shipped worlds, the `shoal`
+binary (SHOAL_BIN, else built with cargo into the workspace's target directory), and for the
+ROS 2 tests a DDS domain and namespace per test (`bus`) kept on this machine
+(`localhost_dds`)."""
 
+import itertools
 import json
 import os
 import subprocess
@@ -20,6 +23,30 @@ except ImportError as e:  # e.g. python/shoal (the sources) shadows the installe
 REPO = Path(__file__).resolve().parents[2]
 #: The shipped worlds.
 WORLDS = REPO / "worlds"
+
+_bus_serial = itertools.count()
+
+
+def bus():
+    """A ROS 2 namespace and DDS domain of the calling test's own (from the pid and a counter),
+    so that tests and test runs side by side do not hear each other."""
+    n = next(_bus_serial)
+    pid = os.getpid()
+    return f"t{pid}_{n}", 1 + (pid * 7 + n) % 200
+
+
+@pytest.fixture(scope="session")
+def localhost_dds():
+    """DDS kept on this machine for the ROS 2 tests: Cyclone DDS (this process and the agents)
+    on the loopback interface, unicast (`shoal_ros2.LOCALHOST_CONFIG` as CYCLONEDDS_URI), and
+    ROS 2's own variables for the world's side."""
+    from shoal_ros2 import LOCALHOST_CONFIG
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setenv("CYCLONEDDS_URI", LOCALHOST_CONFIG)
+        mp.setenv("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+        mp.setenv("ROS_LOCALHOST_ONLY", "1")
+        yield
 
 
 @pytest.fixture(scope="session")

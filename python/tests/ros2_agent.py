@@ -1,5 +1,5 @@
-"""A test agent for shoal's ROS 2 bridge (run as a process by test_ros2.py): drives the given
-vehicles with `shoal_ros2.Ros2Swarm` on Cyclone DDS and logs what it observed.
+"""A test agent for shoal's ROS 2 bridge (run as a process by test_ros2_run.py): drives the
+given vehicles with `shoal_ros2.Ros2Swarm` on Cyclone DDS and logs what it observed.
 
     python ros2_agent.py LOG NAMESPACE DOMAIN_ID VEHICLES PLAN
 
@@ -14,7 +14,15 @@ VEHICLES: names separated by commas. PLAN (JSON):
   vehicle a Setpoint with depth NaN, or with mode 42 (no such mode), instead;
 * ``die``: ``[time s, n]`` — at the tick at that time, answer the first n ≥ 1 vehicles (with
   setpoints), then die by SIGKILL (nothing closed, nothing said; that tick is not logged);
-* ``wait``, ``idle``: seconds to wait for the first tick, and for any later one before leaving.
+* ``last``: the time of the run's last control tick [s]: once it is answered and logged, wait
+  for the end of standard input (the test closes it when the world has ended, so the answers
+  are not lost with the participant), then leave — the end counted in ticks, not waited for;
+* ``density``: the world's water density [kg/m³] for depth from pressure (default 1000);
+* ``wait``, ``idle``: seconds to wait for the first tick, and for any later one before leaving
+  (safety nets for a world that stalls or ends early; 60 s each).
+
+With ``odometry`` a tick waits for every vehicle's ``odom`` (a lock-step world publishes it
+with the tick, and again while it waits): ``odom_grace`` is as long as ``idle``.
 
 LOG gets one JSON line per tick (flushed): ``{"t": s, "stamp": [sec, nanosec], "obs": {vehicle:
 {...}}}`` with each vehicle's converted observation and the raw pressure, variance and frame
@@ -35,11 +43,14 @@ def main(log_path, namespace, domain_id, vehicles, plan) -> int:
     plan = json.loads(plan)
     bad = {(int(i), round(float(t) * 1e9)): what for i, t, what in plan.get("bad", [])}
     die_at, die_after = plan.get("die", [math.inf, 0])
+    last = plan.get("last", math.inf)
+    idle = plan.get("idle", 60.0)
     ticks = 0
     odometry = bool(plan.get("odometry"))
     with open(log_path, "w") as log, Ros2Swarm(namespace, names, int(domain_id),
-                                               odometry=odometry) as swarm:
-        for tick in swarm.ticks(plan.get("wait", 60.0), plan.get("idle", 2.0)):
+                                               odometry=odometry, odom_grace=idle,
+                                               density=plan.get("density", 1000.0)) as swarm:
+        for tick in swarm.ticks(plan.get("wait", 60.0), idle):
             record = {"t": tick.time, "stamp": [tick.stamp.sec, tick.stamp.nanosec], "obs": {}}
             for v, o in tick.observations.items():
                 record["obs"][v] = {
@@ -69,6 +80,9 @@ def main(log_path, namespace, domain_id, vehicles, plan) -> int:
             log.write(json.dumps(record) + "\n")
             log.flush()
             ticks += 1
+            if tick.time >= last - 1e-9:
+                sys.stdin.read()
+                break
     return 0 if ticks else 1
 
 
