@@ -101,16 +101,7 @@ target=$(cargo metadata --format-version 1 --no-deps |
 # ── tests (Rust with nextest; Python alongside) ───────────────────────────────────────────
 phase tests
 pytest_log=$(mktemp)
-pytest_start=$(date +%s)
-(
-    # `|| rc=$?`: under `set -e` a failing pytest would end this subshell before its exit
-    # code is written, and the table would say "pytest ?".
-    rc=0
-    SHOAL_BIN="$target/debug/shoal" "$python" -m pytest -q -p no:cacheprovider python/tests \
-        >"$pytest_log" 2>&1 || rc=$?
-    echo "exit $rc" >>"$pytest_log"
-    echo "$(($(date +%s) - pytest_start))" >"$pytest_log.time"
-) &
+SHOAL_BIN="$target/debug/shoal" scripts/pytest-alongside.sh "$python" "$pytest_log" python/tests &
 pytest_pid=$!
 nextest_rc=0
 cargo nextest run --workspace --no-fail-fast || nextest_rc=$?

@@ -14,7 +14,7 @@ use shoal_sysid::evaluate::anchoring::Horizon;
 use shoal_sysid::evaluate::dataset::{DataOptions, Dataset};
 use shoal_sysid::evaluate::open_loop::ReplayOptions;
 use shoal_sysid::log::run::MeasuredRun;
-use shoal_sysid::search::{SearchOptions, search};
+use shoal_sysid::search::{Outcome, SearchOptions, search};
 use std::collections::BTreeSet;
 use std::path::Path;
 
@@ -36,6 +36,25 @@ pub fn search_log_with(
     threads: usize,
     horizon: Horizon,
 ) -> Result<Vec<String>, String> {
+    let opts = SearchOptions {
+        threads,
+        ..Default::default()
+    };
+    let out = search_log_outcome(csv, name, &opts, horizon)?;
+    let mut names = out.chosen.names();
+    names.sort();
+    names.dedup();
+    Ok(names)
+}
+
+/// The whole outcome of the search on one log, as [`search_log_with`] runs it but with the
+/// search settings `opts` (the effects it considers, its threads, its thresholds).
+pub fn search_log_outcome(
+    csv: &str,
+    name: &str,
+    opts: &SearchOptions,
+    horizon: Horizon,
+) -> Result<Outcome, String> {
     let run = MeasuredRun::parse(csv, Path::new(&format!("{name}.csv")))
         .map_err(|e| format!("parse: {e}"))?;
     let base = presets::uauv2();
@@ -57,16 +76,8 @@ pub fn search_log_with(
         },
     )
     .map_err(|e| format!("dataset: {e}"))?;
-    let opts = SearchOptions {
-        threads,
-        ..Default::default()
-    };
     ds.anchor(horizon, &opts.baseline_model(&base, ds.env.density));
-    let out = search(&ds, &base, &opts, &|_| {});
-    let mut names = out.chosen.names();
-    names.sort();
-    names.dedup();
-    Ok(names)
+    Ok(search(&ds, &base, opts, &|_| {}))
 }
 
 /// What the search said about one log, next to what it should have said.
