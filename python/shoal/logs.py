@@ -28,10 +28,10 @@ __all__ = ["Log", "read_log"]
 
 @dataclass(frozen=True)
 class Log:
-    """A measured run: ``columns`` maps the CSV format's names to 1-D arrays — ``t`` [s: a CSV's
-    own times; a bag's from the run's start], each input ``u.NAME`` (the value in force at every row: % for thrusters,
-    rad for tilt drives, −1/0/+1 for the pump), each channel ``y.NAME`` (SI, angles in radians;
-    NaN where not sampled)."""
+    """A measured run: ``columns`` maps the CSV format's names to 1-D arrays — ``t`` [s: a
+    CSV's own times; a bag's from the run's start], each input ``u.NAME`` (the value in force
+    at every row: % for thrusters, rad for tilt drives, −1/0/+1 for the pump), each channel
+    ``y.NAME`` (SI, angles in radians; NaN where not sampled)."""
 
     #: The run's name (the file's stem).
     name: str
