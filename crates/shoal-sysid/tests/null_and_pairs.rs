@@ -15,6 +15,7 @@ use shoal_model::effects::{Effect, EffectInstance, Effects};
 use shoal_model::presets;
 use shoal_model::vehicle::VehicleModel;
 use shoal_sysid::evaluate::dataset::Dataset;
+use shoal_sysid::search::{SearchOptions, search};
 use std::sync::Arc;
 
 #[test]
@@ -46,7 +47,6 @@ fn null_runs_give_an_empty_verdict() {
 /// verdict says so.
 #[test]
 fn fits_of_noise_are_too_small_to_matter_physically() {
-    use shoal_sysid::search::{SearchOptions, search};
     let base = presets::uauv2();
     let effects: Vec<Arc<dyn Effect>> = ["inflow_thrust_loss", "thrust_gain", "damping_error"]
         .iter()
@@ -55,19 +55,7 @@ fn fits_of_noise_are_too_small_to_matter_physically() {
     let mut small = 0;
     for seed in [11, 12] {
         let ds = common::dataset(measured(Exp::Yaw, &[], seed));
-        let opts = SearchOptions {
-            effects: effects.clone(),
-            threads: 1,
-            min_gain: f64::NEG_INFINITY,
-            bic_threshold: f64::INFINITY,
-            backward_eff_bic_threshold: f64::INFINITY,
-            z_threshold: 0.0,
-            t_threshold: f64::NEG_INFINITY,
-            min_material: f64::NEG_INFINITY,
-            min_closure: f64::NEG_INFINITY,
-            stability_threshold: 0.0,
-            ..Default::default()
-        };
+        let opts = open_gates(effects.clone(), SearchOptions::default().physical_ratio);
         let out = search(&ds, &base, &opts, &|_| {});
         eprintln!(
             "seed {seed}: stepwise {:?}, named {:?}, possible {:?}",
@@ -93,13 +81,12 @@ fn fits_of_noise_are_too_small_to_matter_physically() {
     );
 }
 
-/// The search with every statistical gate opened (as in
-/// [`fits_of_noise_are_too_small_to_matter_physically`]), among the thrust-gain family only,
-/// with `physical_ratio` as the physical-size rule's threshold.
-fn open_gates_search(ds: &Dataset, physical_ratio: f64) -> shoal_sysid::search::Outcome {
-    use shoal_sysid::search::{SearchOptions, search};
-    let opts = SearchOptions {
-        effects: vec![shoal_model::effects::by_name("thrust_gain").unwrap()],
+/// Search settings with every statistical gate opened (no minimum gain, any BIC, any z, any
+/// held-out t, any materiality, any stability), one search thread, among `effects`, with
+/// `physical_ratio` as the physical-size rule's threshold: only that rule can refuse a fit.
+fn open_gates(effects: Vec<Arc<dyn Effect>>, physical_ratio: f64) -> SearchOptions {
+    SearchOptions {
+        effects,
         threads: 1,
         min_gain: f64::NEG_INFINITY,
         bic_threshold: f64::INFINITY,
@@ -111,8 +98,18 @@ fn open_gates_search(ds: &Dataset, physical_ratio: f64) -> shoal_sysid::search::
         stability_threshold: 0.0,
         physical_ratio,
         ..Default::default()
-    };
-    search(ds, &presets::uauv2(), &opts, &|_| {})
+    }
+}
+
+/// The search on `ds` with the gates opened ([`open_gates`]) among the thrust-gain family.
+fn open_gates_search(ds: &Dataset, physical_ratio: f64) -> shoal_sysid::search::Outcome {
+    let effects = vec![shoal_model::effects::by_name("thrust_gain").unwrap()];
+    search(
+        ds,
+        &presets::uauv2(),
+        &open_gates(effects, physical_ratio),
+        &|_| {},
+    )
 }
 
 /// The physical size the verdict gives a demoted effect (`… (most: y.yaw, 0.53 ×)`).
@@ -155,7 +152,7 @@ fn the_physical_size_rule_names_an_effect_above_one_noise_floor_and_not_below() 
         (l / s - 4.0).abs() < 0.4,
         "the size grows with the gain's distance from 1: {l} / {s}"
     );
-    let default = shoal_sysid::search::SearchOptions::default().physical_ratio;
+    let default = SearchOptions::default().physical_ratio;
     let below = open_gates_search(&small, default);
     assert!(
         below.chosen.names().is_empty(),
