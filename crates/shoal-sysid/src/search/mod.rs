@@ -68,7 +68,10 @@
 //! and the test repeated; swaps of one effect for another that lower the BIC are tried.
 //! *Forms again* (`refine.rs`): once the families are final, each family's forms are fitted
 //! again beside all the others, and a form that lowers the model's BIC replaces the one chosen
-//! when the family joined (then, a missing effect may have bent the choice).
+//! when the family joined (then, a missing effect may have bent the choice). *Collapsed forms*
+//! (`collapse.rs`): a named effect whose form's extra parameters end at their null values
+//! (a depth-dependent buoyancy offset with a depth coefficient of 0) is the family's simpler
+//! form, and is reported in it.
 //!
 //! **Identifiability** (`identify.rs`). For each chosen effect, the best alternative families
 //! are fitted in its place. When an alternative explains the held-out data as well (the block
@@ -96,6 +99,7 @@
 //! [`Effect::form`]: shoal_model::effects::Effect::form
 
 mod candidate;
+mod collapse;
 mod context;
 mod fit;
 mod fitted;

@@ -140,6 +140,7 @@ pub(super) fn conclude(
             chosen = r;
         }
     }
+    let chosen = super::collapse::collapsed(s, chosen);
     let unexplained = unexplained(&chosen);
     let verdict = Verdict {
         effects: chosen.names(),
