@@ -6,6 +6,7 @@ ROS 2 tests a DDS domain and namespace per test (`bus`) kept on this machine
 import itertools
 import json
 import os
+import signal
 import subprocess
 from pathlib import Path
 
@@ -47,6 +48,14 @@ def localhost_dds():
         mp.setenv("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
         mp.setenv("ROS_LOCALHOST_ONLY", "1")
         yield
+
+
+def interruptible() -> None:
+    """`preexec_fn` of a child that a test stops with Ctrl-C (SIGINT): the signal at its
+    default in the child, as in a terminal. A process started in the background of a
+    non-interactive shell (scripts/test.sh runs pytest so) inherits SIGINT ignored, and a
+    Python child would then never raise KeyboardInterrupt."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
 
 
 @pytest.fixture(scope="session")

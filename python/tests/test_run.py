@@ -9,7 +9,7 @@ import json
 import pytest
 
 import shoal
-from conftest import WORLDS, shoal_run
+from conftest import WORLDS, interruptible, shoal_run
 
 #: Summary entries that depend on the machine or the moment, not on the run.
 TIMING = {"wall_s", "real_time_factor", "phases_s", "peak_memory_bytes", "files"}
@@ -98,7 +98,7 @@ def test_ctrl_c_stops_a_quiet_run_and_its_outputs_are_written(tmp_path):
         "print('finished')\n"
     )
     p = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE,
-                         stderr=subprocess.PIPE, text=True)
+                         stderr=subprocess.PIPE, text=True, preexec_fn=interruptible)
     deadline = time.monotonic() + 120
     while not (out / ".trajectories.csv.tmp").exists() and time.monotonic() < deadline:
         assert p.poll() is None, p.communicate()

@@ -14,7 +14,7 @@ import time
 import pytest
 
 import shoal
-from conftest import REPO
+from conftest import REPO, interruptible
 from test_rosbag import bag_of
 
 DEV = REPO.parent / "shared" / "data" / "validation_dev"
@@ -83,7 +83,7 @@ def test_ctrl_c_interrupts_a_validation_at_once(tmp_path):
         "print('finished')\n"
     )
     p = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE,
-                         stderr=subprocess.PIPE, text=True)
+                         stderr=subprocess.PIPE, text=True, preexec_fn=interruptible)
     time.sleep(3.0)
     assert p.poll() is None, p.communicate()
     sent = time.monotonic()
