@@ -122,7 +122,7 @@ pub use candidate::{Candidate, FormScore};
 pub use fitted::{Fit, FittedEffect, ParamEstimate};
 pub use identify::direct_channels;
 pub use measures::{bic, delta_bic, gain};
-pub use options::SearchOptions;
+pub use options::{PHYSICAL_RATIO, SearchOptions};
 pub use orchestrate::search;
 pub use outcome::Outcome;
 pub use par::par_map;

@@ -6,6 +6,13 @@ use shoal_model::effects::{Effect, EffectInstance, Effects};
 use shoal_model::vehicle::{VehicleModel, VehicleParams};
 use std::sync::Arc;
 
+/// The default of [`SearchOptions::physical_ratio`]: how far an effect must move some
+/// channel's held-out prediction (RMS) to be named, in units of that channel's noise floor
+/// (`tests/null_and_pairs.rs` puts the threshold on each side of measured sizes): an effect
+/// that changes every prediction by less than the sensor noise is physically nothing, however
+/// much it lowers an RMSE statistically.
+pub const PHYSICAL_RATIO: f64 = 1.0;
+
 /// Settings of a search.
 #[derive(Clone, Debug)]
 pub struct SearchOptions {
@@ -42,7 +49,7 @@ pub struct SearchOptions {
     /// effect material however small its share of the baseline's error (default 0.5).
     pub min_closure: f64,
     /// How far an effect must move some channel's held-out prediction (RMS) to be named, in
-    /// units of that channel's noise floor (default [`PHYSICAL_RATIO`](super::verdict::PHYSICAL_RATIO),
+    /// units of that channel's noise floor (default [`PHYSICAL_RATIO`],
     /// 1): an effect that changes every prediction by less than the sensor noise is
     /// physically nothing, however much it lowers an RMSE statistically.
     pub physical_ratio: f64,
@@ -75,7 +82,7 @@ impl Default for SearchOptions {
             t_threshold: 0.0,
             min_material: 0.02,
             min_closure: 0.5,
-            physical_ratio: super::verdict::PHYSICAL_RATIO,
+            physical_ratio: PHYSICAL_RATIO,
             stability_draws: 8,
             stability_threshold: 0.8,
             seed: 0x5140a1,

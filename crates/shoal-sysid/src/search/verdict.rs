@@ -157,12 +157,6 @@ pub(super) fn conclude(
     (chosen, verdict)
 }
 
-/// The default of [`SearchOptions::physical_ratio`](crate::search::SearchOptions::physical_ratio): how far an effect must move some
-/// channel's held-out prediction (RMS) to be named, in units of that channel's noise floor
-/// (`tests/null_and_pairs.rs` puts the threshold on each side of measured sizes): an effect that changes every prediction by less than the
-/// sensor noise is physically nothing, however much it lowers an RMSE statistically.
-pub const PHYSICAL_RATIO: f64 = 1.0;
-
 /// The physical size of effect `name` of `fit`: the channel its fitted values move most and
 /// by how much — the RMS change of the held-out prediction when the effect alone is set to its
 /// null values (its shape parameters kept), over the channel's noise floor. `None` when the
