@@ -29,6 +29,13 @@ fn columns(run: &MeasuredRun) -> Vec<(String, Vec<f64>)> {
     out
 }
 
+/// A `time_unit` argument (`"s"`, `"ms"` or None) as the readers take it; anything else
+/// raises `ValueError` naming the allowed units.
+pub fn parse_time_unit(unit: Option<&str>) -> PyResult<Option<TimeUnit>> {
+    unit.map(|u| u.parse::<TimeUnit>().map_err(PyValueError::new_err))
+        .transpose()
+}
+
 /// The compiled `shoal._shoal.read_log`: `(name, how it was read, [(header, values)])`.
 #[pyfunction]
 #[pyo3(signature = (path, mapping=None, time_unit=None))]
@@ -38,10 +45,7 @@ pub fn read_log(
     mapping: Option<PathBuf>,
     time_unit: Option<String>,
 ) -> PyResult<(String, String, Vec<(String, Py<PyArray1<f64>>)>)> {
-    let time_unit = match time_unit.as_deref() {
-        None => None,
-        Some(u) => Some(u.parse::<TimeUnit>().map_err(PyValueError::new_err)?),
-    };
+    let time_unit = parse_time_unit(time_unit.as_deref())?;
     let readers =
         shoal_rosbag::readers(mapping.as_deref()).map_err(|e| errors::mapping_error(py, &e))?;
     let run = py

@@ -188,10 +188,7 @@ pub fn validate(
             .collect()
     };
     let (runs, holdout) = (inputs(&runs, "runs")?, inputs(&holdout, "holdout")?);
-    let time_unit = match time_unit.as_deref() {
-        None => None,
-        Some(u) => Some(u.parse::<TimeUnit>().map_err(PyValueError::new_err)?),
-    };
+    let time_unit = crate::log::parse_time_unit(time_unit.as_deref())?;
     let readers =
         shoal_rosbag::readers(mapping.as_deref()).map_err(|e| errors::mapping_error(py, &e))?;
     let config = Config {

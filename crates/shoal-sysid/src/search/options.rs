@@ -49,9 +49,7 @@ pub struct SearchOptions {
     /// effect material however small its share of the baseline's error (default 0.5).
     pub min_closure: f64,
     /// How far an effect must move some channel's held-out prediction (RMS) to be named, in
-    /// units of that channel's noise floor (default [`PHYSICAL_RATIO`],
-    /// 1): an effect that changes every prediction by less than the sensor noise is
-    /// physically nothing, however much it lowers an RMSE statistically.
+    /// units of that channel's noise floor (default [`PHYSICAL_RATIO`], 1).
     pub physical_ratio: f64,
     /// Smallest held-out block t statistic that counts (default 0).
     pub t_threshold: f64,

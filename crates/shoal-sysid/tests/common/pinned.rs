@@ -41,14 +41,43 @@ pub fn set_text(set: &[String]) -> String {
     }
 }
 
-fn parse_set(s: &str) -> Vec<String> {
-    let mut v: Vec<String> = if s == "-" {
+/// The items of a set or list written as in the table (`-`: none), in written order.
+pub fn items(s: &str) -> Vec<String> {
+    if s == "-" {
         Vec::new()
     } else {
         s.split(',').map(|x| x.trim().to_string()).collect()
-    };
+    }
+}
+
+fn parse_set(s: &str) -> Vec<String> {
+    let mut v = items(s);
     v.sort();
     v
+}
+
+/// The data lines of the table file at `path` (comments and blank lines left out), each with
+/// its 1-based line number and its tab-separated fields; fails with the file and line unless
+/// a line has `fields` fields (`what` names them in the message).
+pub fn data_lines(path: &Path, fields: usize, what: &str) -> Vec<(usize, Vec<String>)> {
+    let text = std::fs::read_to_string(path)
+        .unwrap_or_else(|e| panic!("{}: cannot read the pinned table: {e}", path.display()));
+    let mut out = Vec::new();
+    for (i, l) in text.lines().enumerate() {
+        let l = l.trim_end();
+        if l.is_empty() || l.starts_with('#') {
+            continue;
+        }
+        let f: Vec<String> = l.split('\t').map(String::from).collect();
+        assert!(
+            f.len() == fields,
+            "{}:{}: expected `{what}`, got {l:?}",
+            path.display(),
+            i + 1
+        );
+        out.push((i + 1, f));
+    }
+    out
 }
 
 /// A table file, read.
@@ -62,28 +91,15 @@ pub struct Table {
 impl Table {
     /// Reads `path`; a malformed line fails with the file and line.
     pub fn read(path: &Path) -> Table {
-        let text = std::fs::read_to_string(path)
-            .unwrap_or_else(|e| panic!("{}: cannot read the pinned verdicts: {e}", path.display()));
-        let mut rows = Vec::new();
-        for (i, l) in text.lines().enumerate() {
-            let l = l.trim_end();
-            if l.is_empty() || l.starts_with('#') {
-                continue;
-            }
-            let f: Vec<&str> = l.split('\t').collect();
-            assert!(
-                f.len() == 3,
-                "{}:{}: expected `case<TAB>expected<TAB>found`, got {l:?}",
-                path.display(),
-                i + 1
-            );
-            rows.push(Row {
-                case: f[0].to_string(),
-                expected: parse_set(f[1]),
-                found: parse_set(f[2]),
-                line: i + 1,
-            });
-        }
+        let rows = data_lines(path, 3, "case<TAB>expected<TAB>found")
+            .into_iter()
+            .map(|(line, f)| Row {
+                case: f[0].clone(),
+                expected: parse_set(&f[1]),
+                found: parse_set(&f[2]),
+                line,
+            })
+            .collect();
         Table {
             path: path.to_path_buf(),
             rows,

@@ -12,6 +12,7 @@
 
 #![allow(dead_code)]
 
+use super::pinned::{data_lines, items, set_text};
 use shoal_sysid::search::Fit;
 use std::path::{Path, PathBuf};
 
@@ -39,54 +40,31 @@ pub struct FitTable {
     pub rows: Vec<FitRow>,
 }
 
-fn list(s: &str) -> Vec<&str> {
-    if s == "-" {
-        Vec::new()
-    } else {
-        s.split(',').map(str::trim).collect()
-    }
-}
-
-fn join(items: &[String]) -> String {
-    if items.is_empty() {
-        "-".into()
-    } else {
-        items.join(",")
-    }
-}
-
 impl FitTable {
     /// Reads `path`; a malformed line fails with the file and line.
     pub fn read(path: &Path) -> FitTable {
-        let text = std::fs::read_to_string(path)
-            .unwrap_or_else(|e| panic!("{}: cannot read the pinned fits: {e}", path.display()));
-        let mut rows = Vec::new();
-        for (i, l) in text.lines().enumerate() {
-            let l = l.trim_end();
-            if l.is_empty() || l.starts_with('#') {
-                continue;
-            }
-            let bad =
-                |what: &str| -> ! { panic!("{}:{}: {what}, got {l:?}", path.display(), i + 1) };
-            let f: Vec<&str> = l.split('\t').collect();
-            if f.len() != 3 {
-                bad("expected `case<TAB>forms<TAB>params`");
-            }
-            let params = list(f[2])
-                .into_iter()
-                .map(|p| {
-                    let (name, value) = p.split_once('=').unwrap_or_else(|| bad("a `name=value`"));
-                    let value: f64 = value.parse().unwrap_or_else(|_| bad("a number"));
-                    (name.to_string(), value)
-                })
-                .collect();
-            rows.push(FitRow {
-                case: f[0].to_string(),
-                forms: list(f[1]).into_iter().map(String::from).collect(),
-                params,
-                line: i + 1,
-            });
-        }
+        let rows = data_lines(path, 3, "case<TAB>forms<TAB>params")
+            .into_iter()
+            .map(|(line, f)| {
+                let params = items(&f[2])
+                    .into_iter()
+                    .map(|p| {
+                        let parsed = p
+                            .split_once('=')
+                            .and_then(|(n, v)| Some((n.to_string(), v.parse::<f64>().ok()?)));
+                        parsed.unwrap_or_else(|| {
+                            panic!("{}:{line}: `{p}` is not `name=number`", path.display())
+                        })
+                    })
+                    .collect();
+                FitRow {
+                    case: f[0].clone(),
+                    forms: items(&f[1]),
+                    params,
+                    line,
+                }
+            })
+            .collect();
         FitTable {
             path: path.to_path_buf(),
             rows,
@@ -144,7 +122,12 @@ pub fn line_text(row: &FitRow) -> String {
         .iter()
         .map(|(n, v)| format!("{n}={v:.4e}"))
         .collect();
-    format!("{}\t{}\t{}", row.case, join(&row.forms), join(&params))
+    format!(
+        "{}\t{}\t{}",
+        row.case,
+        set_text(&row.forms),
+        set_text(&params)
+    )
 }
 
 /// What differs between a fit and its pinned row (empty: they agree within [`REL_TOL`]).
