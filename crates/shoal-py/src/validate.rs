@@ -11,7 +11,6 @@ use numpy::{AllowTypeChange, PyArrayLike1};
 use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
-use shoal_sysid::log::format::TimeUnit;
 use shoal_sysid::log::segments::GapMode;
 use shoal_sysid::validate::{Config, Progress, RunInput, ValidateError, Vehicle};
 use std::fmt::Write as _;

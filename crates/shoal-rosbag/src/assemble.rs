@@ -108,6 +108,7 @@ pub fn assemble(
         t,
         inputs,
         channels,
+        references: Vec::new(),
         extra: Vec::new(),
         header_line: 0,
         lines: Vec::new(),

@@ -62,6 +62,7 @@ fn run_with(inputs: Vec<(&str, &dyn Fn(f64) -> f64)>, duration: f64) -> Measured
             mk(ChannelKind::Yaw, 0.4),
             mk(ChannelKind::R, 0.0),
         ],
+        references: Vec::new(),
         extra: Vec::new(),
         header_line: 0,
         lines: Vec::new(),

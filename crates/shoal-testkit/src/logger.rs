@@ -135,6 +135,7 @@ mod tests {
                 rows: vec![0, 2],
                 values: vec![0.7992, 1.0 / 3.0],
             }],
+            references: Vec::new(),
             extra: Vec::new(),
             header_line: 0,
             lines: Vec::new(),

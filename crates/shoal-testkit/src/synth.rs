@@ -360,6 +360,7 @@ impl Recorder {
             t: self.t,
             inputs: self.inputs,
             channels: self.channels,
+            references: Vec::new(),
             extra: Vec::new(),
             header_line: 0,
             lines: Vec::new(),

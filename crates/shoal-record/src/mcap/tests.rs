@@ -10,7 +10,6 @@ use super::plain::ReceptionAttempt;
 use super::ros2::{self, Float64MultiArray, FluidPressure, Imu, TfMessage};
 use super::*;
 use crate::output::RunOutput;
-use shoal_model::frames as enu;
 use shoal_sim::recorder::FIXED;
 use shoal_sim::sim::{Sim, SimOptions};
 use shoal_world::cancel::Cancel;

@@ -359,6 +359,7 @@ fn read_run<R: BufRead>(src: R, path: &Path, opts: &ReadOptions) -> Result<Measu
         t,
         inputs,
         channels,
+        references: Vec::new(),
         extra,
         header_line,
         lines: row_lines,

@@ -178,6 +178,10 @@ pub struct MeasuredRun {
     pub inputs: Vec<InputColumn>,
     /// Measurements.
     pub channels: Vec<Channel>,
+    /// References the vehicle's controller followed (`r.<name>` columns), held like inputs:
+    /// `depth` \[m\], `yaw` \[rad\], `surge` and `sway` \[N\], `mode` (the mode's code,
+    /// [`shoal_model::control::Mode::code`]). Empty when the log carries none.
+    pub references: Vec<InputColumn>,
     /// Names of ignored `x.` columns.
     pub extra: Vec<String>,
     /// 1-based line of the header in the file (0 for runs not read from a file).

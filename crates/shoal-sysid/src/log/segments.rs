@@ -304,25 +304,26 @@ impl MeasuredRun {
 
     /// Rows `s..e` as the run `<stem>#index`.
     fn segment(&self, index: usize, s: usize, e: usize) -> MeasuredRun {
-        let inputs = self
-            .inputs
-            .iter()
-            .map(|inp| InputColumn {
-                name: inp.name.clone(),
-                column: inp.column,
-                values: inp
-                    .values
-                    .get(s..e)
-                    .map(<[f64]>::to_vec)
-                    .unwrap_or_default(),
-                precision: inp
-                    .precision
-                    .get(s..e)
-                    .map(<[f32]>::to_vec)
-                    .unwrap_or_default(),
-                first_set: inp.first_set.saturating_sub(s),
-            })
-            .collect();
+        let cut = |cols: &[InputColumn]| -> Vec<InputColumn> {
+            cols.iter()
+                .map(|inp| InputColumn {
+                    name: inp.name.clone(),
+                    column: inp.column,
+                    values: inp
+                        .values
+                        .get(s..e)
+                        .map(<[f64]>::to_vec)
+                        .unwrap_or_default(),
+                    precision: inp
+                        .precision
+                        .get(s..e)
+                        .map(<[f32]>::to_vec)
+                        .unwrap_or_default(),
+                    first_set: inp.first_set.saturating_sub(s),
+                })
+                .collect()
+        };
+        let inputs = cut(&self.inputs);
         let channels = self
             .channels
             .iter()
@@ -345,6 +346,7 @@ impl MeasuredRun {
             t: self.t.get(s..e).map(<[f64]>::to_vec).unwrap_or_default(),
             inputs,
             channels,
+            references: cut(&self.references),
             extra: self.extra.clone(),
             header_line: self.header_line,
             lines: self
