@@ -209,7 +209,7 @@ pub fn validate(args: &ValidateArgs) -> Result<ExitCode, Failure> {
         let k = r.channel;
         println!(
             "{:<10} {:>16} {:>16} {:>7.1}% {:>10.1} {:>10.1}",
-            format!("y.{}", k.name()),
+            k.label(),
             format!("{:.4} {:<5}", r.rmse_before, k.unit()),
             format!("{:.4} {:<5}", r.rmse_after, k.unit()),
             r.gain_pct,

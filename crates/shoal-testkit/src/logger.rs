@@ -51,8 +51,9 @@ fn trim_zeros(s: &str) -> &str {
     }
 }
 
-/// The run as a logger writes it: header `t,u.…,y.…`, then one row per time stamp with every
-/// input (the value in force) and every channel (empty where not sampled), each number printed
+/// The run as a logger writes it: header `t,u.…,y.…,r.…`, then one row per time stamp with
+/// every input (the value in force), every channel (empty where not sampled) and every
+/// reference (the value in force; `r.mode` as the mode's code), each number printed
 /// by [`format_g`] with [`PRINTF_G_DIGITS`].
 pub fn logger_csv(run: &MeasuredRun) -> String {
     let g = |x: f64| format_g(x, PRINTF_G_DIGITS);
@@ -64,6 +65,10 @@ pub fn logger_csv(run: &MeasuredRun) -> String {
     for c in &run.channels {
         out.push(',');
         out.push_str(&c.label());
+    }
+    for r in &run.references {
+        out.push_str(",r.");
+        out.push_str(&r.name);
     }
     out.push('\n');
     let mut cursor = vec![0usize; run.channels.len()];
@@ -79,6 +84,10 @@ pub fn logger_csv(run: &MeasuredRun) -> String {
                 out.push_str(&g(c.values[cursor[k]]));
                 cursor[k] += 1;
             }
+        }
+        for r in &run.references {
+            out.push(',');
+            out.push_str(&g(r.values[row]));
         }
         out.push('\n');
     }

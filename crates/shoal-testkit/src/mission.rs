@@ -11,8 +11,8 @@
 //!   mass, inertia and thrust coefficients ([`perturb`]).
 //! * [`fly`] — the closed loop: at every control tick the sensors are read (through the full
 //!   sensor models, as [`crate::synth`] reads them), the controller computes the commands, and
-//!   the logger writes the commands it sent (thrusters %, tilt angles, pump) beside the
-//!   readings; then the truth is stepped at its own time step with any hidden forms' hooks.
+//!   the logger writes the commands it sent (thrusters %, tilt angles, pump) and the
+//!   references it followed ([`REFERENCES`]) beside the readings; then the truth is stepped at its own time step with any hidden forms' hooks.
 
 use crate::synth::{Recorder, Stepper, TruthHook};
 use rand::{RngExt, SeedableRng};
@@ -24,7 +24,7 @@ use shoal_model::math::{Vec3, quat_from_rpy};
 use shoal_model::rigid_body::Environment;
 use shoal_model::thruster::ThrustCurve;
 use shoal_model::vehicle::{VehicleModel, VehicleParams, VehicleState};
-use shoal_sysid::log::run::{ChannelKind, MeasuredRun};
+use shoal_sysid::log::run::{ChannelKind, InputColumn, MeasuredRun};
 use std::f64::consts::PI;
 
 /// A mission to fly.
@@ -298,9 +298,15 @@ pub fn fly(
     let mut stepper = Stepper::new(&cmd, env);
     let mut water = *env;
     let mut values = Vec::with_capacity(names.len());
+    // The references in force at each tick: mode code, depth, yaw, surge, sway.
+    let mut refs: [Vec<f64>; 5] = std::array::from_fn(|_| Vec::with_capacity(n_samples));
     for k in 0..n_samples {
         let t = k as f64 * period;
         cursor.advance(&plan.mission, t, &mut sp);
+        let r = [sp.mode.code() as f64, sp.depth, sp.yaw, sp.surge, sp.sway];
+        for (col, v) in refs.iter_mut().zip(r) {
+            col.push(v);
+        }
         log.observe(
             t,
             model,
@@ -332,8 +338,26 @@ pub fn fly(
             stepper.step(model, &water, &mut state, &cmd, hook, h);
         }
     }
-    log.finish(&plan.name)
+    let mut run = log.finish(&plan.name);
+    let first_column = 2 + run.inputs.len() + run.channels.len();
+    run.references = REFERENCES
+        .iter()
+        .zip(refs)
+        .enumerate()
+        .map(|(i, (name, values))| InputColumn {
+            name: (*name).to_string(),
+            column: first_column + i,
+            values,
+            precision: Vec::new(),
+            first_set: 0,
+        })
+        .collect();
+    run
 }
+
+/// The references a mission log carries (`r.<name>`), in column order: the controller's mode
+/// (its code), depth \[m\], heading \[rad\], surge and sway forces \[N\].
+pub const REFERENCES: [&str; 5] = ["mode", "depth", "yaw", "surge", "sway"];
 
 #[cfg(test)]
 mod tests {

@@ -57,6 +57,15 @@ pub fn search_log_outcome(
 ) -> Result<Outcome, String> {
     let run = MeasuredRun::parse(csv, Path::new(&format!("{name}.csv")))
         .map_err(|e| format!("parse: {e}"))?;
+    search_run_outcome(run, opts, horizon)
+}
+
+/// [`search_log_outcome`] on a run already read.
+pub fn search_run_outcome(
+    run: MeasuredRun,
+    opts: &SearchOptions,
+    horizon: Horizon,
+) -> Result<Outcome, String> {
     let base = presets::uauv2();
     let env = Environment {
         density: DENSITY,

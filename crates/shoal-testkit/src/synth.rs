@@ -324,6 +324,8 @@ impl Recorder {
                 ChannelKind::R => readings.gyro.z,
                 ChannelKind::X => pos.x + noise(rng),
                 ChannelKind::Y => pos.y + noise(rng),
+                // Commands are logged as inputs (`push_inputs`).
+                ChannelKind::Command(_) => continue,
                 ChannelKind::U | ChannelKind::V | ChannelKind::W => {
                     let v = state.rigid.nu.fixed_rows::<3>(0).into_owned()
                         + state

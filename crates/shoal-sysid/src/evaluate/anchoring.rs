@@ -20,6 +20,10 @@ pub enum Horizon {
     /// (1-s moving RMS of its residual, on every anchored channel), at least
     /// [`AUTO_MIN_HORIZON`]; open loop when it stays there throughout.
     Auto,
+    /// Closed loop: the vehicle's controller in the replay follows the references the log
+    /// carries, and the logged thruster commands are compared as channels
+    /// ([`crate::evaluate::controlled`]); where that is not possible, as [`Horizon::Auto`].
+    Closed,
 }
 
 impl Horizon {
@@ -32,15 +36,16 @@ impl Horizon {
 impl std::str::FromStr for Horizon {
     type Err = String;
 
-    /// `open`, `auto` or a number of seconds (checked against its range where it is used).
+    /// `open`, `auto`, `closed` or a number of seconds (checked against its range where it
+    /// is used).
     fn from_str(s: &str) -> Result<Self, String> {
         match s.trim() {
             "open" => Ok(Horizon::Open),
             "auto" => Ok(Horizon::Auto),
-            t => t
-                .parse::<f64>()
-                .map(Horizon::Every)
-                .map_err(|_| format!("`{s}`: allowed open, auto or a number of seconds")),
+            "closed" => Ok(Horizon::Closed),
+            t => t.parse::<f64>().map(Horizon::Every).map_err(|_| {
+                format!("`{s}`: allowed open, auto, closed or a number of seconds")
+            }),
         }
     }
 }
@@ -56,8 +61,11 @@ pub const AUTO_NOISE_MULTIPLE: f64 = 10.0;
 /// The replay a dataset uses, and why.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Anchoring {
-    /// The horizon \[s\], or `None` for open-loop replays.
+    /// The horizon \[s\], or `None` for open-loop and closed-loop replays.
     pub horizon: Option<f64>,
+    /// Whether the runs are replayed closed loop, the vehicle's controller in the replay
+    /// (the logged commands compared as channels).
+    pub closed_loop: bool,
     /// Why, in one sentence.
     pub why: String,
 }
@@ -66,6 +74,7 @@ impl Default for Anchoring {
     fn default() -> Self {
         Self {
             horizon: None,
+            closed_loop: false,
             why: OPEN_DEFAULT.to_string(),
         }
     }
@@ -80,9 +89,13 @@ pub fn choose(horizon: Horizon, baseline: impl FnOnce() -> Evaluation) -> Anchor
     let (horizon, why) = match horizon {
         Horizon::Open => (None, OPEN_DEFAULT.to_string()),
         Horizon::Every(h) => (Some(h), format!("re-anchored every {h} s (given)")),
-        Horizon::Auto => auto(&baseline()),
+        Horizon::Auto | Horizon::Closed => auto(&baseline()),
     };
-    Anchoring { horizon, why }
+    Anchoring {
+        horizon,
+        closed_loop: false,
+        why,
+    }
 }
 
 /// [`Horizon::Auto`]'s choice from the baseline's evaluation.

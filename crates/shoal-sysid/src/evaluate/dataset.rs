@@ -299,31 +299,17 @@ impl Dataset {
                 holdout: is_holdout,
             });
         }
-        let mut kinds: Vec<ChannelKind> = runs
-            .iter()
-            .flat_map(|r| r.channels.iter().map(|&i| r.run.channels[i].kind))
-            .collect();
-        kinds.sort();
-        kinds.dedup();
-        let mut resolution: BTreeMap<ChannelKind, f64> = BTreeMap::new();
-        for r in &runs {
-            for &i in &r.channels {
-                let c = &r.run.channels[i];
-                let q = resolution.entry(c.kind).or_insert(0.0);
-                *q = q.max(stats::resolution(&c.values));
-            }
-        }
-        let plans = runs.iter().map(|r| RunPlan::new(r, &opts.replay)).collect();
-        let ds = Dataset {
+        let mut ds = Dataset {
             runs,
-            kinds,
+            kinds: Vec::new(),
             env,
             replay: opts.replay,
-            resolution,
-            plans,
+            resolution: BTreeMap::new(),
+            plans: Vec::new(),
             masses: Arc::default(),
             anchoring: Anchoring::default(),
         };
+        ds.replan();
         for k in &ds.kinds {
             let (ne, nv) = ds.counts(*k);
             if ne < 5 || nv < 5 {
@@ -335,6 +321,29 @@ impl Dataset {
             }
         }
         Ok(ds)
+    }
+
+    /// Works out again what the runs' compared channels are and what comparing them needs:
+    /// the kinds, their resolutions and each run's plan (after channels were added).
+    pub(crate) fn replan(&mut self) {
+        let runs = &self.runs;
+        let mut kinds: Vec<ChannelKind> = runs
+            .iter()
+            .flat_map(|r| r.channels.iter().map(|&i| r.run.channels[i].kind))
+            .collect();
+        kinds.sort();
+        kinds.dedup();
+        let mut resolution: BTreeMap<ChannelKind, f64> = BTreeMap::new();
+        for r in runs {
+            for &i in &r.channels {
+                let c = &r.run.channels[i];
+                let q = resolution.entry(c.kind).or_insert(0.0);
+                *q = q.max(stats::resolution(&c.values));
+            }
+        }
+        self.plans = runs.iter().map(|r| RunPlan::new(r, &self.replay)).collect();
+        self.kinds = kinds;
+        self.resolution = resolution;
     }
 
     /// (estimation, validation) sample counts of a channel over all runs.
@@ -359,14 +368,37 @@ impl Dataset {
         (ne, nv)
     }
 
-    /// Sets how every run is replayed: re-anchored at `horizon` (for [`Horizon::Auto`],
-    /// chosen from the replay of `baseline`), or open loop. Returns what was chosen.
+    /// Sets how every run is replayed: closed loop with the vehicle's controller for
+    /// [`Horizon::Closed`] where the runs allow it ([`Dataset::close_loop`]), else
+    /// re-anchored at `horizon` (for [`Horizon::Auto`], chosen from the replay of
+    /// `baseline`), or open loop. Returns what was chosen.
     pub fn anchor(&mut self, horizon: Horizon, baseline: &VehicleModel) -> &Anchoring {
         for rd in &mut self.runs {
             rd.init.anchors.clear();
             rd.init.filter.clear();
         }
-        let chosen = choose(horizon, || self.evaluate(baseline));
+        self.open_loop();
+        let mut no_loop = None;
+        if horizon == Horizon::Closed {
+            match self.close_loop(baseline) {
+                Ok(added) => {
+                    let names: Vec<String> = added.iter().map(|k| k.label()).collect();
+                    self.anchoring = Anchoring {
+                        horizon: None,
+                        closed_loop: true,
+                        why: format!(
+                            "closed-loop replay: the vehicle's controller follows the logged \
+                             references and its commands are compared with the logged ones \
+                             ({})",
+                            names.join(", ")
+                        ),
+                    };
+                    return &self.anchoring;
+                }
+                Err(why) => no_loop = Some(why),
+            }
+        }
+        let mut chosen = choose(horizon, || self.evaluate(baseline));
         if let Some(h) = chosen.horizon {
             let dt = self.replay.dt;
             for rd in &mut self.runs {
@@ -375,6 +407,9 @@ impl Dataset {
                 // the data, anchored every OBSERVER_S.
                 rd.init.filter = Anchor::every(&rd.run, OBSERVER_S, dt);
             }
+        }
+        if let Some(why) = no_loop {
+            chosen.why = format!("no closed-loop replay ({why}); {}", chosen.why);
         }
         self.anchoring = chosen;
         &self.anchoring
@@ -565,6 +600,8 @@ fn compare(
     resid: &mut Vec<f64>,
 ) {
     predicted.clear();
+    // A command is no sensor reading: the controller read late, not the logger.
+    let delay = if cp.kind.is_command() { 0.0 } else { delay };
     if delay == 0.0 {
         predicted.extend(cp.grid[..n].iter().map(|&g| trace.at_position(cp.col, g)));
     } else {

@@ -5,6 +5,8 @@
 //!   replay), recorded through the sensor models; [`masses`] — the mass properties of each
 //!   ballast volume the replays meet;
 //! * [`dataset`] — runs split into estimation and validation data and replayed on a model;
+//!   [`controlled`] — the runs replayed closed loop with their controller, the logged
+//!   commands compared too;
 //!   [`evaluation`] — a model compared with them: residuals and per-channel metrics;
 //! * [`blocks`] — time blocks of residuals: held-out tests and the block bootstrap;
 //! * [`lm`], [`stats`] — bounded Levenberg–Marquardt, whiteness tests and friends.
@@ -13,6 +15,7 @@
 
 pub mod anchoring;
 pub mod blocks;
+pub mod controlled;
 pub mod dataset;
 pub mod evaluation;
 pub mod lm;

@@ -16,7 +16,8 @@ use crate::log::format::IngestInfo;
 use std::fmt;
 use std::path::PathBuf;
 
-/// What a `y.` column measures.
+/// What a compared channel is: a `y.` column's measurement, or a thruster command the log's
+/// controller sent (`u.<thruster>`), compared as a channel by the closed-loop replay.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum ChannelKind {
     /// Depth reading \[m\] (pressure sensor, positive down).
@@ -43,7 +44,15 @@ pub enum ChannelKind {
     V,
     /// Heave velocity over ground, body frame [m/s].
     W,
+    /// The command \[%\] the log's controller sent to the thruster of this name (interned
+    /// with [`ChannelKind::command`]), compared with the command the replay's controller
+    /// computes (`evaluate::open_loop::control`).
+    Command(&'static str),
 }
+
+/// Thruster names interned for [`ChannelKind::Command`]: one leaked copy per distinct name,
+/// for the life of the process (a vehicle has a handful of thrusters).
+static COMMAND_NAMES: std::sync::Mutex<Vec<&'static str>> = std::sync::Mutex::new(Vec::new());
 
 impl ChannelKind {
     /// Every kind with its column name (after `y.`).
@@ -67,12 +76,41 @@ impl ChannelKind {
         Self::ALL.iter().find(|(_, n)| *n == s).map(|(k, _)| *k)
     }
 
-    /// Column name without the `y.` prefix.
+    /// The command channel of thruster `name`.
+    pub fn command(name: &str) -> ChannelKind {
+        let mut names = COMMAND_NAMES
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        if let Some(n) = names.iter().find(|n| **n == name) {
+            return ChannelKind::Command(n);
+        }
+        let n: &'static str = Box::leak(name.to_string().into_boxed_str());
+        names.push(n);
+        ChannelKind::Command(n)
+    }
+
+    /// Column name without its prefix (`depth`; a command channel's thruster name).
     pub fn name(self) -> &'static str {
+        if let ChannelKind::Command(n) = self {
+            return n;
+        }
         Self::ALL
             .iter()
             .find(|(k, _)| *k == self)
             .map_or("?", |(_, n)| n)
+    }
+
+    /// Column name with its prefix: `y.depth`, or `u.port` for a command channel.
+    pub fn label(self) -> String {
+        match self {
+            ChannelKind::Command(n) => format!("u.{n}"),
+            k => format!("y.{}", k.name()),
+        }
+    }
+
+    /// Whether it is a thruster command (see [`ChannelKind::Command`]).
+    pub fn is_command(self) -> bool {
+        matches!(self, ChannelKind::Command(_))
     }
 
     /// Unit of the channel.
@@ -83,6 +121,7 @@ impl ChannelKind {
             Roll | Pitch | Yaw => "rad",
             P | Q | R => "rad/s",
             U | V | W => "m/s",
+            Command(_) => "%",
         }
     }
 
@@ -119,10 +158,10 @@ impl ChannelKind {
     }
 }
 
-/// Written as its column name, e.g. `"y.depth"`.
+/// Written as its column name, e.g. `"y.depth"` or `"u.port"`.
 impl serde::Serialize for ChannelKind {
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        s.serialize_str(&format!("y.{}", self.name()))
+        s.serialize_str(&self.label())
     }
 }
 
@@ -161,7 +200,7 @@ pub struct Channel {
 impl Channel {
     /// Column name with prefix, e.g. `y.depth`.
     pub fn label(&self) -> String {
-        format!("y.{}", self.kind.name())
+        self.kind.label()
     }
 }
 

@@ -85,7 +85,7 @@ pub(super) fn write_all(
                 .as_ref()
                 .map(|l| (&out.chosen.eval.runs[ri].channels[ci], l.as_str()));
             let plot = run_plot(rd, cb, cf);
-            let stem = format!("{}_{}", rd.run.name, cb.kind.name());
+            let stem = format!("{}_{}", rd.run.name, file_stem(cb.kind));
             if let Some(path) = put(&plot, &stem) {
                 refs.runs.push(PlotRef {
                     title: format!("{} {}", rd.run.name, label(cb.kind)),
@@ -100,7 +100,7 @@ pub(super) fn write_all(
             &out.baseline.eval.validation_residuals(kind),
             (!out.chosen.effects.is_empty()).then(|| out.chosen.eval.validation_residuals(kind)),
         );
-        if let Some(path) = put(&plot, &format!("acf_{}", kind.name())) {
+        if let Some(path) = put(&plot, &format!("acf_{}", file_stem(kind))) {
             refs.acf.push(PlotRef {
                 title: format!("residual autocorrelation {}", label(kind)),
                 path,
@@ -513,5 +513,15 @@ mod tests {
         );
         covers(&plot);
         assert!(plot.series[0].points.len() <= MAX_DOTS && plot.series[0].dots);
+    }
+}
+
+/// A channel's part of a plot's file name: the measurement's name (`depth`), or `u_<thruster>`
+/// for a command channel.
+fn file_stem(kind: ChannelKind) -> String {
+    if kind.is_command() {
+        format!("u_{}", kind.name())
+    } else {
+        kind.name().to_string()
     }
 }

@@ -19,8 +19,8 @@ pub fn verdict_sentence(out: &Outcome) -> String {
     }
     for u in &out.verdict.unexplained {
         tail.push_str(&format!(
-            " Unexplained structure on channel y.{}: held-out RMSE {} {} against a noise floor of {} (Ljung–Box p = {:.2e}); no catalogue family explains it.",
-            u.channel.name(),
+            " Unexplained structure on channel {}: held-out RMSE {} {} against a noise floor of {} (Ljung–Box p = {:.2e}); no catalogue family explains it.",
+            u.channel.label(),
             sig(u.rmse),
             u.channel.unit(),
             sig(u.noise_floor),
@@ -154,7 +154,7 @@ pub(crate) fn ci95(p: &ParamEstimate) -> Option<(f64, f64)> {
 }
 
 pub(super) fn label(k: ChannelKind) -> String {
-    format!("y.{}", k.name())
+    k.label()
 }
 
 pub(super) fn fmt_pm(v: f64, s: Option<f64>) -> String {

@@ -4,12 +4,14 @@
 //! ([`InitialState`]).
 
 use super::anchors::Anchor;
+use super::control::ReplayControl;
 use crate::log::limits::{ClampNote, Limits};
 use crate::log::numbers::short;
 use crate::log::run::{ChannelKind, MeasuredRun, RunError};
 use shoal_model::dynamics::Integrator;
 use shoal_model::math::{Vec3, quat_from_rpy};
 use shoal_model::vehicle::VehicleParams;
+use std::sync::Arc;
 
 /// Which input column drives which actuator.
 #[derive(Clone, Debug, PartialEq, Default)]
@@ -162,6 +164,9 @@ pub struct InitialState {
     pub velocity: Option<Vec3>,
     /// Body rates (p, q, r) [rad/s].
     pub rates: Vec3,
+    /// The controller of a closed-loop replay (`None`: the logged commands drive the hull;
+    /// see [`super::control`]).
+    pub control: Option<Arc<ReplayControl>>,
 }
 
 impl InitialState {
@@ -227,6 +232,7 @@ impl InitialState {
                 mean(ChannelKind::Q),
                 mean(ChannelKind::R),
             ),
+            control: None,
         }
     }
 }

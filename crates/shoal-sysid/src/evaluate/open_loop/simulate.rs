@@ -4,6 +4,7 @@
 //! parent module).
 
 use super::anchors::Anchor;
+use super::control::{Controlling, depth_reading};
 use super::setup::{InitialState, InputMap, ReplayOptions, replay_steps};
 use super::trace::Trace;
 use crate::evaluate::masses::{BodyMasses, MassTable};
@@ -217,6 +218,12 @@ struct Replaying<'a> {
     next: usize,
     /// Whether it is the filter of another replay (it records nothing).
     is_filter: bool,
+    /// The controller, in a closed-loop replay.
+    control: Option<Controlling<'a>>,
+    /// (column in the recording, thruster index) of each recorded command channel.
+    cmd_cols: Vec<(usize, usize)>,
+    /// Recorded columns per point.
+    stride: usize,
 }
 
 impl<'a> Replaying<'a> {
@@ -258,6 +265,18 @@ impl<'a> Replaying<'a> {
             anchors: &init.anchors,
             next: 0,
             is_filter: false,
+            control: init.control.as_deref().map(|c| Controlling::new(c, model)),
+            cmd_cols: kinds
+                .iter()
+                .enumerate()
+                .filter_map(|(col, k)| match k {
+                    ChannelKind::Command(name) => {
+                        p.thrusters.iter().position(|t| t.name == *name).map(|i| (col, i))
+                    }
+                    _ => None,
+                })
+                .collect(),
+            stride: kinds.len(),
         };
         v.set_inputs(run, map, 0);
         v.record(kinds);
@@ -307,10 +326,13 @@ impl<'a> Replaying<'a> {
         DynConsts::new(&self.model.params.body, &self.state.mass, &self.env)
     }
 
-    /// The inputs of row `row`.
+    /// The inputs of row `row` (in a closed-loop replay the controller's thruster commands
+    /// stay).
     fn set_inputs(&mut self, run: &MeasuredRun, map: &InputMap, row: usize) {
-        for &(i, k) in &map.thrusters {
-            self.cmd.thrusters[i] = run.inputs[k].values[row];
+        if self.control.is_none() {
+            for &(i, k) in &map.thrusters {
+                self.cmd.thrusters[i] = run.inputs[k].values[row];
+            }
         }
         for &(i, k) in &map.tilts {
             let a = run.inputs[k].values[row];
@@ -333,6 +355,17 @@ impl<'a> Replaying<'a> {
         env: &Environment,
         dt: f64,
     ) -> Option<DynConsts> {
+        // The controller reads the tilt drives where they stood before this row moves them.
+        if let Some(c) = &mut self.control {
+            let logged = map
+                .thrusters
+                .iter()
+                .map(|&(i, k)| (i, run.inputs[k].values[row]));
+            if c.tick(self.model, &self.state, run, row, logged, &mut self.cmd) {
+                // The recording of now shows the command of now.
+                self.patch_commands();
+            }
+        }
         self.set_inputs(run, map, row);
         let consts = run_pump(self.model, &mut self.state, self.cmd.pump, dt).map(|v| {
             self.state.mass = self.body.at(v);
@@ -342,9 +375,29 @@ impl<'a> Replaying<'a> {
         consts
     }
 
-    /// Records the present state.
+    /// Records the present state (and keeps it for the controller's delayed readings).
     fn record(&mut self, kinds: &[ChannelKind]) {
-        record(self.model, &self.state, &self.env, kinds, &mut self.values);
+        record(
+            self.model,
+            &self.state,
+            &self.env,
+            &self.cmd,
+            kinds,
+            &mut self.values,
+        );
+        if let Some(c) = &mut self.control {
+            c.observe(self.model, &self.state);
+        }
+    }
+
+    /// Writes the commands in force into the command columns of the last recorded point.
+    fn patch_commands(&mut self) {
+        let Some(last) = self.values.len().checked_sub(self.stride) else {
+            return;
+        };
+        for &(col, i) in &self.cmd_cols {
+            self.values[last + col] = self.cmd.thrusters[i];
+        }
     }
 
     /// The recording as a trace of `run` at `dt` \[s\].
@@ -362,6 +415,7 @@ fn record(
     model: &VehicleModel,
     state: &VehicleState,
     env: &Environment,
+    cmd: &ActuatorCommands,
     kinds: &[ChannelKind],
     out: &mut Vec<f64>,
 ) {
@@ -385,10 +439,7 @@ fn record(
     };
     for k in kinds {
         let x = match k {
-            ChannelKind::Depth => {
-                state.depth_of(&p.pressure.position).max(0.0)
-                    + model.effects.depth_offset(state.time)
-            }
+            ChannelKind::Depth => depth_reading(model, state),
             ChannelKind::Roll => rpy().0,
             ChannelKind::Pitch => rpy().1,
             ChannelKind::Yaw => rpy().2,
@@ -405,6 +456,11 @@ fn record(
                     _ => vg.z,
                 }
             }
+            ChannelKind::Command(name) => p
+                .thrusters
+                .iter()
+                .position(|t| t.name == *name)
+                .map_or(0.0, |i| cmd.thrusters[i]),
         };
         out.push(x);
     }
