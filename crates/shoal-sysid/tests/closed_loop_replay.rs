@@ -163,3 +163,40 @@ fn the_controller_in_the_replay_reads_as_late_as_the_model_says() {
         assert!(none > 100.0 * tru, "{th}: without delay {none} %, with {tru} %");
     }
 }
+
+/// With the preset's noisy, quantised sensors the real controller answers its own noise
+/// (the depth rate from 1.8-mm steps, times the derivative gain): the replay's controller
+/// reads the model's sensors plus the fast part of the measured ones, and the true model's
+/// replay then sends the logged commands far more closely than it does reading the model's
+/// sensors alone (measured: 2.3 % against 4.8 % RMS on port, of a 31.5 % RMS command).
+#[test]
+fn the_replay_controller_answers_the_noise_the_real_one_read() {
+    let noisy = VehicleModel::new(presets::uauv2(), 1000.0);
+    let designed = VehicleModel::new(presets::uauv2(), 1000.0);
+    let plan = uauv2_mission(5, 240.0);
+    let run = fly(
+        &noisy,
+        &designed,
+        &Environment::default(),
+        &plan,
+        &Disturbance::NONE,
+        DT,
+        5,
+        &mut (),
+    );
+    let (mut ds, ev) = replayed(&run, &noisy);
+    let ctl = ds.runs[0].init.control.clone().expect("a closed-loop replay");
+    // Without the measurements the controller reads the model's sensors alone.
+    let mut deaf = (*ctl).clone();
+    deaf.measured.iter_mut().for_each(|f| *f = [f64::NAN; 3]);
+    ds.runs[0].init.control = Some(std::sync::Arc::new(deaf));
+    let ev_deaf = ds.evaluate(&noisy);
+    for th in ["port", "stbd"] {
+        let (with, cmd) = command_rms(&ev, th);
+        let (without, _) = command_rms(&ev_deaf, th);
+        assert!(
+            with < 0.6 * without,
+            "{th}: {with} % with the fast part, {without} % without (command {cmd} %)"
+        );
+    }
+}

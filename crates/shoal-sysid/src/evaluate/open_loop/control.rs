@@ -15,7 +15,13 @@
 //! What the controller reads is what the model's sensors would read — the deterministic part:
 //! the pressure port's depth plus any depth-sensor effect, the attitude, the gyro rates plus
 //! their bias, the tilt drives where the log says they stood, the tank's full switch — and it
-//! reads it late by the model's sensor delay, as the real controller did. In a loop a sensor
+//! reads it late by the model's sensor delay, as the real controller did. To the depth, the
+//! heading and the yaw rate it adds the *fast part* of the replay's residual at the tick —
+//! measured less read, less the residual's mean over the last [`NOISE_WINDOW_S`] —: the
+//! sensor noise the real controller answered (its derivative terms amplify it into command
+//! jitter of several per cent that no model predicts), while the slow part of the residual,
+//! what the model gets wrong, stays in the comparison. With noise-free sensors and the true
+//! model the residual is zero and so is what is added. In a loop a sensor
 //! delay and a thruster lag both slow the response, but only the delay also delays what the
 //! controller answers to; the commands tell them apart.
 //!
@@ -28,7 +34,7 @@ use shoal_model::control::{
     ActuatorCommands, ControlParams, ControllerState, Mode, SensorReadings, Setpoints,
     Uauv2Control,
 };
-use shoal_model::math::{PerActuator, Quat, Vec3, split6};
+use shoal_model::math::{PerActuator, Quat, Vec3, euler_rpy, split6, wrap_pi};
 use shoal_model::thruster::ThrusterParams;
 use shoal_model::vehicle::{VehicleModel, VehicleState};
 use std::collections::VecDeque;
@@ -61,7 +67,15 @@ pub struct ReplayControl {
     pub thrusters: Vec<ThrusterParams>,
     /// The references.
     pub refs: ReferenceColumns,
+    /// Per row of the run, the depth \[m\], heading \[rad\] and yaw rate [rad/s] the log
+    /// measured last (NaN before a channel's first sample or where it is not logged): what
+    /// the real controller read.
+    pub measured: Vec<[f64; 3]>,
 }
+
+/// Span of the past over which the fast part of the replay's residual is taken: the residual
+/// less its mean over the last this many seconds \[s\].
+pub const NOISE_WINDOW_S: f64 = 0.5;
 
 impl ReplayControl {
     /// The closed-loop replay of `run` with the controller of `baseline` (the vehicle as
@@ -95,6 +109,7 @@ impl ReplayControl {
                 surge: col("surge"),
                 sway: col("sway"),
             },
+            measured: measured_last(run),
         })
     }
 
@@ -167,6 +182,9 @@ pub(super) struct Controlling<'a> {
     delay: f64,
     /// Readings of the last `delay` seconds and one more, oldest first (empty without delay).
     history: VecDeque<Sensed>,
+    /// The residuals (measured − the replay's reading) of depth, heading and yaw rate at the
+    /// ticks of the last [`NOISE_WINDOW_S`], with their times, oldest first.
+    recent: VecDeque<(f64, [f64; 3])>,
 }
 
 impl<'a> Controlling<'a> {
@@ -185,6 +203,7 @@ impl<'a> Controlling<'a> {
             next_tick: 0.0,
             delay: model.effects.delay().max(0.0),
             history: VecDeque::new(),
+            recent: VecDeque::new(),
         }
     }
 
@@ -219,6 +238,35 @@ impl<'a> Controlling<'a> {
         }
     }
 
+    /// The fast part of the residual of depth, heading and yaw rate at time `t` \[s\] (row
+    /// `row`) for the replay's reading `s`: the residual less its mean over the ticks of the
+    /// last [`NOISE_WINDOW_S`] (0 for a channel not measured).
+    fn fast_part(&mut self, s: &Sensed, t: f64, row: usize) -> [f64; 3] {
+        let Some(y) = self.ctl.measured.get(row) else {
+            return [0.0; 3];
+        };
+        let (_, _, yaw) = euler_rpy(&s.attitude);
+        let now = [y[0] - s.depth, wrap_pi(y[1] - yaw), y[2] - s.gyro.z];
+        self.recent.push_back((t, now));
+        while self
+            .recent
+            .front()
+            .is_some_and(|(t0, _)| *t0 < t - NOISE_WINDOW_S)
+        {
+            self.recent.pop_front();
+        }
+        let n = self.recent.len() as f64;
+        let mut out = [0.0; 3];
+        for (k, o) in out.iter_mut().enumerate() {
+            let mean = self.recent.iter().map(|(_, r)| r[k]).sum::<f64>() / n;
+            *o = now[k] - mean;
+            if !o.is_finite() {
+                *o = 0.0;
+            }
+        }
+        out
+    }
+
     /// Runs the controller if a control tick is due in `state` (ticks every control period
     /// from the run's start), following the references of row `row` of `run` and writing the
     /// thruster commands into `cmd`; whether it ran. `logged` are the row's thruster commands
@@ -249,9 +297,11 @@ impl<'a> Controlling<'a> {
             cmd.thrusters.iter_mut().for_each(|c| *c = f64::NAN);
             return true;
         }
-        self.readings.depth = s.depth;
-        self.readings.attitude = s.attitude;
-        self.readings.gyro = s.gyro;
+        // The model's readings plus the noise the real controller read (see the module doc).
+        let fast = self.fast_part(&s, state.time, row);
+        self.readings.depth = s.depth + fast[0];
+        self.readings.attitude = Quat::from_axis_angle(&Vec3::z_axis(), fast[1]) * s.attitude;
+        self.readings.gyro = s.gyro + Vec3::new(0.0, 0.0, fast[2]);
         self.readings.tilts.clone_from(&s.tilts);
         self.readings.tank_full = model
             .params
@@ -288,4 +338,23 @@ impl<'a> Controlling<'a> {
         }
         true
     }
+}
+
+/// The depth, heading and yaw rate the run measured last at each row (see
+/// [`ReplayControl::measured`]).
+fn measured_last(run: &MeasuredRun) -> Vec<[f64; 3]> {
+    let mut out = vec![[f64::NAN; 3]; run.t.len()];
+    for (slot, kind) in [ChannelKind::Depth, ChannelKind::Yaw, ChannelKind::R]
+        .into_iter()
+        .enumerate()
+    {
+        let Some(c) = run.channel(kind) else {
+            continue;
+        };
+        for (i, (&row, &v)) in c.rows.iter().zip(&c.values).enumerate() {
+            let end = c.rows.get(i + 1).copied().unwrap_or(run.t.len());
+            out[row..end].iter_mut().for_each(|m| m[slot] = v);
+        }
+    }
+    out
 }
