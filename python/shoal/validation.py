@@ -184,7 +184,7 @@ def validate(
     min_segment: float = 1.0,
     threads: Optional[int] = None,
     progress: Optional[Callable[[str, str], Any]] = None,
-    horizon: Union[str, float] = "open",
+    horizon: Union[str, float] = "choose",
     mapping: Union[str, "os.PathLike[str]", None] = None,
     quiet: bool = False,
 ) -> Report:
@@ -197,10 +197,11 @@ def validate(
     effects considered. ``dt`` is the replay step [s] (1e-4 … 0.1); ``time_unit`` (``"s"`` or
     ``"ms"``) the unit of a plain ``t`` column; ``gaps`` (``"split"`` or ``"error"``), ``max_gap``
     [s] and ``min_segment`` [s] what a gap in time does; ``threads`` the worker threads of the
-    search (results do not depend on it); ``horizon`` how runs are replayed: ``"open"`` (open
-    loop, the default), a number of seconds (re-anchored to the measured depth, attitude and
-    rates that often) or ``"auto"`` (a horizon chosen from the data), for long and closed-loop
-    runs. ``mapping`` is the mapping TOML through which rosbag2s among the runs are read (which
+    search (results do not depend on it); ``horizon`` how runs are replayed: ``"choose"`` (the
+    default: closed loop when the runs carry their controller's references ``r.mode`` …, else
+    open loop), ``"closed"`` (the vehicle's controller in the replay, the logged commands
+    compared too), ``"open"`` (open loop), a number of seconds (re-anchored to the measured
+    depth, attitude and rates that often) or ``"auto"`` (a horizon chosen from the data). ``mapping`` is the mapping TOML through which rosbag2s among the runs are read (which
     topic and field is each input and channel; docs/validation.md "Your rosbag2"). Progress goes
     to ``progress(kind, message)`` if given, else to stderr unless ``quiet``. Returns a
     :class:`Report`.

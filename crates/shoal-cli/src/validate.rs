@@ -63,11 +63,13 @@ pub struct ValidateArgs {
     /// Worker threads for candidate fits (results do not depend on it) [default: all cores].
     #[arg(long, value_parser = clap::value_parser!(u16).range(1..=256))]
     pub threads: Option<u16>,
-    /// How runs are replayed: `open` (open loop from each run's first samples), SECONDS
-    /// (re-anchored to the measured depth, attitude and rates every SECONDS, 0.5 … 3600), or
-    /// `auto` (re-anchored at a horizon chosen from how long the baseline stays near the
-    /// data; open loop where it stays there throughout). For long and closed-loop runs.
-    #[arg(long, value_name = "open|auto|SECONDS", default_value = "open")]
+    /// How runs are replayed: `choose` (closed loop when the runs carry their controller's
+    /// references, `r.mode` and the setpoints, else open loop), `closed` (the vehicle's
+    /// controller in the replay, the logged commands compared too), `open` (open loop from
+    /// each run's first samples), SECONDS (re-anchored to the measured depth, attitude and
+    /// rates every SECONDS, 0.5 … 3600), or `auto` (re-anchored at a horizon chosen from how
+    /// long the baseline stays near the data; open loop where it stays there throughout).
+    #[arg(long, value_name = "choose|closed|open|auto|SECONDS", default_value = "choose")]
     pub horizon: Horizon,
     /// Skip plots.
     #[arg(long)]
@@ -197,9 +199,7 @@ pub fn validate(args: &ValidateArgs) -> Result<ExitCode, Failure> {
         .with_context(|| format!("cannot write the report into {}", args.out.display()))?;
     let wall = started.get().map_or(0.0, |t| t.elapsed().as_secs_f64());
     println!("{}", v.verdict_sentence());
-    if v.dataset.anchoring.horizon.is_some() {
-        println!("Replay: {}.", v.dataset.anchoring.why);
-    }
+    println!("Replay: {}.", v.dataset.anchoring.why);
     println!();
     println!(
         "{:<10} {:>16} {:>16} {:>8} {:>10} {:>10}",

@@ -90,9 +90,10 @@ pub struct Config {
     /// Worker threads for candidate fits (results do not depend on it; default: every core,
     /// at most 8).
     pub threads: Option<usize>,
-    /// Open-loop replays (the default), or re-anchored to the measurements every so many
-    /// seconds (given, or chosen from the data): for long and closed-loop runs, on which an
-    /// open-loop replay drifts away (see [`Horizon`]).
+    /// How runs are replayed (see [`Horizon`]): chosen from the log (the default: closed
+    /// loop with the vehicle's controller when the runs carry its references, else open
+    /// loop), or as asked — open loop, closed loop, or re-anchored to the measurements every
+    /// so many seconds (given, or chosen from the data).
     pub horizon: Horizon,
     /// The readers files are read through, the first that recognises a file reading it
     /// (default: CSV, and a rosbag2 refused for want of a mapping; `shoal_rosbag::readers`
@@ -113,7 +114,7 @@ impl Default for Config {
             channels: Vec::new(),
             effects: Vec::new(),
             threads: None,
-            horizon: Horizon::Open,
+            horizon: Horizon::Choose,
             readers: Readers::default(),
         }
     }

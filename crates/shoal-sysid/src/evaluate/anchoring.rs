@@ -10,8 +10,12 @@ use crate::log::run::ChannelKind;
 /// How a dataset's runs are replayed.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub enum Horizon {
-    /// Open loop, each run from its first samples (short designed runs).
+    /// Chosen from the log: closed loop ([`Horizon::Closed`]) when every run carries the
+    /// references its controller followed (`r.mode` and the setpoints), else open loop — and
+    /// the report says why.
     #[default]
+    Choose,
+    /// Open loop, each run from its first samples (short designed runs).
     Open,
     /// Re-anchored every this many seconds \[s\].
     Every(f64),
@@ -36,15 +40,16 @@ impl Horizon {
 impl std::str::FromStr for Horizon {
     type Err = String;
 
-    /// `open`, `auto`, `closed` or a number of seconds (checked against its range where it
-    /// is used).
+    /// `choose`, `open`, `auto`, `closed` or a number of seconds (checked against its range
+    /// where it is used).
     fn from_str(s: &str) -> Result<Self, String> {
         match s.trim() {
+            "choose" => Ok(Horizon::Choose),
             "open" => Ok(Horizon::Open),
             "auto" => Ok(Horizon::Auto),
             "closed" => Ok(Horizon::Closed),
             t => t.parse::<f64>().map(Horizon::Every).map_err(|_| {
-                format!("`{s}`: allowed open, auto, closed or a number of seconds")
+                format!("`{s}`: allowed choose, open, auto, closed or a number of seconds")
             }),
         }
     }
@@ -81,13 +86,17 @@ impl Default for Anchoring {
 }
 
 /// Why a dataset's replays are open loop when nothing else was asked.
-const OPEN_DEFAULT: &str = "open-loop replay from each run's first samples (the default)";
+const OPEN_DEFAULT: &str = "open-loop replay from each run's first samples: the log carries no \
+     references (r.mode, r.depth, r.yaw, …), so its commands drive the replay and are no \
+     evidence — a log with its controller's references is replayed closed loop and its \
+     commands are compared too";
 
 /// The replay `horizon` asks for: for [`Horizon::Auto`], chosen from the evaluation of the
 /// baseline's open-loop replay, which `baseline` makes (only then).
 pub fn choose(horizon: Horizon, baseline: impl FnOnce() -> Evaluation) -> Anchoring {
     let (horizon, why) = match horizon {
-        Horizon::Open => (None, OPEN_DEFAULT.to_string()),
+        Horizon::Open => (None, "open-loop replay from each run's first samples (asked for)".to_string()),
+        Horizon::Choose => (None, OPEN_DEFAULT.to_string()),
         Horizon::Every(h) => (Some(h), format!("re-anchored every {h} s (given)")),
         Horizon::Auto | Horizon::Closed => auto(&baseline()),
     };

@@ -369,7 +369,8 @@ impl Dataset {
     }
 
     /// Sets how every run is replayed: closed loop with the vehicle's controller for
-    /// [`Horizon::Closed`] where the runs allow it ([`Dataset::close_loop`]), else
+    /// [`Horizon::Closed`], and for [`Horizon::Choose`] when every run carries an `r.mode`,
+    /// where the runs allow it ([`Dataset::close_loop`]), else
     /// re-anchored at `horizon` (for [`Horizon::Auto`], chosen from the replay of
     /// `baseline`), or open loop. Returns what was chosen.
     pub fn anchor(&mut self, horizon: Horizon, baseline: &VehicleModel) -> &Anchoring {
@@ -379,7 +380,11 @@ impl Dataset {
         }
         self.open_loop();
         let mut no_loop = None;
-        if horizon == Horizon::Closed {
+        let referenced = self
+            .runs
+            .iter()
+            .all(|rd| rd.run.references.iter().any(|r| r.name == "mode"));
+        if horizon == Horizon::Closed || (horizon == Horizon::Choose && referenced) {
             match self.close_loop(baseline) {
                 Ok(added) => {
                     let names: Vec<String> = added.iter().map(|k| k.label()).collect();
