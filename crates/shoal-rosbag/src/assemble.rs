@@ -2,12 +2,12 @@
 //! makes it from a multi-rate log.
 //!
 //! The rows are the union of every entry's sample times (the CSV format's "multi-rate logs
-//! merged on the union of their time stamps"); inputs are held from one message to the next
-//! (zero-order hold); a channel is sampled at its own messages' times only, never between
-//! them. The run starts when every input has had its first message — before it, a command
-//! is not known (a topic published on change says nothing until its first change), so
-//! earlier samples are dropped rather than paired with an invented command — and its time
-//! counts from there. Gaps are split afterwards by [`MeasuredRun::split_at_gaps`], as for a
+//! merged on the union of their time stamps"); inputs and the controller's references are held
+//! from one message to the next (zero-order hold); a channel is sampled at its own messages'
+//! times only, never between them. The run starts when every input and every reference has had
+//! its first message — before it, a command is not known (a topic published on change says
+//! nothing until its first change), so earlier samples are dropped rather than paired with an
+//! invented command — and its time counts from there. Gaps are split afterwards by [`MeasuredRun::split_at_gaps`], as for a
 //! CSV.
 //!
 //! The run's columns are the mapping's entries (column k = the k-th entry), its `path` the
@@ -31,7 +31,7 @@ pub fn assemble(
     check_one_clock(path, series)?;
     let start = series
         .iter()
-        .filter(|s| s.entry.feeds == Feeds::Input)
+        .filter(|s| matches!(s.entry.feeds, Feeds::Input | Feeds::Reference(_)))
         .map(|s| s.t[0])
         .max()
         .unwrap_or(i64::MIN);
@@ -47,8 +47,8 @@ pub fn assemble(
             path,
             None,
             format!(
-                "{} time(s) in the mapped topics once every input has had a message: a run \
-                 needs at least two",
+                "{} time(s) in the mapped topics once every input and reference has had a \
+                 message: a run needs at least two",
                 times.len()
             ),
         ));
@@ -57,10 +57,12 @@ pub fn assemble(
     let t: Vec<f64> = times.iter().map(|&x| (x - t0) as f64 * 1e-9).collect();
     let mut inputs = Vec::new();
     let mut channels = Vec::new();
+    let mut references = Vec::new();
     for (k, s) in series.iter().enumerate() {
         let column = k + 1;
         match s.entry.feeds {
             Feeds::Input => inputs.push(held(s, &times, column)),
+            Feeds::Reference(_) => references.push(held(s, &times, column)),
             Feeds::Channel(kind) => {
                 let mut rows = Vec::with_capacity(s.t.len());
                 let mut values = Vec::with_capacity(s.t.len());
@@ -76,8 +78,8 @@ pub fn assemble(
                         path,
                         Some(format!("topic `{}`", s.entry.topic)),
                         format!(
-                            "`{}` has no sample once every input has had a message (the \
-                             inputs start at {:.3} s, its last sample is at {:.3} s)",
+                            "`{}` has no sample once every input and reference has had a \
+                             message (they start at {:.3} s, its last sample is at {:.3} s)",
                             s.entry.key,
                             t0 as f64 * 1e-9,
                             s.t[s.t.len() - 1] as f64 * 1e-9
@@ -108,7 +110,7 @@ pub fn assemble(
         t,
         inputs,
         channels,
-        references: Vec::new(),
+        references,
         extra: Vec::new(),
         header_line: 0,
         lines: Vec::new(),
@@ -116,7 +118,7 @@ pub fn assemble(
     })
 }
 
-/// An input held from each message to the next.
+/// An input or reference held from each message to the next.
 fn held(s: &Series, times: &[i64], column: usize) -> InputColumn {
     let mut values = Vec::with_capacity(times.len());
     let mut k = 0usize;
@@ -127,9 +129,11 @@ fn held(s: &Series, times: &[i64], column: usize) -> InputColumn {
         values.push(s.v[k]);
     }
     let first_set = times.partition_point(|&r| r < s.t[0]);
-    // (`first_set` is 0 for every input: the run starts at the last input's first message.)
+    // (`first_set` is 0 for every input and reference: the run starts at the last one's first
+    // message.)
+    let (_, name) = s.entry.key.split_at("u.".len());
     InputColumn {
-        name: s.entry.key["u.".len()..].to_string(),
+        name: name.to_string(),
         column,
         values,
         precision: Vec::new(),

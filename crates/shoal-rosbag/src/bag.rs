@@ -408,7 +408,12 @@ fn entry_series(
                 ),
             ));
         }
-        let value = e.scale * raw * frame_sign(e) + e.offset;
+        let mut value = e.scale * raw * frame_sign(e) + e.offset;
+        if let Feeds::Reference(kind) = e.feeds {
+            value = kind
+                .check(value)
+                .map_err(|m| BagError::new(path, place(), format!("{m} (entry `{}`)", e.key)))?;
+        }
         if t.last() == Some(time) {
             if v.last() != Some(&value) {
                 return Err(BagError::new(

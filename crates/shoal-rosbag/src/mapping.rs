@@ -14,14 +14,22 @@
 //!               depth_from_pressure = { density_kg_m3 = 998.0, surface_pa = 101325.0 } }
 //! "y.yaw"   = { topic = "/imu", field = "orientation" }     # a quaternion → the channel's angle
 //! "y.r"     = { topic = "/imu", field = "angular_velocity.z" }
+//!
+//! [references]            # optional: what the vehicle's controller was told
+//! "r.depth" = { topic = "/setpoints", field = "depth" }
+//! "r.mode"  = { topic = "/setpoints", field = "mode" }     # the mode's code, 0 … 6
 //! ```
 //!
 //! * `inputs`: `u.<actuator>` as in a CSV run (the vehicle's thrusters, tilt drives, `pump`);
-//!   `channels`: `y.<channel>` (`depth roll pitch yaw p q r x y u v w`).
+//!   `channels`: `y.<channel>` (`depth roll pitch yaw p q r x y u v w`); `references`: the
+//!   controller's references `r.<reference>` as in a CSV run (`depth yaw surge sway mode`,
+//!   [`ReferenceKind::ALL`]), held like inputs; `r.mode` is a number field holding the mode's
+//!   code (`shoal_model::control::Mode::code`: 0 off, 1 diving … 5 auto, 6 raw) — a value
+//!   that is not one is an error naming the message.
 //! * `field`: a path into the message (`crate::select`): a number, or for `y.roll`, `y.pitch`
 //!   and `y.yaw` a quaternion.
 //! * value = `scale` × field + `offset` (defaults 1 and 0), in shoal's units (% for thruster
-//!   commands, rad, m, m/s, −1/0/+1 for the pump); `depth_from_pressure` instead turns an
+//!   commands, rad, m, m/s, −1/0/+1 for the pump, N for force references); `depth_from_pressure` instead turns an
 //!   absolute pressure in Pa into a depth: (p − surface_pa)/(density_kg_m3 · gravity_m_s2).
 //! * `clock`: `header` takes the message's `header.stamp` (the time the sensor sampled),
 //!   `log` the time the bag received it; the default is `header` for types that have one.
@@ -30,12 +38,13 @@
 //!   With `enu`, attitudes from quaternions become shoal's roll, pitch, yaw (roll = roll,
 //!   pitch = −pitch, yaw = π/2 − yaw) and the body rates and velocities about or along y and
 //!   z change sign (`y.q`, `y.r`, `y.v`, `y.w`); positions are taken as written (map the
-//!   north coordinate to `y.x`, the east one to `y.y`).
+//!   north coordinate to `y.x`, the east one to `y.y`), and so are references (`r.depth`
+//!   positive down and `r.yaw` in shoal's NED heading: convert with `scale` and `offset`).
 //!
 //! Every problem names the file, the entry and the allowed values; unknown keys are errors.
 
 use serde::Deserialize;
-use shoal_sysid::log::run::ChannelKind;
+use shoal_sysid::log::run::{ChannelKind, ReferenceKind};
 use shoal_world::load::suggest;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -67,6 +76,8 @@ pub enum Feeds {
     Input,
     /// A measurement channel.
     Channel(ChannelKind),
+    /// A reference of the vehicle's controller (`r.`).
+    Reference(ReferenceKind),
 }
 
 /// One mapping entry, checked.
@@ -95,7 +106,7 @@ pub struct Entry {
 pub struct Mapping {
     /// The file (for messages).
     pub path: PathBuf,
-    /// Inputs, then channels, each sorted by key.
+    /// Inputs, then channels, then references, each sorted by key.
     pub entries: Vec<Entry>,
 }
 
@@ -118,6 +129,8 @@ struct FileDoc {
     inputs: BTreeMap<String, EntryDoc>,
     #[serde(default)]
     channels: BTreeMap<String, EntryDoc>,
+    #[serde(default)]
+    references: BTreeMap<String, EntryDoc>,
 }
 
 #[derive(Deserialize, Default)]
@@ -197,20 +210,20 @@ impl Mapping {
                 .strip_prefix("y.")
                 .and_then(ChannelKind::from_name)
                 .ok_or_else(|| {
-                    let names: Vec<String> = ChannelKind::ALL
-                        .iter()
-                        .map(|(_, n)| format!("y.{n}"))
-                        .collect();
-                    let all: Vec<&str> = names.iter().map(String::as_str).collect();
-                    let hint = suggest(key, &all)
-                        .map(|s| format!(" — did you mean `{s}`?"))
-                        .unwrap_or_default();
-                    err(format!(
-                        "[channels] `{key}`: not a channel{hint} (allowed: {})",
-                        names.join(", ")
-                    ))
+                    let names = ChannelKind::ALL.iter().map(|(_, n)| *n);
+                    err(not_one_of("channels", key, "a channel", "y.", names))
                 })?;
             entries.push(entry(key, Feeds::Channel(kind), e, &doc.defaults).map_err(&err)?);
+        }
+        for (key, e) in &doc.references {
+            let kind = key
+                .strip_prefix("r.")
+                .and_then(ReferenceKind::from_name)
+                .ok_or_else(|| {
+                    let names = ReferenceKind::ALL.iter().map(|(_, n, _)| *n);
+                    err(not_one_of("references", key, "a reference", "r.", names))
+                })?;
+            entries.push(entry(key, Feeds::Reference(kind), e, &doc.defaults).map_err(&err)?);
         }
         if !entries.iter().any(|e| matches!(e.feeds, Feeds::Channel(_))) {
             return Err(err(
@@ -233,6 +246,25 @@ impl Mapping {
         t.dedup();
         t
     }
+}
+
+/// "[channels] `y.dpth`: not a channel — did you mean `y.depth`? (allowed: y.depth, …)".
+fn not_one_of<'a>(
+    section: &str,
+    key: &str,
+    what: &str,
+    prefix: &str,
+    names: impl Iterator<Item = &'a str>,
+) -> String {
+    let names: Vec<String> = names.map(|n| format!("{prefix}{n}")).collect();
+    let all: Vec<&str> = names.iter().map(String::as_str).collect();
+    let hint = suggest(key, &all)
+        .map(|s| format!(" — did you mean `{s}`?"))
+        .unwrap_or_default();
+    format!(
+        "[{section}] `{key}`: not {what}{hint} (allowed: {})",
+        names.join(", ")
+    )
 }
 
 fn entry(key: &str, feeds: Feeds, e: &EntryDoc, d: &DefaultsDoc) -> Result<Entry, String> {

@@ -1,6 +1,7 @@
 //! What a new user is told when a mapping and a bag do not fit, on the kit's bag
 //! (`common/bagkit.rs`): a missing topic lists the bag's topics, a misspelt channel gets a
-//! "did you mean", an index past an array's end names index, length and field, a bag cut short
+//! "did you mean" and so does a misspelt reference, a mode reference that is not a mode's code
+//! names its message, an index past an array's end names index, length and field, a bag cut short
 //! says what happened and what to do (no tool that is not installed); and the bag reader
 //! behind the validation's log seam reads a bag by its content, whatever its name.
 
@@ -67,6 +68,54 @@ fn a_misspelt_channel_gets_a_did_you_mean() {
         .to_string();
     assert!(!e.contains("did you mean"), "{e}");
     assert!(e.contains("allowed: y.depth"), "{e}");
+}
+
+#[test]
+fn an_unknown_reference_gets_a_did_you_mean_and_the_allowed_names() {
+    let text = format!(
+        "{}[references]\n\"r.dpth\" = {{ topic = \"tilts\", field = \"data[0]\" }}\n",
+        bagkit::MAPPING
+    );
+    let e = Mapping::parse(&text, Path::new("m.toml"))
+        .unwrap_err()
+        .to_string();
+    assert_eq!(
+        e,
+        "m.toml: [references] `r.dpth`: not a reference — did you mean `r.depth`? (allowed: \
+         r.depth, r.yaw, r.surge, r.sway, r.mode)"
+    );
+    // A channel's name is not a reference; unknown fields of an entry are refused.
+    let e = Mapping::parse(&text.replace("r.dpth", "y.depth"), Path::new("m.toml"))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("`y.depth`: not a reference"), "{e}");
+    let e = Mapping::parse(
+        &text.replace("r.dpth", "r.depth").replace("field", "feld"),
+        Path::new("m.toml"),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("unknown field `feld`"), "{e}");
+}
+
+#[test]
+fn a_mode_reference_that_is_not_a_code_names_its_message() {
+    let bag = kit_bag("mode_not_a_code.mcap");
+    // The port command is 16 … 20 %: no mode's code.
+    let text = format!(
+        "{}[references]\n\"r.mode\" = {{ topic = \"thrusters\", field = \"data[1]\" }}\n",
+        bagkit::MAPPING
+    );
+    let m = Mapping::parse(&text, Path::new("m.toml")).unwrap();
+    let e = read_bag(&bag, &m).unwrap_err().to_string();
+    assert!(
+        e.contains(
+            "topic `/auv/thrusters`, message 1, field `data[1]`: 20 is not a value of `r.mode`"
+        ),
+        "{e}"
+    );
+    assert!(e.contains("auto (5), raw (6)"), "{e}");
+    assert!(e.contains("(entry `r.mode`)"), "{e}");
 }
 
 #[test]

@@ -11,13 +11,16 @@
 //!   three angles clearly away from zero so that a lost sign or a swapped axis shows; p, q, r
 //!   from FLU rates (p, −q, −r);
 //! * the inputs u.top, u.port, u.stbd, u.alpha, u.beta, u.pump: on every row, exactly the
-//!   value of the topic's last message at or before it.
+//!   value of the topic's last message at or before it;
+//! * references mapped in a `[references]` section (`r.depth` from the tilts, `r.mode` from a
+//!   thruster command shifted into mode codes): held as the inputs are, and a reference whose
+//!   topic starts late (the pump's, mapped as `r.surge` instead of `u.pump`) starts the run.
 
 mod common;
 
 use common::bagkit::{self, IMU, PRESSURE, PUMP, Sample, TOPICS};
 use shoal_rosbag::{Mapping, read_bag};
-use shoal_sysid::log::run::{ChannelKind, MeasuredRun};
+use shoal_sysid::log::run::{ChannelKind, MeasuredRun, ReferenceKind};
 use std::f64::consts::{FRAC_PI_2, PI};
 use std::path::Path;
 
@@ -25,11 +28,16 @@ const SECONDS: u64 = 3;
 
 /// The kit's bag read through the kit's mapping.
 fn kit_run() -> MeasuredRun {
+    kit_run_with(bagkit::MAPPING)
+}
+
+/// The kit's bag read through `mapping`.
+fn kit_run_with(mapping: &str) -> MeasuredRun {
     let dir = std::env::temp_dir().join(format!("shoal-read-back-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("kit.mcap");
     std::fs::write(&path, bagkit::bag(SECONDS)).unwrap();
-    let mapping = Mapping::parse(bagkit::MAPPING, Path::new("kit.toml")).unwrap();
+    let mapping = Mapping::parse(mapping, Path::new("kit.toml")).unwrap();
     read_bag(&path, &mapping).unwrap_or_else(|e| panic!("{e}"))
 }
 
@@ -213,4 +221,74 @@ fn every_input_holds_the_value_of_its_topics_last_message() {
         // Every input takes several values, none of them only zero.
         assert!(distinct.len() >= 3, "u.{name}: {distinct:?}");
     }
+}
+
+/// The kit's mapping with references: `r.depth` = 2 × alpha + 1 \[m\] from the tilts,
+/// `r.mode` = port command − 15 from the thrusters (20 − k mod 5 → codes 1 … 5).
+const REFERENCES: &str = r#"
+[references]
+"r.depth" = { topic = "tilts", field = "data[0]", scale = 2.0, offset = 1.0 }
+"r.mode"  = { topic = "thrusters", field = "data[1]", offset = -15.0 }
+"#;
+
+#[test]
+fn references_hold_the_value_of_their_topics_last_message() {
+    let run = kit_run_with(&format!("{}{REFERENCES}", bagkit::MAPPING));
+    let (all, start) = mapped_and_start();
+    let times = rows(&all, start);
+    assert_eq!(run.t.len(), times.len(), "rows: the references add no time");
+    let refs = [
+        (ReferenceKind::Depth, bagkit::TILTS, 0, 2.0, 1.0),
+        (ReferenceKind::Mode, bagkit::THRUSTERS, 1, 1.0, -15.0),
+    ];
+    assert_eq!(run.references.len(), refs.len());
+    for (kind, topic, index, scale, offset) in refs {
+        let r = run.reference(kind).unwrap();
+        assert_eq!(r.values.len(), run.t.len(), "{kind:?}");
+        assert_eq!(r.first_set, 0, "{kind:?}");
+        let msgs: Vec<&Sample> = all.iter().filter(|s| s.topic == topic).collect();
+        let mut distinct = Vec::new();
+        for (row, &ns) in times.iter().enumerate() {
+            let last = msgs.iter().rfind(|s| s.log_ns <= ns).unwrap();
+            let raw = bagkit::array(topic, last.k, last.stamp_ns as f64 * 1e-9)[index];
+            let want = scale * raw + offset;
+            assert_eq!(r.values[row], want, "{kind:?} at row {row} ({ns} ns)");
+            if !distinct.contains(&want) {
+                distinct.push(want);
+            }
+        }
+        assert!(distinct.len() >= 3, "{kind:?}: {distinct:?}");
+    }
+    // The modes are the codes 1 … 5, each of them taken.
+    let mut modes = run.reference(ReferenceKind::Mode).unwrap().values.clone();
+    modes.sort_by(f64::total_cmp);
+    modes.dedup();
+    assert_eq!(modes, [1.0, 2.0, 3.0, 4.0, 5.0]);
+    // The inputs and channels are those of the mapping without references.
+    let plain = kit_run();
+    assert_eq!(run.inputs, plain.inputs);
+    assert_eq!(run.channels, plain.channels);
+}
+
+#[test]
+fn a_reference_whose_topic_starts_late_starts_the_run() {
+    // The pump's topic (first message at 0.5 s) mapped as a reference instead of an input:
+    // every input starts within a millisecond, so only the reference can hold the start back.
+    let mapping = bagkit::MAPPING
+        .replace(r#""u.pump"  = { topic = "pump", field = "data[0]" }"#, "")
+        + "[references]\n\"r.surge\" = { topic = \"pump\", field = \"data[0]\", scale = 4.0 }\n";
+    let run = kit_run_with(&mapping);
+    assert!(run.input("pump").is_none());
+    let (all, start) = mapped_and_start();
+    let pump_first = all.iter().find(|s| s.topic == PUMP).unwrap();
+    assert_eq!(start, pump_first.log_ns);
+    assert_eq!(
+        run.t.len(),
+        rows(&all, start).len(),
+        "rows from the pump's first message"
+    );
+    let surge = run.reference(ReferenceKind::Surge).unwrap();
+    // The pump's first value, +1, times 4 [N].
+    assert_eq!(surge.values[0], 4.0);
+    assert_eq!(surge.first_set, 0);
 }

@@ -1,9 +1,10 @@
 //! Measured runs as real loggers write them: every accepted form (separators, trailing
 //! separators, comments anywhere, CRLF, time in milliseconds) and every error, each with its
-//! exact line and column.
+//! exact line and column; the controller's references (`r.` columns) held like inputs, with
+//! modes by name or code.
 
 use shoal_sysid::log::format::{ReadOptions, Separator, TimeUnit};
-use shoal_sysid::log::run::{MeasuredRun, RunError};
+use shoal_sysid::log::run::{MeasuredRun, ReferenceKind, RunError};
 use std::path::Path;
 
 fn parse(s: &str) -> Result<MeasuredRun, RunError> {
@@ -260,4 +261,148 @@ fn input_precision_is_recorded_per_value_and_held() {
     );
     assert_eq!(r.inputs[1].first_set, 0);
     assert_eq!(r.inputs[1].precision[2], 0.005);
+}
+
+/// A log with references, mode by name (any case) and by code, empty cells held: row by row
+/// (a comment line, the header on line 2, rows on lines 3 … 8).
+const REFERENCES: &str = "# mission 4\n\
+    t,u.port,y.depth,r.depth,r.yaw,r.mode\n\
+    0,10,0.5,,0.25,\n\
+    0.1,,0.51,1.5,,Diving\n\
+    0.2,,0.52,,,\n\
+    0.3,,0.53,2,,5\n\
+    0.4,,0.54,,-1.5,TURNING\n\
+    0.5,,0.55,,,0\n";
+
+#[test]
+fn references_are_held_like_inputs_and_modes_read_by_name_or_code() {
+    let r = parse(REFERENCES).unwrap_or_else(|e| panic!("{e}"));
+    // Each column by hand: the value in force at each row; before the first set cell that
+    // cell's value. Modes as their codes: diving 1, auto 5, turning 3, off 0.
+    let want: [(ReferenceKind, usize, [f64; 6], usize); 3] = [
+        (ReferenceKind::Depth, 4, [1.5, 1.5, 1.5, 2.0, 2.0, 2.0], 1),
+        (
+            ReferenceKind::Yaw,
+            5,
+            [0.25, 0.25, 0.25, 0.25, -1.5, -1.5],
+            0,
+        ),
+        (ReferenceKind::Mode, 6, [1.0, 1.0, 1.0, 5.0, 3.0, 0.0], 1),
+    ];
+    assert_eq!(r.references.len(), 3);
+    for (kind, column, values, first_set) in want {
+        let col = r.reference(kind).unwrap();
+        assert_eq!(col.name, kind.name());
+        assert_eq!(col.column, column, "{kind:?}");
+        assert_eq!(col.values, values, "{kind:?}");
+        assert_eq!(col.first_set, first_set, "{kind:?}");
+    }
+    // Written precision held with the value; a mode is exact.
+    let depth = r.reference(ReferenceKind::Depth).unwrap();
+    assert_eq!(depth.precision[0], 0.05);
+    assert_eq!(depth.precision[5], 0.5);
+    assert!(
+        r.reference(ReferenceKind::Mode)
+            .unwrap()
+            .precision
+            .iter()
+            .all(|&p| p == 0.0)
+    );
+    // The inputs and channels are not disturbed.
+    assert_eq!(r.inputs[0].values, vec![10.0; 6]);
+    assert_eq!(r.channels[0].values.len(), 6);
+    assert!(r.reference(ReferenceKind::Surge).is_none());
+    // Every mode name in any case, and every code, is read as the code.
+    for (cell, code) in [
+        ("off", 0.0),
+        ("BUOYANCY", 2.0),
+        ("Drift", 4.0),
+        ("raw", 6.0),
+        ("6", 6.0),
+        ("3.0", 3.0),
+    ] {
+        let text = format!("t,y.depth,r.mode\n0,1,{cell}\n0.1,1,\n");
+        let r = parse(&text).unwrap_or_else(|e| panic!("{cell}: {e}"));
+        assert_eq!(r.references[0].values, vec![code, code], "{cell}");
+    }
+}
+
+#[test]
+fn an_unknown_or_repeated_reference_names_its_column_with_a_did_you_mean() {
+    let e = parse("# c\nt,u.port,y.depth,r.dpth\n0,1,2,3\n0.1,1,2,3\n").unwrap_err();
+    assert_eq!((e.line, e.column.clone()), (2, Some((4, "r.dpth".into()))));
+    assert!(
+        e.message
+            .starts_with("unknown reference `r.dpth` — did you mean `r.depth`?"),
+        "{e}"
+    );
+    assert!(
+        e.message
+            .contains("(allowed: r.depth, r.yaw, r.surge, r.sway, r.mode)"),
+        "{e}"
+    );
+    // Nothing near: the list only.
+    let e = parse("t,y.depth,r.speed\n0,1,2\n").unwrap_err();
+    assert_eq!(at(&e), (1, Some(3)));
+    assert!(!e.message.contains("did you mean"), "{e}");
+    assert!(e.message.contains("allowed: r.depth"), "{e}");
+    let e = parse("t,y.depth,r.mode,r.yaw,r.mode\n0,1,2,0,2\n").unwrap_err();
+    assert_eq!(at(&e), (1, Some(5)));
+    assert!(e.message.contains("appears twice"), "{e}");
+    // The unknown-column message names the `r.` columns among the allowed ones.
+    let e = parse("t,y.depth,ref_depth\n0,1,2\n").unwrap_err();
+    assert!(e.message.contains("`r.<reference>`"), "{e}");
+}
+
+#[test]
+fn a_bad_reference_cell_names_line_column_and_the_allowed_values() {
+    let e = parse("t,y.depth,r.depth,r.mode\n0,1,1,auto\n0.1,1,,\n0.2,1,,swim\n").unwrap_err();
+    assert_eq!((e.line, e.column.clone()), (4, Some((4, "r.mode".into()))));
+    assert!(
+        e.to_string()
+            .starts_with("run.csv:4: column 4 `r.mode`: `swim` is not a mode"),
+        "{e}"
+    );
+    assert!(
+        e.message.contains(
+            "off (0), diving (1), buoyancy (2), turning (3), drift (4), auto (5), raw (6)"
+        ),
+        "{e}"
+    );
+    // Codes past the table and fractions are not modes either.
+    for cell in ["7", "-1", "2.5", "nan"] {
+        let e = parse(&format!("t,y.depth,r.mode\n0,1,{cell}\n0.1,1,\n")).unwrap_err();
+        assert_eq!(at(&e), (2, Some(3)), "{cell}: {e}");
+        assert!(e.message.contains("is not a mode"), "{cell}: {e}");
+    }
+    // A non-finite reference: the allowed range with its unit.
+    let e = parse("t,y.depth,r.depth\n0,1,1\n0.1,1,inf\n").unwrap_err();
+    assert_eq!(at(&e), (3, Some(3)));
+    assert!(
+        e.message.contains(
+            "`inf` is not a finite number (allowed for `r.depth`: a finite depth [m, positive down])"
+        ),
+        "{e}"
+    );
+    let e = parse("t,y.depth,r.yaw\n0,1,north\n").unwrap_err();
+    assert!(e.message.contains("`north` is not a number"), "{e}");
+    let e = parse("t,y.depth,r.surge\n0,1,\n0.1,1,\n").unwrap_err();
+    assert_eq!(at(&e), (1, Some(3)));
+    assert!(e.message.contains("this reference is never set"), "{e}");
+}
+
+#[test]
+fn references_round_trip_through_to_csv() {
+    let r = parse(REFERENCES).unwrap();
+    let text = r.to_csv();
+    assert!(
+        text.starts_with("t,u.port,y.depth,r.depth,r.yaw,r.mode\n"),
+        "{text}"
+    );
+    let again = parse(&text).unwrap_or_else(|e| panic!("{e}\n{text}"));
+    assert_eq!(again.t, r.t);
+    assert_eq!(again.inputs, r.inputs);
+    assert_eq!(again.channels, r.channels);
+    // Values, precision, columns and the row each is first set at.
+    assert_eq!(again.references, r.references);
 }

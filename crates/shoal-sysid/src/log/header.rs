@@ -3,11 +3,13 @@
 //! The separator is the one of `,`, `;` and tab that occurs in the header line (none, or more
 //! than one of them, is an error). A last, empty header field (a trailing separator) is
 //! dropped. Columns: the time (`t`, `t_s`, `t[s]`, `t_ms`, `t[ms]`), inputs `u.<actuator>`,
-//! measurements `y.<channel>`, ignored `x.<anything>`; anything else, a repeated name or a
+//! measurements `y.<channel>`, the controller's references `r.<reference>` (the names of
+//! [`ReferenceKind::ALL`]: `depth yaw surge sway mode`), ignored `x.<anything>`; anything
+//! else (an unknown measurement or reference with a "did you mean"), a repeated name or a
 //! second time column is an error naming the header line and the column.
 
 use crate::log::format::{ReadOptions, Separator, TimeUnit};
-use crate::log::run::{Channel, ChannelKind, InputColumn, RunError, suggest};
+use crate::log::run::{Channel, ChannelKind, InputColumn, ReferenceKind, RunError, suggest};
 use std::collections::HashSet;
 use std::path::Path;
 
@@ -20,6 +22,8 @@ pub(crate) enum Col {
     Input(usize),
     /// Measurement (index into the channels).
     Output(usize),
+    /// Reference (index into the references, and its kind).
+    Reference(usize, ReferenceKind),
     /// Ignored `x.` column.
     Extra,
 }
@@ -73,6 +77,8 @@ pub(crate) struct Header {
     pub inputs: Vec<InputColumn>,
     /// The measurement columns, without samples.
     pub channels: Vec<Channel>,
+    /// The reference columns, without values.
+    pub references: Vec<InputColumn>,
     /// Names of the `x.` columns.
     pub extra: Vec<String>,
 }
@@ -101,57 +107,8 @@ impl Header {
                 ),
             )
         })?;
-        let found: Vec<Separator> = Separator::ALL
-            .into_iter()
-            .filter(|s| header_text.as_bytes().contains(&s.byte()))
-            .collect();
-        let sep = match found.as_slice() {
-            [s] => *s,
-            [] => {
-                return Err(err(
-                    header_line,
-                    None,
-                    format!(
-                        "no column separator in the header `{}`: columns must be separated by `,`, \
-                         `;` or a tab (and the header needs `t` and at least one `y.` column)",
-                        quote(header_text)
-                    ),
-                ));
-            }
-            many => {
-                let names: Vec<&str> = many.iter().map(|s| s.name()).collect();
-                return Err(err(
-                    header_line,
-                    None,
-                    format!(
-                        "the header mixes the separators {}: use one of `,`, `;` or tab throughout",
-                        names.join(" and ")
-                    ),
-                ));
-            }
-        };
-        let mut names: Vec<String> = {
-            let mut hr = csv::ReaderBuilder::new()
-                .has_headers(false)
-                .delimiter(sep.byte())
-                .flexible(true)
-                .trim(csv::Trim::All)
-                .from_reader(header_text.as_bytes());
-            let mut rec = csv::StringRecord::new();
-            hr.read_record(&mut rec).map_err(|e| {
-                err(
-                    header_line,
-                    None,
-                    format!("the header is not valid CSV: {e}"),
-                )
-            })?;
-            rec.iter()
-                .map(|c| match unquote(c.as_bytes()) {
-                    Some(u) => String::from_utf8_lossy(&u).into_owned(),
-                    None => c.to_string(),
-                })
-                .collect()
-        };
+        let sep = separator(header_text).map_err(|m| err(header_line, None, m))?;
+        let mut names = split(header_text, sep).map_err(|m| err(header_line, None, m))?;
         let mut trailing_separator = false;
         if names.len() > 1 && names.last().is_some_and(String::is_empty) {
             names.pop();
@@ -159,11 +116,7 @@ impl Header {
         }
 
         // What each column is.
-        let mut cols = Vec::with_capacity(names.len());
-        let mut time: Option<(usize, Option<TimeUnit>)> = None;
-        let mut inputs: Vec<InputColumn> = Vec::new();
-        let mut channels: Vec<Channel> = Vec::new();
-        let mut extra = Vec::new();
+        let mut found = Columns::default();
         let mut seen: HashSet<&str> = HashSet::with_capacity(names.len());
         for (i, n) in names.iter().enumerate() {
             let c = i + 1;
@@ -174,82 +127,18 @@ impl Header {
                     "this column name appears twice".into(),
                 ));
             }
-            if let Some(unit) = TimeUnit::from_column(n) {
-                if let Some((tc, _)) = time {
-                    return Err(err(
-                        header_line,
-                        Some((c, n)),
-                        format!(
-                            "a second time column (the first is column {tc} `{}`): keep one",
-                            names.get(tc - 1).map_or("", String::as_str)
-                        ),
-                    ));
-                }
-                time = Some((c, unit));
-                cols.push(Col::Time);
-            } else if let Some(a) = n.strip_prefix("u.") {
-                if a.is_empty() {
-                    return Err(err(
-                        header_line,
-                        Some((c, n)),
-                        "an input column needs an actuator name after `u.`".into(),
-                    ));
-                }
-                cols.push(Col::Input(inputs.len()));
-                inputs.push(InputColumn {
-                    name: a.to_string(),
-                    column: c,
-                    values: Vec::new(),
-                    precision: Vec::new(),
-                    first_set: 0,
-                });
-            } else if let Some(y) = n.strip_prefix("y.") {
-                let Some(kind) = ChannelKind::from_name(y) else {
-                    let allowed: Vec<String> = ChannelKind::ALL
-                        .iter()
-                        .map(|(_, n)| format!("y.{n}"))
-                        .collect();
-                    return Err(err(
-                        header_line,
-                        Some((c, n)),
-                        format!(
-                            "unknown measurement `{}`{} (allowed: {})",
-                            quote(n),
-                            suggest(y, ChannelKind::ALL.iter().map(|(_, n)| *n))
-                                .map(|s| format!(" — did you mean `y.{s}`?"))
-                                .unwrap_or_default(),
-                            allowed.join(", ")
-                        ),
-                    ));
-                };
-                cols.push(Col::Output(channels.len()));
-                channels.push(Channel {
-                    kind,
-                    column: c,
-                    rows: Vec::new(),
-                    values: Vec::new(),
-                });
-            } else if n.starts_with("x.") {
-                cols.push(Col::Extra);
-                extra.push(n.clone());
-            } else {
-                return Err(err(
-                    header_line,
-                    Some((c, n)),
-                    format!(
-                        "unknown column `{}`: allowed are the time (`t`, `t_s`, `t[s]`, `t_ms`, \
-                         `t[ms]`), `u.<actuator>`, `y.<measurement>` and `x.<anything>` \
-                         (ignored){}",
-                        quote(n),
-                        if n.is_empty() {
-                            String::new()
-                        } else {
-                            format!(" — to keep it, name it `x.{}`", quote(n))
-                        }
-                    ),
-                ));
-            }
+            found
+                .add(c, n, &names)
+                .map_err(|m| err(header_line, Some((c, n)), m))?;
         }
+        let Columns {
+            cols,
+            time,
+            inputs,
+            channels,
+            references,
+            extra,
+        } = found;
         let Some((time_col, declared)) = time else {
             return Err(err(
                 header_line,
@@ -296,8 +185,146 @@ impl Header {
             trailing_separator,
             inputs,
             channels,
+            references,
             extra,
         })
+    }
+}
+
+/// The one of `,`, `;` and tab that occurs in the header.
+fn separator(header_text: &str) -> Result<Separator, String> {
+    let found: Vec<Separator> = Separator::ALL
+        .into_iter()
+        .filter(|s| header_text.as_bytes().contains(&s.byte()))
+        .collect();
+    match found.as_slice() {
+        [s] => Ok(*s),
+        [] => Err(format!(
+            "no column separator in the header `{}`: columns must be separated by `,`, `;` or a \
+             tab (and the header needs `t` and at least one `y.` column)",
+            quote(header_text)
+        )),
+        many => {
+            let names: Vec<&str> = many.iter().map(|s| s.name()).collect();
+            Err(format!(
+                "the header mixes the separators {}: use one of `,`, `;` or tab throughout",
+                names.join(" and ")
+            ))
+        }
+    }
+}
+
+/// The header's column names, trimmed and unquoted.
+fn split(header_text: &str, sep: Separator) -> Result<Vec<String>, String> {
+    let mut hr = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .delimiter(sep.byte())
+        .flexible(true)
+        .trim(csv::Trim::All)
+        .from_reader(header_text.as_bytes());
+    let mut rec = csv::StringRecord::new();
+    hr.read_record(&mut rec)
+        .map_err(|e| format!("the header is not valid CSV: {e}"))?;
+    Ok(rec
+        .iter()
+        .map(|c| match unquote(c.as_bytes()) {
+            Some(u) => String::from_utf8_lossy(&u).into_owned(),
+            None => c.to_string(),
+        })
+        .collect())
+}
+
+/// The columns of a header, as they are classified.
+#[derive(Default)]
+struct Columns {
+    cols: Vec<Col>,
+    /// 1-based column of the time and the unit its name declares.
+    time: Option<(usize, Option<TimeUnit>)>,
+    inputs: Vec<InputColumn>,
+    channels: Vec<Channel>,
+    references: Vec<InputColumn>,
+    extra: Vec<String>,
+}
+
+/// A held column (input or reference) without values.
+fn held(name: &str, column: usize) -> InputColumn {
+    InputColumn {
+        name: name.to_string(),
+        column,
+        values: Vec::new(),
+        precision: Vec::new(),
+        first_set: 0,
+    }
+}
+
+/// "unknown measurement `y.dpth` — did you mean `y.depth`? (allowed: …)".
+fn unknown(what: &str, prefix: &str, name: &str, names: &[&str]) -> String {
+    let allowed: Vec<String> = names.iter().map(|n| format!("{prefix}{n}")).collect();
+    format!(
+        "unknown {what} `{}`{} (allowed: {})",
+        quote(&format!("{prefix}{name}")),
+        suggest(name, names.iter().copied())
+            .map(|s| format!(" — did you mean `{prefix}{s}`?"))
+            .unwrap_or_default(),
+        allowed.join(", ")
+    )
+}
+
+impl Columns {
+    /// Classifies column `c` named `n` (`names`: every column's name); an error message if
+    /// it is not a column of a run.
+    fn add(&mut self, c: usize, n: &str, names: &[String]) -> Result<(), String> {
+        if let Some(unit) = TimeUnit::from_column(n) {
+            if let Some((tc, _)) = self.time {
+                return Err(format!(
+                    "a second time column (the first is column {tc} `{}`): keep one",
+                    names.get(tc - 1).map_or("", String::as_str)
+                ));
+            }
+            self.time = Some((c, unit));
+            self.cols.push(Col::Time);
+        } else if let Some(a) = n.strip_prefix("u.") {
+            if a.is_empty() {
+                return Err("an input column needs an actuator name after `u.`".into());
+            }
+            self.cols.push(Col::Input(self.inputs.len()));
+            self.inputs.push(held(a, c));
+        } else if let Some(y) = n.strip_prefix("y.") {
+            let Some(kind) = ChannelKind::from_name(y) else {
+                let names: Vec<&str> = ChannelKind::ALL.iter().map(|(_, n)| *n).collect();
+                return Err(unknown("measurement", "y.", y, &names));
+            };
+            self.cols.push(Col::Output(self.channels.len()));
+            self.channels.push(Channel {
+                kind,
+                column: c,
+                rows: Vec::new(),
+                values: Vec::new(),
+            });
+        } else if let Some(r) = n.strip_prefix("r.") {
+            let Some(kind) = ReferenceKind::from_name(r) else {
+                let names: Vec<&str> = ReferenceKind::ALL.iter().map(|(_, n, _)| *n).collect();
+                return Err(unknown("reference", "r.", r, &names));
+            };
+            self.cols.push(Col::Reference(self.references.len(), kind));
+            self.references.push(held(r, c));
+        } else if n.starts_with("x.") {
+            self.cols.push(Col::Extra);
+            self.extra.push(n.to_string());
+        } else {
+            return Err(format!(
+                "unknown column `{}`: allowed are the time (`t`, `t_s`, `t[s]`, `t_ms`, \
+                 `t[ms]`), `u.<actuator>`, `y.<measurement>`, `r.<reference>` and \
+                 `x.<anything>` (ignored){}",
+                quote(n),
+                if n.is_empty() {
+                    String::new()
+                } else {
+                    format!(" — to keep it, name it `x.{}`", quote(n))
+                }
+            ));
+        }
+        Ok(())
     }
 }
 

@@ -22,21 +22,26 @@
 //!   errors. For each input cell the reader records half a unit of its last written digit
 //!   (`-1.5708` → 5·10⁻⁵), so that the limit check ([`crate::log::limits`]) can
 //!   tell a value rounded by the logger from one that is really out of range.
+//! * **References** `r.<reference>` ([`ReferenceKind::ALL`]: `depth` \[m\], `yaw` \[rad\],
+//!   `surge`, `sway` \[N\], `mode`) are held like inputs: an empty cell keeps the value in
+//!   force, rows before the first set value take that value. An `r.mode` cell is a mode name
+//!   (`off diving buoyancy turning drift auto raw`, any case) or its code `0` … `6`, kept as
+//!   the code.
 //!
 //! Rejected, each with file, line and column: a header without `t` or without a `y.` column,
 //! an unknown or repeated column, a row with too many or too few fields, invalid UTF-8, a
-//! missing, non-increasing or non-finite time, a cell that is not a finite number, an input
-//! never set, a measurement never sampled, fewer than two data rows, a line longer than
-//! 1 MiB. Gaps in time are handled afterwards by [`MeasuredRun::split_at_gaps`].
+//! missing, non-increasing or non-finite time, a cell that is not a finite number, an
+//! `r.mode` cell that is not a mode, an input or reference never set, a measurement never
+//! sampled, fewer than two data rows, a line longer than 1 MiB. Gaps in time are handled afterwards by [`MeasuredRun::split_at_gaps`].
 //!
 //! Memory is the parsed columns (a few bytes per cell) plus one line; the text is never held
 //! whole.
 
 use crate::log::data_lines::{LineTooLong, LogLines};
-use crate::log::format::{IngestInfo, ReadOptions, Separator};
+use crate::log::format::{IngestInfo, ReadOptions, Separator, TimeUnit};
 use crate::log::header::{Col, Header, quote, unquote};
-use crate::log::numbers::short;
 use crate::log::run::{MeasuredRun, RunError};
+use crate::log::table::Table;
 use std::fs::File;
 use std::io::{self, BufRead, BufReader};
 use std::path::Path;
@@ -138,13 +143,13 @@ fn read_run<R: BufRead>(src: R, path: &Path, opts: &ReadOptions) -> Result<Measu
         time_column: time_col,
         time_unit: unit,
         trailing_separator,
-        mut inputs,
-        mut channels,
+        inputs,
+        channels,
+        references,
         extra,
     } = Header::parse(&raw, header_line, path, opts)?;
-    let mut trailing_separator = trailing_separator;
     let time_name = names.get(time_col - 1).cloned().unwrap_or_default();
-    let mut first_set: Vec<Option<usize>> = vec![None; inputs.len()];
+    let mut table = Table::new(inputs, channels, references);
 
     // The rows.
     let mut rdr = csv::ReaderBuilder::new()
@@ -154,11 +159,74 @@ fn read_run<R: BufRead>(src: R, path: &Path, opts: &ReadOptions) -> Result<Measu
         .trim(csv::Trim::All)
         .buffer_capacity(1 << 16)
         .from_reader(lines);
+    let trailing_separator = read_rows(
+        &mut rdr,
+        (&names, &cols, sep, unit),
+        path,
+        header_line,
+        &mut table,
+    )? || trailing_separator;
+    table.finish(path, header_line)?;
+    let Table {
+        t,
+        lines: row_lines,
+        inputs,
+        channels,
+        references,
+        ..
+    } = table;
+    let filter = rdr.get_ref().get_ref();
+    let ingest = IngestInfo {
+        separator: sep,
+        time_unit: unit,
+        time_column: time_col,
+        time_header: time_name,
+        comment_lines: filter.comment_lines(),
+        blank_lines: filter.blank_lines(),
+        trailing_separator,
+        file_rows: t.len(),
+        segment: None,
+        segments: 0,
+        dropped_segments: 0,
+        gap_limit: 0.0,
+        source: None,
+    };
+    let name = path
+        .file_stem()
+        .map_or_else(|| "run".to_string(), |s| s.to_string_lossy().into_owned());
+    Ok(MeasuredRun {
+        path: path.to_path_buf(),
+        name,
+        t,
+        inputs,
+        channels,
+        references,
+        extra,
+        header_line,
+        lines: row_lines,
+        ingest,
+    })
+}
+
+/// Reads the data rows into `table`; whether a row ended with an extra, empty field (a
+/// trailing separator).
+fn read_rows<R: BufRead>(
+    rdr: &mut csv::Reader<BufReader<LogLines<R>>>,
+    header: (&[String], &[Col], Separator, TimeUnit),
+    path: &Path,
+    header_line: usize,
+    table: &mut Table,
+) -> Result<bool, RunError> {
+    let (names, cols, sep, unit) = header;
+    let err = |line: usize, column: Option<(usize, &str)>, message: String| RunError {
+        file: path.to_path_buf(),
+        line,
+        column: column.map(|(c, n)| (c, n.to_string())),
+        message,
+    };
+    let mut trailing_separator = false;
     let n_cols = names.len();
     let mut rec = csv::ByteRecord::new();
-    let mut t: Vec<f64> = Vec::new();
-    let mut row_lines: Vec<usize> = Vec::new();
-    let mut prev_time: Option<(f64, usize)> = None;
     let mut last_line = header_line;
     loop {
         match rdr.read_byte_record(&mut rec) {
@@ -200,7 +268,7 @@ fn read_run<R: BufRead>(src: R, path: &Path, opts: &ReadOptions) -> Result<Measu
                 Some((k + 1, missing)),
                 format!(
                     "the row has {k} field(s), but the header has {n_cols} columns: this one \
-                     and any after it are missing (write an empty field for \"not sampled\")"
+                 and any after it are missing (write an empty field for \"not sampled\")"
                 ),
             ));
         }
@@ -211,7 +279,7 @@ fn read_run<R: BufRead>(src: R, path: &Path, opts: &ReadOptions) -> Result<Measu
                 None,
                 format!(
                     "the row has {k} fields, but the header has {n_cols} columns: field {} \
-                     (`{}`) has no column",
+                 (`{}`) has no column",
                     n_cols + 1,
                     quote(&cell)
                 ),
@@ -220,179 +288,17 @@ fn read_run<R: BufRead>(src: R, path: &Path, opts: &ReadOptions) -> Result<Measu
         if extra_field {
             trailing_separator = true;
         }
-        let row = t.len();
-        for (i, (field, col)) in rec.iter().zip(&cols).enumerate() {
-            let c = i + 1;
-            let name = names.get(i).map_or("", String::as_str);
-            let cell = std::str::from_utf8(field).map_err(|e| {
+        table
+            .push_row(&rec, cols, sep, unit, line)
+            .map_err(|(i, m)| {
                 err(
                     line,
-                    Some((c, name)),
-                    format!(
-                        "the cell is not valid UTF-8 text (bad byte at position {} of the cell)",
-                        e.valid_up_to() + 1
-                    ),
+                    Some((i + 1, names.get(i).map_or("", String::as_str))),
+                    m,
                 )
             })?;
-            if matches!(col, Col::Extra) {
-                continue; // kept as text, never parsed
-            }
-            let value = number(cell, sep).map_err(|m| err(line, Some((c, name)), m))?;
-            match *col {
-                Col::Time => {
-                    let Some(v) = value else {
-                        return Err(err(
-                            line,
-                            Some((c, name)),
-                            "the time is missing: every row needs one".into(),
-                        ));
-                    };
-                    let secs = unit.to_seconds(v);
-                    if let Some((prev, prev_line)) = prev_time
-                        && t.last().is_some_and(|&last| secs <= last)
-                    {
-                        return Err(err(
-                            line,
-                            Some((c, name)),
-                            format!(
-                                "time {} {unit} does not increase (line {prev_line}: {} {unit}); \
-                                 times must be strictly increasing",
-                                quote(cell),
-                                short(prev)
-                            ),
-                        ));
-                    }
-                    prev_time = Some((v, line));
-                    t.push(secs);
-                    row_lines.push(line);
-                }
-                Col::Input(k) => {
-                    let inp = &mut inputs[k];
-                    match value {
-                        Some(v) => {
-                            if first_set[k].is_none() {
-                                first_set[k] = Some(row);
-                            }
-                            inp.values.push(v);
-                            inp.precision.push(half_ulp(cell));
-                        }
-                        None => {
-                            // Held from the row before (back-filled below if never set yet).
-                            let v = inp.values.last().copied().unwrap_or(f64::NAN);
-                            let p = inp.precision.last().copied().unwrap_or(0.0);
-                            inp.values.push(v);
-                            inp.precision.push(p);
-                        }
-                    }
-                }
-                Col::Output(k) => {
-                    if let Some(v) = value {
-                        channels[k].rows.push(row);
-                        channels[k].values.push(v);
-                    }
-                }
-                Col::Extra => {}
-            }
-        }
     }
-    if t.len() < 2 {
-        return Err(err(
-            header_line,
-            None,
-            if t.is_empty() {
-                format!(
-                    "the header (line {header_line}) is followed by no data row: a run needs at \
-                     least 2"
-                )
-            } else {
-                format!(
-                    "only 1 data row after the header (line {header_line}): a run needs at least 2"
-                )
-            },
-        ));
-    }
-    for (inp, first) in inputs.iter_mut().zip(first_set) {
-        let Some(first) = first else {
-            return Err(err(
-                header_line,
-                Some((inp.column, &format!("u.{}", inp.name))),
-                "this input is never set (every cell is empty)".into(),
-            ));
-        };
-        // Before its first value an input holds that value.
-        let (v, p) = (inp.values[first], inp.precision[first]);
-        inp.values[..first].fill(v);
-        inp.precision[..first].fill(p);
-        inp.first_set = first;
-    }
-    for ch in &channels {
-        if ch.values.is_empty() {
-            return Err(err(
-                header_line,
-                Some((ch.column, &ch.label())),
-                "this measurement has no samples (every cell is empty)".into(),
-            ));
-        }
-    }
-    let filter = rdr.get_ref().get_ref();
-    let ingest = IngestInfo {
-        separator: sep,
-        time_unit: unit,
-        time_column: time_col,
-        time_header: time_name,
-        comment_lines: filter.comment_lines(),
-        blank_lines: filter.blank_lines(),
-        trailing_separator,
-        file_rows: t.len(),
-        segment: None,
-        segments: 0,
-        dropped_segments: 0,
-        gap_limit: 0.0,
-        source: None,
-    };
-    let name = path
-        .file_stem()
-        .map_or_else(|| "run".to_string(), |s| s.to_string_lossy().into_owned());
-    Ok(MeasuredRun {
-        path: path.to_path_buf(),
-        name,
-        t,
-        inputs,
-        channels,
-        references: Vec::new(),
-        extra,
-        header_line,
-        lines: row_lines,
-        ingest,
-    })
-}
-
-/// A cell as a number: `None` when empty; an error message when it is not a finite number.
-fn number(cell: &str, sep: Separator) -> Result<Option<f64>, String> {
-    if cell.is_empty() {
-        return Ok(None);
-    }
-    match cell.parse::<f64>() {
-        Ok(v) if v.is_finite() => Ok(Some(v)),
-        Ok(_) => Err(format!(
-            "`{}` is not a finite number (allowed: finite numbers such as -1.5708 or 2.5e-3)",
-            quote(cell)
-        )),
-        Err(_) => {
-            let hint = if cell.contains('#') {
-                " (a `#` comment must stand on its own line)"
-            } else if sep != Separator::Comma && cell.contains(',') {
-                " (decimal commas are not read: write 0.5, not 0,5)"
-            } else {
-                ""
-            };
-            Err(format!(
-                "`{}` is not a number{hint} (allowed: finite numbers such as -1.5708 or 2.5e-3, \
-                 or an empty cell for \"not sampled\")",
-                quote(cell)
-            ))
-        }
-    }
+    Ok(trailing_separator)
 }
 
 /// Half a unit of the last written digit of a decimal number — the rounding the writer may

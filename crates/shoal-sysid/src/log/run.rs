@@ -2,8 +2,10 @@
 //!
 //! One header row, then one row per time stamp: `t` \[s\] (strictly increasing, need not be
 //! uniform), inputs `u.<actuator>` held until their next value (zero-order hold), measurements
-//! `y.<channel>`, and ignored extra columns `x.<anything>`. An empty cell means "not sampled at
-//! this time" (multi-rate logs merged on the union of their time stamps).
+//! `y.<channel>`, the references the vehicle's controller followed `r.<reference>` (held like
+//! inputs; names in [`ReferenceKind::ALL`]), and ignored extra columns `x.<anything>`. An empty
+//! cell means "not sampled at this time" (multi-rate logs merged on the union of their time
+//! stamps).
 //!
 //! This module holds the parsed run and knows nothing of how it was read: the reader
 //! (`ingest.rs`) makes it from a file (separators, comments, time units, streaming) and
@@ -13,6 +15,7 @@
 //! Every problem is a [`RunError`] naming the file, the line and the column.
 
 use crate::log::format::IngestInfo;
+use shoal_model::control::Mode;
 use std::fmt;
 use std::path::PathBuf;
 
@@ -165,16 +168,119 @@ impl serde::Serialize for ChannelKind {
     }
 }
 
+/// What an `r.` column holds: a reference (setpoint) the vehicle's controller followed. The
+/// one table of reference names ([`ReferenceKind::ALL`]): the CSV header, the rosbag2 mapping,
+/// their messages and the docs take them from here.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum ReferenceKind {
+    /// Depth setpoint \[m\] (positive down).
+    Depth,
+    /// Heading setpoint \[rad\].
+    Yaw,
+    /// Surge force demand \[N\].
+    Surge,
+    /// Sway force demand \[N\].
+    Sway,
+    /// The controller's mode, as its code ([`Mode::code`], 0 … 6) \[-\].
+    Mode,
+}
+
+impl ReferenceKind {
+    /// Every kind with its column name (after `r.`) and what it is, with its unit.
+    pub const ALL: [(ReferenceKind, &'static str, &'static str); 5] = [
+        (ReferenceKind::Depth, "depth", "depth [m, positive down]"),
+        (ReferenceKind::Yaw, "yaw", "heading [rad]"),
+        (ReferenceKind::Surge, "surge", "surge force [N]"),
+        (ReferenceKind::Sway, "sway", "sway force [N]"),
+        (ReferenceKind::Mode, "mode", "mode (name or code)"),
+    ];
+
+    /// Parses a column name without the `r.` prefix.
+    pub fn from_name(s: &str) -> Option<ReferenceKind> {
+        Self::ALL
+            .iter()
+            .find(|(_, n, _)| *n == s)
+            .map(|(k, _, _)| *k)
+    }
+
+    /// Column name without the `r.` prefix.
+    pub fn name(self) -> &'static str {
+        Self::ALL
+            .iter()
+            .find(|(k, _, _)| *k == self)
+            .map_or("?", |(_, n, _)| n)
+    }
+
+    /// What it is, with its unit, e.g. `depth [m, positive down]`.
+    pub fn what(self) -> &'static str {
+        Self::ALL
+            .iter()
+            .find(|(k, _, _)| *k == self)
+            .map_or("?", |(_, _, w)| w)
+    }
+
+    /// The column names with their prefix, for messages: `r.depth, r.yaw, …`.
+    pub fn allowed() -> String {
+        let names: Vec<String> = Self::ALL.iter().map(|(_, n, _)| format!("r.{n}")).collect();
+        names.join(", ")
+    }
+
+    /// The allowed values, for messages.
+    pub fn allowed_values(self) -> String {
+        match self {
+            ReferenceKind::Mode => {
+                let modes: Vec<String> = Mode::BY_CODE
+                    .iter()
+                    .map(|m| format!("{} ({})", m.name(), m.code()))
+                    .collect();
+                format!("a mode name in any case or its code: {}", modes.join(", "))
+            }
+            _ => format!("a finite {}", self.what()),
+        }
+    }
+
+    /// A value of this reference as read (a number in its unit; for the mode its code), or
+    /// what is wrong with it (naming the allowed values).
+    pub fn check(self, v: f64) -> Result<f64, String> {
+        let ok = match self {
+            ReferenceKind::Mode => {
+                v.fract() == 0.0 && (0.0..Mode::BY_CODE.len() as f64).contains(&v)
+            }
+            _ => v.is_finite(),
+        };
+        if ok {
+            Ok(v)
+        } else {
+            Err(format!(
+                "{v} is not a value of `r.{}` (allowed: {})",
+                self.name(),
+                self.allowed_values()
+            ))
+        }
+    }
+
+    /// A written mode cell: a mode name (any case) or its code `0` … `6` (`3`, `3.0`), as the
+    /// code.
+    pub fn parse_mode(cell: &str) -> Option<f64> {
+        if let Some(m) = Mode::from_name(&cell.to_ascii_lowercase()) {
+            return Some(m.code() as f64);
+        }
+        let code: f64 = cell.parse().ok()?;
+        ReferenceKind::Mode.check(code).ok()
+    }
+}
+
 /// An actuator input column, zero-order held.
 #[derive(Clone, Debug, PartialEq)]
 pub struct InputColumn {
-    /// Actuator name (after `u.`).
+    /// Actuator name (after `u.`), or for a reference its name (after `r.`, one of
+    /// [`ReferenceKind::ALL`]).
     pub name: String,
     /// 1-based column number in the file.
     pub column: usize,
     /// Value in force at each row (held from the last set value; before the first set value,
     /// the first set value) [unit of the actuator: % for thrusters, rad for tilt drives, −1/0/+1
-    /// for the pump].
+    /// for the pump; of a reference: see [`ReferenceKind`]].
     pub values: Vec<f64>,
     /// For each row, half a unit of the last written digit of the cell its value comes from
     /// (`-1.5708` → 5·10⁻⁵) [unit of the actuator]: how far the logger may have rounded it.
@@ -219,7 +325,8 @@ pub struct MeasuredRun {
     pub channels: Vec<Channel>,
     /// References the vehicle's controller followed (`r.<name>` columns), held like inputs:
     /// `depth` \[m\], `yaw` \[rad\], `surge` and `sway` \[N\], `mode` (the mode's code,
-    /// [`shoal_model::control::Mode::code`]). Empty when the log carries none.
+    /// [`shoal_model::control::Mode::code`]); see [`ReferenceKind`]. Empty when the log carries
+    /// none.
     pub references: Vec<InputColumn>,
     /// Names of ignored `x.` columns.
     pub extra: Vec<String>,
@@ -268,12 +375,19 @@ impl MeasuredRun {
         self.inputs.iter().find(|i| i.name == name)
     }
 
+    /// The reference column of that kind, if logged.
+    pub fn reference(&self, kind: ReferenceKind) -> Option<&InputColumn> {
+        self.references.iter().find(|r| r.name == kind.name())
+    }
+
     /// The channel of that kind, if measured.
     pub fn channel(&self, kind: ChannelKind) -> Option<&Channel> {
         self.channels.iter().find(|c| c.kind == kind)
     }
 
-    /// Writes the run as CSV text (the format [`MeasuredRun::parse`] reads).
+    /// Writes the run as CSV text (the format [`MeasuredRun::parse`] reads): `t`, the inputs,
+    /// the channels, the references. A held column is written where it is first set and where
+    /// it changes, so that reading the text back gives the same values and `first_set`.
     pub fn to_csv(&self) -> String {
         let mut out = String::from("t");
         for i in &self.inputs {
@@ -282,17 +396,15 @@ impl MeasuredRun {
         for c in &self.channels {
             out.push_str(&format!(",{}", c.label()));
         }
+        for r in &self.references {
+            out.push_str(&format!(",r.{}", r.name));
+        }
         out.push('\n');
         let mut cursor = vec![0usize; self.channels.len()];
         for (row, t) in self.t.iter().enumerate() {
             out.push_str(&format!("{t}"));
             for i in &self.inputs {
-                let changed = row == 0 || i.values[row] != i.values[row - 1];
-                if changed {
-                    out.push_str(&format!(",{}", i.values[row]));
-                } else {
-                    out.push(',');
-                }
+                held_cell(&mut out, i, row);
             }
             for (k, c) in self.channels.iter().enumerate() {
                 if c.rows.get(cursor[k]) == Some(&row) {
@@ -302,9 +414,24 @@ impl MeasuredRun {
                     out.push(',');
                 }
             }
+            for r in &self.references {
+                held_cell(&mut out, r, row);
+            }
             out.push('\n');
         }
         out
+    }
+}
+
+/// The cell of a held column at `row`, after its separator: its value where it is first set
+/// and where it changes, empty elsewhere.
+fn held_cell(out: &mut String, col: &InputColumn, row: usize) {
+    let first = col.first_set.min(col.values.len().saturating_sub(1));
+    let set = row == first || (row > first && col.values[row] != col.values[row - 1]);
+    if set {
+        out.push_str(&format!(",{}", col.values[row]));
+    } else {
+        out.push(',');
     }
 }
 

@@ -375,6 +375,7 @@ fn limit_rule(opts: &GapOptions, median: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::log::run::ReferenceKind;
     use std::fmt::Write;
     use std::path::Path;
 
@@ -496,6 +497,36 @@ mod tests {
             })
             .unwrap_err();
         assert!(e.message.contains("all too short"), "{e}");
+    }
+
+    #[test]
+    fn each_segment_keeps_its_references_held_across_the_gap() {
+        // Steps of 0.5 s and one of 98.5 s before row 4: two segments of four rows.
+        let text = "t,y.depth,r.depth,r.mode\n0,1,1,\n0.5,1,,\n1,1,,\n1.5,1,,\n\
+                    100,1,,\n100.5,1,3,\n101,1,,auto\n101.5,1,,\n";
+        let seg = parse(text).split_at_gaps(&GapOptions::default()).unwrap();
+        assert_eq!(seg.runs.len(), 2);
+        let [a, b] = [&seg.runs[0], &seg.runs[1]];
+        let column = |r: &MeasuredRun, k: ReferenceKind| r.reference(k).unwrap().clone();
+        // r.depth: 1 from row 0, 3 from row 5; the value in force carries over the gap.
+        let (depth_a, depth_b) = (
+            column(a, ReferenceKind::Depth),
+            column(b, ReferenceKind::Depth),
+        );
+        assert_eq!(depth_a.values, vec![1.0; 4]);
+        assert_eq!(depth_b.values, vec![1.0, 3.0, 3.0, 3.0]);
+        assert_eq!(depth_b.precision.len(), 4);
+        assert_eq!((depth_a.first_set, depth_b.first_set), (0, 0));
+        // r.mode: first set (auto, code 5) at row 6, i.e. row 2 of the second segment; the
+        // first segment holds that first value throughout.
+        let (mode_a, mode_b) = (
+            column(a, ReferenceKind::Mode),
+            column(b, ReferenceKind::Mode),
+        );
+        assert_eq!(mode_a.values, vec![5.0; 4]);
+        assert_eq!(mode_b.values, vec![5.0; 4]);
+        assert_eq!(mode_b.first_set, 2);
+        assert_eq!((mode_a.column, mode_b.column), (4, 4));
     }
 
     #[test]
