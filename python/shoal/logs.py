@@ -4,9 +4,9 @@ TOML — and handed back as numpy columns, without a search: to plot a bag, chec
 makes of it, or hand the columns to :func:`shoal.validate` after editing them.
 
 A bag's run is what the validation sees: its rows are the union of the mapped topics' sample
-times, counted from the moment every input has had its first message (earlier samples are
-dropped); inputs are held from one message to the next; a channel has numbers at its own
-samples only and NaN at the other rows; depth, attitude and rates in shoal's frames
+times, counted from the moment every input and reference has had its first message (earlier
+samples are dropped); inputs and references are held from one message to the next; a channel
+has numbers at its own samples only and NaN at the other rows; depth, attitude and rates in shoal's frames
 (north-east-down, body forward-right-down). Gaps in time are not split here.
 
 Errors: :class:`shoal.ValidationError` naming the file, line and column (or topic and field),
@@ -31,13 +31,15 @@ class Log:
     """A measured run: ``columns`` maps the CSV format's names to 1-D arrays — ``t`` [s: a
     CSV's own times; a bag's from the run's start], each input ``u.NAME`` (the value in force
     at every row: % for thrusters, rad for tilt drives, −1/0/+1 for the pump), each channel
-    ``y.NAME`` (SI, angles in radians; NaN where not sampled)."""
+    ``y.NAME`` (SI, angles in radians; NaN where not sampled), each reference of the vehicle's
+    controller ``r.NAME`` (held as the inputs are: ``r.depth`` [m, positive down], ``r.yaw``
+    [rad], ``r.surge`` and ``r.sway`` [N], ``r.mode`` the mode's code 0 off … 5 auto, 6 raw)."""
 
     #: The run's name (the file's stem).
     name: str
     #: How it was read (rows, format, topics), as ``shoal validate`` reports it.
     source: str
-    #: Column name → values, ``t`` first, then the inputs, then the channels.
+    #: Column name → values, ``t`` first, then the inputs, the channels, the references.
     columns: dict
 
     @property

@@ -2,7 +2,8 @@
 (one reader seam, shoal_sysid::log::readers): a development log recorded as a ROS 2 logger
 records it (``rosbag_writer.py``) gives Python the command line's verdict and table; a bag
 given without a mapping is recognised by its content and the error says a mapping is needed;
-`shoal.read_log` reads logs through the same readers and raises their errors;
+`shoal.read_log` reads logs through the same readers and raises their errors, and returns a
+log's references (`r.` columns) beside its inputs and measurements;
 progress goes to stderr unless ``quiet``; and Ctrl-C interrupts a validation at once."""
 
 import json
@@ -120,3 +121,22 @@ def test_read_log_names_what_it_cannot_read(tmp_path):
     assert log.columns["u.top"].tolist() == [5.0, 5.0, 7.0]
     t, depth = log.samples("y.depth")
     assert t.tolist() == [1.0, 1.04] and depth.tolist() == [0.5, 0.52]
+
+
+def test_read_log_returns_the_references_held_as_the_inputs(tmp_path):
+    """`r.` columns come back beside `u.` and `y.`, each the value in force at every row (an
+    empty cell holds it, rows before the first value take that value), the mode as its code
+    (diving 1, auto 5, turning 3), whether written by name or by code."""
+    csv = tmp_path / "mission.csv"
+    csv.write_text(
+        "t,u.top,y.depth,r.depth,r.mode\n"
+        "0,5,0.5,,diving\n"
+        "0.1,,0.5,1.5,\n"
+        "0.2,,0.6,,AUTO\n"
+        "0.3,,0.6,2,3\n"
+    )
+    log = shoal.read_log(csv)
+    assert list(log.columns) == ["t", "u.top", "y.depth", "r.depth", "r.mode"]
+    assert log.columns["r.depth"].tolist() == [1.5, 1.5, 1.5, 2.0]
+    assert log.columns["r.mode"].tolist() == [1.0, 1.0, 5.0, 3.0]
+    assert log.columns["u.top"].tolist() == [5.0] * 4

@@ -13,7 +13,8 @@ use std::path::PathBuf;
 
 /// A run's columns in the CSV format's names: `t` [s], each input `u.NAME` (the value in
 /// force at every row, zero-order held), each channel `y.NAME` (its samples at the rows it
-/// was sampled at, NaN at the others).
+/// was sampled at, NaN at the others), each reference `r.NAME` (held as the inputs are; the
+/// mode as its code).
 fn columns(run: &MeasuredRun) -> Vec<(String, Vec<f64>)> {
     let mut out = vec![("t".to_string(), run.t.clone())];
     for i in &run.inputs {
@@ -25,6 +26,9 @@ fn columns(run: &MeasuredRun) -> Vec<(String, Vec<f64>)> {
             v[row] = x;
         }
         out.push((c.label(), v));
+    }
+    for r in &run.references {
+        out.push((format!("r.{}", r.name), r.values.clone()));
     }
     out
 }

@@ -219,12 +219,6 @@ impl ReferenceKind {
             .map_or("?", |(_, _, w)| w)
     }
 
-    /// The column names with their prefix, for messages: `r.depth, r.yaw, …`.
-    pub fn allowed() -> String {
-        let names: Vec<String> = Self::ALL.iter().map(|(_, n, _)| format!("r.{n}")).collect();
-        names.join(", ")
-    }
-
     /// The allowed values, for messages.
     pub fn allowed_values(self) -> String {
         match self {
