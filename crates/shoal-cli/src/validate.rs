@@ -69,7 +69,11 @@ pub struct ValidateArgs {
     /// each run's first samples), SECONDS (re-anchored to the measured depth, attitude and
     /// rates every SECONDS, 0.5 … 3600), or `auto` (re-anchored at a horizon chosen from how
     /// long the baseline stays near the data; open loop where it stays there throughout).
-    #[arg(long, value_name = "choose|closed|open|auto|SECONDS", default_value = "choose")]
+    #[arg(
+        long,
+        value_name = "choose|closed|open|auto|SECONDS",
+        default_value = "choose"
+    )]
     pub horizon: Horizon,
     /// Skip plots.
     #[arg(long)]

@@ -40,6 +40,9 @@ pub fn parse_time_unit(unit: Option<&str>) -> PyResult<Option<TimeUnit>> {
         .transpose()
 }
 
+/// A log as Python receives it: `(name, how it was read, [(header, values)])`.
+type LogColumns = (String, String, Vec<(String, Py<PyArray1<f64>>)>);
+
 /// The compiled `shoal._shoal.read_log`: `(name, how it was read, [(header, values)])`.
 #[pyfunction]
 #[pyo3(signature = (path, mapping=None, time_unit=None))]
@@ -48,7 +51,7 @@ pub fn read_log(
     path: PathBuf,
     mapping: Option<PathBuf>,
     time_unit: Option<String>,
-) -> PyResult<(String, String, Vec<(String, Py<PyArray1<f64>>)>)> {
+) -> PyResult<LogColumns> {
     let time_unit = parse_time_unit(time_unit.as_deref())?;
     let readers =
         shoal_rosbag::readers(mapping.as_deref()).map_err(|e| errors::mapping_error(py, &e))?;

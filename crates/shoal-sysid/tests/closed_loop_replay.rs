@@ -133,8 +133,14 @@ fn a_sagging_battery_shows_in_the_commands_not_in_the_depth() {
     for th in ["port", "stbd"] {
         let (base, cmd) = command_rms(&ev_base, th);
         let (tru, _) = command_rms(&ev_true, th);
-        assert!(base > 0.03 * cmd, "{th}: baseline {base} % off a {cmd} % command");
-        assert!(tru < 0.01 * base, "{th}: true model {tru} %, baseline {base} %");
+        assert!(
+            base > 0.03 * cmd,
+            "{th}: baseline {base} % off a {cmd} % command"
+        );
+        assert!(
+            tru < 0.01 * base,
+            "{th}: true model {tru} %, baseline {base} %"
+        );
     }
     // Relative error of the baseline's replay, 1 − fit: the commands' is more than twice the
     // depth's (measured: 0.105 and 0.036 on port).
@@ -142,7 +148,10 @@ fn a_sagging_battery_shows_in_the_commands_not_in_the_depth() {
     let depth = miss(ChannelKind::Depth);
     for th in ["port", "stbd"] {
         let cmd = miss(ChannelKind::command(th));
-        assert!(cmd > 2.0 * depth, "{th}: relative error {cmd}, depth {depth}");
+        assert!(
+            cmd > 2.0 * depth,
+            "{th}: relative error {cmd}, depth {depth}"
+        );
     }
 }
 
@@ -159,8 +168,14 @@ fn the_controller_in_the_replay_reads_as_late_as_the_model_says() {
     for th in ["port", "stbd"] {
         let (tru, cmd) = command_rms(&ev_true, th);
         let (none, _) = command_rms(&ev_none, th);
-        assert!(tru < 1e-3 * cmd, "{th}: delayed model {tru} % off a {cmd} % command");
-        assert!(none > 100.0 * tru, "{th}: without delay {none} %, with {tru} %");
+        assert!(
+            tru < 1e-3 * cmd,
+            "{th}: delayed model {tru} % off a {cmd} % command"
+        );
+        assert!(
+            none > 100.0 * tru,
+            "{th}: without delay {none} %, with {tru} %"
+        );
     }
 }
 
@@ -185,7 +200,11 @@ fn the_replay_controller_answers_the_noise_the_real_one_read() {
         &mut (),
     );
     let (mut ds, ev) = replayed(&run, &noisy);
-    let ctl = ds.runs[0].init.control.clone().expect("a closed-loop replay");
+    let ctl = ds.runs[0]
+        .init
+        .control
+        .clone()
+        .expect("a closed-loop replay");
     // Without the measurements the controller reads the model's sensors alone.
     let mut deaf = (*ctl).clone();
     deaf.measured.iter_mut().for_each(|f| *f = [f64::NAN; 3]);

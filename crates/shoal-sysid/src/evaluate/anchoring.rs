@@ -95,7 +95,10 @@ const OPEN_DEFAULT: &str = "open-loop replay from each run's first samples: the 
 /// baseline's open-loop replay, which `baseline` makes (only then).
 pub fn choose(horizon: Horizon, baseline: impl FnOnce() -> Evaluation) -> Anchoring {
     let (horizon, why) = match horizon {
-        Horizon::Open => (None, "open-loop replay from each run's first samples (asked for)".to_string()),
+        Horizon::Open => (
+            None,
+            "open-loop replay from each run's first samples (asked for)".to_string(),
+        ),
         Horizon::Choose => (None, OPEN_DEFAULT.to_string()),
         Horizon::Every(h) => (Some(h), format!("re-anchored every {h} s (given)")),
         Horizon::Auto | Horizon::Closed => auto(&baseline()),

@@ -382,6 +382,16 @@ pub(super) fn signature_plot(
     }
 }
 
+/// A channel's part of a plot's file name: the measurement's name (`depth`), or `u_<thruster>`
+/// for a command channel.
+fn file_stem(kind: ChannelKind) -> String {
+    if kind.is_command() {
+        format!("u_{}", kind.name())
+    } else {
+        kind.name().to_string()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -513,15 +523,5 @@ mod tests {
         );
         covers(&plot);
         assert!(plot.series[0].points.len() <= MAX_DOTS && plot.series[0].dots);
-    }
-}
-
-/// A channel's part of a plot's file name: the measurement's name (`depth`), or `u_<thruster>`
-/// for a command channel.
-fn file_stem(kind: ChannelKind) -> String {
-    if kind.is_command() {
-        format!("u_{}", kind.name())
-    } else {
-        kind.name().to_string()
     }
 }

@@ -31,8 +31,7 @@
 
 use crate::log::run::{ChannelKind, MeasuredRun};
 use shoal_model::control::{
-    ActuatorCommands, ControlParams, ControllerState, Mode, SensorReadings, Setpoints,
-    Uauv2Control,
+    ActuatorCommands, ControlParams, ControllerState, Mode, SensorReadings, Setpoints, Uauv2Control,
 };
 use shoal_model::math::{PerActuator, Quat, Vec3, euler_rpy, split6, wrap_pi};
 use shoal_model::thruster::ThrusterParams;
@@ -156,7 +155,12 @@ impl Sensed {
             depth: a.depth + (b.depth - a.depth) * f,
             attitude: Quat::new_normalize(q),
             gyro: a.gyro + (b.gyro - a.gyro) * f,
-            tilts: a.tilts.iter().zip(&b.tilts).map(|(x, y)| x + (y - x) * f).collect(),
+            tilts: a
+                .tilts
+                .iter()
+                .zip(&b.tilts)
+                .map(|(x, y)| x + (y - x) * f)
+                .collect(),
         }
     }
 }
@@ -234,7 +238,10 @@ impl<'a> Controlling<'a> {
                 let (a, b) = (&h[i - 1], &h[i]);
                 Sensed::between(a, b, ((t - a.time) / (b.time - a.time)).clamp(0.0, 1.0))
             }
-            None => h.back().cloned().unwrap_or_else(|| Sensed::of(model, state)),
+            None => h
+                .back()
+                .cloned()
+                .unwrap_or_else(|| Sensed::of(model, state)),
         }
     }
 
@@ -312,7 +319,10 @@ impl<'a> Controlling<'a> {
         let at = |k: usize| run.references[k].values[row];
         let code = at(r.mode);
         self.sp.mode = if code >= 0.0 && code.fract() == 0.0 {
-            Mode::BY_CODE.get(code as usize).copied().unwrap_or(Mode::Off)
+            Mode::BY_CODE
+                .get(code as usize)
+                .copied()
+                .unwrap_or(Mode::Off)
         } else {
             Mode::Off
         };

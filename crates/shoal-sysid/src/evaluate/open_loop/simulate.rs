@@ -270,9 +270,11 @@ impl<'a> Replaying<'a> {
                 .iter()
                 .enumerate()
                 .filter_map(|(col, k)| match k {
-                    ChannelKind::Command(name) => {
-                        p.thrusters.iter().position(|t| t.name == *name).map(|i| (col, i))
-                    }
+                    ChannelKind::Command(name) => p
+                        .thrusters
+                        .iter()
+                        .position(|t| t.name == *name)
+                        .map(|i| (col, i)),
                     _ => None,
                 })
                 .collect(),
