@@ -119,7 +119,7 @@ def test_errors_name_the_setting_or_the_column():
     with pytest.raises(shoal.ValidationError) as e:
         shoal.validate(log, horizon=0.1)
     assert e.value.setting == "horizon" and "0.5 ≤ horizon ≤ 3600 s" in str(e.value)
-    with pytest.raises(ValueError, match="allowed open, auto or a number of seconds"):
+    with pytest.raises(ValueError, match="allowed choose, open, auto, closed or a number of seconds"):
         shoal.validate(log, horizon="sometimes")
 
 

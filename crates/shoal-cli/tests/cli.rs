@@ -741,7 +741,7 @@ fn measured_run_limits_units_and_gaps_are_checked() {
             "horizon_word.csv",
             rows("0"),
             vec!["--horizon", "sometimes"],
-            "`sometimes`: allowed open, auto or a number of seconds",
+            "`sometimes`: allowed choose, open, auto, closed or a number of seconds",
         ),
         (
             "long.csv",

@@ -24,7 +24,7 @@ use shoal_model::math::{Vec3, quat_from_rpy};
 use shoal_model::rigid_body::Environment;
 use shoal_model::thruster::ThrustCurve;
 use shoal_model::vehicle::{VehicleModel, VehicleParams, VehicleState};
-use shoal_sysid::log::run::{ChannelKind, InputColumn, MeasuredRun};
+use shoal_sysid::log::run::{ChannelKind, InputColumn, MeasuredRun, ReferenceKind};
 use std::f64::consts::PI;
 
 /// A mission to fly.
@@ -298,14 +298,19 @@ pub fn fly(
     let mut stepper = Stepper::new(&cmd, env);
     let mut water = *env;
     let mut values = Vec::with_capacity(names.len());
-    // The references in force at each tick: mode code, depth, yaw, surge, sway.
+    // The references in force at each tick, as REFERENCES lists them.
     let mut refs: [Vec<f64>; 5] = std::array::from_fn(|_| Vec::with_capacity(n_samples));
     for k in 0..n_samples {
         let t = k as f64 * period;
         cursor.advance(&plan.mission, t, &mut sp);
-        let r = [sp.mode.code() as f64, sp.depth, sp.yaw, sp.surge, sp.sway];
-        for (col, v) in refs.iter_mut().zip(r) {
-            col.push(v);
+        for (col, kind) in refs.iter_mut().zip(REFERENCES) {
+            col.push(match kind {
+                ReferenceKind::Mode => sp.mode.code() as f64,
+                ReferenceKind::Depth => sp.depth,
+                ReferenceKind::Yaw => sp.yaw,
+                ReferenceKind::Surge => sp.surge,
+                ReferenceKind::Sway => sp.sway,
+            });
         }
         log.observe(
             t,
@@ -344,8 +349,8 @@ pub fn fly(
         .iter()
         .zip(refs)
         .enumerate()
-        .map(|(i, (name, values))| InputColumn {
-            name: (*name).to_string(),
+        .map(|(i, (kind, values))| InputColumn {
+            name: kind.name().to_string(),
             column: first_column + i,
             values,
             precision: Vec::new(),
@@ -357,7 +362,13 @@ pub fn fly(
 
 /// The references a mission log carries (`r.<name>`), in column order: the controller's mode
 /// (its code), depth \[m\], heading \[rad\], surge and sway forces \[N\].
-pub const REFERENCES: [&str; 5] = ["mode", "depth", "yaw", "surge", "sway"];
+pub const REFERENCES: [ReferenceKind; 5] = [
+    ReferenceKind::Mode,
+    ReferenceKind::Depth,
+    ReferenceKind::Yaw,
+    ReferenceKind::Surge,
+    ReferenceKind::Sway,
+];
 
 #[cfg(test)]
 mod tests {

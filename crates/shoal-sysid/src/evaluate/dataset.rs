@@ -24,7 +24,7 @@ use crate::evaluate::open_loop::{
 };
 use crate::evaluate::stats;
 pub use crate::evaluate::stats::unwrap;
-use crate::log::run::{ChannelKind, MeasuredRun, RunError};
+use crate::log::run::{ChannelKind, MeasuredRun, ReferenceKind, RunError};
 use shoal_model::lanes::LANES;
 use shoal_model::math::wrap_pi;
 use shoal_model::rigid_body::Environment;
@@ -383,7 +383,7 @@ impl Dataset {
         let referenced = self
             .runs
             .iter()
-            .all(|rd| rd.run.references.iter().any(|r| r.name == "mode"));
+            .all(|rd| rd.run.reference(ReferenceKind::Mode).is_some());
         if horizon == Horizon::Closed || (horizon == Horizon::Choose && referenced) {
             match self.close_loop(baseline) {
                 Ok(added) => {

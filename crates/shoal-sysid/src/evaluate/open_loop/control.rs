@@ -29,7 +29,7 @@
 //! controller's thrust allocation reads the tilt angles), so do rows in `raw` mode (the
 //! logged commands pass through) and `off` mode (zero).
 
-use crate::log::run::{ChannelKind, MeasuredRun};
+use crate::log::run::{ChannelKind, MeasuredRun, ReferenceKind};
 use shoal_model::control::{
     ActuatorCommands, ControlParams, ControllerState, Mode, SensorReadings, Setpoints, Uauv2Control,
 };
@@ -81,11 +81,11 @@ impl ReplayControl {
     /// given), or why there is none: the run carries no `r.mode`, or the vehicle has no
     /// built-in controller for its modes (the μAUV² layout).
     pub fn new(baseline: &VehicleModel, run: &MeasuredRun) -> Result<ReplayControl, String> {
-        let col = |name: &str| run.references.iter().position(|r| r.name == name);
+        let col = |k: ReferenceKind| run.references.iter().position(|r| r.name == k.name());
         if run.references.is_empty() {
             return Err("the log carries no references (r.<name> columns)".into());
         }
-        let Some(mode) = col("mode") else {
+        let Some(mode) = col(ReferenceKind::Mode) else {
             return Err(
                 "the log's references have no `r.mode`: the controller's mode is unknown".into(),
             );
@@ -103,10 +103,10 @@ impl ReplayControl {
             thrusters: baseline.params.thrusters.clone(),
             refs: ReferenceColumns {
                 mode,
-                depth: col("depth"),
-                yaw: col("yaw"),
-                surge: col("surge"),
-                sway: col("sway"),
+                depth: col(ReferenceKind::Depth),
+                yaw: col(ReferenceKind::Yaw),
+                surge: col(ReferenceKind::Surge),
+                sway: col(ReferenceKind::Sway),
             },
             measured: measured_last(run),
         })
@@ -209,6 +209,15 @@ impl<'a> Controlling<'a> {
             history: VecDeque::new(),
             recent: VecDeque::new(),
         }
+    }
+
+    /// After `state` was set to the measurements again (a re-anchored closed-loop replay):
+    /// the depth rate continues from the new depth, the readings and residuals kept from
+    /// before no longer describe this hull.
+    pub(super) fn anchored(&mut self, model: &VehicleModel, state: &VehicleState) {
+        self.state.continue_from_depth(depth_reading(model, state));
+        self.history.clear();
+        self.recent.clear();
     }
 
     /// Keeps what the sensors read in `state` for a delayed reading later.

@@ -310,6 +310,9 @@ impl<'a> Replaying<'a> {
         match self.anchors.get(self.next) {
             Some(a) if a.step == s => {
                 a.apply(self.model, self.state.time, &mut self.state.rigid);
+                if let Some(c) = &mut self.control {
+                    c.anchored(self.model, &self.state);
+                }
                 self.next += 1;
                 true
             }
