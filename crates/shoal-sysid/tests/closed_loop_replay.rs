@@ -219,3 +219,49 @@ fn the_replay_controller_answers_the_noise_the_real_one_read() {
         );
     }
 }
+
+/// The replay chooses itself (`--horizon choose`, the default): a mission log with its
+/// references is replayed closed loop, the same log without them re-anchored (it runs
+/// 300 s, a mission), its first two minutes without them open loop as a designed experiment
+/// is — and each choice says why, naming the command evidence a log without references
+/// leaves unused.
+#[test]
+fn the_replay_chooses_itself_from_the_references_and_the_length() {
+    let truth = VehicleModel::new(clean_sensors(), 1000.0);
+    let run = flown(&truth, 3, 300.0);
+    let chosen = |run: MeasuredRun| {
+        let params = clean_sensors();
+        let mut ds = Dataset::new(
+            &params,
+            Environment::default(),
+            vec![run],
+            vec![],
+            &DataOptions::default(),
+        )
+        .expect("a dataset");
+        ds.anchor(Horizon::Choose, &VehicleModel::new(params, 1000.0));
+        ds.anchoring.clone()
+    };
+    let a = chosen(run.clone());
+    assert!(a.closed_loop && a.horizon.is_none(), "{a:?}");
+    assert!(a.why.contains("u.port"), "{}", a.why);
+    let mut bare = run.clone();
+    bare.references.clear();
+    let a = chosen(bare.clone());
+    assert!(!a.closed_loop && a.horizon.is_some(), "{a:?}");
+    assert!(a.why.contains("no references") && a.why.contains("300 s"), "{}", a.why);
+    // The first two minutes.
+    let rows = bare.t.iter().take_while(|&&t| t <= 120.0).count();
+    bare.t.truncate(rows);
+    for i in &mut bare.inputs {
+        i.values.truncate(rows);
+    }
+    for c in &mut bare.channels {
+        let n = c.rows.iter().take_while(|&&r| r < rows).count();
+        c.rows.truncate(n);
+        c.values.truncate(n);
+    }
+    let a = chosen(bare);
+    assert!(!a.closed_loop && a.horizon.is_none(), "{a:?}");
+    assert!(a.why.contains("no references"), "{}", a.why);
+}

@@ -9,8 +9,10 @@
 //!
 //! Options: `--out DIR` (logs, `expected.json` and the table `verdicts.md`), `--length S`
 //! mission length in seconds (default 600), `--cases TEXT` only cases whose name contains TEXT,
-//! `--threads T` search worker threads (default 2), `--horizons LIST` of `open`, `auto` or
-//! seconds (default `open,auto`), `--write-only` (logs without searching). Each search on a
+//! `--threads T` search worker threads (default 2), `--horizons LIST` of `open`, `auto`,
+//! `closed` (the logs carry their references), `choose` (the default replay), `choose-norefs`
+//! (the default replay of the logs with their references dropped) or seconds (default
+//! `open,auto`), `--write-only` (logs without searching). Each search on a
 //! 10-minute log takes minutes: the whole set is an hour or more on two cores. Not run in CI.
 
 use shoal_sysid::evaluate::anchoring::Horizon;
@@ -24,7 +26,7 @@ use std::time::Instant;
 fn usage() -> ExitCode {
     eprintln!(
         "usage: closed_loop --out DIR [--length SECONDS] [--cases TEXT] [--threads T] \
-         [--horizons open,auto,SECONDS] [--write-only]"
+         [--horizons open,auto,closed,choose,choose-norefs,SECONDS] [--write-only]"
     );
     ExitCode::from(2)
 }
@@ -33,12 +35,38 @@ fn horizon(s: &str) -> Option<Horizon> {
     match s {
         "open" => Some(Horizon::Open),
         "auto" => Some(Horizon::Auto),
+        "closed" => Some(Horizon::Closed),
+        "choose" | "choose-norefs" => Some(Horizon::Choose),
         x => x
             .parse::<f64>()
             .ok()
             .filter(|h| (Horizon::MIN_S..=Horizon::MAX_S).contains(h))
             .map(Horizon::Every),
     }
+}
+
+/// `csv` without its `r.` columns.
+fn without_references(csv: &str) -> String {
+    let mut lines = csv.lines();
+    let Some(header) = lines.next() else {
+        return String::new();
+    };
+    let keep: Vec<bool> = header.split(',').map(|c| !c.starts_with("r.")).collect();
+    let pick = |line: &str| {
+        line.split(',')
+            .zip(&keep)
+            .filter(|(_, k)| **k)
+            .map(|(c, _)| c)
+            .collect::<Vec<_>>()
+            .join(",")
+    };
+    let mut out = pick(header);
+    for line in lines {
+        out.push('\n');
+        out.push_str(&pick(line));
+    }
+    out.push('\n');
+    out
 }
 
 /// The command line.
@@ -98,7 +126,8 @@ fn options() -> Result<Options, ExitCode> {
                     Some(h) if !h.is_empty() => horizons = h,
                     _ => {
                         eprintln!(
-                            "--horizons takes open, auto or seconds in [{}, {}], got `{v}`",
+                            "--horizons takes open, auto, closed, choose, choose-norefs or \
+                             seconds in [{}, {}], got `{v}`",
                             Horizon::MIN_S,
                             Horizon::MAX_S
                         );
@@ -173,7 +202,13 @@ fn main() -> ExitCode {
         let mut row = format!("| {} | {} |", case.name, hidden.join("; "));
         for ((name, h), tally) in horizons.iter().zip(&mut tallies) {
             let t0 = Instant::now();
-            let v = Verdict::new(&exp, search_log_with(&csv, &case.name, threads, *h));
+            // `choose-norefs`: the same log with its references dropped.
+            let text = if name == "choose-norefs" {
+                without_references(&csv)
+            } else {
+                csv.clone()
+            };
+            let v = Verdict::new(&exp, search_log_with(&text, &case.name, threads, *h));
             let secs = t0.elapsed().as_secs_f64();
             tally.add(&v);
             let mark = if v.exact() { "exact" } else { "wrong" };

@@ -11,8 +11,9 @@ use crate::log::run::ChannelKind;
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub enum Horizon {
     /// Chosen from the log: closed loop ([`Horizon::Closed`]) when every run carries the
-    /// references its controller followed (`r.mode` and the setpoints), else open loop — and
-    /// the report says why.
+    /// references its controller followed (`r.mode` and the setpoints); else as
+    /// [`Horizon::Auto`] for a run of [`LONG_RUN_S`] or longer, open loop for shorter ones —
+    /// and the report says why.
     #[default]
     Choose,
     /// Open loop, each run from its first samples (short designed runs).
@@ -63,6 +64,11 @@ pub const AUTO_MIN_HORIZON: f64 = 2.0;
 /// re-anchors it (multiple of the floor).
 pub const AUTO_NOISE_MULTIPLE: f64 = 10.0;
 
+/// Length from which [`Horizon::Choose`] replays a log without references re-anchored as
+/// [`Horizon::Auto`] does rather than open loop \[s\]: a mission of minutes, not a designed
+/// experiment (those run 1–3 minutes).
+pub const LONG_RUN_S: f64 = 300.0;
+
 /// The replay a dataset uses, and why.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Anchoring {
@@ -93,12 +99,26 @@ const OPEN_DEFAULT: &str = "open-loop replay from each run's first samples: the 
 
 /// The replay `horizon` asks for: for [`Horizon::Auto`], chosen from the evaluation of the
 /// baseline's open-loop replay, which `baseline` makes (only then).
-pub fn choose(horizon: Horizon, baseline: impl FnOnce() -> Evaluation) -> Anchoring {
+pub fn choose(
+    horizon: Horizon,
+    longest_s: f64,
+    baseline: impl FnOnce() -> Evaluation,
+) -> Anchoring {
     let (horizon, why) = match horizon {
         Horizon::Open => (
             None,
             "open-loop replay from each run's first samples (asked for)".to_string(),
         ),
+        Horizon::Choose if longest_s >= LONG_RUN_S => {
+            let (h, why) = auto(&baseline());
+            let long = format!(
+                "the log carries no references (r.mode, r.depth, r.yaw, …), so its commands \
+                 drive the replay and are no evidence, and it runs {longest_s:.0} s (≥ \
+                 {LONG_RUN_S} s, where an open-loop replay accumulates every disturbance no \
+                 model has): {why}"
+            );
+            (h, long)
+        }
         Horizon::Choose => (None, OPEN_DEFAULT.to_string()),
         Horizon::Every(h) => (Some(h), format!("re-anchored every {h} s (given)")),
         Horizon::Auto | Horizon::Closed => auto(&baseline()),

@@ -403,7 +403,12 @@ impl Dataset {
                 Err(why) => no_loop = Some(why),
             }
         }
-        let mut chosen = choose(horizon, || self.evaluate(baseline));
+        let longest = self
+            .runs
+            .iter()
+            .map(|rd| rd.run.duration())
+            .fold(0.0, f64::max);
+        let mut chosen = choose(horizon, longest, || self.evaluate(baseline));
         if let Some(h) = chosen.horizon {
             let dt = self.replay.dt;
             for rd in &mut self.runs {
