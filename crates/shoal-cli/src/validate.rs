@@ -63,8 +63,8 @@ pub struct ValidateArgs {
     /// Worker threads for candidate fits (results do not depend on it) [default: all cores].
     #[arg(long, value_parser = clap::value_parser!(u16).range(1..=256))]
     pub threads: Option<u16>,
-    /// How runs are replayed: `choose` (closed loop when the runs carry their controller's
-    /// references, `r.mode` and the setpoints, else open loop), `closed` (the vehicle's
+    /// How runs are replayed: `choose` (as `auto` for a run of 300 s or longer, else open
+    /// loop; the report says why), `closed` (the vehicle's
     /// controller in the replay, the logged commands compared too), `open` (open loop from
     /// each run's first samples), SECONDS (re-anchored to the measured depth, attitude and
     /// rates every SECONDS, 0.5 … 3600), or `auto` (re-anchored at a horizon chosen from how

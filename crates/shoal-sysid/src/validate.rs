@@ -90,10 +90,11 @@ pub struct Config {
     /// Worker threads for candidate fits (results do not depend on it; default: every core,
     /// at most 8).
     pub threads: Option<usize>,
-    /// How runs are replayed (see [`Horizon`]): chosen from the log (the default: closed
-    /// loop with the vehicle's controller when the runs carry its references, else open
-    /// loop), or as asked — open loop, closed loop, or re-anchored to the measurements every
-    /// so many seconds (given, or chosen from the data).
+    /// How runs are replayed (see [`Horizon`]): chosen from the log (the default:
+    /// re-anchored as [`Horizon::Auto`] for runs of 300 s or longer, else open loop), or as
+    /// asked — open loop, closed loop with the vehicle's controller following the logged
+    /// references, or re-anchored to the measurements every so many seconds (given, or
+    /// chosen from the data).
     pub horizon: Horizon,
     /// The readers files are read through, the first that recognises a file reading it
     /// (default: CSV, and a rosbag2 refused for want of a mapping; `shoal_rosbag::readers`

@@ -220,16 +220,15 @@ fn the_replay_controller_answers_the_noise_the_real_one_read() {
     }
 }
 
-/// The replay chooses itself (`--horizon choose`, the default): a mission log with its
-/// references is replayed closed loop, the same log without them re-anchored (it runs
-/// 300 s, a mission), its first two minutes without them open loop as a designed experiment
-/// is — and each choice says why, naming the command evidence a log without references
-/// leaves unused.
+/// The replay chooses itself (`--horizon choose`, the default): a 300-s mission log is
+/// re-anchored (a mission), with or without its references, its first two minutes open loop
+/// as a designed experiment is; each choice says why and what the log's commands were — no
+/// evidence, and for a log with references that `--horizon closed` compares them.
 #[test]
-fn the_replay_chooses_itself_from_the_references_and_the_length() {
+fn the_replay_chooses_itself_from_the_length_and_says_what_the_commands_were() {
     let truth = VehicleModel::new(clean_sensors(), 1000.0);
     let run = flown(&truth, 3, 300.0);
-    let chosen = |run: MeasuredRun| {
+    let chosen = |run: MeasuredRun, horizon: Horizon| {
         let params = clean_sensors();
         let mut ds = Dataset::new(
             &params,
@@ -239,17 +238,28 @@ fn the_replay_chooses_itself_from_the_references_and_the_length() {
             &DataOptions::default(),
         )
         .expect("a dataset");
-        ds.anchor(Horizon::Choose, &VehicleModel::new(params, 1000.0));
+        ds.anchor(horizon, &VehicleModel::new(params, 1000.0));
         ds.anchoring.clone()
     };
-    let a = chosen(run.clone());
+    let a = chosen(run.clone(), Horizon::Choose);
+    assert!(!a.closed_loop && a.horizon.is_some(), "{a:?}");
+    assert!(
+        a.why.contains("300 s") && a.why.contains("--horizon closed"),
+        "{}",
+        a.why
+    );
+    let a = chosen(run.clone(), Horizon::Closed);
     assert!(a.closed_loop && a.horizon.is_none(), "{a:?}");
     assert!(a.why.contains("u.port"), "{}", a.why);
     let mut bare = run.clone();
     bare.references.clear();
-    let a = chosen(bare.clone());
+    let a = chosen(bare.clone(), Horizon::Choose);
     assert!(!a.closed_loop && a.horizon.is_some(), "{a:?}");
-    assert!(a.why.contains("no references") && a.why.contains("300 s"), "{}", a.why);
+    assert!(a.why.contains("no references"), "{}", a.why);
+    // Asked for a closed loop without references: re-anchored as auto, saying why.
+    let a = chosen(bare.clone(), Horizon::Closed);
+    assert!(!a.closed_loop, "{a:?}");
+    assert!(a.why.starts_with("no closed-loop replay"), "{}", a.why);
     // The first two minutes.
     let rows = bare.t.iter().take_while(|&&t| t <= 120.0).count();
     bare.t.truncate(rows);
@@ -261,7 +271,7 @@ fn the_replay_chooses_itself_from_the_references_and_the_length() {
         c.rows.truncate(n);
         c.values.truncate(n);
     }
-    let a = chosen(bare);
+    let a = chosen(bare, Horizon::Choose);
     assert!(!a.closed_loop && a.horizon.is_none(), "{a:?}");
     assert!(a.why.contains("no references"), "{}", a.why);
 }

@@ -10,10 +10,9 @@ use crate::log::run::ChannelKind;
 /// How a dataset's runs are replayed.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub enum Horizon {
-    /// Chosen from the log: closed loop ([`Horizon::Closed`]) when every run carries the
-    /// references its controller followed (`r.mode` and the setpoints); else as
-    /// [`Horizon::Auto`] for a run of [`LONG_RUN_S`] or longer, open loop for shorter ones —
-    /// and the report says why.
+    /// Chosen from the log: as [`Horizon::Auto`] for a run of [`LONG_RUN_S`] or longer (a
+    /// mission), open loop for shorter ones (a designed experiment) — and the report says why,
+    /// and what the log's commands were (evidence only in a [`Horizon::Closed`] replay).
     #[default]
     Choose,
     /// Open loop, each run from its first samples (short designed runs).
@@ -92,18 +91,27 @@ impl Default for Anchoring {
 }
 
 /// Why a dataset's replays are open loop when nothing else was asked.
-const OPEN_DEFAULT: &str = "open-loop replay from each run's first samples: the log carries no \
-     references (r.mode, r.depth, r.yaw, …), so its commands drive the replay and are no \
-     evidence — a log with its controller's references is replayed closed loop and its \
-     commands are compared too";
+const OPEN_DEFAULT: &str = "open-loop replay from each run's first samples (the default)";
+
+/// What [`Horizon::Choose`] says of the commands of a log without references.
+const UNREFERENCED: &str = "its commands drive the replay and are no evidence: the log carries \
+     no references (r.mode, r.depth, r.yaw, …) for a closed-loop replay";
+
+/// What [`Horizon::Choose`] says of the commands of a log with references.
+const REFERENCED: &str = "its commands drive the replay: `--horizon closed` replays it with the \
+     vehicle's controller following its references and compares the commands too (not the \
+     default: on the kit's missions it has not yet named more than the re-anchored replay, \
+     docs/validation.md)";
 
 /// The replay `horizon` asks for: for [`Horizon::Auto`], chosen from the evaluation of the
 /// baseline's open-loop replay, which `baseline` makes (only then).
 pub fn choose(
     horizon: Horizon,
     longest_s: f64,
+    referenced: bool,
     baseline: impl FnOnce() -> Evaluation,
 ) -> Anchoring {
+    let evidence = if referenced { REFERENCED } else { UNREFERENCED };
     let (horizon, why) = match horizon {
         Horizon::Open => (
             None,
@@ -112,14 +120,15 @@ pub fn choose(
         Horizon::Choose if longest_s >= LONG_RUN_S => {
             let (h, why) = auto(&baseline());
             let long = format!(
-                "the log carries no references (r.mode, r.depth, r.yaw, …), so its commands \
-                 drive the replay and are no evidence, and it runs {longest_s:.0} s (≥ \
-                 {LONG_RUN_S} s, where an open-loop replay accumulates every disturbance no \
-                 model has): {why}"
+                "{why}; the log runs {longest_s:.0} s (≥ {LONG_RUN_S} s, where an open-loop \
+                 replay accumulates every disturbance no model has) and {evidence}"
             );
             (h, long)
         }
-        Horizon::Choose => (None, OPEN_DEFAULT.to_string()),
+        Horizon::Choose => (
+            None,
+            format!("open-loop replay from each run's first samples; {evidence}"),
+        ),
         Horizon::Every(h) => (Some(h), format!("re-anchored every {h} s (given)")),
         Horizon::Auto | Horizon::Closed => auto(&baseline()),
     };

@@ -369,10 +369,10 @@ impl Dataset {
     }
 
     /// Sets how every run is replayed: closed loop with the vehicle's controller for
-    /// [`Horizon::Closed`], and for [`Horizon::Choose`] when every run carries an `r.mode`,
-    /// where the runs allow it ([`Dataset::close_loop`]), else
+    /// [`Horizon::Closed`] where the runs allow it ([`Dataset::close_loop`]), else
     /// re-anchored at `horizon` (for [`Horizon::Auto`], chosen from the replay of
-    /// `baseline`), or open loop. Returns what was chosen.
+    /// `baseline`; [`Horizon::Choose`] as `Auto` for long runs), or open loop. Returns what was
+    /// chosen.
     pub fn anchor(&mut self, horizon: Horizon, baseline: &VehicleModel) -> &Anchoring {
         for rd in &mut self.runs {
             rd.init.anchors.clear();
@@ -380,11 +380,7 @@ impl Dataset {
         }
         self.open_loop();
         let mut no_loop = None;
-        let referenced = self
-            .runs
-            .iter()
-            .all(|rd| rd.run.reference(ReferenceKind::Mode).is_some());
-        if horizon == Horizon::Closed || (horizon == Horizon::Choose && referenced) {
+        if horizon == Horizon::Closed {
             match self.close_loop(baseline) {
                 Ok(added) => {
                     let names: Vec<String> = added.iter().map(|k| k.label()).collect();
@@ -403,12 +399,16 @@ impl Dataset {
                 Err(why) => no_loop = Some(why),
             }
         }
+        let referenced = self
+            .runs
+            .iter()
+            .all(|rd| rd.run.reference(ReferenceKind::Mode).is_some());
         let longest = self
             .runs
             .iter()
             .map(|rd| rd.run.duration())
             .fold(0.0, f64::max);
-        let mut chosen = choose(horizon, longest, || self.evaluate(baseline));
+        let mut chosen = choose(horizon, longest, referenced, || self.evaluate(baseline));
         if let Some(h) = chosen.horizon {
             let dt = self.replay.dt;
             for rd in &mut self.runs {
