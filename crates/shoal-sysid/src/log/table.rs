@@ -5,8 +5,7 @@
 
 use crate::log::format::{Separator, TimeUnit};
 use crate::log::header::{Col, quote};
-use crate::log::ingest::half_ulp;
-use crate::log::numbers::short;
+use crate::log::numbers::{half_ulp, short};
 use crate::log::run::{Channel, InputColumn, ReferenceKind, RunError};
 use std::path::Path;
 
