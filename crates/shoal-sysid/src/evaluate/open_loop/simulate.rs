@@ -382,14 +382,8 @@ impl<'a> Replaying<'a> {
 
     /// Records the present state (and keeps it for the controller's delayed readings).
     fn record(&mut self, kinds: &[ChannelKind]) {
-        record(
-            self.model,
-            &self.state,
-            &self.env,
-            &self.cmd,
-            kinds,
-            &mut self.values,
-        );
+        record(self.model, &self.state, &self.env, kinds, &mut self.values);
+        self.patch_commands();
         if let Some(c) = &mut self.control {
             c.observe(self.model, &self.state);
         }
@@ -420,7 +414,6 @@ fn record(
     model: &VehicleModel,
     state: &VehicleState,
     env: &Environment,
-    cmd: &ActuatorCommands,
     kinds: &[ChannelKind],
     out: &mut Vec<f64>,
 ) {
@@ -461,11 +454,8 @@ fn record(
                     _ => vg.z,
                 }
             }
-            ChannelKind::Command(name) => p
-                .thrusters
-                .iter()
-                .position(|t| t.name == *name)
-                .map_or(0.0, |i| cmd.thrusters[i]),
+            // Written by `Replaying::patch_commands`, which knows each column's thruster.
+            ChannelKind::Command(_) => 0.0,
         };
         out.push(x);
     }
