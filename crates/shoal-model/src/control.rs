@@ -474,13 +474,6 @@ impl ControllerState {
         }
     }
 
-    /// Takes `depth` \[m\] as the last depth reading without a jump in the depth rate: for a
-    /// controller whose vehicle was moved (a replay set to the measurements again), the next
-    /// rate is taken from there.
-    pub fn continue_from_depth(&mut self, depth: f64) {
-        self.prev_depth = Some(depth);
-    }
-
     /// One control period: reads `sensors`, follows `sp`, writes `out`.
     ///
     /// `uauv2` is `None` for vehicles without the μAUV² layout; they accept only

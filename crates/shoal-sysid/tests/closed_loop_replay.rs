@@ -1,7 +1,8 @@
 //! The controller in the replay (`evaluate::open_loop::control`, `evaluate::controlled`): a
-//! mission log that carries its controller's references is replayed closed loop — the
-//! vehicle's own controller reads the replayed sensors and follows the logged references —
-//! and the logged thruster commands are compared as channels.
+//! mission log that carries its controller's references is replayed with a closed-loop twin —
+//! the same model with the vehicle's own controller reading the twin's sensors and following
+//! the logged references — and the logged thruster commands are compared, as channels, with
+//! the twin's.
 //!
 //! The missions here are flown by the test kit (`shoal_testkit::mission::fly`) with noise-free
 //! sensors (no noise, a 1-nm depth step) in still water, at the replay's own physics step, so
@@ -62,7 +63,9 @@ fn flown(truth: &VehicleModel, seed: u64, length: f64) -> MeasuredRun {
     )
 }
 
-/// The run replayed closed loop on `model` (the controller designed on the clean preset).
+/// The run replayed on `model` with its closed-loop twin (`--horizon closed`: re-anchored with
+/// the logged commands; the twin, the controller designed on the clean preset in the loop,
+/// predicts the command channels).
 fn replayed(run: &MeasuredRun, model: &VehicleModel) -> (Dataset, Evaluation) {
     let params = clean_sensors();
     let mut ds = Dataset::new(
@@ -249,7 +252,7 @@ fn the_replay_chooses_itself_from_the_length_and_says_what_the_commands_were() {
         a.why
     );
     let a = chosen(run.clone(), Horizon::Closed);
-    assert!(a.closed_loop && a.horizon.is_none(), "{a:?}");
+    assert!(a.closed_loop && a.horizon.is_some(), "{a:?}");
     assert!(a.why.contains("u.port"), "{}", a.why);
     let mut bare = run.clone();
     bare.references.clear();

@@ -218,3 +218,69 @@ fn replays_that_end_at_different_steps() {
     assert_eq!(many[2].len(), 4287);
     assert_eq!(many[3].len(), 1);
 }
+
+/// Replays with a closed-loop twin (each model three lanes: its re-anchored replay, its
+/// filter and its twin with the controller in the loop, whose commands the replay records)
+/// equal each model's replay stepped alone (`simulate_with`, one hull after another), for
+/// replays that end at different steps too; the twins' commands differ between the models.
+#[test]
+fn replays_with_a_closed_loop_twin_too() {
+    let case = shoal_testkit::closed_loop::cases(60.0)
+        .into_iter()
+        .find(|c| c.name == "m_null_1")
+        .unwrap();
+    let csv = case.csv(&shoal_testkit::mission::Disturbance::default());
+    let mission = MeasuredRun::parse(&csv, Path::new("m.csv")).unwrap();
+    let models = models();
+    let mut ds = Dataset::new(
+        &presets::uauv2(),
+        Environment::default(),
+        vec![mission],
+        vec![],
+        &options(),
+    )
+    .unwrap();
+    ds.anchor(
+        shoal_sysid::evaluate::anchoring::Horizon::Closed,
+        &models[0],
+    );
+    assert!(ds.anchoring.closed_loop, "{}", ds.anchoring.why);
+    let rd = &ds.runs[0];
+    assert!(!rd.init.anchors.is_empty() && rd.init.control.is_some());
+    let mut kinds: Vec<_> = rd
+        .channels
+        .iter()
+        .map(|&i| rd.run.channels[i].kind)
+        .collect();
+    kinds.sort();
+    let port = kinds
+        .iter()
+        .position(|k| *k == shoal_sysid::log::run::ChannelKind::command("port"))
+        .expect("the port command compared");
+    let refs: Vec<&VehicleModel> = models.iter().collect();
+    let bounds = [4000, 17, usize::MAX, 0, 2500, 4001, 3999, usize::MAX, 100];
+    let masses = MassTable::default();
+    let env = Environment::default();
+    let opts = options().replay;
+    let many = simulate_many(
+        &refs, &bounds, &env, &rd.run, &rd.map, &rd.init, &kinds, &opts, &masses,
+    );
+    let mut commands = Vec::new();
+    for (i, (m, &n)) in models.iter().zip(&bounds).enumerate() {
+        let one = simulate_with(
+            m, &env, &rd.run, &rd.map, &rd.init, &kinds, &opts, &masses, n,
+        );
+        assert_eq!(bits(&one), bits(&many[i]), "model {i} (bound {n})");
+        if n == usize::MAX {
+            commands.push(
+                one.values[port..]
+                    .iter()
+                    .step_by(kinds.len())
+                    .copied()
+                    .collect::<Vec<f64>>(),
+            );
+        }
+    }
+    assert!(commands[0].iter().any(|c| *c != 0.0));
+    assert_ne!(commands[0], commands[1]);
+}

@@ -1,7 +1,15 @@
 //! A dataset replayed with its controller: each run that carries its controller's references
-//! is replayed closed loop ([`crate::evaluate::open_loop::control`]) and the thruster commands
-//! it logged become compared channels of their own ([`ChannelKind::Command`]), each with the
-//! resolution and noise weight read from its own samples.
+//! gets a closed-loop twin beside its replay ([`crate::evaluate::open_loop::control`]): the
+//! same model with the vehicle's controller in the loop following the logged references,
+//! never re-anchored (a simulation of the mission as DIDIM makes it). The thruster commands the run logged become
+//! compared channels of their own ([`ChannelKind::Command`]), each with the resolution and
+//! noise weight read from its own samples, predicted by the twin; the logged commands still
+//! drive the replay itself, whose states are compared as before.
+//!
+//! So one fit sees both views of a log under feedback: the response from command to state
+//! (re-anchored, where a thruster's lag or a hull's damping shows its shape) and what the
+//! controller compensates (a thrust lost, answered by larger commands while the states stay
+//! on their setpoints).
 
 use crate::evaluate::dataset::Dataset;
 use crate::evaluate::open_loop::control::ReplayControl;
@@ -10,9 +18,9 @@ use shoal_model::vehicle::VehicleModel;
 use std::sync::Arc;
 
 impl Dataset {
-    /// Replays every run closed loop with the controller of `baseline` (the vehicle as
-    /// given), comparing the logged thruster commands too; the command channels added, or why
-    /// not (then the dataset is left as it was): a run without references, a vehicle without
+    /// Gives every run a closed-loop twin with the controller of `baseline` (the vehicle as
+    /// given) and compares the logged thruster commands with the twin's; the command channels
+    /// added, or why not (then the dataset is left as it was): a run without references, a vehicle without
     /// a built-in controller, or no logged thruster command to compare.
     pub fn close_loop(&mut self, baseline: &VehicleModel) -> Result<Vec<ChannelKind>, String> {
         self.open_loop();
@@ -50,7 +58,7 @@ impl Dataset {
         Ok(added)
     }
 
-    /// Replays every run with its logged commands again (undoes [`Dataset::close_loop`]).
+    /// Replays every run without a twin again (undoes [`Dataset::close_loop`]).
     pub(crate) fn open_loop(&mut self) {
         let mut changed = false;
         for rd in &mut self.runs {

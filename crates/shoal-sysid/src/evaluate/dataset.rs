@@ -368,37 +368,17 @@ impl Dataset {
         (ne, nv)
     }
 
-    /// Sets how every run is replayed: closed loop with the vehicle's controller for
-    /// [`Horizon::Closed`] where the runs allow it ([`Dataset::close_loop`]), else
-    /// re-anchored at `horizon` (for [`Horizon::Auto`], chosen from the replay of
-    /// `baseline`; [`Horizon::Choose`] as `Auto` for long runs), or open loop. Returns what was
-    /// chosen.
+    /// Sets how every run is replayed: re-anchored at `horizon` (for [`Horizon::Auto`] and
+    /// [`Horizon::Closed`], chosen from the replay of `baseline`; [`Horizon::Choose`] as
+    /// `Auto` for long runs), or open loop; for [`Horizon::Closed`], where the runs allow it,
+    /// with the controller's closed-loop twin whose commands are compared with the logged
+    /// ones ([`Dataset::close_loop`]). Returns what was chosen.
     pub fn anchor(&mut self, horizon: Horizon, baseline: &VehicleModel) -> &Anchoring {
         for rd in &mut self.runs {
             rd.init.anchors.clear();
             rd.init.filter.clear();
         }
         self.open_loop();
-        let mut no_loop = None;
-        if horizon == Horizon::Closed {
-            match self.close_loop(baseline) {
-                Ok(added) => {
-                    let names: Vec<String> = added.iter().map(|k| k.label()).collect();
-                    self.anchoring = Anchoring {
-                        horizon: None,
-                        closed_loop: true,
-                        why: format!(
-                            "closed-loop replay: the vehicle's controller follows the logged \
-                             references and its commands are compared with the logged ones \
-                             ({})",
-                            names.join(", ")
-                        ),
-                    };
-                    return &self.anchoring;
-                }
-                Err(why) => no_loop = Some(why),
-            }
-        }
         let referenced = self
             .runs
             .iter()
@@ -418,8 +398,21 @@ impl Dataset {
                 rd.init.filter = Anchor::every(&rd.run, OBSERVER_S, dt);
             }
         }
-        if let Some(why) = no_loop {
-            chosen.why = format!("no closed-loop replay ({why}); {}", chosen.why);
+        if horizon == Horizon::Closed {
+            match self.close_loop(baseline) {
+                Ok(added) => {
+                    let names: Vec<String> = added.iter().map(|k| k.label()).collect();
+                    chosen.closed_loop = true;
+                    chosen.why = format!(
+                        "{}; beside each replay a closed-loop twin, the vehicle's controller \
+                         following the logged references, sends commands that are compared \
+                         with the logged ones ({})",
+                        chosen.why,
+                        names.join(", ")
+                    );
+                }
+                Err(why) => chosen.why = format!("no closed-loop replay ({why}); {}", chosen.why),
+            }
         }
         self.anchoring = chosen;
         &self.anchoring

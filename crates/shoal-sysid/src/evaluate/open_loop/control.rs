@@ -1,5 +1,5 @@
-//! The controller in the replay: a closed-loop replay of a log that carries the references its
-//! controller followed (`r.mode`, `r.depth`, `r.yaw`, `r.surge`, `r.sway`).
+//! The controller in the replay: the closed-loop twin of the replay of a log that carries the
+//! references its controller followed (`r.mode`, `r.depth`, `r.yaw`, `r.surge`, `r.sway`).
 //!
 //! Under feedback a model error hides from the states: the controller pushes the hull back to
 //! its setpoint, and only the commands it sent carry the effect (a battery that sags is
@@ -11,6 +11,15 @@
 //! being tested — reads the replay's sensors at its control period and follows the logged
 //! references; its thruster commands drive the replayed hull and are compared with the logged
 //! ones as channels of their own ([`ChannelKind::Command`]).
+//!
+//! That simulation runs as a *twin* beside the replay proper: the same model from the same
+//! start, never re-anchored, recording only its commands, while the replay proper is driven
+//! by the logged commands (re-anchored or open loop as chosen) and its states are compared as
+//! before. One fit sees both views: from command to state, where a lag or a damping shows its
+//! shape, and from reference to command, where what the controller compensates shows. (Alone,
+//! the closed-loop view lost what the re-anchored one found: roll, pitch, surge and sway,
+//! which the controller does not hold, ran off for the whole mission, and a thruster lag was
+//! named a sensor delay; docs/validation.md.)
 //!
 //! What the controller reads is what the model's sensors would read — the deterministic part:
 //! the pressure port's depth plus any depth-sensor effect, the attitude, the gyro rates plus
@@ -209,15 +218,6 @@ impl<'a> Controlling<'a> {
             history: VecDeque::new(),
             recent: VecDeque::new(),
         }
-    }
-
-    /// After `state` was set to the measurements again (a re-anchored closed-loop replay):
-    /// the depth rate continues from the new depth, the readings and residuals kept from
-    /// before no longer describe this hull.
-    pub(super) fn anchored(&mut self, model: &VehicleModel, state: &VehicleState) {
-        self.state.continue_from_depth(depth_reading(model, state));
-        self.history.clear();
-        self.recent.clear();
     }
 
     /// Keeps what the sensors read in `state` for a delayed reading later.

@@ -17,11 +17,13 @@
 //! A long run may be replayed in horizons, its measured states set to the data again at the
 //! start of each ([`anchors`]: a re-anchored replay).
 //!
-//! A log that carries its controller's references may be replayed closed loop, the
-//! controller in the replay ([`control`]).
+//! A log that carries its controller's references may be given a closed-loop twin: the same
+//! model with the controller in the loop, whose commands the replay's command channels show
+//! ([`control`]).
 //!
 //! `setup.rs` holds what a replay starts from (input map, options, initial state),
-//! `anchors.rs` where it is re-anchored, `control.rs` the controller of a closed-loop replay, `simulate.rs` steps the model and `trace.rs` holds
+//! `anchors.rs` where it is re-anchored, `control.rs` the controller of the closed-loop twin,
+//! `simulate.rs` steps the model (its replay, its filter and its twin) and `trace.rs` holds
 //! what it records.
 
 pub mod anchors;

@@ -164,8 +164,10 @@ pub struct InitialState {
     pub velocity: Option<Vec3>,
     /// Body rates (p, q, r) [rad/s].
     pub rates: Vec3,
-    /// The controller of a closed-loop replay (`None`: the logged commands drive the hull;
-    /// see [`super::control`]).
+    /// The controller of the replay's closed-loop twin (`None`: no twin): the same model
+    /// replayed beside it from the same start with this controller in the loop and never
+    /// re-anchored, whose thruster commands the replay's command channels show, while the
+    /// logged commands drive the replay itself (see [`super::control`]).
     pub control: Option<Arc<ReplayControl>>,
 }
 

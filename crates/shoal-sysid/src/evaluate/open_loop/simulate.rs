@@ -63,19 +63,34 @@ pub fn simulate_with(
     // The filter for the horizontal velocities at each anchor: the same model, anchored densely.
     let mut f = (!init.filter.is_empty())
         .then(|| Replaying::filter(model, env, run, map, init, dt, masses, max_steps));
+    // The controller's twin, whose commands the recording shows.
+    let mut w = init
+        .control
+        .is_some()
+        .then(|| Replaying::twin(model, env, run, map, init, dt, masses, max_steps));
     // The constants of the equation of motion, while the ballast does not change.
     let mut consts = v.consts();
     let mut f_consts = f.as_ref().map(Replaying::consts);
+    let mut w_consts = w.as_ref().map(Replaying::consts);
     let mut row = 0usize;
     for s in 0..v.steps {
         row = row_at(run, row, s, dt);
         if let Some(f) = &mut f {
             f.anchor_at(s);
         }
-        if v.anchor_at(s)
-            && let Some(f) = &f
-        {
-            v.take_horizontal(f);
+        for x in std::iter::once(&mut v).chain(w.as_mut()) {
+            if x.anchor_at(s)
+                && let Some(f) = &f
+            {
+                x.take_horizontal(f);
+            }
+        }
+        if let (Some(w), Some(wc)) = (&mut w, &mut w_consts) {
+            if let Some(c) = w.actuate(run, map, row, env, dt) {
+                *wc = c;
+            }
+            v.patch_commands(&w.cmd.thrusters);
+            step(w, wc, env, opts);
         }
         if let Some(c) = v.actuate(run, map, row, env, dt) {
             consts = c;
@@ -87,7 +102,13 @@ pub fn simulate_with(
             }
             step(f, fc, env, opts);
         }
+        if let Some(w) = &mut w {
+            w.record(&[]);
+        }
         v.record(kinds);
+        if let Some(w) = &w {
+            v.patch_commands(&w.cmd.thrusters);
+        }
     }
     v.trace(run, dt, kinds)
 }
@@ -119,11 +140,14 @@ pub fn simulate_many(
 ) -> Vec<Trace> {
     assert_eq!(models.len(), max_steps.len(), "one step bound per model");
     let mut out = Vec::with_capacity(models.len());
-    // With a filter each model takes two lanes: its replay, then its filter.
+    // Each model takes a lane for its replay, then one for its filter (with a filter), then
+    // one for its controller's twin (in a closed-loop replay).
     let filtered = !init.filter.is_empty();
-    let per = if filtered { LANES / 2 } else { LANES };
+    let twinned = init.control.is_some();
+    let k = 1 + usize::from(filtered) + usize::from(twinned);
+    let per = LANES / k;
     for (group, bounds) in models.chunks(per).zip(max_steps.chunks(per)) {
-        if group.len() == 1 || opts.integrator != Integrator::Rk4 {
+        if (group.len() == 1 && k < 3) || opts.integrator != Integrator::Rk4 {
             out.extend(
                 group
                     .iter()
@@ -138,6 +162,9 @@ pub fn simulate_many(
             lanes.push(Replaying::new(m, env, run, map, init, kinds, dt, masses, n));
             if filtered {
                 lanes.push(Replaying::filter(m, env, run, map, init, dt, masses, n));
+            }
+            if twinned {
+                lanes.push(Replaying::twin(m, env, run, map, init, dt, masses, n));
             }
         }
         let mut consts = LaneConsts::<LANES>::splat(&lanes[0].consts());
@@ -159,34 +186,55 @@ pub fn simulate_many(
                 v.anchor_at(s);
             }
             for l in 0..lanes.len() {
-                if s < lanes[l].steps && !lanes[l].is_filter && lanes[l].anchor_at(s) && filtered {
-                    let (head, tail) = lanes.split_at_mut(l + 1);
-                    head[l].take_horizontal(&tail[0]);
+                if !lanes[l].is_filter && s < lanes[l].steps && lanes[l].anchor_at(s) && filtered {
+                    // The model's filter is the lane after its replay.
+                    let f = l - l % k + 1;
+                    let uv = lanes[f].horizontal();
+                    lanes[l].set_horizontal(uv);
                 }
             }
-            // A model whose replay has ended leaves its lane unread.
+            // A model whose replay has ended leaves its lanes unread.
             for (l, v) in lanes.iter_mut().enumerate().filter(|(_, v)| s < v.steps) {
                 if let Some(c) = v.actuate(run, map, row, env, dt) {
                     consts.set(l, &c);
                 }
                 x.load(l, &v.state.rigid, &v.state.tau);
             }
+            if twinned {
+                patch_from_twins(&mut lanes, k, s);
+            }
             rk4_group(&consts, &mut x, dt);
             for (l, v) in lanes.iter_mut().enumerate().filter(|(_, v)| s < v.steps) {
                 let nu0 = v.state.rigid.nu;
                 x.store(l, &mut v.state.rigid);
                 v.state.finish_step(&nu0, dt);
-                v.record(kinds);
+                v.record(if l % k == 0 { kinds } else { &[] });
+            }
+            if twinned {
+                patch_from_twins(&mut lanes, k, s);
             }
         }
         out.extend(
             lanes
                 .into_iter()
-                .filter(|v| !v.is_filter)
-                .map(|v| v.trace(run, dt, kinds)),
+                .enumerate()
+                .filter(|(l, _)| l % k == 0)
+                .map(|(_, v)| v.trace(run, dt, kinds)),
         );
     }
     out
+}
+
+/// Writes each twin's commands into its replay's last recorded point (lanes of `k` per model,
+/// the twin last), for the models still replaying at step `s`.
+fn patch_from_twins(lanes: &mut [Replaying], k: usize, s: usize) {
+    for model in lanes.chunks_mut(k) {
+        let (main, rest) = model.split_first_mut().expect("a replay per model");
+        let twin = rest.last().expect("a twin per model");
+        if s < main.steps {
+            main.patch_commands(&twin.cmd.thrusters);
+        }
+    }
 }
 
 /// The input row in effect at physics step `s` of `dt` \[s\], from `row` (the row of an
@@ -265,7 +313,7 @@ impl<'a> Replaying<'a> {
             anchors: &init.anchors,
             next: 0,
             is_filter: false,
-            control: init.control.as_deref().map(|c| Controlling::new(c, model)),
+            control: None,
             cmd_cols: kinds
                 .iter()
                 .enumerate()
@@ -304,15 +352,37 @@ impl<'a> Replaying<'a> {
         f
     }
 
+    /// The controller's twin of the replay [`Replaying::new`] makes from the same arguments:
+    /// the same model from the same start with the controller of `init.control` in the loop,
+    /// never re-anchored, recording nothing (its commands go into the replay's recording).
+    #[allow(clippy::too_many_arguments)]
+    fn twin(
+        model: &'a VehicleModel,
+        env: &Environment,
+        run: &MeasuredRun,
+        map: &InputMap,
+        init: &'a InitialState,
+        dt: f64,
+        masses: &MassTable,
+        max_steps: usize,
+    ) -> Self {
+        let mut w = Self::new(model, env, run, map, init, &[], dt, masses, max_steps);
+        w.anchors = &[];
+        w.control = init.control.as_deref().map(|c| {
+            let mut c = Controlling::new(c, model);
+            // What the sensors read at the start, for a delayed reading later.
+            c.observe(model, &w.state);
+            c
+        });
+        w
+    }
+
     /// Applies its anchor at physics step `s`, if it has one there (see [`Anchor::apply`]);
     /// whether it had.
     fn anchor_at(&mut self, s: usize) -> bool {
         match self.anchors.get(self.next) {
             Some(a) if a.step == s => {
                 a.apply(self.model, self.state.time, &mut self.state.rigid);
-                if let Some(c) = &mut self.control {
-                    c.anchored(self.model, &self.state);
-                }
                 self.next += 1;
                 true
             }
@@ -322,8 +392,18 @@ impl<'a> Replaying<'a> {
 
     /// Takes the horizontal body velocities u, v of its filter `f`.
     fn take_horizontal(&mut self, f: &Replaying) {
-        self.state.rigid.nu[0] = f.state.rigid.nu[0];
-        self.state.rigid.nu[1] = f.state.rigid.nu[1];
+        self.set_horizontal(f.horizontal());
+    }
+
+    /// Its horizontal body velocities u, v \[m/s\].
+    fn horizontal(&self) -> [f64; 2] {
+        [self.state.rigid.nu[0], self.state.rigid.nu[1]]
+    }
+
+    /// Sets its horizontal body velocities u, v \[m/s\].
+    fn set_horizontal(&mut self, uv: [f64; 2]) {
+        self.state.rigid.nu[0] = uv[0];
+        self.state.rigid.nu[1] = uv[1];
     }
 
     /// The constants of its equation of motion in its present ballast.
@@ -366,10 +446,7 @@ impl<'a> Replaying<'a> {
                 .thrusters
                 .iter()
                 .map(|&(i, k)| (i, run.inputs[k].values[row]));
-            if c.tick(self.model, &self.state, run, row, logged, &mut self.cmd) {
-                // The recording of now shows the command of now.
-                self.patch_commands();
-            }
+            c.tick(self.model, &self.state, run, row, logged, &mut self.cmd);
         }
         self.set_inputs(run, map, row);
         let consts = run_pump(self.model, &mut self.state, self.cmd.pump, dt).map(|v| {
@@ -383,19 +460,20 @@ impl<'a> Replaying<'a> {
     /// Records the present state (and keeps it for the controller's delayed readings).
     fn record(&mut self, kinds: &[ChannelKind]) {
         record(self.model, &self.state, &self.env, kinds, &mut self.values);
-        self.patch_commands();
         if let Some(c) = &mut self.control {
             c.observe(self.model, &self.state);
         }
     }
 
-    /// Writes the commands in force into the command columns of the last recorded point.
-    fn patch_commands(&mut self) {
+    /// Writes `thrusters`, the commands its twin's controller has in force \[%\], into the
+    /// command columns of the last recorded point (the recording of now shows the command of
+    /// now).
+    fn patch_commands(&mut self, thrusters: &[f64]) {
         let Some(last) = self.values.len().checked_sub(self.stride) else {
             return;
         };
         for &(col, i) in &self.cmd_cols {
-            self.values[last + col] = self.cmd.thrusters[i];
+            self.values[last + col] = thrusters[i];
         }
     }
 
