@@ -198,8 +198,9 @@ def validate(
     ``"ms"``) the unit of a plain ``t`` column; ``gaps`` (``"split"`` or ``"error"``), ``max_gap``
     [s] and ``min_segment`` [s] what a gap in time does; ``threads`` the worker threads of the
     search (results do not depend on it); ``horizon`` how runs are replayed: ``"choose"`` (the
-    default: as ``"auto"`` for runs of 300 s or longer, else open loop), ``"closed"`` (the vehicle's controller in the replay, the logged commands
-    compared too), ``"open"`` (open loop), a number of seconds (re-anchored to the measured
+    default: as ``"auto"`` for runs of 300 s or longer, else open loop), ``"closed"`` (as ``"auto"``, and beside each replay its closed-loop twin:
+    the vehicle's controller following the log's ``r.`` references, its commands compared with
+    the logged ones), ``"open"`` (open loop), a number of seconds (re-anchored to the measured
     depth, attitude and rates that often) or ``"auto"`` (a horizon chosen from the data). ``mapping`` is the mapping TOML through which rosbag2s among the runs are read (which
     topic and field is each input and channel; docs/validation.md "Your rosbag2"). Progress goes
     to ``progress(kind, message)`` if given, else to stderr unless ``quiet``. Returns a

@@ -64,8 +64,9 @@ pub struct ValidateArgs {
     #[arg(long, value_parser = clap::value_parser!(u16).range(1..=256))]
     pub threads: Option<u16>,
     /// How runs are replayed: `choose` (as `auto` for a run of 300 s or longer, else open
-    /// loop; the report says why), `closed` (the vehicle's
-    /// controller in the replay, the logged commands compared too), `open` (open loop from
+    /// loop; the report says why), `closed` (as `auto`, and beside each replay its
+    /// closed-loop twin: the vehicle's controller following the logged references `r.*`,
+    /// its commands compared with the logged ones), `open` (open loop from
     /// each run's first samples), SECONDS (re-anchored to the measured depth, attitude and
     /// rates every SECONDS, 0.5 … 3600), or `auto` (re-anchored at a horizon chosen from how
     /// long the baseline stays near the data; open loop where it stays there throughout).

@@ -24,9 +24,10 @@ pub enum Horizon {
     /// (1-s moving RMS of its residual, on every anchored channel), at least
     /// [`AUTO_MIN_HORIZON`]; open loop when it stays there throughout.
     Auto,
-    /// Closed loop: the vehicle's controller in the replay follows the references the log
-    /// carries, and the logged thruster commands are compared as channels
-    /// ([`crate::evaluate::controlled`]); where that is not possible, as [`Horizon::Auto`].
+    /// As [`Horizon::Auto`], and beside each replay its closed-loop twin: the vehicle's
+    /// controller follows the references the log carries, and the logged thruster commands
+    /// are compared with the twin's as channels ([`crate::evaluate::controlled`]); where
+    /// that is not possible, as [`Horizon::Auto`] alone.
     Closed,
 }
 
@@ -71,10 +72,10 @@ pub const LONG_RUN_S: f64 = 300.0;
 /// The replay a dataset uses, and why.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Anchoring {
-    /// The horizon \[s\], or `None` for open-loop and closed-loop replays.
+    /// The horizon \[s\], or `None` for open-loop replays.
     pub horizon: Option<f64>,
-    /// Whether the runs are replayed closed loop, the vehicle's controller in the replay
-    /// (the logged commands compared as channels).
+    /// Whether each run's replay has its closed-loop twin, the vehicle's controller in the
+    /// loop (the logged commands compared with the twin's as channels).
     pub closed_loop: bool,
     /// Why, in one sentence.
     pub why: String,
