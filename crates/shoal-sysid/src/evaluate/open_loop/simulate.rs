@@ -62,12 +62,14 @@ pub fn simulate_with(
     let mut v = Replaying::new(model, env, run, map, init, kinds, dt, masses, max_steps);
     // The filter for the horizontal velocities at each anchor: the same model, anchored densely.
     let mut f = (!init.filter.is_empty())
-        .then(|| Replaying::filter(model, env, run, map, init, dt, masses, max_steps));
+        .then(|| Replaying::new(model, env, run, map, init, &[], dt, masses, max_steps))
+        .map(|f| f.into_filter(init));
     // The controller's twin, whose commands the recording shows.
     let mut w = init
         .control
         .is_some()
-        .then(|| Replaying::twin(model, env, run, map, init, dt, masses, max_steps));
+        .then(|| Replaying::new(model, env, run, map, init, &[], dt, masses, max_steps))
+        .map(|w| w.into_twin(init));
     // The constants of the equation of motion, while the ballast does not change.
     let mut consts = v.consts();
     let mut f_consts = f.as_ref().map(Replaying::consts);
@@ -160,11 +162,12 @@ pub fn simulate_many(
         let mut lanes: Vec<Replaying> = Vec::with_capacity(LANES);
         for (m, &n) in group.iter().zip(bounds) {
             lanes.push(Replaying::new(m, env, run, map, init, kinds, dt, masses, n));
+            let alone = || Replaying::new(m, env, run, map, init, &[], dt, masses, n);
             if filtered {
-                lanes.push(Replaying::filter(m, env, run, map, init, dt, masses, n));
+                lanes.push(alone().into_filter(init));
             }
             if twinned {
-                lanes.push(Replaying::twin(m, env, run, map, init, dt, masses, n));
+                lanes.push(alone().into_twin(init));
             }
         }
         let mut consts = LaneConsts::<LANES>::splat(&lanes[0].consts());
@@ -333,48 +336,27 @@ impl<'a> Replaying<'a> {
         v
     }
 
-    /// The filter of the replay [`Replaying::new`] makes from the same arguments: the same
-    /// model from the same start, anchored at `init.filter`, recording nothing.
-    #[allow(clippy::too_many_arguments)]
-    fn filter(
-        model: &'a VehicleModel,
-        env: &Environment,
-        run: &MeasuredRun,
-        map: &InputMap,
-        init: &'a InitialState,
-        dt: f64,
-        masses: &MassTable,
-        max_steps: usize,
-    ) -> Self {
-        let mut f = Self::new(model, env, run, map, init, &[], dt, masses, max_steps);
-        f.anchors = &init.filter;
-        f.is_filter = true;
-        f
+    /// This replay (made with no recorded kinds) as the filter of a replay of the same model
+    /// from the same start: anchored at `init.filter`, recording nothing.
+    fn into_filter(mut self, init: &'a InitialState) -> Self {
+        self.anchors = &init.filter;
+        self.is_filter = true;
+        self
     }
 
-    /// The controller's twin of the replay [`Replaying::new`] makes from the same arguments:
-    /// the same model from the same start with the controller of `init.control` in the loop,
-    /// never re-anchored, recording nothing (its commands go into the replay's recording).
-    #[allow(clippy::too_many_arguments)]
-    fn twin(
-        model: &'a VehicleModel,
-        env: &Environment,
-        run: &MeasuredRun,
-        map: &InputMap,
-        init: &'a InitialState,
-        dt: f64,
-        masses: &MassTable,
-        max_steps: usize,
-    ) -> Self {
-        let mut w = Self::new(model, env, run, map, init, &[], dt, masses, max_steps);
-        w.anchors = &[];
-        w.control = init.control.as_deref().map(|c| {
+    /// This replay (made with no recorded kinds) as the closed-loop twin of a replay of the
+    /// same model from the same start: the controller of `init.control` in the loop, never
+    /// re-anchored, recording nothing (its commands go into the replay's recording).
+    fn into_twin(mut self, init: &'a InitialState) -> Self {
+        self.anchors = &[];
+        let (model, state) = (self.model, &self.state);
+        self.control = init.control.as_deref().map(|c| {
             let mut c = Controlling::new(c, model);
             // What the sensors read at the start, for a delayed reading later.
-            c.observe(model, &w.state);
+            c.observe(model, state);
             c
         });
-        w
+        self
     }
 
     /// Applies its anchor at physics step `s`, if it has one there (see [`Anchor::apply`]);
