@@ -285,7 +285,7 @@ impl<'a> Controlling<'a> {
 
     /// Runs the controller if a control tick is due in `state` (ticks every control period
     /// from the run's start), following the references of row `row` of `run` and writing the
-    /// thruster commands into `cmd`; whether it ran. `logged` are the row's thruster commands
+    /// thruster commands into `cmd` (nothing between ticks). `logged` are the row's thruster commands
     /// (index, value) for the `raw` mode.
     pub(super) fn tick(
         &mut self,
@@ -295,9 +295,9 @@ impl<'a> Controlling<'a> {
         row: usize,
         logged: impl Iterator<Item = (usize, f64)>,
         cmd: &mut ActuatorCommands,
-    ) -> bool {
+    ) {
         if state.time + 1e-9 < self.next_tick {
-            return false;
+            return;
         }
         let period = self.ctl.params.period;
         while self.next_tick <= state.time + 1e-9 {
@@ -311,7 +311,7 @@ impl<'a> Controlling<'a> {
             // A model that has blown up: its replay is not a number, and neither are its
             // commands (the controller's saturation has no answer for it).
             cmd.thrusters.iter_mut().for_each(|c| *c = f64::NAN);
-            return true;
+            return;
         }
         // The model's readings plus the noise the real controller read (see the module doc).
         let fast = self.fast_part(&s, state.time, row);
@@ -355,7 +355,6 @@ impl<'a> Controlling<'a> {
         for (c, o) in cmd.thrusters.iter_mut().zip(&self.out.thrusters) {
             *c = *o;
         }
-        true
     }
 }
 
