@@ -80,12 +80,11 @@ pub fn simulate_with(
         if let Some(f) = &mut f {
             f.anchor_at(s);
         }
-        for x in std::iter::once(&mut v).chain(w.as_mut()) {
-            if x.anchor_at(s)
-                && let Some(f) = &f
-            {
-                x.take_horizontal(f);
-            }
+        // (The twin is never re-anchored.)
+        if v.anchor_at(s)
+            && let Some(f) = &f
+        {
+            v.take_horizontal(f);
         }
         if let (Some(w), Some(wc)) = (&mut w, &mut w_consts) {
             if let Some(c) = w.actuate(run, map, row, env, dt) {
@@ -149,6 +148,8 @@ pub fn simulate_many(
     let k = 1 + usize::from(filtered) + usize::from(twinned);
     let per = LANES / k;
     for (group, bounds) in models.chunks(per).zip(max_steps.chunks(per)) {
+        // A model alone goes one hull after another — except with a twin, where its three
+        // hulls share one step of the lane kernel (the same numbers either way).
         if (group.len() == 1 && k < 3) || opts.integrator != Integrator::Rk4 {
             out.extend(
                 group
