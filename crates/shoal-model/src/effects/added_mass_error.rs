@@ -54,6 +54,7 @@ pub(super) fn family() -> Family {
             excitation: "short, hard accelerations from rest",
             direct: None,
             regressor: Regressor::Time,
+            thrust_map: false,
             separations: &[],
         },
     }

@@ -63,6 +63,7 @@ pub(super) fn family() -> Family {
             excitation: "pump phases with the thrusters off",
             direct: None,
             regressor: Regressor::Time,
+            thrust_map: false,
             separations: &[],
         },
     }

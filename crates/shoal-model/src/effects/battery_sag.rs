@@ -140,6 +140,7 @@ pub(super) fn family() -> Family {
             excitation: "the same command step repeated at the start and at the end of a long run",
             direct: None,
             regressor: Regressor::Time,
+            thrust_map: false,
             separations: &[(
                 "thrust_gain",
                 "repeat the same command step at the start and at the end of the run (a sag \

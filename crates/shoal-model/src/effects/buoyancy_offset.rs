@@ -211,6 +211,7 @@ pub(super) fn family() -> Family {
             excitation: "idle phases (all thrusters off) at several depths",
             direct: None,
             regressor: Regressor::Time,
+            thrust_map: false,
             separations: &[],
         },
     }

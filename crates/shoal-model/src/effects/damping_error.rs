@@ -179,6 +179,7 @@ pub(super) fn family() -> Family {
             excitation: "coasting down from several speeds",
             direct: None,
             regressor: Regressor::Rate,
+            thrust_map: false,
             separations: &[],
         },
     }

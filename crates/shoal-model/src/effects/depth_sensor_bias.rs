@@ -209,6 +209,7 @@ pub(super) fn family() -> Family {
             excitation: "a surface check (the reading at zero depth) at the start and at the end",
             direct: None,
             regressor: Regressor::Time,
+            thrust_map: false,
             separations: &[(
                 "buoyancy_offset",
                 "surface at the start and at the end (a sensor bias reads ≠ 0 at the surface, a \

@@ -33,6 +33,11 @@ pub struct FamilyFacts {
     pub direct: Option<DirectChannels>,
     /// What its residual signature is plotted against.
     pub regressor: Regressor,
+    /// Whether the family is a static map from command to thrust (a gain, an asymmetry, a
+    /// dead band, a saturation): a form mismatch of another such family leaves a residual it
+    /// can soak up, so the search keeps it beside another family only where it fits better
+    /// than a non-parametric thrust map ([`super::ThrustMap`]) in its place.
+    pub thrust_map: bool,
     /// Manoeuvres that tell it from particular other families, each (other family's name,
     /// manoeuvre in words); against families not listed here (nor listing it) the two
     /// families' [`FamilyFacts::excitation`]s are the manoeuvre.

@@ -168,6 +168,7 @@ pub(super) fn family() -> Family {
             excitation: "the same command from rest and while already moving along the thrust axis",
             direct: None,
             regressor: Regressor::Command,
+            thrust_map: false,
             separations: &[],
         },
     }

@@ -41,6 +41,7 @@ mod tether_drag;
 mod thrust_asymmetry;
 mod thrust_coupling;
 mod thrust_gain;
+mod thrust_map;
 mod thrust_saturation;
 mod thruster_deadband;
 mod thruster_lag;
@@ -66,6 +67,7 @@ pub use tether_drag::{TetherDrag, TetherTaut};
 pub use thrust_asymmetry::{ThrustAsymmetry, ThrustAsymmetryCurve, ThrustAsymmetrySided};
 pub use thrust_coupling::{ThrustCoupling, ThrustCouplingDirection};
 pub use thrust_gain::{ThrustGain, ThrustGainCurve, ThrustGainKnee, ThrustGainPerThruster};
+pub use thrust_map::ThrustMap;
 pub use thrust_saturation::{ThrustSaturation, ThrustSaturationAsymmetric, ThrustSaturationSmooth};
 pub use thruster_deadband::{
     ThrusterDeadband, ThrusterDeadbandAsymmetric, ThrusterDeadbandGate, ThrusterDeadbandSoft,

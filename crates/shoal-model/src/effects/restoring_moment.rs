@@ -198,6 +198,7 @@ pub(super) fn family() -> Family {
              shifted centre of gravity shows first",
             }),
             regressor: Regressor::Time,
+            thrust_map: false,
             separations: &[],
         },
     }

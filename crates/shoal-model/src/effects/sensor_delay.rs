@@ -52,6 +52,7 @@ pub(super) fn family() -> Family {
             excitation: "fast command reversals",
             direct: None,
             regressor: Regressor::Time,
+            thrust_map: false,
             separations: &[],
         },
     }

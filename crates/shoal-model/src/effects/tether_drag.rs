@@ -232,6 +232,7 @@ pub(super) fn family() -> Family {
              velocity, which a tether's pull depends on (its distance from the anchor)",
             }),
             regressor: Regressor::Time,
+            thrust_map: false,
             separations: &[],
         },
     }

@@ -168,6 +168,7 @@ pub(super) fn family() -> Family {
             excitation: "equal forward and reverse commands",
             direct: None,
             regressor: Regressor::Command,
+            thrust_map: true,
             separations: &[],
         },
     }

@@ -128,6 +128,7 @@ pub(super) fn family() -> Family {
             excitation: "vertical thrust steps with the heading logged",
             direct: None,
             regressor: Regressor::Command,
+            thrust_map: false,
             separations: &[],
         },
     }

@@ -226,6 +226,7 @@ pub(super) fn family() -> Family {
             excitation: "steps to several command levels in both directions",
             direct: None,
             regressor: Regressor::Command,
+            thrust_map: true,
             separations: &[],
         },
     }

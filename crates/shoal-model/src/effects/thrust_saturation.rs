@@ -177,6 +177,7 @@ pub(super) fn family() -> Family {
             excitation: "full-scale commands next to half-scale ones",
             direct: None,
             regressor: Regressor::Command,
+            thrust_map: true,
             separations: &[],
         },
     }

@@ -227,6 +227,7 @@ pub(super) fn family() -> Family {
             excitation: "slow ramps through zero and small commands (±5–15 %)",
             direct: None,
             regressor: Regressor::Command,
+            thrust_map: true,
             separations: &[],
         },
     }

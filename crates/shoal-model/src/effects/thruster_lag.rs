@@ -240,6 +240,7 @@ pub(super) fn family() -> Family {
             excitation: "short command steps (0.5–2 s) up and down",
             direct: None,
             regressor: Regressor::Command,
+            thrust_map: false,
             separations: &[],
         },
     }

@@ -58,6 +58,7 @@ pub(super) fn family() -> Family {
             excitation: "holding station with the position tracked",
             direct: None,
             regressor: Regressor::Time,
+            thrust_map: false,
             separations: &[],
         },
     }

@@ -78,6 +78,14 @@
 //! test cannot tell them apart) the log cannot separate the two: the verdict reports "A or B"
 //! with the manoeuvre that would separate them, and names neither.
 //!
+//! **Stand-ins for a form** (`nuisance.rs`). A thrust-map family (gain, asymmetry, dead band,
+//! saturation) beside another family is kept only where it fits better than a non-parametric
+//! thrust map in its place (a factor piecewise linear in the command, per direction, knots at
+//! quantiles of the estimation commands): where the map fits better by the BIC over every
+//! sample and by the effective ΔBIC, the family only soaks up the shape that the main
+//! family's form misses, and the verdict lists it as *possible* (a stand-in) instead of
+//! naming it.
+//!
 //! **Stability selection** (`stability.rs`). The chosen model is refitted on block-bootstrap
 //! resamples of the log (estimation and validation blocks drawn with replacement), and on each
 //! the backward test is repeated — ΔBIC, held-out gain, block test and materiality, on the
@@ -106,6 +114,7 @@ mod fitted;
 mod identify;
 pub mod measures;
 mod memo;
+mod nuisance;
 mod options;
 mod orchestrate;
 mod outcome;

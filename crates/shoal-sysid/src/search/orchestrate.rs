@@ -12,7 +12,7 @@ use super::outcome::Outcome;
 use super::par::par_map;
 use super::rules::{choose, judge, skipped};
 use super::step::Step;
-use super::{identify, pairs, refine, stability, verdict};
+use super::{identify, nuisance, pairs, refine, stability, verdict};
 use crate::evaluate::dataset::Dataset;
 use shoal_model::effects::Effect;
 use shoal_model::vehicle::VehicleParams;
@@ -86,8 +86,9 @@ pub fn search(
         fits: None,
     });
     let ambiguous = identify::ambiguities(&s, &stepwise, progress);
+    let stand_ins = nuisance::stand_ins(&s, &stepwise, progress);
     let freq = stability::frequencies(&s, &stepwise, progress);
-    let (chosen, verdict) = verdict::conclude(&s, &stepwise, ambiguous, freq);
+    let (chosen, verdict) = verdict::conclude(&s, &stepwise, ambiguous, &stand_ins, freq);
     Outcome {
         baseline,
         candidates,

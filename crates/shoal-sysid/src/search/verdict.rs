@@ -5,6 +5,7 @@
 use super::context::Search;
 use super::fitted::Fit;
 use super::measures::{STRUCTURE_RATIO, moved, noise_floor};
+use super::nuisance::StandIn;
 use crate::log::run::ChannelKind;
 use std::collections::BTreeMap;
 
@@ -71,6 +72,7 @@ pub(super) fn conclude(
     s: &Search<'_>,
     stepwise: &Fit,
     ambiguous: Vec<Ambiguity>,
+    stand_ins: &[StandIn],
     stability: BTreeMap<String, f64>,
 ) -> (Fit, Verdict) {
     let opts = s.ctx.opts;
@@ -101,6 +103,19 @@ pub(super) fn conclude(
                 form: alt_form,
                 reason: format!("explains the held-out data as well as {name}"),
                 stability: None,
+            });
+            drop.push(name);
+        } else if let Some(si) = stand_ins.iter().find(|si| si.effect == name) {
+            possible.push(Possible {
+                effect: name.clone(),
+                form,
+                reason: format!(
+                    "a stand-in for the form of {}: a non-parametric thrust map in its place \
+                     fits the log better (ΔBIC {:.0}, effective {:.0}), so what it explains is \
+                     the shape of a thrust map that {}'s form misses, not a law of its own",
+                    si.main, si.delta_bic, si.delta_bic_eff, si.main
+                ),
+                stability: freq,
             });
             drop.push(name);
         } else if let Some((k, size)) =
