@@ -386,6 +386,30 @@ impl Ctx<'_> {
         adds: &[(&Arc<dyn Effect>, &[bool])],
         starts: &[Vec<f64>],
     ) -> Option<Fit> {
+        self.stacked(cur, adds, starts, true)
+    }
+
+    /// [`Ctx::extend`] from `start` alone, without a scan of the new parameters (for an effect
+    /// whose null values are a good start and whose many parameters would make a scan dear).
+    pub fn extend_unscanned(
+        &self,
+        cur: &Fit,
+        add: &Arc<dyn Effect>,
+        excited_add: &[bool],
+        start: Vec<f64>,
+    ) -> Option<Fit> {
+        self.stacked(cur, &[(add, excited_add)], &[start], false)
+    }
+
+    /// `cur` with `adds` fitted on top from `cur`'s values and each of `starts` (the new
+    /// parameters), with a scan of the new parameters when `scan`.
+    fn stacked(
+        &self,
+        cur: &Fit,
+        adds: &[(&Arc<dyn Effect>, &[bool])],
+        starts: &[Vec<f64>],
+        scan: bool,
+    ) -> Option<Fit> {
         let mut effects: Vec<Arc<dyn Effect>> =
             cur.effects.iter().map(|e| e.effect.clone()).collect();
         let mut excited: Vec<bool> = Vec::new();
@@ -407,7 +431,7 @@ impl Ctx<'_> {
             })
             .collect();
         let from = held.len();
-        self.fit(&effects, &excited, &starts, Some(from))
+        self.fit(&effects, &excited, &starts, scan.then_some(from))
     }
 
     /// `cur` without the effect `name`, refitted (the baseline if nothing remains).

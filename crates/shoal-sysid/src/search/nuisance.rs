@@ -92,7 +92,9 @@ pub(super) fn stand_ins(
         .filter_map(|(n, r)| r.map(|r| (n, r)))
         .collect();
     let found: Vec<Option<StandIn>> = par_map(&tests, opts.threads, |(n, r)| {
-        let with_map = with_map(s, r, &map, &excited)?;
+        // From the baseline map, without a scan: the map is nearly linear in its knots.
+        let null = map.params(s.ctx.base).iter().map(|p| p.null).collect();
+        let with_map = s.ctx.extend_unscanned(r, &map, &excited, null)?;
         progress(Step::Fit(&format!("thrust map for {n}")));
         let delta_bic = bic(&with_map.eval, with_map.k) - whole;
         let delta_bic_eff = delta_bic_eff(stepwise, &with_map, None);
@@ -155,22 +157,6 @@ fn knots_at_quantiles(mut x: Vec<f64>) -> Option<[f64; 4]> {
         k[i] = k[i].max(k[i - 1] + 1e-3);
     }
     Some(k)
-}
-
-/// `r` with the thrust map fitted on top (its excited knots free, from the baseline map),
-/// the other effects refitted from their values.
-fn with_map(s: &Search<'_>, r: &Fit, map: &Arc<dyn Effect>, excited: &[bool]) -> Option<Fit> {
-    let mut effects: Vec<Arc<dyn Effect>> = r.effects.iter().map(|e| e.effect.clone()).collect();
-    let mut free: Vec<bool> = Vec::new();
-    let mut start: Vec<f64> = Vec::new();
-    for e in &r.effects {
-        free.extend(e.params.iter().map(|p| p.excited));
-        start.extend(e.params.iter().map(|p| p.value));
-    }
-    effects.push(map.clone());
-    free.extend_from_slice(excited);
-    start.extend(map.params(s.ctx.base).iter().map(|p| p.null));
-    s.ctx.fit(&effects, &free, &[start], None)
 }
 
 #[cfg(test)]
