@@ -122,6 +122,8 @@ const AT_REST: f64 = 0.005;
 
 /// The nuisance map with its knots at the [`QUANTILES`] of the estimation commands of every
 /// thruster, per direction (see [`ThrustMap`]).
+/// One search makes one such map: the search's memo tells models apart by their effects' names
+/// and forms, which do not say where the knots are.
 fn knotted(s: &Search<'_>) -> ThrustMap {
     let (mut fwd, mut rev) = (Vec::new(), Vec::new());
     for rd in s.ctx.ds.runs.iter().filter(|rd| !rd.holdout) {
