@@ -49,6 +49,14 @@ pub struct RunData {
     pub holdout: bool,
 }
 
+impl RunData {
+    /// Whether a sample at time `t` \[s\] is estimation data (before the split; never in a
+    /// hold-out run, whose split is at −∞).
+    pub fn is_estimation(&self, t: f64) -> bool {
+        t < self.split_time
+    }
+}
+
 /// Runs prepared for a search.
 #[derive(Clone, Debug)]
 pub struct Dataset {
@@ -139,7 +147,7 @@ impl RunPlan {
                 if c.kind.is_angle() {
                     unwrap(&mut measured);
                 }
-                let est: Vec<bool> = times.iter().map(|&t| t < rd.split_time).collect();
+                let est: Vec<bool> = times.iter().map(|&t| rd.is_estimation(t)).collect();
                 let leading = est.iter().take_while(|&&e| e).count();
                 let n_est = if est[leading..].iter().any(|&e| e) {
                     est.len()
@@ -357,7 +365,7 @@ impl Dataset {
                     continue;
                 }
                 for &row in &c.rows {
-                    if r.run.t[row] < r.split_time {
+                    if r.is_estimation(r.run.t[row]) {
                         ne += 1;
                     } else {
                         nv += 1;

@@ -17,9 +17,9 @@
 //! eight parameters). The held-out data are no test here: the map has no law to carry it
 //! beyond the stretch it was fitted on (a sag that goes on draining, a depth that integrates
 //! every thrust error), so it predicts them worse than a stand-in family's law even where it
-//! fits better (on the recovery draws the models with the map predicted the held-out data 2 % to 2.2 × worse). The family that
-//! explains the most (whose removal costs the most BIC) is never tested: it is the finding
-//! whose form the others would be standing in for.
+//! fits better (on the recovery draws, the models with the map predicted the held-out data
+//! 2 % to 2.2 × worse). The family that explains the most (whose removal costs the most BIC)
+//! is never tested: it is the finding whose form the others would be standing in for.
 
 use super::context::Search;
 use super::fitted::Fit;
@@ -122,17 +122,18 @@ const AT_REST: f64 = 0.005;
 
 /// The nuisance map with its knots at the [`QUANTILES`] of the estimation commands of every
 /// thruster, per direction (see [`ThrustMap`]).
+///
 /// One search makes one such map: the search's memo tells models apart by their effects' names
 /// and forms, which do not say where the knots are.
 fn knotted(s: &Search<'_>) -> ThrustMap {
     let (mut fwd, mut rev) = (Vec::new(), Vec::new());
-    for rd in s.ctx.ds.runs.iter().filter(|rd| !rd.holdout) {
+    for rd in &s.ctx.ds.runs {
         for &(ti, ci) in &rd.map.thrusters {
             let n_max = s.ctx.base.thrusters[ti].max_command;
             let values = &rd.run.inputs[ci].values;
             for (&t, &v) in rd.run.t.iter().zip(values) {
                 let x = (v.abs() / n_max).min(1.0);
-                if t < rd.split_time && x >= AT_REST {
+                if rd.is_estimation(t) && x >= AT_REST {
                     if v < 0.0 { rev.push(x) } else { fwd.push(x) }
                 }
             }
