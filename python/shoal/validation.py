@@ -85,8 +85,12 @@ class Report:
     channels' ``gain_pct``; ``changed_channels`` the channels the model changes (by at least
     their sensor's resolution) and ``changed_channels_gain_pct`` the mean gain over them;
     ``data`` the whole of ``report.json``; ``vehicle_toml`` the
-    fitted vehicle as a world file (run it with ``shoal run``). :meth:`write` writes the usual
-    files (``report.json``, ``report.md``, ``vehicle.toml``, plots).
+    fitted vehicle as a world file (run it with ``shoal run``); ``next_experiment`` the
+    suggested flight when the log leaves a question open (an "A or B", an effect only
+    possible: its manoeuvre and each question's separation on the log and predicted for the
+    flight, as in ``report.json``), else ``None``, and ``next_experiment_toml`` that flight as
+    a world file. :meth:`write` writes the usual files (``report.json``, ``report.md``,
+    ``vehicle.toml``, ``next_experiment.toml`` when there is one, plots).
     """
 
     verdict: str
@@ -100,6 +104,8 @@ class Report:
     changed_channels_gain_pct: float
     data: dict = field(repr=False)
     vehicle_toml: str = field(repr=False)
+    next_experiment: Optional[dict] = None
+    next_experiment_toml: Optional[str] = field(repr=False, default=None)
     _native: Any = field(repr=False, compare=False, default=None)
 
     @property
@@ -110,8 +116,14 @@ class Report:
     def write(self, directory: Union[str, "os.PathLike[str]"], plots: bool = True) -> dict:
         """Writes ``report.json``, ``report.md``, ``vehicle.toml`` and (with ``plots``) the
         plots into ``directory`` (created if missing); returns their paths."""
-        js, md, vehicle, pngs = self._native.write(Path(directory), plots)
-        return {"json": js, "markdown": md, "vehicle": vehicle, "plots": pngs}
+        js, md, vehicle, nxt, pngs = self._native.write(Path(directory), plots)
+        return {
+            "json": js,
+            "markdown": md,
+            "vehicle": vehicle,
+            "next_experiment": nxt,
+            "plots": pngs,
+        }
 
 
 def _run_arg(run: Run, i: int, what: str):
@@ -259,5 +271,7 @@ def validate(
         changed_channels_gain_pct=v["changed_channels_gain_pct"],
         data=data,
         vehicle_toml=native.vehicle_toml(),
+        next_experiment=v["next_experiment"],
+        next_experiment_toml=native.next_experiment_toml(),
         _native=native,
     )

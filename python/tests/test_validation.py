@@ -82,6 +82,15 @@ def test_python_gives_the_command_lines_verdict(shoal_bin, tmp_path, name):
     # The report files from Python.
     files = r.write(tmp_path / "py", plots=False)
     assert json.loads(Path(files["json"]).read_text())["verdict"] == cli["verdict"]
+    # The next experiment, when the log leaves a question open, is the command line's.
+    assert r.next_experiment == cli["verdict"]["next_experiment"]
+    nxt = out / "next_experiment.toml"
+    if r.next_experiment is None:
+        assert r.next_experiment_toml is None and files["next_experiment"] is None
+        assert not nxt.exists()
+    else:
+        assert r.next_experiment_toml == nxt.read_text()
+        assert Path(files["next_experiment"]).read_text() == nxt.read_text()
 
 
 def test_columns_in_memory_are_read_as_the_file():

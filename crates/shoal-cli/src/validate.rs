@@ -205,6 +205,26 @@ pub fn validate(args: &ValidateArgs) -> Result<ExitCode, Failure> {
     let wall = started.get().map_or(0.0, |t| t.elapsed().as_secs_f64());
     println!("{}", v.verdict_sentence());
     println!("Replay: {}.", v.dataset.anchoring.why);
+    if let (Some(x), Some(path)) = (&v.next_experiment, &written.next_experiment) {
+        let questions: Vec<String> = x
+            .questions
+            .iter()
+            .map(|q| {
+                let flight = q
+                    .on_flight
+                    .as_ref()
+                    .map_or("—".to_string(), shoal_sysid::experiment::describe);
+                format!("{} or {}: {flight}", q.a, q.b)
+            })
+            .collect();
+        println!(
+            "Next experiment: {} ({:.0} s), predicted apart by {} — {}",
+            x.manoeuvre,
+            x.schedule.duration,
+            questions.join("; "),
+            path.display()
+        );
+    }
     println!();
     println!(
         "{:<10} {:>16} {:>16} {:>8} {:>10} {:>10}",

@@ -39,19 +39,29 @@ impl Validation {
             .map_err(|e| PyOSError::new_err(e.to_string()))
     }
 
-    /// Writes `report.json`, `report.md`, `vehicle.toml` and (with `plots`) the plots into
-    /// `dir`; returns their paths `(json, markdown, vehicle, [plots])`.
+    /// The suggested next experiment as a world file (the text of `next_experiment.toml`), or
+    /// `None` when the log leaves no question open.
+    fn next_experiment_toml(&self) -> PyResult<Option<String>> {
+        self.0
+            .next_experiment_toml()
+            .map_err(|e| PyOSError::new_err(e.to_string()))
+    }
+
+    /// Writes `report.json`, `report.md`, `vehicle.toml`, `next_experiment.toml` (when one is
+    /// suggested) and (with `plots`) the plots into `dir`; returns their paths `(json,
+    /// markdown, vehicle, next experiment or None, [plots])`.
     #[pyo3(signature = (dir, plots=true))]
+    #[allow(clippy::type_complexity)]
     fn write(
         &self,
         py: Python<'_>,
         dir: PathBuf,
         plots: bool,
-    ) -> PyResult<(PathBuf, PathBuf, PathBuf, Vec<PathBuf>)> {
+    ) -> PyResult<(PathBuf, PathBuf, PathBuf, Option<PathBuf>, Vec<PathBuf>)> {
         let w = py
             .detach(|| self.0.write(&dir, plots))
             .map_err(|e| PyOSError::new_err(e.to_string()))?;
-        Ok((w.json, w.markdown, w.vehicle, w.plots))
+        Ok((w.json, w.markdown, w.vehicle, w.next_experiment, w.plots))
     }
 }
 

@@ -15,7 +15,10 @@
 //!    [`evaluate::masses`]);
 //! 3. [`search`] — per-effect fits, BIC and validation scoring, greedy forward selection with a
 //!    significance rule, identifiability and stability, the verdict;
-//! 4. [`report`] — `report.json`, `report.md` with plots, and the extended `vehicle.toml`.
+//! 4. [`experiment`] — the next experiment: the manoeuvre that best separates the models a
+//!    log leaves in question ("A or B", an effect only possible), as a world file;
+//! 5. [`report`] — `report.json`, `report.md` with plots, the extended `vehicle.toml` and
+//!    `next_experiment.toml`.
 //!
 //! Each stage uses only the stages before it.
 //!
@@ -31,6 +34,7 @@
 //! model unchanged.
 
 pub mod evaluate;
+pub mod experiment;
 pub mod log;
 pub mod report;
 pub mod search;

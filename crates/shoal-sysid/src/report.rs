@@ -4,7 +4,8 @@
 //! signature, what is only possible, ambiguous or unexplained, and plots of measured vs
 //! baseline vs extended and of the residual autocorrelation before and after), and
 //! `vehicle.toml` (the input model with the found effects switched on, as a world file
-//! `shoal run` loads).
+//! `shoal run` loads) and, when the log leaves a question open, `next_experiment.toml` (the
+//! flight that would settle it, [`crate::experiment`]).
 //!
 //! One file per concern under `report/`: `json.rs` builds `report.json`, `markdown.rs`
 //! `report.md`, `plots.rs` draws every figure, `signature.rs` maps an effect family to the
@@ -64,9 +65,22 @@ pub fn write_report(dir: &Path, input: &ReportInput<'_>) -> Result<Written, Repo
         json: dir.join("report.json"),
         markdown: dir.join("report.md"),
         vehicle: dir.join("vehicle.toml"),
+        next_experiment: None,
         plots: Vec::new(),
     };
     write_vehicle(input, &written.vehicle)?;
+    if let Some(x) = input.next {
+        let path = dir.join("next_experiment.toml");
+        let text =
+            crate::experiment::world_toml(x, input.vehicle, &input.log_name).map_err(|e| {
+                ReportError::Write {
+                    path: path.clone(),
+                    message: e.to_string(),
+                }
+            })?;
+        write(&path, &text)?;
+        written.next_experiment = Some(path);
+    }
     let refs = if input.plots {
         let pdir = dir.join("plots");
         std::fs::create_dir_all(&pdir).map_err(|e| ReportError::Write {

@@ -8,6 +8,7 @@ pub use crate::evaluate::anchoring::Horizon;
 use crate::evaluate::dataset::{DataError, DataOptions, Dataset};
 use crate::evaluate::evaluation::rmse_gain_pct;
 use crate::evaluate::open_loop::ReplayOptions;
+use crate::experiment::{NextExperiment, next_experiment};
 use crate::log::format::{ReadOptions, TimeUnit};
 use crate::log::limits::ClampNote;
 use crate::log::readers::Readers;
@@ -217,6 +218,11 @@ pub struct Validation {
     pub options: SearchOptions,
     /// What the search found.
     pub outcome: Outcome,
+    /// The flight that would settle the questions the log leaves open ("A or B", effects
+    /// only possible), when there are any.
+    pub next_experiment: Option<NextExperiment>,
+    /// The name of the first run as given (a file name), for the next experiment's header.
+    pub log_name: String,
 }
 
 /// One row of the before/after table of a validation.
@@ -297,6 +303,20 @@ impl Validation {
         vehicle_toml(&self.report_input(false), path)
     }
 
+    /// The suggested next experiment as a world file (the text of `next_experiment.toml`), or
+    /// `None` when the log leaves no question open.
+    pub fn next_experiment_toml(&self) -> Result<Option<String>, ReportError> {
+        let Some(x) = &self.next_experiment else {
+            return Ok(None);
+        };
+        crate::experiment::world_toml(x, &self.vehicle, &self.log_name)
+            .map(Some)
+            .map_err(|e| ReportError::Write {
+                path: PathBuf::from("next_experiment.toml"),
+                message: e.to_string(),
+            })
+    }
+
     /// The report's input (for the report's parts written one by one).
     pub fn report_input(&self, plots: bool) -> ReportInput<'_> {
         ReportInput {
@@ -306,6 +326,8 @@ impl Validation {
             opts: &self.options,
             outcome: &self.outcome,
             plots,
+            next: self.next_experiment.as_ref(),
+            log_name: self.log_name.clone(),
         }
     }
 }
@@ -513,11 +535,23 @@ pub fn validate(
         Step::Stage { stage, fits } => progress(Progress::Stage { stage, fits }),
         Step::Fit(name) => progress(Progress::Fit { name }),
     });
+    progress(Progress::Stage {
+        stage: "the next experiment",
+        fits: None,
+    });
+    let next_experiment = next_experiment(&dataset, &params, &options, &outcome);
+    let log_name = runs.first().map_or_else(String::new, |r| {
+        r.path()
+            .file_name()
+            .map_or_else(String::new, |n| n.to_string_lossy().into_owned())
+    });
     Ok(Validation {
         dataset,
         vehicle,
         vehicle_source,
         options,
         outcome,
+        next_experiment,
+        log_name,
     })
 }

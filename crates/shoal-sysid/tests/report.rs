@@ -44,6 +44,8 @@ fn report(name: &str, exp: Exp, hidden: &[(&str, Vec<f64>)], seed: u64) -> PathB
             opts: &opts,
             outcome: &out,
             plots: true,
+            next: None,
+            log_name: String::new(),
         },
     )
     .expect("report written");

@@ -254,11 +254,8 @@ impl Recorder {
             .iter()
             .enumerate()
             .map(|(i, name)| InputColumn {
-                name: name.clone(),
-                column: 2 + i,
                 values: Vec::with_capacity(n),
-                precision: Vec::new(),
-                first_set: 0,
+                ..InputColumn::held(name, 2 + i)
             })
             .collect();
         let channels = kinds

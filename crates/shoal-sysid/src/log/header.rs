@@ -246,17 +246,6 @@ struct Columns {
     extra: Vec<String>,
 }
 
-/// A held column (input or reference) without values.
-fn held(name: &str, column: usize) -> InputColumn {
-    InputColumn {
-        name: name.to_string(),
-        column,
-        values: Vec::new(),
-        precision: Vec::new(),
-        first_set: 0,
-    }
-}
-
 /// "unknown measurement `y.dpth` — did you mean `y.depth`? (allowed: …)".
 fn unknown(what: &str, prefix: &str, name: &str, names: &[&str]) -> String {
     let allowed: Vec<String> = names.iter().map(|n| format!("{prefix}{n}")).collect();
@@ -288,7 +277,7 @@ impl Columns {
                 return Err("an input column needs an actuator name after `u.`".into());
             }
             self.cols.push(Col::Input(self.inputs.len()));
-            self.inputs.push(held(a, c));
+            self.inputs.push(InputColumn::held(a, c));
         } else if let Some(y) = n.strip_prefix("y.") {
             let Some(kind) = ChannelKind::from_name(y) else {
                 let names: Vec<&str> = ChannelKind::ALL.iter().map(|(_, n)| *n).collect();
@@ -307,7 +296,7 @@ impl Columns {
                 return Err(unknown("reference", "r.", r, &names));
             };
             self.cols.push(Col::Reference(self.references.len(), kind));
-            self.references.push(held(r, c));
+            self.references.push(InputColumn::held(r, c));
         } else if n.starts_with("x.") {
             self.cols.push(Col::Extra);
             self.extra.push(n.to_string());

@@ -284,6 +284,20 @@ pub struct InputColumn {
     pub first_set: usize,
 }
 
+impl InputColumn {
+    /// A held column (input or reference) named `name` at file column `column`, without
+    /// values yet.
+    pub fn held(name: &str, column: usize) -> InputColumn {
+        InputColumn {
+            name: name.to_string(),
+            column,
+            values: Vec::new(),
+            precision: Vec::new(),
+            first_set: 0,
+        }
+    }
+}
+
 /// A measurement column.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Channel {

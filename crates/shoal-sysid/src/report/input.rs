@@ -2,6 +2,7 @@
 //! it wrote ([`Written`]).
 
 use crate::evaluate::dataset::Dataset;
+use crate::experiment::NextExperiment;
 use crate::search::{Outcome, SearchOptions};
 use shoal_world::spec::VehicleSpec;
 use std::path::PathBuf;
@@ -20,6 +21,11 @@ pub struct ReportInput<'a> {
     pub outcome: &'a Outcome,
     /// Draw plots.
     pub plots: bool,
+    /// The suggested next experiment, when the log leaves a question open.
+    pub next: Option<&'a NextExperiment>,
+    /// The log's name as a user gave it (the first run's file), for the next experiment's
+    /// header.
+    pub log_name: String,
 }
 
 /// Files written.
@@ -31,6 +37,8 @@ pub struct Written {
     pub markdown: PathBuf,
     /// `vehicle.toml`.
     pub vehicle: PathBuf,
+    /// `next_experiment.toml`, when a next experiment is suggested.
+    pub next_experiment: Option<PathBuf>,
     /// Plot files (PNG and SVG).
     pub plots: Vec<PathBuf>,
 }

@@ -34,6 +34,7 @@ pub(super) fn markdown(
     named(&mut s, input, refs);
     possible(&mut s, out);
     ambiguous(&mut s, out);
+    next_experiment(&mut s, input);
     unexplained(&mut s, out);
     channels(&mut s, out);
     runs(&mut s, input);
@@ -383,6 +384,47 @@ fn ambiguous(s: &mut String, out: &Outcome) {
         );
     }
     let _ = writeln!(s);
+}
+
+fn next_experiment(s: &mut String, input: &ReportInput<'_>) {
+    let Some(x) = input.next else {
+        return;
+    };
+    let _ = writeln!(s, "## Next experiment\n");
+    let _ = writeln!(
+        s,
+        "`next_experiment.toml` flies the vehicle through **{}** ({}) for {:.0} s: of the \
+         library's manoeuvres, the one whose smallest separation of the rival models below is \
+         largest. Fly it, log the same channels and validate both logs together.\n",
+        x.manoeuvre, x.what, x.schedule.duration
+    );
+    let _ = writeln!(
+        s,
+        "| question | apart on this log (held-out) | apart on the flight (predicted) |\n|---|---|---|"
+    );
+    let sep = |v: &Option<crate::experiment::predict::Separation>| {
+        v.as_ref()
+            .map_or("—".to_string(), crate::experiment::describe)
+    };
+    for q in &x.questions {
+        let _ = writeln!(
+            s,
+            "| `{}` or `{}` | {} | {} |",
+            q.a,
+            q.b,
+            sep(&q.on_log),
+            sep(&q.on_flight)
+        );
+    }
+    let tried: Vec<String> = x.tried.iter().map(|(m, r)| format!("{m} {r:.2}")).collect();
+    let _ = writeln!(
+        s,
+        "\nSmallest separation ratio of each manoeuvre tried: {}. (A ratio is the RMS \
+         difference of the two models' predictions over the final model's held-out RMSE on \
+         the log; the evidence, samples × ratio², is the expected difference of their χ² were \
+         that residual white.)\n",
+        tried.join(", ")
+    );
 }
 
 fn unexplained(s: &mut String, out: &Outcome) {

@@ -264,6 +264,7 @@ mod tests {
             stepwise: fit(true),
             verdict: Verdict::default(),
             factors: Default::default(),
+            rivals: Vec::new(),
         }
     }
 

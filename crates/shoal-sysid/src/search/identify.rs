@@ -24,12 +24,13 @@ const AMBIGUOUS_T: f64 = 2.0;
 /// How many alternatives are tried for each chosen effect.
 const ALTERNATIVES: usize = 2;
 
-/// The ambiguities of `stepwise`: pairs (chosen, alternative) the log cannot tell apart.
+/// The ambiguities of `stepwise`: pairs (chosen, alternative) the log cannot tell apart, each
+/// with the model of the alternative (the model without the chosen one plus the alternative).
 pub(super) fn ambiguities(
     s: &Search<'_>,
     stepwise: &Fit,
     progress: &(dyn Fn(Step<'_>) + Sync),
-) -> Vec<Ambiguity> {
+) -> Vec<(Ambiguity, Fit)> {
     let opts = s.ctx.opts;
     let names = stepwise.names();
     let mut tries: Vec<(String, Fit, String)> = Vec::new();
@@ -41,31 +42,35 @@ pub(super) fn ambiguities(
             tries.push((name.clone(), reduced.clone(), alt));
         }
     }
-    let found: Vec<Option<Ambiguity>> = par_map(&tries, opts.threads, |(name, reduced, alt)| {
-        let c = s.candidate(0, reduced, alt)?;
-        progress(Step::Fit(&format!("{alt} in place of {name}")));
-        if !c.significant {
-            return None;
-        }
-        let fit = c.fit?;
-        let g = gain(&stepwise.eval, &fit.eval);
-        let t = heldout_t(&stepwise.eval, &fit.eval, opts.block_s, None);
-        // The estimation data must not tell them apart either: the effective BIC of the two
-        // models differs by less than the selection threshold.
-        let d = delta_bic_eff(stepwise, &fit, None);
-        (g >= -opts.min_gain && t.abs() < AMBIGUOUS_T && d.abs() < -opts.bic_threshold).then(|| {
-            Ambiguity {
-                effects: [name.clone(), alt.clone()],
-                heldout_gain: g,
-                heldout_t: t,
-                manoeuvre: manoeuvre(name, alt),
+    let found: Vec<Option<(Ambiguity, Fit)>> =
+        par_map(&tries, opts.threads, |(name, reduced, alt)| {
+            let c = s.candidate(0, reduced, alt)?;
+            progress(Step::Fit(&format!("{alt} in place of {name}")));
+            if !c.significant {
+                return None;
             }
-        })
-    });
-    let mut out: Vec<Ambiguity> = Vec::new();
-    for a in found.into_iter().flatten() {
-        if !out.iter().any(|b| b.effects[0] == a.effects[0]) {
-            out.push(a);
+            let fit = c.fit?;
+            let g = gain(&stepwise.eval, &fit.eval);
+            let t = heldout_t(&stepwise.eval, &fit.eval, opts.block_s, None);
+            // The estimation data must not tell them apart either: the effective BIC of the two
+            // models differs by less than the selection threshold.
+            let d = delta_bic_eff(stepwise, &fit, None);
+            (g >= -opts.min_gain && t.abs() < AMBIGUOUS_T && d.abs() < -opts.bic_threshold).then(
+                || {
+                    let a = Ambiguity {
+                        effects: [name.clone(), alt.clone()],
+                        heldout_gain: g,
+                        heldout_t: t,
+                        manoeuvre: manoeuvre(name, alt),
+                    };
+                    (a, fit)
+                },
+            )
+        });
+    let mut out: Vec<(Ambiguity, Fit)> = Vec::new();
+    for (a, fit) in found.into_iter().flatten() {
+        if !out.iter().any(|(b, _)| b.effects[0] == a.effects[0]) {
+            out.push((a, fit));
         }
     }
     out

@@ -133,7 +133,7 @@ pub use identify::direct_channels;
 pub use measures::{bic, delta_bic, gain};
 pub use options::{PHYSICAL_RATIO, SearchOptions};
 pub use orchestrate::search;
-pub use outcome::Outcome;
+pub use outcome::{Outcome, Rival};
 pub use par::par_map;
 pub use step::Step;
 pub use verdict::{Ambiguity, Possible, Unexplained, Verdict};

@@ -88,7 +88,7 @@ pub fn search(
     let ambiguous = identify::ambiguities(&s, &stepwise, progress);
     let stand_ins = nuisance::stand_ins(&s, &stepwise, progress);
     let freq = stability::frequencies(&s, &stepwise, progress);
-    let (chosen, verdict) = verdict::conclude(&s, &stepwise, ambiguous, &stand_ins, freq);
+    let (chosen, verdict, rivals) = verdict::conclude(&s, &stepwise, ambiguous, &stand_ins, freq);
     Outcome {
         baseline,
         candidates,
@@ -96,6 +96,7 @@ pub fn search(
         stepwise,
         verdict,
         factors,
+        rivals,
     }
 }
 

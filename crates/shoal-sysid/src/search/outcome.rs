@@ -25,6 +25,23 @@ pub struct Outcome {
     /// Residual weights of the baseline (see
     /// [`Evaluation::ml_factors`](crate::evaluate::evaluation::Evaluation::ml_factors)).
     pub factors: BTreeMap<ChannelKind, f64>,
+    /// The questions the log leaves open, each as two fitted models: every "A or B" and every
+    /// effect left possible (the model with it against the model without it). What a next
+    /// experiment is chosen to answer ([`crate::experiment`]).
+    pub rivals: Vec<Rival>,
+}
+
+/// Two fitted models the log cannot decide between.
+#[derive(Clone, Debug)]
+pub struct Rival {
+    /// The first explanation, as the report names it (an effect family).
+    pub a: String,
+    /// The second (another family, or `no <family>`).
+    pub b: String,
+    /// The model of the first.
+    pub fit_a: Fit,
+    /// The model of the second.
+    pub fit_b: Fit,
 }
 
 impl Outcome {

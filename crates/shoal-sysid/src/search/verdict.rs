@@ -6,6 +6,7 @@ use super::context::Search;
 use super::fitted::Fit;
 use super::measures::{STRUCTURE_RATIO, moved, noise_floor};
 use super::nuisance::StandIn;
+use super::outcome::Rival;
 use crate::log::run::ChannelKind;
 use std::collections::BTreeMap;
 
@@ -67,17 +68,29 @@ pub struct Unexplained {
     pub ljung_box_p: f64,
 }
 
-/// The verdict and the model of its named effects.
+/// The verdict, the model of its named effects, and the questions it leaves open (each "A or
+/// B" with the alternative's model, each effect left possible against the model refitted
+/// without it).
 pub(super) fn conclude(
     s: &Search<'_>,
     stepwise: &Fit,
-    ambiguous: Vec<Ambiguity>,
+    ambiguous: Vec<(Ambiguity, Fit)>,
     stand_ins: &[StandIn],
     stability: BTreeMap<String, f64>,
-) -> (Fit, Verdict) {
+) -> (Fit, Verdict, Vec<Rival>) {
     let opts = s.ctx.opts;
     let mut possible = Vec::new();
     let mut drop: Vec<String> = Vec::new();
+    let mut rivals: Vec<Rival> = Vec::new();
+    for (a, fit_b) in &ambiguous {
+        rivals.push(Rival {
+            a: a.effects[0].clone(),
+            b: a.effects[1].clone(),
+            fit_a: stepwise.clone(),
+            fit_b: fit_b.clone(),
+        });
+    }
+    let ambiguous: Vec<Ambiguity> = ambiguous.into_iter().map(|(a, _)| a).collect();
     for e in &stepwise.effects {
         let name = e.effect.name().to_string();
         let form = e.effect.form().to_string();
@@ -149,6 +162,21 @@ pub(super) fn conclude(
             drop.push(name);
         }
     }
+    // Each effect left possible for a reason of its own: the model with it against the model
+    // refitted without it.
+    for n in drop
+        .iter()
+        .filter(|n| !ambiguous.iter().any(|a| &a.effects[0] == *n))
+    {
+        if let Some(without) = s.ctx.without(stepwise, n, &s.baseline) {
+            rivals.push(Rival {
+                a: n.clone(),
+                b: format!("no {n}"),
+                fit_a: stepwise.clone(),
+                fit_b: without,
+            });
+        }
+    }
     let mut chosen = stepwise.clone();
     for n in &drop {
         if let Some(r) = s.ctx.without(&chosen, n, &s.baseline) {
@@ -169,7 +197,7 @@ pub(super) fn conclude(
         unexplained,
         stability,
     };
-    (chosen, verdict)
+    (chosen, verdict, rivals)
 }
 
 /// The physical size of effect `name` of `fit`: the channel its fitted values move most and

@@ -27,7 +27,7 @@ mod validator;
 mod vehicle;
 mod world;
 
-pub use export::vehicle_world_toml;
+pub use export::{Flight, flight_world_toml, vehicle_world_toml};
 pub use memory::{DEFAULT_BYTES_PER_VEHICLE, MemoryBudget};
 pub use messages::{suggest, unit_of};
 pub use names::{service_word, valid_service_word};

@@ -1,0 +1,116 @@
+//! `next_experiment.toml`: the suggested flight as a world file — the vehicle as given (not
+//! the fitted model: the flight is for the real vehicle, or for whatever model a user wants
+//! to try it on), started where the log's flight starts, its commands as raw-mode mission
+//! steps, logged at the log's rate into `run.mcap`, which `shoal validate` reads back.
+
+use super::NextExperiment;
+use crate::log::run::ChannelKind;
+use shoal_model::vehicle::VehicleParams;
+use shoal_world::load::{Flight, flight_world_toml};
+use shoal_world::spec::{MissionStepSpec, ModeSpec, OutputSpec, PoolSpec, PumpSpec, VehicleSpec};
+use std::collections::BTreeMap;
+
+/// Side of the square pool the flight is put in \[m\]: room for the longest holds at speed.
+const POOL_SIDE_M: f64 = 40.0;
+
+/// The mission steps of the experiment's schedule: raw mode, each change of a command a step
+/// (thrusters in %, tilt drives in degrees, the pump as a word).
+fn mission(x: &NextExperiment, params: &VehicleParams) -> Vec<MissionStepSpec> {
+    let s = &x.schedule;
+    s.steps
+        .iter()
+        .enumerate()
+        .map(|(i, (t, values))| {
+            let mut thrusters = BTreeMap::new();
+            let mut tilts_deg = BTreeMap::new();
+            let mut pump = None;
+            for (name, v) in s.inputs.iter().zip(values) {
+                if params.thrusters.iter().any(|th| &th.name == name) {
+                    thrusters.insert(name.clone(), *v);
+                } else if name == "pump" {
+                    pump = Some(match v.signum() as i32 {
+                        1 if *v != 0.0 => PumpSpec::Fill,
+                        -1 => PumpSpec::Empty,
+                        _ => PumpSpec::Off,
+                    });
+                } else {
+                    tilts_deg.insert(name.clone(), v.to_degrees());
+                }
+            }
+            MissionStepSpec {
+                t: *t,
+                mode: (i == 0).then_some(ModeSpec::Raw),
+                depth: None,
+                yaw_deg: None,
+                surge: None,
+                sway: None,
+                thrusters,
+                tilts_deg,
+                pump,
+            }
+        })
+        .collect()
+}
+
+/// A separation in words: `0.15 × the residual on y.depth (evidence 135)`.
+pub fn describe(s: &super::Separation) -> String {
+    format!(
+        "{:.2} × the residual on {} (evidence {:.0})",
+        s.ratio,
+        s.channel.label(),
+        s.evidence
+    )
+}
+
+/// The text of `next_experiment.toml` for the vehicle `spec` (its header says what the flight
+/// is for and how to use it; `log_name` names the log it follows).
+pub fn world_toml(
+    x: &NextExperiment,
+    spec: &VehicleSpec,
+    log_name: &str,
+) -> Result<String, toml::ser::Error> {
+    let params = spec.to_params();
+    let at = |k: ChannelKind| x.start.iter().find(|(c, _)| *c == k).map(|(_, v)| *v);
+    let reading = at(ChannelKind::Depth).unwrap_or(1.0);
+    // The world places the body origin; the log's depth is the pressure port's.
+    let z = (reading - params.pressure.position.z).max(0.0);
+    let flight = Flight {
+        position: [POOL_SIDE_M / 2.0, POOL_SIDE_M / 2.0, z],
+        heading_deg: at(ChannelKind::Yaw).unwrap_or(0.0).to_degrees(),
+        duration: x.schedule.duration,
+        mission: mission(x, &params),
+        pool: PoolSpec {
+            size: [POOL_SIDE_M, POOL_SIDE_M, (z + 3.0).max(5.0)],
+        },
+        output: OutputSpec {
+            record_hz: 1.0 / x.period_s,
+            plots: true,
+            replay: false,
+            mcap: true,
+        },
+    };
+    let questions: Vec<String> = x
+        .questions
+        .iter()
+        .map(|q| {
+            let sep = |s: &Option<super::Separation>| s.map_or("—".to_string(), |s| describe(&s));
+            format!(
+                "#   {} or {}: apart by {} on the log's held-out part, by {} predicted here\n",
+                q.a,
+                q.b,
+                sep(&q.on_log),
+                sep(&q.on_flight)
+            )
+        })
+        .collect();
+    let header = format!(
+        "# The next experiment `shoal validate` suggests after `{log_name}`: {} — {}.\n\
+         # It answers what the log left open, the rival models' predictions apart by:\n{}\
+         # Fly it (in the water, or here: shoal run next_experiment.toml), log the same channels\n\
+         # and validate both logs together: shoal validate {log_name} <the new log> …\n",
+        x.manoeuvre,
+        x.what,
+        questions.concat()
+    );
+    Ok(header + &flight_world_toml(spec, &flight)?)
+}
