@@ -5,67 +5,17 @@
 //! together with the first log, names the truth alone — and a flight of the same length
 //! through the manoeuvre the ranking put last does not.
 
-mod common;
-
-use common::catalogue_effect;
-use shoal_model::effects::{EffectInstance, Effects};
-use shoal_model::math::Vec3;
 use shoal_model::presets;
-use shoal_model::rigid_body::Environment;
-use shoal_model::vehicle::VehicleModel;
 use shoal_sysid::experiment::library::{Axis, LIBRARY, Schedule};
-use shoal_sysid::log::run::{ChannelKind, MeasuredRun};
+use shoal_sysid::log::run::MeasuredRun;
 use shoal_sysid::validate::{Config, Horizon, RunInput, Validation};
-use shoal_testkit::synth::{Experiment, synthesize};
-use shoal_world::desc::WorldDesc;
+use shoal_testkit::next_flight::{delayed_uauv2, flight_of, fly, slow_heave};
+use shoal_testkit::synth::Experiment;
 use shoal_world::load::load_str;
-use std::f64::consts::{FRAC_PI_2, TAU};
 use std::path::PathBuf;
 
-/// The truth: the sensors read 80 ms late.
-fn truth() -> VehicleModel {
-    let delay = EffectInstance {
-        effect: catalogue_effect("sensor_delay"),
-        params: vec![0.08],
-    };
-    VehicleModel::with_effects(presets::uauv2(), Effects::new(vec![delay]), 1000.0)
-}
-
-/// A diving-mode heave run whose commands follow one slow sine (0.03 Hz, ±40 %): 120 s at
-/// 50 Hz, pressure port 1 m deep.
-fn slow_heave() -> Experiment {
-    let mut inputs = vec![
-        (0.0, "alpha".to_string(), 0.0),
-        (0.0, "beta".to_string(), -FRAC_PI_2),
-        (0.0, "top".to_string(), 0.0),
-    ];
-    for i in 0..6000 {
-        let t = i as f64 * 0.02;
-        let n = 40.0 * (TAU * 0.03 * t).sin();
-        inputs.push((t, "port".into(), n));
-        inputs.push((t, "stbd".into(), n));
-    }
-    Experiment {
-        name: "slow_heave".into(),
-        duration: 120.0,
-        sample_period: 0.02,
-        inputs,
-        channels: vec![ChannelKind::Depth, ChannelKind::Yaw, ChannelKind::R],
-        position: Vec3::new(5.0, 5.0, 1.091),
-        yaw: 0.3,
-        tracking_noise: 0.0,
-    }
-}
-
-/// Flown on the truth and read back as a logger's CSV.
-fn fly(exp: &Experiment, seed: u64) -> MeasuredRun {
-    let run = synthesize(&truth(), &Environment::default(), exp, 0.005, seed);
-    MeasuredRun::parse(
-        &run.to_csv(),
-        std::path::Path::new(&format!("{}.csv", exp.name)),
-    )
-    .expect("synthetic CSV parses")
-}
+/// The hidden sensor delay \[s\].
+const DELAY_S: f64 = 0.08;
 
 /// `shoal validate` among the delay and the lag on `runs` (CSV text, each split 60/40).
 fn validate(runs: &[&MeasuredRun]) -> Validation {
@@ -86,32 +36,6 @@ fn validate(runs: &[&MeasuredRun]) -> Validation {
     shoal_sysid::validate::validate(&config, &inputs, &[], &|_| {}).expect("validated")
 }
 
-/// The flight a world file describes (its first vehicle's raw mission), as an experiment of
-/// `duration` \[s\] logged every `period` \[s\], started as the first log was.
-fn flight_of(world: &WorldDesc, name: &str, period: f64) -> Experiment {
-    let v = &world.vehicles[0];
-    let p = &v.model.params;
-    let mut inputs = Vec::new();
-    for s in &v.mission.steps {
-        for (i, n) in &s.thrusters {
-            inputs.push((s.t, p.thrusters[*i].name.clone(), *n));
-        }
-        for (i, a) in &s.tilts {
-            inputs.push((s.t, p.tilts[*i].name.clone(), *a));
-        }
-        if let Some(pump) = s.pump {
-            inputs.push((s.t, "pump".to_string(), pump.sign()));
-        }
-    }
-    Experiment {
-        name: name.into(),
-        duration: world.duration,
-        sample_period: period,
-        inputs,
-        ..slow_heave()
-    }
-}
-
 /// The flight of `schedule` on the truth, started as the first log was.
 fn fly_schedule(name: &str, schedule: &Schedule, period: f64, seed: u64) -> MeasuredRun {
     let mut inputs = Vec::new();
@@ -127,7 +51,7 @@ fn fly_schedule(name: &str, schedule: &Schedule, period: f64, seed: u64) -> Meas
         inputs,
         ..slow_heave()
     };
-    fly(&exp, seed)
+    fly(&delayed_uauv2(DELAY_S), &exp, seed)
 }
 
 /// The pair the log cannot separate, in either order.
@@ -146,7 +70,8 @@ fn pair(v: &Validation) -> Vec<[String; 2]> {
 
 #[test]
 fn the_suggested_experiment_settles_a_delay_against_a_lag() {
-    let first = fly(&slow_heave(), 11);
+    let truth = delayed_uauv2(DELAY_S);
+    let first = fly(&truth, &slow_heave(), 11);
     let v = validate(&[&first]);
     let delay_or_lag = [String::from("sensor_delay"), String::from("thruster_lag")];
     assert!(
@@ -170,7 +95,7 @@ fn the_suggested_experiment_settles_a_delay_against_a_lag() {
         world.vehicles[0].mission.steps.len(),
         x.schedule.steps.len()
     );
-    let second = fly(&flight_of(&world, "next", x.period_s), 12);
+    let second = fly(&truth, &flight_of(&world, "next", x.period_s), 12);
     let both = validate(&[&first, &second]);
     assert_eq!(
         both.outcome.verdict.effects,

@@ -1,8 +1,9 @@
 //! The next experiment: for the questions a log leaves open — each "A or B", each effect left
 //! possible (with it or without it) — the manoeuvre from the library ([`library`]) that the
-//! rival models predict most differently, relative to what the chosen model leaves
-//! unexplained on the log (a model-discrimination design after Box & Hill: fly where the
-//! candidates disagree most, measured in the noise they must stand out of).
+//! rival models predict most differently, relative to what they leave unexplained on the log
+//! (per channel the larger held-out RMSE of the two: a model-discrimination design after
+//! Box & Hill, fly where the candidates disagree most, measured in the noise they must stand
+//! out of).
 //!
 //! Every manoeuvre of the library is flown along the log's own command direction
 //! ([`library::Axis`]) for the log's length (60–300 s), replayed open loop through both models
@@ -129,12 +130,15 @@ pub fn next_experiment(
         .fold(0.0, f64::max)
         .clamp(DURATION_S.0, DURATION_S.1);
     let density = ds.env.density;
-    let residual: BTreeMap<ChannelKind, f64> = outcome
-        .chosen
-        .eval
-        .metrics
+    // Each question's yardstick: per channel, the larger held-out RMSE of its two models.
+    let residuals: Vec<BTreeMap<ChannelKind, f64>> = outcome
+        .rivals
         .iter()
-        .map(|(k, m)| (*k, m.rmse))
+        .map(|r| {
+            (r.fit_a.eval.metrics.iter())
+                .filter_map(|(k, m)| Some((*k, m.rmse.max(r.fit_b.eval.metrics.get(k)?.rmse))))
+                .collect()
+        })
         .collect();
     let models: Vec<_> = outcome
         .rivals
@@ -156,7 +160,8 @@ pub fn next_experiment(
             let fds = flight_dataset(base, ds, run).ok()?;
             let seps = models
                 .iter()
-                .map(|(a, b)| separation(&fds.evaluate(a), &fds.evaluate(b), &residual, false))
+                .zip(&residuals)
+                .map(|((a, b), res)| separation(&fds.evaluate(a), &fds.evaluate(b), res, false))
                 .collect();
             Some((m, seps))
         })
@@ -177,10 +182,11 @@ pub fn next_experiment(
         .rivals
         .iter()
         .zip(seps)
-        .map(|(r, on_flight)| Question {
+        .zip(&residuals)
+        .map(|((r, on_flight), res)| Question {
             a: r.a.clone(),
             b: r.b.clone(),
-            on_log: separation(&r.fit_a.eval, &r.fit_b.eval, &residual, true),
+            on_log: separation(&r.fit_a.eval, &r.fit_b.eval, res, true),
             on_flight,
         })
         .collect();

@@ -1,8 +1,8 @@
 //! What two models predict for a flight that has not been flown: the flight as a run with its
 //! commands and the log's channels (held at the log's first readings, so that the replay
 //! starts where the log started, at rest), replayed open loop through each model; their
-//! separation is the RMS difference of the two predictions on each channel over what the
-//! chosen model leaves unexplained on the log ([`Separation`]).
+//! separation is the RMS difference of the two predictions on each channel over what the two
+//! leave unexplained on the log ([`Separation`]).
 
 use super::library::Schedule;
 use crate::evaluate::dataset::{DataOptions, Dataset};
@@ -20,7 +20,7 @@ pub struct Separation {
     pub channel: ChannelKind,
     /// RMS difference of the two predictions (channel unit).
     pub rms: f64,
-    /// The chosen model's held-out RMSE on the log, the yardstick (channel unit).
+    /// The yardstick: the larger held-out RMSE of the two models on the log (channel unit).
     pub residual: f64,
     /// `rms / residual` \[-\]: above 1, the difference stands out of what the model leaves
     /// unexplained at every sample.

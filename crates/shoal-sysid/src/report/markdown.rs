@@ -420,7 +420,7 @@ fn next_experiment(s: &mut String, input: &ReportInput<'_>) {
     let _ = writeln!(
         s,
         "\nSmallest separation ratio of each manoeuvre tried: {}. (A ratio is the RMS \
-         difference of the two models' predictions over the final model's held-out RMSE on \
+         difference of the two models' predictions over the larger of their held-out RMSEs on \
          the log; the evidence, samples × ratio², is the expected difference of their χ² were \
          that residual white.)\n",
         tried.join(", ")

@@ -1,0 +1,88 @@
+//! The next experiment's loop in simulation: a log that cannot tell a sensor delay from a
+//! thruster lag ([`slow_heave`]: a heave run whose commands follow one slow sine, where a
+//! short delay and a short lag shift the response by about the same phase), and the flight a
+//! world file describes ([`flight_of`]: its first vehicle's raw-mode mission), both flown on
+//! the hidden truth ([`delayed_uauv2`]) as a logger writes them ([`fly`]).
+
+use crate::synth::{Experiment, synthesize};
+use shoal_model::effects::{EffectInstance, Effects, by_name};
+use shoal_model::math::Vec3;
+use shoal_model::presets;
+use shoal_model::rigid_body::Environment;
+use shoal_model::vehicle::VehicleModel;
+use shoal_sysid::log::run::{ChannelKind, MeasuredRun};
+use shoal_world::desc::WorldDesc;
+use std::f64::consts::{FRAC_PI_2, TAU};
+
+/// The hidden truth: the μAUV² whose sensors read `delay` \[s\] late.
+pub fn delayed_uauv2(delay: f64) -> VehicleModel {
+    let effect = EffectInstance {
+        effect: by_name("sensor_delay").expect("a catalogue family"),
+        params: vec![delay],
+    };
+    VehicleModel::with_effects(presets::uauv2(), Effects::new(vec![effect]), 1000.0)
+}
+
+/// A diving-mode heave run whose commands follow one slow sine (0.03 Hz, ±40 %): 120 s logged
+/// at 50 Hz (depth, heading, yaw rate), the pressure port 1 m deep at the start.
+pub fn slow_heave() -> Experiment {
+    let mut inputs = vec![
+        (0.0, "alpha".to_string(), 0.0),
+        (0.0, "beta".to_string(), -FRAC_PI_2),
+        (0.0, "top".to_string(), 0.0),
+    ];
+    for i in 0..6000 {
+        let t = i as f64 * 0.02;
+        let n = 40.0 * (TAU * 0.03 * t).sin();
+        inputs.push((t, "port".into(), n));
+        inputs.push((t, "stbd".into(), n));
+    }
+    Experiment {
+        name: "slow_heave".into(),
+        duration: 120.0,
+        sample_period: 0.02,
+        inputs,
+        channels: vec![ChannelKind::Depth, ChannelKind::Yaw, ChannelKind::R],
+        position: Vec3::new(5.0, 5.0, 1.091),
+        yaw: 0.3,
+        tracking_noise: 0.0,
+    }
+}
+
+/// The flight of the world file `world` (its first vehicle's raw-mode mission: thruster, tilt
+/// and pump commands), named `name`, logged every `period` \[s\] with the channels of
+/// [`slow_heave`], started where it starts.
+pub fn flight_of(world: &WorldDesc, name: &str, period: f64) -> Experiment {
+    let v = &world.vehicles[0];
+    let p = &v.model.params;
+    let mut inputs = Vec::new();
+    for s in &v.mission.steps {
+        for (i, n) in &s.thrusters {
+            inputs.push((s.t, p.thrusters[*i].name.clone(), *n));
+        }
+        for (i, a) in &s.tilts {
+            inputs.push((s.t, p.tilts[*i].name.clone(), *a));
+        }
+        if let Some(pump) = s.pump {
+            inputs.push((s.t, "pump".to_string(), pump.sign()));
+        }
+    }
+    Experiment {
+        name: name.into(),
+        duration: world.duration,
+        sample_period: period,
+        inputs,
+        ..slow_heave()
+    }
+}
+
+/// `exp` flown on `truth` (5 ms steps, the sensors' noise from `seed`) and read back from the
+/// CSV text a logger writes.
+pub fn fly(truth: &VehicleModel, exp: &Experiment, seed: u64) -> MeasuredRun {
+    let run = synthesize(truth, &Environment::default(), exp, 0.005, seed);
+    MeasuredRun::parse(
+        &run.to_csv(),
+        std::path::Path::new(&format!("{}.csv", exp.name)),
+    )
+    .expect("synthetic CSV parses")
+}
