@@ -10,6 +10,7 @@ use shoal_model::math::Vec3;
 use shoal_model::presets;
 use shoal_model::rigid_body::Environment;
 use shoal_model::vehicle::VehicleModel;
+use shoal_sysid::experiment::NextExperiment;
 use shoal_sysid::log::run::{ChannelKind, MeasuredRun};
 use shoal_world::desc::WorldDesc;
 use std::f64::consts::{FRAC_PI_2, TAU};
@@ -73,6 +74,28 @@ pub fn flight_of(world: &WorldDesc, name: &str, period: f64) -> Experiment {
         sample_period: period,
         inputs,
         ..slow_heave()
+    }
+}
+
+/// The flight `x` suggests as an experiment: its commands from its start (depth and heading;
+/// the horizontal position, the logging period and the channels of `like`), named `name`.
+pub fn experiment_of(x: &NextExperiment, name: &str, like: &Experiment) -> Experiment {
+    let (z, yaw) = x.start_pose(&presets::uauv2());
+    let mut inputs = Vec::new();
+    for (t, values) in &x.schedule.steps {
+        for (input, v) in x.schedule.inputs.iter().zip(values) {
+            inputs.push((*t, input.clone(), *v));
+        }
+    }
+    Experiment {
+        name: name.into(),
+        duration: x.schedule.duration,
+        sample_period: x.period_s,
+        inputs,
+        channels: like.channels.clone(),
+        position: Vec3::new(like.position.x, like.position.y, z),
+        yaw,
+        tracking_noise: like.tracking_noise,
     }
 }
 

@@ -67,6 +67,18 @@ pub fn search_run_outcome(
     horizon: Horizon,
 ) -> Result<Outcome, String> {
     let base = presets::uauv2();
+    let ds = dataset_of(vec![run], opts, horizon)?;
+    Ok(search(&ds, &base, opts, &|_| {}))
+}
+
+/// The runs as the tests' searches see them: the μAUV² preset in the test set's water, each
+/// run split 60/40, a [`REPLAY_DT`] replay, anchored as `horizon` asks.
+pub fn dataset_of(
+    runs: Vec<MeasuredRun>,
+    opts: &SearchOptions,
+    horizon: Horizon,
+) -> Result<Dataset, String> {
+    let base = presets::uauv2();
     let env = Environment {
         density: DENSITY,
         ..Environment::default()
@@ -74,7 +86,7 @@ pub fn search_run_outcome(
     let mut ds = Dataset::new(
         &base,
         env,
-        vec![run],
+        runs,
         vec![],
         &DataOptions {
             replay: ReplayOptions {
@@ -86,7 +98,7 @@ pub fn search_run_outcome(
     )
     .map_err(|e| format!("dataset: {e}"))?;
     ds.anchor(horizon, &opts.baseline_model(&base, ds.env.density));
-    Ok(search(&ds, &base, opts, &|_| {}))
+    Ok(ds)
 }
 
 /// What the search said about one log, next to what it should have said.
@@ -96,6 +108,8 @@ pub struct Verdict {
     pub expected: Vec<String>,
     /// The chosen effects, sorted (empty on error).
     pub found: Vec<String>,
+    /// The pairs the verdict reports as "A or B" (neither named), each sorted.
+    pub pairs: Vec<[String; 2]>,
     /// Why the log could not be searched, if it could not.
     pub error: Option<String>,
 }
@@ -114,13 +128,53 @@ impl Verdict {
         Self {
             expected: sorted(expected),
             found,
+            pairs: Vec::new(),
             error,
         }
+    }
+
+    /// The verdict with its "A or B" pairs (each in any order).
+    pub fn with_pairs(mut self, pairs: &[[String; 2]]) -> Self {
+        self.pairs = pairs
+            .iter()
+            .map(|p| {
+                let mut p = p.clone();
+                p.sort();
+                p
+            })
+            .collect();
+        self
     }
 
     /// The chosen set equals the expected set.
     pub fn exact(&self) -> bool {
         self.error.is_none() && self.found == self.expected
+    }
+
+    /// Exact, or exact but for hidden families the verdict reports as "A or B" with the other
+    /// family of the pair: nothing chosen that is not hidden, every hidden family chosen or in
+    /// a pair, and every pair holding a hidden family.
+    pub fn exact_or_either(&self) -> bool {
+        self.error.is_none()
+            && self.extras().is_empty()
+            && self.missing_outright().is_empty()
+            && self.wrong_pairs() == 0
+    }
+
+    /// Hidden families neither chosen nor in an "A or B" pair.
+    fn missing_outright(&self) -> Vec<&str> {
+        self.missing()
+            .into_iter()
+            .filter(|m| !self.pairs.iter().any(|p| p.iter().any(|f| f == m)))
+            .collect()
+    }
+
+    /// "A or B" pairs without a hidden family.
+    fn wrong_pairs(&self) -> usize {
+        self.pairs
+            .iter()
+            .filter(|p| !p.iter().any(|f| self.expected.contains(f)))
+            .count()
     }
 
     /// Chosen but not hidden.
@@ -141,23 +195,59 @@ impl Verdict {
             .collect()
     }
 
-    /// Extras plus missing.
+    /// Extras, plus hidden families neither chosen nor in an "A or B" pair, plus pairs
+    /// without a hidden family.
     pub fn wrong(&self) -> usize {
-        self.extras().len() + self.missing().len()
+        self.extras().len() + self.missing_outright().len() + self.wrong_pairs()
     }
 
-    /// The chosen set as text: `{a, b}`, `{}` for none, `error: …` on error.
+    /// The chosen set as text: `{a, b}`, `{}` for none, then each "A or B" pair, `error: …`
+    /// on error.
     pub fn found_text(&self) -> String {
         match &self.error {
             Some(e) => format!("error: {e}"),
-            None => format!("{{{}}}", self.found.join(", ")),
+            None => {
+                let pairs: String = self
+                    .pairs
+                    .iter()
+                    .map(|p| format!(" + ({} or {})", p[0], p[1]))
+                    .collect();
+                format!("{{{}}}{pairs}", self.found.join(", "))
+            }
         }
     }
 }
 
-/// The search's verdict on `case` with `threads` worker threads.
+/// The search's verdict on `case` with `threads` worker threads, its "A or B" pairs with it.
 pub fn judge(case: &Case, threads: usize) -> Verdict {
-    Verdict::new(&case.expected, search_log(&case.csv, &case.name, threads))
+    judge_log(&case.csv, &case.name, &case.expected, threads, Horizon::Open)
+}
+
+/// The search's verdict on the log `csv` (named `name`) that hides `expected`, with `threads`
+/// worker threads and the replay `horizon` asks for, its "A or B" pairs with it.
+pub fn judge_log(
+    csv: &str,
+    name: &str,
+    expected: &[String],
+    threads: usize,
+    horizon: Horizon,
+) -> Verdict {
+    let opts = SearchOptions {
+        threads,
+        ..Default::default()
+    };
+    match search_log_outcome(csv, name, &opts, horizon) {
+        Ok(out) => {
+            let pairs: Vec<[String; 2]> = out
+                .verdict
+                .ambiguous
+                .iter()
+                .map(|a| a.effects.clone())
+                .collect();
+            Verdict::new(expected, Ok(out.chosen.names())).with_pairs(&pairs)
+        }
+        Err(e) => Verdict::new(expected, Err(e)),
+    }
 }
 
 /// Verdicts counted.
@@ -167,7 +257,9 @@ pub struct Tally {
     pub runs: usize,
     /// Exact verdicts.
     pub exact: usize,
-    /// Wrong effects over all verdicts (extras + missing).
+    /// Verdicts exact or exact but for an "A or B" with the hidden family inside.
+    pub either: usize,
+    /// Wrong effects over all verdicts (see [`Verdict::wrong`]).
     pub wrong: usize,
 }
 
@@ -176,6 +268,7 @@ impl Tally {
     pub fn add(&mut self, v: &Verdict) {
         self.runs += 1;
         self.exact += usize::from(v.exact());
+        self.either += usize::from(v.exact_or_either());
         self.wrong += v.wrong();
     }
 
@@ -185,6 +278,16 @@ impl Tally {
             0.0
         } else {
             self.exact as f64 / self.runs as f64
+        }
+    }
+
+    /// Fraction of verdicts exact or exact but for an "A or B" with the hidden family inside
+    /// (0 for none) \[-\].
+    pub fn either_rate(&self) -> f64 {
+        if self.runs == 0 {
+            0.0
+        } else {
+            self.either as f64 / self.runs as f64
         }
     }
 
@@ -235,5 +338,30 @@ mod tests {
         assert_eq!((t.runs, t.exact, t.wrong), (2, 1, 1));
         assert_eq!(t.rate(), 0.5);
         assert_eq!(t.mean_wrong(), 0.5);
+    }
+
+    /// An "A or B" with the hidden family inside is not exact, but exact-or-either and not
+    /// wrong; a pair without a hidden family is one wrong effect, and so is a hidden family
+    /// neither named nor in a pair.
+    #[test]
+    fn a_or_b_with_the_truth_inside_is_not_wrong() {
+        let pair = |a: &str, b: &str| [a.to_string(), b.to_string()];
+        let lag = s(&["thruster_lag"]);
+        let v = Verdict::new(&lag, Ok(vec![])).with_pairs(&[pair("thruster_lag", "sensor_delay")]);
+        assert!(!v.exact() && v.exact_or_either());
+        assert_eq!(v.wrong(), 0);
+        assert_eq!(v.found_text(), "{} + (sensor_delay or thruster_lag)");
+        let v = Verdict::new(&lag, Ok(vec![])).with_pairs(&[pair("thrust_gain", "battery_sag")]);
+        assert!(!v.exact_or_either());
+        assert_eq!(v.wrong(), 2);
+        let v = Verdict::new(&lag, Ok(s(&["thruster_lag"])))
+            .with_pairs(&[pair("thrust_gain", "battery_sag")]);
+        assert!(!v.exact_or_either());
+        assert_eq!(v.wrong(), 1);
+        let mut t = Tally::default();
+        t.add(&Verdict::new(&lag, Ok(vec![])).with_pairs(&[pair("sensor_delay", "thruster_lag")]));
+        t.add(&Verdict::new(&lag, Ok(lag.clone())));
+        assert_eq!((t.runs, t.exact, t.either, t.wrong), (2, 1, 2, 0));
+        assert_eq!(t.either_rate(), 1.0);
     }
 }

@@ -17,7 +17,7 @@
 //! [`Conditions`] change the log's length and the sensor noise (for the recovery benchmark).
 
 use crate::logger::{format_g, logger_csv};
-use crate::synth::synthesize_with;
+use crate::synth::{Experiment, synthesize_with};
 use crate::truth_forms::{self, ExpKind, Truth, TruthForm};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -160,6 +160,14 @@ impl CaseSpec {
 
     /// The case's run under `cond` as simulated, before the logger prints it.
     pub fn run(&self, cond: &Conditions) -> MeasuredRun {
+        let mut exp = self.kind.experiment(self.seed, cond.duration);
+        exp.name.clone_from(&self.name);
+        self.run_of(cond, &exp)
+    }
+
+    /// The experiment `exp` flown on the case's truth under `cond` (its sensor noise; the
+    /// noise stream from the case's seed and `exp`'s name), before the logger prints it.
+    pub fn run_of(&self, cond: &Conditions, exp: &Experiment) -> MeasuredRun {
         let mut truth = truth_of(&self.hidden);
         let mut params = presets::uauv2();
         params.pressure.noise_std *= cond.noise;
@@ -167,10 +175,9 @@ impl CaseSpec {
         params.imu.gyro_noise *= cond.noise;
         params.imu.accel_noise *= cond.noise;
         let model = truth.model(params, DENSITY);
-        let mut exp = self.kind.experiment(self.seed, cond.duration);
-        exp.name.clone_from(&self.name);
+        let mut exp = exp.clone();
         exp.tracking_noise *= cond.noise;
-        let noise_seed = self.seed ^ 0x5eed ^ fnv1a(&self.name);
+        let noise_seed = self.seed ^ 0x5eed ^ fnv1a(&exp.name);
         let env = Environment {
             density: DENSITY,
             ..Environment::default()

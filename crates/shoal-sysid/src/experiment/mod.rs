@@ -64,6 +64,18 @@ pub struct NextExperiment {
     pub tried: Vec<(String, f64)>,
 }
 
+impl NextExperiment {
+    /// Where the flight starts for the vehicle `params`: the body origin's position \[m\]
+    /// (the log's depth reading is the pressure port's; level, at its depth) and the heading
+    /// \[rad\].
+    pub fn start_pose(&self, params: &VehicleParams) -> (f64, f64) {
+        let at = |k: ChannelKind| self.start.iter().find(|(c, _)| *c == k).map(|(_, v)| *v);
+        let reading = at(ChannelKind::Depth).unwrap_or(1.0);
+        let z = (reading - params.pressure.position.z).max(0.0);
+        (z, at(ChannelKind::Yaw).unwrap_or(0.0))
+    }
+}
+
 /// The median of `v` (0 when empty).
 fn median(mut v: Vec<f64>) -> f64 {
     if v.is_empty() {

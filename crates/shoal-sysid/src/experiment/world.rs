@@ -4,7 +4,6 @@
 //! steps, logged at the log's rate into `run.mcap`, which `shoal validate` reads back.
 
 use super::NextExperiment;
-use crate::log::run::ChannelKind;
 use shoal_model::vehicle::VehicleParams;
 use shoal_world::load::{Flight, flight_world_toml};
 use shoal_world::spec::{MissionStepSpec, ModeSpec, OutputSpec, PoolSpec, PumpSpec, VehicleSpec};
@@ -70,13 +69,10 @@ pub fn world_toml(
     log_name: &str,
 ) -> Result<String, toml::ser::Error> {
     let params = spec.to_params();
-    let at = |k: ChannelKind| x.start.iter().find(|(c, _)| *c == k).map(|(_, v)| *v);
-    let reading = at(ChannelKind::Depth).unwrap_or(1.0);
-    // The world places the body origin; the log's depth is the pressure port's.
-    let z = (reading - params.pressure.position.z).max(0.0);
+    let (z, yaw) = x.start_pose(&params);
     let flight = Flight {
         position: [POOL_SIDE_M / 2.0, POOL_SIDE_M / 2.0, z],
-        heading_deg: at(ChannelKind::Yaw).unwrap_or(0.0).to_degrees(),
+        heading_deg: yaw.to_degrees(),
         duration: x.schedule.duration,
         mission: mission(x, &params),
         pool: PoolSpec {
