@@ -199,7 +199,11 @@ fn main() -> ExitCode {
         }
     }
     let open: Vec<&Row> = rows.iter().filter(|r| r.manoeuvre.is_some()).collect();
-    let ambiguous: Vec<&Row> = open.iter().copied().filter(|r| !r.pairs.is_empty()).collect();
+    let ambiguous: Vec<&Row> = open
+        .iter()
+        .copied()
+        .filter(|r| !r.pairs.is_empty())
+        .collect();
     let count = |v: &[&Row], f: &dyn Fn(&Row) -> bool| v.iter().filter(|r| f(r)).count();
     let mut md = format!(
         "Resolution of the next experiment on {} logs (noise ×{noise}, {length} s, {draws} \

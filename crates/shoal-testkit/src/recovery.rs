@@ -220,7 +220,13 @@ impl Verdict {
 
 /// The search's verdict on `case` with `threads` worker threads, its "A or B" pairs with it.
 pub fn judge(case: &Case, threads: usize) -> Verdict {
-    judge_log(&case.csv, &case.name, &case.expected, threads, Horizon::Open)
+    judge_log(
+        &case.csv,
+        &case.name,
+        &case.expected,
+        threads,
+        Horizon::Open,
+    )
 }
 
 /// The search's verdict on the log `csv` (named `name`) that hides `expected`, with `threads`

@@ -79,8 +79,8 @@
 //! with the manoeuvre that would separate them, and names neither.
 //!
 //! **Stand-ins for a form** (`nuisance.rs`). A thrust-map family (gain, asymmetry, dead band,
-//! saturation) beside another family is kept only where it fits better than a non-parametric
-//! thrust map in its place (a factor piecewise linear in the command, per direction, knots at
+//! saturation) beside another family, and any family beside a thrust-map family that explains
+//! the most, is kept only where it fits better than a non-parametric thrust map in its place (a factor piecewise linear in the command, per direction, knots at
 //! quantiles of the estimation commands): where the map fits better by the BIC over every
 //! sample and by the effective ΔBIC, the family only soaks up the shape that the main
 //! family's form misses, and the verdict lists it as *possible* (a stand-in) instead of

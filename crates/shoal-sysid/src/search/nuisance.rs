@@ -10,7 +10,10 @@
 //! command, per direction) fitted in its place: a family that is really there fits its own
 //! law with one or two parameters and beats the map's eight on the BIC; a stand-in follows a
 //! shape that is not its own, and the map does at least as well. So a thrust-map family beside
-//! another family is kept only where it beats the map — it is a *stand-in* when the model with
+//! another family — and any family beside a thrust-map family that explains the most, whose
+//! form may leave a residual that a family of another kind soaks up (a damping error beside a
+//! gain that steps smoothly with the command) — is kept only where it beats the map in its
+//! place: it is a *stand-in* when the model with
 //! the map in its place has the lower BIC, counted both ways: over every sample and with each
 //! channel's effective sample count ([`delta_bic_eff`]; a smooth residual carries the
 //! information of far fewer samples, which a real family's exact law keeps ahead of the map's
@@ -43,8 +46,9 @@ pub(super) struct StandIn {
     pub delta_bic_eff: f64,
 }
 
-/// The thrust-map families of `stepwise` that are stand-ins (see the module documentation);
-/// none when it has fewer than two families.
+/// The families of `stepwise` that are stand-ins (see the module documentation): thrust-map
+/// families beside the main one, and any family beside a thrust-map main one; none when it
+/// has fewer than two families.
 pub(super) fn stand_ins(
     s: &Search<'_>,
     stepwise: &Fit,
@@ -88,7 +92,7 @@ pub(super) fn stand_ins(
     }
     let tests: Vec<(String, Fit)> = reduced
         .into_iter()
-        .filter(|(n, _)| *n != main && is_map(n))
+        .filter(|(n, _)| *n != main && (is_map(n) || is_map(&main)))
         .filter_map(|(n, r)| r.map(|r| (n, r)))
         .collect();
     let found: Vec<Option<StandIn>> = par_map(&tests, opts.threads, |(n, r)| {
