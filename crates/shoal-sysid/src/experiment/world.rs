@@ -27,10 +27,12 @@ fn mission(x: &NextExperiment, params: &VehicleParams) -> Vec<MissionStepSpec> {
                 if params.thrusters.iter().any(|th| &th.name == name) {
                     thrusters.insert(name.clone(), *v);
                 } else if name == "pump" {
-                    pump = Some(match v.signum() as i32 {
-                        1 if *v != 0.0 => PumpSpec::Fill,
-                        -1 => PumpSpec::Empty,
-                        _ => PumpSpec::Off,
+                    pump = Some(if *v > 0.0 {
+                        PumpSpec::Fill
+                    } else if *v < 0.0 {
+                        PumpSpec::Empty
+                    } else {
+                        PumpSpec::Off
                     });
                 } else {
                     tilts_deg.insert(name.clone(), v.to_degrees());
@@ -109,4 +111,72 @@ pub fn world_toml(
         questions.concat()
     );
     Ok(header + &flight_world_toml(spec, &flight)?)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::experiment::library::Schedule;
+    use crate::log::run::ChannelKind;
+    use shoal_model::ballast::Pump;
+    use shoal_model::presets;
+    use std::path::Path;
+
+    /// The world file flies the schedule: loaded back, its mission has a step per change, in
+    /// raw mode, with the thrusters in %, the tilt in radians again and the pump's three
+    /// states; the vehicle starts level at the log's depth reading less the pressure port's
+    /// height, heading as the log did.
+    #[test]
+    fn the_world_file_is_the_schedule() {
+        let half_pi = std::f64::consts::FRAC_PI_2;
+        let inputs = ["top", "port", "stbd", "beta", "pump"]
+            .map(String::from)
+            .to_vec();
+        let steps = vec![
+            (0.0, vec![0.0, 40.0, 40.0, -half_pi, 1.0]),
+            (8.0, vec![0.0, -40.0, -40.0, -half_pi, 0.0]),
+            (14.0, vec![0.0, 0.0, 0.0, -half_pi, -1.0]),
+        ];
+        let x = NextExperiment {
+            manoeuvre: "test".into(),
+            what: "a test".into(),
+            questions: Vec::new(),
+            schedule: Schedule {
+                inputs,
+                steps,
+                duration: 30.0,
+            },
+            period_s: 0.05,
+            start: vec![(ChannelKind::Depth, 1.2), (ChannelKind::Yaw, 0.5)],
+            tried: Vec::new(),
+        };
+        let params = presets::uauv2();
+        let spec = VehicleSpec::from_params(&params);
+        let text = world_toml(&x, &spec, "log.csv").unwrap();
+        let world = shoal_world::load::load_str(&text, Path::new("next_experiment.toml")).unwrap();
+        assert_eq!(world.duration, 30.0);
+        assert!((world.output.record_hz - 20.0).abs() < 1e-9 && world.output.mcap);
+        let v = &world.vehicles[0];
+        assert!((v.position.z - (1.2 - params.pressure.position.z)).abs() < 1e-12);
+        let (_, _, yaw) = shoal_model::math::euler_rpy(&v.attitude);
+        assert!((yaw - 0.5).abs() < 1e-9, "{yaw}");
+        let m = &v.mission.steps;
+        assert_eq!(m.len(), 3);
+        assert_eq!(m[0].mode, Some(shoal_model::control::Mode::Raw));
+        assert_eq!(m[1].mode, None);
+        let pumps: Vec<_> = m.iter().map(|s| s.pump).collect();
+        assert_eq!(
+            pumps,
+            [Some(Pump::Fill), Some(Pump::Off), Some(Pump::Empty)]
+        );
+        let port = params
+            .thrusters
+            .iter()
+            .position(|t| t.name == "port")
+            .unwrap();
+        assert!(m[1].thrusters.contains(&(port, -40.0)));
+        let beta = params.tilts.iter().position(|t| t.name == "beta").unwrap();
+        let (_, b) = m[2].tilts.iter().find(|(i, _)| *i == beta).unwrap();
+        assert!((b + half_pi).abs() < 1e-12, "{b}");
+    }
 }
