@@ -19,6 +19,7 @@
 //! Every draw is one full catalogue search (seconds to tens of seconds): the default grid is
 //! 45 rows × 6 cells × 10 draws ≈ 2 700 searches, hours on two cores. Not run in CI.
 
+use shoal_testkit::draws::DrawOptions;
 use shoal_testkit::recovery::{Tally, judge};
 use shoal_testkit::testset::{Conditions, null, single};
 use shoal_testkit::truth_forms::{self, ExpKind};
@@ -45,49 +46,21 @@ fn usage() -> ExitCode {
     ExitCode::from(2)
 }
 
-fn list(v: &str) -> Option<Vec<f64>> {
-    let out: Option<Vec<f64>> = v.split(',').map(|x| x.trim().parse::<f64>().ok()).collect();
-    out.filter(|l| !l.is_empty() && l.iter().all(|x| x.is_finite() && *x >= 0.0))
-}
-
 fn main() -> ExitCode {
-    let mut draws = 10usize;
-    let mut noise = vec![0.5, 1.0, 2.0];
-    let mut length = vec![60.0, 120.0];
-    let mut threads = 2usize;
-    let mut filter: Option<String> = None;
-    let mut out: Option<std::path::PathBuf> = None;
-    let mut args = std::env::args().skip(1);
-    while let Some(a) = args.next() {
-        let Some(v) = args.next() else {
-            eprintln!("{a} needs a value");
-            return usage();
-        };
-        let ok = match a.as_str() {
-            "--draws" => v.parse().map(|n| draws = n).is_ok() && draws > 0,
-            "--threads" => v.parse().map(|n| threads = n).is_ok() && threads > 0,
-            "--noise" => list(&v).map(|l| noise = l).is_some(),
-            "--length" => {
-                list(&v).map(|l| length = l).is_some() && length.iter().all(|&s| s >= 10.0)
-            }
-            "--forms" => {
-                filter = Some(v.clone());
-                true
-            }
-            "--out" => {
-                out = Some(v.clone().into());
-                true
-            }
-            _ => {
-                eprintln!("unknown option `{a}`");
-                return usage();
-            }
-        };
-        if !ok {
-            eprintln!("bad value `{v}` for {a} (counts ≥ 1, noise ≥ 0, lengths ≥ 10 s)");
+    let DrawOptions {
+        draws,
+        noise,
+        length,
+        threads,
+        forms: filter,
+        out,
+    } = match DrawOptions::parse(DrawOptions::default(), std::env::args().skip(1)) {
+        Ok(o) => o,
+        Err(e) => {
+            eprintln!("{e}");
             return usage();
         }
-    }
+    };
 
     // Forms no designed experiment shows (a tether) are hidden in the closed-loop missions
     // only.

@@ -10,8 +10,9 @@
 //!     --draws 1 --noise 1 --length 120 --threads 2 --out resolution.md
 //! ```
 //!
-//! Options as `recovery`'s: `--draws N` (seed 1000 + d), `--noise X`, `--length S`,
-//! `--threads T`, `--forms TEXT`, `--out FILE`. Each case is one full catalogue search, and a
+//! Options as `recovery`'s (`shoal_testkit::draws`): `--draws N` (seed 1000 + d, default 1),
+//! `--noise X` and `--length S` (the first of a list; default 1 and 120 s), `--threads T`,
+//! `--forms TEXT`, `--out FILE`. Each case is one full catalogue search, and a
 //! second one on two logs where a question is open: the 52 rows take about 20 minutes on two
 //! cores. Not run in CI.
 
@@ -20,6 +21,7 @@ use shoal_sysid::evaluate::anchoring::Horizon;
 use shoal_sysid::experiment::next_experiment;
 use shoal_sysid::log::run::MeasuredRun;
 use shoal_sysid::search::{Outcome, SearchOptions, search};
+use shoal_testkit::draws::DrawOptions;
 use shoal_testkit::next_flight::experiment_of;
 use shoal_testkit::recovery::dataset_of;
 use shoal_testkit::testset::{CaseSpec, Conditions, null, single};
@@ -119,38 +121,21 @@ fn case(spec: &CaseSpec, cond: &Conditions, opts: &SearchOptions) -> Result<Row,
 }
 
 fn main() -> ExitCode {
-    let (mut draws, mut noise, mut length, mut threads) = (1usize, 1.0, 120.0, 2usize);
-    let mut filter: Option<String> = None;
-    let mut out: Option<std::path::PathBuf> = None;
-    let mut args = std::env::args().skip(1);
-    while let Some(a) = args.next() {
-        let Some(v) = args.next() else {
-            eprintln!("{a} needs a value");
-            return usage();
-        };
-        let ok = match a.as_str() {
-            "--draws" => v.parse().map(|n| draws = n).is_ok() && draws > 0,
-            "--threads" => v.parse().map(|n| threads = n).is_ok() && threads > 0,
-            "--noise" => v.parse().map(|x| noise = x).is_ok() && noise >= 0.0,
-            "--length" => v.parse().map(|x| length = x).is_ok() && length >= 10.0,
-            "--forms" => {
-                filter = Some(v.clone());
-                true
-            }
-            "--out" => {
-                out = Some(v.clone().into());
-                true
-            }
-            _ => {
-                eprintln!("unknown option `{a}`");
-                return usage();
-            }
-        };
-        if !ok {
-            eprintln!("bad value `{v}` for {a}");
+    let defaults = DrawOptions {
+        draws: 1,
+        noise: vec![1.0],
+        length: vec![120.0],
+        ..DrawOptions::default()
+    };
+    let o = match DrawOptions::parse(defaults, std::env::args().skip(1)) {
+        Ok(o) => o,
+        Err(e) => {
+            eprintln!("{e}");
             return usage();
         }
-    }
+    };
+    let (draws, threads, filter, out) = (o.draws, o.threads, o.forms, o.out);
+    let (noise, length) = (o.noise[0], o.length[0]);
     let mut specs: Vec<CaseSpec> = Vec::new();
     for d in 0..draws {
         let seed = SEED0 + d as u64;

@@ -10,12 +10,14 @@
 //! * [`truth_forms`], [`logger`] — effects hidden in forms that differ from the catalogue's,
 //!   and logs written the way a real logger writes them;
 //! * [`testset`], [`recovery`] — the misspecified-form test set built from them, and how a
-//!   search's verdicts on it are scored; [`closed_loop`] — the long closed-loop test set;
+//!   search's verdicts on it are scored ([`draws`]: the options of the benchmarks on
+//!   independent draws); [`closed_loop`] — the long closed-loop test set;
 //! * [`next_flight`] — a log that leaves "A or B" open, and the flight a suggested
 //!   `next_experiment.toml` describes, flown on the hidden truth.
 
 pub mod closed_loop;
 pub mod design;
+pub mod draws;
 pub mod logger;
 pub mod mission;
 pub mod next_flight;
