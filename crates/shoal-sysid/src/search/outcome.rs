@@ -4,6 +4,7 @@
 use super::candidate::Candidate;
 use super::fitted::Fit;
 use super::measures::{changed, channel_gains_pct, gain, mean_channel_gain_pct};
+use super::rival::Rival;
 use super::verdict::Verdict;
 use crate::log::run::ChannelKind;
 use std::collections::BTreeMap;
@@ -29,19 +30,6 @@ pub struct Outcome {
     /// effect left possible (the model with it against the model without it). What a next
     /// experiment is chosen to answer ([`crate::experiment`]).
     pub rivals: Vec<Rival>,
-}
-
-/// Two fitted models the log cannot decide between.
-#[derive(Clone, Debug)]
-pub struct Rival {
-    /// The first explanation, as the report names it (an effect family).
-    pub a: String,
-    /// The second (another family, or `no <family>`).
-    pub b: String,
-    /// The model of the first.
-    pub fit_a: Fit,
-    /// The model of the second.
-    pub fit_b: Fit,
 }
 
 impl Outcome {

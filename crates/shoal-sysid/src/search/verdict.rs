@@ -6,7 +6,7 @@ use super::context::Search;
 use super::fitted::Fit;
 use super::measures::{STRUCTURE_RATIO, moved, noise_floor};
 use super::nuisance::StandIn;
-use super::outcome::Rival;
+use super::rival::Rival;
 use crate::log::run::ChannelKind;
 use std::collections::BTreeMap;
 
