@@ -9,7 +9,7 @@ use shoal_model::presets;
 use shoal_sysid::experiment::library::{Axis, LIBRARY, Schedule};
 use shoal_sysid::log::run::MeasuredRun;
 use shoal_sysid::validate::{Config, Horizon, RunInput, Validation};
-use shoal_testkit::next_flight::{delayed_uauv2, flight_of, fly, slow_heave};
+use shoal_testkit::next_flight::{delayed_uauv2, flight_of, fly, schedule_inputs, slow_heave};
 use shoal_testkit::synth::Experiment;
 use shoal_world::load::load_str;
 use std::path::PathBuf;
@@ -38,17 +38,11 @@ fn validate(runs: &[&MeasuredRun]) -> Validation {
 
 /// The flight of `schedule` on the truth, started as the first log was.
 fn fly_schedule(name: &str, schedule: &Schedule, period: f64, seed: u64) -> MeasuredRun {
-    let mut inputs = Vec::new();
-    for (t, values) in &schedule.steps {
-        for (input, v) in schedule.inputs.iter().zip(values) {
-            inputs.push((*t, input.clone(), *v));
-        }
-    }
     let exp = Experiment {
         name: name.into(),
         duration: schedule.duration,
         sample_period: period,
-        inputs,
+        inputs: schedule_inputs(schedule),
         ..slow_heave()
     };
     fly(&delayed_uauv2(DELAY_S), &exp, seed)

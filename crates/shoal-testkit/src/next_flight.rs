@@ -4,6 +4,7 @@
 //! world file describes ([`flight_of`]: its first vehicle's raw-mode mission), both flown on
 //! the hidden truth ([`delayed_uauv2`]) as a logger writes them ([`fly`]).
 
+use crate::design;
 use crate::synth::{Experiment, synthesize};
 use shoal_model::effects::{EffectInstance, Effects, by_name};
 use shoal_model::math::Vec3;
@@ -11,7 +12,8 @@ use shoal_model::presets;
 use shoal_model::rigid_body::Environment;
 use shoal_model::vehicle::VehicleModel;
 use shoal_sysid::experiment::NextExperiment;
-use shoal_sysid::log::run::{ChannelKind, MeasuredRun};
+use shoal_sysid::experiment::library::Schedule;
+use shoal_sysid::log::run::MeasuredRun;
 use shoal_world::desc::WorldDesc;
 use std::f64::consts::{FRAC_PI_2, TAU};
 
@@ -38,15 +40,11 @@ pub fn slow_heave() -> Experiment {
         inputs.push((t, "port".into(), n));
         inputs.push((t, "stbd".into(), n));
     }
+    // The designed heave experiment's logging, start and channels, other commands.
     Experiment {
         name: "slow_heave".into(),
-        duration: 120.0,
-        sample_period: 0.02,
         inputs,
-        channels: vec![ChannelKind::Depth, ChannelKind::Yaw, ChannelKind::R],
-        position: Vec3::new(5.0, 5.0, 1.091),
-        yaw: 0.3,
-        tracking_noise: 0.0,
+        ..design::uauv2_heave(0, 120.0)
     }
 }
 
@@ -77,21 +75,27 @@ pub fn flight_of(world: &WorldDesc, name: &str, period: f64) -> Experiment {
     }
 }
 
+/// A schedule's commands as an experiment's inputs: (time \[s\], input, value) at every
+/// change.
+pub fn schedule_inputs(schedule: &Schedule) -> Vec<(f64, String, f64)> {
+    let mut inputs = Vec::new();
+    for (t, values) in &schedule.steps {
+        for (input, v) in schedule.inputs.iter().zip(values) {
+            inputs.push((*t, input.clone(), *v));
+        }
+    }
+    inputs
+}
+
 /// The flight `x` suggests as an experiment: its commands from its start (depth and heading;
 /// the horizontal position, the logging period and the channels of `like`), named `name`.
 pub fn experiment_of(x: &NextExperiment, name: &str, like: &Experiment) -> Experiment {
     let (z, yaw) = x.start_pose(&presets::uauv2());
-    let mut inputs = Vec::new();
-    for (t, values) in &x.schedule.steps {
-        for (input, v) in x.schedule.inputs.iter().zip(values) {
-            inputs.push((*t, input.clone(), *v));
-        }
-    }
     Experiment {
         name: name.into(),
         duration: x.schedule.duration,
         sample_period: x.period_s,
-        inputs,
+        inputs: schedule_inputs(&x.schedule),
         channels: like.channels.clone(),
         position: Vec3::new(like.position.x, like.position.y, z),
         yaw,
