@@ -125,7 +125,8 @@ fn at_an_anchor_the_replay_reads_what_was_measured() {
 /// within twice the sensors' noise on the attitude and yaw rate, and within ten times on the
 /// depth, which the vertical gusts (5 mm/s) move by up to a centimetre per horizon. Without
 /// the filtered sway velocity at each anchor the hull coasting forward spun off under its Munk
-/// moment within a horizon (yaw RMSE 0.08 rad, 9× the noise).
+/// moment within a horizon (yaw RMSE 0.08 rad, 9× the noise). What is left on the depth is
+/// the water's transport, estimated as a wandering current (`evaluate::current`).
 #[test]
 fn a_long_closed_loop_mission_is_followed_only_when_re_anchored() {
     use shoal_testkit::closed_loop::{MISSION_S, cases};
@@ -166,4 +167,21 @@ fn a_long_closed_loop_mission_is_followed_only_when_re_anchored() {
             assert!(o > 50.0 * noise, "{k:?}: open loop follows ({o})");
         }
     }
+    // What is left on the depth is the water's: the gusts flown (5 mm/s over 15 s) come back
+    // as the current the report names, and predicted from the samples before, the transport
+    // leaves the depth within three times its noise.
+    let water = chosen
+        .currents
+        .get(&ChannelKind::Depth)
+        .expect("a current on the depth");
+    eprintln!("water: {water:?}");
+    assert!((0.0025..=0.010).contains(&water.sigma_m_s), "{water:?}");
+    assert!((4.0..=60.0).contains(&water.tau_s), "{water:?}");
+    assert!(water.innovation_m < 3.0 * depth_noise, "{water:?}");
+    assert!(water.innovation_m < 0.5 * water.residual_m, "{water:?}");
+    assert!(
+        chosen.why.contains("the water carries y.depth"),
+        "{}",
+        chosen.why
+    );
 }

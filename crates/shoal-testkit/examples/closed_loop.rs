@@ -12,7 +12,8 @@
 //! `--threads T` search worker threads (default 2), `--horizons LIST` of `open`, `auto`,
 //! `closed` (the logs carry their references), `choose` (the default replay), `choose-norefs`
 //! (the default replay of the logs with their references dropped) or seconds (default
-//! `open,auto`), `--write-only` (logs without searching). Each search on a
+//! `open,auto`), `--write-only` (logs without searching), `--calm` (still water: no wandering current, the
+//! parameter noise kept — what the gusts cost). Each search on a
 //! 10-minute log takes minutes: the whole set is an hour or more on two cores. Not run in CI.
 
 use shoal_sysid::evaluate::anchoring::Horizon;
@@ -26,7 +27,7 @@ use std::time::Instant;
 fn usage() -> ExitCode {
     eprintln!(
         "usage: closed_loop --out DIR [--length SECONDS] [--cases TEXT] [--threads T] \
-         [--horizons open,auto,closed,choose,choose-norefs,SECONDS] [--write-only]"
+         [--horizons open,auto,closed,choose,choose-norefs,SECONDS] [--write-only] [--calm]"
     );
     ExitCode::from(2)
 }
@@ -77,6 +78,7 @@ struct Options {
     threads: usize,
     horizons: Vec<(String, Horizon)>,
     write_only: bool,
+    calm: bool,
 }
 
 /// Reads the command line; the usage exit code when it is wrong.
@@ -90,10 +92,15 @@ fn options() -> Result<Options, ExitCode> {
         ("auto".into(), Horizon::Auto),
     ];
     let mut write_only = false;
+    let mut calm = false;
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
         if a == "--write-only" {
             write_only = true;
+            continue;
+        }
+        if a == "--calm" {
+            calm = true;
             continue;
         }
         let Some(v) = args.next() else {
@@ -151,6 +158,7 @@ fn options() -> Result<Options, ExitCode> {
         threads,
         horizons,
         write_only,
+        calm,
     })
 }
 
@@ -162,6 +170,7 @@ fn main() -> ExitCode {
         threads,
         horizons,
         write_only,
+        calm,
     } = match options() {
         Ok(o) => o,
         Err(code) => return code,
@@ -170,7 +179,15 @@ fn main() -> ExitCode {
         eprintln!("cannot create {}: {e}", dir.display());
         return ExitCode::FAILURE;
     }
-    let dist = Disturbance::default();
+    let dist = if calm {
+        Disturbance {
+            gust_horizontal: 0.0,
+            gust_vertical: 0.0,
+            ..Disturbance::default()
+        }
+    } else {
+        Disturbance::default()
+    };
     let chosen: Vec<_> = cases(length)
         .into_iter()
         .filter(|c| c.name.contains(&filter))

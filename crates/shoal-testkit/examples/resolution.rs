@@ -15,17 +15,32 @@
 //! `--forms TEXT`, `--out FILE`. Each case is one full catalogue search, and a
 //! second one on two logs where a question is open: the 52 rows take about 20 minutes on two
 //! cores. Not run in CI.
+//!
+//! `--closed-loop S` takes the long closed-loop set instead (`shoal_testkit::closed_loop`,
+//! missions of S seconds in gusting water, replayed as `shoal validate` replays them by
+//! default): the suggested flight is the `next_experiment.toml` the report writes, loaded
+//! through the world loader and flown by the mission's own truth and hull in the same water
+//! (fresh gusts and sensor noise); `--forms` then filters the case names.
+//!
+//! ```sh
+//! cargo run --release -p shoal-testkit --example resolution -- \
+//!     --closed-loop 300 --threads 2 --out resolution_closed_loop.md
+//! ```
 
 use shoal_model::presets;
 use shoal_sysid::evaluate::anchoring::Horizon;
-use shoal_sysid::experiment::next_experiment;
+use shoal_sysid::experiment::{NextExperiment, next_experiment, world_toml};
 use shoal_sysid::log::run::MeasuredRun;
 use shoal_sysid::search::{Outcome, SearchOptions, search};
+use shoal_testkit::closed_loop::{self, MissionCase};
 use shoal_testkit::draws::DrawOptions;
+use shoal_testkit::mission::Disturbance;
 use shoal_testkit::next_flight::experiment_of;
 use shoal_testkit::recovery::dataset_of;
 use shoal_testkit::testset::{CaseSpec, Conditions, null, single};
 use shoal_testkit::truth_forms::{self, ExpKind};
+use shoal_world::load::load_str;
+use shoal_world::spec::VehicleSpec;
 use std::path::Path;
 use std::process::ExitCode;
 
@@ -75,26 +90,84 @@ fn names(out: &Outcome) -> Vec<String> {
 fn usage() -> ExitCode {
     eprintln!(
         "usage: resolution [--draws N] [--noise X] [--length S] [--threads T] [--forms TEXT] \
-         [--out FILE]"
+         [--out FILE] [--closed-loop S]"
     );
     ExitCode::from(2)
 }
 
+/// Where a case's logs come from.
+enum Source<'a> {
+    /// A recovery draw: a designed experiment, and the flight as a designed one.
+    Draw(&'a CaseSpec, &'a Conditions),
+    /// A closed-loop mission, and the flight from `next_experiment.toml` in the same water.
+    Mission(&'a MissionCase, &'a Disturbance),
+}
+
+impl Source<'_> {
+    fn name(&self) -> &str {
+        match self {
+            Source::Draw(spec, _) => &spec.name,
+            Source::Mission(m, _) => &m.name,
+        }
+    }
+
+    fn expected(&self) -> Vec<String> {
+        match self {
+            Source::Draw(spec, _) => spec.expected(),
+            Source::Mission(m, _) => m.expected(),
+        }
+    }
+
+    /// How `shoal validate` replays its logs: the draws open loop (as the recovery benchmark),
+    /// the missions as it chooses.
+    fn horizon(&self) -> Horizon {
+        match self {
+            Source::Draw(..) => Horizon::Open,
+            Source::Mission(..) => Horizon::Choose,
+        }
+    }
+
+    fn first(&self) -> MeasuredRun {
+        match self {
+            Source::Draw(spec, cond) => spec.run(cond),
+            Source::Mission(m, dist) => m.run(dist),
+        }
+    }
+
+    /// The flight `x` suggests, flown on the case's truth.
+    fn flight(&self, x: &NextExperiment) -> Result<MeasuredRun, String> {
+        let name = format!("{}_next", self.name());
+        match self {
+            Source::Draw(spec, cond) => {
+                let like = spec.kind.experiment(spec.seed, cond.duration);
+                Ok(spec.run_of(cond, &experiment_of(x, &name, &like)))
+            }
+            Source::Mission(m, dist) => {
+                let spec = VehicleSpec::from_params(&presets::uauv2());
+                let text = world_toml(x, &spec, &m.name).map_err(|e| format!("world: {e}"))?;
+                let path = Path::new("next_experiment.toml");
+                let world = load_str(&text, path).map_err(|e| format!("world: {e}"))?;
+                Ok(m.fly_world(dist, &world, &name))
+            }
+        }
+    }
+}
+
 /// One case: the first search, and where a question is open the flight and the second.
-fn case(spec: &CaseSpec, cond: &Conditions, opts: &SearchOptions) -> Result<Row, String> {
+fn case(src: &Source, opts: &SearchOptions) -> Result<Row, String> {
     let base = presets::uauv2();
     let parse = |run: &MeasuredRun| {
         let csv = shoal_testkit::logger::logger_csv(run);
         MeasuredRun::parse(&csv, Path::new(&format!("{}.csv", run.name)))
             .map_err(|e| format!("parse: {e}"))
     };
-    let first_run = parse(&spec.run(cond))?;
-    let ds = dataset_of(vec![first_run.clone()], opts, Horizon::Open)?;
+    let first_run = parse(&src.first())?;
+    let ds = dataset_of(vec![first_run.clone()], opts, src.horizon())?;
     let out = search(&ds, &base, opts, &|_| {});
     let x = next_experiment(&ds, &base, opts, &out);
     let mut row = Row {
-        name: spec.name.clone(),
-        expected: spec.expected(),
+        name: src.name().to_string(),
+        expected: src.expected(),
         first: names(&out),
         pairs: out
             .verdict
@@ -111,13 +184,34 @@ fn case(spec: &CaseSpec, cond: &Conditions, opts: &SearchOptions) -> Result<Row,
         both: None,
     };
     if let Some(x) = x {
-        let like = spec.kind.experiment(spec.seed, cond.duration);
-        let exp = experiment_of(&x, &format!("{}_next", spec.name), &like);
-        let second = parse(&spec.run_of(cond, &exp))?;
-        let ds2 = dataset_of(vec![first_run, second], opts, Horizon::Open)?;
+        let second = parse(&src.flight(&x)?)?;
+        let ds2 = dataset_of(vec![first_run, second], opts, src.horizon())?;
         row.both = Some(names(&search(&ds2, &base, opts, &|_| {})));
     }
     Ok(row)
+}
+
+/// `args` without `--closed-loop S`, and S \[s\] if it was there.
+fn closed_loop_option(args: Vec<String>) -> Result<(Vec<String>, Option<f64>), String> {
+    let mut rest = Vec::new();
+    let mut length = None;
+    let mut it = args.into_iter();
+    while let Some(a) = it.next() {
+        if a != "--closed-loop" {
+            rest.push(a);
+            continue;
+        }
+        let v = it.next().unwrap_or_default();
+        match v.parse::<f64>() {
+            Ok(x) if x.is_finite() && x >= 30.0 => length = Some(x),
+            _ => {
+                return Err(format!(
+                    "--closed-loop takes a mission length ≥ 30 s, got `{v}`"
+                ));
+            }
+        }
+    }
+    Ok((rest, length))
 }
 
 fn main() -> ExitCode {
@@ -127,7 +221,14 @@ fn main() -> ExitCode {
         length: vec![120.0],
         ..DrawOptions::default()
     };
-    let o = match DrawOptions::parse(defaults, std::env::args().skip(1)) {
+    let (args, closed) = match closed_loop_option(std::env::args().skip(1).collect()) {
+        Ok(a) => a,
+        Err(e) => {
+            eprintln!("{e}");
+            return usage();
+        }
+    };
+    let o = match DrawOptions::parse(defaults, args) {
         Ok(o) => o,
         Err(e) => {
             eprintln!("{e}");
@@ -156,10 +257,22 @@ fn main() -> ExitCode {
         threads,
         ..Default::default()
     };
-    let total = specs.len();
+    let dist = Disturbance::default();
+    let missions: Vec<MissionCase> = closed.map_or_else(Vec::new, |length| {
+        closed_loop::cases(length)
+            .into_iter()
+            .filter(|m| filter.as_ref().is_none_or(|f| m.name.contains(f.as_str())))
+            .collect()
+    });
+    let sources: Vec<Source> = if closed.is_some() {
+        missions.iter().map(|m| Source::Mission(m, &dist)).collect()
+    } else {
+        specs.iter().map(|s| Source::Draw(s, &cond)).collect()
+    };
+    let total = sources.len();
     let mut rows = Vec::new();
-    for (i, spec) in specs.iter().enumerate() {
-        match case(spec, &cond, &opts) {
+    for (i, src) in sources.iter().enumerate() {
+        match case(src, &opts) {
             Ok(r) => {
                 eprintln!(
                     "[{}/{total}] {}: first {:?}{}, questions {:?} → {} → {:?} {}",
@@ -180,7 +293,7 @@ fn main() -> ExitCode {
                 );
                 rows.push(r);
             }
-            Err(e) => eprintln!("[{}/{total}] {}: {e}", i + 1, spec.name),
+            Err(e) => eprintln!("[{}/{total}] {}: {e}", i + 1, src.name()),
         }
     }
     let open: Vec<&Row> = rows.iter().filter(|r| r.manoeuvre.is_some()).collect();
@@ -190,10 +303,16 @@ fn main() -> ExitCode {
         .filter(|r| !r.pairs.is_empty())
         .collect();
     let count = |v: &[&Row], f: &dyn Fn(&Row) -> bool| v.iter().filter(|r| f(r)).count();
+    let what = match closed {
+        Some(l) => format!(
+            "the closed-loop set's missions ({l} s, gusts and a hull ±3 % off, replayed as \
+             `choose` replays them)"
+        ),
+        None => format!("noise ×{noise}, {length} s, {draws} draw(s) from seed {SEED0}"),
+    };
     let mut md = format!(
-        "Resolution of the next experiment on {} logs (noise ×{noise}, {length} s, {draws} \
-         draw(s) from seed {SEED0}): {} leave a question open, {} of them an \"A or B\" ({} \
-         with a hidden family inside).\n\n\
+        "Resolution of the next experiment on {} logs ({what}): {} leave a question open, {} \
+         of them an \"A or B\" ({} with a hidden family inside).\n\n\
          - of the open cases, exact with the suggested flight: {} of {} (first verdict exact: \
          {} of {});\n\
          - of the \"A or B\" cases: {} of {} exact with the flight.\n\n\

@@ -17,16 +17,18 @@
 //! Everything is deterministic in the case's seed.
 
 use crate::logger::logger_csv;
-use crate::mission::{Disturbance, fly, perturb, uauv2_mission};
+use crate::mission::{Disturbance, MissionPlan, fly, perturb, uauv2_mission};
 use crate::testset::{DENSITY, Hidden, SIM_DT, families, fnv1a, stream, truth_of};
 use crate::truth_forms::{self, TruthForm};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
+use shoal_model::math::euler_rpy;
 use shoal_model::presets;
 use shoal_model::rigid_body::Environment;
 use shoal_model::vehicle::VehicleModel;
 use shoal_sysid::log::run::{ChannelKind, MeasuredRun};
 use shoal_sysid::search::direct_channels;
+use shoal_world::desc::WorldDesc;
 
 /// Mission length of the set \[s\] (10 minutes).
 pub const MISSION_S: f64 = 600.0;
@@ -58,25 +60,51 @@ impl MissionCase {
 
     /// The mission flown under `dist`, as logged.
     pub fn run(&self, dist: &Disturbance) -> MeasuredRun {
-        let mut truth = truth_of(&self.hidden);
-        let mut params = presets::uauv2();
-        let mut rng = ChaCha8Rng::seed_from_u64(self.seed ^ 0x7061_7261);
-        perturb(&mut params, dist.param_noise, &mut rng);
-        let model = truth.model(params, DENSITY);
-        let designed = VehicleModel::new(presets::uauv2(), DENSITY);
         let mut plan = uauv2_mission(self.seed, self.duration);
         plan.name.clone_from(&self.name);
         if self.tracked {
             plan.channels.extend([ChannelKind::X, ChannelKind::Y]);
             plan.tracking_noise = TRACKING_NOISE;
         }
+        let noise_seed = self.seed ^ 0x5eed ^ fnv1a(&self.name);
+        self.fly_plan(dist, &plan, noise_seed)
+    }
+
+    /// A second flight of the case's vehicle (the same hidden truth and hull) in the same
+    /// water (`dist`, fresh gusts and sensor noise): the first vehicle of `world` — a flight
+    /// such as `next_experiment.toml` describes, its own mission from its own start — logged
+    /// as the mission is, named `name`.
+    pub fn fly_world(&self, dist: &Disturbance, world: &WorldDesc, name: &str) -> MeasuredRun {
+        let mut plan = uauv2_mission(self.seed, self.duration);
+        let v = &world.vehicles[0];
+        plan.name = name.to_string();
+        plan.duration = world.duration;
+        plan.mission = (*v.mission).clone();
+        plan.position = v.position;
+        plan.yaw = euler_rpy(&v.attitude).2;
+        if self.tracked {
+            plan.channels.extend([ChannelKind::X, ChannelKind::Y]);
+            plan.tracking_noise = TRACKING_NOISE;
+        }
+        let noise_seed = self.seed ^ 0x5eed ^ fnv1a(name);
+        self.fly_plan(dist, &plan, noise_seed)
+    }
+
+    /// `plan` flown by the case's truth (its hidden forms, the hull perturbed by the case's
+    /// seed) under `dist`, gusts and sensor noise from `noise_seed`.
+    fn fly_plan(&self, dist: &Disturbance, plan: &MissionPlan, noise_seed: u64) -> MeasuredRun {
+        let mut truth = truth_of(&self.hidden);
+        let mut params = presets::uauv2();
+        let mut rng = ChaCha8Rng::seed_from_u64(self.seed ^ 0x7061_7261);
+        perturb(&mut params, dist.param_noise, &mut rng);
+        let model = truth.model(params, DENSITY);
+        let designed = VehicleModel::new(presets::uauv2(), DENSITY);
         let env = Environment {
             density: DENSITY,
             ..Environment::default()
         };
-        let noise_seed = self.seed ^ 0x5eed ^ fnv1a(&self.name);
         fly(
-            &model, &designed, &env, &plan, dist, SIM_DT, noise_seed, &mut truth,
+            &model, &designed, &env, plan, dist, SIM_DT, noise_seed, &mut truth,
         )
     }
 

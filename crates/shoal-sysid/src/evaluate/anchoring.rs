@@ -4,8 +4,10 @@
 //! how long the baseline's replay stays within a few times the sensors' noise of the
 //! measurements ([`Horizon::Auto`]).
 
+use crate::evaluate::current::Current;
 use crate::evaluate::evaluation::{Evaluation, noise_floor};
 use crate::log::run::ChannelKind;
+use std::collections::BTreeMap;
 
 /// How a dataset's runs are replayed.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
@@ -77,6 +79,10 @@ pub struct Anchoring {
     /// Whether each run's replay has its closed-loop twin, the vehicle's controller in the
     /// loop (the logged commands compared with the twin's as channels).
     pub closed_loop: bool,
+    /// Per transported channel, the water's wandering current estimated from the baseline's
+    /// re-anchored replay ([`crate::evaluate::current`]); empty for open-loop replays and
+    /// where the water is still.
+    pub currents: BTreeMap<ChannelKind, Current>,
     /// Why, in one sentence.
     pub why: String,
 }
@@ -86,6 +92,7 @@ impl Default for Anchoring {
         Self {
             horizon: None,
             closed_loop: false,
+            currents: BTreeMap::new(),
             why: OPEN_DEFAULT.to_string(),
         }
     }
@@ -136,6 +143,7 @@ pub fn choose(
     Anchoring {
         horizon,
         closed_loop: false,
+        currents: BTreeMap::new(),
         why,
     }
 }

@@ -16,6 +16,7 @@
 
 use crate::evaluate::anchoring::{Anchoring, Horizon, choose};
 use crate::evaluate::blocks::{Resample, push_weighted};
+use crate::evaluate::current::{self, Current};
 use crate::evaluate::evaluation::{ChannelResult, Evaluation, RunResult};
 use crate::evaluate::masses::MassTable;
 use crate::evaluate::open_loop::anchors::{Anchor, OBSERVER_S};
@@ -386,6 +387,7 @@ impl Dataset {
             rd.init.anchors.clear();
             rd.init.filter.clear();
         }
+        self.anchoring.currents.clear();
         self.open_loop();
         let referenced = self
             .runs
@@ -404,6 +406,21 @@ impl Dataset {
                 // The horizontal velocities at each anchor: from the model replayed through
                 // the data, anchored every OBSERVER_S.
                 rd.init.filter = Anchor::every(&rd.run, OBSERVER_S, dt);
+            }
+            chosen.currents = self.currents(baseline);
+            for (kind, c) in &chosen.currents {
+                chosen.why = format!(
+                    "{}; between anchors the water carries {}: a wandering current (σ {:.2} \
+                     mm/s, correlation time {} s, the maximum-likelihood noise model on the \
+                     baseline's replay) would leave {:.2} mm of its {:.2} mm residual — motion \
+                     no vehicle model has",
+                    chosen.why,
+                    kind.label(),
+                    c.sigma_m_s * 1e3,
+                    c.tau_s,
+                    c.innovation_m * 1e3,
+                    c.residual_m * 1e3
+                );
             }
         }
         if horizon == Horizon::Closed {
@@ -429,6 +446,17 @@ impl Dataset {
     /// Replays every run on `model` and compares with the measurements.
     pub fn evaluate(&self, model: &VehicleModel) -> Evaluation {
         self.evaluation(&self.replayed(model, Part::All))
+    }
+
+    /// The wandering current of each transported channel ([`current::of_evaluation`]), from
+    /// the residuals of `baseline`'s re-anchored replay (made without any current).
+    fn currents(&self, baseline: &VehicleModel) -> BTreeMap<ChannelKind, Current> {
+        let resets: Vec<Vec<f64>> = self
+            .runs
+            .iter()
+            .map(|rd| anchor_times(rd, self.replay.dt))
+            .collect();
+        current::of_evaluation(&self.evaluate(baseline), &resets, baseline.effects.delay())
     }
 
     /// Replays every run on `model` for the samples of `part`: each compared channel's
@@ -590,6 +618,16 @@ impl Replayed {
             .map(|(p, r)| 8 * (p.len() + r.len()))
             .sum()
     }
+}
+
+/// The times of `rd`'s anchors on its replay's clock of steps of `dt` \[s\].
+fn anchor_times(rd: &RunData, dt: f64) -> Vec<f64> {
+    let t0 = rd.run.t.first().copied().unwrap_or(0.0);
+    rd.init
+        .anchors
+        .iter()
+        .map(|a| t0 + a.step as f64 * dt)
+        .collect()
 }
 
 /// Compares the leading `n` samples of one channel with a replay (which must reach them):

@@ -8,6 +8,7 @@
 //!   [`controlled`] — the runs replayed closed loop with their controller, the logged
 //!   commands compared too;
 //!   [`evaluation`] — a model compared with them: residuals and per-channel metrics;
+//!   [`current`] — the water's wandering current as the noise model of a re-anchored replay;
 //! * [`blocks`] — time blocks of residuals: held-out tests and the block bootstrap;
 //! * [`lm`], [`stats`] — bounded Levenberg–Marquardt, whiteness tests and friends.
 //!
@@ -16,6 +17,7 @@
 pub mod anchoring;
 pub mod blocks;
 pub mod controlled;
+pub mod current;
 pub mod dataset;
 pub mod evaluation;
 pub mod lm;

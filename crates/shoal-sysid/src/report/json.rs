@@ -236,6 +236,7 @@ pub(super) fn report(
             "replay_dt_s": ds.replay.dt,
             "replay_horizon_s": ds.anchoring.horizon,
             "replay_why": ds.anchoring.why,
+            "replay_currents": ds.anchoring.currents.iter().map(|(k, c)| (k.label(), c)).collect::<BTreeMap<_, _>>(),
             "min_validation_gain_pct": 100.0 * input.opts.min_gain,
             "bic_threshold": input.opts.bic_threshold,
             "backward_eff_bic_threshold": input.opts.backward_eff_bic_threshold,
