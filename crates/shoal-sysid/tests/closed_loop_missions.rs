@@ -179,3 +179,71 @@ fn a_tether_in_a_tracked_mission_is_named() {
         );
     }
 }
+
+/// A flight a world file describes (as `next_experiment.toml` does: a raw-mode mission from
+/// its own start) is flown by the mission's own truth in the same water: the log carries the
+/// file's commands from its start pose, for the file's duration, with gusts and sensor noise
+/// of its own. (The resolution benchmark's closed-loop flights: `resolution --closed-loop`.)
+#[test]
+fn a_world_file_flight_is_flown_by_the_missions_truth() {
+    use shoal_sysid::experiment::library::Schedule;
+    use shoal_sysid::experiment::{NextExperiment, world_toml};
+    use shoal_sysid::log::run::ChannelKind;
+    use shoal_world::spec::VehicleSpec;
+    let half_pi = std::f64::consts::FRAC_PI_2;
+    let x = NextExperiment {
+        manoeuvre: "test".into(),
+        what: "a test".into(),
+        questions: Vec::new(),
+        schedule: Schedule {
+            inputs: ["top", "port", "stbd", "beta"].map(String::from).to_vec(),
+            steps: vec![
+                (0.0, vec![0.0, 30.0, 30.0, -half_pi]),
+                (10.0, vec![0.0, -30.0, -30.0, -half_pi]),
+            ],
+            duration: 20.0,
+        },
+        period_s: 0.05,
+        start: vec![(ChannelKind::Depth, 1.2), (ChannelKind::Yaw, 0.5)],
+        tried: Vec::new(),
+    };
+    let params = shoal_model::presets::uauv2();
+    let text = world_toml(&x, &VehicleSpec::from_params(&params), "m.csv").unwrap();
+    let world = shoal_world::load::load_str(&text, std::path::Path::new("next.toml")).unwrap();
+    let c = case("m_null_1");
+    let dist = Disturbance::default();
+    let run = c.fly_world(&dist, &world, "m_null_1_next");
+    assert_eq!(run.name, "m_null_1_next");
+    assert!((run.duration() - 20.0).abs() < 0.06, "{}", run.duration());
+    let port = run.input("port").expect("the thrusters are logged");
+    for (t, v) in run.t.iter().zip(&port.values) {
+        // The command of a row is the one in force when the logger wrote it.
+        if (*t - 10.0).abs() > 0.06 {
+            let want = if *t < 10.0 { 30.0 } else { -30.0 };
+            assert_eq!(*v, want, "u.port at {t} s");
+        }
+    }
+    let depth = run
+        .channel(ChannelKind::Depth)
+        .expect("the depth is logged");
+    assert!(
+        (depth.values[0] - 1.2).abs() < 0.01,
+        "starts at {}",
+        depth.values[0]
+    );
+    let yaw = run
+        .channel(ChannelKind::Yaw)
+        .expect("the heading is logged");
+    assert!(
+        (yaw.values[0] - 0.5).abs() < 0.03,
+        "heads {}",
+        yaw.values[0]
+    );
+    // Heaving down then up: deeper at 10 s than at the start, and not the mission's own log.
+    let at = |s: f64| depth.values[(s / 0.05).round() as usize];
+    assert!(at(10.0) > at(0.0) + 0.05, "{} → {}", at(0.0), at(10.0));
+    assert_ne!(
+        c.run(&dist).channel(ChannelKind::Depth).unwrap().values[..50],
+        depth.values[..50]
+    );
+}
