@@ -262,15 +262,27 @@ mod tests {
     use rand_chacha::ChaCha8Rng;
     use rand_distr::{Distribution, StandardNormal};
 
+    /// A residual of one run with its sample times and anchors, every sample counted.
+    struct Carried {
+        times: Vec<f64>,
+        resets: Vec<f64>,
+        resid: Vec<f64>,
+        counted: Vec<bool>,
+    }
+
+    impl Carried {
+        fn series(&self) -> Series<'_> {
+            Series {
+                times: &self.times,
+                resets: &self.resets,
+                counted: &self.counted,
+            }
+        }
+    }
+
     /// A residual that is a current's transport since the last anchor (σ, τ; anchors every
     /// `every` s) plus white noise, sampled at 20 Hz for `span` s; with its anchors.
-    fn carried(
-        sigma: f64,
-        tau: f64,
-        noise: f64,
-        every: f64,
-        span: f64,
-    ) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+    fn carried(sigma: f64, tau: f64, noise: f64, every: f64, span: f64) -> Carried {
         let mut rng = ChaCha8Rng::seed_from_u64(7);
         let mut n = || -> f64 { StandardNormal.sample(&mut rng) };
         let h = 0.001;
@@ -295,7 +307,13 @@ mod tests {
             d += c * h;
             c += -c / tau * h + sigma * (2.0 * h / tau).sqrt() * n();
         }
-        (times, resets, resid)
+        let counted = vec![true; times.len()];
+        Carried {
+            times,
+            resets,
+            resid,
+            counted,
+        }
     }
 
     fn rms(v: &[f64]) -> f64 {
@@ -306,16 +324,11 @@ mod tests {
     fn a_wandering_current_is_estimated_and_taken_out_of_the_residual() {
         // 5 mm/s over 15 s, 1.7 mm of sensor noise, anchors every 2 s: the transport is a few
         // times the noise, the innovations are back near the noise.
-        let (times, resets, resid) = carried(0.005, 15.0, 0.0017, 2.0, 600.0);
-        let counted = vec![true; times.len()];
-        let s = Series {
-            times: &times,
-            resets: &resets,
-            counted: &counted,
-        };
+        let run = carried(0.005, 15.0, 0.0017, 2.0, 600.0);
+        let (s, resid) = (run.series(), &run.resid);
         let raw = rms(&resid);
         assert!(raw > 2.5 * 0.0017, "{raw}");
-        let cur = estimate(&[(s, &resid)], 0.0017).expect("a current");
+        let cur = estimate(&[(s, resid)], 0.0017).expect("a current");
         assert!((0.002..=0.008).contains(&cur.sigma_m_s), "{cur:?}");
         assert!((8.0..=30.0).contains(&cur.tau_s), "{cur:?}");
         let (mut p, mut e) = (vec![0.0; resid.len()], resid.clone());
@@ -331,25 +344,15 @@ mod tests {
 
     #[test]
     fn white_noise_gets_no_current() {
-        let (times, resets, resid) = carried(0.0, 15.0, 0.0017, 2.0, 600.0);
-        let counted = vec![true; times.len()];
-        let s = Series {
-            times: &times,
-            resets: &resets,
-            counted: &counted,
-        };
-        assert_eq!(estimate(&[(s, &resid)], 0.0017), None);
+        let run = carried(0.0, 15.0, 0.0017, 2.0, 600.0);
+        let (s, resid) = (run.series(), &run.resid);
+        assert_eq!(estimate(&[(s, resid)], 0.0017), None);
     }
 
     #[test]
     fn the_filter_predicts_from_the_past_only() {
-        let (times, resets, resid) = carried(0.005, 15.0, 0.0017, 2.0, 60.0);
-        let counted = vec![true; times.len()];
-        let s = Series {
-            times: &times,
-            resets: &resets,
-            counted: &counted,
-        };
+        let run = carried(0.005, 15.0, 0.0017, 2.0, 60.0);
+        let (s, resid) = (run.series(), &run.resid);
         let cur = Current {
             sigma_m_s: 0.005,
             tau_s: 15.0,
@@ -357,17 +360,17 @@ mod tests {
             residual_m: 0.0,
             innovation_m: 0.0,
         };
-        let run = |r: &[f64]| {
+        let filtered = |r: &[f64]| {
             let (mut p, mut e) = (vec![0.0; r.len()], r.to_vec());
             cur.filter(&s, &mut p, &mut e);
             e
         };
-        let a = run(&resid);
+        let a = filtered(resid);
         let mut later = resid.clone();
         for x in &mut later[600..] {
             *x += 1.0;
         }
-        let b = run(&later);
+        let b = filtered(&later);
         assert_eq!(a[..600], b[..600]);
         assert_ne!(a[600], b[600]);
     }
