@@ -326,7 +326,7 @@ mod tests {
         // times the noise, the innovations are back near the noise.
         let run = carried(0.005, 15.0, 0.0017, 2.0, 600.0);
         let (s, resid) = (run.series(), &run.resid);
-        let raw = rms(&resid);
+        let raw = rms(resid);
         assert!(raw > 2.5 * 0.0017, "{raw}");
         let cur = estimate(&[(s, resid)], 0.0017).expect("a current");
         assert!((0.002..=0.008).contains(&cur.sigma_m_s), "{cur:?}");
