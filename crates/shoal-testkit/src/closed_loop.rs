@@ -62,12 +62,7 @@ impl MissionCase {
     pub fn run(&self, dist: &Disturbance) -> MeasuredRun {
         let mut plan = uauv2_mission(self.seed, self.duration);
         plan.name.clone_from(&self.name);
-        if self.tracked {
-            plan.channels.extend([ChannelKind::X, ChannelKind::Y]);
-            plan.tracking_noise = TRACKING_NOISE;
-        }
-        let noise_seed = self.seed ^ 0x5eed ^ fnv1a(&self.name);
-        self.fly_plan(dist, &plan, noise_seed)
+        self.fly_plan(dist, plan)
     }
 
     /// A second flight of the case's vehicle (the same hidden truth and hull) in the same
@@ -82,17 +77,18 @@ impl MissionCase {
         plan.mission = (*v.mission).clone();
         plan.position = v.position;
         plan.yaw = euler_rpy(&v.attitude).2;
+        self.fly_plan(dist, plan)
+    }
+
+    /// `plan` flown by the case's truth (its hidden forms, the hull perturbed by the case's
+    /// seed) under `dist`, gusts and sensor noise seeded by the case and the plan's name,
+    /// logging the tracked position too where the case is tracked.
+    fn fly_plan(&self, dist: &Disturbance, mut plan: MissionPlan) -> MeasuredRun {
         if self.tracked {
             plan.channels.extend([ChannelKind::X, ChannelKind::Y]);
             plan.tracking_noise = TRACKING_NOISE;
         }
-        let noise_seed = self.seed ^ 0x5eed ^ fnv1a(name);
-        self.fly_plan(dist, &plan, noise_seed)
-    }
-
-    /// `plan` flown by the case's truth (its hidden forms, the hull perturbed by the case's
-    /// seed) under `dist`, gusts and sensor noise from `noise_seed`.
-    fn fly_plan(&self, dist: &Disturbance, plan: &MissionPlan, noise_seed: u64) -> MeasuredRun {
+        let noise_seed = self.seed ^ 0x5eed ^ fnv1a(&plan.name);
         let mut truth = truth_of(&self.hidden);
         let mut params = presets::uauv2();
         let mut rng = ChaCha8Rng::seed_from_u64(self.seed ^ 0x7061_7261);
@@ -104,7 +100,7 @@ impl MissionCase {
             ..Environment::default()
         };
         fly(
-            &model, &designed, &env, plan, dist, SIM_DT, noise_seed, &mut truth,
+            &model, &designed, &env, &plan, dist, SIM_DT, noise_seed, &mut truth,
         )
     }
 

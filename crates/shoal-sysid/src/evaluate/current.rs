@@ -1,5 +1,5 @@
-//! The water's wandering current as the noise model of a re-anchored replay (the disturbance
-//! model of a prediction-error method).
+//! The water's wandering current, estimated on a re-anchored replay as a prediction-error
+//! method estimates its disturbance model.
 //!
 //! In a pool with a pump running, or in the sea, the water wanders: a current of a few mm/s to
 //! cm/s that changes over seconds to minutes carries the hull — its depth and its position —
@@ -75,11 +75,11 @@ const SIGMAS_M_S: [f64; 9] = [
 ];
 
 impl Current {
-    /// Runs the filter along `series`: each residual in `resid` becomes its innovation and
-    /// each prediction in `predicted` gains the transport the filter predicted for it (so
-    /// measured − predicted is still the residual). Returns −2 log-likelihood (without the
-    /// 2π term) over the counted samples. Non-finite residuals are passed over.
-    pub fn filter(&self, series: &Series, predicted: &mut [f64], resid: &mut [f64]) -> f64 {
+    /// Runs the filter along `series`: each residual in `resid` becomes its innovation (the
+    /// residual less the transport the filter predicted for it from the samples before).
+    /// Returns −2 log-likelihood (without the 2π term) over the counted samples. Non-finite
+    /// residuals are passed over.
+    pub fn filter(&self, series: &Series, resid: &mut [f64]) -> f64 {
         let r_noise = self.noise_m * self.noise_m;
         let q_rate = self.sigma_m_s * self.sigma_m_s;
         // State: transport since the last anchor d [m], current c [m/s]; covariance P.
@@ -123,7 +123,6 @@ impl Current {
             let s = pdd + r_noise;
             let e = r - d;
             resid[k] = e;
-            predicted[k] += d;
             if series.counted.get(k).copied().unwrap_or(false) {
                 m2ll += e * e / s + s.ln();
             }
@@ -179,8 +178,8 @@ pub fn estimate(series: &[(Series, &[f64])], noise_m: f64) -> Option<Current> {
             let mut innovations = Vec::with_capacity(series.len());
             let mut m2ll = 0.0;
             for (s, r) in series {
-                let (mut p, mut e) = (vec![0.0; r.len()], r.to_vec());
-                m2ll += cur.filter(s, &mut p, &mut e);
+                let mut e = r.to_vec();
+                m2ll += cur.filter(s, &mut e);
                 innovations.push(e);
             }
             if m2ll.is_finite() && m2ll < best.0 {
@@ -331,15 +330,19 @@ mod tests {
         let cur = estimate(&[(s, resid)], 0.0017).expect("a current");
         assert!((0.002..=0.008).contains(&cur.sigma_m_s), "{cur:?}");
         assert!((8.0..=30.0).contains(&cur.tau_s), "{cur:?}");
-        let (mut p, mut e) = (vec![0.0; resid.len()], resid.clone());
-        cur.filter(&s, &mut p, &mut e);
+        let mut e = resid.clone();
+        cur.filter(&s, &mut e);
         let inno = rms(&e);
         assert!(inno < 1.4 * 0.0017, "innovations {inno} against raw {raw}");
         assert!((cur.residual_m - raw).abs() < 1e-12 && (cur.innovation_m - inno).abs() < 1e-12);
-        // Measured less predicted is still the residual.
-        for ((r, p), e) in resid.iter().zip(&p).zip(&e) {
-            assert!((r - p - e).abs() < 1e-15);
-        }
+        // The innovations are white (the raw residual is a ramp per horizon): lag-1
+        // autocorrelation near zero.
+        let lag1 = |v: &[f64]| {
+            let c1: f64 = v.windows(2).map(|w| w[0] * w[1]).sum();
+            c1 / v.iter().map(|x| x * x).sum::<f64>()
+        };
+        assert!(lag1(resid) > 0.5, "raw lag-1 {}", lag1(resid));
+        assert!(lag1(&e).abs() < 0.1, "innovations' lag-1 {}", lag1(&e));
     }
 
     #[test]
@@ -361,8 +364,8 @@ mod tests {
             innovation_m: 0.0,
         };
         let filtered = |r: &[f64]| {
-            let (mut p, mut e) = (vec![0.0; r.len()], r.to_vec());
-            cur.filter(&s, &mut p, &mut e);
+            let mut e = r.to_vec();
+            cur.filter(&s, &mut e);
             e
         };
         let a = filtered(resid);
