@@ -81,7 +81,10 @@ class Report:
 
     ``verdict`` is the one-sentence summary; ``effects`` the named effects; ``channels`` the
     before/after table by channel; ``possible``, ``ambiguous`` and ``unexplained`` the weaker
-    findings as in ``report.json``; ``validation_gain_pct`` the headline, the mean of the
+    findings as in ``report.json`` (an "A or B" with ``inclusion``, its two families' shares of the
+    resamples, and ``across_resamples`` when the resamples found it); ``inclusion`` P(family):
+    for each named effect, each effect left possible and each family tried in its place, the
+    share (0…1) of the block-bootstrap resamples on which it holds the place; ``validation_gain_pct`` the headline, the mean of the
     channels' ``gain_pct``; ``changed_channels`` the channels the model changes (by at least
     their sensor's resolution) and ``changed_channels_gain_pct`` the mean gain over them;
     ``data`` the whole of ``report.json``; ``vehicle_toml`` the
@@ -99,6 +102,7 @@ class Report:
     possible: list[dict]
     ambiguous: list[dict]
     unexplained: list[dict]
+    inclusion: dict[str, float]
     validation_gain_pct: float
     changed_channels: list[str]
     changed_channels_gain_pct: float
@@ -266,6 +270,7 @@ def validate(
         possible=v["possible"],
         ambiguous=v["ambiguous"],
         unexplained=v["unexplained"],
+        inclusion=v["inclusion"],
         validation_gain_pct=v["validation_gain_pct"],
         changed_channels=v["changed_channels"],
         changed_channels_gain_pct=v["changed_channels_gain_pct"],

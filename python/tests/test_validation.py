@@ -66,6 +66,13 @@ def test_python_gives_the_command_lines_verdict(shoal_bin, tmp_path, name):
     }
     for e, want in zip(r.effects, cli["verdict"]["named"]):
         assert [p.value for p in e.parameters] == [p["value"] for p in want["params"]]
+    # P(family): each named effect's inclusion probability is its selection frequency, and
+    # every "A or B" carries its two families' probabilities.
+    assert r.inclusion == cli["verdict"]["inclusion"]
+    for e in r.effects:
+        assert r.inclusion[e.name] == e.stability
+    for a in r.ambiguous:
+        assert a["inclusion"] == [r.inclusion[a["effects"][0]], r.inclusion[a["effects"][1]]]
     assert events[0] == "read" and events.count("start") == 1
     assert events[events.index("start") + 1] == "stage" and events.count("stage") >= 4
     # The headline is the mean of the table's gains; the second figure that of the channels

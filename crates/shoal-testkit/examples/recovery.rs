@@ -122,6 +122,9 @@ fn main() -> ExitCode {
                     v.found_text(),
                     if v.exact() { "ok" } else { "WRONG" }
                 );
+                if !v.exact() && !v.inclusion.is_empty() {
+                    eprintln!("        P(family) over resamples: {}", v.inclusion);
+                }
             }
             line.push(tally);
         }

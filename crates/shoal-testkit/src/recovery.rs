@@ -112,6 +112,9 @@ pub struct Verdict {
     pub pairs: Vec<[String; 2]>,
     /// Why the log could not be searched, if it could not.
     pub error: Option<String>,
+    /// P(family) over the search's resamples as text (`family 75 %, …`, most included first;
+    /// empty where nothing was resampled).
+    pub inclusion: String,
 }
 
 impl Verdict {
@@ -130,6 +133,7 @@ impl Verdict {
             found,
             pairs: Vec::new(),
             error,
+            inclusion: String::new(),
         }
     }
 
@@ -250,7 +254,15 @@ pub fn judge_log(
                 .iter()
                 .map(|a| a.effects.clone())
                 .collect();
-            Verdict::new(expected, Ok(out.chosen.names())).with_pairs(&pairs)
+            let mut p: Vec<(&String, &f64)> = out.verdict.inclusion.iter().collect();
+            p.sort_by(|a, b| b.1.total_cmp(a.1).then(a.0.cmp(b.0)));
+            let mut v = Verdict::new(expected, Ok(out.chosen.names())).with_pairs(&pairs);
+            v.inclusion = p
+                .iter()
+                .map(|(f, q)| format!("{f} {:.0} %", 100.0 * *q))
+                .collect::<Vec<_>>()
+                .join(", ");
+            v
         }
         Err(e) => Verdict::new(expected, Err(e)),
     }

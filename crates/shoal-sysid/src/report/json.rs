@@ -269,6 +269,7 @@ pub(super) fn report(
             })),
             "unexplained": out.verdict.unexplained,
             "stability": out.verdict.stability,
+            "inclusion": out.verdict.inclusion,
             "stepwise": out.stepwise.names(),
             "stepwise_validation_gain_pct": crate::search::measures::mean_channel_gain_pct(&base.eval, &out.stepwise.eval),
             "stepwise_channel_gain_pct": stepwise_gains,

@@ -367,21 +367,61 @@ fn ambiguous(s: &mut String, out: &Outcome) {
     if out.verdict.ambiguous.is_empty() {
         let _ = writeln!(
             s,
-            "None: no alternative family explains the held-out data as well as a named one.\n"
+            "None: no alternative family explains the held-out data as well as a named one, \
+             and none takes a named one's place on enough of the resamples.\n"
         );
+        inclusion(s, out);
         return;
     }
     for a in &out.verdict.ambiguous {
+        let p = a
+            .inclusion
+            .map(|[p, q]| format!(" (P {:.0} % and {:.0} %)", 100.0 * p, 100.0 * q))
+            .unwrap_or_default();
         let _ = writeln!(
             s,
-            "- **`{}` or `{}`**: the alternative's held-out gain over the first is {:.1} % \
-             (block t {:.1}), so this log cannot tell them apart; {}.",
+            "- **`{}` or `{}`**{p}: {}.",
             a.effects[0],
             a.effects[1],
-            100.0 * a.heldout_gain,
-            a.heldout_t,
-            a.manoeuvre
+            a.why()
         );
+    }
+    let _ = writeln!(s);
+    inclusion(s, out);
+}
+
+/// P(family): each family's share of the resamples on which it holds a place of the model.
+fn inclusion(s: &mut String, out: &Outcome) {
+    if out.verdict.inclusion.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        s,
+        "**P(family)** — on each block-bootstrap resample of the log, every effect of the \
+         stepwise model and every family fitted in its place are refitted; a place goes to the \
+         family that fits the resample best and passes the backward test there. The share of \
+         resamples on which a family holds a place:\n"
+    );
+    let _ = writeln!(s, "| family | P(family) | in the verdict |");
+    let _ = writeln!(s, "|---|---|---|");
+    let mut rows: Vec<(&String, &f64)> = out.verdict.inclusion.iter().collect();
+    rows.sort_by(|a, b| b.1.total_cmp(a.1).then(a.0.cmp(b.0)));
+    for (family, p) in rows {
+        let role = if out.chosen.names().contains(family) {
+            "named"
+        } else if out
+            .verdict
+            .ambiguous
+            .iter()
+            .any(|a| a.effects.contains(family))
+        {
+            "A or B"
+        } else if out.verdict.possible.iter().any(|x| &x.effect == family) {
+            "possible"
+        } else {
+            "not named"
+        };
+        let _ = writeln!(s, "| `{family}` | {:.0} % | {role} |", 100.0 * p);
     }
     let _ = writeln!(s);
 }

@@ -21,7 +21,6 @@ pub(super) struct FormInfo {
     pub effect: Arc<dyn Effect>,
     pub excited: Vec<bool>,
     pub first: Option<Vec<f64>>,
-    pub bic: f64,
 }
 
 impl FormInfo {

@@ -6,7 +6,9 @@
 //! held-out RMSE within `min_gain` of the chosen model's, the block test unable to prefer
 //! either (|t| < 2) and the effective BIC of the two models within the selection
 //! threshold — the log cannot separate the two: the verdict reports
-//! "A or B" with the manoeuvre that would separate them.
+//! "A or B" with the manoeuvre that would separate them. Every alternative that would be
+//! selected in a chosen effect's place is kept as a [`Swap`]: on the resamples of the log,
+//! stability selection asks which of the two each resample prefers.
 
 use super::context::Search;
 use super::fitted::Fit;
@@ -24,13 +26,48 @@ const AMBIGUOUS_T: f64 = 2.0;
 /// How many alternatives are tried for each chosen effect.
 const ALTERNATIVES: usize = 2;
 
-/// The ambiguities of `stepwise`: pairs (chosen, alternative) the log cannot tell apart, each
-/// with the model of the alternative (the model without the chosen one plus the alternative).
-pub(super) fn ambiguities(
+/// A chosen effect with another family fitted in its place (the model without it, refitted,
+/// plus the alternative in its best form), where the alternative would itself be selected
+/// there: the rival a resample may prefer ([`super::stability`]).
+#[derive(Clone, Debug)]
+pub(super) struct Swap {
+    /// The effect of the stepwise model.
+    pub chosen: String,
+    /// The family fitted in its place.
+    pub alt: String,
+    /// The model with the alternative in place of the chosen effect.
+    pub fit: Fit,
+    /// Held-out gain of the swapped model over the stepwise one (fraction; ≈ 0: as good).
+    pub heldout_gain: f64,
+    /// Held-out block test of the swapped model against the stepwise one.
+    pub heldout_t: f64,
+    /// Whether the full log cannot tell the two apart (see the module doc).
+    pub ambiguous: bool,
+}
+
+impl Swap {
+    /// The "A or B" this swap stands for, with the inclusion probabilities of its two families
+    /// where measured.
+    pub fn ambiguity(&self, inclusion: Option<[f64; 2]>, across_resamples: bool) -> Ambiguity {
+        Ambiguity {
+            effects: [self.chosen.clone(), self.alt.clone()],
+            heldout_gain: self.heldout_gain,
+            heldout_t: self.heldout_t,
+            inclusion,
+            across_resamples,
+            manoeuvre: manoeuvre(&self.chosen, &self.alt),
+        }
+    }
+}
+
+/// The swaps of `stepwise`: for each of its effects, the [`ALTERNATIVES`] most promising other
+/// families fitted in its place, kept where the alternative would itself be selected there;
+/// each marked ambiguous where the log cannot tell it from the chosen effect.
+pub(super) fn swaps(
     s: &Search<'_>,
     stepwise: &Fit,
     progress: &(dyn Fn(Step<'_>) + Sync),
-) -> Vec<(Ambiguity, Fit)> {
+) -> Vec<Swap> {
     let opts = s.ctx.opts;
     let names = stepwise.names();
     let mut tries: Vec<(String, Fit, String)> = Vec::new();
@@ -42,35 +79,39 @@ pub(super) fn ambiguities(
             tries.push((name.clone(), reduced.clone(), alt));
         }
     }
-    let found: Vec<Option<(Ambiguity, Fit)>> =
-        par_map(&tries, opts.threads, |(name, reduced, alt)| {
-            let c = s.candidate(0, reduced, alt)?;
-            progress(Step::Fit(&format!("{alt} in place of {name}")));
-            if !c.significant {
-                return None;
-            }
-            let fit = c.fit?;
-            let g = gain(&stepwise.eval, &fit.eval);
-            let t = heldout_t(&stepwise.eval, &fit.eval, opts.block_s, None);
-            // The estimation data must not tell them apart either: the effective BIC of the two
-            // models differs by less than the selection threshold.
-            let d = delta_bic_eff(stepwise, &fit, None);
-            (g >= -opts.min_gain && t.abs() < AMBIGUOUS_T && d.abs() < -opts.bic_threshold).then(
-                || {
-                    let a = Ambiguity {
-                        effects: [name.clone(), alt.clone()],
-                        heldout_gain: g,
-                        heldout_t: t,
-                        manoeuvre: manoeuvre(name, alt),
-                    };
-                    (a, fit)
-                },
-            )
-        });
+    let found: Vec<Option<Swap>> = par_map(&tries, opts.threads, |(name, reduced, alt)| {
+        let c = s.candidate(0, reduced, alt)?;
+        progress(Step::Fit(&format!("{alt} in place of {name}")));
+        if !c.significant {
+            return None;
+        }
+        let fit = c.fit?;
+        let g = gain(&stepwise.eval, &fit.eval);
+        let t = heldout_t(&stepwise.eval, &fit.eval, opts.block_s, None);
+        // The estimation data must not tell them apart either: the effective BIC of the two
+        // models differs by less than the selection threshold.
+        let d = delta_bic_eff(stepwise, &fit, None);
+        Some(Swap {
+            chosen: name.clone(),
+            alt: alt.clone(),
+            fit,
+            heldout_gain: g,
+            heldout_t: t,
+            ambiguous: g >= -opts.min_gain
+                && t.abs() < AMBIGUOUS_T
+                && d.abs() < -opts.bic_threshold,
+        })
+    });
+    found.into_iter().flatten().collect()
+}
+
+/// The ambiguities among `swaps`: at most one per chosen effect (the first alternative the log
+/// cannot tell from it), each with the alternative's model.
+pub(super) fn ambiguities(swaps: &[Swap]) -> Vec<(Ambiguity, Fit)> {
     let mut out: Vec<(Ambiguity, Fit)> = Vec::new();
-    for (a, fit) in found.into_iter().flatten() {
-        if !out.iter().any(|(b, _)| b.effects[0] == a.effects[0]) {
-            out.push((a, fit));
+    for sw in swaps.iter().filter(|sw| sw.ambiguous) {
+        if !out.iter().any(|(b, _)| b.effects[0] == sw.chosen) {
+            out.push((sw.ambiguity(None, false), sw.fit.clone()));
         }
     }
     out

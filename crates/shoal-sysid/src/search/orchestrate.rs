@@ -85,10 +85,30 @@ pub fn search(
         stage: "identifiability",
         fits: None,
     });
-    let ambiguous = identify::ambiguities(&s, &stepwise, progress);
+    let swaps = identify::swaps(&s, &stepwise, progress);
+    let mut ambiguous = identify::ambiguities(&swaps);
     let stand_ins = nuisance::stand_ins(&s, &stepwise, progress);
-    let freq = stability::frequencies(&s, &stepwise, progress);
-    let (chosen, verdict, rivals) = verdict::conclude(&s, &stepwise, ambiguous, &stand_ins, freq);
+    let inclusion = stability::inclusion(&s, &stepwise, &swaps, progress);
+    // Each "A or B" with its families' inclusion probabilities, then those the resamples show.
+    for (a, _) in &mut ambiguous {
+        a.inclusion = inclusion
+            .all
+            .get(&a.effects[0])
+            .zip(inclusion.all.get(&a.effects[1]))
+            .map(|(p, q)| [*p, *q]);
+    }
+    let known: Vec<String> = ambiguous
+        .iter()
+        .map(|(a, _)| a.effects[0].clone())
+        .collect();
+    ambiguous.extend(stability::substitutes(
+        &swaps,
+        &inclusion,
+        opts.stability_threshold,
+        &known,
+    ));
+    let (chosen, verdict, rivals) =
+        verdict::conclude(&s, &stepwise, ambiguous, &stand_ins, inclusion);
     Outcome {
         baseline,
         candidates,
@@ -178,7 +198,6 @@ fn round_one(
                         effect: e.clone(),
                         excited: excited.clone(),
                         first: Some(fit.effects[0].params.iter().map(|p| p.value).collect()),
-                        bic: score.bic,
                     });
                     scores.push(score);
                     fits.push(fit.clone());

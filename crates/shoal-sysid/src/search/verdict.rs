@@ -7,6 +7,7 @@ use super::fitted::Fit;
 use super::measures::{STRUCTURE_RATIO, moved, noise_floor};
 use super::nuisance::StandIn;
 use super::rival::Rival;
+use super::stability::Inclusion;
 use crate::log::run::ChannelKind;
 use std::collections::BTreeMap;
 
@@ -24,8 +25,13 @@ pub struct Verdict {
     pub ambiguous: Vec<Ambiguity>,
     /// Channels whose held-out residuals stay structured with no family to explain them.
     pub unexplained: Vec<Unexplained>,
-    /// Selection frequency of each stepwise effect over the block-bootstrap resamples (0…1).
+    /// Selection frequency of each stepwise effect over the block-bootstrap resamples (0…1):
+    /// the share of resamples on which it passes its backward test and no alternative fitted
+    /// in its place fits better.
     pub stability: BTreeMap<String, f64>,
+    /// Inclusion probability P(family) over the resamples (0…1) of each stepwise effect and of
+    /// each family fitted in its place: the share of resamples on which it holds the place.
+    pub inclusion: BTreeMap<String, f64>,
 }
 
 /// A candidate without strong evidence.
@@ -50,8 +56,34 @@ pub struct Ambiguity {
     pub heldout_gain: f64,
     /// Held-out block test of the alternative against the chosen model.
     pub heldout_t: f64,
+    /// Inclusion probability of each of the two over the block-bootstrap resamples (0…1; the
+    /// share of resamples on which it holds the place), where measured.
+    pub inclusion: Option<[f64; 2]>,
+    /// Whether the resamples found it: the full log prefers the first, but its segments
+    /// disagree — each family holds the place on part of the resamples.
+    pub across_resamples: bool,
     /// The manoeuvre that would separate them.
     pub manoeuvre: String,
+}
+
+impl Ambiguity {
+    /// Why the first effect is not named, in words.
+    pub fn why(&self) -> String {
+        let [a, b] = &self.effects;
+        match self.inclusion {
+            Some([p, q]) if self.across_resamples => format!(
+                "holds its place on only {:.0} % of the block-bootstrap resamples and {b} on                  {:.0} %: the log's segments disagree which of the two they show (the whole                  log prefers {a}, held-out block t {:.1}); {}",
+                100.0 * p,
+                100.0 * q,
+                -self.heldout_t,
+                self.manoeuvre
+            ),
+            _ => format!(
+                "cannot be told apart from {b} on this log (held-out block t {:.1}); {}",
+                self.heldout_t, self.manoeuvre
+            ),
+        }
+    }
 }
 
 /// Residual structure that no family explains.
@@ -76,8 +108,12 @@ pub(super) fn conclude(
     stepwise: &Fit,
     ambiguous: Vec<(Ambiguity, Fit)>,
     stand_ins: &[StandIn],
-    stability: BTreeMap<String, f64>,
+    inclusion: Inclusion,
 ) -> (Fit, Verdict, Vec<Rival>) {
+    let Inclusion {
+        chosen: stability,
+        all: inclusion,
+    } = inclusion;
     let opts = s.ctx.opts;
     let mut possible = Vec::new();
     let mut drop: Vec<String> = Vec::new();
@@ -90,32 +126,33 @@ pub(super) fn conclude(
             fit_b: fit_b.clone(),
         });
     }
-    let ambiguous: Vec<Ambiguity> = ambiguous.into_iter().map(|(a, _)| a).collect();
     for e in &stepwise.effects {
         let name = e.effect.name().to_string();
         let form = e.effect.form().to_string();
         let freq = stability.get(&name).copied();
-        if let Some(a) = ambiguous.iter().find(|a| a.effects[0] == name) {
+        if let Some((a, fit_b)) = ambiguous.iter().find(|(a, _)| a.effects[0] == name) {
             possible.push(Possible {
                 effect: name.clone(),
                 form: form.clone(),
-                reason: format!(
-                    "cannot be told apart from {} on this log (held-out block t {:.1}); {}",
-                    a.effects[1], a.heldout_t, a.manoeuvre
-                ),
+                reason: a.why(),
                 stability: freq,
             });
-            let alt_form = s
-                .forms
-                .get(&a.effects[1])
-                .and_then(|f| f.iter().min_by(|x, y| x.bic.total_cmp(&y.bic)))
-                .map(|f| f.effect.form().to_string())
+            let alt = &a.effects[1];
+            let alt_form = fit_b
+                .effects
+                .iter()
+                .find(|e| e.effect.name() == alt)
+                .map(|e| e.effect.form().to_string())
                 .unwrap_or_default();
             possible.push(Possible {
-                effect: a.effects[1].clone(),
+                effect: alt.clone(),
                 form: alt_form,
-                reason: format!("explains the held-out data as well as {name}"),
-                stability: None,
+                reason: if a.across_resamples {
+                    format!("takes {name}'s place on part of the resamples")
+                } else {
+                    format!("explains the held-out data as well as {name}")
+                },
+                stability: inclusion.get(alt).copied(),
             });
             drop.push(name);
         } else if let Some(si) = stand_ins.iter().find(|si| si.effect == name) {
@@ -164,6 +201,7 @@ pub(super) fn conclude(
     }
     // Each effect left possible for a reason of its own: the model with it against the model
     // refitted without it.
+    let ambiguous: Vec<Ambiguity> = ambiguous.into_iter().map(|(a, _)| a).collect();
     for n in drop
         .iter()
         .filter(|n| !ambiguous.iter().any(|a| &a.effects[0] == *n))
@@ -196,6 +234,7 @@ pub(super) fn conclude(
         ambiguous,
         unexplained,
         stability,
+        inclusion,
     };
     (chosen, verdict, rivals)
 }
