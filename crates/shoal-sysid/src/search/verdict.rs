@@ -72,10 +72,12 @@ impl Ambiguity {
         let [a, b] = &self.effects;
         match self.inclusion {
             Some([p, q]) if self.across_resamples => format!(
-                "holds its place on only {:.0} % of the block-bootstrap resamples and {b} on                  {:.0} %: the log's segments disagree which of the two they show (the whole                  log prefers {a}, held-out block t {:.1}); {}",
+                "holds its place on only {:.0} % of the block-bootstrap resamples and {b} on \
+                 {:.0} %: the log's segments disagree which of the two they show (on the whole \
+                 log, {b} in {a}'s place: held-out block t {:.1}); {}",
                 100.0 * p,
                 100.0 * q,
-                -self.heldout_t,
+                self.heldout_t,
                 self.manoeuvre
             ),
             _ => format!(
