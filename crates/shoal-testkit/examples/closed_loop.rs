@@ -234,6 +234,9 @@ fn main() -> ExitCode {
                 case.name,
                 v.found_text()
             );
+            if !v.exact() && !v.inclusion.is_empty() {
+                eprintln!("    P(family) over resamples: {}", v.inclusion);
+            }
             row.push_str(&format!(" {mark}: {} ({secs:.0} s) |", v.found_text()));
         }
         table.push_str(&row);
