@@ -107,8 +107,14 @@ pub fn search(
         opts.stability_threshold,
         &known,
     ));
-    let (chosen, verdict, rivals) =
-        verdict::conclude(&s, &stepwise, ambiguous, &stand_ins, inclusion);
+    let (chosen, verdict, rivals) = verdict::conclude(
+        &s,
+        &stepwise,
+        ambiguous,
+        &stand_ins,
+        inclusion.chosen,
+        inclusion.all,
+    );
     Outcome {
         baseline,
         candidates,

@@ -7,7 +7,6 @@ use super::fitted::Fit;
 use super::measures::{STRUCTURE_RATIO, moved, noise_floor};
 use super::nuisance::StandIn;
 use super::rival::Rival;
-use super::stability::Inclusion;
 use crate::log::run::ChannelKind;
 use std::collections::BTreeMap;
 
@@ -104,18 +103,16 @@ pub struct Unexplained {
 
 /// The verdict, the model of its named effects, and the questions it leaves open (each "A or
 /// B" with the alternative's model, each effect left possible against the model refitted
-/// without it).
+/// without it), from the resamples' selection frequency of each stepwise effect (`stability`)
+/// and P(family) (`inclusion`, [`super::stability`]).
 pub(super) fn conclude(
     s: &Search<'_>,
     stepwise: &Fit,
     ambiguous: Vec<(Ambiguity, Fit)>,
     stand_ins: &[StandIn],
-    inclusion: Inclusion,
+    stability: BTreeMap<String, f64>,
+    inclusion: BTreeMap<String, f64>,
 ) -> (Fit, Verdict, Vec<Rival>) {
-    let Inclusion {
-        chosen: stability,
-        all: inclusion,
-    } = inclusion;
     let opts = s.ctx.opts;
     let mut possible = Vec::new();
     let mut drop: Vec<String> = Vec::new();
