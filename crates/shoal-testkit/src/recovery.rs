@@ -254,12 +254,12 @@ pub fn judge_log(
                 .iter()
                 .map(|a| a.effects.clone())
                 .collect();
-            let mut p: Vec<(&String, &f64)> = out.verdict.inclusion.iter().collect();
-            p.sort_by(|a, b| b.1.total_cmp(a.1).then(a.0.cmp(b.0)));
             let mut v = Verdict::new(expected, Ok(out.chosen.names())).with_pairs(&pairs);
-            v.inclusion = p
+            v.inclusion = out
+                .verdict
+                .inclusion_ranked()
                 .iter()
-                .map(|(f, q)| format!("{f} {:.0} %", 100.0 * *q))
+                .map(|(f, q)| format!("{f} {:.0} %", 100.0 * q))
                 .collect::<Vec<_>>()
                 .join(", ");
             v

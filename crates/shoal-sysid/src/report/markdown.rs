@@ -404,19 +404,18 @@ fn inclusion(s: &mut String, out: &Outcome) {
     );
     let _ = writeln!(s, "| family | P(family) | in the verdict |");
     let _ = writeln!(s, "|---|---|---|");
-    let mut rows: Vec<(&String, &f64)> = out.verdict.inclusion.iter().collect();
-    rows.sort_by(|a, b| b.1.total_cmp(a.1).then(a.0.cmp(b.0)));
-    for (family, p) in rows {
-        let role = if out.chosen.names().contains(family) {
+    let named = out.chosen.names();
+    for (family, p) in out.verdict.inclusion_ranked() {
+        let role = if named.iter().any(|n| n == family) {
             "named"
         } else if out
             .verdict
             .ambiguous
             .iter()
-            .any(|a| a.effects.contains(family))
+            .any(|a| a.effects.iter().any(|e| e == family))
         {
             "A or B"
-        } else if out.verdict.possible.iter().any(|x| &x.effect == family) {
+        } else if out.verdict.possible.iter().any(|x| x.effect == family) {
             "possible"
         } else {
             "not named"

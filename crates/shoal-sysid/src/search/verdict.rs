@@ -33,6 +33,19 @@ pub struct Verdict {
     pub inclusion: BTreeMap<String, f64>,
 }
 
+impl Verdict {
+    /// [`Verdict::inclusion`] most included first (ties by name).
+    pub fn inclusion_ranked(&self) -> Vec<(&str, f64)> {
+        let mut rows: Vec<(&str, f64)> = self
+            .inclusion
+            .iter()
+            .map(|(f, p)| (f.as_str(), *p))
+            .collect();
+        rows.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(b.0)));
+        rows
+    }
+}
+
 /// A candidate without strong evidence.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct Possible {
