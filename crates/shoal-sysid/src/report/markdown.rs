@@ -398,9 +398,10 @@ fn inclusion(s: &mut String, out: &Outcome) {
     let _ = writeln!(
         s,
         "**P(family)** — on each block-bootstrap resample of the log, every effect of the \
-         stepwise model and every family fitted in its place are refitted; a place goes to the \
-         family that fits the resample best and passes the backward test there. The share of \
-         resamples on which a family holds a place:\n"
+         stepwise model and every family fitted in its place are refitted; a place goes to an \
+         alternative that beats the model on both halves of the resample, else to the chosen \
+         effect if it passes its backward test there. The share of resamples on which a \
+         family holds a place:\n"
     );
     let _ = writeln!(s, "| family | P(family) | in the verdict |");
     let _ = writeln!(s, "|---|---|---|");

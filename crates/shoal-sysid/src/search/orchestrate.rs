@@ -86,27 +86,11 @@ pub fn search(
         fits: None,
     });
     let swaps = identify::swaps(&s, &stepwise, progress);
-    let mut ambiguous = identify::ambiguities(&swaps);
+    let ambiguous = identify::ambiguities(&swaps);
     let stand_ins = nuisance::stand_ins(&s, &stepwise, progress);
     let inclusion = stability::inclusion(&s, &stepwise, &swaps, progress);
-    // Each "A or B" with its families' inclusion probabilities, then those the resamples show.
-    for (a, _) in &mut ambiguous {
-        a.inclusion = inclusion
-            .all
-            .get(&a.effects[0])
-            .zip(inclusion.all.get(&a.effects[1]))
-            .map(|(p, q)| [*p, *q]);
-    }
-    let known: Vec<String> = ambiguous
-        .iter()
-        .map(|(a, _)| a.effects[0].clone())
-        .collect();
-    ambiguous.extend(stability::substitutes(
-        &swaps,
-        &inclusion,
-        opts.stability_threshold,
-        &known,
-    ));
+    let ambiguous =
+        stability::with_inclusion(ambiguous, &swaps, &inclusion, opts.stability_threshold);
     let (chosen, verdict, rivals) = verdict::conclude(
         &s,
         &stepwise,

@@ -164,6 +164,26 @@ fn tally(names: &[String], swaps: &[Swap], holders: &[Vec<Holder>]) -> Inclusion
     out
 }
 
+/// The "A or B"s of the whole log (`ambiguous`), each with its two families' inclusion
+/// probabilities, then those the resamples show ([`substitutes`]).
+pub(super) fn with_inclusion(
+    mut ambiguous: Vec<(Ambiguity, Fit)>,
+    swaps: &[Swap],
+    inc: &Inclusion,
+    threshold: f64,
+) -> Vec<(Ambiguity, Fit)> {
+    for (a, _) in &mut ambiguous {
+        let [x, y] = &a.effects;
+        a.inclusion = inc.all.get(x).zip(inc.all.get(y)).map(|(p, q)| [*p, *q]);
+    }
+    let known: Vec<String> = ambiguous
+        .iter()
+        .map(|(a, _)| a.effects[0].clone())
+        .collect();
+    ambiguous.extend(substitutes(swaps, inc, threshold, &known));
+    ambiguous
+}
+
 /// The "A or B"s the resamples show: a chosen effect not named for its selection frequency
 /// (below `threshold`) and the alternative that most often took its place, where each held the
 /// place on at least [`SUBSTITUTE_SHARE`] of the resamples and the two together on at least
