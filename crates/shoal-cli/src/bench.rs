@@ -48,7 +48,8 @@ pub struct BenchArgs {
     /// vehicles, threads, traffic, vehicle_steps_per_s, realtime_factor, medium_share,
     /// peak_rss_bytes, cycles_per_vehicle_step (when the CPU clock is known), phase_shares
     /// (ingest, vehicles, medium_snapshot, medium_transmit, medium_delivery, recorder: shares
-    /// of the step's wall time).
+    /// of the step's wall time), attempts_per_step and delivery_ns_per_attempt (reception
+    /// attempts per step, the delivery phase's wall time per attempt; rows with traffic).
     #[arg(long, value_name = "FILE", num_args = 0..=1, default_missing_value = "-")]
     pub json: Option<PathBuf>,
     /// Measure every row of this binary and of OTHER (another `shoal` binary, e.g. an older
@@ -83,6 +84,9 @@ struct Cell {
     /// Share of each phase of the step (order of [`Phase::ALL`]), from a timed continuation
     /// of the measured run.
     phase_shares: [f64; 6],
+    /// Reception attempts per step and the delivery phase's wall time per attempt \[ns\] in
+    /// that continuation (`None` without attempts).
+    attempts: Option<(f64, f64)>,
 }
 
 fn measure(desc: &WorldDesc, threads: usize, seconds: f64, warmup: u64) -> Cell {
@@ -117,7 +121,10 @@ fn measure(desc: &WorldDesc, threads: usize, seconds: f64, warmup: u64) -> Cell 
     // The phases are timed on a continuation of a quarter of the measured steps, so that the
     // clock reads cannot slow the measured rate (they matter in the smallest worlds).
     sim.time_phases();
-    sim.run((steps / 4).max(10));
+    let (attempts0, timed) = (sim.medium().attempts(), (steps / 4).max(10));
+    sim.run(timed);
+    let attempts = sim.medium().attempts() - attempts0;
+    let delivery = sim.phase_times().of(Phase::MediumDelivery);
     Cell {
         steps,
         wall_s: wall,
@@ -128,6 +135,8 @@ fn measure(desc: &WorldDesc, threads: usize, seconds: f64, warmup: u64) -> Cell 
         deliveries_per_s: delivered as f64 / sim_s,
         parallel_dispatches,
         phase_shares: sim.phase_times().shares(),
+        attempts: (attempts > 0)
+            .then(|| (attempts as f64 / timed as f64, 1e9 * delivery / attempts as f64)),
     }
 }
 
@@ -208,6 +217,8 @@ pub fn bench(a: &BenchArgs) -> anyhow::Result<()> {
                 "speed_up": speedup, "bytes_per_vehicle": c.bytes_per_vehicle,
                 "parallel_dispatches": c.parallel_dispatches,
                 "phase_shares": ByPhase(c.phase_shares),
+                "attempts_per_step": c.attempts.map(|a| a.0),
+                "delivery_ns_per_attempt": c.attempts.map(|a| a.1),
                 "peak_rss_bytes": shoal_record::output::peak_memory_bytes()
             }));
         }
@@ -255,6 +266,10 @@ pub fn bench(a: &BenchArgs) -> anyhow::Result<()> {
                     "frames_per_s": c.frames_per_s, "deliveries_per_s": c.deliveries_per_s, "medium_share": share,
                     "bytes_per_vehicle": c.bytes_per_vehicle, "parallel_dispatches": c.parallel_dispatches,
                     "phase_shares": ByPhase(c.phase_shares),
+                    "attempts_per_step": c.attempts.map(|a| a.0),
+                    "delivery_ns_per_attempt": c.attempts.map(|a| a.1),
+                "attempts_per_step": c.attempts.map(|a| a.0),
+                "delivery_ns_per_attempt": c.attempts.map(|a| a.1),
                     "peak_rss_bytes": shoal_record::output::peak_memory_bytes()
                 }));
             }
@@ -283,6 +298,7 @@ fn print_phases(rows: &[Row]) {
     for p in Phase::ALL {
         head += &format!(" {:>9}", p.name().trim_start_matches("medium_"));
     }
+    head += &format!(" {:>13} {:>11}", "attempts/step", "ns/attempt");
     println!("{head}");
     for (r, shares) in mine {
         let mut line = format!(
@@ -293,6 +309,10 @@ fn print_phases(rows: &[Row]) {
         );
         for s in shares {
             line += &format!(" {:>8.1}%", 100.0 * s);
+        }
+        match (r.attempts_per_step, r.delivery_ns_per_attempt) {
+            (Some(a), Some(ns)) => line += &format!(" {a:>13.0} {ns:>11.0}"),
+            _ => line += &format!(" {:>13} {:>11}", "—", "—"),
         }
         println!("{line}");
     }

@@ -48,6 +48,10 @@ pub struct Row {
     /// [`Phase::ALL`] (when reported); in JSON an object keyed by phase
     /// name.
     pub phase_shares: Option<ByPhase>,
+    /// Reception attempts per step (frames ended × candidate receivers; when reported).
+    pub attempts_per_step: Option<f64>,
+    /// Wall time of the delivery phase per reception attempt \[ns\] (when reported).
+    pub delivery_ns_per_attempt: Option<f64>,
 }
 
 /// What the machine is, for the table's head and the JSON file.
@@ -193,6 +197,8 @@ impl Bench {
                         .get("parallel_dispatches")
                         .and_then(serde_json::Value::as_u64),
                     phase_shares: phase_shares(c),
+                    attempts_per_step: f("attempts_per_step"),
+                    delivery_ns_per_attempt: f("delivery_ns_per_attempt"),
                 }
             })
             .collect())

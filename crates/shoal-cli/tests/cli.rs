@@ -285,6 +285,7 @@ fn bench_prints_a_row_per_cell_and_writes_them_as_json() {
         "cycles/v-step",
         "where the time goes",
         "delivery",
+        "ns/attempt",
     ] {
         assert!(stdout.contains(column), "{column}: {stdout}");
     }
@@ -319,6 +320,18 @@ fn bench_prints_a_row_per_cell_and_writes_them_as_json() {
         assert!(shares[1] > 0.0, "{r}");
         if r["traffic"] == true {
             assert!(shares[4] > 0.0, "{r}");
+        }
+        // Reception attempts: only with traffic; with 300 vehicles beaconing once a second
+        // (3 frames a step) some every step, and never more than every frame at every other
+        // vehicle (n (n − 1) / 100 a step on average; 2× for the beacons' jitter).
+        let n = r["vehicles"].as_f64().unwrap();
+        match r["attempts_per_step"].as_f64() {
+            Some(a) => {
+                assert!(r["traffic"] == true, "{r}");
+                assert!(a > 0.0 && a <= 2.0 * n * (n - 1.0) / 100.0, "{r}");
+                assert!(r["delivery_ns_per_attempt"].as_f64().unwrap() > 0.0, "{r}");
+            }
+            None => assert!(r["traffic"] == false || n < 300.0, "{r}"),
         }
     }
     // Without the traffic table; side by side with another binary (here: itself).

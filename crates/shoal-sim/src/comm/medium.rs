@@ -381,6 +381,12 @@ impl Medium {
         self.grid.each_in_box(&(lo - s), &(hi + s), f)
     }
 
+    /// Reception attempts decided so far (whole world): every frame ended at every candidate
+    /// receiver, whatever the outcome.
+    pub fn attempts(&self) -> u64 {
+        self.per_second.iter().flatten().sum()
+    }
+
     /// Whether any vehicle has a modem.
     pub fn active(&self) -> bool {
         self.r_cut > 0.0
