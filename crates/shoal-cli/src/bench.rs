@@ -135,8 +135,12 @@ fn measure(desc: &WorldDesc, threads: usize, seconds: f64, warmup: u64) -> Cell 
         deliveries_per_s: delivered as f64 / sim_s,
         parallel_dispatches,
         phase_shares: sim.phase_times().shares(),
-        attempts: (attempts > 0)
-            .then(|| (attempts as f64 / timed as f64, 1e9 * delivery / attempts as f64)),
+        attempts: (attempts > 0).then(|| {
+            (
+                attempts as f64 / timed as f64,
+                1e9 * delivery / attempts as f64,
+            )
+        }),
     }
 }
 
