@@ -23,6 +23,8 @@
 //! - `grid`: the dense spatial grid used for range and occlusion queries;
 //! - `ending`: the frames ending in a step, their possible interferers and candidate receivers,
 //!   in flat buffers, for the delivery phase;
+//! - `modem_lanes`: one receiver's modems as lanes, the geometry of a transmission at all of
+//!   them computed at once;
 //! - `medium`: the [`Medium`] resource, frames on the air and the precomputed link budget;
 //! - `systems`: the three step systems above and the decision of one reception.
 
@@ -32,6 +34,7 @@ mod grid;
 mod ledger;
 mod links;
 mod medium;
+mod modem_lanes;
 mod stats;
 mod systems;
 

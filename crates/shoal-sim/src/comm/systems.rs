@@ -7,6 +7,7 @@ use super::frames::{CommRng, Inbox, Modems, Outbox, Queued, Received};
 use super::ledger::Ledger;
 use super::links::Outcome;
 use super::medium::{Logical, Medium, Transmission, received_power};
+use super::modem_lanes::ModemLanes;
 use super::stats::{CommStats, DIST_BIN, DIST_BINS, Tally, latency_bin};
 use crate::components::{StaticGeometry, VehicleEntities, VehicleId};
 use crate::parallel::{Loop, Parallel};
@@ -380,8 +381,10 @@ struct Scratch {
     /// Hull occlusion between the current receiver and other vehicles (other vehicle, clear),
     /// computed once per step: it depends on the vehicles' positions only.
     hulls: Vec<(u32, bool)>,
-    /// The poses of the current receiver's modems (empty until a reception needs them).
-    poses: Vec<ModemPose>,
+    /// The current receiver's modems (empty until a reception needs them).
+    modems: ModemLanes,
+    /// The power of each copy of the current frame at each modem, copy after copy \[W\].
+    signal: Vec<f64>,
 }
 
 /// One receiver of the frames ending in a step, with what it needs for every reception.
@@ -409,7 +412,7 @@ impl<'s> Listener<'s> {
             .map(|c| c.area)
             .fold(0.0, f64::max);
         scratch.hulls.clear();
-        scratch.poses.clear();
+        scratch.modems.clear();
         Self {
             me,
             kind,
@@ -453,31 +456,33 @@ fn receive(
         // Undecodable even in the best case (P(delivery) < 1e-12): lost to range.
         return Outcome::OutOfBudget;
     }
-    if rx.scratch.poses.is_empty() {
-        let (pos, att) = (rx.pos, rx.att);
-        let poses = rx
-            .kind
-            .params
-            .modems
-            .iter()
-            .map(|p| ModemPose::of(p, &pos, &att));
-        rx.scratch.poses.extend(poses);
+    let consts = &m.consts[rx.me as usize];
+    if rx.scratch.modems.is_empty() {
+        let modems = &rx.kind.params.modems;
+        rx.scratch.modems.fill(modems, consts, &rx.pos, &rx.att);
+    }
+    // Every copy's power at every modem, the modems' geometry in lanes.
+    let n = consts.len();
+    rx.scratch.signal.resize(l.copies.len() * n, 0.0);
+    for (c, out) in l.copies.iter().zip(rx.scratch.signal.chunks_exact_mut(n)) {
+        rx.scratch.modems.powers(m, c, consts, out);
     }
     // Interferers within range of this receiver, once a modem hears the signal.
     rx.scratch.interferers.clear();
     let mut interferers_found = false;
     let mut best = Outcome::OutOfBudget;
     let mut got: Option<(usize, f64, f64)> = None;
-    for k in 0..rx.scratch.poses.len() {
+    for k in 0..n {
         let at = AtModem {
             m,
             geo,
             me: rx.me,
             k,
-            pose: rx.scratch.poses[k],
+            pose: rx.scratch.modems.poses[k],
         };
         let hulls = &mut rx.scratch.hulls;
-        let p_sig = match at.signal(l, hulls) {
+        let powers = rx.scratch.signal.iter().skip(k).step_by(n).copied();
+        let p_sig = match at.signal(l, powers, hulls) {
             Ok(p) => p,
             Err(o) => {
                 best = best.better(o);
@@ -573,13 +578,17 @@ impl AtModem<'_> {
 
     /// The received power of the copies of `l` this modem can see \[W\], or why it has none:
     /// [`Outcome::Occluded`] if some copy would reach it but was blocked, else
-    /// [`Outcome::OutOfBudget`].
-    fn signal(&self, l: &Logical<'_>, hulls: &mut Vec<(u32, bool)>) -> Result<f64, Outcome> {
-        let my = &self.m.consts[self.me as usize][self.k];
+    /// [`Outcome::OutOfBudget`]. `powers`: each copy's power at this modem, unoccluded
+    /// ([`Medium::power_between`]).
+    fn signal(
+        &self,
+        l: &Logical<'_>,
+        powers: impl Iterator<Item = f64>,
+        hulls: &mut Vec<(u32, bool)>,
+    ) -> Result<f64, Outcome> {
         let mut p_sig = 0.0;
         let mut outcome = Outcome::OutOfBudget;
-        for c in l.copies {
-            let p = self.m.power_between(c, &self.pose, my);
+        for (c, p) in l.copies.iter().zip(powers) {
             if p <= 0.0 {
                 continue;
             }
