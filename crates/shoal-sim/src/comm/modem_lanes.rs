@@ -164,9 +164,10 @@ fn geometry_lanes(c: &Chunk, led: &ModemPose, r_cut2: f64) -> Geometry {
         g.dist[l] = dist;
         g.cos_tx[l] = along / dist;
         g.cos_rx[l] = cos_rx;
-        // Each test negated as `power_between` writes it, so that a NaN reaches the budget
-        // there as here.
-        g.reach[l] = !(along <= 0.0) && !(d2 > r_cut2 || d2 <= 0.0) && !(cos_rx < c.cos_fov[l]);
+        // The tests `power_between` returns 0 on, so that a NaN reaches the budget there as
+        // here.
+        let unreached = along <= 0.0 || d2 > r_cut2 || d2 <= 0.0 || cos_rx < c.cos_fov[l];
+        g.reach[l] = !unreached;
     }
     g
 }
