@@ -114,8 +114,11 @@ pub struct Ros2Host {
     cancel: Option<Arc<Cancel>>,
     /// Told [`attach_wait_notice`] when the first tick's wait goes on (see
     /// [`Ros2Host::announce_waits`]).
-    notice: Option<Box<dyn FnMut(&str) + Send>>,
+    notice: Option<Notice>,
 }
+
+/// Where the host tells what a world waits for.
+type Notice = Box<dyn FnMut(&str) + Send>;
 
 impl Ros2Host {
     /// Opens the bridge for the world `desc` (which must have a `ros2` agent): the node in
