@@ -272,8 +272,6 @@ pub fn bench(a: &BenchArgs) -> anyhow::Result<()> {
                     "phase_shares": ByPhase(c.phase_shares),
                     "attempts_per_step": c.attempts.map(|a| a.0),
                     "delivery_ns_per_attempt": c.attempts.map(|a| a.1),
-                "attempts_per_step": c.attempts.map(|a| a.0),
-                "delivery_ns_per_attempt": c.attempts.map(|a| a.1),
                     "peak_rss_bytes": shoal_record::output::peak_memory_bytes()
                 }));
             }

@@ -463,6 +463,10 @@ fn receive(
     }
     // Every copy's power at every modem, the modems' geometry in lanes.
     let n = consts.len();
+    if n == 0 {
+        // A hull without modems hears nothing (it is a candidate only by its position).
+        return Outcome::OutOfBudget;
+    }
     rx.scratch.signal.resize(l.copies.len() * n, 0.0);
     for (c, out) in l.copies.iter().zip(rx.scratch.signal.chunks_exact_mut(n)) {
         rx.scratch.modems.powers(m, c, consts, out);
