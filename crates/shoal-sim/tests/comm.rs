@@ -669,3 +669,22 @@ fn beaconing_swarm_receptions_are_pinned_on_one_and_two_threads() {
         (&GOLDEN_BEACON_OUTCOMES[..], GOLDEN_BEACON_DELIVERIES)
     );
 }
+
+/// A vehicle without modems hears nothing, even right in front of a beaconing LED where the
+/// cheap bound cannot rule a frame out (its centre within its own hull radius of the LED): it
+/// stays a candidate by its position, every attempt ends out of budget, and the run goes on
+/// (seen failing — a panic on a zero-length chunk of modems — before the delivery returned
+/// early for it).
+#[test]
+fn a_vehicle_without_modems_in_front_of_an_led_hears_nothing() {
+    let text = "seed = 4\nduration = 10\n[pool]\nsize = [10.0, 10.0, 3.0]\n\
+        [[vehicles]]\nname = \"tx\"\nposition = [5.0, 5.0, 1.5]\n\
+        behaviour = { kind = \"beacon\", period = 0.1, payload_bytes = 26, jitter = 0.01 }\n\
+        [[vehicles]]\nname = \"deaf\"\nposition = [5.28, 5.0, 1.5]\nmodel = { modems = [] }\n";
+    let mut sim = world(text);
+    sim.run(200);
+    let s = stats(&sim, 1);
+    assert!(s.rx.attempts > 10, "{:?}", s.rx);
+    assert_eq!(s.rx.delivered, 0, "{:?}", s.rx);
+    assert_eq!(s.rx.lost_range, s.rx.attempts, "{:?}", s.rx);
+}
