@@ -45,8 +45,6 @@ struct Geometry {
 /// A receiver's modems, as lanes.
 #[derive(Debug, Default)]
 pub(super) struct ModemLanes {
-    /// How many modems.
-    n: usize,
     chunks: Vec<Chunk>,
     /// The poses, modem by modem.
     pub(super) poses: Vec<ModemPose>,
@@ -60,7 +58,6 @@ impl ModemLanes {
 
     /// Forgets the receiver.
     pub(super) fn clear(&mut self) {
-        self.n = 0;
         self.chunks.clear();
         self.poses.clear();
     }
@@ -74,7 +71,6 @@ impl ModemLanes {
         att: &Quat,
     ) {
         self.clear();
-        self.n = params.len();
         self.poses
             .extend(params.iter().map(|p| ModemPose::of(p, pos, att)));
         for (poses, consts) in self.poses.chunks(W).zip(consts.chunks(W)) {
@@ -103,20 +99,21 @@ impl ModemLanes {
     ) {
         let tx = &m.consts[x.tx as usize][x.modem];
         let r_cut2 = m.r_cut * m.r_cut;
-        for (j, c) in self.chunks.iter().enumerate() {
+        for ((c, out), consts) in self
+            .chunks
+            .iter()
+            .zip(out.chunks_mut(W))
+            .zip(consts.chunks(W))
+        {
             let g = geometry(c, &x.pose, r_cut2);
-            for l in 0..W {
-                let k = j * W + l;
-                if k >= self.n {
-                    break;
-                }
-                out[k] = if g.reach[l] {
+            for (l, (o, rx)) in out.iter_mut().zip(consts).enumerate() {
+                *o = if g.reach[l] {
                     let g = LinkGeometry {
                         distance: g.dist[l],
                         cos_tx: g.cos_tx[l],
                         cos_rx: g.cos_rx[l],
                     };
-                    received_power(tx, &consts[k], &g, m.attenuation)
+                    received_power(tx, rx, &g, m.attenuation)
                 } else {
                     0.0
                 };
