@@ -4,6 +4,7 @@
 //! transmissions. Everything lives in a few flat buffers, so a step allocates a handful of
 //! vectors however many frames end in it.
 
+use super::copy_lanes::CopyLanes;
 use super::grid::Grid;
 use super::medium::{Logical, Medium, Transmission};
 use shoal_model::math::Vec3;
@@ -84,6 +85,10 @@ pub(super) struct Ended<'a> {
     overlap_end: Vec<u32>,
     /// Every frame's dead power (see [`Logical::p_dead`]) \[W\].
     p_dead: Vec<f64>,
+    /// Every frame's copies in lanes, frame after frame.
+    lanes: CopyLanes,
+    /// Frame `i`'s chunks of lanes end at `lanes.chunks()[lanes_end[i]]` (exclusive).
+    lanes_end: Vec<u32>,
 }
 
 impl<'a> Ended<'a> {
@@ -117,12 +122,23 @@ impl<'a> Ended<'a> {
                 Some(*end)
             })
             .collect();
+        let mut lanes = CopyLanes::default();
+        let lanes_end = runs
+            .iter()
+            .scan(0usize, |from, r| {
+                let end = lanes.push_frame(&copies[*from..*from + r.len()]);
+                *from += r.len();
+                Some(end)
+            })
+            .collect();
         let mut e = Self {
             copies,
             copies_end,
             overlap: Vec::new(),
             overlap_end: Vec::with_capacity(runs.len()),
             p_dead: Vec::with_capacity(runs.len()),
+            lanes,
+            lanes_end,
         };
         e.find_interferers(m);
         e
@@ -170,16 +186,18 @@ impl<'a> Ended<'a> {
 
     /// The logical frames, in (end, id) order of their first copy.
     pub(super) fn frames(&self) -> Vec<Logical<'_>> {
-        let (mut c0, mut o0) = (0, 0);
+        let (mut c0, mut o0, mut k0) = (0, 0, 0);
         (0..self.copies_end.len())
             .map(|i| {
                 let (c1, o1) = (self.copies_end[i] as usize, self.overlap_end[i] as usize);
+                let k1 = self.lanes_end[i] as usize;
                 let l = Logical {
                     copies: &self.copies[c0..c1],
+                    lanes: &self.lanes.chunks()[k0..k1],
                     overlap: &self.overlap[o0..o1],
                     p_dead: self.p_dead[i],
                 };
-                (c0, o0) = (c1, o1);
+                (c0, o0, k0) = (c1, o1, k1);
                 l
             })
             .collect()

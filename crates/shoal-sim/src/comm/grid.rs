@@ -16,8 +16,9 @@ pub struct Grid {
 
 impl Grid {
     fn coord(&self, p: &Vec3) -> [usize; 3] {
-        let c =
-            |v: f64, o: f64, n: usize| (((v - o) / self.cell).floor().max(0.0) as usize).min(n - 1);
+        // The cell's index, clamped to the grid: truncation is the floor for the non-negative
+        // values that remain (a negative or NaN one is cell 0, as a float cast saturates).
+        let c = |v: f64, o: f64, n: usize| ((((v - o) / self.cell).max(0.0)) as usize).min(n - 1);
         [
             c(p.x, self.origin.x, self.dims[0]),
             c(p.y, self.origin.y, self.dims[1]),
@@ -44,7 +45,8 @@ impl Grid {
         let mut cell = cell.max(1e-3);
         let budget = 4 * points.len() + 4096;
         let dims = |cell: f64| {
-            let n = |a: f64, b: f64| ((b - a) / cell).floor() as usize + 1;
+            // b ≥ a: truncation is the floor.
+            let n = |a: f64, b: f64| ((b - a) / cell) as usize + 1;
             [n(lo.x, hi.x), n(lo.y, hi.y), n(lo.z, hi.z)]
         };
         while dims(cell).iter().product::<usize>() > budget {

@@ -3,6 +3,7 @@
 //! [`shoal_model::optics::received_power`]) and the
 //! [`Medium`] resource with its power bounds and hull-occlusion tests.
 
+use super::copy_lanes::{CopyChunk, W, bound_geometry};
 use super::grid::Grid;
 use super::stats::{DIST_BINS, LAT_BINS};
 use bevy_ecs::prelude::*;
@@ -50,6 +51,8 @@ pub struct Transmission {
 pub(super) struct Logical<'a> {
     /// The copies, in (end, id) order.
     pub(super) copies: &'a [&'a Transmission],
+    /// The copies in lanes, in the same order.
+    pub(super) lanes: &'a [CopyChunk],
     /// Other transmissions overlapping this frame in time (possible interferers), in id order.
     pub(super) overlap: &'a [&'a Transmission],
     /// Received power below which this frame fails with probability > 1 − 10⁻¹² at every
@@ -93,6 +96,7 @@ pub struct Medium {
     pub consts: Vec<Arc<[ModemConsts]>>,
     /// Squared bounding-sphere radius of every vehicle's hull, by id [m²].
     hull_r2: Vec<f64>,
+
     /// Vehicles with frames queued at a modem after the last transmit phase, ascending.
     pub(super) waiting: Vec<u32>,
     pub(super) next_id: u64,
@@ -293,34 +297,28 @@ impl Medium {
         let r = self.hull_r2[me as usize].sqrt();
         // As `Iterator::sum` of f64.
         let mut sum = -0.0;
-        for c in l.copies {
-            sum += self.bound_term(c, &pos, r, rx_area);
-            if sum >= l.p_dead {
-                return true;
+        for (copies, chunk) in l.copies.chunks(W).zip(l.lanes) {
+            // The geometry of up to W copies at once; the terms in copy order.
+            let g = bound_geometry(chunk, &pos, r);
+            for (k, c) in copies.iter().enumerate() {
+                sum += self.bound_term(c, g.dist[k], g.cos_best[k], r, rx_area);
+                if sum >= l.p_dead {
+                    return true;
+                }
             }
         }
         // Not below p_dead, as the full sum's test was: a NaN bound never rejected a frame.
         sum.is_nan()
     }
 
-    /// The term of copy `c` in [`Medium::may_decode`] for a receiver at `pos` \[m\] with a
-    /// hull of bounding radius `r` \[m\] and photodiodes of at most `rx_area` \[m²\] \[W\].
-    fn bound_term(&self, c: &Transmission, pos: &Vec3, r: f64, rx_area: f64) -> f64 {
-        let d = pos - c.pose.position;
-        let dist = d.norm();
+    /// The term of copy `c` in [`Medium::may_decode`] for a receiver whose centre is `dist`
+    /// \[m\] from the LED, with a hull of bounding radius `r` \[m\] seen from the LED at best
+    /// `cos_best` \[1\] off its axis (see [`bound_geometry`]), and photodiodes of at most
+    /// `rx_area` \[m²\] \[W\].
+    fn bound_term(&self, c: &Transmission, dist: f64, cos_best: f64, r: f64, rx_area: f64) -> f64 {
         if dist <= r {
             return f64::INFINITY;
         }
-        let cos_phi = (c.pose.axis.dot(&d) / dist).clamp(-1.0, 1.0);
-        let sin_delta = r / dist;
-        let cos_delta = (1.0 - sin_delta * sin_delta).sqrt();
-        // cos(φ − δ), or 1 when the cone of directions contains the LED axis.
-        let sin_phi = (1.0 - cos_phi * cos_phi).sqrt();
-        let cos_best = if cos_phi >= cos_delta {
-            1.0
-        } else {
-            cos_phi * cos_delta + sin_phi * sin_delta
-        };
         if cos_best <= 0.0 {
             return 0.0;
         }

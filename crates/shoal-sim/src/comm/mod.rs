@@ -25,9 +25,14 @@
 //!   in flat buffers, for the delivery phase;
 //! - `modem_lanes`: one receiver's modems as lanes, the geometry of a transmission at all of
 //!   them computed at once;
+//! - `copy_lanes`: one frame's copies as lanes, the geometry of the best-case bound for all
+//!   of them at once;
+//! - `avx`: the run-time choice between a lane kernel compiled for AVX and the baseline;
 //! - `medium`: the [`Medium`] resource, frames on the air and the precomputed link budget;
 //! - `systems`: the three step systems above and the decision of one reception.
 
+mod avx;
+mod copy_lanes;
 mod ending;
 mod frames;
 mod grid;

@@ -9,6 +9,7 @@
 //! operations in any vector width), and the budget is [`received_power`] itself, so each power
 //! is bit-identical to `power_between`'s.
 
+use super::avx::avx_dispatch;
 use super::medium::{Medium, Transmission, received_power};
 use shoal_model::math::{Quat, Vec3};
 use shoal_model::optics::{LinkGeometry, ModemConsts, ModemParams, ModemPose};
@@ -122,27 +123,11 @@ impl ModemLanes {
     }
 }
 
-/// The geometry of the LED at `led` and the modems of chunk `c`, with the widest vectors this
-/// CPU has (the same operations in every width, so the same bits).
-fn geometry(c: &Chunk, led: &ModemPose, r_cut2: f64) -> Geometry {
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx") {
-        #[expect(
-            unsafe_code,
-            reason = "a target-feature function is called only after the CPU feature is detected"
-        )]
-        // SAFETY: `geometry_avx` requires AVX, which the running CPU has (detected just above).
-        return unsafe { geometry_avx(c, led, r_cut2) };
-    }
-    geometry_lanes(c, led, r_cut2)
-}
-
-/// [`geometry_lanes`] compiled for AVX.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx")]
-fn geometry_avx(c: &Chunk, led: &ModemPose, r_cut2: f64) -> Geometry {
-    geometry_lanes(c, led, r_cut2)
-}
+avx_dispatch!(
+    /// The geometry of the LED at `led` and the modems of chunk `c`, with the widest vectors
+    /// this CPU has (the same operations in every width, so the same bits).
+    fn geometry(c: &Chunk, led: &ModemPose, r_cut2: f64) -> Geometry => geometry_lanes
+);
 
 /// The lanes of [`geometry`]: for each modem, the steps of [`Medium::power_between`] up to the
 /// budget — behind the LED, beyond the cut-off range or outside the field of view, no reach.

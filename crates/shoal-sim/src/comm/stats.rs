@@ -72,9 +72,8 @@ impl CommStats {
 
 /// Latency histogram bin of a latency \[s\].
 pub fn latency_bin(l: f64) -> usize {
-    ((l.max(1e-4).log10() + 4.0) * 20.0)
-        .floor()
-        .clamp(0.0, (LAT_BINS - 1) as f64) as usize
+    // Clamped first, then truncated: the floor of the value in range.
+    ((l.max(1e-4).log10() + 4.0) * 20.0).clamp(0.0, (LAT_BINS - 1) as f64) as usize
 }
 
 /// Geometric centre of a latency bin \[s\] (within ±6 % of any latency in it).
@@ -118,5 +117,34 @@ impl Tally {
         {
             *a += b;
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each latency falls into the bin whose range holds it: the bin's centre is within 6 %
+    /// of the latency, and the bins are the floor of 20 · (log₁₀ l + 4), clamped — checked at
+    /// and just around every bin edge, below 0.1 ms and beyond the last bin.
+    #[test]
+    fn latency_bins_are_the_floor_of_twenty_per_decade() {
+        for k in 0..LAT_BINS {
+            let edge = 10f64.powf(k as f64 / 20.0 - 4.0);
+            for l in [edge * (1.0 - 1e-9), edge, edge * (1.0 + 1e-9), edge * 1.05] {
+                let want = ((l.max(1e-4).log10() + 4.0) * 20.0)
+                    .floor()
+                    .clamp(0.0, (LAT_BINS - 1) as f64) as usize;
+                let got = latency_bin(l);
+                assert_eq!(got, want, "latency {l}");
+                let c = latency_bin_centre(got);
+                if l >= 1e-4 && got < LAT_BINS - 1 {
+                    assert!((c / l - 1.0).abs() < 0.06, "latency {l}: centre {c}");
+                }
+            }
+        }
+        assert_eq!(latency_bin(1e-7), 0);
+        assert_eq!(latency_bin(0.0), 0);
+        assert_eq!(latency_bin(1e6), LAT_BINS - 1);
     }
 }

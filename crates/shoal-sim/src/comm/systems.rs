@@ -319,6 +319,9 @@ pub fn comm_deliver_system(
     // distance and latency histograms: tallied per chunk of receivers, summed afterwards;
     // every attempt goes to the chunk's part of the ledger, in receiver order.
     let second0 = t0.floor();
+    // A frame ending at `end` falls into the next second when ⌊end⌋ > second0, i.e.
+    // end ≥ second0 + 1 (an integer).
+    let second1 = second0 + 1.0;
     let frame0 = ledger.frames(logical.iter().map(|l| {
         let f = l.first();
         let bytes = u32::try_from(f.payload.len()).unwrap_or(u32::MAX);
@@ -334,7 +337,7 @@ pub fn comm_deliver_system(
                 let l = &logical[i as usize];
                 let o = receive(m, geo, &mut rx, &own, l, &mut rng.0, inbox, tally);
                 events.push(Ledger::attempt(id.0, frame0 + i, o));
-                let s = usize::from(l.first().end.floor() > second0);
+                let s = usize::from(l.first().end >= second1);
                 tally.outcomes[s][o.index()] += 1;
             }
         },
