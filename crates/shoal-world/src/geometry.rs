@@ -228,11 +228,10 @@ impl Geometry {
     /// Whether the segment `a → b` \[m\] crosses no wall, floor or obstacle.
     pub fn line_of_sight(&self, a: &Vec3, b: &Vec3) -> bool {
         let d = b - a;
-        let len = d.norm();
-        if len == 0.0 {
+        // |d| (the root of |d|²) is 0 exactly when |d|² is.
+        if d.norm_squared() == 0.0 {
             return true;
         }
-        let ray = Ray::new(to_vector(a), to_vector(&(d / len)));
         let inside = |p: &Vec3| {
             p.x >= 0.0
                 && p.y >= 0.0
@@ -243,6 +242,12 @@ impl Geometry {
         if !inside(a) || !inside(b) {
             return false;
         }
+        if self.obstacles.is_empty() {
+            // The common case of the medium's many rays: nothing to cast against.
+            return true;
+        }
+        let len = d.norm();
+        let ray = Ray::new(to_vector(a), to_vector(&(d / len)));
         let seg = Aabb::new(to_vector(&a.inf(b)), to_vector(&a.sup(b)));
         !self
             .obstacles
@@ -439,5 +444,38 @@ mod tests {
         assert!(!g.line_of_sight(&Vec3::new(4.0, 2.0, 1.0), &Vec3::new(6.0, 2.0, 1.0)));
         assert!(g.line_of_sight(&Vec3::new(4.0, 3.5, 1.0), &Vec3::new(6.0, 3.5, 1.0)));
         assert!(g.line_of_sight(&Vec3::new(1.0, 1.0, 1.0), &Vec3::new(2.0, 2.0, 1.5)));
+    }
+
+    /// Without obstacles a ray is clear exactly when both ends are inside the pool (walls and
+    /// floor), whatever its length; a ray of length zero is clear wherever it is — the same
+    /// answers as with an obstacle away from the ray.
+    #[test]
+    fn line_of_sight_without_obstacles_checks_the_ends_only() {
+        let open = Geometry::new(Vec3::new(10.0, 4.0, 2.0), Vec::new());
+        let far = Geometry::new(
+            Vec3::new(10.0, 4.0, 2.0),
+            vec![Geometry::obstacle(
+                "far",
+                SharedShape::cuboid(0.1, 0.1, 0.1),
+                &Vec3::new(9.0, 3.5, 1.9),
+                &Quat::identity(),
+            )],
+        );
+        let cases = [
+            (Vec3::new(0.5, 0.5, 0.5), Vec3::new(8.0, 3.0, 1.5), true),
+            (Vec3::new(0.5, 0.5, 0.5), Vec3::new(10.5, 3.0, 1.5), false),
+            (Vec3::new(0.5, -0.1, 0.5), Vec3::new(8.0, 3.0, 1.5), false),
+            (Vec3::new(0.5, 0.5, 0.5), Vec3::new(8.0, 3.0, 2.5), false),
+            (Vec3::new(12.0, 5.0, 3.0), Vec3::new(12.0, 5.0, 3.0), true),
+            (Vec3::new(3.0, 2.0, 1.0), Vec3::new(3.0, 2.0, 1.0), true),
+        ];
+        for (a, b, clear) in cases {
+            assert_eq!(open.line_of_sight(&a, &b), clear, "{a:?} → {b:?}");
+            assert_eq!(
+                far.line_of_sight(&a, &b),
+                clear,
+                "{a:?} → {b:?}, obstacle away"
+            );
+        }
     }
 }
