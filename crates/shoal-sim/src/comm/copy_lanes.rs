@@ -101,7 +101,6 @@ fn bound_lanes(c: &CopyChunk, pos: &Vec3, r: f64) -> BoundGeometry {
 mod tests {
     use super::*;
     use shoal_model::optics::ModemPose;
-    use std::sync::Arc;
 
     /// The bound's geometry as the scalar code computes it for one copy (nalgebra's norm and
     /// dot product): the reference every lane must match bit for bit.
@@ -132,21 +131,11 @@ mod tests {
             let copies: Vec<Transmission> = (0..n)
                 .map(|k| {
                     let a = k as f64 * 1.1 + n as f64 * 0.3;
-                    Transmission {
-                        id: k as u64,
-                        tx: 0,
-                        modem: k,
-                        start: 0.0,
-                        end: 0.01,
-                        seq: 0,
-                        sent: 0.0,
-                        payload: Arc::from(&[][..]),
-                        bits: 256,
-                        pose: ModemPose {
-                            position: Vec3::new(0.12 * a.cos(), 0.08 * a.sin(), 0.01 * k as f64),
-                            axis: Vec3::new(a.cos(), a.sin(), 0.1 * a.sin()).normalize(),
-                        },
-                    }
+                    let pose = ModemPose {
+                        position: Vec3::new(0.12 * a.cos(), 0.08 * a.sin(), 0.01 * k as f64),
+                        axis: Vec3::new(a.cos(), a.sin(), 0.1 * a.sin()).normalize(),
+                    };
+                    Transmission::sent_from(k as u64, k, pose)
                 })
                 .collect();
             let refs: Vec<&Transmission> = copies.iter().collect();

@@ -47,6 +47,26 @@ pub struct Transmission {
     pub pose: ModemPose,
 }
 
+#[cfg(test)]
+impl Transmission {
+    /// An empty 256-bit frame of vehicle 0 on the air in [0, 10 ms], sent by its modem `modem`
+    /// from `pose` (for tests of the geometry).
+    pub(super) fn sent_from(id: u64, modem: usize, pose: ModemPose) -> Self {
+        Self {
+            id,
+            tx: 0,
+            modem,
+            start: 0.0,
+            end: 0.01,
+            seq: 0,
+            sent: 0.0,
+            payload: Arc::from(&[][..]),
+            bits: 256,
+            pose,
+        }
+    }
+}
+
 /// A frame as the receivers see it: all copies of one sender's frame that started together.
 pub(super) struct Logical<'a> {
     /// The copies, in (end, id) order.

@@ -197,21 +197,11 @@ mod tests {
         for i in 0..400 {
             let t = i as f64 * 0.37;
             let r = 0.05 + (i % 40) as f64 * 0.15;
-            let x = Transmission {
-                id: i,
-                tx: 0,
-                modem: i as usize % 5,
-                start: 0.0,
-                end: 0.01,
-                seq: 0,
-                sent: 0.0,
-                payload: Arc::from(&[][..]),
-                bits: 256,
-                pose: ModemPose {
-                    position: pos + Vec3::new(r * t.cos(), r * t.sin(), 0.3 * (0.5 * t).sin()),
-                    axis: Vec3::new((t + 2.0).cos(), (t + 2.0).sin(), 0.1 * t.cos()).normalize(),
-                },
+            let pose = ModemPose {
+                position: pos + Vec3::new(r * t.cos(), r * t.sin(), 0.3 * (0.5 * t).sin()),
+                axis: Vec3::new((t + 2.0).cos(), (t + 2.0).sin(), 0.1 * t.cos()).normalize(),
             };
+            let x = Transmission::sent_from(i, i as usize % 5, pose);
             lanes.powers(&m, &x, &consts, &mut out);
             for k in 0..5 {
                 let want = m.power_between(&x, &lanes.poses[k], &consts[k]);
