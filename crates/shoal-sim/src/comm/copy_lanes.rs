@@ -9,27 +9,15 @@
 //! IEEE operations in any width), so each copy's geometry, and with it every decision of the
 //! bound, is bit-identical to the scalar computation.
 
-use super::avx::avx_dispatch;
+use super::lanes::{Lane, PoseLanes, avx_dispatch};
 use super::medium::Transmission;
 use shoal_model::math::Vec3;
 
-/// Lanes per chunk: a frame's copies are padded to a multiple of it.
-pub(super) const W: usize = 4;
-
-/// Four lanes of one quantity.
-type Lane = [f64; W];
+use super::lanes::W;
 
 /// Up to [`W`] copies of a frame: LED positions \[m\] and unit axes; padded lanes repeat the
 /// last copy (their results are never read).
-#[derive(Clone, Copy, Debug, Default)]
-pub(super) struct CopyChunk {
-    px: Lane,
-    py: Lane,
-    pz: Lane,
-    ax: Lane,
-    ay: Lane,
-    az: Lane,
-}
+pub(super) type CopyChunk = PoseLanes;
 
 /// The geometry of the bound for one chunk of copies and one receiver: the distance from each
 /// LED to the receiver's centre \[m\] and the cosine of the most favourable emission angle

@@ -3,8 +3,9 @@
 //! [`shoal_model::optics::received_power`]) and the
 //! [`Medium`] resource with its power bounds and hull-occlusion tests.
 
-use super::copy_lanes::{CopyChunk, W, bound_geometry};
+use super::copy_lanes::{CopyChunk, bound_geometry};
 use super::grid::Grid;
+use super::lanes::W;
 use super::stats::{DIST_BINS, LAT_BINS};
 use bevy_ecs::prelude::*;
 use shoal_model::math::{Quat, Vec3};

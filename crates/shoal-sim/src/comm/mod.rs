@@ -27,15 +27,16 @@
 //!   them computed at once;
 //! - `copy_lanes`: one frame's copies as lanes, the geometry of the best-case bound for all
 //!   of them at once;
-//! - `avx`: the run-time choice between a lane kernel compiled for AVX and the baseline;
+//! - `lanes`: what the lane kernels share — four-lane types, poses in lanes, and the run-time
+//!   choice between a kernel compiled for AVX and the baseline;
 //! - `medium`: the [`Medium`] resource, frames on the air and the precomputed link budget;
 //! - `systems`: the three step systems above and the decision of one reception.
 
-mod avx;
 mod copy_lanes;
 mod ending;
 mod frames;
 mod grid;
+mod lanes;
 mod ledger;
 mod links;
 mod medium;

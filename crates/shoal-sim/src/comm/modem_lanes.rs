@@ -9,27 +9,16 @@
 //! operations in any vector width), and the budget is [`received_power`] itself, so each power
 //! is bit-identical to `power_between`'s.
 
-use super::avx::avx_dispatch;
+use super::lanes::{Lane, PoseLanes, W, avx_dispatch};
 use super::medium::{Medium, Transmission, received_power};
 use shoal_model::math::{Quat, Vec3};
 use shoal_model::optics::{LinkGeometry, ModemConsts, ModemParams, ModemPose};
-
-/// Lanes per chunk: the modems are padded to a multiple of it.
-const W: usize = 4;
-
-/// Four lanes of one quantity.
-type Lane = [f64; W];
 
 /// The geometry of one chunk of modems: positions, axes and the cosines of their fields of
 /// view; padded lanes have a field of view no cosine reaches (∞).
 #[derive(Clone, Copy, Debug, Default)]
 struct Chunk {
-    px: Lane,
-    py: Lane,
-    pz: Lane,
-    ax: Lane,
-    ay: Lane,
-    az: Lane,
+    pose: PoseLanes,
     cos_fov: Lane,
 }
 
@@ -80,8 +69,9 @@ impl ModemLanes {
                 ..Chunk::default()
             };
             for (l, (p, k)) in poses.iter().zip(consts).enumerate() {
-                (c.px[l], c.py[l], c.pz[l]) = (p.position.x, p.position.y, p.position.z);
-                (c.ax[l], c.ay[l], c.az[l]) = (p.axis.x, p.axis.y, p.axis.z);
+                (c.pose.px[l], c.pose.py[l], c.pose.pz[l]) =
+                    (p.position.x, p.position.y, p.position.z);
+                (c.pose.ax[l], c.pose.ay[l], c.pose.az[l]) = (p.axis.x, p.axis.y, p.axis.z);
                 c.cos_fov[l] = k.cos_fov;
             }
             self.chunks.push(c);
@@ -136,11 +126,11 @@ fn geometry_lanes(c: &Chunk, led: &ModemPose, r_cut2: f64) -> Geometry {
     let (o, a) = (&led.position, &led.axis);
     let mut g = Geometry::default();
     for l in 0..W {
-        let (dx, dy, dz) = (c.px[l] - o.x, c.py[l] - o.y, c.pz[l] - o.z);
+        let (dx, dy, dz) = (c.pose.px[l] - o.x, c.pose.py[l] - o.y, c.pose.pz[l] - o.z);
         // As nalgebra's dot products and norms of 3-vectors: summed from zero, x, y, z.
         let along = 0.0 + a.x * dx + a.y * dy + a.z * dz;
         let d2 = 0.0 + dx * dx + dy * dy + dz * dz;
-        let facing = 0.0 + c.ax[l] * dx + c.ay[l] * dy + c.az[l] * dz;
+        let facing = 0.0 + c.pose.ax[l] * dx + c.pose.ay[l] * dy + c.pose.az[l] * dz;
         let dist = d2.sqrt();
         let cos_rx = -facing / dist;
         g.dist[l] = dist;

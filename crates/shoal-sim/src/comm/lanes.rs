@@ -1,8 +1,26 @@
-//! One way to run a lane kernel with the widest vectors this CPU has: [`avx_dispatch!`]
-//! defines a function that calls the kernel compiled for AVX when the running CPU has it, and
-//! as compiled for the baseline otherwise. The kernels do the same IEEE operations in every
-//! width (no fused multiply-adds, which Rust never contracts implicitly), so the bits do not
-//! depend on which copy ran.
+//! What the medium's lane kernels share: four lanes of a quantity ([`Lane`]), up to four
+//! poses as structure of arrays ([`PoseLanes`]), and one way to run a kernel with the widest
+//! vectors this CPU has: [`avx_dispatch!`] defines a function that calls the kernel compiled
+//! for AVX when the running CPU has it, and as compiled for the baseline otherwise. The
+//! kernels do the same IEEE operations in every width (no fused multiply-adds, which Rust never
+//! contracts implicitly), so the bits do not depend on which copy ran.
+
+/// Lanes per chunk.
+pub(super) const W: usize = 4;
+
+/// Four lanes of one quantity.
+pub(super) type Lane = [f64; W];
+
+/// Up to [`W`] poses (an LED's or a photodiode's): positions \[m\] and unit axes.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct PoseLanes {
+    pub(super) px: Lane,
+    pub(super) py: Lane,
+    pub(super) pz: Lane,
+    pub(super) ax: Lane,
+    pub(super) ay: Lane,
+    pub(super) az: Lane,
+}
 
 /// `avx_dispatch!(/// doc
 /// pub(super) fn name(a: A, b: B) -> R => kernel);` defines `name` (with that visibility),
