@@ -18,7 +18,7 @@ impl Grid {
     fn coord(&self, p: &Vec3) -> [usize; 3] {
         // The cell's index, clamped to the grid: truncation is the floor for the non-negative
         // values that remain (a negative or NaN one is cell 0, as a float cast saturates).
-        let c = |v: f64, o: f64, n: usize| ((((v - o) / self.cell).max(0.0)) as usize).min(n - 1);
+        let c = |v: f64, o: f64, n: usize| (((v - o) / self.cell).max(0.0) as usize).min(n - 1);
         [
             c(p.x, self.origin.x, self.dims[0]),
             c(p.y, self.origin.y, self.dims[1]),

@@ -117,7 +117,6 @@ pub struct Medium {
     pub consts: Vec<Arc<[ModemConsts]>>,
     /// Squared bounding-sphere radius of every vehicle's hull, by id [m²].
     hull_r2: Vec<f64>,
-
     /// Vehicles with frames queued at a modem after the last transmit phase, ascending.
     pub(super) waiting: Vec<u32>,
     pub(super) next_id: u64,
