@@ -10,8 +10,8 @@
 //! bound, is bit-identical to the scalar computation.
 
 use super::lanes::{Lane, PoseLanes, avx_dispatch};
-use super::medium::Transmission;
 use shoal_model::math::Vec3;
+use shoal_model::optics::ModemPose;
 
 use super::lanes::W;
 
@@ -35,18 +35,23 @@ pub(super) struct CopyLanes {
 }
 
 impl CopyLanes {
-    /// Appends the chunks of one frame's `copies`; returns the end of its chunks (exclusive)
-    /// in [`CopyLanes::chunks`].
-    pub(super) fn push_frame(&mut self, copies: &[&Transmission]) -> u32 {
-        for part in copies.chunks(W) {
-            let mut c = CopyChunk::default();
-            for l in 0..W {
-                let x = part[l.min(part.len() - 1)];
-                let (p, a) = (&x.pose.position, &x.pose.axis);
-                (c.px[l], c.py[l], c.pz[l]) = (p.x, p.y, p.z);
-                (c.ax[l], c.ay[l], c.az[l]) = (a.x, a.y, a.z);
+    /// Appends the chunks of one frame's copies, sent from `poses` (in copy order); returns the
+    /// end of its chunks (exclusive) in [`CopyLanes::chunks`].
+    pub(super) fn push_frame<'p>(&mut self, poses: impl IntoIterator<Item = &'p ModemPose>) -> u32 {
+        let (mut lane, mut last) = (W, None);
+        for p in poses {
+            if lane == W {
+                self.chunks.push(CopyChunk::default());
+                lane = 0;
             }
-            self.chunks.push(c);
+            set_lane(self.chunks.last_mut(), lane, p);
+            (lane, last) = (lane + 1, Some(p));
+        }
+        // Padded lanes repeat the last copy.
+        if let Some(p) = last {
+            for l in lane..W {
+                set_lane(self.chunks.last_mut(), l, p);
+            }
         }
         self.chunks.len() as u32
     }
@@ -54,6 +59,15 @@ impl CopyLanes {
     /// Every frame's chunks.
     pub(super) fn chunks(&self) -> &[CopyChunk] {
         &self.chunks
+    }
+}
+
+/// Puts `p` into lane `l` of chunk `c` (if there is one).
+fn set_lane(c: Option<&mut CopyChunk>, l: usize, p: &ModemPose) {
+    if let Some(c) = c {
+        let (q, a) = (&p.position, &p.axis);
+        (c.px[l], c.py[l], c.pz[l]) = (q.x, q.y, q.z);
+        (c.ax[l], c.ay[l], c.az[l]) = (a.x, a.y, a.z);
     }
 }
 
@@ -88,7 +102,6 @@ fn bound_lanes(c: &CopyChunk, pos: &Vec3, r: f64) -> BoundGeometry {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use shoal_model::optics::ModemPose;
 
     /// The bound's geometry as the scalar code computes it for one copy (nalgebra's norm and
     /// dot product): the reference every lane must match bit for bit.
@@ -116,28 +129,26 @@ mod tests {
         let mut checked = 0;
         let mut within = 0;
         for n in 1..=6usize {
-            let copies: Vec<Transmission> = (0..n)
+            let copies: Vec<ModemPose> = (0..n)
                 .map(|k| {
                     let a = k as f64 * 1.1 + n as f64 * 0.3;
-                    let pose = ModemPose {
+                    ModemPose {
                         position: Vec3::new(0.12 * a.cos(), 0.08 * a.sin(), 0.01 * k as f64),
                         axis: Vec3::new(a.cos(), a.sin(), 0.1 * a.sin()).normalize(),
-                    };
-                    Transmission::sent_from(k as u64, k, pose)
+                    }
                 })
                 .collect();
-            let refs: Vec<&Transmission> = copies.iter().collect();
             let mut lanes = CopyLanes::default();
-            assert_eq!(lanes.push_frame(&refs) as usize, n.div_ceil(W));
+            assert_eq!(lanes.push_frame(&copies) as usize, n.div_ceil(W));
             for i in 0..300 {
                 let t = i as f64 * 0.41;
                 let rho = 0.05 + (i % 30) as f64 * 0.2;
                 let pos = Vec3::new(rho * t.cos(), rho * t.sin(), 0.2 * (0.7 * t).sin());
                 let r = 0.15;
-                for (part, chunk) in refs.chunks(W).zip(lanes.chunks()) {
+                for (part, chunk) in copies.chunks(W).zip(lanes.chunks()) {
                     let g = bound_geometry(chunk, &pos, r);
                     for (l, c) in part.iter().enumerate() {
-                        let (dist, cos_best) = scalar(&c.pose, &pos, r);
+                        let (dist, cos_best) = scalar(c, &pos, r);
                         assert_eq!(
                             g.dist[l].to_bits(),
                             dist.to_bits(),

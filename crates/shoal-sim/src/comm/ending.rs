@@ -126,7 +126,7 @@ impl<'a> Ended<'a> {
         let lanes_end = runs
             .iter()
             .scan(0usize, |from, r| {
-                let end = lanes.push_frame(&copies[*from..*from + r.len()]);
+                let end = lanes.push_frame(copies[*from..*from + r.len()].iter().map(|c| &c.pose));
                 *from += r.len();
                 Some(end)
             })
