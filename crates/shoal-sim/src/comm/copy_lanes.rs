@@ -28,32 +28,32 @@ pub(super) struct BoundGeometry {
     pub(super) cos_best: Lane,
 }
 
-/// The chunks of every frame's copies, frame after frame (see [`CopyLanes::push_frame`]).
+/// The chunks of every frame's copies, frame after frame (see [`CopyLanes::push_frame`]): a
+/// frame of `n` copies takes `n.div_ceil(W)` chunks.
 #[derive(Debug, Default)]
 pub(super) struct CopyLanes {
     chunks: Vec<CopyChunk>,
 }
 
 impl CopyLanes {
-    /// Appends the chunks of one frame's copies, sent from `poses` (in copy order); returns the
-    /// end of its chunks (exclusive) in [`CopyLanes::chunks`].
-    pub(super) fn push_frame<'p>(&mut self, poses: impl IntoIterator<Item = &'p ModemPose>) -> u32 {
-        let (mut lane, mut last) = (W, None);
+    /// Appends the chunks of one frame's copies, sent from `poses` (in copy order); padded
+    /// lanes repeat the last copy.
+    pub(super) fn push_frame<'p>(&mut self, poses: impl IntoIterator<Item = &'p ModemPose>) {
+        let (mut c, mut lane, mut last) = (CopyChunk::default(), 0, None);
         for p in poses {
+            set_lane(&mut c, lane, p);
+            (lane, last) = (lane + 1, Some(p));
             if lane == W {
-                self.chunks.push(CopyChunk::default());
+                self.chunks.push(c);
                 lane = 0;
             }
-            set_lane(self.chunks.last_mut(), lane, p);
-            (lane, last) = (lane + 1, Some(p));
         }
-        // Padded lanes repeat the last copy.
-        if let Some(p) = last {
+        if let (true, Some(p)) = (lane > 0, last) {
             for l in lane..W {
-                set_lane(self.chunks.last_mut(), l, p);
+                set_lane(&mut c, l, p);
             }
+            self.chunks.push(c);
         }
-        self.chunks.len() as u32
     }
 
     /// Every frame's chunks.
@@ -62,13 +62,11 @@ impl CopyLanes {
     }
 }
 
-/// Puts `p` into lane `l` of chunk `c` (if there is one).
-fn set_lane(c: Option<&mut CopyChunk>, l: usize, p: &ModemPose) {
-    if let Some(c) = c {
-        let (q, a) = (&p.position, &p.axis);
-        (c.px[l], c.py[l], c.pz[l]) = (q.x, q.y, q.z);
-        (c.ax[l], c.ay[l], c.az[l]) = (a.x, a.y, a.z);
-    }
+/// Puts `p` into lane `l` of chunk `c`.
+fn set_lane(c: &mut CopyChunk, l: usize, p: &ModemPose) {
+    let (q, a) = (&p.position, &p.axis);
+    (c.px[l], c.py[l], c.pz[l]) = (q.x, q.y, q.z);
+    (c.ax[l], c.ay[l], c.az[l]) = (a.x, a.y, a.z);
 }
 
 avx_dispatch!(
@@ -139,7 +137,8 @@ mod tests {
                 })
                 .collect();
             let mut lanes = CopyLanes::default();
-            assert_eq!(lanes.push_frame(&copies) as usize, n.div_ceil(W));
+            lanes.push_frame(&copies);
+            assert_eq!(lanes.chunks().len(), n.div_ceil(W));
             for i in 0..300 {
                 let t = i as f64 * 0.41;
                 let rho = 0.05 + (i % 30) as f64 * 0.2;

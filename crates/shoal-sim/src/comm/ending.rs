@@ -6,6 +6,7 @@
 
 use super::copy_lanes::CopyLanes;
 use super::grid::Grid;
+use super::lanes::W;
 use super::medium::{Logical, Medium, Transmission};
 use shoal_model::math::Vec3;
 
@@ -85,10 +86,8 @@ pub(super) struct Ended<'a> {
     overlap_end: Vec<u32>,
     /// Every frame's dead power (see [`Logical::p_dead`]) \[W\].
     p_dead: Vec<f64>,
-    /// Every frame's copies in lanes, frame after frame.
+    /// Every frame's copies in lanes, frame after frame (⌈copies / W⌉ chunks each).
     lanes: CopyLanes,
-    /// Frame `i`'s chunks of lanes end at `lanes.chunks()[lanes_end[i]]` (exclusive).
-    lanes_end: Vec<u32>,
 }
 
 impl<'a> Ended<'a> {
@@ -123,14 +122,11 @@ impl<'a> Ended<'a> {
             })
             .collect();
         let mut lanes = CopyLanes::default();
-        let lanes_end = runs
-            .iter()
-            .scan(0usize, |from, r| {
-                let end = lanes.push_frame(copies[*from..*from + r.len()].iter().map(|c| &c.pose));
-                *from += r.len();
-                Some(end)
-            })
-            .collect();
+        let mut from = 0;
+        for r in &runs {
+            lanes.push_frame(copies[from..from + r.len()].iter().map(|c| &c.pose));
+            from += r.len();
+        }
         let mut e = Self {
             copies,
             copies_end,
@@ -138,7 +134,6 @@ impl<'a> Ended<'a> {
             overlap_end: Vec::with_capacity(runs.len()),
             p_dead: Vec::with_capacity(runs.len()),
             lanes,
-            lanes_end,
         };
         e.find_interferers(m);
         e
@@ -190,7 +185,7 @@ impl<'a> Ended<'a> {
         (0..self.copies_end.len())
             .map(|i| {
                 let (c1, o1) = (self.copies_end[i] as usize, self.overlap_end[i] as usize);
-                let k1 = self.lanes_end[i] as usize;
+                let k1 = k0 + (c1 - c0).div_ceil(W);
                 let l = Logical {
                     copies: &self.copies[c0..c1],
                     lanes: &self.lanes.chunks()[k0..k1],
