@@ -85,21 +85,6 @@ impl Ambient {
     }
 }
 
-/// Medium access of a modem.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Access {
-    /// Unslotted ALOHA: transmit as soon as a frame is ready and the modem is idle.
-    Aloha,
-    /// Listen before talk: transmit only if the received optical power is below `threshold`
-    /// \[W\]; otherwise wait a random time up to `backoff_max` \[s\] and listen again.
-    CarrierSense {
-        /// Busy threshold on received optical power \[W\].
-        threshold: f64,
-        /// Longest random back-off \[s\].
-        backoff_max: f64,
-    },
-}
-
 /// One optical modem on a hull: an LED and a photodiode looking the same way.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ModemParams {
@@ -126,8 +111,6 @@ pub struct ModemParams {
     /// Capture ratio (linear power ratio ≥ 1): a frame survives an overlapping one only if
     /// its received power is at least this many times stronger.
     pub capture_ratio: f64,
-    /// Medium access.
-    pub access: Access,
 }
 
 impl ModemParams {

@@ -5,7 +5,7 @@
 use crate::ballast::BallastParams;
 use crate::control::{ControlParams, PdDesign};
 use crate::math::{Mat3, Mat6, Vec3, Vec6};
-use crate::optics::{Access, Led, ModemParams, Receiver};
+use crate::optics::{Led, ModemParams, Receiver};
 use crate::rigid_body::BodyParams;
 use crate::sensors::{ImuParams, PressureSensorParams};
 use crate::thruster::{ThrustCurve, ThrusterParams, TiltParams};
@@ -83,7 +83,6 @@ pub fn uauv2_modem() -> ModemParams {
         max_payload: 58,       // assumed: 64-byte frames
         queue_frames: 8,       // assumed
         capture_ratio: 2.0,    // assumed: 2× optical power = 6 dB electrical
-        access: Access::Aloha, // paper is silent; unslotted ALOHA
     }
 }
 

@@ -12,6 +12,8 @@ pub mod stream {
     pub const COMM: u64 = 1;
     /// Built-in behaviours.
     pub const BEHAVIOUR: u64 = 2;
+    /// The error of the vehicle's clock (drawn once, by slotted medium access).
+    pub const CLOCK: u64 = 3;
 }
 
 /// The generator of every per-vehicle random stream: xoshiro256++ (rand's named, portable

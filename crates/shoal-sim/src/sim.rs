@@ -102,8 +102,11 @@ impl Sim {
         world.insert_resource(FaultFlag::default());
         world.insert_resource(MissionClock::default());
         world.insert_resource(Parallel::new(opts.threads));
+        let access: Vec<_> = desc.vehicles.iter().map(|v| v.access.clone()).collect();
         world.insert_resource(Medium::new(
             desc.vehicles.iter().map(|v| v.model.clone()).collect(),
+            &access,
+            desc.seed,
             desc.attenuation,
             desc.ambient,
         ));

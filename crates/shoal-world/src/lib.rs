@@ -5,9 +5,11 @@
 //! into a validated [`desc::WorldDesc`] in SI units, rejecting typos, wrong units, values out
 //! of range, overlapping vehicles and vehicles outside the pool with messages that name the
 //! file, line and field ([`error`]). [`geometry`] holds the pool and obstacles as parry3d
-//! shapes: hull contacts, swept tests and line of sight. [`cancel`] lets a caller stop long
+//! shapes: hull contacts, swept tests and line of sight. [`access`] is a modem's medium
+//! access as a world states it. [`cancel`] lets a caller stop long
 //! work (loading, and the crates above: building, running, writing) early.
 
+pub mod access;
 pub mod cancel;
 pub mod desc;
 pub mod error;

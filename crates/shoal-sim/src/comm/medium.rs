@@ -6,6 +6,7 @@
 use super::copy_lanes::{CopyChunk, bound_geometry};
 use super::grid::Grid;
 use super::lanes::W;
+use super::mac::{self, MediumAccess};
 use super::stats::{DIST_BINS, LAT_BINS};
 use bevy_ecs::prelude::*;
 use shoal_model::math::{Quat, Vec3};
@@ -14,6 +15,7 @@ use shoal_model::optics::{
 };
 pub use shoal_model::optics::{ModemConsts, received_power};
 use shoal_model::vehicle::VehicleModel;
+use shoal_world::access::Access;
 use shoal_world::geometry::segment_hits_hull;
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -99,6 +101,11 @@ pub struct Medium {
     pub r_cut: f64,
     /// Model of every vehicle, by id.
     pub kinds: Vec<Arc<VehicleModel>>,
+    /// Medium access of every vehicle's modems, by id (shared by the vehicles of a group).
+    pub(super) access: Vec<Arc<[Arc<dyn MediumAccess>]>>,
+    /// How fast every vehicle's clock runs against true time, by id \[1\] (empty: every
+    /// clock is exact; see [`Medium::clock_rate`]).
+    clock_rates: Vec<f64>,
     /// Body position and attitude of every vehicle this step, by id (written by the vehicle
     /// pass, [`crate::systems::vehicle_system`], as it finishes each vehicle).
     pub poses: Vec<(Vec3, Quat)>,
@@ -170,9 +177,46 @@ pub fn cutoff_range(modems: &[&ModemParams], attenuation: f64) -> f64 {
     r
 }
 
+/// Every vehicle's clock rate (1 + its error), by id: the error of a vehicle whose modems
+/// allow a clock drift (the largest of its modems') times a number drawn once, uniformly in
+/// [−1, 1), from its own stream; empty when no modem allows one.
+fn clock_rates(access: &[Arc<[Access]>], seed: u64) -> Vec<f64> {
+    use rand::RngExt;
+    let drift = |a: &[Access]| {
+        a.iter()
+            .map(|x| match *x {
+                Access::SlottedAloha { clock_drift, .. } => clock_drift,
+                _ => 0.0,
+            })
+            .fold(0.0, f64::max)
+    };
+    if access.iter().all(|a| drift(a) == 0.0) {
+        return Vec::new();
+    }
+    access
+        .iter()
+        .enumerate()
+        .map(|(id, a)| {
+            let d = drift(a);
+            if d == 0.0 {
+                return 1.0;
+            }
+            let mut rng = crate::rng::vehicle_rng(seed, id as u32, crate::rng::stream::CLOCK);
+            1.0 + d * (2.0 * rng.random::<f64>() - 1.0)
+        })
+        .collect()
+}
+
 impl Medium {
-    /// The medium of a world whose vehicles (by id) have these models.
-    pub fn new(kinds: Vec<Arc<VehicleModel>>, attenuation: f64, ambient: Ambient) -> Self {
+    /// The medium of a world whose vehicles (by id) have these models and these medium
+    /// accesses of their modems; `seed`: the world's (for the vehicles' clock errors).
+    pub fn new(
+        kinds: Vec<Arc<VehicleModel>>,
+        access: &[Arc<[Access]>],
+        seed: u64,
+        attenuation: f64,
+        ambient: Ambient,
+    ) -> Self {
         // Distinct modem designs (vehicles of a kind share their model).
         let mut modems: Vec<&ModemParams> = Vec::new();
         for m in kinds.iter().flat_map(|k| k.params.modems.iter()) {
@@ -210,11 +254,23 @@ impl Medium {
                     .clone()
             })
             .collect();
+        let mut protocols: HashMap<*const [Access], Arc<[Arc<dyn MediumAccess>]>> = HashMap::new();
+        let access_by_id = access
+            .iter()
+            .map(|a| {
+                protocols
+                    .entry(Arc::as_ptr(a))
+                    .or_insert_with(|| a.iter().map(mac::build).collect())
+                    .clone()
+            })
+            .collect();
         Self {
             attenuation,
             ambient,
             r_cut,
             kinds,
+            access: access_by_id,
+            clock_rates: clock_rates(access, seed),
             poses: vec![(Vec3::zeros(), Quat::identity()); n],
             txs: Vec::new(),
             grid: Grid::default(),
@@ -234,6 +290,11 @@ impl Medium {
             receivers,
             dead_cache: std::sync::Mutex::new(HashMap::new()),
         }
+    }
+
+    /// How fast vehicle `v`'s clock runs against true time \[1\].
+    pub(super) fn clock_rate(&self, v: u32) -> f64 {
+        self.clock_rates.get(v as usize).copied().unwrap_or(1.0)
     }
 
     /// Optical power [W] that transmission `x` delivers to a receiving modem at `rx` with

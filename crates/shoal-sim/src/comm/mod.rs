@@ -1,6 +1,6 @@
 //! The shared optical medium: frames take airtime, modems are half-duplex, overlapping frames
 //! collide unless one is `capture_ratio` times stronger, transmit queues are bounded, access is
-//! unslotted ALOHA or carrier sense, the LED→photodiode ray can be blocked by walls, obstacles
+//! one protocol per modem (`mac`: ALOHA, carrier sense, slotted ALOHA, TDMA), the LED→photodiode ray can be blocked by walls, obstacles
 //! and other hulls, and every reception is decided by the link budget of
 //! [`shoal_model::optics`] with a draw from the *receiver's* random stream.
 //!
@@ -29,6 +29,7 @@
 //!   of them at once;
 //! - `lanes`: what the lane kernels share — four-lane types, poses in lanes, and the run-time
 //!   choice between a kernel compiled for AVX and the baseline;
+//! - `mac`: medium access, one protocol per file (ALOHA, carrier sense, slotted ALOHA, TDMA);
 //! - `medium`: the [`Medium`] resource, frames on the air and the precomputed link budget;
 //! - `systems`: the three step systems above and the decision of one reception.
 
@@ -39,6 +40,7 @@ mod grid;
 mod lanes;
 mod ledger;
 mod links;
+mod mac;
 mod medium;
 mod modem_lanes;
 mod stats;

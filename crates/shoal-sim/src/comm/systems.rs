@@ -6,6 +6,7 @@ use super::ending::{ByVehicle, Ended, candidates, own_transmissions};
 use super::frames::{CommRng, Inbox, Modems, Outbox, Queued, Received};
 use super::ledger::Ledger;
 use super::links::Outcome;
+use super::mac::{Ctx, Decision};
 use super::medium::{Logical, Medium, Transmission, received_power};
 use super::modem_lanes::ModemLanes;
 use super::stats::{CommStats, DIST_BIN, DIST_BINS, Tally, latency_bin};
@@ -16,7 +17,7 @@ use bevy_ecs::prelude::*;
 use rand::RngExt;
 use shoal_model::math::Vec3;
 use shoal_model::optics::{
-    Access, LinkGeometry, ModemPose, background_current, ber_ook, frame_error_rate, noise_variance,
+    LinkGeometry, ModemPose, background_current, ber_ook, frame_error_rate, noise_variance,
 };
 use shoal_model::vehicle::VehicleModel;
 use std::collections::{BinaryHeap, HashMap};
@@ -224,14 +225,9 @@ pub fn comm_transmit_system(
         let params = &kind.params.modems[ev.modem];
         let (pos, att) = m.poses[ev.vehicle as usize];
         let pose = ModemPose::of(params, &pos, &att);
-        // Carrier sense listens with all of the vehicle's photodiodes, and all modems of a
-        // vehicle that defer at the same moment share one back-off, so that copies of a frame
-        // on several modems stay in sync.
-        if let Access::CarrierSense {
-            threshold,
-            backoff_max,
-        } = params.access
-            && kind.params.modems.iter().enumerate().any(|(k, rxm)| {
+        // Carrier sense listens with all of the vehicle's photodiodes.
+        let mut busy = |threshold: f64| {
+            kind.params.modems.iter().enumerate().any(|(k, rxm)| {
                 sensed_power(
                     m,
                     &geo.0,
@@ -241,13 +237,28 @@ pub fn comm_transmit_system(
                     ev.t,
                 ) > threshold
             })
-        {
-            let retry = *backoffs
-                .entry((ev.vehicle, ev.t.to_bits()))
-                .or_insert_with(|| {
-                    stats.cs_deferrals += 1;
-                    ev.t + rng.0.random::<f64>() * backoff_max
-                });
+        };
+        let mut ctx = Ctx {
+            t: ev.t,
+            vehicle: ev.vehicle,
+            clock_rate: m.clock_rate(ev.vehicle),
+            busy: &mut busy,
+        };
+        let retry = match m.access[ev.vehicle as usize][ev.modem].decide(&mut ctx) {
+            Decision::Send => None,
+            Decision::At(t) => Some(t),
+            // All modems of a vehicle that defer at the same moment share one back-off, so
+            // that copies of a frame on several modems stay in sync.
+            Decision::Backoff(max) => Some(
+                *backoffs
+                    .entry((ev.vehicle, ev.t.to_bits()))
+                    .or_insert_with(|| {
+                        stats.cs_deferrals += 1;
+                        ev.t + rng.0.random::<f64>() * max
+                    }),
+            ),
+        };
+        if let Some(retry) = retry {
             modems.ports[ev.modem].busy_until = retry;
             if retry < t_end {
                 heap.push(StartEvent { t: retry, ..ev });

@@ -205,6 +205,10 @@ pub const RANGES: &[FieldRange] = &[
     r("vehicles[].model.modems[].capture_ratio", C(1.0), C(1e6), "(power ratio)", "a frame survives a collision this much stronger"),
     r("vehicles[].model.modems[].cs_threshold", C(1e-18), C(1.0), "W", "carrier-sense threshold"),
     r("vehicles[].model.modems[].backoff_max", C(1e-6), C(100.0), "s", "longest random back-off"),
+    r("vehicles[].model.modems[].slot", F("the airtime of a max_payload frame (slotted_aloha, tdma)"), C(100.0), "s", "a slot holds the longest frame"),
+    r("vehicles[].model.modems[].clock_drift_ppm", C(0.0), C(1e5), "ppm", "slotted_aloha: largest clock rate error"),
+    r("vehicles[].model.modems[].tdma_slots", C(1.0), C(1e6), "slots", "tdma: slots per cycle"),
+    r("vehicles[].model.modems[].tdma_slot", C(0.0), OF("tdma_slots"), "", "tdma; default: vehicle id modulo tdma_slots"),
 ];
 
 /// The lower end of a received-power threshold \[W\]: a photodiode sees nothing below 1 fW.

@@ -376,4 +376,13 @@ pub(super) fn validate_modem(m: &ModemSpec, p: &FieldPath, v: &mut Validator<'_>
     v.field(&p.key("capture_ratio"), m.capture_ratio);
     v.field(&p.key("cs_threshold"), m.cs_threshold);
     v.field(&p.key("backoff_max"), m.backoff_max);
+    // A slot must hold the longest frame — for the protocols that have slots.
+    let slotted = m.access().slot().is_some();
+    let longest = m.to_params().airtime(m.max_payload);
+    v.field_with(&p.key("slot"), m.slot, slotted.then_some(longest), None);
+    v.field(&p.key("clock_drift_ppm"), m.clock_drift_ppm);
+    v.field(&p.key("tdma_slots"), f64::from(m.tdma_slots));
+    if let Some(own) = m.tdma_slot {
+        v.field_with(&p.key("tdma_slot"), f64::from(own), None, Some(f64::from(m.tdma_slots)));
+    }
 }

@@ -1,12 +1,13 @@
 //! Optical modems: the file form of [`ModemParams`] (every field defaults to the μAUV²'s
-//! modem) and its conversions.
+//! modem) with the modem's medium access ([`Access`]), and their conversions.
 
 use super::{a3, unit_or_x, v3};
+use crate::access::Access;
 use serde::{Deserialize, Serialize};
-use shoal_model::optics::{Access, Led, ModemParams, Receiver};
+use shoal_model::optics::{Led, ModemParams, Receiver};
 use shoal_model::presets;
 
-/// Medium access as written in files.
+/// Medium access as written in files (see [`Access`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum AccessSpec {
@@ -14,6 +15,10 @@ pub enum AccessSpec {
     Aloha,
     /// Listen before talk.
     CarrierSense,
+    /// Slotted ALOHA on the vehicle's own clock.
+    SlottedAloha,
+    /// Time-division: one slot per vehicle in a cycle.
+    Tdma,
 }
 
 fn m0() -> ModemParams {
@@ -49,6 +54,14 @@ fn dm_cs_threshold() -> f64 {
 }
 fn dm_backoff_max() -> f64 {
     0.05
+}
+fn dm_slot() -> f64 {
+    // The μAUV² modem's longest frame (64 bytes of 10 line bits at 19.2 kbit/s: 33.3 ms) and
+    // a guard of 1.7 ms.
+    0.035
+}
+fn dm_tdma_slots() -> u32 {
+    1
 }
 
 /// An optical modem (see [`ModemParams`]); every field defaults to the μAUV²'s modem.
@@ -115,6 +128,19 @@ pub struct ModemSpec {
     /// Longest carrier-sense back-off \[s\] (carrier_sense only).
     #[serde(default = "dm_backoff_max")]
     pub backoff_max: f64,
+    /// Slot length \[s\] (slotted_aloha and tdma).
+    #[serde(default = "dm_slot")]
+    pub slot: f64,
+    /// Largest clock rate error of a vehicle \[ppm\] (slotted_aloha only).
+    #[serde(default)]
+    pub clock_drift_ppm: f64,
+    /// Slots per TDMA cycle (tdma only).
+    #[serde(default = "dm_tdma_slots")]
+    pub tdma_slots: u32,
+    /// The vehicles' slot in the TDMA cycle (tdma only; default: each vehicle's id modulo
+    /// `tdma_slots`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tdma_slot: Option<u32>,
 }
 
 impl ModemSpec {
@@ -142,25 +168,31 @@ impl ModemSpec {
             max_payload: self.max_payload,
             queue_frames: self.queue_frames,
             capture_ratio: self.capture_ratio,
-            access: match self.access {
-                AccessSpec::Aloha => Access::Aloha,
-                AccessSpec::CarrierSense => Access::CarrierSense {
-                    threshold: self.cs_threshold,
-                    backoff_max: self.backoff_max,
-                },
+        }
+    }
+
+    /// The modem's medium access (ppm → a fraction).
+    pub fn access(&self) -> Access {
+        match self.access {
+            AccessSpec::Aloha => Access::Aloha,
+            AccessSpec::CarrierSense => Access::CarrierSense {
+                threshold: self.cs_threshold,
+                backoff_max: self.backoff_max,
+            },
+            AccessSpec::SlottedAloha => Access::SlottedAloha {
+                slot: self.slot,
+                clock_drift: self.clock_drift_ppm * 1e-6,
+            },
+            AccessSpec::Tdma => Access::Tdma {
+                slot: self.slot,
+                slots: self.tdma_slots,
+                own: self.tdma_slot,
             },
         }
     }
 
-    /// File form of model parameters.
+    /// File form of model parameters, with unslotted ALOHA (the model has no medium access).
     pub fn from_params(m: &ModemParams) -> Self {
-        let (access, cs_threshold, backoff_max) = match m.access {
-            Access::Aloha => (AccessSpec::Aloha, dm_cs_threshold(), dm_backoff_max()),
-            Access::CarrierSense {
-                threshold,
-                backoff_max,
-            } => (AccessSpec::CarrierSense, threshold, backoff_max),
-        };
         Self {
             name: m.name.clone(),
             position: a3(&m.position),
@@ -179,9 +211,13 @@ impl ModemSpec {
             max_payload: m.max_payload,
             queue_frames: m.queue_frames,
             capture_ratio: m.capture_ratio,
-            access,
-            cs_threshold,
-            backoff_max,
+            access: dm_access(),
+            cs_threshold: dm_cs_threshold(),
+            backoff_max: dm_backoff_max(),
+            slot: dm_slot(),
+            clock_drift_ppm: 0.0,
+            tdma_slots: dm_tdma_slots(),
+            tdma_slot: None,
         }
     }
 }

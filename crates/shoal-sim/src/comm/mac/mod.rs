@@ -1,0 +1,109 @@
+//! Medium access: when a modem may start the frame at the head of its queue. One protocol per
+//! file, each a [`MediumAccess`]; [`build`] turns a world's [`Access`] into its protocol.
+//!
+//! The transmit phase ([`super::comm_transmit_system`]) walks the modems' start events in time
+//! order within the step and asks the modem's protocol at each one:
+//!
+//! | protocol | file | decides |
+//! |---|---|---|
+//! | unslotted ALOHA | `aloha.rs` | always [`Decision::Send`] |
+//! | carrier sense | `carrier_sense.rs` | send if the vehicle's photodiodes receive less than the threshold, else a random [`Decision::Backoff`] |
+//! | slotted ALOHA | `slotted_aloha.rs` | send on a slot boundary of the vehicle's own (drifting) clock, else wait for the next one ([`Decision::At`]) |
+//! | TDMA | `tdma.rs` | send at the start of the vehicle's own slot of the cycle, else wait for it |
+//!
+//! Adding a protocol is a file here (its [`MediumAccess`]), a line in [`build`], its variant
+//! of [`Access`] with its world-file fields (`shoal_world::spec::ModemSpec`, checked on load)
+//! and its row in `docs/mac.md`.
+
+mod aloha;
+mod carrier_sense;
+mod slotted_aloha;
+mod tdma;
+
+use shoal_world::access::Access;
+use std::sync::Arc;
+
+/// What a modem does with the frame at the head of its queue.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum Decision {
+    /// Start it now.
+    Send,
+    /// Ask again at this time \[s\] (a slot boundary; later than now).
+    At(f64),
+    /// The channel is busy: ask again after a random delay, uniform up to this long \[s\],
+    /// drawn from the vehicle's stream — one draw for all of the vehicle's modems that defer
+    /// at the same moment, so that the copies of a frame stay in sync.
+    Backoff(f64),
+}
+
+/// What a protocol may look at when it decides.
+pub(super) struct Ctx<'a> {
+    /// Now \[s\].
+    pub(super) t: f64,
+    /// The deciding vehicle's id.
+    pub(super) vehicle: u32,
+    /// How fast the vehicle's clock runs against true time \[1\] (1 + its drift).
+    pub(super) clock_rate: f64,
+    /// Whether the optical power the vehicle's photodiodes receive now exceeds this \[W\]
+    /// (from the frames of other vehicles on the air).
+    pub(super) busy: &'a mut dyn FnMut(f64) -> bool,
+}
+
+/// A medium-access protocol of a modem (shared by the modems of a group: its state lives in
+/// the decision's context, not in it).
+pub(super) trait MediumAccess: Send + Sync + std::fmt::Debug {
+    /// What to do with the frame at the head of the queue at `ctx.t`.
+    fn decide(&self, ctx: &mut Ctx<'_>) -> Decision;
+}
+
+/// The protocol a world asks for.
+pub(super) fn build(a: &Access) -> Arc<dyn MediumAccess> {
+    match *a {
+        Access::Aloha => Arc::new(aloha::Aloha),
+        Access::CarrierSense {
+            threshold,
+            backoff_max,
+        } => Arc::new(carrier_sense::CarrierSense {
+            threshold,
+            backoff_max,
+        }),
+        Access::SlottedAloha { slot, .. } => Arc::new(slotted_aloha::SlottedAloha { slot }),
+        Access::Tdma { slot, slots, own } => Arc::new(tdma::Tdma { slot, slots, own }),
+    }
+}
+
+/// The first boundary of the lattice `phase + k · period` (k an integer) at or after `t`
+/// \[s\], with a tolerance of 10⁻⁹ periods so that a time computed as a boundary counts as
+/// one; and whether `t` is (within that tolerance) that boundary.
+pub(super) fn next_boundary(t: f64, period: f64, phase: f64) -> (f64, bool) {
+    let eps = 1e-9 * period;
+    let k = ((t - eps - phase) / period).ceil();
+    let b = phase + k * period;
+    (b, b - t <= eps)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Boundaries: a time on the lattice is its own boundary (also when computed with
+    /// rounding), a time just after one waits for the next, a phase shifts them.
+    #[test]
+    fn next_boundary_finds_the_lattice_point_at_or_after_a_time() {
+        assert_eq!(next_boundary(0.0, 0.035, 0.0), (0.0, true));
+        let (b, on) = next_boundary(3.0 * 0.035, 0.035, 0.0);
+        assert!(on && (b - 0.105).abs() < 1e-15, "{b}");
+        let (b, on) = next_boundary(0.1051, 0.035, 0.0);
+        assert!(!on && (b - 0.14).abs() < 1e-15, "{b}");
+        // Phase 0.02 in a cycle of 0.1: 0.02, 0.12, …
+        let (b, on) = next_boundary(0.05, 0.1, 0.02);
+        assert!(!on && (b - 0.12).abs() < 1e-15, "{b}");
+        let (b, on) = next_boundary(0.0, 0.1, 0.02);
+        assert!(!on && (b - 0.02).abs() < 1e-15, "{b}");
+        // Every boundary computed as phase + k · period is found as one.
+        for k in 0..10_000 {
+            let t = 0.013 + f64::from(k) * 0.037;
+            assert_eq!(next_boundary(t, 0.037, 0.013), (t, true), "k = {k}");
+        }
+    }
+}
