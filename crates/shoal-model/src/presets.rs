@@ -77,12 +77,12 @@ pub fn uauv2_modem() -> ModemParams {
             bandwidth: 1e5,          // assumed: ≈5× the bit rate (IrDA pulses are 3/16 bit)
             dark_current: 1e-9,      // assumed [A]
         },
-        bit_rate: 19_200.0,    // paper 3.2.6
-        bits_per_byte: 10,     // paper: UART compatible → 8N1, derived
-        header_bytes: 6,       // assumed: source 2, sequence 1, length 1, CRC 2
-        max_payload: 58,       // assumed: 64-byte frames
-        queue_frames: 8,       // assumed
-        capture_ratio: 2.0,    // assumed: 2× optical power = 6 dB electrical
+        bit_rate: 19_200.0, // paper 3.2.6
+        bits_per_byte: 10,  // paper: UART compatible → 8N1, derived
+        header_bytes: 6,    // assumed: source 2, sequence 1, length 1, CRC 2
+        max_payload: 58,    // assumed: 64-byte frames
+        queue_frames: 8,    // assumed
+        capture_ratio: 2.0, // assumed: 2× optical power = 6 dB electrical
     }
 }
 

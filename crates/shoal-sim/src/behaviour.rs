@@ -115,6 +115,15 @@ pub fn build(spec: &BehaviourSpec) -> Box<dyn Behaviour> {
             next: None,
             sent: 0,
         }),
+        BehaviourSpec::Poisson {
+            rate,
+            payload_bytes,
+        } => Box::new(Poisson {
+            rate,
+            payload_bytes,
+            next: None,
+            sent: 0,
+        }),
         BehaviourSpec::Gossip {
             origin,
             start,
@@ -178,6 +187,44 @@ impl Behaviour for Beacon {
 
     fn report(&self) -> Vec<(&'static str, f64)> {
         vec![("beacons", self.sent as f64)]
+    }
+}
+
+/// Frames at the arrivals of a Poisson process: exponential gaps of mean 1 / `rate`, each
+/// frame handed over at its arrival time (within the tick it falls in, as a delay).
+pub struct Poisson {
+    rate: f64,
+    payload_bytes: usize,
+    /// The next arrival \[s\].
+    next: Option<f64>,
+    sent: u64,
+}
+
+impl Poisson {
+    /// An exponential gap of mean 1 / rate \[s\] (inverse transform of a draw in (0, 1]).
+    fn gap(&self, rng: &mut VehicleRng) -> f64 {
+        let u = 1.0 - rng.random::<f64>();
+        -u.ln() / self.rate
+    }
+}
+
+impl Behaviour for Poisson {
+    fn tick(&mut self, io: &mut BehaviourIo<'_>) {
+        let mut next = match self.next {
+            Some(t) => t,
+            None => io.t + self.gap(io.rng),
+        };
+        let payload = vec![0u8; self.payload_bytes];
+        while next < io.t + io.period {
+            io.send(None, &payload, next - io.t);
+            self.sent += 1;
+            next += self.gap(io.rng);
+        }
+        self.next = Some(next);
+    }
+
+    fn report(&self) -> Vec<(&'static str, f64)> {
+        vec![("frames", self.sent as f64)]
     }
 }
 

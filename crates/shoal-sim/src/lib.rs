@@ -24,6 +24,7 @@ pub mod components;
 pub mod connectivity;
 pub mod fault;
 pub mod fleet;
+pub mod mac_laws;
 pub mod orders;
 pub mod parallel;
 pub mod phases;

@@ -90,6 +90,9 @@ impl Logical<'_> {
     }
 }
 
+/// The medium-access protocols of a vehicle's modems, in the model's order.
+pub(super) type Protocols = Arc<[Arc<dyn MediumAccess>]>;
+
 /// The optical medium of a world.
 #[derive(Resource)]
 pub struct Medium {
@@ -102,7 +105,7 @@ pub struct Medium {
     /// Model of every vehicle, by id.
     pub kinds: Vec<Arc<VehicleModel>>,
     /// Medium access of every vehicle's modems, by id (shared by the vehicles of a group).
-    pub(super) access: Vec<Arc<[Arc<dyn MediumAccess>]>>,
+    pub(super) access: Vec<Protocols>,
     /// How fast every vehicle's clock runs against true time, by id \[1\] (empty: every
     /// clock is exact; see [`Medium::clock_rate`]).
     clock_rates: Vec<f64>,
@@ -254,7 +257,7 @@ impl Medium {
                     .clone()
             })
             .collect();
-        let mut protocols: HashMap<*const [Access], Arc<[Arc<dyn MediumAccess>]>> = HashMap::new();
+        let mut protocols: HashMap<*const [Access], Protocols> = HashMap::new();
         let access_by_id = access
             .iter()
             .map(|a| {

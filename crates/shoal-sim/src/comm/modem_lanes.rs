@@ -176,7 +176,13 @@ mod tests {
         };
         let aloha: Arc<[shoal_world::access::Access]> =
             vec![shoal_world::access::Access::Aloha; kind.params.modems.len()].into();
-        let m = Medium::new(vec![kind.clone(); 2], &[aloha.clone(), aloha], 1, 0.15, dark);
+        let m = Medium::new(
+            vec![kind.clone(); 2],
+            &[aloha.clone(), aloha],
+            1,
+            0.15,
+            dark,
+        );
         let consts = m.consts[1].clone();
         let (pos, att) = (
             Vec3::new(1.0, 2.0, 1.5),

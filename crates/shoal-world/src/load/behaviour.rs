@@ -1,4 +1,4 @@
-//! Built-in behaviours (beacon, gossip, flock), checked against the vehicle that runs them.
+//! Built-in behaviours (beacon, Poisson traffic, gossip, flock), checked against the vehicle that runs them.
 
 use super::validator::Validator;
 use crate::error::{FieldPath, ProblemKind};
@@ -38,6 +38,18 @@ pub(super) fn validate_behaviour(
                 Some(max_payload as f64),
             );
             v.field(&p.key("jitter"), *jitter);
+        }
+        BehaviourSpec::Poisson {
+            rate,
+            payload_bytes,
+        } => {
+            v.field(&p.key("rate"), *rate);
+            v.field_with(
+                &p.key("payload_bytes"),
+                *payload_bytes as f64,
+                None,
+                Some(max_payload as f64),
+            );
         }
         BehaviourSpec::Gossip {
             start,

@@ -383,6 +383,11 @@ pub(super) fn validate_modem(m: &ModemSpec, p: &FieldPath, v: &mut Validator<'_>
     v.field(&p.key("clock_drift_ppm"), m.clock_drift_ppm);
     v.field(&p.key("tdma_slots"), f64::from(m.tdma_slots));
     if let Some(own) = m.tdma_slot {
-        v.field_with(&p.key("tdma_slot"), f64::from(own), None, Some(f64::from(m.tdma_slots)));
+        v.field_with(
+            &p.key("tdma_slot"),
+            f64::from(own),
+            None,
+            Some(f64::from(m.tdma_slots)),
+        );
     }
 }

@@ -144,6 +144,15 @@ pub enum BehaviourSpec {
         #[serde(default)]
         jitter: f64,
     },
+    /// Frames at the arrival times of a Poisson process of `rate` frames per second (offered
+    /// traffic for studies of medium access), broadcast on every modem.
+    Poisson {
+        /// Mean frames per second \[1/s\].
+        rate: f64,
+        /// Payload size \[bytes\].
+        #[serde(default = "d_payload")]
+        payload_bytes: usize,
+    },
     /// Flooding of a value: the origin learns it at `start`; every vehicle that knows it
     /// rebroadcasts it `repeats` times, `interval` apart, after a random delay in [0, jitter].
     Gossip {

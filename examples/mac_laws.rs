@@ -1,0 +1,89 @@
+//! Throughput of the medium-access protocols against their textbook laws: unslotted ALOHA
+//! (S = G·e^(−2G)) and slotted ALOHA (S = G·e^(−G)), measured in shoal's optical medium over
+//! offered loads 0.05–2 in the geometry the laws assume (`shoal::sim::mac_laws`: 78 senders
+//! around one receiver, all in view, capture off). Prints the table of `docs/mac.md` and draws
+//! its figure.
+//!
+//! ```text
+//! cargo run --release --example mac_laws -- [OUT_STEM] [SECONDS]   # default: docs/img/mac_laws 240
+//! ```
+
+use shoal::output::plot::{Plot, Series};
+use shoal::sim::mac_laws::{Law, Point, measure, world_text};
+
+/// Senders of the experiment.
+const SENDERS: usize = 78;
+/// Offered loads measured.
+const LOADS: [f64; 9] = [0.05, 0.1, 0.25, 0.5, 0.75, 1.0, 1.25, 1.5, 2.0];
+
+fn main() {
+    let mut args = std::env::args().skip(1);
+    let out = args.next().unwrap_or_else(|| "docs/img/mac_laws".into());
+    let seconds: f64 = args
+        .next()
+        .map_or(240.0, |s| s.parse().expect("SECONDS: a number"));
+    let mut series = Vec::new();
+    println!("| protocol | law | offered G | throughput S | law S(G) | S − law [pp] | frames |");
+    println!("|---|---|---:|---:|---:|---:|---:|");
+    for (i, (law, name, formula)) in [
+        (Law::PureAloha, "ALOHA", "G·e^(−2G)"),
+        (Law::SlottedAloha, "slotted ALOHA", "G·e^(−G)"),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let points: Vec<Point> = LOADS
+            .iter()
+            .enumerate()
+            .map(|(k, &g)| {
+                measure(law, &world_text(law, SENDERS, g, seconds, 1 + k as u64))
+                    .expect("the experiment's world loads")
+            })
+            .collect();
+        for p in &points {
+            println!(
+                "| {name} | {formula} | {:.3} | {:.4} | {:.4} | {:+.2} | {} |",
+                p.g,
+                p.s,
+                law.throughput(p.g),
+                100.0 * (p.s - law.throughput(p.g)),
+                p.frames
+            );
+        }
+        series.push(Series {
+            label: Some(format!("{name}: law {formula}")),
+            points: (0..=220)
+                .map(|k| {
+                    let g = k as f64 * 0.01;
+                    (g, law.throughput(g))
+                })
+                .collect(),
+            color: i,
+            ..Default::default()
+        });
+        series.push(Series {
+            label: Some(format!(
+                "{name}: shoal, {SENDERS} senders, {seconds} s per load"
+            )),
+            points: points.iter().map(|p| (p.g, p.s)).collect(),
+            color: i,
+            dots: true,
+            width: 5,
+            ..Default::default()
+        });
+    }
+    let files = Plot {
+        title: "Medium access: throughput against offered load".into(),
+        x_label: "offered load G [frames per frame time or slot]".into(),
+        y_label: "throughput S [frames per frame time or slot]".into(),
+        series,
+        x_range: Some((0.0, 2.2)),
+        y_range: Some((0.0, 0.45)),
+        ..Default::default()
+    }
+    .write(std::path::Path::new(&out))
+    .expect("write the figure");
+    for f in files {
+        println!("wrote {}", f.display());
+    }
+}
