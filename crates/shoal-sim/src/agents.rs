@@ -445,11 +445,11 @@ impl Sim {
                 rej.bad_frames += 1;
                 continue;
             }
-            frames.push(OutFrame {
-                modem: f.modem,
-                payload: f.payload.clone(),
-                ready: t + f.delay.clamp(0.0, MAX_FRAME_DELAY),
-            });
+            frames.push(OutFrame::broadcast(
+                f.modem,
+                f.payload.clone(),
+                t + f.delay.clamp(0.0, MAX_FRAME_DELAY),
+            ));
         }
         rej.clamped += clamped.get();
         ent.get_mut::<Outbox>().expect("vehicle").0.extend(frames);

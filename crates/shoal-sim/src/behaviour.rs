@@ -7,7 +7,7 @@
 //! across the swarm) and [`Flock`] (alignment, cohesion and separation from received headings
 //! and signal strengths: a flock that keeps optical contact).
 
-use crate::comm::{OutFrame, Received};
+use crate::comm::{FrameEvent, OutFrame, Received};
 use crate::rng::VehicleRng;
 use bevy_ecs::prelude::*;
 use rand::RngExt;
@@ -29,6 +29,8 @@ pub struct BehaviourIo<'a> {
     pub sensors: &'a SensorReadings,
     /// Frames received since the last tick, in order of arrival.
     pub inbox: &'a [Received],
+    /// What became of this vehicle's acknowledged unicast frames since the last tick.
+    pub outcomes: &'a [FrameEvent],
     /// Setpoints of the built-in controller (mode, depth, heading, forces).
     pub setpoints: &'a mut Setpoints,
     /// This vehicle's modems (mounting and limits).
@@ -43,10 +45,30 @@ impl BehaviourIo<'_> {
     /// Hands `payload` to one modem (`Some(index)`) or to all of them in sync (`None`),
     /// `delay` \[s\] after now.
     pub fn send(&mut self, modem: Option<usize>, payload: &[u8], delay: f64) {
+        self.outbox.push(OutFrame::broadcast(
+            modem,
+            payload.to_vec(),
+            self.t + delay.max(0.0),
+        ));
+    }
+
+    /// Hands `payload` for vehicle `to` alone to one modem or all of them, `delay` \[s\]
+    /// after now; with `ack`, the destination acknowledges it and the modem retransmits until
+    /// it does or its retries are used up ([`BehaviourIo::outcomes`] says which).
+    pub fn send_to(
+        &mut self,
+        to: u32,
+        modem: Option<usize>,
+        payload: &[u8],
+        delay: f64,
+        ack: bool,
+    ) {
         self.outbox.push(OutFrame {
             modem,
             payload: payload.to_vec(),
             ready: self.t + delay.max(0.0),
+            to: Some(to),
+            ack,
         });
     }
 

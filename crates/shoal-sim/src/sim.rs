@@ -2,7 +2,7 @@
 //! at a time by the schedule of [`crate::systems`].
 
 use crate::behaviour::{self, Behave};
-use crate::comm::{CommStats, Inbox, Ledger, Medium, Modems, Outbox, comm_rng};
+use crate::comm::{CommStats, Inbox, Ledger, Link, Medium, Modems, Outbox, comm_rng};
 use crate::components::*;
 use crate::connectivity::Connectivity;
 use crate::fault::{FaultFlag, SimFault};
@@ -102,10 +102,10 @@ impl Sim {
         world.insert_resource(FaultFlag::default());
         world.insert_resource(MissionClock::default());
         world.insert_resource(Parallel::new(opts.threads));
-        let access: Vec<_> = desc.vehicles.iter().map(|v| v.access.clone()).collect();
+        let link: Vec<_> = desc.vehicles.iter().map(|v| v.link.clone()).collect();
         world.insert_resource(Medium::new(
             desc.vehicles.iter().map(|v| v.model.clone()).collect(),
-            &access,
+            &link,
             desc.seed,
             desc.attenuation,
             desc.ambient,
@@ -149,6 +149,7 @@ impl Sim {
                         Inbox::default(),
                         comm_rng(desc.seed, id),
                         CommStats::default(),
+                        Link::default(),
                     ),
                 ))
             }))

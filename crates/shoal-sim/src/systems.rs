@@ -7,7 +7,7 @@
 
 use crate::behaviour::{Behave, BehaviourIo};
 use crate::comm::{
-    Inbox, Medium, Outbox, comm_deliver_system, comm_snapshot_system, comm_transmit_system,
+    Inbox, Link, Medium, Outbox, comm_deliver_system, comm_snapshot_system, comm_transmit_system,
 };
 use crate::components::*;
 use crate::connectivity::connectivity_system;
@@ -148,7 +148,7 @@ pub fn behaviour_system(
     clock: Res<Clock>,
     par: Res<Parallel>,
     mut fleet: ResMut<Fleet>,
-    mut q: Query<(&VehicleId, &mut Behave, &mut Inbox, &mut Outbox)>,
+    mut q: Query<(&VehicleId, &mut Behave, &mut Inbox, &mut Outbox, &mut Link)>,
 ) {
     let step = clock.step;
     let t = clock.t();
@@ -166,7 +166,7 @@ pub fn behaviour_system(
     par.for_each(
         Loop::Behaviour,
         &mut items,
-        |((id, behave, inbox, outbox), v)| {
+        |((id, behave, inbox, outbox, link), v)| {
             let b = &mut **behave;
             // The outbox is marked changed only when the behaviour hands a frame over: the
             // medium visits those vehicles alone.
@@ -178,6 +178,7 @@ pub fn behaviour_system(
                 period: b.every as f64 * dt,
                 sensors: &v.sensors,
                 inbox: &inbox.0,
+                outcomes: link.events(),
                 setpoints: &mut v.control.setpoints,
                 modems: &v.model.params.modems,
                 rng: &mut b.rng,
@@ -188,6 +189,9 @@ pub fn behaviour_system(
                 outbox.set_changed();
             }
             inbox.0.clear();
+            if !link.events().is_empty() {
+                link.clear_events();
+            }
         },
     );
 }

@@ -43,11 +43,7 @@ fn send(sim: &mut Sim, id: usize, payload: usize, ready: f64) {
         .get_mut::<Outbox>(e)
         .unwrap()
         .0
-        .push(OutFrame {
-            modem: None,
-            payload: vec![7; payload],
-            ready,
-        });
+        .push(OutFrame::broadcast(None, vec![7; payload], ready));
 }
 
 /// Pairs of vehicles facing each other with their modems `d` apart, far from other pairs;

@@ -1,6 +1,19 @@
-//! How a modem gets the medium: the world file's `access` with its fields, resolved
-//! ([`Access`]). The protocols that act on it are the simulation's (`shoal_sim::comm::mac`,
-//! one file each); this is what a world says about them, checked on load.
+//! A modem's link layer as a world states it: how it gets the medium (the world file's
+//! `access` with its fields, resolved: [`Access`]) and how it retries unicast frames sent with
+//! acknowledgement ([`LinkParams`]). The protocols that act on them are the simulation's
+//! (`shoal_sim::comm::mac`, one file each); this is what a world says about them, checked on
+//! load.
+
+/// The link layer of one modem.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LinkParams {
+    /// Medium access.
+    pub access: Access,
+    /// Retransmissions of an unacknowledged unicast frame before the sender gives up.
+    pub retries: u32,
+    /// How long a sender waits for an acknowledgement after its frame ended \[s\].
+    pub ack_timeout: f64,
+}
 
 /// A modem's medium access, in SI units.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -27,8 +27,9 @@ pub struct VehicleDesc {
     pub behaviour: Option<BehaviourSpec>,
     /// Name of the external agent that drives it, if any.
     pub agent: Option<String>,
-    /// Medium access of each of its modems, in the model's order (shared by the group).
-    pub access: Arc<[crate::access::Access]>,
+    /// Link layer (medium access, retries) of each of its modems, in the model's order
+    /// (shared by the group).
+    pub link: Arc<[crate::access::LinkParams]>,
 }
 
 /// How external agents attach (see [`crate::spec::AgentsSpec`]).

@@ -416,11 +416,11 @@ impl Sim {
         for (id, f) in frames {
             let e = self.vehicle_entity(*id);
             if let Some(mut out) = self.world_mut().get_mut::<Outbox>(e) {
-                out.0.push(OutFrame {
-                    modem: f.modem,
-                    payload: f.payload.clone(),
-                    ready: t + f.delay.clamp(0.0, MAX_FRAME_DELAY),
-                });
+                out.0.push(OutFrame::broadcast(
+                    f.modem,
+                    f.payload.clone(),
+                    t + f.delay.clamp(0.0, MAX_FRAME_DELAY),
+                ));
             }
         }
         Ok(())

@@ -16,6 +16,57 @@ pub struct OutFrame {
     pub payload: Vec<u8>,
     /// Time at which the frame is handed over \[s\].
     pub ready: f64,
+    /// Destination vehicle, or `None` for a broadcast.
+    pub to: Option<u32>,
+    /// With a destination: ask it to acknowledge, and retransmit until it does (stop-and-wait
+    /// ARQ, see [`super::Link`]).
+    pub ack: bool,
+}
+
+impl OutFrame {
+    /// A broadcast of `payload` on `modem` (`None`: all), handed over at `ready` \[s\].
+    pub fn broadcast(modem: Option<usize>, payload: Vec<u8>, ready: f64) -> Self {
+        Self {
+            modem,
+            payload,
+            ready,
+            to: None,
+            ack: false,
+        }
+    }
+}
+
+/// What a frame on the air is to the link layer.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Kind {
+    /// For every vehicle that receives it.
+    #[default]
+    Broadcast,
+    /// For vehicle `to` alone (others drop it); `ack`: to be acknowledged.
+    Unicast {
+        /// Destination vehicle.
+        to: u32,
+        /// Acknowledgement requested.
+        ack: bool,
+    },
+    /// The acknowledgement of frame `seq` of vehicle `to`.
+    Ack {
+        /// The vehicle whose frame is acknowledged.
+        to: u32,
+        /// Its sequence number.
+        seq: u32,
+    },
+}
+
+impl Kind {
+    /// Whether a receiver `me` hands a frame of this kind to its behaviour or agent.
+    pub fn for_vehicle(self, me: u32) -> bool {
+        match self {
+            Kind::Broadcast => true,
+            Kind::Unicast { to, .. } => to == me,
+            Kind::Ack { .. } => false,
+        }
+    }
 }
 
 /// Frames waiting to be handed to the modems.
@@ -41,17 +92,24 @@ pub struct Received {
     pub sent: f64,
     /// Payload.
     pub payload: Arc<[u8]>,
+    /// Whether it was sent to this vehicle alone (a unicast), not to everyone.
+    pub unicast: bool,
 }
 
 /// Frames received since the vehicle's behaviour last looked.
 #[derive(Component, Clone, Debug, Default)]
 pub struct Inbox(pub Vec<Received>);
 
+/// A frame in a modem's transmit queue.
 #[derive(Clone, Debug)]
 pub(super) struct Queued {
     pub(super) payload: Arc<[u8]>,
+    /// When it was handed over \[s\].
     pub(super) ready: f64,
+    /// The sender's sequence number (shared by its copies and its retransmissions).
     pub(super) seq: u32,
+    /// What it is to the link layer.
+    pub(super) kind: Kind,
 }
 
 /// One modem's transmit side.

@@ -4,9 +4,10 @@
 //! [`Medium`] resource with its power bounds and hull-occlusion tests.
 
 use super::copy_lanes::{CopyChunk, bound_geometry};
+use super::frames::Kind;
 use super::grid::Grid;
 use super::lanes::W;
-use super::mac::{self, MediumAccess};
+use super::mac::{self, ModemLink};
 use super::stats::{DIST_BINS, LAT_BINS};
 use bevy_ecs::prelude::*;
 use shoal_model::math::{Quat, Vec3};
@@ -15,7 +16,7 @@ use shoal_model::optics::{
 };
 pub use shoal_model::optics::{ModemConsts, received_power};
 use shoal_model::vehicle::VehicleModel;
-use shoal_world::access::Access;
+use shoal_world::access::{Access, LinkParams};
 use shoal_world::geometry::segment_hits_hull;
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -48,6 +49,8 @@ pub struct Transmission {
     pub bits: u64,
     /// Where the sending modem was.
     pub pose: ModemPose,
+    /// What it is to the link layer (broadcast, unicast, acknowledgement).
+    pub kind: Kind,
 }
 
 #[cfg(test)]
@@ -66,6 +69,7 @@ impl Transmission {
             payload: Arc::from(&[][..]),
             bits: 256,
             pose,
+            kind: Kind::Broadcast,
         }
     }
 }
@@ -90,8 +94,8 @@ impl Logical<'_> {
     }
 }
 
-/// The medium-access protocols of a vehicle's modems, in the model's order.
-pub(super) type Protocols = Arc<[Arc<dyn MediumAccess>]>;
+/// The link layers of a vehicle's modems, in the model's order.
+pub(super) type Protocols = Arc<[ModemLink]>;
 
 /// The optical medium of a world.
 #[derive(Resource)]
@@ -104,7 +108,8 @@ pub struct Medium {
     pub r_cut: f64,
     /// Model of every vehicle, by id.
     pub kinds: Vec<Arc<VehicleModel>>,
-    /// Medium access of every vehicle's modems, by id (shared by the vehicles of a group).
+    /// Link layer (medium access, retries) of every vehicle's modems, by id (shared by the
+    /// vehicles of a group).
     pub(super) access: Vec<Protocols>,
     /// How fast every vehicle's clock runs against true time, by id \[1\] (empty: every
     /// clock is exact; see [`Medium::clock_rate`]).
@@ -183,11 +188,11 @@ pub fn cutoff_range(modems: &[&ModemParams], attenuation: f64) -> f64 {
 /// Every vehicle's clock rate (1 + its error), by id: the error of a vehicle whose modems
 /// allow a clock drift (the largest of its modems') times a number drawn once, uniformly in
 /// [−1, 1), from its own stream; empty when no modem allows one.
-fn clock_rates(access: &[Arc<[Access]>], seed: u64) -> Vec<f64> {
+fn clock_rates(access: &[Arc<[LinkParams]>], seed: u64) -> Vec<f64> {
     use rand::RngExt;
-    let drift = |a: &[Access]| {
+    let drift = |a: &[LinkParams]| {
         a.iter()
-            .map(|x| match *x {
+            .map(|x| match x.access {
                 Access::SlottedAloha { clock_drift, .. } => clock_drift,
                 _ => 0.0,
             })
@@ -212,10 +217,10 @@ fn clock_rates(access: &[Arc<[Access]>], seed: u64) -> Vec<f64> {
 
 impl Medium {
     /// The medium of a world whose vehicles (by id) have these models and these medium
-    /// accesses of their modems; `seed`: the world's (for the vehicles' clock errors).
+    /// link layers of their modems; `seed`: the world's (for the vehicles' clock errors).
     pub fn new(
         kinds: Vec<Arc<VehicleModel>>,
-        access: &[Arc<[Access]>],
+        link: &[Arc<[LinkParams]>],
         seed: u64,
         attenuation: f64,
         ambient: Ambient,
@@ -257,8 +262,8 @@ impl Medium {
                     .clone()
             })
             .collect();
-        let mut protocols: HashMap<*const [Access], Protocols> = HashMap::new();
-        let access_by_id = access
+        let mut protocols: HashMap<*const [LinkParams], Protocols> = HashMap::new();
+        let access_by_id = link
             .iter()
             .map(|a| {
                 protocols
@@ -273,7 +278,7 @@ impl Medium {
             r_cut,
             kinds,
             access: access_by_id,
-            clock_rates: clock_rates(access, seed),
+            clock_rates: clock_rates(link, seed),
             poses: vec![(Vec3::zeros(), Quat::identity()); n],
             txs: Vec::new(),
             grid: Grid::default(),

@@ -174,8 +174,13 @@ mod tests {
             surface_irradiance: 0.0,
             diffuse_attenuation: 0.0,
         };
-        let aloha: Arc<[shoal_world::access::Access]> =
-            vec![shoal_world::access::Access::Aloha; kind.params.modems.len()].into();
+        let link = shoal_world::access::LinkParams {
+            access: shoal_world::access::Access::Aloha,
+            retries: 3,
+            ack_timeout: 0.05,
+        };
+        let aloha: Arc<[shoal_world::access::LinkParams]> =
+            vec![link; kind.params.modems.len()].into();
         let m = Medium::new(
             vec![kind.clone(); 2],
             &[aloha.clone(), aloha],

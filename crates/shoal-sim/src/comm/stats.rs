@@ -24,6 +24,12 @@ pub struct CommStats {
     pub oversize: u64,
     /// Carrier-sense deferrals.
     pub cs_deferrals: u64,
+    /// Acknowledgements sent.
+    pub acks_sent: u64,
+    /// Retransmissions of unacknowledged unicast frames.
+    pub retransmissions: u64,
+    /// Unicast frames given up after their last retransmission.
+    pub gave_up: u64,
     /// Receptions, all senders together (complete once the ledger was folded:
     /// [`crate::sim::Sim::fold_comm`]; snapshots are).
     pub rx: LinkStats,

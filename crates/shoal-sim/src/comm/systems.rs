@@ -3,10 +3,10 @@
 //! reception decided at its receiver).
 
 use super::ending::{ByVehicle, Ended, candidates, own_transmissions};
-use super::frames::{CommRng, Inbox, Modems, Outbox, Queued, Received};
+use super::frames::{CommRng, Inbox, Kind, Modems, OutFrame, Outbox, Queued, Received};
 use super::ledger::Ledger;
 use super::links::Outcome;
-use super::mac::{Ctx, Decision};
+use super::mac::{AckDue, Ctx, Decision, FrameOutcome, Link, ModemLink, Pending};
 use super::medium::{Logical, Medium, Transmission, received_power};
 use super::modem_lanes::ModemLanes;
 use super::stats::{CommStats, DIST_BIN, DIST_BINS, Tally, latency_bin};
@@ -17,7 +17,8 @@ use bevy_ecs::prelude::*;
 use rand::RngExt;
 use shoal_model::math::Vec3;
 use shoal_model::optics::{
-    LinkGeometry, ModemPose, background_current, ber_ook, frame_error_rate, noise_variance,
+    LinkGeometry, ModemParams, ModemPose, background_current, ber_ook, frame_error_rate,
+    noise_variance,
 };
 use shoal_model::vehicle::VehicleModel;
 use std::collections::{BinaryHeap, HashMap};
@@ -122,10 +123,215 @@ type Sender = (
     &'static mut Modems,
     &'static mut CommRng,
     &'static mut CommStats,
+    &'static mut Link,
 );
 
 /// The vehicles whose outbox changed since the transmit phase last ran.
 type HandedOver<'w, 's> = Query<'w, 's, (&'static VehicleId, &'static Outbox), Changed<Outbox>>;
+
+/// Puts frame `f` (sequence number `seq`) into the queues of its modem(s) — at the front for
+/// `front` (acknowledgements, retransmissions) — unless a queue is full (counted) or the
+/// payload too long for one of them (counted, and then nowhere). Returns whether it went into
+/// some queue.
+fn enqueue(
+    params: &[ModemParams],
+    modems: &mut Modems,
+    stats: &mut CommStats,
+    f: &OutFrame,
+    payload: Arc<[u8]>,
+    (seq, kind, front): (u32, Kind, bool),
+) -> bool {
+    let targets = match f.modem {
+        Some(k) if k < params.len() => k..k + 1,
+        Some(_) => return false,
+        None => 0..params.len(),
+    };
+    if targets
+        .clone()
+        .any(|k| f.payload.len() > params[k].max_payload)
+    {
+        stats.oversize += 1;
+        return false;
+    }
+    let mut queued_any = false;
+    for k in targets {
+        let port = &mut modems.ports[k];
+        if port.queue.len() >= params[k].queue_frames {
+            stats.queue_overflow += 1;
+            continue;
+        }
+        let q = Queued {
+            payload: payload.clone(),
+            ready: f.ready,
+            seq,
+            kind,
+        };
+        if front {
+            port.queue.push_front(q);
+        } else {
+            port.queue.push_back(q);
+        }
+        modems.queued += 1;
+        queued_any = true;
+    }
+    queued_any
+}
+
+/// The next sequence number of a vehicle.
+fn next_seq(modems: &mut Modems) -> u32 {
+    let seq = modems.next_seq;
+    modems.next_seq = modems.next_seq.wrapping_add(1);
+    seq
+}
+
+/// The link layer of one sending vehicle at the start of its transmit phase at `t` \[s\]:
+/// acknowledgements it owes go to the front of their modems' queues; an outstanding frame
+/// whose wait ran out is retransmitted or given up (`retries` of its first modem); the next
+/// waiting frame becomes outstanding when none is; then the frames handed over join the queues
+/// (acknowledged unicasts behind the outstanding one, in order).
+fn link_layer(
+    t: f64,
+    params: &[ModemParams],
+    links: &[ModemLink],
+    (outbox, modems, stats, link): (&mut Outbox, &mut Modems, &mut CommStats, &mut Link),
+) {
+    let reliable = |f: &OutFrame| f.ack && f.to.is_some();
+    if !link.busy() && !outbox.0.iter().any(reliable) {
+        // The common case: broadcasts and unicasts without acknowledgement only.
+        for f in outbox.0.drain(..) {
+            let seq = next_seq(modems);
+            let kind =
+                f.to.map_or(Kind::Broadcast, |to| Kind::Unicast { to, ack: false });
+            if enqueue(
+                params,
+                modems,
+                stats,
+                &f,
+                f.payload.clone().into(),
+                (seq, kind, false),
+            ) {
+                stats.sent += 1;
+            }
+        }
+        return;
+    }
+    let handed: Vec<OutFrame> = outbox.0.drain(..).collect();
+    let s = link.state();
+    for a in std::mem::take(&mut s.acks) {
+        let ack = OutFrame {
+            modem: Some(a.modem),
+            payload: Vec::new(),
+            ready: a.ready,
+            to: Some(a.to),
+            ack: false,
+        };
+        let seq = next_seq(modems);
+        let kind = Kind::Ack {
+            to: a.to,
+            seq: a.seq,
+        };
+        if enqueue(
+            params,
+            modems,
+            stats,
+            &ack,
+            Arc::from(&[][..]),
+            (seq, kind, true),
+        ) {
+            stats.acks_sent += 1;
+        }
+    }
+    if let Some(p) = &mut s.pending
+        && p.deadline <= t
+    {
+        let first = p.modem.unwrap_or(0).min(links.len().saturating_sub(1));
+        let retries = links.get(first).map_or(0, |l| l.retries);
+        if p.transmissions <= retries {
+            p.transmissions += 1;
+            p.deadline = f64::INFINITY;
+            stats.retransmissions += 1;
+            let again = OutFrame {
+                modem: p.modem,
+                payload: Vec::new(),
+                ready: t,
+                to: Some(p.to),
+                ack: true,
+            };
+            let kind = Kind::Unicast {
+                to: p.to,
+                ack: true,
+            };
+            let payload = p.payload.clone();
+            // `enqueue` checks the length of `again.payload`: the frame's own length passed.
+            if !enqueue(params, modems, stats, &again, payload, (p.seq, kind, true)) {
+                // Its queues are full: the wait starts over (it was counted as an overflow).
+                p.deadline = t;
+            }
+        } else {
+            stats.gave_up += 1;
+            let p = s.pending.take().expect("checked");
+            s.events.push(p.event(t, FrameOutcome::GaveUp));
+        }
+    }
+    for f in handed {
+        if reliable(&f) {
+            s.waiting.push_back(f);
+            continue;
+        }
+        let seq = next_seq(modems);
+        let kind =
+            f.to.map_or(Kind::Broadcast, |to| Kind::Unicast { to, ack: false });
+        if enqueue(
+            params,
+            modems,
+            stats,
+            &f,
+            f.payload.clone().into(),
+            (seq, kind, false),
+        ) {
+            stats.sent += 1;
+        }
+    }
+    while s.pending.is_none()
+        && let Some(f) = s.waiting.pop_front()
+    {
+        let seq = next_seq(modems);
+        let to = f.to.expect("reliable frames have a destination");
+        let payload: Arc<[u8]> = f.payload.clone().into();
+        let kind = Kind::Unicast { to, ack: true };
+        if !enqueue(
+            params,
+            modems,
+            stats,
+            &f,
+            payload.clone(),
+            (seq, kind, false),
+        ) {
+            // Refused (a full queue or too long, counted): it never went on the air.
+            let refused = Pending {
+                seq,
+                to,
+                modem: f.modem,
+                payload,
+                sent: f.ready,
+                transmissions: 0,
+                deadline: t,
+            };
+            s.events.push(refused.event(t, FrameOutcome::GaveUp));
+        } else {
+            stats.sent += 1;
+            s.pending = Some(Pending {
+                seq,
+                to,
+                modem: f.modem,
+                payload,
+                sent: f.ready,
+                transmissions: 1,
+                deadline: f64::INFINITY,
+            });
+        }
+    }
+}
 
 /// Step phase 2: queue handed-over frames and start transmissions in time order.
 pub fn comm_transmit_system(
@@ -139,7 +345,7 @@ pub fn comm_transmit_system(
         return;
     }
     // The vehicles with something to send: frames handed over since the last step (their
-    // outbox changed), or still queued at a modem.
+    // outbox changed), still queued at a modem, or with link-layer work.
     let mut ids = std::mem::take(&mut medium.waiting);
     ids.extend(
         qs.p0()
@@ -161,44 +367,11 @@ pub fn comm_transmit_system(
     items.sort_unstable_by_key(|it| it.0.0);
     let mut heap = BinaryHeap::new();
     let kinds = &medium.kinds;
-    for (id, outbox, modems, _, stats) in &mut items {
+    for (id, outbox, modems, _, stats, link) in &mut items {
         let params = &kinds[id.0 as usize].params.modems;
+        let links = &medium.access[id.0 as usize];
         let modems = &mut **modems;
-        for f in outbox.0.drain(..) {
-            let targets: Vec<usize> = match f.modem {
-                Some(k) if k < params.len() => vec![k],
-                Some(_) => continue,
-                None => (0..params.len()).collect(),
-            };
-            if targets
-                .iter()
-                .any(|&k| f.payload.len() > params[k].max_payload)
-            {
-                stats.oversize += 1;
-                continue;
-            }
-            let seq = modems.next_seq;
-            modems.next_seq = modems.next_seq.wrapping_add(1);
-            let payload: Arc<[u8]> = f.payload.into();
-            let mut queued_any = false;
-            for k in targets {
-                let port = &mut modems.ports[k];
-                if port.queue.len() >= params[k].queue_frames {
-                    stats.queue_overflow += 1;
-                } else {
-                    port.queue.push_back(Queued {
-                        payload: payload.clone(),
-                        ready: f.ready,
-                        seq,
-                    });
-                    modems.queued += 1;
-                    queued_any = true;
-                }
-            }
-            if queued_any {
-                stats.sent += 1;
-            }
-        }
+        link_layer(clock.t(), params, links, (outbox, modems, stats, link));
         for (k, port) in modems.ports.iter().enumerate() {
             if let Some(front) = port.queue.front() {
                 let start = front.ready.max(port.busy_until).max(clock.t());
@@ -220,7 +393,7 @@ pub fn comm_transmit_system(
     let m = &mut *medium;
     let mut backoffs: HashMap<(u32, u64), f64> = HashMap::new();
     while let Some(ev) = heap.pop() {
-        let (_, _, modems, rng, stats) = &mut items[index[&ev.vehicle]];
+        let (_, _, modems, rng, stats, link) = &mut items[index[&ev.vehicle]];
         let kind = &m.kinds[ev.vehicle as usize];
         let params = &kind.params.modems[ev.modem];
         let (pos, att) = m.poses[ev.vehicle as usize];
@@ -244,7 +417,8 @@ pub fn comm_transmit_system(
             clock_rate: m.clock_rate(ev.vehicle),
             busy: &mut busy,
         };
-        let retry = match m.access[ev.vehicle as usize][ev.modem].decide(&mut ctx) {
+        let link_params = &m.access[ev.vehicle as usize][ev.modem];
+        let retry = match link_params.access.decide(&mut ctx) {
             Decision::Send => None,
             Decision::At(t) => Some(t),
             // All modems of a vehicle that defer at the same moment share one back-off, so
@@ -272,6 +446,18 @@ pub fn comm_transmit_system(
         let port = &mut modems.ports[ev.modem];
         let end = ev.t + params.airtime(frame.payload.len());
         port.busy_until = end;
+        if let Kind::Unicast { ack: true, .. } = frame.kind
+            && let Some(p) = &mut link.state().pending
+            && p.seq == frame.seq
+        {
+            // The wait for the acknowledgement starts when the last copy has ended.
+            let wait = end + link_params.ack_timeout;
+            p.deadline = if p.deadline.is_finite() {
+                p.deadline.max(wait)
+            } else {
+                wait
+            };
+        }
         m.txs.push(Transmission {
             id: m.next_id,
             tx: ev.vehicle,
@@ -283,6 +469,7 @@ pub fn comm_transmit_system(
             bits: params.frame_bits(frame.payload.len()),
             payload: frame.payload,
             pose,
+            kind: frame.kind,
         });
         m.next_id += 1;
         m.started.0 += 1;
@@ -298,7 +485,10 @@ pub fn comm_transmit_system(
             }
         }
     }
-    ids.retain(|&v| items[index[&v]].2.queued > 0);
+    ids.retain(|&v| {
+        let it = &items[index[&v]];
+        it.2.queued > 0 || it.5.busy()
+    });
     m.waiting = ids;
 }
 
@@ -309,7 +499,7 @@ pub fn comm_deliver_system(
     geo: Res<StaticGeometry>,
     mut medium: ResMut<Medium>,
     mut ledger: ResMut<Ledger>,
-    mut q: Query<(&VehicleId, &mut Inbox, &mut CommRng)>,
+    mut q: Query<(&VehicleId, &mut Inbox, &mut CommRng, &mut Link)>,
 ) {
     if !medium.active() {
         return;
@@ -341,24 +531,32 @@ pub fn comm_deliver_system(
     let states = par.for_each_with(
         Loop::Delivery,
         &mut items,
-        || (Tally::new(), Scratch::default(), Vec::new()),
-        |(tally, scratch, events), (id, inbox, rng)| {
+        || (Tally::new(), Scratch::default(), Vec::new(), Vec::new()),
+        |(tally, scratch, events, linked), (id, inbox, rng, link)| {
             let mut rx = Listener::new(m, id.0, scratch);
+            let mut mail = Mail { inbox, link };
             for &i in heard.of(id.0) {
                 let l = &logical[i as usize];
-                let o = receive(m, geo, &mut rx, &own, l, &mut rng.0, inbox, tally);
+                let o = receive(m, geo, &mut rx, &own, l, &mut rng.0, &mut mail, tally);
                 events.push(Ledger::attempt(id.0, frame0 + i, o));
                 let s = usize::from(l.first().end >= second1);
                 tally.outcomes[s][o.index()] += 1;
             }
+            if mail.link.busy() {
+                linked.push(id.0);
+            }
         },
     );
     let mut total = Tally::new();
-    for (t, _, events) in &states {
+    let mut linked = Vec::new();
+    for (t, _, events, l) in &states {
         total.add(t);
         ledger.append(events, m.log_links);
+        linked.extend_from_slice(l);
     }
     add_tally(&mut medium, &total, second0);
+    // Vehicles that owe an acknowledgement or got one: the transmit phase visits them next.
+    medium.waiting.extend(linked);
 }
 
 /// Adds the tallies of a step whose first second is `second0` \[s\] to the medium's.
@@ -449,6 +647,55 @@ impl<'s> Listener<'s> {
     }
 }
 
+/// Where a receiver's decoded frames go: its inbox (frames for it) and its link layer
+/// (acknowledgements to send and received).
+struct Mail<'a> {
+    inbox: &'a mut Inbox,
+    link: &'a mut Link,
+}
+
+impl Mail<'_> {
+    /// Frame `f` decoded at receiver `me` by `modem`: a broadcast, or a unicast for `me`
+    /// that is not a retransmission already received, goes to the inbox; a unicast for `me`
+    /// asking for acknowledgement is acknowledged (every copy); an acknowledgement for `me`
+    /// ends its outstanding frame; others' unicasts and acknowledgements are dropped.
+    fn decoded(&mut self, me: u32, f: &Transmission, (modem, power, snr): (usize, f64, f64)) {
+        let new = match f.kind {
+            Kind::Broadcast => true,
+            Kind::Unicast { to, ack } if to == me => {
+                !ack || {
+                    let s = self.link.state();
+                    s.acks.push(AckDue {
+                        to: f.tx,
+                        seq: f.seq,
+                        modem,
+                        ready: f.end,
+                    });
+                    s.first_delivery(f.tx, f.seq)
+                }
+            }
+            Kind::Ack { to, seq } if to == me => {
+                self.link.state().acknowledged(f.tx, seq, f.end);
+                false
+            }
+            Kind::Unicast { .. } | Kind::Ack { .. } => false,
+        };
+        if new {
+            self.inbox.0.push(Received {
+                t: f.end,
+                from: f.tx,
+                seq: f.seq,
+                modem,
+                power,
+                snr,
+                sent: f.sent,
+                payload: f.payload.clone(),
+                unicast: f.kind != Kind::Broadcast,
+            });
+        }
+    }
+}
+
 /// Decides one logical frame at one receiver; returns the outcome.
 #[allow(clippy::too_many_arguments)]
 fn receive(
@@ -458,7 +705,7 @@ fn receive(
     own: &ByVehicle,
     l: &Logical<'_>,
     rng: &mut VehicleRng,
-    inbox: &mut Inbox,
+    mail: &mut Mail<'_>,
     tally: &mut Tally,
 ) -> Outcome {
     let f = l.first();
@@ -527,19 +774,10 @@ fn receive(
             Err(o) => best = best.better(o),
         }
     }
-    if let Some((modem, power, snr)) = got {
+    if let Some(got) = got {
         tally.by_distance[bin].1 += 1;
         tally.latency[latency_bin(latency)] += 1;
-        inbox.0.push(Received {
-            t: f.end,
-            from: f.tx,
-            seq: f.seq,
-            modem,
-            power,
-            snr,
-            sent: f.sent,
-            payload: f.payload.clone(),
-        });
+        mail.decoded(rx.me, f, got);
     }
     best
 }
@@ -655,7 +893,7 @@ impl AtModem<'_> {
 /// [`Outcome::OutOfBudget`] for bit errors). Draws one number from `rng` unless it collided.
 fn decode(
     m: &Medium,
-    rxm: &shoal_model::optics::ModemParams,
+    rxm: &ModemParams,
     pose: &ModemPose,
     bits: u64,
     p_sig: f64,

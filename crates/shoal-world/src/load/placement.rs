@@ -7,7 +7,7 @@ use super::mission::mission;
 use super::names::valid_service_word;
 use super::validator::Validator;
 use super::vehicle::vehicle_spec;
-use crate::access::Access;
+use crate::access::LinkParams;
 use crate::cancel::{Cancel, Interrupted};
 use crate::desc::VehicleDesc;
 use crate::error::{FieldPath, ProblemKind};
@@ -60,7 +60,7 @@ pub(super) fn group(
             ),
         );
     }
-    let access: Arc<[Access]> = spec.modems.iter().map(ModemSpec::access).collect();
+    let link: Arc<[LinkParams]> = spec.modems.iter().map(ModemSpec::link).collect();
     let effects = spec.effects(&params);
     let model = Arc::new(VehicleModel::with_effects(params, effects, env.density));
     let mission = Arc::new(mission(g, &gp, wf, &model, v));
@@ -114,7 +114,7 @@ pub(super) fn group(
         mission: mission.clone(),
         behaviour: g.behaviour.clone(),
         agent: g.agent.clone(),
-        access: access.clone(),
+        link: link.clone(),
         position: pos,
         attitude: att,
     };

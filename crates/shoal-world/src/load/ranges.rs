@@ -209,6 +209,8 @@ pub const RANGES: &[FieldRange] = &[
     r("vehicles[].model.modems[].slot", F("the airtime of a max_payload frame (slotted_aloha, tdma)"), C(100.0), "s", "a slot holds the longest frame"),
     r("vehicles[].model.modems[].clock_drift_ppm", C(0.0), C(1e5), "ppm", "slotted_aloha: largest clock rate error"),
     r("vehicles[].model.modems[].tdma_slots", C(1.0), C(1e6), "slots", "tdma: slots per cycle"),
+    r("vehicles[].model.modems[].arq_retries", C(0.0), C(100.0), "", "retransmissions of an unacknowledged unicast frame"),
+    r("vehicles[].model.modems[].ack_timeout", C(1e-4), C(100.0), "s", "wait for an acknowledgement after the frame ended"),
     r("vehicles[].model.modems[].tdma_slot", C(0.0), OF("tdma_slots"), "", "tdma; default: vehicle id modulo tdma_slots"),
 ];
 

@@ -2,7 +2,7 @@
 //! modem) with the modem's medium access ([`Access`]), and their conversions.
 
 use super::{a3, unit_or_x, v3};
-use crate::access::Access;
+use crate::access::{Access, LinkParams};
 use serde::{Deserialize, Serialize};
 use shoal_model::optics::{Led, ModemParams, Receiver};
 use shoal_model::presets;
@@ -62,6 +62,14 @@ fn dm_slot() -> f64 {
 }
 fn dm_tdma_slots() -> u32 {
     1
+}
+fn dm_arq_retries() -> u32 {
+    3
+}
+fn dm_ack_timeout() -> f64 {
+    // An acknowledgement (a header: 3.1 ms on the air) starts in the step after the frame
+    // ended and is decided in the step it ends in: two 10-ms steps and its airtime, doubled.
+    0.05
 }
 
 /// An optical modem (see [`ModemParams`]); every field defaults to the μAUV²'s modem.
@@ -141,6 +149,12 @@ pub struct ModemSpec {
     /// `tdma_slots`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tdma_slot: Option<u32>,
+    /// Retransmissions of an unacknowledged unicast frame before giving up.
+    #[serde(default = "dm_arq_retries")]
+    pub arq_retries: u32,
+    /// Wait for an acknowledgement after a frame ended \[s\].
+    #[serde(default = "dm_ack_timeout")]
+    pub ack_timeout: f64,
 }
 
 impl ModemSpec {
@@ -191,6 +205,15 @@ impl ModemSpec {
         }
     }
 
+    /// The modem's link layer.
+    pub fn link(&self) -> LinkParams {
+        LinkParams {
+            access: self.access(),
+            retries: self.arq_retries,
+            ack_timeout: self.ack_timeout,
+        }
+    }
+
     /// File form of model parameters, with unslotted ALOHA (the model has no medium access).
     pub fn from_params(m: &ModemParams) -> Self {
         Self {
@@ -218,6 +241,8 @@ impl ModemSpec {
             clock_drift_ppm: 0.0,
             tdma_slots: dm_tdma_slots(),
             tdma_slot: None,
+            arq_retries: dm_arq_retries(),
+            ack_timeout: dm_ack_timeout(),
         }
     }
 }

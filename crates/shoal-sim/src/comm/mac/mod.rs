@@ -1,5 +1,7 @@
-//! Medium access: when a modem may start the frame at the head of its queue. One protocol per
-//! file, each a [`MediumAccess`]; [`build`] turns a world's [`Access`] into its protocol.
+//! The link layer: medium access — when a modem may start the frame at the head of its queue,
+//! one protocol per file, each a [`MediumAccess`] — and, above any of them, stop-and-wait ARQ
+//! for unicast frames sent with acknowledgement (`arq.rs`: [`Link`], [`FrameEvent`]).
+//! [`build`] turns a world's [`LinkParams`] into a modem's [`ModemLink`].
 //!
 //! The transmit phase ([`super::comm_transmit_system`]) walks the modems' start events in time
 //! order within the step and asks the modem's protocol at each one:
@@ -16,11 +18,14 @@
 //! and its row in `docs/mac.md`.
 
 mod aloha;
+mod arq;
 mod carrier_sense;
 mod slotted_aloha;
 mod tdma;
 
-use shoal_world::access::Access;
+pub(super) use arq::{AckDue, Pending};
+pub use arq::{FrameEvent, FrameOutcome, Link};
+use shoal_world::access::{Access, LinkParams};
 use std::sync::Arc;
 
 /// What a modem does with the frame at the head of its queue.
@@ -56,8 +61,28 @@ pub(super) trait MediumAccess: Send + Sync + std::fmt::Debug {
     fn decide(&self, ctx: &mut Ctx<'_>) -> Decision;
 }
 
-/// The protocol a world asks for.
-pub(super) fn build(a: &Access) -> Arc<dyn MediumAccess> {
+/// The link layer of one modem: its medium access and its retries.
+#[derive(Clone, Debug)]
+pub(super) struct ModemLink {
+    /// Medium access.
+    pub(super) access: Arc<dyn MediumAccess>,
+    /// Retransmissions of an unacknowledged unicast frame.
+    pub(super) retries: u32,
+    /// Wait for an acknowledgement after a frame ended \[s\].
+    pub(super) ack_timeout: f64,
+}
+
+/// The link layer a world asks for.
+pub(super) fn build(l: &LinkParams) -> ModemLink {
+    ModemLink {
+        access: access(&l.access),
+        retries: l.retries,
+        ack_timeout: l.ack_timeout,
+    }
+}
+
+/// The medium-access protocol a world asks for.
+fn access(a: &Access) -> Arc<dyn MediumAccess> {
     match *a {
         Access::Aloha => Arc::new(aloha::Aloha),
         Access::CarrierSense {
