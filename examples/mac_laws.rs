@@ -1,15 +1,16 @@
 //! Throughput of the medium-access protocols against their textbook laws: unslotted ALOHA
 //! (S = G·e^(−2G)) and slotted ALOHA (S = G·e^(−G)), measured in shoal's optical medium over
 //! offered loads 0.05–2 in the geometry the laws assume (`shoal::sim::mac_laws`: 78 senders
-//! around one receiver, all in view, capture off). Prints the table of `docs/mac.md` and draws
-//! its figure.
+//! around one receiver, all in view, capture off); and CSMA/CA with binary exponential
+//! back-off against Bianchi's saturation model, 2–20 saturated stations. Prints the tables of
+//! `docs/mac.md` and draws its figures.
 //!
 //! ```text
 //! cargo run --release --example mac_laws -- [OUT_STEM] [SECONDS]   # default: docs/img/mac_laws 240
 //! ```
 
 use shoal::output::plot::{Plot, Series};
-use shoal::sim::mac_laws::{Law, Point, measure, world_text};
+use shoal::sim::mac_laws::{Law, Point, measure, measure_csma, world_text};
 
 /// Senders of the experiment.
 const SENDERS: usize = 78;
@@ -82,6 +83,58 @@ fn main() {
         ..Default::default()
     }
     .write(std::path::Path::new(&out))
+    .expect("write the figure");
+    for f in files {
+        println!("wrote {}", f.display());
+    }
+    csma(&format!("{out}_csma"), seconds / 4.0);
+}
+
+/// CSMA/CA against Bianchi: saturated stations, `seconds` each.
+fn csma(out: &str, seconds: f64) {
+    println!();
+    println!("| stations | throughput S | Bianchi | S − Bianchi [pp] | frames | retransmissions |");
+    println!("|---:|---:|---:|---:|---:|---:|");
+    let mut measured = Vec::new();
+    let mut model = Vec::new();
+    for n in [2usize, 3, 5, 7, 10, 15, 20] {
+        let r = measure_csma(n, seconds, n as u64).expect("the experiment's world loads");
+        println!(
+            "| {n} | {:.4} | {:.4} | {:+.2} | {} | {} |",
+            r.s,
+            r.model,
+            100.0 * (r.s - r.model),
+            r.delivered,
+            r.retransmissions
+        );
+        measured.push((n as f64, r.s));
+        model.push((n as f64, r.model));
+    }
+    let files = Plot {
+        title: "CSMA/CA with binary exponential back-off: saturation throughput".into(),
+        x_label: "stations".into(),
+        y_label: "throughput S [share of time carrying delivered frames]".into(),
+        series: vec![
+            Series {
+                label: Some("Bianchi's model (W = 16, m = 6)".into()),
+                points: model,
+                color: 2,
+                ..Default::default()
+            },
+            Series {
+                label: Some(format!("shoal, {seconds} s per point")),
+                points: measured,
+                color: 2,
+                dots: true,
+                width: 5,
+                ..Default::default()
+            },
+        ],
+        x_range: Some((0.0, 21.0)),
+        y_range: Some((0.0, 0.7)),
+        ..Default::default()
+    }
+    .write(std::path::Path::new(out))
     .expect("write the figure");
     for f in files {
         println!("wrote {}", f.display());

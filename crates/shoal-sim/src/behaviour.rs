@@ -123,8 +123,9 @@ impl Behave {
     }
 }
 
-/// Builds a built-in behaviour from its file description.
-pub fn build(spec: &BehaviourSpec) -> Box<dyn Behaviour> {
+/// Builds a built-in behaviour from its file description; `id_of` gives the id of a vehicle
+/// by name (destinations were checked on load: an unknown one sends broadcasts).
+pub fn build(spec: &BehaviourSpec, id_of: &dyn Fn(&str) -> Option<u32>) -> Box<dyn Behaviour> {
     match *spec {
         BehaviourSpec::Beacon {
             period,
@@ -140,9 +141,13 @@ pub fn build(spec: &BehaviourSpec) -> Box<dyn Behaviour> {
         BehaviourSpec::Poisson {
             rate,
             payload_bytes,
+            ref to,
+            ack,
         } => Box::new(Poisson {
             rate,
             payload_bytes,
+            to: to.as_deref().and_then(id_of),
+            ack,
             next: None,
             sent: 0,
         }),
@@ -217,6 +222,10 @@ impl Behaviour for Beacon {
 pub struct Poisson {
     rate: f64,
     payload_bytes: usize,
+    /// Destination (none: broadcast).
+    to: Option<u32>,
+    /// With acknowledgement.
+    ack: bool,
     /// The next arrival \[s\].
     next: Option<f64>,
     sent: u64,
@@ -238,7 +247,10 @@ impl Behaviour for Poisson {
         };
         let payload = vec![0u8; self.payload_bytes];
         while next < io.t + io.period {
-            io.send(None, &payload, next - io.t);
+            match self.to {
+                Some(to) => io.send_to(to, None, &payload, next - io.t, self.ack),
+                None => io.send(None, &payload, next - io.t),
+            }
             self.sent += 1;
             next += self.gap(io.rng);
         }

@@ -8,8 +8,9 @@
 //! (`kind = "poisson"`) of frames whose airtime is one [`FRAME_TIME`]; the receiver never
 //! transmits. [`measure`] runs it and counts what the receiver got: the offered load G and
 //! the throughput S, both in frames per frame time (per slot for slotted protocols), which
-//! [`Law::throughput`] predicts. Used by the tests of the protocols and by the figure of
-//! `docs/mac.md` (`examples/mac_laws.rs`).
+//! [`Law::throughput`] predicts. [`csma_world_text`] and [`measure_csma`] do the same for
+//! CSMA/CA against Bianchi's saturation model ([`bianchi`]). Used by the tests of the
+//! protocols and by the figures of `docs/mac.md` (`examples/mac_laws.rs`).
 
 use crate::comm::CommStats;
 use crate::sim::{Sim, SimOptions};
@@ -130,5 +131,141 @@ pub fn measure(law: Law, text: &str) -> Result<Point, String> {
         frames,
         delivered: rx.rx.delivered,
         other_losses: rx.rx.lost_range + rx.rx.lost_occlusion + rx.rx.lost_half_duplex,
+    })
+}
+/// Bianchi's saturation model of CSMA/CA with binary exponential back-off (G. Bianchi,
+/// "Performance analysis of the IEEE 802.11 distributed coordination function", IEEE JSAC
+/// 18(3), 2000): `n` stations that always have a frame, all hearing each other, an ideal
+/// channel; contention window `w` slots doubling `m` times; slot `sigma`, a successful
+/// exchange occupying the channel `t_s`, a collision `t_c`, a frame's airtime `frame` \[s\].
+/// Returns the channel's throughput: the share of time it carries successful frames, and
+/// the transmission probability τ per slot.
+pub fn bianchi(n: u32, w: f64, m: u32, sigma: f64, t_s: f64, t_c: f64, frame: f64) -> (f64, f64) {
+    let tau = |p: f64| {
+        let q = 1.0 - 2.0 * p;
+        2.0 * q / (q * (w + 1.0) + p * w * (1.0 - (2.0 * p).powi(m as i32)))
+    };
+    // p = 1 − (1 − τ(p))^(n−1): the left side minus the right rises from negative at p = 0
+    // to positive at p = 1; bisection.
+    let f = |p: f64| p - (1.0 - (1.0 - tau(p)).powi(n as i32 - 1));
+    let (mut lo, mut hi) = (0.0, 1.0 - 1e-12);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if f(mid) < 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let t = tau(0.5 * (lo + hi));
+    let p_tr = 1.0 - (1.0 - t).powi(n as i32);
+    let p_s = f64::from(n) * t * (1.0 - t).powi(n as i32 - 1) / p_tr;
+    let s =
+        p_s * p_tr * frame / ((1.0 - p_tr) * sigma + p_tr * p_s * t_s + p_tr * (1.0 - p_s) * t_c);
+    (s, t)
+}
+
+/// Timing of the CSMA/CA experiment ([`csma_world_text`]).
+pub mod csma {
+    /// Physics step \[s\]: an acknowledgement starts within one step of its frame's end.
+    pub const DT: f64 = 0.0005;
+    /// Back-off slot \[s\].
+    pub const SLOT: f64 = 0.001;
+    /// Idle time before a back-off count resumes \[s\]: longer than an acknowledgement's
+    /// delay (one step), so acknowledgements are never contended.
+    pub const DIFS: f64 = 0.003;
+    /// Smallest and largest contention window \[slots\].
+    pub const CW: (u32, u32) = (16, 1024);
+    /// Airtime of an acknowledgement (a 6-byte header) \[s\].
+    pub const ACK_TIME: f64 = 60.0 / 19_200.0;
+    /// Wait for the acknowledgement: its delay, airtime and the step it is decided in \[s\].
+    pub const ACK_TIMEOUT: f64 = 0.0045;
+}
+
+/// The CSMA/CA experiment (Bianchi's assumptions): `n` stations on a horizontal circle of
+/// 1.2 m radius, alternately 0.15 m above and below its plane, each facing the centre with
+/// four modems (front, right, back, left) so that every station hears every other one; an
+/// access point ("receiver") 0.9 m above the centre whose one modem looks down with a
+/// photodiode that sees the whole hemisphere below it (one collision domain). Each station is
+/// saturated with 32-byte unicast frames for the access point, acknowledged and retried
+/// without limit; capture is off.
+pub fn csma_world_text(n: usize, duration: f64, seed: u64) -> String {
+    use csma::*;
+    let (cx, cy, depth) = (6.0, 6.0, 1.8);
+    let common = format!(
+        "led_power = 0.5\nmax_payload = {PAYLOAD}\ncapture_ratio = 1e6\n\
+         access = \"csma_ca\"\ncs_threshold = 1e-12\nbackoff_slot = {SLOT}\ndifs = {DIFS}\n\
+         cw_min = {}\ncw_max = {}\narq_retries = 100\nack_timeout = {ACK_TIMEOUT}\n",
+        CW.0, CW.1
+    );
+    let mut t = format!(
+        "name = \"CSMA/CA, {n} stations\"\nseed = {seed}\nduration = {duration}\ndt = {DT}\n\
+         [pool]\nsize = [12.0, 12.0, 3.0]\n[output]\nplots = false\n\
+         [[vehicles]]\nname = \"receiver\"\nposition = [{cx}, {cy}, {}]\n\
+         [[vehicles.model.modems]]\nposition = [0.0, 0.0, 0.09]\ndirection = [0.0, 0.0, 1.0]\n\
+         rx_fov_deg = 90.0\n{common}",
+        depth - 0.9
+    );
+    for i in 0..n {
+        let phi = std::f64::consts::TAU * i as f64 / n as f64 - std::f64::consts::PI;
+        let z = depth + if i % 2 == 0 { 0.15 } else { -0.15 };
+        let (x, y) = (cx + 1.2 * phi.cos(), cy + 1.2 * phi.sin());
+        let heading = (phi + std::f64::consts::PI).to_degrees();
+        t.push_str(&format!(
+            "[[vehicles]]\nname = \"s{i}\"\nposition = [{x:.4}, {y:.4}, {z:.3}]\nheading_deg = {heading:.3}\n\
+             behaviour = {{ kind = \"poisson\", rate = 1000.0, payload_bytes = {PAYLOAD}, to = \"receiver\", ack = true }}\n"
+        ));
+        for (name, pos, dir) in crate::bench::RING {
+            t.push_str(&format!(
+                "[[vehicles.model.modems]]\nname = \"{name}\"\nposition = {pos}\ndirection = {dir}\n{common}"
+            ));
+        }
+    }
+    t
+}
+
+/// What the CSMA/CA experiment measured and Bianchi's model predicts for it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Saturation {
+    /// Stations.
+    pub n: usize,
+    /// Share of time the channel carried frames the access point decoded.
+    pub s: f64,
+    /// Bianchi's prediction.
+    pub model: f64,
+    /// Frames the access point decoded.
+    pub delivered: u64,
+    /// Retransmissions of all stations.
+    pub retransmissions: u64,
+}
+
+/// Runs the CSMA/CA experiment with `n` stations for `duration` \[s\] and compares the
+/// throughput with Bianchi's model for its timing: a success occupies the channel for the
+/// frame, the acknowledgement's mean delay (half a step), its airtime and a DIFS; a collision
+/// for the frame and a DIFS.
+pub fn measure_csma(n: usize, duration: f64, seed: u64) -> Result<Saturation, String> {
+    use csma::*;
+    let text = csma_world_text(n, duration, seed);
+    let desc = load_str(&text, Path::new("<csma experiment>")).map_err(|e| e.to_string())?;
+    let mut sim = Sim::new(
+        &desc,
+        SimOptions {
+            threads: 1,
+            record: false,
+        },
+    );
+    sim.run((duration / DT).round() as u64);
+    let ap = sim.vehicle(0).comm;
+    let retransmissions = (1..=n).map(|i| sim.vehicle(i).comm.retransmissions).sum();
+    let m = (f64::from(CW.1) / f64::from(CW.0)).log2().round() as u32;
+    let t_s = FRAME_TIME + 0.5 * DT + ACK_TIME + DIFS;
+    let t_c = FRAME_TIME + DIFS;
+    let (model, _) = bianchi(n as u32, f64::from(CW.0), m, SLOT, t_s, t_c, FRAME_TIME);
+    Ok(Saturation {
+        n,
+        s: ap.rx.delivered as f64 * FRAME_TIME / duration,
+        model,
+        delivered: ap.rx.delivered,
+        retransmissions,
     })
 }

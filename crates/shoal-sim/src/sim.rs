@@ -155,6 +155,28 @@ impl Sim {
             }))
             .collect();
         cancel.check()?;
+        let ids: std::collections::HashMap<&str, u32> = desc
+            .vehicles
+            .iter()
+            .enumerate()
+            .filter(|(_, v)| {
+                matches!(
+                    v.behaviour,
+                    Some(shoal_world::spec::BehaviourSpec::Poisson { .. })
+                )
+            })
+            .map(|(i, v)| (v.name.as_str(), i as u32))
+            .collect();
+        let by_name: std::collections::HashMap<&str, u32> = if ids.is_empty() {
+            ids
+        } else {
+            desc.vehicles
+                .iter()
+                .enumerate()
+                .map(|(i, v)| (v.name.as_str(), i as u32))
+                .collect()
+        };
+        let id_of = |n: &str| by_name.get(n).copied();
         for (id, (v, &e)) in desc.vehicles.iter().zip(&entities).enumerate() {
             if let Some(a) = &v.agent {
                 let agent = desc.agents.names.iter().position(|n| n == a).unwrap_or(0);
@@ -165,7 +187,7 @@ impl Sim {
             }
             if let Some(b) = &v.behaviour {
                 world.entity_mut(e).insert(Behave::new(
-                    behaviour::build(b),
+                    behaviour::build(b, &id_of),
                     vehicle_rng(desc.seed, id as u32, stream::BEHAVIOUR),
                     fleet.get(VehicleId(id as u32)).control.every,
                 ));

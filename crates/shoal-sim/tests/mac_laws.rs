@@ -1,9 +1,10 @@
 //! Medium access against the textbook: throughput of unslotted and slotted ALOHA in shoal's
 //! optical medium, in the geometry the laws assume (`shoal_sim::mac_laws`), within 2
-//! percentage points of S = G·e^(−2G) and S = G·e^(−G); TDMA free of collisions at full load.
+//! percentage points of S = G·e^(−2G) and S = G·e^(−G); TDMA free of collisions at full load;
+//! CSMA/CA with binary exponential back-off within 2 points of Bianchi's saturation model.
 //! The full curves (nine loads, 240 s each) are `examples/mac_laws.rs`, drawn in docs/mac.md.
 
-use shoal_sim::mac_laws::{Law, SLOT, measure, world_text};
+use shoal_sim::mac_laws::{Law, SLOT, measure, measure_csma, world_text};
 use shoal_sim::sim::{Sim, SimOptions};
 use shoal_world::load::load_str;
 use std::path::Path;
@@ -113,4 +114,19 @@ fn drifting_clocks_lose_the_gain_of_slots() {
         "{p:?}: the slots should no longer line up"
     );
     assert!(p.s > Law::PureAloha.throughput(p.g) - 0.03, "{p:?}");
+}
+
+/// CSMA/CA with binary exponential back-off, saturated stations that all hear each other and
+/// one access point (`shoal_sim::mac_laws::csma_world_text`): the throughput within 2
+/// percentage points of Bianchi's model for 2, 10 and 20 stations (20 simulated seconds each,
+/// ≈ 600 frames).
+#[test]
+fn csma_ca_follows_bianchis_saturation_model() {
+    for n in [2, 10, 20] {
+        let r = measure_csma(n, 20.0, 11).unwrap();
+        assert!(r.delivered > 400, "{r:?}");
+        assert!((r.s - r.model).abs() < 0.02, "{r:?}");
+        // Collisions happen and are resolved by retransmission.
+        assert!(r.retransmissions > 0, "{r:?}");
+    }
 }

@@ -48,6 +48,21 @@ pub enum Access {
         /// The vehicle's slot in the cycle; `None`: its id modulo `slots`.
         own: Option<u32>,
     },
+    /// CSMA/CA with binary exponential back-off: a random back-off of 0 … CW − 1 slots,
+    /// counted down while the channel stays idle (after a DIFS of idle channel), CW doubling
+    /// from `cw_min` to `cw_max` each time an acknowledgement does not come.
+    CsmaCa {
+        /// Busy threshold on received optical power \[W\].
+        threshold: f64,
+        /// Back-off slot \[s\].
+        slot: f64,
+        /// Idle channel before the count resumes \[s\].
+        difs: f64,
+        /// Smallest contention window \[slots\].
+        cw_min: u32,
+        /// Largest contention window \[slots\].
+        cw_max: u32,
+    },
 }
 
 impl Access {
@@ -55,7 +70,7 @@ impl Access {
     pub fn slot(&self) -> Option<f64> {
         match *self {
             Access::SlottedAloha { slot, .. } | Access::Tdma { slot, .. } => Some(slot),
-            Access::Aloha | Access::CarrierSense { .. } => None,
+            Access::Aloha | Access::CarrierSense { .. } | Access::CsmaCa { .. } => None,
         }
     }
 }

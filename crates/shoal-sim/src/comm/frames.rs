@@ -135,6 +135,9 @@ pub struct Modems {
     /// Frames waiting in all ports' queues (kept beside the ports, so that finding the
     /// vehicles with work for the medium reads no port).
     pub(super) queued: u32,
+    /// What the medium-access protocol keeps between decisions: one per vehicle, whose
+    /// modems contend as one station (the copies of a frame go out together).
+    pub(super) access: super::mac::AccessState,
 }
 
 impl Modems {
@@ -144,6 +147,7 @@ impl Modems {
             ports: vec![ModemPort::default(); n],
             next_seq: 0,
             queued: 0,
+            access: Default::default(),
         }
     }
 

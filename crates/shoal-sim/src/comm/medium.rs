@@ -111,6 +111,9 @@ pub struct Medium {
     /// Link layer (medium access, retries) of every vehicle's modems, by id (shared by the
     /// vehicles of a group).
     pub(super) access: Vec<Protocols>,
+    /// How long ended frames stay in [`Medium::txs`] for the medium-access protocols that look
+    /// back ([`super::mac::MediumAccess::memory`]) \[s\].
+    pub(super) memory: f64,
     /// How fast every vehicle's clock runs against true time, by id \[1\] (empty: every
     /// clock is exact; see [`Medium::clock_rate`]).
     clock_rates: Vec<f64>,
@@ -277,6 +280,11 @@ impl Medium {
             ambient,
             r_cut,
             kinds,
+            memory: protocols
+                .values()
+                .flat_map(|p| p.iter())
+                .map(|l| l.access.memory())
+                .fold(0.0, f64::max),
             access: access_by_id,
             clock_rates: clock_rates(link, seed),
             poses: vec![(Vec3::zeros(), Quat::identity()); n],

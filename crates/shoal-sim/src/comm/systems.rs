@@ -45,14 +45,15 @@ pub fn comm_snapshot_system(
     m.update_grid();
     // Every frame still to end is on the air now or starts later, so it started no earlier
     // than the earliest start on the air now: what ended before that can no longer overlap
-    // it (nor a frame starting later, nor carrier sense from now on).
+    // it (nor a frame starting later, nor carrier sense from now on) — unless a medium-access
+    // protocol still looks back at it.
     let t = clock.t();
     let horizon = m
         .txs
         .iter()
         .filter(|x| x.end > t)
         .map(|x| x.start)
-        .fold(t, f64::min);
+        .fold(t - m.memory, f64::min);
     m.txs.retain(|x| x.end > horizon);
 }
 
@@ -66,32 +67,84 @@ fn sensed_power(
     pose: &ModemPose,
     t: f64,
 ) -> f64 {
-    let rx = &medium.consts[me as usize][k];
     medium
         .txs
         .iter()
         .filter(|x| x.tx != me && x.start <= t && x.end > t)
-        .map(|x| {
-            let g = LinkGeometry::between(&x.pose, pose);
-            if g.distance > medium.r_cut {
-                return 0.0;
-            }
-            let p = received_power(
-                &medium.consts[x.tx as usize][x.modem],
-                rx,
-                &g,
-                medium.attenuation,
-            );
-            if p > 0.0
-                && geo.line_of_sight(&x.pose.position, &pose.position)
-                && medium.vehicles_clear(x.tx, me)
-            {
-                p
-            } else {
-                0.0
-            }
-        })
+        .map(|x| sensed_one(medium, geo, x, me, k, pose))
         .sum()
+}
+
+/// The optical power transmission `x` delivers to modem `k` of vehicle `me` at `pose` \[W\]:
+/// the link budget, zero beyond the cut-off range or when walls, obstacles or hulls block it.
+fn sensed_one(
+    medium: &Medium,
+    geo: &shoal_world::geometry::Geometry,
+    x: &Transmission,
+    me: u32,
+    k: usize,
+    pose: &ModemPose,
+) -> f64 {
+    let rx = &medium.consts[me as usize][k];
+    let g = LinkGeometry::between(&x.pose, pose);
+    if g.distance > medium.r_cut {
+        return 0.0;
+    }
+    let p = received_power(
+        &medium.consts[x.tx as usize][x.modem],
+        rx,
+        &g,
+        medium.attenuation,
+    );
+    if p > 0.0
+        && geo.line_of_sight(&x.pose.position, &pose.position)
+        && medium.vehicles_clear(x.tx, me)
+    {
+        p
+    } else {
+        0.0
+    }
+}
+
+/// For carrier sensing by vehicle `v` at `pos`, `att` with threshold `threshold` \[W\] at time
+/// `t` \[s\]: `None` if the power its photodiodes receive from other vehicles' frames on the
+/// air exceeds the threshold at one of them, else the end of the last frame that alone did
+/// (or the vehicle's own last frame, if later; −∞ if none) \[s\].
+#[allow(clippy::too_many_arguments)]
+fn idle_since(
+    m: &Medium,
+    geo: &shoal_world::geometry::Geometry,
+    v: u32,
+    pos: &Vec3,
+    att: &shoal_model::math::Quat,
+    t: f64,
+    threshold: f64,
+) -> Option<f64> {
+    let modems = &m.kinds[v as usize].params.modems;
+    let poses: Vec<ModemPose> = modems.iter().map(|p| ModemPose::of(p, pos, att)).collect();
+    let mut now = vec![0.0; modems.len()];
+    let mut since = f64::NEG_INFINITY;
+    // A frame that starts at this very instant is not heard yet (sensing takes time): two
+    // stations whose back-offs end together both send, and collide.
+    for x in m.txs.iter().filter(|x| x.start < t) {
+        if x.tx == v {
+            since = since.max(x.end.min(t));
+            continue;
+        }
+        for (k, pose) in poses.iter().enumerate() {
+            let p = sensed_one(m, geo, x, v, k, pose);
+            if x.end > t {
+                now[k] += p;
+            } else if p > threshold {
+                since = since.max(x.end);
+            }
+        }
+    }
+    if now.iter().any(|&p| p > threshold) {
+        None
+    } else {
+        Some(since)
+    }
 }
 
 #[derive(PartialEq)]
@@ -218,8 +271,10 @@ fn link_layer(
     let handed: Vec<OutFrame> = outbox.0.drain(..).collect();
     let s = link.state();
     for a in std::mem::take(&mut s.acks) {
+        // On every modem, like the copies of a broadcast: everyone around hears that the
+        // channel is taken (802.11's acknowledgements are omnidirectional too).
         let ack = OutFrame {
-            modem: Some(a.modem),
+            modem: None,
             payload: Vec::new(),
             ready: a.ready,
             to: Some(a.to),
@@ -246,6 +301,7 @@ fn link_layer(
     {
         let first = p.modem.unwrap_or(0).min(links.len().saturating_sub(1));
         let retries = links.get(first).map_or(0, |l| l.retries);
+        s.feedback.push((p.modem, false));
         if p.transmissions <= retries {
             p.transmissions += 1;
             p.deadline = f64::INFINITY;
@@ -273,9 +329,25 @@ fn link_layer(
             s.events.push(p.event(t, FrameOutcome::GaveUp));
         }
     }
+    // Frames wait behind the outstanding one up to the first modem's queue length.
+    let room = params.first().map_or(0, |p| p.queue_frames);
     for f in handed {
         if reliable(&f) {
-            s.waiting.push_back(f);
+            if s.waiting.len() < room {
+                s.waiting.push_back(f);
+            } else {
+                stats.queue_overflow += 1;
+                let refused = Pending {
+                    seq: 0,
+                    to: f.to.unwrap_or(u32::MAX),
+                    modem: f.modem,
+                    payload: f.payload.into(),
+                    sent: f.ready,
+                    transmissions: 0,
+                    deadline: t,
+                };
+                s.events.push(refused.event(t, FrameOutcome::GaveUp));
+            }
             continue;
         }
         let seq = next_seq(modems);
@@ -290,6 +362,13 @@ fn link_layer(
             (seq, kind, false),
         ) {
             stats.sent += 1;
+        }
+    }
+    // The medium access learns what became of the outstanding frames (acknowledged in the
+    // delivery phase, timed out above) before it decides on the next one.
+    for (modem, acked) in s.feedback.drain(..) {
+        if let Some(l) = links.get(modem.unwrap_or(0)) {
+            l.access.feedback(&mut modems.access, acked);
         }
     }
     while s.pending.is_none()
@@ -392,6 +471,7 @@ pub fn comm_transmit_system(
         .collect();
     let m = &mut *medium;
     let mut backoffs: HashMap<(u32, u64), f64> = HashMap::new();
+    let mut decided: HashMap<(u32, u32, u64), Decision> = HashMap::new();
     while let Some(ev) = heap.pop() {
         let (_, _, modems, rng, stats, link) = &mut items[index[&ev.vehicle]];
         let kind = &m.kinds[ev.vehicle as usize];
@@ -411,14 +491,40 @@ pub fn comm_transmit_system(
                 ) > threshold
             })
         };
-        let mut ctx = Ctx {
-            t: ev.t,
-            vehicle: ev.vehicle,
-            clock_rate: m.clock_rate(ev.vehicle),
-            busy: &mut busy,
-        };
+        let mut idle_since =
+            |threshold: f64| idle_since(m, &geo.0, ev.vehicle, &pos, &att, ev.t, threshold);
         let link_params = &m.access[ev.vehicle as usize][ev.modem];
-        let retry = match link_params.access.decide(&mut ctx) {
+        let Some(front) = modems.ports[ev.modem]
+            .queue
+            .front()
+            .map(|q| (q.seq, q.kind))
+        else {
+            continue;
+        };
+        // Acknowledgements leave as soon as the modem is free, unless the protocol is slotted.
+        let ack_now = matches!(front.1, Kind::Ack { .. }) && !link_params.access.acks_wait();
+        // The copies of a frame on several modems, deciding at the same moment, share the
+        // first one's decision: they go out together.
+        let key = (ev.vehicle, front.0, ev.t.to_bits());
+        let decision = match decided.get(&key) {
+            Some(&d) => d,
+            None if ack_now => Decision::Send,
+            None => {
+                let mut ctx = Ctx {
+                    t: ev.t,
+                    vehicle: ev.vehicle,
+                    clock_rate: m.clock_rate(ev.vehicle),
+                    busy: &mut busy,
+                    idle_since: &mut idle_since,
+                    state: &mut modems.access,
+                    rng: &mut rng.0,
+                };
+                let d = link_params.access.decide(&mut ctx);
+                decided.insert(key, d);
+                d
+            }
+        };
+        let retry = match decision {
             Decision::Send => None,
             Decision::At(t) => Some(t),
             // All modems of a vehicle that defer at the same moment share one back-off, so
@@ -668,7 +774,6 @@ impl Mail<'_> {
                     s.acks.push(AckDue {
                         to: f.tx,
                         seq: f.seq,
-                        modem,
                         ready: f.end,
                     });
                     s.first_delivery(f.tx, f.seq)

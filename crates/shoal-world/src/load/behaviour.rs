@@ -5,6 +5,39 @@ use crate::error::{FieldPath, ProblemKind};
 use crate::spec::*;
 use shoal_model::prelude::*;
 
+/// Checks that the destinations the behaviours of `vehicles` name are vehicles of the world
+/// (by group: the behaviour is the group's).
+pub(super) fn check_destinations(
+    wf: &WorldFile,
+    vehicles: &[crate::desc::VehicleDesc],
+    v: &mut Validator<'_>,
+) {
+    let names: std::collections::HashSet<&str> = vehicles.iter().map(|d| d.name.as_str()).collect();
+    for (gi, g) in wf.vehicles.iter().enumerate() {
+        if let Some(BehaviourSpec::Poisson { to: Some(to), .. }) = &g.behaviour
+            && !names.contains(to.as_str())
+        {
+            let all: Vec<&str> = vehicles
+                .iter()
+                .map(|d| d.name.as_str())
+                .take(1000)
+                .collect();
+            let hint = super::messages::suggest(to, &all)
+                .map(|s| format!(" — did you mean `{s}`?"))
+                .unwrap_or_default();
+            v.push(
+                ProblemKind::Reference,
+                &FieldPath::root()
+                    .key("vehicles")
+                    .index(gi)
+                    .key("behaviour")
+                    .key("to"),
+                format!("no vehicle is named `{to}`{hint}"),
+            );
+        }
+    }
+}
+
 /// Validates a behaviour against the vehicle it runs on.
 pub(super) fn validate_behaviour(
     b: &BehaviourSpec,
@@ -42,7 +75,16 @@ pub(super) fn validate_behaviour(
         BehaviourSpec::Poisson {
             rate,
             payload_bytes,
+            to,
+            ack,
         } => {
+            if *ack && to.is_none() {
+                v.push(
+                    ProblemKind::Invalid,
+                    &p.key("ack"),
+                    "only a unicast is acknowledged: name its destination with `to`".into(),
+                );
+            }
             v.field(&p.key("rate"), *rate);
             v.field_with(
                 &p.key("payload_bytes"),

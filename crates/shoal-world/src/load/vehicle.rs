@@ -382,6 +382,15 @@ pub(super) fn validate_modem(m: &ModemSpec, p: &FieldPath, v: &mut Validator<'_>
     v.field_with(&p.key("slot"), m.slot, slotted.then_some(longest), None);
     v.field(&p.key("clock_drift_ppm"), m.clock_drift_ppm);
     v.field(&p.key("tdma_slots"), f64::from(m.tdma_slots));
+    v.field(&p.key("backoff_slot"), m.backoff_slot);
+    v.field(&p.key("difs"), m.difs);
+    v.field(&p.key("cw_min"), f64::from(m.cw_min));
+    v.field_with(
+        &p.key("cw_max"),
+        f64::from(m.cw_max),
+        Some(f64::from(m.cw_min)),
+        None,
+    );
     v.field(&p.key("arq_retries"), f64::from(m.arq_retries));
     v.field(&p.key("ack_timeout"), m.ack_timeout);
     if let Some(own) = m.tdma_slot {

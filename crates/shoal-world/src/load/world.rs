@@ -174,6 +174,7 @@ pub(super) fn build(
         groups.push(group(g, gi, wf, &env, &geometry, v, &mut vehicles, cancel)?);
     }
     check_overlaps(&vehicles, v, cancel)?;
+    super::behaviour::check_destinations(wf, &vehicles, v);
     if !v.problems.is_empty() {
         return Ok(None);
     }

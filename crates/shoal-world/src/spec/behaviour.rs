@@ -145,13 +145,20 @@ pub enum BehaviourSpec {
         jitter: f64,
     },
     /// Frames at the arrival times of a Poisson process of `rate` frames per second (offered
-    /// traffic for studies of medium access), broadcast on every modem.
+    /// traffic for studies of medium access), on every modem: broadcast, or for the vehicle
+    /// named `to`, with acknowledgement and retries if `ack`.
     Poisson {
         /// Mean frames per second \[1/s\].
         rate: f64,
         /// Payload size \[bytes\].
         #[serde(default = "d_payload")]
         payload_bytes: usize,
+        /// The destination vehicle's name (none: broadcast).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        to: Option<String>,
+        /// Ask the destination to acknowledge (stop-and-wait ARQ).
+        #[serde(default)]
+        ack: bool,
     },
     /// Flooding of a value: the origin learns it at `start`; every vehicle that knows it
     /// rebroadcasts it `repeats` times, `interval` apart, after a random delay in [0, jitter].

@@ -19,6 +19,8 @@ pub enum AccessSpec {
     SlottedAloha,
     /// Time-division: one slot per vehicle in a cycle.
     Tdma,
+    /// CSMA/CA with binary exponential back-off.
+    CsmaCa,
 }
 
 fn m0() -> ModemParams {
@@ -62,6 +64,18 @@ fn dm_slot() -> f64 {
 }
 fn dm_tdma_slots() -> u32 {
     1
+}
+fn dm_backoff_slot() -> f64 {
+    0.001
+}
+fn dm_difs() -> f64 {
+    0.003
+}
+fn dm_cw_min() -> u32 {
+    16
+}
+fn dm_cw_max() -> u32 {
+    1024
 }
 fn dm_arq_retries() -> u32 {
     3
@@ -149,6 +163,18 @@ pub struct ModemSpec {
     /// `tdma_slots`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tdma_slot: Option<u32>,
+    /// Back-off slot \[s\] (csma_ca only).
+    #[serde(default = "dm_backoff_slot")]
+    pub backoff_slot: f64,
+    /// Idle time before a back-off count resumes \[s\] (csma_ca only).
+    #[serde(default = "dm_difs")]
+    pub difs: f64,
+    /// Smallest contention window \[slots\] (csma_ca only).
+    #[serde(default = "dm_cw_min")]
+    pub cw_min: u32,
+    /// Largest contention window \[slots\] (csma_ca only).
+    #[serde(default = "dm_cw_max")]
+    pub cw_max: u32,
     /// Retransmissions of an unacknowledged unicast frame before giving up.
     #[serde(default = "dm_arq_retries")]
     pub arq_retries: u32,
@@ -202,6 +228,13 @@ impl ModemSpec {
                 slots: self.tdma_slots,
                 own: self.tdma_slot,
             },
+            AccessSpec::CsmaCa => Access::CsmaCa {
+                threshold: self.cs_threshold,
+                slot: self.backoff_slot,
+                difs: self.difs,
+                cw_min: self.cw_min,
+                cw_max: self.cw_max,
+            },
         }
     }
 
@@ -241,6 +274,10 @@ impl ModemSpec {
             clock_drift_ppm: 0.0,
             tdma_slots: dm_tdma_slots(),
             tdma_slot: None,
+            backoff_slot: dm_backoff_slot(),
+            difs: dm_difs(),
+            cw_min: dm_cw_min(),
+            cw_max: dm_cw_max(),
             arq_retries: dm_arq_retries(),
             ack_timeout: dm_ack_timeout(),
         }

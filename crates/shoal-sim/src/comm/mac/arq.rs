@@ -2,8 +2,8 @@
 //! (`OutFrame { to: Some(v), ack: true, .. }`) stays the vehicle's one outstanding frame until
 //! the destination's acknowledgement arrives or its retries are used up; the frames handed
 //! over meanwhile wait behind it. The destination acknowledges every copy it decodes — an
-//! acknowledgement is a header-only frame with its own airtime, access and collisions, sent
-//! at the front of the queue of the modem that heard the frame — and hands a frame to its
+//! acknowledgement is a header-only frame with its own airtime and collisions, sent on all of
+//! its modems at the front of their queues — and hands a frame to its
 //! behaviour once: a retransmission of a frame it already has (its acknowledgement was lost)
 //! is acknowledged again and dropped (duplicate suppression by the sender's sequence number).
 //!
@@ -74,8 +74,6 @@ pub(in crate::comm) struct AckDue {
     pub(in crate::comm) to: u32,
     /// Its frame's sequence number.
     pub(in crate::comm) seq: u32,
-    /// The modem that heard the frame (the acknowledgement leaves by it).
-    pub(in crate::comm) modem: usize,
     /// When the frame ended \[s\].
     pub(in crate::comm) ready: f64,
 }
@@ -94,6 +92,9 @@ pub(in crate::comm) struct LinkState {
     seen: Vec<(u32, u32)>,
     /// Outcomes since the behaviour or agent last looked.
     pub(in crate::comm) events: Vec<FrameEvent>,
+    /// For the medium access of the outstanding frames' modems (`None`: all): whether each
+    /// was acknowledged or timed out, since the transmit phase last looked.
+    pub(in crate::comm) feedback: Vec<(Option<usize>, bool)>,
 }
 
 impl Link {
@@ -105,9 +106,12 @@ impl Link {
     /// Whether the transmit phase has work for this vehicle: an outstanding frame to time
     /// out, frames waiting behind it, or acknowledgements to send.
     pub(in crate::comm) fn busy(&self) -> bool {
-        self.0
-            .as_ref()
-            .is_some_and(|s| s.pending.is_some() || !s.waiting.is_empty() || !s.acks.is_empty())
+        self.0.as_ref().is_some_and(|s| {
+            s.pending.is_some()
+                || !s.waiting.is_empty()
+                || !s.acks.is_empty()
+                || !s.feedback.is_empty()
+        })
     }
 
     /// Outcomes of this vehicle's acknowledged frames since they were last taken.
@@ -150,6 +154,7 @@ impl LinkState {
             return false;
         }
         let p = self.pending.take().expect("checked");
+        self.feedback.push((p.modem, true));
         self.events.push(p.event(t, FrameOutcome::Acknowledged));
         true
     }

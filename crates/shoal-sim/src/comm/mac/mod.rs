@@ -12,6 +12,10 @@
 //! | carrier sense | `carrier_sense.rs` | send if the vehicle's photodiodes receive less than the threshold, else a random [`Decision::Backoff`] |
 //! | slotted ALOHA | `slotted_aloha.rs` | send on a slot boundary of the vehicle's own (drifting) clock, else wait for the next one ([`Decision::At`]) |
 //! | TDMA | `tdma.rs` | send at the start of the vehicle's own slot of the cycle, else wait for it |
+//! | CSMA/CA | `csma_ca.rs` | count a random back-off down over idle slots after a DIFS of idle channel, then send; the window doubles when an acknowledgement does not come ([`MediumAccess::feedback`]) |
+//!
+//! Acknowledgements bypass the protocol (sent as soon as the modem is free, like 802.11's
+//! after SIFS) unless it says they wait ([`MediumAccess::acks_wait`]: the slotted ones).
 //!
 //! Adding a protocol is a file here (its [`MediumAccess`]), a line in [`build`], its variant
 //! of [`Access`] with its world-file fields (`shoal_world::spec::ModemSpec`, checked on load)
@@ -20,9 +24,11 @@
 mod aloha;
 mod arq;
 mod carrier_sense;
+mod csma_ca;
 mod slotted_aloha;
 mod tdma;
 
+use crate::rng::VehicleRng;
 pub(super) use arq::{AckDue, Pending};
 pub use arq::{FrameEvent, FrameOutcome, Link};
 use shoal_world::access::{Access, LinkParams};
@@ -41,6 +47,18 @@ pub(super) enum Decision {
     Backoff(f64),
 }
 
+/// What a protocol keeps per modem between its decisions.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct AccessState {
+    /// Back-off stage (CSMA/CA: the window is `cw_min · 2^stage`).
+    pub(super) stage: u32,
+    /// Back-off slots still to count down, once drawn.
+    pub(super) counter: Option<u32>,
+    /// Where the idle slots begin (CSMA/CA: a DIFS after the channel last fell idle), kept
+    /// for when the frame that ended it is no longer on record \[s\].
+    pub(super) anchor: Option<f64>,
+}
+
 /// What a protocol may look at when it decides.
 pub(super) struct Ctx<'a> {
     /// Now \[s\].
@@ -52,13 +70,37 @@ pub(super) struct Ctx<'a> {
     /// Whether the optical power the vehicle's photodiodes receive now exceeds this \[W\]
     /// (from the frames of other vehicles on the air).
     pub(super) busy: &'a mut dyn FnMut(f64) -> bool,
+    /// With this busy threshold \[W\]: `None` if the channel is busy now, else since when it
+    /// has been idle \[s\] (the end of the last frame heard above it, the vehicle's own
+    /// included; −∞ if none).
+    pub(super) idle_since: &'a mut dyn FnMut(f64) -> Option<f64>,
+    /// The modem's state.
+    pub(super) state: &'a mut AccessState,
+    /// The vehicle's random stream for the medium.
+    pub(super) rng: &'a mut VehicleRng,
 }
 
-/// A medium-access protocol of a modem (shared by the modems of a group: its state lives in
-/// the decision's context, not in it).
+/// A medium-access protocol of a modem (shared by the modems of a group: its per-modem state
+/// is an [`AccessState`] in the decision's context, not in it).
 pub(super) trait MediumAccess: Send + Sync + std::fmt::Debug {
     /// What to do with the frame at the head of the queue at `ctx.t`.
     fn decide(&self, ctx: &mut Ctx<'_>) -> Decision;
+
+    /// A unicast frame sent with acknowledgement was acknowledged (`true`) or its wait ran
+    /// out (`false`).
+    fn feedback(&self, _state: &mut AccessState, _acknowledged: bool) {}
+
+    /// Whether acknowledgements wait for the protocol like any frame (slotted protocols)
+    /// instead of leaving as soon as the modem is free.
+    fn acks_wait(&self) -> bool {
+        false
+    }
+
+    /// How far back the protocol looks at frames that ended (`Ctx::idle_since`) \[s\]: the
+    /// medium keeps them that long.
+    fn memory(&self) -> f64 {
+        0.0
+    }
 }
 
 /// The link layer of one modem: its medium access and its retries.
@@ -94,6 +136,19 @@ fn access(a: &Access) -> Arc<dyn MediumAccess> {
         }),
         Access::SlottedAloha { slot, .. } => Arc::new(slotted_aloha::SlottedAloha { slot }),
         Access::Tdma { slot, slots, own } => Arc::new(tdma::Tdma { slot, slots, own }),
+        Access::CsmaCa {
+            threshold,
+            slot,
+            difs,
+            cw_min,
+            cw_max,
+        } => Arc::new(csma_ca::CsmaCa {
+            threshold,
+            slot,
+            difs,
+            cw_min,
+            cw_max,
+        }),
     }
 }
 

@@ -19,4 +19,8 @@ impl MediumAccess for SlottedAloha {
         let (b, now) = next_boundary(ctx.t, self.slot / ctx.clock_rate, 0.0);
         if now { Decision::Send } else { Decision::At(b) }
     }
+
+    fn acks_wait(&self) -> bool {
+        true
+    }
 }

@@ -22,4 +22,8 @@ impl MediumAccess for Tdma {
         let (b, now) = next_boundary(ctx.t, cycle, self.slot * f64::from(own));
         if now { Decision::Send } else { Decision::At(b) }
     }
+
+    fn acks_wait(&self) -> bool {
+        true
+    }
 }
