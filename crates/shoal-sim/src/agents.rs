@@ -339,7 +339,7 @@ impl Sim {
                     t,
                     sensors: v.sensors.clone(),
                     position: grant_position.then_some(v.physics.state.rigid.position),
-                    frames: std::mem::take(&mut inbox.0),
+                    frames: std::mem::take(&mut inbox.frames),
                     fallback: ext.fallback,
                 });
             }

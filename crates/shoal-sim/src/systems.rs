@@ -7,7 +7,7 @@
 
 use crate::behaviour::{Behave, BehaviourIo};
 use crate::comm::{
-    Inbox, Link, Medium, Outbox, comm_deliver_system, comm_snapshot_system, comm_transmit_system,
+    Inbox, Medium, Outbox, comm_deliver_system, comm_snapshot_system, comm_transmit_system,
 };
 use crate::components::*;
 use crate::connectivity::connectivity_system;
@@ -148,7 +148,7 @@ pub fn behaviour_system(
     clock: Res<Clock>,
     par: Res<Parallel>,
     mut fleet: ResMut<Fleet>,
-    mut q: Query<(&VehicleId, &mut Behave, &mut Inbox, &mut Outbox, &mut Link)>,
+    mut q: Query<(&VehicleId, &mut Behave, &mut Inbox, &mut Outbox)>,
 ) {
     let step = clock.step;
     let t = clock.t();
@@ -166,7 +166,7 @@ pub fn behaviour_system(
     par.for_each(
         Loop::Behaviour,
         &mut items,
-        |((id, behave, inbox, outbox, link), v)| {
+        |((id, behave, inbox, outbox), v)| {
             let b = &mut **behave;
             // The outbox is marked changed only when the behaviour hands a frame over: the
             // medium visits those vehicles alone.
@@ -177,8 +177,8 @@ pub fn behaviour_system(
                 id: id.0,
                 period: b.every as f64 * dt,
                 sensors: &v.sensors,
-                inbox: &inbox.0,
-                outcomes: link.events(),
+                inbox: &inbox.frames,
+                outcomes: &inbox.outcomes,
                 setpoints: &mut v.control.setpoints,
                 modems: &v.model.params.modems,
                 rng: &mut b.rng,
@@ -188,9 +188,8 @@ pub fn behaviour_system(
             if out.0.len() != before {
                 outbox.set_changed();
             }
-            inbox.0.clear();
-            if !link.events().is_empty() {
-                link.clear_events();
+            if !inbox.is_empty() {
+                inbox.clear();
             }
         },
     );
@@ -199,8 +198,8 @@ pub fn behaviour_system(
 /// Vehicles without a behaviour or agent drop what they receive each step.
 pub fn inbox_clear_system(mut q: Query<&mut Inbox, (Without<Behave>, Without<External>)>) {
     for mut i in &mut q {
-        if !i.0.is_empty() {
-            i.0.clear();
+        if !i.is_empty() {
+            i.clear();
         }
     }
 }

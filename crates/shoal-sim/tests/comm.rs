@@ -624,7 +624,7 @@ fn beaconing_swarm_receptions_are_pinned_on_one_and_two_threads() {
             let mut got: Vec<_> = w
                 .query::<(&VehicleId, &Inbox)>()
                 .iter(w)
-                .flat_map(|(id, inbox)| inbox.0.iter().map(move |r| (id.0, r)))
+                .flat_map(|(id, inbox)| inbox.frames.iter().map(move |r| (id.0, r)))
                 .map(|(id, r)| {
                     let modem = r.modem as u64;
                     (id, r.from, r.seq, modem, r.power.to_bits(), r.snr.to_bits())

@@ -453,20 +453,20 @@ impl Sim {
             .world_mut()
             .query::<(&VehicleId, &mut Inbox, Option<&External>)>();
         for (id, mut inbox, ext) in q.iter_mut(self.world_mut()) {
-            if inbox.0.is_empty() {
+            if inbox.frames.is_empty() {
                 continue;
             }
             if let Some(out) = out.as_deref_mut() {
                 out.extend(
                     inbox
-                        .0
+                        .frames
                         .iter()
                         .filter(|r| r.t > since)
                         .map(|r| (id.0, r.clone())),
                 );
             }
             if drain_agents && ext.is_some() {
-                inbox.0.clear();
+                inbox.frames.clear();
             }
         }
         if let Some(out) = out {

@@ -1,6 +1,8 @@
 //! What a vehicle's modems hold: frames handed over for sending ([`OutFrame`], [`Outbox`]),
-//! frames received ([`Received`], [`Inbox`]), the per-modem transmit queues ([`ModemPort`],
-//! [`Modems`]) and the vehicle's random stream for the medium ([`CommRng`], [`comm_rng`]).
+//! frames received and the outcomes of its acknowledged frames ([`Received`], [`FrameEvent`],
+//! [`Inbox`]), the per-modem transmit queues ([`ModemPort`], [`Modems`]) with the medium
+//! access's state ([`AccessState`]), and the vehicle's random stream for the medium
+//! ([`CommRng`], [`comm_rng`]).
 
 use crate::rng::VehicleRng;
 use bevy_ecs::prelude::*;
@@ -96,9 +98,57 @@ pub struct Received {
     pub unicast: bool,
 }
 
-/// Frames received since the vehicle's behaviour last looked.
+/// What became of a unicast frame sent with acknowledgement.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FrameOutcome {
+    /// The destination acknowledged it.
+    Acknowledged,
+    /// No acknowledgement came after the last retransmission (or the frame never went on the
+    /// air: its queue was full; then `transmissions` is 0).
+    GaveUp,
+}
+
+/// The end of one acknowledged-unicast frame at its sender.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FrameEvent {
+    /// When it ended: the acknowledgement decoded, or the last wait timed out \[s\].
+    pub t: f64,
+    /// Destination vehicle.
+    pub to: u32,
+    /// The sender's sequence number of the frame.
+    pub seq: u32,
+    /// Its payload.
+    pub payload: Arc<[u8]>,
+    /// When it was handed over \[s\].
+    pub sent: f64,
+    /// Times it went on the air (1 + retransmissions).
+    pub transmissions: u32,
+    /// Acknowledged or given up.
+    pub outcome: FrameOutcome,
+}
+
+/// What reached the vehicle since its behaviour or agent last looked: frames received, and
+/// what became of its own frames sent with acknowledgement.
 #[derive(Component, Clone, Debug, Default)]
-pub struct Inbox(pub Vec<Received>);
+pub struct Inbox {
+    /// Frames received, in order of arrival.
+    pub frames: Vec<Received>,
+    /// Outcomes of its acknowledged unicasts, in order.
+    pub outcomes: Vec<FrameEvent>,
+}
+
+impl Inbox {
+    /// Forgets everything (once the behaviour or agent has seen it).
+    pub fn clear(&mut self) {
+        self.frames.clear();
+        self.outcomes.clear();
+    }
+
+    /// Whether nothing is waiting.
+    pub fn is_empty(&self) -> bool {
+        self.frames.is_empty() && self.outcomes.is_empty()
+    }
+}
 
 /// A frame in a modem's transmit queue.
 #[derive(Clone, Debug)]
@@ -137,7 +187,7 @@ pub struct Modems {
     pub(super) queued: u32,
     /// What the medium-access protocol keeps between decisions: one per vehicle, whose
     /// modems contend as one station (the copies of a frame go out together).
-    pub(super) access: super::mac::AccessState,
+    pub(super) access: AccessState,
 }
 
 impl Modems {
@@ -155,6 +205,18 @@ impl Modems {
     pub fn queued(&self) -> usize {
         self.queued as usize
     }
+}
+
+/// What a medium-access protocol keeps per vehicle between its decisions.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct AccessState {
+    /// Back-off stage (CSMA/CA: the window is `cw_min · 2^stage`).
+    pub(super) stage: u32,
+    /// Back-off slots still to count down, once drawn.
+    pub(super) counter: Option<u32>,
+    /// Where the idle slots begin (CSMA/CA: a DIFS after the channel last fell idle), kept
+    /// for when the frame that ended it is no longer on record \[s\].
+    pub(super) anchor: Option<f64>,
 }
 
 /// The vehicle's own random stream for the medium (back-offs, reception draws).

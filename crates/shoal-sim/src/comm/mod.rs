@@ -46,11 +46,14 @@ mod modem_lanes;
 mod stats;
 mod systems;
 
-pub use frames::{CommRng, Inbox, Kind, ModemPort, Modems, OutFrame, Outbox, Received, comm_rng};
+pub use frames::{
+    AccessState, CommRng, FrameEvent, FrameOutcome, Inbox, Kind, ModemPort, Modems, OutFrame,
+    Outbox, Received, comm_rng,
+};
 pub use grid::Grid;
 pub use ledger::{Grouped, Ledger};
 pub use links::{LinkEvent, LinkMap, LinkStats, Outcome};
-pub use mac::{FrameEvent, FrameOutcome, Link};
+pub use mac::Link;
 pub use medium::{GRID_SKIN, Medium, ModemConsts, Transmission, cutoff_range, received_power};
 pub use stats::{CommStats, DIST_BIN, DIST_BINS, Heard, LAT_BINS, latency_bin, latency_bin_centre};
 pub use systems::{comm_deliver_system, comm_snapshot_system, comm_transmit_system};

@@ -3,10 +3,12 @@
 //! reception decided at its receiver).
 
 use super::ending::{ByVehicle, Ended, candidates, own_transmissions};
-use super::frames::{CommRng, Inbox, Kind, Modems, OutFrame, Outbox, Queued, Received};
+use super::frames::{
+    CommRng, FrameOutcome, Inbox, Kind, Modems, OutFrame, Outbox, Queued, Received,
+};
 use super::ledger::Ledger;
 use super::links::Outcome;
-use super::mac::{AckDue, Ctx, Decision, FrameOutcome, Link, ModemLink, Pending};
+use super::mac::{AckDue, Ctx, Decision, Link, ModemLink, Pending};
 use super::medium::{Logical, Medium, Transmission, received_power};
 use super::modem_lanes::ModemLanes;
 use super::stats::{CommStats, DIST_BIN, DIST_BINS, Tally, latency_bin};
@@ -177,6 +179,7 @@ type Sender = (
     &'static mut CommRng,
     &'static mut CommStats,
     &'static mut Link,
+    &'static mut Inbox,
 );
 
 /// The vehicles whose outbox changed since the transmit phase last ran.
@@ -246,7 +249,13 @@ fn link_layer(
     t: f64,
     params: &[ModemParams],
     links: &[ModemLink],
-    (outbox, modems, stats, link): (&mut Outbox, &mut Modems, &mut CommStats, &mut Link),
+    (outbox, modems, stats, link, inbox): (
+        &mut Outbox,
+        &mut Modems,
+        &mut CommStats,
+        &mut Link,
+        &mut Inbox,
+    ),
 ) {
     let reliable = |f: &OutFrame| f.ack && f.to.is_some();
     if !link.busy() && !outbox.0.iter().any(reliable) {
@@ -326,7 +335,7 @@ fn link_layer(
         } else {
             stats.gave_up += 1;
             let p = s.pending.take().expect("checked");
-            s.events.push(p.event(t, FrameOutcome::GaveUp));
+            inbox.outcomes.push(p.event(t, FrameOutcome::GaveUp));
         }
     }
     // Frames wait behind the outstanding one up to the first modem's queue length.
@@ -346,7 +355,7 @@ fn link_layer(
                     transmissions: 0,
                     deadline: t,
                 };
-                s.events.push(refused.event(t, FrameOutcome::GaveUp));
+                inbox.outcomes.push(refused.event(t, FrameOutcome::GaveUp));
             }
             continue;
         }
@@ -396,7 +405,7 @@ fn link_layer(
                 transmissions: 0,
                 deadline: t,
             };
-            s.events.push(refused.event(t, FrameOutcome::GaveUp));
+            inbox.outcomes.push(refused.event(t, FrameOutcome::GaveUp));
         } else {
             stats.sent += 1;
             s.pending = Some(Pending {
@@ -446,11 +455,16 @@ pub fn comm_transmit_system(
     items.sort_unstable_by_key(|it| it.0.0);
     let mut heap = BinaryHeap::new();
     let kinds = &medium.kinds;
-    for (id, outbox, modems, _, stats, link) in &mut items {
+    for (id, outbox, modems, _, stats, link, inbox) in &mut items {
         let params = &kinds[id.0 as usize].params.modems;
         let links = &medium.access[id.0 as usize];
         let modems = &mut **modems;
-        link_layer(clock.t(), params, links, (outbox, modems, stats, link));
+        link_layer(
+            clock.t(),
+            params,
+            links,
+            (outbox, modems, stats, link, inbox),
+        );
         for (k, port) in modems.ports.iter().enumerate() {
             if let Some(front) = port.queue.front() {
                 let start = front.ready.max(port.busy_until).max(clock.t());
@@ -473,7 +487,7 @@ pub fn comm_transmit_system(
     let mut backoffs: HashMap<(u32, u64), f64> = HashMap::new();
     let mut decided: HashMap<(u32, u32, u64), Decision> = HashMap::new();
     while let Some(ev) = heap.pop() {
-        let (_, _, modems, rng, stats, link) = &mut items[index[&ev.vehicle]];
+        let (_, _, modems, rng, stats, link, _) = &mut items[index[&ev.vehicle]];
         let kind = &m.kinds[ev.vehicle as usize];
         let params = &kind.params.modems[ev.modem];
         let (pos, att) = m.poses[ev.vehicle as usize];
@@ -780,13 +794,15 @@ impl Mail<'_> {
                 }
             }
             Kind::Ack { to, seq } if to == me => {
-                self.link.state().acknowledged(f.tx, seq, f.end);
+                if let Some(e) = self.link.state().acknowledged(f.tx, seq, f.end) {
+                    self.inbox.outcomes.push(e);
+                }
                 false
             }
             Kind::Unicast { .. } | Kind::Ack { .. } => false,
         };
         if new {
-            self.inbox.0.push(Received {
+            self.inbox.frames.push(Received {
                 t: f.end,
                 from: f.tx,
                 seq: f.seq,

@@ -8,40 +8,12 @@
 //! is acknowledged again and dropped (duplicate suppression by the sender's sequence number).
 //!
 //! What became of each such frame — acknowledged, or given up after its retries — is a
-//! [`FrameEvent`] for the sender's behaviour or agent.
+//! [`FrameEvent`] in the sender's inbox, for its behaviour or agent.
 
-use super::super::frames::OutFrame;
+use super::super::frames::{FrameEvent, FrameOutcome, OutFrame};
 use bevy_ecs::prelude::Component;
 use std::collections::VecDeque;
 use std::sync::Arc;
-
-/// What became of a unicast frame sent with acknowledgement.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum FrameOutcome {
-    /// The destination acknowledged it.
-    Acknowledged,
-    /// No acknowledgement came after the last retransmission.
-    GaveUp,
-}
-
-/// The end of one acknowledged-unicast frame at its sender.
-#[derive(Clone, Debug, PartialEq)]
-pub struct FrameEvent {
-    /// When it ended: the acknowledgement decoded, or the last wait timed out \[s\].
-    pub t: f64,
-    /// Destination vehicle.
-    pub to: u32,
-    /// The sender's sequence number of the frame.
-    pub seq: u32,
-    /// Its payload.
-    pub payload: Arc<[u8]>,
-    /// When it was handed over \[s\].
-    pub sent: f64,
-    /// Times it went on the air (1 + retransmissions).
-    pub transmissions: u32,
-    /// Acknowledged or given up.
-    pub outcome: FrameOutcome,
-}
 
 /// A vehicle's link-layer state: empty (no allocation) until it sends or receives a frame
 /// with acknowledgement.
@@ -90,8 +62,6 @@ pub(in crate::comm) struct LinkState {
     /// The last sequence number delivered from each sender that asked for acknowledgements
     /// (sorted by sender).
     seen: Vec<(u32, u32)>,
-    /// Outcomes since the behaviour or agent last looked.
-    pub(in crate::comm) events: Vec<FrameEvent>,
     /// For the medium access of the outstanding frames' modems (`None`: all): whether each
     /// was acknowledged or timed out, since the transmit phase last looked.
     pub(in crate::comm) feedback: Vec<(Option<usize>, bool)>,
@@ -113,18 +83,6 @@ impl Link {
                 || !s.feedback.is_empty()
         })
     }
-
-    /// Outcomes of this vehicle's acknowledged frames since they were last taken.
-    pub fn events(&self) -> &[FrameEvent] {
-        self.0.as_ref().map_or(&[], |s| &s.events)
-    }
-
-    /// Forgets the outcomes (once the behaviour or agent has seen them).
-    pub fn clear_events(&mut self) {
-        if let Some(s) = &mut self.0 {
-            s.events.clear();
-        }
-    }
 }
 
 impl LinkState {
@@ -145,18 +103,20 @@ impl LinkState {
     }
 
     /// The acknowledgement of frame `seq` from `from` decoded at `t` \[s\]: ends the
-    /// outstanding frame if it is that one. Returns whether it did.
-    pub(in crate::comm) fn acknowledged(&mut self, from: u32, seq: u32, t: f64) -> bool {
-        let Some(p) = &self.pending else {
-            return false;
-        };
+    /// outstanding frame if it is that one, with its outcome.
+    pub(in crate::comm) fn acknowledged(
+        &mut self,
+        from: u32,
+        seq: u32,
+        t: f64,
+    ) -> Option<FrameEvent> {
+        let p = self.pending.as_ref()?;
         if p.seq != seq || p.to != from {
-            return false;
+            return None;
         }
-        let p = self.pending.take().expect("checked");
+        let p = self.pending.take()?;
         self.feedback.push((p.modem, true));
-        self.events.push(p.event(t, FrameOutcome::Acknowledged));
-        true
+        Some(p.event(t, FrameOutcome::Acknowledged))
     }
 }
 
@@ -209,17 +169,19 @@ mod tests {
             }),
             ..Default::default()
         };
-        assert!(!s.acknowledged(7, 4, 0.9), "another sequence number");
-        assert!(!s.acknowledged(6, 3, 0.9), "another vehicle");
-        assert!(s.events.is_empty());
-        assert!(s.acknowledged(7, 3, 0.9));
+        assert!(
+            s.acknowledged(7, 4, 0.9).is_none(),
+            "another sequence number"
+        );
+        assert!(s.acknowledged(6, 3, 0.9).is_none(), "another vehicle");
+        assert!(s.pending.is_some());
+        let e = s.acknowledged(7, 3, 0.9).expect("its acknowledgement");
         assert!(s.pending.is_none());
-        assert_eq!(s.events.len(), 1);
-        let e = &s.events[0];
         assert_eq!(
             (e.to, e.seq, e.transmissions, e.outcome, e.sent, e.t),
             (7, 3, 2, FrameOutcome::Acknowledged, 0.5, 0.9)
         );
-        assert!(!s.acknowledged(7, 3, 1.0), "already ended");
+        assert_eq!(s.feedback, vec![(None, true)]);
+        assert!(s.acknowledged(7, 3, 1.0).is_none(), "already ended");
     }
 }

@@ -28,9 +28,10 @@ mod csma_ca;
 mod slotted_aloha;
 mod tdma;
 
+use super::frames::AccessState;
 use crate::rng::VehicleRng;
+pub use arq::Link;
 pub(super) use arq::{AckDue, Pending};
-pub use arq::{FrameEvent, FrameOutcome, Link};
 use shoal_world::access::{Access, LinkParams};
 use std::sync::Arc;
 
@@ -45,18 +46,6 @@ pub(super) enum Decision {
     /// drawn from the vehicle's stream — one draw for all of the vehicle's modems that defer
     /// at the same moment, so that the copies of a frame stay in sync.
     Backoff(f64),
-}
-
-/// What a protocol keeps per modem between its decisions.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct AccessState {
-    /// Back-off stage (CSMA/CA: the window is `cw_min · 2^stage`).
-    pub(super) stage: u32,
-    /// Back-off slots still to count down, once drawn.
-    pub(super) counter: Option<u32>,
-    /// Where the idle slots begin (CSMA/CA: a DIFS after the channel last fell idle), kept
-    /// for when the frame that ended it is no longer on record \[s\].
-    pub(super) anchor: Option<f64>,
 }
 
 /// What a protocol may look at when it decides.
