@@ -199,3 +199,39 @@ fn acknowledgements_are_frames_on_the_air() {
         assert!((both - 1e-9..both + 0.02).contains(&l), "{e:?}");
     }
 }
+
+/// `worlds/reliable_gossip.toml`: a value flooded by acknowledged unicasts reaches all 65
+/// vehicles, each learning it once from a neighbour one hop further from the origin; every
+/// vehicle but the origin was served by an acknowledged unicast or passed the value on, and
+/// the senders' acknowledged frames are the link layer's.
+#[test]
+fn reliable_gossip_reaches_everyone_by_acknowledged_unicasts() {
+    let (desc, sim) = support::world::run_world_file("reliable_gossip");
+    let n = desc.vehicles.len();
+    assert_eq!(n, 65);
+    let report = |i: usize, k: &str| {
+        sim.vehicle(i)
+            .behaviour
+            .iter()
+            .find(|(name, _)| *name == k)
+            .map(|(_, v)| *v)
+            .unwrap()
+    };
+    let start = 2.0;
+    for i in 0..n {
+        let t = report(i, "learned_at");
+        assert!(
+            t >= start && t < desc.duration,
+            "vehicle {i} learned at {t}"
+        );
+        let hops = report(i, "hops");
+        assert_eq!(hops == 0.0, i == 0, "vehicle {i}: {hops} hops");
+    }
+    let acked: f64 = (0..n).map(|i| report(i, "acknowledged")).sum();
+    let unicasts: f64 = (0..n).map(|i| report(i, "unicasts")).sum();
+    assert!(acked >= (n - 1) as f64 / 2.0, "{acked} acknowledged");
+    assert!(unicasts >= acked);
+    // Every acknowledgement the behaviours saw is one the medium counted.
+    let counted: u64 = sim.medium().ack_latency_histogram().iter().sum();
+    assert_eq!(counted as f64, acked);
+}

@@ -96,6 +96,13 @@ pub struct CommSummary {
     pub connectivity: Vec<ConnSample>,
     /// Flooding result, if the world runs the gossip behaviour.
     pub gossip: Option<GossipSummary>,
+    /// The link layer: acknowledged unicasts and what became of them (`None` when no frame
+    /// asked for an acknowledgement).
+    pub link_layer: Option<LinkLayerSummary>,
+    /// Time the LEDs were on, all modems of all vehicles \[s\].
+    pub led_on_s: f64,
+    /// Optical energy the LEDs sent \[J\].
+    pub led_energy_j: f64,
     /// Per vehicle.
     /// (written to `vehicles.csv`, not to summary.json, which stays small for any count)
     #[serde(skip)]
@@ -116,6 +123,49 @@ fn percentile(hist: &[u64], q: f64) -> Option<f64> {
         }
     }
     None
+}
+
+/// Unicast frames sent with acknowledgement, whole world.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct LinkLayerSummary {
+    /// Frames acknowledged.
+    pub acknowledged: u64,
+    /// Frames given up after their last retransmission (or refused at a full queue).
+    pub gave_up: u64,
+    /// acknowledged / (acknowledged + gave_up).
+    pub delivery_after_retries: f64,
+    /// Retransmissions.
+    pub retransmissions: u64,
+    /// Acknowledgement frames sent.
+    pub acks_sent: u64,
+    /// Median, 95th and 99th percentile of the hand-over-to-acknowledgement latency \[s\]
+    /// (centres of histogram bins: ±6 %).
+    pub latency_p50_s: Option<f64>,
+    /// 95th percentile \[s\].
+    pub latency_p95_s: Option<f64>,
+    /// 99th percentile \[s\].
+    pub latency_p99_s: Option<f64>,
+}
+
+/// The link-layer section: `None` when no frame asked for an acknowledgement.
+fn link_layer(sim: &Sim, snaps: &[VehicleView<'_>]) -> Option<LinkLayerSummary> {
+    let hist = sim.medium().ack_latency_histogram();
+    let acknowledged: u64 = hist.iter().sum();
+    let gave_up: u64 = snaps.iter().map(|s| s.comm.gave_up).sum();
+    let acks_sent: u64 = snaps.iter().map(|s| s.comm.acks_sent).sum();
+    if acknowledged + gave_up + acks_sent == 0 {
+        return None;
+    }
+    Some(LinkLayerSummary {
+        acknowledged,
+        gave_up,
+        delivery_after_retries: acknowledged as f64 / (acknowledged + gave_up).max(1) as f64,
+        retransmissions: snaps.iter().map(|s| s.comm.retransmissions).sum(),
+        acks_sent,
+        latency_p50_s: percentile(hist, 0.5),
+        latency_p95_s: percentile(hist, 0.95),
+        latency_p99_s: percentile(hist, 0.99),
+    })
 }
 
 /// The communication section, or `None` when no vehicle sent a frame.
@@ -162,6 +212,9 @@ pub fn summarize(desc: &WorldDesc, sim: &Sim, snaps: &[VehicleView<'_>]) -> Opti
             .collect(),
         connectivity: sim.connectivity().samples.clone(),
         gossip,
+        link_layer: link_layer(sim, snaps),
+        led_on_s: snaps.iter().map(|s| s.comm.led_on_s).sum(),
+        led_energy_j: snaps.iter().map(|s| s.comm.led_energy_j).sum(),
         vehicles: snaps
             .iter()
             .map(|s| VehicleComm {
@@ -178,7 +231,12 @@ fn gossip_summary(desc: &WorldDesc, snaps: &[VehicleView<'_>]) -> Option<GossipS
     let members: Vec<&VehicleView<'_>> = snaps
         .iter()
         .zip(&desc.vehicles)
-        .filter(|(_, d)| matches!(d.behaviour, Some(BehaviourSpec::Gossip { .. })))
+        .filter(|(_, d)| {
+            matches!(
+                d.behaviour,
+                Some(BehaviourSpec::Gossip { .. } | BehaviourSpec::ReliableGossip { .. })
+            )
+        })
         .map(|(s, _)| s)
         .collect();
     if members.is_empty() {
@@ -194,11 +252,18 @@ fn gossip_summary(desc: &WorldDesc, snaps: &[VehicleView<'_>]) -> Option<GossipS
         .vehicles
         .iter()
         .find_map(|d| match d.behaviour {
-            Some(BehaviourSpec::Gossip {
-                origin: true,
-                start,
-                ..
-            }) => Some(start),
+            Some(
+                BehaviourSpec::Gossip {
+                    origin: true,
+                    start,
+                    ..
+                }
+                | BehaviourSpec::ReliableGossip {
+                    origin: true,
+                    start,
+                    ..
+                },
+            ) => Some(start),
             _ => None,
         })
         .unwrap_or(f64::NAN);

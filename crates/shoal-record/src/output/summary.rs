@@ -350,6 +350,24 @@ impl Summary {
                     p * 1e3
                 ));
             }
+            if let Some(l) = &c.link_layer {
+                let ms = |x: Option<f64>| x.map_or("—".into(), |v| format!("{:.0}", v * 1e3));
+                s.push_str(&format!(
+                    "  link layer: {} unicasts acknowledged, {} given up ({:.1} % delivered after retries); {} retransmissions, {} acknowledgements sent; latency to acknowledgement p50/p95/p99 ≈ {}/{}/{} ms\n",
+                    l.acknowledged,
+                    l.gave_up,
+                    100.0 * l.delivery_after_retries,
+                    l.retransmissions,
+                    l.acks_sent,
+                    ms(l.latency_p50_s),
+                    ms(l.latency_p95_s),
+                    ms(l.latency_p99_s)
+                ));
+            }
+            s.push_str(&format!(
+                "  LEDs on {:.1} s in all, {:.3} J of light\n",
+                c.led_on_s, c.led_energy_j
+            ));
             if let (Some(last), Some(max)) = (
                 c.connectivity.last(),
                 c.connectivity.iter().map(|s| s.largest).max(),

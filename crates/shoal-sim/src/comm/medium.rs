@@ -149,6 +149,9 @@ pub struct Medium {
     pub(super) by_distance: Vec<(u64, u64)>,
     /// Latency histogram of deliveries (see [`LAT_BINS`]).
     pub(super) latency_hist: Vec<u64>,
+    /// Latency histogram of acknowledged unicasts, hand-over to acknowledgement (see
+    /// [`LAT_BINS`]).
+    pub(super) ack_latency_hist: Vec<u64>,
     /// Reception attempts by second of the run (entry `k`: frames that ended in
     /// `[k, k + 1)` s) and outcome (index [`super::Outcome::index`]).
     pub per_second: Vec<[u64; 5]>,
@@ -301,6 +304,7 @@ impl Medium {
             max_hull_radius,
             by_distance: vec![(0, 0); DIST_BINS],
             latency_hist: vec![0; LAT_BINS],
+            ack_latency_hist: vec![0; LAT_BINS],
             per_second: Vec::new(),
             log_links: false,
             receivers,
@@ -437,6 +441,12 @@ impl Medium {
     /// Latency histogram of deliveries (see [`LAT_BINS`]), whole world.
     pub fn latency_histogram(&self) -> Vec<u64> {
         self.latency_hist.clone()
+    }
+
+    /// Latency histogram of acknowledged unicasts, hand-over to acknowledgement (see
+    /// [`LAT_BINS`]), whole world: its total is the number of frames acknowledged.
+    pub fn ack_latency_histogram(&self) -> &[u64] {
+        &self.ack_latency_hist
     }
 
     /// Brings the spatial grid up to date with [`Medium::poses`], incrementally: the grid is

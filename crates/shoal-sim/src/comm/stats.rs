@@ -30,6 +30,10 @@ pub struct CommStats {
     pub retransmissions: u64,
     /// Unicast frames given up after their last retransmission.
     pub gave_up: u64,
+    /// Time its LEDs were on, summed over its modems \[s\].
+    pub led_on_s: f64,
+    /// Optical energy its LEDs sent \[J\].
+    pub led_energy_j: f64,
     /// Receptions, all senders together (complete once the ledger was folded:
     /// [`crate::sim::Sim::fold_comm`]; snapshots are).
     pub rx: LinkStats,
@@ -96,6 +100,8 @@ pub(super) struct Tally {
     pub(super) latency: [u64; LAT_BINS],
     /// Outcomes of frames ending in this second and the next, by [`Outcome::index`].
     pub(super) outcomes: [[u64; 5]; 2],
+    /// Acknowledged unicasts by latency, hand-over to acknowledgement ([`latency_bin`]).
+    pub(super) acknowledged: [u64; LAT_BINS],
 }
 
 impl Tally {
@@ -104,6 +110,7 @@ impl Tally {
             by_distance: [(0, 0); DIST_BINS],
             latency: [0; LAT_BINS],
             outcomes: [[0; 5]; 2],
+            acknowledged: [0; LAT_BINS],
         }
     }
 
@@ -113,6 +120,9 @@ impl Tally {
             *d += od;
         }
         for (a, b) in self.latency.iter_mut().zip(&o.latency) {
+            *a += b;
+        }
+        for (a, b) in self.acknowledged.iter_mut().zip(&o.acknowledged) {
             *a += b;
         }
         for (a, b) in self

@@ -564,8 +564,11 @@ pub fn comm_transmit_system(
         };
         modems.queued -= 1;
         let port = &mut modems.ports[ev.modem];
-        let end = ev.t + params.airtime(frame.payload.len());
+        let airtime = params.airtime(frame.payload.len());
+        let end = ev.t + airtime;
         port.busy_until = end;
+        stats.led_on_s += airtime;
+        stats.led_energy_j += params.led.power * airtime;
         if let Kind::Unicast { ack: true, .. } = frame.kind
             && let Some(p) = &mut link.state().pending
             && p.seq == frame.seq
@@ -688,6 +691,9 @@ fn add_tally(medium: &mut Medium, total: &Tally, second0: f64) {
     for (h, t) in medium.latency_hist.iter_mut().zip(&total.latency) {
         *h += t;
     }
+    for (h, t) in medium.ack_latency_hist.iter_mut().zip(&total.acknowledged) {
+        *h += t;
+    }
     for (s, c) in total.outcomes.iter().enumerate() {
         if c.iter().all(|k| *k == 0) {
             continue;
@@ -778,8 +784,15 @@ impl Mail<'_> {
     /// Frame `f` decoded at receiver `me` by `modem`: a broadcast, or a unicast for `me`
     /// that is not a retransmission already received, goes to the inbox; a unicast for `me`
     /// asking for acknowledgement is acknowledged (every copy); an acknowledgement for `me`
-    /// ends its outstanding frame; others' unicasts and acknowledgements are dropped.
-    fn decoded(&mut self, me: u32, f: &Transmission, (modem, power, snr): (usize, f64, f64)) {
+    /// ends its outstanding frame; others' unicasts and acknowledgements are dropped. Returns
+    /// the latency of the frame an acknowledgement ended (hand-over to acknowledgement) \[s\].
+    fn decoded(
+        &mut self,
+        me: u32,
+        f: &Transmission,
+        (modem, power, snr): (usize, f64, f64),
+    ) -> Option<f64> {
+        let mut acked = None;
         let new = match f.kind {
             Kind::Broadcast => true,
             Kind::Unicast { to, ack } if to == me => {
@@ -795,6 +808,7 @@ impl Mail<'_> {
             }
             Kind::Ack { to, seq } if to == me => {
                 if let Some(e) = self.link.state().acknowledged(f.tx, seq, f.end) {
+                    acked = Some(e.t - e.sent);
                     self.inbox.outcomes.push(e);
                 }
                 false
@@ -814,6 +828,7 @@ impl Mail<'_> {
                 unicast: f.kind != Kind::Broadcast,
             });
         }
+        acked
     }
 }
 
@@ -898,7 +913,9 @@ fn receive(
     if let Some(got) = got {
         tally.by_distance[bin].1 += 1;
         tally.latency[latency_bin(latency)] += 1;
-        mail.decoded(rx.me, f, got);
+        if let Some(l) = mail.decoded(rx.me, f, got) {
+            tally.acknowledged[latency_bin(l)] += 1;
+        }
     }
     best
 }

@@ -1,4 +1,4 @@
-//! Built-in behaviours (beacon, Poisson traffic, gossip, flock), checked against the vehicle that runs them.
+//! Built-in behaviours (beacon, Poisson traffic, gossip, reliable gossip, flock), checked against the vehicle that runs them.
 
 use super::validator::Validator;
 use crate::error::{FieldPath, ProblemKind};
@@ -71,6 +71,17 @@ pub(super) fn validate_behaviour(
                 Some(max_payload as f64),
             );
             v.field(&p.key("jitter"), *jitter);
+        }
+        BehaviourSpec::ReliableGossip { start, hello, .. } => {
+            v.field_with(&p.key("start"), *start, None, Some(duration));
+            v.field(&p.key("hello"), *hello);
+            if max_payload < 6 {
+                v.push(
+                    ProblemKind::Invalid,
+                    p,
+                    "reliable gossip frames need 6 bytes of payload".into(),
+                );
+            }
         }
         BehaviourSpec::Poisson {
             rate,

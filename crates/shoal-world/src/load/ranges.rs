@@ -131,6 +131,7 @@ pub const RANGES: &[FieldRange] = &[
     r("vehicles[].behaviour.payload_bytes", C(1.0), F("the modems' max_payload"), "bytes", "beacon and Poisson payload"),
     r("vehicles[].behaviour.jitter", C(0.0), C(1e6), "s", "random delay of each transmission"),
     r("vehicles[].behaviour.rate", C(1e-6), C(1e4), "1/s", "Poisson traffic: mean frames per second"),
+    r("vehicles[].behaviour.hello", C(1e-3), C(1e6), "s", "reliable gossip: between hellos"),
     r("vehicles[].behaviour.start", C(0.0), F("duration"), "s", "first gossip"),
     r("vehicles[].behaviour.repeats", C(1.0), C(1e4), "", "gossip repeats"),
     r("vehicles[].behaviour.interval", C(1e-3), C(1e6), "s", "between gossip repeats"),

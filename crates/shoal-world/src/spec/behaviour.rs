@@ -179,6 +179,21 @@ pub enum BehaviourSpec {
         #[serde(default = "d_jitter")]
         jitter: f64,
     },
+    /// Flooding of a value by acknowledged unicasts: every vehicle says hello every `hello`
+    /// seconds; one that knows the value hands it to each neighbour it has heard, one
+    /// unicast each, acknowledged and retried by the link layer. The origin learns it at
+    /// `start`.
+    ReliableGossip {
+        /// This group holds the origin.
+        #[serde(default)]
+        origin: bool,
+        /// Time the value appears at the origin \[s\].
+        #[serde(default = "d_gossip_start")]
+        start: f64,
+        /// Time between hellos \[s\].
+        #[serde(default = "d_hello")]
+        hello: f64,
+    },
     /// Flocking that keeps optical contact: every vehicle beacons its heading; it aligns with
     /// the headings it hears, turns towards the modem that hears the weakest neighbours
     /// (cohesion) and away from the strongest (separation), and pushes forward with `surge`.
@@ -203,6 +218,9 @@ pub enum BehaviourSpec {
 
 fn d_payload() -> usize {
     26
+}
+fn d_hello() -> f64 {
+    0.5
 }
 fn d_gossip_start() -> f64 {
     1.0

@@ -7,6 +7,10 @@
 //! across the swarm) and [`Flock`] (alignment, cohesion and separation from received headings
 //! and signal strengths: a flock that keeps optical contact).
 
+mod reliable_gossip;
+
+pub use reliable_gossip::ReliableGossip;
+
 use crate::comm::{FrameEvent, OutFrame, Received};
 use crate::rng::VehicleRng;
 use bevy_ecs::prelude::*;
@@ -151,6 +155,11 @@ pub fn build(spec: &BehaviourSpec, id_of: &dyn Fn(&str) -> Option<u32>) -> Box<d
             next: None,
             sent: 0,
         }),
+        BehaviourSpec::ReliableGossip {
+            origin,
+            start,
+            hello,
+        } => Box::new(ReliableGossip::new(origin, start, hello)),
         BehaviourSpec::Gossip {
             origin,
             start,
