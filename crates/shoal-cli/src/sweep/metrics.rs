@@ -98,6 +98,16 @@ pub const SCHEMA: &[&str] = &[
     "comm.gossip.mean_hops",
     "comm.gossip.mean_time_per_hop_s",
     "comm.gossip.informed_over_time[][]",
+    "comm.link_layer.acknowledged",
+    "comm.link_layer.gave_up",
+    "comm.link_layer.delivery_after_retries",
+    "comm.link_layer.retransmissions",
+    "comm.link_layer.acks_sent",
+    "comm.link_layer.latency_p50_s",
+    "comm.link_layer.latency_p95_s",
+    "comm.link_layer.latency_p99_s",
+    "comm.led_on_s",
+    "comm.led_energy_j",
 ];
 
 /// What summary fields measure where their names alone would mislead, for the figures' axes:
@@ -500,14 +510,18 @@ mod tests {
         out
     }
 
-    /// Every field the summaries of real runs have (communication, gossip, groups) is in
+    /// Every field the summaries of real runs have (communication, gossip, link layer, groups) is in
     /// SCHEMA, so a field added to summary.json cannot be missed by metric paths.
     #[test]
     fn the_schema_holds_every_field_of_real_summaries() {
         let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
         let tmp = std::env::temp_dir().join(format!("shoal_schema_{}", std::process::id()));
         let mut seen = Vec::new();
-        for (world, seconds) in [("worlds/gossip.toml", 4.0), ("worlds/default.toml", 3.0)] {
+        for (world, seconds) in [
+            ("worlds/gossip.toml", 4.0),
+            ("worlds/default.toml", 3.0),
+            ("worlds/reliable_gossip.toml", 4.0),
+        ] {
             let changes = Changes {
                 duration: Some(seconds),
                 plots: Some(false),
@@ -526,6 +540,7 @@ mod tests {
         let _ = std::fs::remove_dir_all(&tmp);
         assert!(seen.iter().any(|p| p == "comm.gossip.max_hops"), "{seen:?}");
         assert!(seen.iter().any(|p| p == "comm.connectivity[].largest"));
+        assert!(seen.iter().any(|p| p == "comm.link_layer.latency_p99_s"));
         let missing: Vec<&String> = seen
             .iter()
             .filter(|p| !SCHEMA.contains(&p.as_str()))

@@ -31,7 +31,11 @@
 //!   choice between a kernel compiled for AVX and the baseline;
 //! - `mac`: medium access, one protocol per file (ALOHA, carrier sense, slotted ALOHA, TDMA);
 //! - `medium`: the [`Medium`] resource, frames on the air and the precomputed link budget;
-//! - `systems`: the three step systems above and the decision of one reception.
+//! - `sensing`: carrier sensing (power heard now, since when the channel is idle);
+//! - `link_layer`: a vehicle's link layer around its queues (acknowledgements, retries,
+//!   duplicates, addressing);
+//! - `reception`: the decision of one reception at its receiver;
+//! - `systems`: the three step systems above.
 
 mod copy_lanes;
 mod ending;
@@ -39,10 +43,13 @@ mod frames;
 mod grid;
 mod lanes;
 mod ledger;
+mod link_layer;
 mod links;
 mod mac;
 mod medium;
 mod modem_lanes;
+mod reception;
+mod sensing;
 mod stats;
 mod systems;
 

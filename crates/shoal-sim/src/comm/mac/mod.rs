@@ -31,7 +31,7 @@ mod tdma;
 use super::frames::AccessState;
 use crate::rng::VehicleRng;
 pub use arq::Link;
-pub(super) use arq::{AckDue, Pending};
+pub(super) use arq::{AckDue, LinkState, Pending};
 use shoal_world::access::{Access, LinkParams};
 use std::sync::Arc;
 
