@@ -162,7 +162,10 @@ impl Sim {
             .filter(|(_, v)| {
                 matches!(
                     v.behaviour,
-                    Some(shoal_world::spec::BehaviourSpec::Poisson { .. })
+                    Some(
+                        shoal_world::spec::BehaviourSpec::Poisson { .. }
+                            | shoal_world::spec::BehaviourSpec::Leader { .. }
+                    )
                 )
             })
             .map(|(i, v)| (v.name.as_str(), i as u32))

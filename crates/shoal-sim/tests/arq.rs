@@ -235,3 +235,41 @@ fn reliable_gossip_reaches_everyone_by_acknowledged_unicasts() {
     let counted: u64 = sim.medium().ack_latency_histogram().iter().sum();
     assert_eq!(counted as f64, acked);
 }
+
+/// `worlds/formation.toml`: a leader orders three followers by acknowledged unicasts every
+/// second; they steer for the same heading, depth and surge, so the diamond keeps its shape —
+/// each follower ends within 0.6 m of its starting offset from the leader, heading as the
+/// leader does — and nearly every order is acknowledged.
+#[test]
+fn followers_ordered_by_unicast_keep_the_formation() {
+    let (desc, sim) = support::world::run_world_file("formation");
+    let report = |i: usize, k: &str| {
+        sim.vehicle(i)
+            .behaviour
+            .iter()
+            .find(|(name, _)| *name == k)
+            .map(|(_, v)| *v)
+            .unwrap()
+    };
+    let pos = |i: usize| sim.vehicle(i).state.rigid.position;
+    let leader_moved = (pos(0) - desc.vehicles[0].position).norm();
+    assert!(leader_moved > 1.0, "the leader travelled {leader_moved} m");
+    let yaw = |i: usize| shoal_model::math::euler_rpy(&sim.vehicle(i).state.rigid.attitude).2;
+    for i in 1..4 {
+        let start = desc.vehicles[i].position - desc.vehicles[0].position;
+        let end = pos(i) - pos(0);
+        assert!(
+            (end - start).norm() < 0.6,
+            "follower {i}: {start:?} → {end:?}"
+        );
+        let dyaw = shoal_model::math::wrap_pi(yaw(i) - yaw(0)).abs();
+        assert!(dyaw < 0.1, "follower {i} heads {dyaw} rad off the leader");
+        assert!(report(i, "orders") >= 30.0, "follower {i}");
+    }
+    let acked = report(0, "acknowledged");
+    let orders = report(0, "orders");
+    assert!(
+        acked >= 0.9 * orders,
+        "{acked} of {orders} orders acknowledged"
+    );
+}

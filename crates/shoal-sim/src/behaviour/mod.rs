@@ -7,8 +7,10 @@
 //! across the swarm) and [`Flock`] (alignment, cohesion and separation from received headings
 //! and signal strengths: a flock that keeps optical contact).
 
+mod formation;
 mod reliable_gossip;
 
+pub use formation::{Follower, Leader};
 pub use reliable_gossip::ReliableGossip;
 
 use crate::comm::{FrameEvent, OutFrame, Received};
@@ -155,6 +157,14 @@ pub fn build(spec: &BehaviourSpec, id_of: &dyn Fn(&str) -> Option<u32>) -> Box<d
             next: None,
             sent: 0,
         }),
+        BehaviourSpec::Leader {
+            ref followers,
+            period,
+        } => Box::new(Leader::new(
+            followers.iter().filter_map(|n| id_of(n)).collect(),
+            period,
+        )),
+        BehaviourSpec::Follower {} => Box::new(Follower::default()),
         BehaviourSpec::ReliableGossip {
             origin,
             start,

@@ -1,4 +1,5 @@
-//! Built-in behaviours (beacon, Poisson traffic, gossip, reliable gossip, flock), checked against the vehicle that runs them.
+//! Built-in behaviours (beacon, Poisson traffic, gossip, reliable gossip, leader and
+//! follower, flock), checked against the vehicle that runs them.
 
 use super::validator::Validator;
 use crate::error::{FieldPath, ProblemKind};
@@ -14,25 +15,32 @@ pub(super) fn check_destinations(
 ) {
     let names: std::collections::HashSet<&str> = vehicles.iter().map(|d| d.name.as_str()).collect();
     for (gi, g) in wf.vehicles.iter().enumerate() {
-        if let Some(BehaviourSpec::Poisson { to: Some(to), .. }) = &g.behaviour
-            && !names.contains(to.as_str())
-        {
+        let bp = FieldPath::root().key("vehicles").index(gi).key("behaviour");
+        let named: Vec<(FieldPath, &String)> = match &g.behaviour {
+            Some(BehaviourSpec::Poisson { to: Some(to), .. }) => vec![(bp.key("to"), to)],
+            Some(BehaviourSpec::Leader { followers, .. }) => followers
+                .iter()
+                .enumerate()
+                .map(|(i, f)| (bp.key("followers").index(i), f))
+                .collect(),
+            _ => Vec::new(),
+        };
+        for (field, name) in named {
+            if names.contains(name.as_str()) {
+                continue;
+            }
             let all: Vec<&str> = vehicles
                 .iter()
                 .map(|d| d.name.as_str())
                 .take(1000)
                 .collect();
-            let hint = super::messages::suggest(to, &all)
+            let hint = super::messages::suggest(name, &all)
                 .map(|s| format!(" — did you mean `{s}`?"))
                 .unwrap_or_default();
             v.push(
                 ProblemKind::Reference,
-                &FieldPath::root()
-                    .key("vehicles")
-                    .index(gi)
-                    .key("behaviour")
-                    .key("to"),
-                format!("no vehicle is named `{to}`{hint}"),
+                &field,
+                format!("no vehicle is named `{name}`{hint}"),
             );
         }
     }
@@ -71,6 +79,25 @@ pub(super) fn validate_behaviour(
                 Some(max_payload as f64),
             );
             v.field(&p.key("jitter"), *jitter);
+        }
+        BehaviourSpec::Leader { period, .. } => {
+            v.field(&p.key("period"), *period);
+            if max_payload < 13 {
+                v.push(
+                    ProblemKind::Invalid,
+                    p,
+                    "orders need 13 bytes of payload".into(),
+                );
+            }
+        }
+        BehaviourSpec::Follower {} => {
+            if model.uauv2.is_none() {
+                v.push(
+                    ProblemKind::Invalid,
+                    p,
+                    "a follower steers in auto mode and needs the μAUV² layout".into(),
+                );
+            }
         }
         BehaviourSpec::ReliableGossip { start, hello, .. } => {
             v.field_with(&p.key("start"), *start, None, Some(duration));

@@ -179,6 +179,18 @@ pub enum BehaviourSpec {
         #[serde(default = "d_jitter")]
         jitter: f64,
     },
+    /// Leader of a formation: tells each follower (by name), by an acknowledged unicast every
+    /// `period` seconds, the heading, depth and surge it steers for.
+    Leader {
+        /// The followers' names.
+        followers: Vec<String>,
+        /// Time between orders \[s\].
+        #[serde(default = "d_order_period")]
+        period: f64,
+    },
+    /// Follower of a formation: steers (auto mode) for the heading, depth and surge its
+    /// leader last sent.
+    Follower {},
     /// Flooding of a value by acknowledged unicasts: every vehicle says hello every `hello`
     /// seconds; one that knows the value hands it to each neighbour it has heard, one
     /// unicast each, acknowledged and retried by the link layer. The origin learns it at
@@ -218,6 +230,9 @@ pub enum BehaviourSpec {
 
 fn d_payload() -> usize {
     26
+}
+fn d_order_period() -> f64 {
+    1.0
 }
 fn d_hello() -> f64 {
     0.5
