@@ -200,6 +200,15 @@ fn acknowledgements_are_frames_on_the_air() {
     }
 }
 
+/// The value vehicle `i`'s behaviour reports under `key`.
+fn report(sim: &Sim, i: usize, key: &str) -> f64 {
+    let b = sim.vehicle(i).behaviour;
+    b.iter().find(|(name, _)| *name == key).map_or_else(
+        || panic!("vehicle {i} reports no {key}: {b:?}"),
+        |(_, v)| *v,
+    )
+}
+
 /// `worlds/reliable_gossip.toml`: a value flooded by acknowledged unicasts reaches all 65
 /// vehicles, each learning it once from a neighbour one hop further from the origin; every
 /// vehicle but the origin was served by an acknowledged unicast or passed the value on, and
@@ -209,14 +218,7 @@ fn reliable_gossip_reaches_everyone_by_acknowledged_unicasts() {
     let (desc, sim) = support::world::run_world_file("reliable_gossip");
     let n = desc.vehicles.len();
     assert_eq!(n, 65);
-    let report = |i: usize, k: &str| {
-        sim.vehicle(i)
-            .behaviour
-            .iter()
-            .find(|(name, _)| *name == k)
-            .map(|(_, v)| *v)
-            .unwrap()
-    };
+    let report = |i: usize, k: &str| report(&sim, i, k);
     let start = 2.0;
     for i in 0..n {
         let t = report(i, "learned_at");
@@ -243,14 +245,7 @@ fn reliable_gossip_reaches_everyone_by_acknowledged_unicasts() {
 #[test]
 fn followers_ordered_by_unicast_keep_the_formation() {
     let (desc, sim) = support::world::run_world_file("formation");
-    let report = |i: usize, k: &str| {
-        sim.vehicle(i)
-            .behaviour
-            .iter()
-            .find(|(name, _)| *name == k)
-            .map(|(_, v)| *v)
-            .unwrap()
-    };
+    let report = |i: usize, k: &str| report(&sim, i, k);
     let pos = |i: usize| sim.vehicle(i).state.rigid.position;
     let leader_moved = (pos(0) - desc.vehicles[0].position).norm();
     assert!(leader_moved > 1.0, "the leader travelled {leader_moved} m");

@@ -60,17 +60,6 @@ pub enum Kind {
     },
 }
 
-impl Kind {
-    /// Whether a receiver `me` hands a frame of this kind to its behaviour or agent.
-    pub fn for_vehicle(self, me: u32) -> bool {
-        match self {
-            Kind::Broadcast => true,
-            Kind::Unicast { to, .. } => to == me,
-            Kind::Ack { .. } => false,
-        }
-    }
-}
-
 /// Frames waiting to be handed to the modems.
 #[derive(Component, Clone, Debug, Default)]
 pub struct Outbox(pub Vec<OutFrame>);

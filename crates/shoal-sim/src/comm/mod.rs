@@ -54,8 +54,8 @@ mod stats;
 mod systems;
 
 pub use frames::{
-    AccessState, CommRng, FrameEvent, FrameOutcome, Inbox, Kind, ModemPort, Modems, OutFrame,
-    Outbox, Received, comm_rng,
+    CommRng, FrameEvent, FrameOutcome, Inbox, Kind, ModemPort, Modems, OutFrame, Outbox, Received,
+    comm_rng,
 };
 pub use grid::Grid;
 pub use ledger::{Grouped, Ledger};

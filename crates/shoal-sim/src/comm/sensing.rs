@@ -69,29 +69,30 @@ pub(super) fn idle_since(
     t: f64,
     threshold: f64,
 ) -> Option<f64> {
-    let modems = &m.kinds[v as usize].params.modems;
-    let poses: Vec<ModemPose> = modems.iter().map(|p| ModemPose::of(p, pos, att)).collect();
-    let mut now = vec![0.0; modems.len()];
-    let mut since = f64::NEG_INFINITY;
     // A frame that starts at this very instant is not heard yet (sensing takes time): two
     // stations whose back-offs end together both send, and collide.
-    for x in m.txs.iter().filter(|x| x.start < t) {
-        if x.tx == v {
-            since = since.max(x.end.min(t));
-            continue;
-        }
-        for (k, pose) in poses.iter().enumerate() {
-            let p = sensed_one(m, geo, x, v, k, pose);
+    let heard = |x: &&Transmission| x.start < t;
+    let mut since = m
+        .txs
+        .iter()
+        .filter(|x| heard(x) && x.tx == v)
+        .map(|x| x.end.min(t))
+        .fold(f64::NEG_INFINITY, f64::max);
+    // Modem by modem, so that nothing is allocated per decision.
+    for (k, params) in m.kinds[v as usize].params.modems.iter().enumerate() {
+        let pose = ModemPose::of(params, pos, att);
+        let mut now = 0.0;
+        for x in m.txs.iter().filter(|x| heard(x) && x.tx != v) {
+            let p = sensed_one(m, geo, x, v, k, &pose);
             if x.end > t {
-                now[k] += p;
+                now += p;
             } else if p > threshold {
                 since = since.max(x.end);
             }
         }
+        if now > threshold {
+            return None;
+        }
     }
-    if now.iter().any(|&p| p > threshold) {
-        None
-    } else {
-        Some(since)
-    }
+    Some(since)
 }
