@@ -106,6 +106,7 @@ fn end_marker(step: u64, t: f64) -> agents::Observation {
         sensors: shoal_model::control::SensorReadings::zeros(0),
         position: None,
         frames: Vec::new(),
+        outcomes: Vec::new(),
         fallback: true,
     }
 }
@@ -610,11 +611,11 @@ pub fn decode(c: &Command, rej: &mut Rejections) -> Option<agents::Command> {
             rej.bad_frames += 1;
             continue;
         }
-        frames.push(FrameOrder {
-            modem: (f.modem != ALL_MODEMS).then_some(f.modem as usize),
-            payload: f.payload().to_vec(),
-            delay: f.t,
-        });
+        frames.push(FrameOrder::broadcast(
+            (f.modem != ALL_MODEMS).then_some(f.modem as usize),
+            f.payload().to_vec(),
+            f.t,
+        ));
     }
     Some(agents::Command {
         id: c.vehicle,

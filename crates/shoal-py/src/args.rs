@@ -311,11 +311,7 @@ pub fn frames(
             };
             Ok((
                 id,
-                FrameOrder {
-                    modem,
-                    payload,
-                    delay: dc.get(i),
-                },
+                FrameOrder::broadcast(modem, payload, dc.get(i)),
             ))
         })
         .collect()

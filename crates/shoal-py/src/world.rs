@@ -17,8 +17,7 @@ use pyo3::exceptions::{PyUserWarning, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use shoal_record::run::{Changes, load_world};
-use shoal_sim::batch::{ActuatorOrder, BatchShape, Quantity, SetpointOrder};
-use shoal_sim::comm::Received;
+use shoal_sim::batch::{ActuatorOrder, Arrivals, BatchShape, Quantity, SetpointOrder};
 use shoal_sim::orders::force_limit;
 use shoal_sim::sim::{Sim, SimOptions};
 use shoal_world::cancel::Cancel;
@@ -46,7 +45,7 @@ pub struct World {
     shape: BatchShape,
     tick: u64,
     max_payload: usize,
-    received: Vec<(u32, Received)>,
+    received: Arrivals,
     /// Whether `send` has warned about frames of several vehicles starting together.
     warned_sync: bool,
 }
@@ -231,7 +230,7 @@ impl World {
             shape,
             tick,
             max_payload,
-            received: Vec::new(),
+            received: Arrivals::default(),
             warned_sync: false,
         })
     }
@@ -458,14 +457,14 @@ impl World {
     /// `max_payload`, zero after `length`).
     #[getter]
     fn received<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        observe::received(py, &self.received, self.max_payload)
+        observe::received(py, &self.received.frames, self.max_payload)
     }
 
     /// Frames delivered to each vehicle during the last `step()` (vehicles,), int64.
     #[getter]
     fn received_count<'py>(&self, py: Python<'py>) -> Bound<'py, PyAny> {
         let mut c = vec![0i64; self.shape.vehicles];
-        for (id, _) in &self.received {
+        for (id, _) in &self.received.frames {
             c[*id as usize] += 1;
         }
         c.into_pyarray(py).into_any()

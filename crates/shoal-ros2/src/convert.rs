@@ -217,11 +217,7 @@ impl Answer {
                     continue;
                 }
             };
-            orders.push(FrameOrder {
-                modem,
-                payload: f.payload,
-                delay: f.delay,
-            });
+            orders.push(FrameOrder::broadcast(modem, f.payload, f.delay));
         }
         Some(agents::Command {
             id,

@@ -11,10 +11,10 @@
 //! control tick as a built-in behaviour's setpoints would, and a lock-step run is as
 //! reproducible as one without agents.
 
-use crate::comm::{Inbox, OutFrame, Outbox, Received};
+use crate::comm::{FrameEvent, Inbox, Outbox, Received};
 use crate::components::*;
 use crate::fleet::Fleet;
-use crate::orders::{FrameOrder, MAX_FRAME_DELAY, check_frame, force_limit};
+use crate::orders::{FrameOrder, Peers, check_frame, force_limit};
 use crate::sim::Sim;
 use bevy_ecs::prelude::Mut;
 use shoal_model::math::wrap_pi;
@@ -38,6 +38,9 @@ pub struct Observation {
     pub position: Option<Vec3>,
     /// Frames received since the last tick, in order of arrival.
     pub frames: Vec<Received>,
+    /// What became of the vehicle's acknowledged unicasts since the last tick (acknowledged,
+    /// or given up after its retries), in order.
+    pub outcomes: Vec<FrameEvent>,
     /// Whether the fallback is driving the vehicle.
     pub fallback: bool,
 }
@@ -340,6 +343,7 @@ impl Sim {
                     sensors: v.sensors.clone(),
                     position: grant_position.then_some(v.physics.state.rigid.position),
                     frames: std::mem::take(&mut inbox.frames),
+                    outcomes: std::mem::take(&mut inbox.outcomes),
                     fallback: ext.fallback,
                 });
             }
@@ -368,6 +372,10 @@ impl Sim {
         let e = self.entities()[cmd.id as usize];
         let t = self.time();
         let pool_depth = self.pool_size().z;
+        let peers = Peers {
+            me: cmd.id,
+            count: self.len(),
+        };
         let model = self.fleet().get(VehicleId(cmd.id)).model.clone();
         let mut ent = self.world_mut().entity_mut(e);
         let p = &model.params;
@@ -441,15 +449,11 @@ impl Sim {
         };
         let mut frames = Vec::new();
         for f in &cmd.frames {
-            if check_frame(&p.modems, f).is_err() {
+            if check_frame(&p.modems, f, peers).is_err() {
                 rej.bad_frames += 1;
                 continue;
             }
-            frames.push(OutFrame::broadcast(
-                f.modem,
-                f.payload.clone(),
-                t + f.delay.clamp(0.0, MAX_FRAME_DELAY),
-            ));
+            frames.push(f.out_frame(t));
         }
         rej.clamped += clamped.get();
         ent.get_mut::<Outbox>().expect("vehicle").0.extend(frames);

@@ -5,7 +5,9 @@
 
 mod support;
 use shoal_model::math::euler_rpy;
-use shoal_sim::batch::{ActuatorOrder, Column, MODES, Quantity, Rows, SetpointOrder, mode_code};
+use shoal_sim::batch::{
+    ActuatorOrder, Arrivals, Column, MODES, Quantity, Rows, SetpointOrder, mode_code,
+};
 use shoal_sim::orders::{FrameOrder, force_limit};
 use shoal_sim::prelude::*;
 use support::world::world;
@@ -294,21 +296,17 @@ const PAIR: &str = "seed = 5\nduration = 100\n[pool]\nsize = [10.0, 6.0, 3.0]\n\
 
 /// Runs `steps` steps collecting what is delivered.
 fn collect(sim: &mut Sim, steps: u64) -> Vec<(u32, shoal_sim::comm::Received)> {
-    let mut out = Vec::new();
+    let mut out = Arrivals::default();
     for _ in 0..steps {
         let t0 = sim.time();
         sim.step();
         sim.collect_received(t0, Some(&mut out), true);
     }
-    out
+    out.frames
 }
 
 fn frame(payload: &[u8], delay: f64) -> FrameOrder {
-    FrameOrder {
-        modem: None,
-        payload: payload.to_vec(),
-        delay,
-    }
+    FrameOrder::broadcast(None, payload.to_vec(), delay)
 }
 
 #[test]
@@ -357,11 +355,7 @@ fn bad_frames_are_refused_with_the_vehicle_and_frame() {
         .queue_frames(
             &[(
                 0,
-                FrameOrder {
-                    modem: Some(3),
-                    payload: b"x".to_vec(),
-                    delay: 0.0,
-                },
+                FrameOrder::broadcast(Some(3), b"x".to_vec(), 0.0),
             )],
             false,
         )

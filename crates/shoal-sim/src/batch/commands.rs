@@ -5,9 +5,9 @@
 
 use super::columns::{Column, Rows};
 use super::error::CommandError;
-use crate::comm::{Inbox, OutFrame, Outbox, Received};
+use crate::comm::{FrameEvent, Inbox, Outbox, Received};
 use crate::components::*;
-use crate::orders::{FrameOrder, MAX_FRAME_DELAY, check_frame, force_limit};
+use crate::orders::{FrameOrder, MAX_FRAME_DELAY, Peers, check_frame, force_limit};
 use crate::sim::Sim;
 use shoal_model::math::wrap_pi;
 use shoal_model::prelude::*;
@@ -58,10 +58,29 @@ pub struct ActuatorOrder<'a> {
     /// Pump: −1 empty, 0 off, +1 fill (only 0 for a vehicle without a tank).
     pub pump: Option<Column<'a, i64>>,
 }
-/// The world's delivery count ([`crate::comm::Medium::delivered`]) at the last
-/// [`Sim::collect_received`].
+/// The world's delivery and outcome counts ([`crate::comm::Medium::delivered`],
+/// [`crate::comm::Medium::ended`]) at the last [`Sim::collect_received`].
 #[derive(bevy_ecs::prelude::Resource)]
-struct Collected(u64);
+struct Collected(u64, u64);
+
+/// What reached vehicles' inboxes in a step, as [`Sim::collect_received`] copies it out.
+#[derive(Clone, Debug, Default)]
+pub struct Arrivals {
+    /// Frames delivered: (receiving vehicle id, frame), in id order and, per vehicle, in
+    /// order of arrival.
+    pub frames: Vec<(u32, Received)>,
+    /// Outcomes of acknowledged unicasts: (sending vehicle id, outcome), in id order and,
+    /// per vehicle, in the order they ended.
+    pub outcomes: Vec<(u32, FrameEvent)>,
+}
+
+impl Arrivals {
+    /// Forgets everything.
+    pub fn clear(&mut self) {
+        self.frames.clear();
+        self.outcomes.clear();
+    }
+}
 
 /// The setpoints a command asks of one vehicle.
 struct Wanted {
@@ -395,7 +414,11 @@ impl Sim {
                 ));
             }
             let kind = &self.fleet().get(VehicleId(*id as u32)).model;
-            let problem = check_frame(&kind.params.modems, f)
+            let peers = Peers {
+                me: *id as u32,
+                count: n,
+            };
+            let problem = check_frame(&kind.params.modems, f, peers)
                 .err()
                 .map(|p| p.to_string())
                 .or_else(|| {
@@ -416,11 +439,7 @@ impl Sim {
         for (id, f) in frames {
             let e = self.vehicle_entity(*id);
             if let Some(mut out) = self.world_mut().get_mut::<Outbox>(e) {
-                out.0.push(OutFrame::broadcast(
-                    f.modem,
-                    f.payload.clone(),
-                    t + f.delay.clamp(0.0, MAX_FRAME_DELAY),
-                ));
+                out.0.push(f.out_frame(t));
             }
         }
         Ok(())
@@ -428,49 +447,57 @@ impl Sim {
 
     /// Appends to `out` every frame delivered after time `since` \[s\] (call it after each
     /// step with the time before the step: a step delivers the frames whose reception ended
-    /// in it), as (receiving vehicle id, frame), in id order and, per vehicle, in order of
-    /// arrival. Vehicles driven by an external agent keep their frames until the agent takes
+    /// in it), and every outcome of an acknowledged unicast that ended after `since` (see
+    /// [`Arrivals`]). Vehicles driven by an external agent keep both until the agent takes
     /// them; with `drain_agents` (there is no agent host: the caller acts for the agents)
     /// their inboxes are emptied here instead. With `out` = `None` only that is done.
     pub fn collect_received(
         &mut self,
         since: f64,
-        mut out: Option<&mut Vec<(u32, Received)>>,
+        mut out: Option<&mut Arrivals>,
         drain_agents: bool,
     ) {
-        // Nothing was delivered since the last call: nothing to copy or to empty.
-        let delivered = self.medium().delivered;
+        // Nothing was delivered and nothing ended since the last call: nothing to copy or to
+        // empty.
+        let (delivered, ended) = (self.medium().delivered, self.medium().ended);
         if self
             .world()
             .get_resource::<Collected>()
-            .is_some_and(|c| c.0 == delivered)
+            .is_some_and(|c| (c.0, c.1) == (delivered, ended))
         {
             return;
         }
-        self.world_mut().insert_resource(Collected(delivered));
-        let start = out.as_ref().map_or(0, |o| o.len());
+        self.world_mut().insert_resource(Collected(delivered, ended));
+        let start = out
+            .as_ref()
+            .map_or((0, 0), |o| (o.frames.len(), o.outcomes.len()));
         let mut q = self
             .world_mut()
             .query::<(&VehicleId, &mut Inbox, Option<&External>)>();
         for (id, mut inbox, ext) in q.iter_mut(self.world_mut()) {
-            if inbox.frames.is_empty() {
+            if inbox.is_empty() {
                 continue;
             }
             if let Some(out) = out.as_deref_mut() {
-                out.extend(
-                    inbox
-                        .frames
-                        .iter()
-                        .filter(|r| r.t > since)
+                let new = |t: f64| t > since;
+                out.frames.extend(
+                    (inbox.frames.iter())
+                        .filter(|r| new(r.t))
                         .map(|r| (id.0, r.clone())),
+                );
+                out.outcomes.extend(
+                    (inbox.outcomes.iter())
+                        .filter(|e| new(e.t))
+                        .map(|e| (id.0, e.clone())),
                 );
             }
             if drain_agents && ext.is_some() {
-                inbox.frames.clear();
+                inbox.clear();
             }
         }
         if let Some(out) = out {
-            out[start..].sort_by_key(|(id, _)| *id);
+            out.frames[start.0..].sort_by_key(|(id, _)| *id);
+            out.outcomes[start.1..].sort_by_key(|(id, _)| *id);
         }
     }
 }

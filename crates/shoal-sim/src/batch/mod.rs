@@ -9,7 +9,8 @@
 //!   clipping was asked for) a value outside its range is a [`CommandError`] naming the
 //!   vehicle, the field and the allowed range;
 //! - queue frames on vehicles' modems ([`Sim::queue_frames`]) and collect the frames
-//!   delivered in a step ([`Sim::collect_received`]).
+//!   delivered in a step with the outcomes of acknowledged unicasts
+//!   ([`Sim::collect_received`], [`Arrivals`]).
 //!
 //! A command written here acts like an external agent's ([`crate::agents`]): it replaces the
 //! setpoints the built-in controller follows from its next control tick on, and ends the
@@ -28,6 +29,6 @@ mod error;
 mod quantity;
 
 pub use columns::{Column, Rows};
-pub use commands::{ActuatorOrder, MODES, SetpointOrder, mode_code};
+pub use commands::{ActuatorOrder, Arrivals, MODES, SetpointOrder, mode_code};
 pub use error::CommandError;
 pub use quantity::{BatchShape, Dtype, Quantity};

@@ -75,6 +75,7 @@ impl BehaviourIo<'_> {
             ready: self.t + delay.max(0.0),
             to: Some(to),
             ack,
+            tag: 0,
         });
     }
 

@@ -23,6 +23,9 @@ pub struct OutFrame {
     /// With a destination: ask it to acknowledge, and retransmit until it does (stop-and-wait
     /// ARQ, see [`super::Link`]).
     pub ack: bool,
+    /// A number of the sender's choosing, returned with the frame's outcome
+    /// ([`FrameEvent::tag`]) so that it knows which of its frames the outcome is about.
+    pub tag: u32,
 }
 
 impl OutFrame {
@@ -34,6 +37,7 @@ impl OutFrame {
             ready,
             to: None,
             ack: false,
+            tag: 0,
         }
     }
 }
@@ -106,6 +110,8 @@ pub struct FrameEvent {
     pub to: u32,
     /// The sender's sequence number of the frame.
     pub seq: u32,
+    /// The tag the sender gave the frame ([`OutFrame::tag`]).
+    pub tag: u32,
     /// Its payload.
     pub payload: Arc<[u8]>,
     /// When it was handed over \[s\].

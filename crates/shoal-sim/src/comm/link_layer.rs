@@ -150,6 +150,7 @@ fn refused(t: f64, seq: u32, f: &OutFrame) -> FrameEvent {
         t,
         to: f.to.unwrap_or(u32::MAX),
         seq,
+        tag: f.tag,
         payload: f.payload.clone().into(),
         sent: f.ready,
         transmissions: 0,
@@ -173,6 +174,7 @@ fn send_acks(
             ready: a.ready,
             to: Some(a.to),
             ack: false,
+            tag: 0,
         };
         let seq = next_seq(modems);
         let kind = Kind::Ack {
@@ -221,6 +223,7 @@ fn time_out(
         ready: t,
         to: Some(p.to),
         ack: true,
+        tag: p.tag,
     };
     let kind = Kind::Unicast {
         to: p.to,
@@ -273,6 +276,7 @@ fn promote(
         s.pending = Some(Pending {
             seq,
             to,
+            tag: f.tag,
             modem: f.modem,
             payload,
             sent: f.ready,

@@ -140,6 +140,8 @@ pub struct Medium {
     pub(super) next_id: u64,
     /// Deliveries so far (whole world), for progress and tests.
     pub delivered: u64,
+    /// Outcomes of acknowledged unicasts so far (acknowledged or given up, whole world).
+    pub ended: u64,
     /// Transmissions started so far, and their total line bits (for the mean frame length).
     pub started: (u64, u64),
     /// Largest hull bounding-sphere radius [m].
@@ -300,6 +302,7 @@ impl Medium {
             waiting: Vec::new(),
             next_id: 0,
             delivered: 0,
+            ended: 0,
             started: (0, 0),
             max_hull_radius,
             by_distance: vec![(0, 0); DIST_BINS],

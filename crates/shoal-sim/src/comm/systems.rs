@@ -122,16 +122,19 @@ pub fn comm_transmit_system(
     items.sort_unstable_by_key(|it| it.0.0);
     let mut heap = BinaryHeap::new();
     let kinds = &medium.kinds;
+    let mut ended = 0;
     for (id, outbox, modems, _, stats, link, inbox) in &mut items {
         let params = &kinds[id.0 as usize].params.modems;
         let links = &medium.access[id.0 as usize];
         let modems = &mut **modems;
+        let before = inbox.outcomes.len();
         link_layer(
             clock.t(),
             params,
             links,
             (outbox, modems, stats, link, inbox),
         );
+        ended += (inbox.outcomes.len() - before) as u64;
         for (k, port) in modems.ports.iter().enumerate() {
             if let Some(front) = port.queue.front() {
                 let start = front.ready.max(port.busy_until).max(clock.t());
@@ -150,6 +153,7 @@ pub fn comm_transmit_system(
         .enumerate()
         .map(|(i, it)| (it.0.0, i))
         .collect();
+    medium.ended += ended;
     let m = &mut *medium;
     let mut backoffs: HashMap<(u32, u64), f64> = HashMap::new();
     let mut decided: HashMap<(u32, u32, u64), Decision> = HashMap::new();
@@ -360,6 +364,7 @@ fn add_tally(medium: &mut Medium, total: &Tally, second0: f64) {
     }
     for (h, t) in medium.ack_latency_hist.iter_mut().zip(&total.acknowledged) {
         *h += t;
+        medium.ended += t;
     }
     for (s, c) in total.outcomes.iter().enumerate() {
         if c.iter().all(|k| *k == 0) {

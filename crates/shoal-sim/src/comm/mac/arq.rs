@@ -27,6 +27,8 @@ pub(in crate::comm) struct Pending {
     pub(in crate::comm) seq: u32,
     /// Its destination.
     pub(in crate::comm) to: u32,
+    /// The sender's tag for it.
+    pub(in crate::comm) tag: u32,
     /// Its modem (`None`: a copy on every modem).
     pub(in crate::comm) modem: Option<usize>,
     /// Its payload, shared by its copies.
@@ -127,6 +129,7 @@ impl Pending {
             t,
             to: self.to,
             seq: self.seq,
+            tag: self.tag,
             payload: self.payload.clone(),
             sent: self.sent,
             transmissions: self.transmissions,
@@ -161,6 +164,7 @@ mod tests {
             pending: Some(Pending {
                 seq: 3,
                 to: 7,
+                tag: 11,
                 modem: None,
                 payload: Arc::from(&[1u8, 2][..]),
                 sent: 0.5,
@@ -178,8 +182,8 @@ mod tests {
         let e = s.acknowledged(7, 3, 0.9).expect("its acknowledgement");
         assert!(s.pending.is_none());
         assert_eq!(
-            (e.to, e.seq, e.transmissions, e.outcome, e.sent, e.t),
-            (7, 3, 2, FrameOutcome::Acknowledged, 0.5, 0.9)
+            (e.to, e.seq, e.tag, e.transmissions, e.outcome, e.sent, e.t),
+            (7, 3, 11, 2, FrameOutcome::Acknowledged, 0.5, 0.9)
         );
         assert_eq!(s.feedback, vec![(None, true)]);
         assert!(s.acknowledged(7, 3, 1.0).is_none(), "already ended");
