@@ -270,48 +270,134 @@ pub fn payloads(obj: &Bound<'_, PyAny>, count: usize) -> PyResult<Vec<Vec<u8>>> 
         .collect()
 }
 
-/// The frames of `World.send`: vehicles, payloads, modems (`None` or −1: every modem in
-/// sync) and delays \[s\].
-pub fn frames(
-    vehicles: &Bound<'_, PyAny>,
-    payload: &Bound<'_, PyAny>,
-    modem: Option<&Bound<'_, PyAny>>,
-    delay: &Bound<'_, PyAny>,
-) -> PyResult<Vec<(usize, FrameOrder)>> {
-    let ids = vehicle_ids(Some(vehicles))?.unwrap_or_default();
+/// The arguments of `World.send`, as Python gave them (see [`frames`]).
+pub struct SendArgs<'a, 'py> {
+    /// One id or k ids.
+    pub vehicles: &'a Bound<'py, PyAny>,
+    /// Bytes for all, k bytes objects, or a (k, length) uint8 array.
+    pub payload: &'a Bound<'py, PyAny>,
+    /// `None` or −1 (every modem in sync), an index, or k of them.
+    pub modem: Option<&'a Bound<'py, PyAny>>,
+    /// Delay after now \[s\]: a number or k numbers.
+    pub delay: &'a Bound<'py, PyAny>,
+    /// Destination: `None` or −1 (broadcast), a vehicle id, or k of them.
+    pub to: Option<&'a Bound<'py, PyAny>>,
+    /// Acknowledgement asked: a bool or k bools.
+    pub ack: Option<&'a Bound<'py, PyAny>>,
+    /// Tags returned with the outcomes: an integer 0 … 2³² − 1 or k of them.
+    pub tag: Option<&'a Bound<'py, PyAny>>,
+}
+
+/// A column of booleans read from Python.
+enum BoolCol {
+    /// The same value for every row.
+    Scalar(bool),
+    /// One value per row.
+    Each(Vec<bool>),
+}
+
+impl BoolCol {
+    /// The column for [`shoal_sim::batch`].
+    fn column(&self) -> Column<'_, bool> {
+        match self {
+            Self::Scalar(x) => Column::All(*x),
+            Self::Each(v) => Column::Each(v),
+        }
+    }
+}
+
+/// Reads a column of booleans named `field`: one bool, or a sequence or array of them.
+fn bool_column(obj: &Bound<'_, PyAny>, field: &str) -> PyResult<BoolCol> {
+    if let Ok(b) = obj.extract::<bool>() {
+        return Ok(BoolCol::Scalar(b));
+    }
+    obj.extract().map(BoolCol::Each).map_err(|_| {
+        bad(
+            field,
+            "expected a bool or a 1-D array of bools (one per frame)",
+        )
+    })
+}
+
+/// Whether column `c` has a length other than `k` rows.
+fn wrong_len<T>(c: &Column<'_, T>, k: usize) -> bool {
+    matches!(c, Column::Each(v) if v.len() != k)
+}
+
+/// An optional integer column named `field`, `default` when absent.
+fn int_or(obj: Option<&Bound<'_, PyAny>>, field: &str, default: i64) -> PyResult<IntCol> {
+    match obj.filter(|o| !o.is_none()) {
+        None => Ok(IntCol::Scalar(default)),
+        Some(o) => int_column(o, field),
+    }
+}
+
+/// The frames of `World.send` (see [`SendArgs`]): every column one value for all frames or
+/// one per frame.
+pub fn frames(a: &SendArgs<'_, '_>) -> PyResult<Vec<(usize, FrameOrder)>> {
+    let ids = vehicle_ids(Some(a.vehicles))?.unwrap_or_default();
     let k = ids.len();
-    let payloads = payloads(payload, k)?;
-    let modems = match modem.filter(|m| !m.is_none()) {
-        None => IntCol::Scalar(-1),
-        Some(m) => int_column(m, "modem")?,
+    let payloads = payloads(a.payload, k)?;
+    let modems = int_or(a.modem, "modem", -1)?;
+    let delays = float_column(a.delay, "delay")?;
+    let tos = int_or(a.to, "to", -1)?;
+    let tags = int_or(a.tag, "tag", 0)?;
+    let acks = match a.ack.filter(|o| !o.is_none()) {
+        None => BoolCol::Scalar(false),
+        Some(o) => bool_column(o, "ack")?,
     };
-    let delays = float_column(delay, "delay")?;
-    let (mc, dc) = (modems.column(), delays.column());
+    let (mc, dc, toc, tagc) = (
+        modems.column(),
+        delays.column(),
+        tos.column(),
+        tags.column(),
+    );
+    let ackc = acks.column();
     for (name, n) in [
-        ("modem", matches!(mc, Column::Each(v) if v.len() != k)),
-        ("delay", matches!(dc, Column::Each(v) if v.len() != k)),
+        ("modem", wrong_len(&mc, k)),
+        ("delay", wrong_len(&dc, k)),
+        ("to", wrong_len(&toc, k)),
+        ("ack", wrong_len(&ackc, k)),
+        ("tag", wrong_len(&tagc, k)),
     ] {
         if n {
             return Err(bad(name, format!("needs one value per frame ({k})")));
         }
     }
+    let index = |field: &str, x: i64, what: &str| {
+        usize::try_from(x).map_err(|_| bad(field, format!("{x}: {what}")))
+    };
     ids.into_iter()
         .zip(payloads)
         .enumerate()
         .map(|(i, (id, payload))| {
-            let m = mc.get(i);
-            let modem = match m {
+            let modem = match mc.get(i) {
                 -1 => None,
-                m => Some(usize::try_from(m).map_err(|_| {
+                m => Some(index(
+                    "modem",
+                    m,
+                    "a modem index ≥ 0, or −1 for every modem",
+                )?),
+            };
+            let to = match toc.get(i) {
+                -1 => None,
+                v => Some(u32::try_from(v).map_err(|_| {
                     bad(
-                        "modem",
-                        format!("{m}: a modem index ≥ 0, or −1 for every modem"),
+                        "to",
+                        format!("{v}: a vehicle id ≥ 0, or −1 for a broadcast"),
                     )
                 })?),
             };
+            let tag = u32::try_from(tagc.get(i))
+                .map_err(|_| bad("tag", format!("{}: allowed 0 … {}", tagc.get(i), u32::MAX)))?;
             Ok((
                 id,
-                FrameOrder::broadcast(modem, payload, dc.get(i)),
+                FrameOrder {
+                    to,
+                    ack: ackc.get(i),
+                    tag,
+                    ..FrameOrder::broadcast(modem, payload, dc.get(i))
+                },
             ))
         })
         .collect()

@@ -4,14 +4,14 @@
 //! change when the world steps on.
 //!
 //! The frames delivered in the last step are returned the same way, as parallel arrays with
-//! one entry per frame ([`received`]).
+//! one entry per frame ([`received`]), and the outcomes of acknowledged unicasts ([`outcomes`]).
 
 use numpy::IntoPyArray;
 use numpy::ndarray::{Array1, Array2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use shoal_sim::batch::{BatchShape, Dtype, Quantity};
-use shoal_sim::comm::Received;
+use shoal_sim::comm::{FrameEvent, FrameOutcome, Received};
 use shoal_sim::sim::Sim;
 
 /// Turns a flat buffer of `n` rows into a numpy array: 1-D when `width` is `None`.
@@ -83,6 +83,8 @@ pub fn received<'py>(
     d.set_item("sent", floats(&|r| r.sent).into_pyarray(py))?;
     d.set_item("power", floats(&|r| r.power).into_pyarray(py))?;
     d.set_item("snr", floats(&|r| r.snr).into_pyarray(py))?;
+    let unicast: Vec<bool> = frames.iter().map(|(_, r)| r.unicast).collect();
+    d.set_item("unicast", unicast.into_pyarray(py))?;
     d.set_item(
         "length",
         ints(&|x| x.1.payload.len() as i64).into_pyarray(py),
@@ -93,5 +95,36 @@ pub fn received<'py>(
         row[..m].copy_from_slice(&r.payload[..m]);
     }
     d.set_item("payload", to_numpy(py, payload, k, Some(max_payload))?)?;
+    Ok(d)
+}
+
+/// The outcomes in `events` as a dict of parallel numpy arrays: `vehicle` (sender id), `to`
+/// (destination id), `tag` (the sender's), `seq` (its frame number), `acknowledged` (bool),
+/// `transmissions` (1 + retransmissions; 0: refused by a full queue), `sent` (hand-over
+/// \[s\]) and `t` (acknowledgement decoded, or the last wait ended \[s\]).
+pub fn outcomes<'py>(
+    py: Python<'py>,
+    events: &[(u32, FrameEvent)],
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    let ints =
+        |f: &dyn Fn(&(u32, FrameEvent)) -> i64| -> Vec<i64> { events.iter().map(f).collect() };
+    let floats =
+        |f: &dyn Fn(&FrameEvent) -> f64| -> Vec<f64> { events.iter().map(|(_, e)| f(e)).collect() };
+    d.set_item("vehicle", ints(&|x| i64::from(x.0)).into_pyarray(py))?;
+    d.set_item("to", ints(&|x| i64::from(x.1.to)).into_pyarray(py))?;
+    d.set_item("tag", ints(&|x| i64::from(x.1.tag)).into_pyarray(py))?;
+    d.set_item("seq", ints(&|x| i64::from(x.1.seq)).into_pyarray(py))?;
+    let acked: Vec<bool> = events
+        .iter()
+        .map(|(_, e)| e.outcome == FrameOutcome::Acknowledged)
+        .collect();
+    d.set_item("acknowledged", acked.into_pyarray(py))?;
+    d.set_item(
+        "transmissions",
+        ints(&|x| i64::from(x.1.transmissions)).into_pyarray(py),
+    )?;
+    d.set_item("sent", floats(&|e| e.sent).into_pyarray(py))?;
+    d.set_item("t", floats(&|e| e.t).into_pyarray(py))?;
     Ok(d)
 }

@@ -380,9 +380,16 @@ impl World {
     /// at the same instant cannot hear each other (a modem is half-duplex: it is deaf while
     /// it transmits), so spread the delays of vehicles that send together (a `UserWarning`
     /// says so, once, when the frames of several vehicles all have the same delay). Every frame is
-    /// checked first (payload length 1 … the modem's `max_payload`, modem index, delay);
-    /// nothing is queued on an error.
-    #[pyo3(signature = (vehicles, payload, modem=None, delay=None, clip=false))]
+    /// `to` (None or −1: a broadcast; else the destination vehicle's id, or k of them) sends
+    /// a unicast, which only its destination takes; with `ack` (a bool or k bools) the
+    /// destination acknowledges it and the sender retransmits it until it does or the modem's
+    /// `arq_retries` are used up — what became of it is in `outcomes` after the step it ended
+    /// in, with its `tag` (an integer 0 … 2³² − 1 of your choosing, or k of them). Every frame
+    /// is checked first (payload length 1 … the modem's `max_payload`, modem index, delay,
+    /// destination another vehicle, `ack` only with a destination); nothing is queued on an
+    /// error.
+    #[pyo3(signature = (vehicles, payload, modem=None, delay=None, to=None, ack=None, tag=None, clip=false))]
+    #[allow(clippy::too_many_arguments)]
     fn send(
         &mut self,
         py: Python<'_>,
@@ -390,10 +397,21 @@ impl World {
         payload: &Bound<'_, PyAny>,
         modem: Option<&Bound<'_, PyAny>>,
         delay: Option<&Bound<'_, PyAny>>,
+        to: Option<&Bound<'_, PyAny>>,
+        ack: Option<&Bound<'_, PyAny>>,
+        tag: Option<&Bound<'_, PyAny>>,
         clip: bool,
     ) -> PyResult<()> {
         let zero = 0.0f64.into_pyobject(py)?.into_any();
-        let frames = args::frames(vehicles, payload, modem, delay.unwrap_or(&zero))?;
+        let frames = args::frames(&args::SendArgs {
+            vehicles,
+            payload,
+            modem,
+            delay: delay.unwrap_or(&zero),
+            to,
+            ack,
+            tag,
+        })?;
         self.sim
             .queue_frames(&frames, clip)
             .map_err(|e| command_error(py, &e))?;
@@ -453,11 +471,23 @@ impl World {
     /// parallel numpy arrays, one entry per frame in receiver id order — `vehicle`
     /// (receiver), `sender`, `seq`, `modem` (receiving modem), `t` (end of reception [s]),
     /// `sent` (handed over by the sender [s]), `power` (received optical power [W]), `snr`
-    /// (linear), `length` [bytes], `payload` (uint8, frames × the world's largest
-    /// `max_payload`, zero after `length`).
+    /// (linear), `unicast` (bool: sent to this vehicle alone), `length` [bytes], `payload`
+    /// (uint8, frames × the world's largest `max_payload`, zero after `length`).
     #[getter]
     fn received<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         observe::received(py, &self.received.frames, self.max_payload)
+    }
+
+    /// What became of acknowledged unicasts (`send(..., to=…, ack=True)`) during the last
+    /// `step()` (empty after `run`, `reset`): a dict of parallel numpy arrays, one entry per
+    /// frame in sender id order — `vehicle` (sender), `to` (destination), `tag` (as given to
+    /// `send`), `seq` (the sender's frame number), `acknowledged` (bool; False: given up after
+    /// its retries, or refused by a full queue with `transmissions` 0), `transmissions`
+    /// (1 + retransmissions), `sent` (handed over [s]), `t` (acknowledgement decoded, or the
+    /// last wait ended [s]).
+    #[getter]
+    fn outcomes<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        observe::outcomes(py, &self.received.outcomes)
     }
 
     /// Frames delivered to each vehicle during the last `step()` (vehicles,), int64.

@@ -447,8 +447,10 @@ impl Sim {
 
     /// Appends to `out` every frame delivered after time `since` \[s\] (call it after each
     /// step with the time before the step: a step delivers the frames whose reception ended
-    /// in it), and every outcome of an acknowledged unicast that ended after `since` (see
-    /// [`Arrivals`]). Vehicles driven by an external agent keep both until the agent takes
+    /// in it: after `since`, up to now), and every outcome of an acknowledged unicast that
+    /// ended from `since` on, before now (a sender gives up at the start of a step, an
+    /// acknowledgement is decoded after it: the windows of consecutive steps meet without
+    /// overlapping, so each outcome is copied once; see [`Arrivals`]). Vehicles driven by an external agent keep both until the agent takes
     /// them; with `drain_agents` (there is no agent host: the caller acts for the agents)
     /// their inboxes are emptied here instead. With `out` = `None` only that is done.
     pub fn collect_received(
@@ -468,6 +470,7 @@ impl Sim {
             return;
         }
         self.world_mut().insert_resource(Collected(delivered, ended));
+        let now = self.time();
         let start = out
             .as_ref()
             .map_or((0, 0), |o| (o.frames.len(), o.outcomes.len()));
@@ -479,15 +482,14 @@ impl Sim {
                 continue;
             }
             if let Some(out) = out.as_deref_mut() {
-                let new = |t: f64| t > since;
                 out.frames.extend(
                     (inbox.frames.iter())
-                        .filter(|r| new(r.t))
+                        .filter(|r| r.t > since)
                         .map(|r| (id.0, r.clone())),
                 );
                 out.outcomes.extend(
                     (inbox.outcomes.iter())
-                        .filter(|e| new(e.t))
+                        .filter(|e| (since..now).contains(&e.t))
                         .map(|e| (id.0, e.clone())),
                 );
             }
