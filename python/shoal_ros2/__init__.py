@@ -13,8 +13,9 @@ from there (docs/ros2.md). This package speaks that interface without a ROS 2 in
 - :class:`Ros2World` — a world file's ROS 2 side: its ``agent = "ros2"`` vehicles, domain,
   namespace;
 - :class:`Ros2Swarm` — readers and writers for a set of vehicles: wait for a control tick's
-  observations (`Ros2Swarm.wait_tick`), answer with setpoints, raw actuator commands and
-  frames to send.
+  observations (`Ros2Swarm.wait_tick`, with the frames received and the outcomes of
+  acknowledged ones), answer with setpoints, raw actuator commands and frames to send
+  (broadcasts, or unicasts to one vehicle, acknowledged or not).
 
 Units are SI, angles in radians. Needs the ``cyclonedds`` package from PyPI.
 """
@@ -24,6 +25,7 @@ from .msgs import (
     Actuators,
     Clock,
     FluidPressure,
+    FrameOutcome,
     Imu,
     Odometry,
     OpticalFrame,
@@ -48,6 +50,7 @@ __all__ = [
     "Actuators",
     "Clock",
     "FluidPressure",
+    "FrameOutcome",
     "Imu",
     "NotMatched",
     "Observation",

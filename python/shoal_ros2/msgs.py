@@ -17,7 +17,7 @@ RustDDS) alike. Only the types the bridge uses are here:
 * ``tf2_msgs``: :class:`TFMessage`;
 * ``rosgraph_msgs``: :class:`Clock`;
 * ``shoal_msgs`` (``crates/shoal-ros2/shoal_msgs/msg``): :class:`Setpoint`,
-  :class:`Actuators`, :class:`OpticalFrame`.
+  :class:`Actuators`, :class:`OpticalFrame`, :class:`FrameOutcome`.
 
 Units are ROS's (REP 103): SI, angles in radians, frames ENU (world) and FLU (body), except
 where a ``shoal_msgs`` field says otherwise (:attr:`Setpoint.heading` is shoal's NED
@@ -36,6 +36,7 @@ __all__ = [
     "Actuators",
     "Clock",
     "FluidPressure",
+    "FrameOutcome",
     "Header",
     "Imu",
     "Odometry",
@@ -303,14 +304,23 @@ class Actuators(IdlStruct, typename="shoal_msgs::msg::dds_::Actuators_"):
 class OpticalFrame(IdlStruct, typename="shoal_msgs::msg::dds_::OpticalFrame_"):
     """``shoal_msgs/msg/OpticalFrame``: one optical modem frame, received (on
     ``/<namespace>/<vehicle>/modem/rx``, published by the world) or to send (on
-    ``…/modem/tx``, by an agent)."""
+    ``…/modem/tx``, by an agent). Vehicles are named by their ROS names, as in their topics
+    (``auv-0`` → ``auv_0``, `shoal_ros2.ros_name`)."""
 
     ALL_MODEMS = -1  #: tx: every modem of the vehicle at once
 
     #: rx: end of the reception; tx: the control tick it belongs to (simulated).
     stamp: Time = field(default_factory=Time)
-    #: rx: the sending vehicle's id; tx: unused (0).
-    sender: types.uint32 = 0
+    #: rx: the sending vehicle's name; tx: unused ('').
+    sender: str = ""
+    #: tx: the destination vehicle's name, '' = broadcast; rx: this vehicle's name if it was a
+    #: unicast to it, '' for a broadcast.
+    to: str = ""
+    #: tx: with `to`, acknowledged and retransmitted until it is (stop-and-wait ARQ), its end
+    #: published on ``modem/outcome``; rx: unused (False).
+    ack: bool = False
+    #: tx: a number of the sender's choosing, returned on ``modem/outcome``; rx: unused (0).
+    tag: types.uint32 = 0
     #: rx: the sender's frame sequence number; tx: unused (0).
     seq: types.uint32 = 0
     #: rx: the receiving modem's index; tx: the sending one, or ``ALL_MODEMS``.
@@ -323,6 +333,30 @@ class OpticalFrame(IdlStruct, typename="shoal_msgs::msg::dds_::OpticalFrame_"):
     delay: types.float64 = 0.0
     #: The frame's payload (at most the modem's payload size) [bytes].
     payload: types.sequence[types.uint8] = field(default_factory=list)
+
+
+@dataclass
+@annotate.final
+class FrameOutcome(IdlStruct, typename="shoal_msgs::msg::dds_::FrameOutcome_"):
+    """``shoal_msgs/msg/FrameOutcome``: what became of one unicast frame sent with
+    acknowledgement (on its sender's ``/<namespace>/<vehicle>/modem/outcome``, published by the
+    world once it has ended)."""
+
+    #: When it ended: the acknowledgement decoded, or the wait after the last transmission ran
+    #: out (simulated).
+    stamp: Time = field(default_factory=Time)
+    #: The destination vehicle's name (as in its topics).
+    to: str = ""
+    #: The tag it was sent with on ``modem/tx``.
+    tag: types.uint32 = 0
+    #: The sender's sequence number of the frame (the destination's ``modem/rx`` ``seq``).
+    seq: types.uint32 = 0
+    #: Times it went on the air: 1 + retransmissions (0: never, its queue was full).
+    transmissions: types.uint32 = 0
+    #: True: the destination acknowledged it; False: given up.
+    acknowledged: bool = False
+    #: When it was handed to the link layer: the tick's time + the frame's delay (simulated).
+    sent: Time = field(default_factory=Time)
 
 
 #: Every type above by its ROS 2 name (``package/msg/Type``).
@@ -346,4 +380,5 @@ ROS_TYPES = {
     "shoal_msgs/msg/Setpoint": Setpoint,
     "shoal_msgs/msg/Actuators": Actuators,
     "shoal_msgs/msg/OpticalFrame": OpticalFrame,
+    "shoal_msgs/msg/FrameOutcome": FrameOutcome,
 }

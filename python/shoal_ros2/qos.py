@@ -2,18 +2,18 @@
 
 What the world offers and requests (see docs/ros2.md), and what this package uses:
 
-============================================  ==============  ============  ==========
-topic (under ``/<namespace>/<vehicle>/``)     reliability     history       durability
-============================================  ==============  ============  ==========
-``imu``, ``pressure``, ``odom``, ``/clock``   best effort     keep last 10  volatile
-``modem/rx``                                  reliable        keep last 100 volatile
-``setpoint``, ``actuators``, ``modem/tx``     reliable        keep last 100 volatile
-============================================  ==============  ============  ==========
+============================================  ==============  =============  ==========
+topic (under ``/<namespace>/<vehicle>/``)     reliability     history        durability
+============================================  ==============  =============  ==========
+``imu``, ``pressure``, ``odom``, ``/clock``   best effort     keep last 10   volatile
+``modem/rx``, ``modem/outcome``               reliable        keep last 100  volatile
+``setpoint``, ``actuators``, ``modem/tx``     reliable        keep last 100  volatile
+============================================  ==============  =============  ==========
 
 Every profile also asks for plain CDR (XCDR1, ``DataRepresentation`` XCDR1 only), the encoding
 of ROS 2 and of RustDDS: Cyclone would otherwise be free to write XCDR2, which ROS 2 nodes on
 other DDS implementations cannot read. A best-effort reader matches any writer; a reliable
-reader (``modem/rx``) needs a reliable writer, which the world's is.
+reader (``modem/rx``, ``modem/outcome``) needs a reliable writer, which the world's is.
 """
 
 from cyclonedds.qos import Policy, Qos
@@ -33,7 +33,8 @@ SENSOR_DATA = Qos(
     XCDR1,
 )
 
-#: Received frames (``modem/rx``): reliable, keep last 100, volatile.
+#: Received frames (``modem/rx``) and the outcomes of acknowledged ones (``modem/outcome``):
+#: reliable, keep last 100, volatile.
 RECEIVED_FRAMES = Qos(
     Policy.Reliability.Reliable(max_blocking_time=duration(milliseconds=100)),
     Policy.History.KeepLast(100),

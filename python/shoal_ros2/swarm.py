@@ -1,8 +1,8 @@
 """`Ros2Swarm`: the agent side of shoal's ROS 2 bridge for a set of vehicles, on Cyclone DDS.
 
 One DDS participant with, per vehicle ``<v>`` of a world run by ``shoal run`` whose group says
-``agent = "ros2"``, readers of ``/<namespace>/<v>/imu``, ``…/pressure``, ``…/modem/rx`` (and
-``…/odom`` when asked for) and writers of ``…/setpoint``, ``…/actuators`` and ``…/modem/tx``
+``agent = "ros2"``, readers of ``/<namespace>/<v>/imu``, ``…/pressure``, ``…/modem/rx``,
+``…/modem/outcome`` (and ``…/odom`` when asked for) and writers of ``…/setpoint``, ``…/actuators`` and ``…/modem/tx``
 (DDS topics ``rt/<namespace>/<v>/<topic>``; ``<v>`` is the vehicle's name made a ROS 2 name,
 `ros_name`: ``auv-0`` → ``auv_0``), plus a reader of ``/clock``. Vehicles are named as in the
 run's trajectories.csv throughout the API::
@@ -42,7 +42,17 @@ from cyclonedds.topic import Topic
 from cyclonedds.util import duration
 
 from . import enu, qos
-from .msgs import Actuators, Clock, FluidPressure, Imu, Odometry, OpticalFrame, Setpoint, Time
+from .msgs import (
+    Actuators,
+    Clock,
+    FluidPressure,
+    FrameOutcome,
+    Imu,
+    Odometry,
+    OpticalFrame,
+    Setpoint,
+    Time,
+)
 
 __all__ = [
     "LOCALHOST_CONFIG",
@@ -94,7 +104,7 @@ def ros_name(vehicle: str) -> str:
     frame ids, a ROS 2 name: every character but ASCII letters and digits becomes ``_``, runs
     of ``_`` one ``_``, none at the end, and a leading digit gets a ``v`` before it
     (``school-0`` → ``school_0``, ``x--y`` → ``x_y``, ``3d`` → ``v3d``) — the rule of
-    ``crates/shoal-ros2/src/topics.rs`` (``ros_name``)."""
+    ``crates/shoal-ros2/src/names.rs`` (``ros_name``). A ROS name comes out as itself."""
     out = []
     for c in vehicle:
         c = c if c.isascii() and c.isalnum() else "_"
@@ -142,6 +152,9 @@ class Observation:
     position: Optional[Tuple[float, float, float]]
     #: Frames received on ``modem/rx`` since the previous tick, in order of arrival.
     frames: List[OpticalFrame]
+    #: What became of the vehicle's acknowledged unicasts (``modem/outcome``) since the
+    #: previous tick, in order of arrival.
+    outcomes: List[FrameOutcome]
     #: The ROS messages themselves.
     imu: Imu
     pressure: FluidPressure
@@ -171,6 +184,7 @@ class _Vehicle:
         self.pressure = r(FluidPressure, ros, "pressure", qos.SENSOR_DATA)
         self.odom = r(Odometry, ros, "odom", qos.SENSOR_DATA) if swarm.odometry else None
         self.rx = r(OpticalFrame, ros, "modem/rx", qos.RECEIVED_FRAMES)
+        self.outcome = r(FrameOutcome, ros, "modem/outcome", qos.RECEIVED_FRAMES)
         self.setpoint = w(Setpoint, ros, "setpoint")
         self.actuators = w(Actuators, ros, "actuators")
         self.tx = w(OpticalFrame, ros, "modem/tx")
@@ -341,7 +355,7 @@ class Ros2Swarm:
         `timeout`. With `odometry`, it also waits up to `odom_grace` [s] for the tick's
         ``odom`` (not part of what a lock-step world promises: a vehicle whose odom has not
         come by then has ``position`` None). Each observation carries the ``modem/rx`` frames
-        that had arrived by then."""
+        and ``modem/outcome`` events that had arrived by then."""
         deadline = time.monotonic() + timeout
         grace: Optional[Tuple[_Key, float]] = None  # a tick waiting for odom, until when
         while True:
@@ -390,6 +404,7 @@ class Ros2Swarm:
                 accel=enu.frd(imu.linear_acceleration),
                 position=enu.position_to_ned(odom.pose.pose.position) if odom else None,
                 frames=self.received(name),
+                outcomes=self.outcomes(name),
                 imu=imu,
                 pressure=pressure,
                 odom=odom,
@@ -398,9 +413,18 @@ class Ros2Swarm:
 
     def received(self, vehicle: str) -> List[OpticalFrame]:
         """The frames `vehicle` received (``modem/rx``) not yet returned, in order of arrival.
-        Each: ``stamp`` end of reception, ``sender`` vehicle id, ``seq``, ``modem`` index,
-        ``power`` [W], ``snr`` [-], ``payload`` (list of byte values; ``bytes(f.payload)``)."""
+        Each: ``stamp`` end of reception, ``sender`` (the sending vehicle's ROS name,
+        `ros_name`), ``to`` (`vehicle`'s ROS name for a unicast to it, '' for a broadcast),
+        ``seq``, ``modem`` index, ``power`` [W], ``snr`` [-], ``payload`` (list of byte values;
+        ``bytes(f.payload)``)."""
         return [s for s in self._vehicle(vehicle).rx.take(N=1000) if hasattr(s, "payload")]
+
+    def outcomes(self, vehicle: str) -> List[FrameOutcome]:
+        """What became of `vehicle`'s frames sent with ``ack`` (``modem/outcome``) not yet
+        returned, in order of arrival. Each: ``stamp`` when it ended, ``to`` (the destination's
+        ROS name), ``tag``, ``seq``, ``transmissions``, ``acknowledged``, ``sent``."""
+        return [s for s in self._vehicle(vehicle).outcome.take(N=1000)
+                if hasattr(s, "acknowledged")]
 
     def clock(self) -> Optional[float]:
         """The newest simulated time published on ``/clock`` so far [s], or None."""
@@ -469,11 +493,20 @@ class Ros2Swarm:
         payload: bytes,
         modem: int = OpticalFrame.ALL_MODEMS,
         delay: float = 0.0,
+        to: Optional[str] = None,
+        ack: bool = False,
+        tag: int = 0,
     ) -> None:
         """Sends `payload` (at most the modem's payload size [bytes]) from `vehicle`'s modem
         `modem` (an index, or ``OpticalFrame.ALL_MODEMS`` for all at once), `delay` [s] after
-        tick `stamp`. In lock-step count it in the tick's Setpoint or Actuators `frames`."""
-        msg = OpticalFrame(stamp=_time(stamp), modem=modem, delay=delay, payload=bytes(payload))
+        tick `stamp`: a broadcast, or with `to` (a vehicle of the world, named as in
+        trajectories.csv or by its ROS name: it is sent as `ros_name(to)`) a unicast; with `ack`
+        too, acknowledged and retransmitted until it is, and what became of it comes back in
+        `outcomes` with `tag` (0 … 2³² − 1). A destination that is no vehicle's, the sender
+        itself, or `ack` without `to` make it a bad frame (counted by the world, not sent). In
+        lock-step count it in the tick's Setpoint or Actuators `frames`."""
+        msg = OpticalFrame(stamp=_time(stamp), to=ros_name(to) if to else "", ack=bool(ack),
+                           tag=tag, modem=modem, delay=delay, payload=bytes(payload))
         self._write(self._vehicle(vehicle).tx, msg)
 
 

@@ -12,6 +12,9 @@ VEHICLES: names separated by commas. PLAN (JSON):
 * ``odometry``: also read ``odom`` (a world that grants positions) and log the position;
 * ``bad``: ``[[vehicle index, time s, "nan_depth" | "bad_mode"], …]`` — at that tick send that
   vehicle a Setpoint with depth NaN, or with mode 42 (no such mode), instead;
+* ``frames``: ``[[time s, vehicle index, {"payload": text, "to": name, "ack": bool, "tag": n,
+  "modem": i}], …]`` — at that tick send these frames from that vehicle (``send_frame``; all
+  but the payload optional: a broadcast on every modem), counted in its command's ``frames``;
 * ``die``: ``[time s, n]`` — at the tick at that time, answer the first n ≥ 1 vehicles (with
   setpoints), then die by SIGKILL (nothing closed, nothing said; that tick is not logged);
 * ``last``: the time of the run's last control tick [s]: once it is answered and logged, wait
@@ -26,7 +29,10 @@ with the tick, and again while it waits): ``odom_grace`` is as long as ``idle``.
 
 LOG gets one JSON line per tick (flushed): ``{"t": s, "stamp": [sec, nanosec], "obs": {vehicle:
 {...}}}`` with each vehicle's converted observation and the raw pressure, variance and frame
-id. Exit status 0 after at least one tick, 1 when none came within ``wait``.
+id, and the ``modem/rx`` frames (``rx``) and ``modem/outcome`` events (``outcomes``) that came
+with the tick (stamps in ns, payloads in hex); after the last tick and the end of standard
+input, one line ``{"end": {vehicle: {"rx": [...], "outcomes": [...]}}}`` with those that came
+after the last tick. Exit status 0 after at least one tick, 1 when none came within ``wait``.
 """
 
 import json
@@ -35,13 +41,32 @@ import os
 import signal
 import sys
 
-from shoal_ros2 import Ros2Swarm, Setpoint
+from shoal_ros2 import OpticalFrame, Ros2Swarm, Setpoint
+
+
+def ns(stamp) -> int:
+    """A `Time` in nanoseconds."""
+    return stamp.sec * 10**9 + stamp.nanosec
+
+
+def frames_log(frames, outcomes) -> dict:
+    """Received frames and frame outcomes as JSON."""
+    return {
+        "rx": [{"stamp": ns(f.stamp), "sender": f.sender, "to": f.to, "seq": f.seq,
+                "modem": f.modem, "payload": bytes(f.payload).hex()} for f in frames],
+        "outcomes": [{"stamp": ns(e.stamp), "to": e.to, "tag": e.tag, "seq": e.seq,
+                      "transmissions": e.transmissions, "acknowledged": e.acknowledged,
+                      "sent": ns(e.sent)} for e in outcomes],
+    }
 
 
 def main(log_path, namespace, domain_id, vehicles, plan) -> int:
     names = vehicles.split(",")
     plan = json.loads(plan)
     bad = {(int(i), round(float(t) * 1e9)): what for i, t, what in plan.get("bad", [])}
+    to_send = {}
+    for t, i, spec in plan.get("frames", []):
+        to_send.setdefault((int(i), round(float(t) * 1e9)), []).append(spec)
     die_at, die_after = plan.get("die", [math.inf, 0])
     last = plan.get("last", math.inf)
     idle = plan.get("idle", 60.0)
@@ -59,10 +84,16 @@ def main(log_path, namespace, domain_id, vehicles, plan) -> int:
                     "pressure": o.pressure.fluid_pressure, "variance": o.pressure.variance,
                     "frame_id": o.imu.header.frame_id,
                     "position": o.position,
+                    **frames_log(o.frames, o.outcomes),
                 }
+                specs = to_send.get((o.index, ns(tick.stamp)), [])
+                for f in specs:
+                    swarm.send_frame(v, tick.stamp, f["payload"].encode(),
+                                     f.get("modem", OpticalFrame.ALL_MODEMS), 0.0, f.get("to"),
+                                     f.get("ack", False), f.get("tag", 0))
                 if "actuators" in plan:
                     thrusters, tilts, pump = plan["actuators"]
-                    swarm.send_actuators(v, tick.stamp, thrusters, tilts, pump)
+                    swarm.send_actuators(v, tick.stamp, thrusters, tilts, pump, len(specs))
                     continue
                 if plan.get("follow"):
                     depth, heading = o.depth + 0.1, o.yaw + 0.3
@@ -74,7 +105,7 @@ def main(log_path, namespace, domain_id, vehicles, plan) -> int:
                     depth = math.nan
                 elif what == "bad_mode":
                     mode = 42
-                swarm.send_setpoint(v, tick.stamp, mode, depth, heading)
+                swarm.send_setpoint(v, tick.stamp, mode, depth, heading, frames=len(specs))
                 if abs(tick.time - die_at) < 1e-6 and o.index + 1 == die_after:
                     os.kill(os.getpid(), signal.SIGKILL)
             log.write(json.dumps(record) + "\n")
@@ -82,6 +113,8 @@ def main(log_path, namespace, domain_id, vehicles, plan) -> int:
             ticks += 1
             if tick.time >= last - 1e-9:
                 sys.stdin.read()
+                end = {v: frames_log(swarm.received(v), swarm.outcomes(v)) for v in names}
+                log.write(json.dumps({"end": end}) + "\n")
                 break
     return 0 if ticks else 1
 

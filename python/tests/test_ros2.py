@@ -8,8 +8,10 @@ test_ros2_run.py).
 * `Ros2Swarm` assembles a tick from topics arriving in any order and answers on the right
   topics, against a stand-in world made of plain Cyclone DDS readers and writers in this
   process: a tick lacking a vehicle, or a vehicle's pressure, is seen incomplete (an older tick
-  written after it is the one returned), a stale stamp makes no tick, and each answer goes
-  once to its own vehicle's topics (the next sample on each is one sent after it).
+  written after it is the one returned), a stale stamp makes no tick, each answer goes
+  once to its own vehicle's topics (the next sample on each is one sent after it), frames
+  received and the outcomes of acknowledged ones come with the tick, and a unicast goes out
+  with its destination's ROS name, `ack` and `tag`.
 
 DDS stays on the loopback interface (`localhost_dds`).
 """
@@ -26,6 +28,7 @@ from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 from conftest import REPO, bus
 from shoal_ros2 import (
     FluidPressure,
+    FrameOutcome,
     Imu,
     OpticalFrame,
     Ros2Swarm,
@@ -71,6 +74,8 @@ def filled(ts, name, counter):
             k = next(counter)
             if desc[0] == "string":
                 return f"s{k}"
+            if desc[0] == "bool":
+                return k % 2 == 1
             if desc[0] in INTS:
                 lo, hi = INTS[desc[0]]
                 return lo + (k * 37 + 1) % (hi - lo + 1)
@@ -156,8 +161,10 @@ def test_ros_frames_convert_back_to_shoal_s():
 def test_a_tick_is_assembled_from_topics_in_any_order_and_answered(localhost_dds):
     """A stand-in world (plain Cyclone DDS endpoints with the bridge's topics and QoS)
     publishes a tick's imu and pressure out of order, one sample last: the tick is complete only
-    then (seen by the ticks returned before it, not by waiting); the answers arrive stamped
-    with it on the right vehicle's topics; its samples again, and older ones, make no tick."""
+    then (seen by the ticks returned before it, not by waiting); the received frames and
+    frame outcomes written before it come with it, on the right vehicle; the answers arrive
+    stamped with it on the right vehicle's topics (a unicast with its destination's ROS name,
+    `ack` and `tag`); its samples again, and older ones, make no tick."""
     from cyclonedds.domain import DomainParticipant
     from cyclonedds.pub import DataWriter
     from cyclonedds.sub import DataReader
@@ -175,6 +182,8 @@ def test_a_tick_is_assembled_from_topics_in_any_order_and_answered(localhost_dds
                 for v in names}
     rx = {v: DataWriter(dp, topic(OpticalFrame, v, "modem/rx"), qos=qos.RECEIVED_FRAMES)
           for v in names}
+    outcome = {v: DataWriter(dp, topic(FrameOutcome, v, "modem/outcome"),
+                             qos=qos.RECEIVED_FRAMES) for v in names}
     setpoints = {v: DataReader(dp, topic(Setpoint, v, "setpoint"), qos=qos.COMMANDS)
                  for v in names}
     tx = {v: DataReader(dp, topic(OpticalFrame, v, "modem/tx"), qos=qos.COMMANDS) for v in names}
@@ -205,7 +214,8 @@ def test_a_tick_is_assembled_from_topics_in_any_order_and_answered(localhost_dds
     with Ros2Swarm(namespace, names, domain) as swarm:
         deadline = time.monotonic() + 60  # a safety net, not a claim
         while not all(w.get_matched_subscriptions()
-                      for w in [*imu.values(), *pressure.values(), *rx.values()]):
+                      for w in [*imu.values(), *pressure.values(), *rx.values(),
+                                *outcome.values()]):
             assert time.monotonic() < deadline, "no discovery within 60 s"
             time.sleep(0.01)
         t = 1.25
@@ -218,7 +228,11 @@ def test_a_tick_is_assembled_from_topics_in_any_order_and_answered(localhost_dds
         assert got.observations["b"].depth == pytest.approx(1.15), "and t's b is not in it"
         sensors("a-1", t, rpy=(0.1, 0.2, -1.0), order="i")
         assert complete(1.2).time == 1.2, "a tick without a-1's pressure is not complete"
-        rx["b"].write(OpticalFrame(stamp=enu.stamp(1.23), sender=0, modem=2, payload=b"hi"))
+        rx["b"].write(OpticalFrame(stamp=enu.stamp(1.23), sender="a_1", to="b", seq=5, modem=2,
+                                   payload=b"hi"))
+        ended = FrameOutcome(stamp=enu.stamp(1.24), to="b", tag=7, seq=5, transmissions=2,
+                             acknowledged=True, sent=enu.stamp(1.2))
+        outcome["a-1"].write(ended)
         sensors("a-1", t, depth=1.5, order="p")
         tick = swarm.wait_tick(60.0)
         assert tick is not None and tick.time == t and tick.stamp == enu.stamp(t)
@@ -227,10 +241,15 @@ def test_a_tick_is_assembled_from_topics_in_any_order_and_answered(localhost_dds
         assert (a.depth, b.depth) == (pytest.approx(1.5, abs=1e-12), pytest.approx(0.5, abs=1e-12))
         assert (a.roll, a.pitch, a.yaw) == pytest.approx((0.1, 0.2, -1.0))
         assert b.yaw == pytest.approx(2.0) and b.rates == pytest.approx((0.1, -0.2, -0.3))
-        assert [bytes(f.payload) for f in b.frames] == [b"hi"] and a.frames == []
+        # Written before the tick's last sample (reliable writers of this process: delivered
+        # within write()), they are the tick's, on their own vehicle only.
+        assert [(bytes(f.payload), f.sender, f.to, f.seq) for f in b.frames] == [
+            (b"hi", "a_1", "b", 5)] and a.frames == []
+        assert a.outcomes == [ended] and b.outcomes == []
         assert b.position is None
         swarm.send_frame("b", tick.stamp, b"\x01\x02", modem=3, delay=0.01)
-        swarm.send_setpoint("b", tick.stamp, Setpoint.MODE_AUTO, 1.0, 0.5, 0.02, frames=1)
+        swarm.send_frame("b", tick.stamp, b"u", to="a-1", ack=True, tag=2**32 - 1)
+        swarm.send_setpoint("b", tick.stamp, Setpoint.MODE_AUTO, 1.0, 0.5, 0.02, frames=2)
         swarm.send_setpoint("a-1", tick.time, Setpoint.MODE_DIVING, 2.0, -0.5)
         # Once t has been returned, its samples again (as a world republishes a tick it waits
         # for) and older ones are stale: they make no tick. Cyclone DDS delivers to the readers
@@ -259,11 +278,15 @@ def test_a_tick_is_assembled_from_topics_in_any_order_and_answered(localhost_dds
         (sa, na), (sb, nb) = take(setpoints["a-1"], 2), take(setpoints["b"], 2)
         assert (sa.stamp, sa.mode, sa.depth, sa.heading) == (enu.stamp(t), 2, 2.0, -0.5)
         assert (sb.stamp, sb.mode, sb.depth, sb.heading, sb.surge, sb.frames) == (
-            enu.stamp(t), 6, 1.0, 0.5, 0.02, 1)
+            enu.stamp(t), 6, 1.0, 0.5, 0.02, 2)
         assert na.stamp == nb.stamp == enu.stamp(1.3)
-        (fb, nfb) = take(tx["b"], 2)
+        (fb, ub, nfb) = take(tx["b"], 3)
         assert (fb.stamp, fb.modem, fb.delay, bytes(fb.payload)) == (enu.stamp(t), 3, 0.01,
                                                                      b"\x01\x02")
+        assert (fb.to, fb.ack, fb.tag) == ("", False, 0), "a broadcast"
+        # A unicast names its destination as its topics do (a-1: a_1).
+        assert (ub.stamp, ub.modem, ub.to, ub.ack, ub.tag, bytes(ub.payload)) == (
+            enu.stamp(t), OpticalFrame.ALL_MODEMS, "a_1", True, 2**32 - 1, b"u")
         assert bytes(nfb.payload) == b"now"
         assert [bytes(f.payload) for f in take(tx["a-1"], 1)] == [b"now"]
         with pytest.raises(KeyError, match="vehicle `c`"):

@@ -15,6 +15,11 @@ domain, DDS on the loopback (`localhost_dds`).
 * An agent killed mid-run (between two ticks, or after answering one of the vehicles) leaves
   both vehicles to the fallback from the tick it missed, as the run recorded it, and the run
   ends cleanly.
+* Unicasts (four vehicles, `UNICAST_WORLD`): an acknowledged one reaches its destination's
+  `modem/rx` alone, naming its sender, and its sender's `modem/outcome` says acknowledged with
+  its tag; one to a vehicle that hears nothing is given up after 1 + `arq_retries`
+  transmissions, at the time the world's `ack_timeout` makes by hand; frames to no vehicle or
+  to the sender itself are counted as bad frames.
 
 Counted in ticks, not wall time: the agent leaves after answering the run's last tick, and
 every tick is asserted answered once, in order. The world's lock-step `timeout` (wall time, the
@@ -54,10 +59,27 @@ TICK = 0.05
 TIMEOUT = 60.0
 
 
+#: The test world's vehicles: two μAUV² at 0.8 m heading north, 4 m apart, with the IMU
+#: noise above.
+AUV_PAIR = f"""
+[[vehicles]]
+name = "auv"
+count = 2
+grid = {{ origin = [3.0, 4.5, 0.8], spacing = [4.0, 4.0], columns = 2 }}
+agent = "ros2"
+
+[vehicles.model.imu]
+attitude_noise_deg = {math.degrees(ATTITUDE_NOISE)}
+gyro_noise = {GYRO_NOISE}
+gyro_bias = [0.0, 0.0, 0.0]
+accel_noise = 0.02
+"""
+
+
 def world(namespace, domain, *, duration, fallback="hold", timeout=TIMEOUT, seed=5,
-          grant_position=False, extra=""):
-    """Two μAUV² at 0.8 m heading north, driven over ROS 2 in lock-step; `extra`: TOML
-    appended (tables for the vehicle group's model, `[water]`)."""
+          grant_position=False, extra="", vehicles=AUV_PAIR):
+    """`vehicles` (TOML; default `AUV_PAIR`) driven over ROS 2 in lock-step; `extra`: TOML
+    appended (tables for the last vehicle group's model, `[water]`)."""
     return f"""
 name = "ros2_test"
 seed = {seed}
@@ -77,19 +99,7 @@ grant_position = {str(grant_position).lower()}
 [ros2]
 domain_id = {domain}
 namespace = "{namespace}"
-
-[[vehicles]]
-name = "auv"
-count = 2
-grid = {{ origin = [3.0, 4.5, 0.8], spacing = [4.0, 4.0], columns = 2 }}
-agent = "ros2"
-
-[vehicles.model.imu]
-attitude_noise_deg = {math.degrees(ATTITUDE_NOISE)}
-gyro_noise = {GYRO_NOISE}
-gyro_bias = [0.0, 0.0, 0.0]
-accel_noise = 0.02
-{extra}
+{vehicles}{extra}
 [output]
 record_hz = 10.0
 """
@@ -135,16 +145,28 @@ def ros2_shoal(shoal_bin, tmp_path_factory, localhost_dds):
 
 class Run:
     """A finished run beside the test agent: summary, trajectories by vehicle, the agent's log
-    (one dict per tick) and its report in the summary."""
+    (one dict per tick, and what came after the last) and its report in the summary."""
 
     def __init__(self, out: Path, log: Path):
+        #: The run's output directory.
+        self.out = out
         self.summary = json.loads((out / "summary.json").read_text())
         self.rows = defaultdict(list)
         with open(out / "trajectories.csv", newline="") as f:
             for r in csv.DictReader(f):
                 self.rows[r["vehicle"]].append(r)
-        self.ticks = [json.loads(line) for line in log.read_text().splitlines()]
+        lines = [json.loads(line) for line in log.read_text().splitlines()]
+        self.ticks = [k for k in lines if "end" not in k]
+        #: Per vehicle, the frames and outcomes that came after the last tick (none if the
+        #: agent died).
+        self.end = next((k["end"] for k in lines if "end" in k), {})
         self.report = next(a for a in self.summary["agents"]["agents"] if a["name"] == "ros2")
+
+    def heard(self, v, what):
+        """Every `what` ("rx": frames received, "outcomes") the agent got for vehicle `v` over
+        the run, in order of arrival."""
+        got = [x for k in self.ticks for x in k["obs"][v][what]]
+        return got + self.end.get(v, {}).get(what, [])
 
     def tick_at(self, t):
         """The agent's logged tick at time `t` [s]."""
@@ -154,10 +176,10 @@ class Run:
         return hits[0]
 
 
-def start_with_agent(shoal, tmp_path, plan, **world_args):
-    """Starts the test world and `ros2_agent.py` following `plan` (see there; unless it dies,
-    it stops after the run's last tick, duration − TICK, and leaves when `finish` has seen the
-    world end)."""
+def start_with_agent(shoal, tmp_path, plan, names=VEHICLES, **world_args):
+    """Starts the test world and `ros2_agent.py` driving the vehicles `names` following `plan`
+    (see there; unless it dies, it stops after the run's last tick, duration − TICK, and leaves
+    when `finish` has seen the world end)."""
     namespace, domain = bus()
     tmp_path.mkdir(parents=True, exist_ok=True)
     path = tmp_path / "world.toml"
@@ -167,7 +189,7 @@ def start_with_agent(shoal, tmp_path, plan, **world_args):
     out, log = tmp_path / "out", tmp_path / "agent.jsonl"
     agent_err = open(tmp_path / "agent.err", "w+")
     agent = subprocess.Popen(
-        [sys.executable, str(AGENT), str(log), namespace, str(domain), ",".join(VEHICLES),
+        [sys.executable, str(AGENT), str(log), namespace, str(domain), ",".join(names),
          json.dumps(plan)], stdin=subprocess.PIPE, stdout=subprocess.DEVNULL, stderr=agent_err)
     sim = subprocess.Popen(
         [str(shoal), "run", str(path), "--quiet", "--no-plots", "--no-replay", "--out",
@@ -207,9 +229,10 @@ def finish(started):
     return run
 
 
-def run_with_agent(shoal, tmp_path, plan, **world_args):
-    """Runs the test world with `ros2_agent.py` following `plan`; returns the `Run`."""
-    return finish(start_with_agent(shoal, tmp_path, plan, **world_args))
+def run_with_agent(shoal, tmp_path, plan, names=VEHICLES, **world_args):
+    """Runs the test world with `ros2_agent.py` driving `names` following `plan`; returns the
+    `Run`."""
+    return finish(start_with_agent(shoal, tmp_path, plan, names, **world_args))
 
 
 def wrapped(a):
@@ -464,3 +487,140 @@ def test_the_ros2_school_example_aligns_the_school(ros2_shoal, tmp_path):
 
     assert math.degrees(spread(0.0)) > 60.0, "the school starts scattered"
     assert math.degrees(spread(60.0)) < 5.0, "and ends aligned within 5°"
+
+
+# Unicast, acknowledgements, retries -------------------------------------------------------
+
+#: The unicast world's modems (the μAUV²'s, one forward): retransmissions of an unacknowledged
+#: unicast and the wait for its acknowledgement after the frame ended [s] — not the defaults
+#: (3, 0.05 s), so that what is below comes from the world file.
+RETRIES = 2
+ACK_TIMEOUT = 0.08
+#: The modem's line: bit rate [bit/s], bits per byte (8N1), link-layer header [bytes].
+BIT_RATE, BITS_PER_BYTE, HEADER = 19200.0, 10, 6
+#: The world's step [s] (`dt`): the link layer looks at its waits once a step.
+DT = 0.01
+
+
+def airtime(payload: int) -> float:
+    """A frame's time on the air [s] with `payload` bytes (an acknowledgement: 0)."""
+    return (payload + HEADER) * BITS_PER_BYTE / BIT_RATE
+
+
+def group(name, position, heading_deg):
+    """A one-vehicle group driven over ROS 2 with the unicast world's modem."""
+    return f"""
+[[vehicles]]
+name = "{name}"
+position = {list(position)}
+heading_deg = {heading_deg}
+agent = "ros2"
+
+[[vehicles.model.modems]]
+arq_retries = {RETRIES}
+ack_timeout = {ACK_TIMEOUT}
+"""
+
+
+#: Four μAUV² 1 m deep (modems forward): a and b 1.5 m apart facing each other; c 0.5 m
+#: beside b facing a (it hears a, 18° off a's axis); d 5 m away facing away from everyone
+#: (it hears no one).
+UNICAST_POSES = {"a": ((3.0, 5.0, 1.0), 0.0), "b": ((4.5, 5.0, 1.0), 180.0),
+                 "c": ((4.5, 5.5, 1.0), 198.0), "d": ((8.5, 8.5, 1.0), 0.0)}
+UNICAST_WORLD = "".join(group(n, p, h) for n, (p, h) in UNICAST_POSES.items())
+UNICAST_VEHICLES = list(UNICAST_POSES)
+#: What the agent sends: [tick s, sender index, frame].
+UNICAST_FRAMES = [
+    [0.1, 0, {"payload": "hello"}],  # a: a broadcast, that b and c hear
+    [0.2, 0, {"payload": "for-b", "to": "b", "ack": True, "tag": 7}],
+    [0.2, 2, {"payload": "bad1", "to": "nobody"}],  # c: no such vehicle
+    [0.2, 2, {"payload": "bad2", "to": "c", "ack": True}],  # c: to itself
+    [0.4, 1, {"payload": "to-d", "to": "d", "ack": True, "tag": 9}],  # b → d (hears nothing)
+]
+
+
+def ns(t):
+    """`t` [s] as a stamp in ns."""
+    return round(t * 1e9)
+
+
+@pytest.fixture(scope="module")
+def unicast_run(ros2_shoal, tmp_path_factory):
+    """`UNICAST_WORLD` for 1 s beside the test agent: every vehicle holds its depth and
+    heading, and sends `UNICAST_FRAMES`."""
+    plan = {"setpoints": [[1.0, math.radians(h)] for _, h in UNICAST_POSES.values()],
+            "frames": UNICAST_FRAMES}
+    run = run_with_agent(ros2_shoal, tmp_path_factory.mktemp("unicast"), plan,
+                         UNICAST_VEHICLES, duration=1.0, vehicles=UNICAST_WORLD)
+    assert run.report["commands_applied"] == 4 * len(run.ticks) == 4 * 20, run.report
+    return run
+
+
+def payloads(frames):
+    return [bytes.fromhex(f["payload"]).decode() for f in frames]
+
+
+def test_an_acknowledged_unicast_reaches_its_destination_alone_and_its_sender_hears_so(
+        unicast_run):
+    """a → b with `ack`: b's `modem/rx` has it once, from `a`, to `b` (after a's broadcast,
+    `to` empty); c, whose modem decoded it (link_pairs.csv), does not get it, nor does a get
+    b's frames to d, which it decoded too; a's `modem/outcome`: acknowledged, tag 7, the
+    frame's `seq`, one transmission, sent at the tick it was sent with, ended after the frame
+    and b's acknowledgement were on the air and before the first wait ran out."""
+    run = unicast_run
+    with open(run.out / "link_pairs.csv", newline="") as f:
+        decoded = {(r["sender"], r["receiver"]): int(r["delivered"]) for r in csv.DictReader(f)}
+    # c: a's broadcast and unicast; a: b's acknowledgement and the three tries of b → d.
+    assert (decoded[("a", "c")], decoded[("b", "a")]) == (2, 4), decoded
+    rx = {v: run.heard(v, "rx") for v in UNICAST_VEHICLES}
+    assert payloads(rx["b"]) == ["hello", "for-b"], rx["b"]
+    hello, for_b = rx["b"]
+    assert (hello["sender"], hello["to"]) == ("a", ""), hello
+    assert (for_b["sender"], for_b["to"]) == ("a", "b"), for_b
+    assert payloads(rx["c"]) == ["hello"], "c hears a, but the unicast is b's"
+    assert rx["a"] == [] and rx["d"] == [], (rx["a"], rx["d"])
+    outcomes = run.heard("a", "outcomes")
+    assert len(outcomes) == 1, outcomes
+    o = outcomes[0]
+    assert (o["to"], o["tag"], o["acknowledged"], o["transmissions"], o["seq"]) == (
+        "b", 7, True, 1, for_b["seq"]), o
+    assert o["sent"] == ns(0.2), o
+    earliest = 0.2 + airtime(len("for-b")) + airtime(0)
+    assert ns(earliest) <= o["stamp"] < ns(0.2 + airtime(len("for-b")) + ACK_TIMEOUT), o
+    assert run.summary["comm"]["link_layer"]["acks_sent"] == 1, run.summary["comm"]
+
+
+def test_a_unicast_to_a_vehicle_that_hears_nothing_is_given_up_after_its_retries(unicast_run):
+    """b → d with `ack`, d hearing no one: b's `modem/outcome` says not acknowledged after
+    1 + RETRIES transmissions. By hand: each try of the 4-byte frame is on the air for
+    (4 + 6) × 10 / 19200 s = 5.21 ms, the wait runs ACK_TIMEOUT = 80 ms after it, and the
+    link layer retransmits (or gives up) at the first step (DT = 10 ms) at or after its end:
+    ceil(85.2 ms / DT) × DT = 90 ms a try, tries at 0.40, 0.49, 0.58 s, given up at 0.67 s."""
+    run = unicast_run
+    outcomes = run.heard("b", "outcomes")
+    assert len(outcomes) == 1, outcomes
+    o = outcomes[0]
+    assert (o["to"], o["tag"], o["acknowledged"], o["transmissions"]) == (
+        "d", 9, False, 1 + RETRIES), o
+    assert o["sent"] == ns(0.4), o
+    per_try = math.ceil((airtime(len("to-d")) + ACK_TIMEOUT) / DT) * DT
+    assert per_try == pytest.approx(0.09)
+    assert o["stamp"] == pytest.approx(ns(0.4 + (1 + RETRIES) * per_try), abs=1000), o
+    assert run.heard("d", "rx") == [] and run.heard("d", "outcomes") == []
+    link = run.summary["comm"]["link_layer"]
+    assert (link["acknowledged"], link["gave_up"], link["retransmissions"]) == (
+        1, 1, RETRIES), link
+
+
+def test_frames_to_no_vehicle_or_to_the_sender_itself_are_bad_frames(unicast_run):
+    """c's frames to `nobody` (no vehicle's name) and to `c` itself are counted as bad frames,
+    nothing else is rejected, and neither went on the air: the run sent 3 frames (hello,
+    for-b, to-d), c has no outcome, and no one received them."""
+    run = unicast_run
+    rejected = run.report["rejections"]
+    assert rejected["bad_frames"] == 2, rejected
+    assert sum(rejected.values()) == 2, rejected
+    assert run.summary["comm"]["frames_sent"] == 3, run.summary["comm"]
+    assert run.heard("c", "outcomes") == []
+    every = [p for v in UNICAST_VEHICLES for p in payloads(run.heard(v, "rx"))]
+    assert "bad1" not in every and "bad2" not in every, every

@@ -4,7 +4,8 @@
 //!
 //! On a tick at simulated time T the world publishes, for each bridged vehicle, its IMU
 //! readings and pressure (stamped T), its odometry when positions are granted, the frames it
-//! received since its last tick (`modem/rx`), then `/tf` (granted) and `/clock` = T.
+//! received since its last tick (`modem/rx`) and what became of its acknowledged unicasts
+//! that ended since then (`modem/outcome`), then `/tf` (granted) and `/clock` = T.
 //!
 //! * **Lock-step** (`[agents] timing = "lockstep"`): the world then waits, at most
 //!   `[agents] timeout` of wall time (`attach_timeout` until the first command ever arrives:
@@ -21,11 +22,13 @@
 //! of the bridge — the bridge is one agent, *hung* — until commands arrive again; `stop` ends
 //! the run. Every command is checked by [`Sim::command_vehicle`] (the rules of iceoryx2
 //! agents: a NaN rejects it, values out of range are clamped, both counted) and an unknown
-//! `mode` or `pump` is counted as invalid; nothing unchecked reaches the world.
+//! `mode` or `pump` is counted as invalid, a frame to a name that is no vehicle's as a bad
+//! frame; nothing unchecked reaches the world.
 
 use crate::convert::{self, Answer, ns};
 use crate::error::Ros2Error;
 use crate::msgs::{Clock, FluidPressure, Imu, Odometry, OpticalFrame, TfMessage, Time, stamp};
+use crate::names::Names;
 use crate::topics::{VehicleTopics, WorldTopics};
 use ros2_client::{Context, Node, NodeName, NodeOptions};
 use shoal_sim::agents::{AgentReport, Flow, Observation, Rejections, RoundTrip, lost_agent};
@@ -94,6 +97,8 @@ pub struct Ros2Host {
     vehicles: Vec<VehicleTopics>,
     /// Vehicle id → index in `vehicles`.
     index: HashMap<u32, usize>,
+    /// Every vehicle's ROS name (frames' senders and destinations).
+    names: Names,
     agents: AgentsDesc,
     ros2: Ros2Desc,
     density: f64,
@@ -133,19 +138,15 @@ impl Ros2Host {
             )
             .map_err(|e| Ros2Error::Dds(format!("node: {e:?}")))?;
         let grant = desc.agents.grant_position;
+        let names = Names::new(
+            desc.vehicles.iter().map(|v| v.name.as_str()),
+            &ros2.namespace,
+        )?;
         let mut vehicles = Vec::new();
         let mut index = HashMap::new();
         for (id, v) in desc.vehicles.iter().enumerate() {
             if v.agent.as_deref() != Some(shoal_world::spec::ROS2_AGENT) {
                 continue;
-            }
-            let ros = crate::topics::ros_name(&v.name);
-            if let Some(other) = vehicles.iter().find(|t: &&VehicleTopics| t.name == ros) {
-                return Err(Ros2Error::Name(format!(
-                    "vehicles `{}` and `{}` would share the topics /{}/{ros}/…: rename one \
-                     (ROS names hold letters, digits and single `_`)",
-                    desc.vehicles[other.id as usize].name, v.name, ros2.namespace
-                )));
             }
             index.insert(id as u32, vehicles.len());
             vehicles.push(VehicleTopics::open(
@@ -164,6 +165,7 @@ impl Ros2Host {
             world,
             vehicles,
             index,
+            names,
             agents: desc.agents.clone(),
             density: desc.env.density,
             gravity: desc.env.gravity,
@@ -343,7 +345,10 @@ impl Ros2Host {
             s.publish(v)?;
             sensors.push(s);
             for f in &o.frames {
-                publish(&v.rx, convert::received(f))?;
+                publish(&v.rx, convert::received(f, &v.name, &self.names))?;
+            }
+            for e in &o.outcomes {
+                publish(&v.outcome, convert::outcome(e, &self.names))?;
             }
         }
         if let Some(p) = &self.world.tf {
@@ -468,7 +473,7 @@ impl Ros2Host {
         for id in ids {
             let a = answers.remove(&id).expect("listed above");
             let rej = &mut self.report.rejections;
-            if let Some(cmd) = a.into_command(id, rej)
+            if let Some(cmd) = a.into_command(id, &self.names, rej)
                 && sim.command_vehicle(self.ros2.agent, &cmd, rej)
             {
                 self.report.commands_applied += 1;

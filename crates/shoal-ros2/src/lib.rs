@@ -9,6 +9,7 @@
 //! * [`msgs`] — the messages, field for field as their ROS 2 definitions, and the
 //!   `shoal_msgs` interface package (`crates/shoal-ros2/shoal_msgs/`, built with colcon by a
 //!   ROS 2 user);
+//! * [`names`] — vehicles by their ROS names (topics, frames' senders and destinations);
 //! * [`topics`] — one vehicle's topics and QoS;
 //! * [`convert`] — observations to ROS messages in ROS's axes, commands back;
 //! * [`host`] — the world's end: publishing, lock-step or free-running timing, fallback;
@@ -22,6 +23,7 @@ pub mod convert;
 pub mod error;
 pub mod host;
 pub mod msgs;
+pub mod names;
 pub mod topics;
 
 pub use error::Ros2Error;

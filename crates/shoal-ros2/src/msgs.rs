@@ -6,9 +6,10 @@
 //!   `Point`, `Pose`, `Quaternion`, `Transform`, `TransformStamped`, `Vector3` are `run.mcap`'s
 //!   ([`shoal_record::mcap::ros2`], one definition in the workspace); `nav_msgs/Odometry` and
 //!   `rosgraph_msgs/Clock` are here;
-//! * `shoal_msgs` ([`Setpoint`], [`Actuators`], [`OpticalFrame`]): the interface package in
-//!   `crates/shoal-ros2/shoal_msgs/` that a ROS 2 user builds with colcon; a test parses its
-//!   `.msg` files and checks these structs against them (names, types, order).
+//! * `shoal_msgs` ([`Setpoint`], [`Actuators`], [`OpticalFrame`], [`FrameOutcome`]): the
+//!   interface package in `crates/shoal-ros2/shoal_msgs/` that a ROS 2 user builds with
+//!   colcon; a test parses its `.msg` files and checks these structs against them (names,
+//!   types, order).
 
 use serde::{Deserialize, Serialize};
 pub use shoal_record::mcap::ros2::{
@@ -111,12 +112,21 @@ pub struct Actuators {
 }
 
 /// `shoal_msgs/msg/OpticalFrame`: a frame received (`modem/rx`) or to send (`modem/tx`).
+/// Vehicles are named by their ROS names (`crate::names`), as in their topics.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct OpticalFrame {
     /// rx: end of the reception; tx: the control tick it belongs to.
     pub stamp: Time,
-    /// rx: the sending vehicle's id.
-    pub sender: u32,
+    /// rx: the sending vehicle's ROS name; tx: unused (empty).
+    pub sender: String,
+    /// tx: the destination vehicle's ROS name, empty for a broadcast; rx: the receiving
+    /// vehicle's own name when the frame was a unicast to it, empty for a broadcast.
+    pub to: String,
+    /// tx: with `to`, acknowledged and retransmitted until it is (stop-and-wait ARQ), its
+    /// end published on `modem/outcome`; rx: unused (false).
+    pub ack: bool,
+    /// tx: a number of the sender's choosing, returned on `modem/outcome`; rx: unused (0).
+    pub tag: u32,
     /// rx: the sender's sequence number.
     pub seq: u32,
     /// rx: the receiving modem; tx: the sending one, or [`ALL_MODEMS`].
@@ -129,6 +139,27 @@ pub struct OpticalFrame {
     pub delay: f64,
     /// The payload \[bytes\].
     pub payload: Vec<u8>,
+}
+
+/// `shoal_msgs/msg/FrameOutcome`: what became of an acknowledged unicast (`modem/outcome`
+/// of its sender).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct FrameOutcome {
+    /// When it ended: the acknowledgement decoded, or the wait after the last
+    /// transmission ran out (simulated time).
+    pub stamp: Time,
+    /// The destination vehicle's ROS name.
+    pub to: String,
+    /// The `tag` it was sent with.
+    pub tag: u32,
+    /// The sender's sequence number of the frame (the destination's `modem/rx` `seq`).
+    pub seq: u32,
+    /// Times it went on the air: 1 + retransmissions (0: never, its queue was full) \[-\].
+    pub transmissions: u32,
+    /// Whether the destination acknowledged it (else: given up).
+    pub acknowledged: bool,
+    /// When it was handed to the link layer: the tick's time plus the frame's `delay`.
+    pub sent: Time,
 }
 
 /// `OpticalFrame.modem` for "every modem at once".

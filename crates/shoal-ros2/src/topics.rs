@@ -1,13 +1,14 @@
 //! One vehicle's ROS 2 topics: what the world publishes for it and the commands it reads,
 //! under `/<namespace>/<vehicle>/`, with ROS 2's names (`rt/…` topics, `pkg::msg::dds_::Type_`
 //! types — `ros2-client` forms them) and QoS that ROS 2 nodes accept: sensor data best
-//! effort (keep last 10, as `rclcpp::SensorDataQoS`), frames and commands reliable (keep
-//! last 100).
+//! effort (keep last 10, as `rclcpp::SensorDataQoS`), frames, their outcomes and commands
+//! reliable (keep last 100).
 
 use crate::error::Ros2Error;
 use crate::msgs::{
-    Actuators, Clock, FluidPressure, Imu, Odometry, OpticalFrame, Setpoint, TfMessage,
+    Actuators, Clock, FluidPressure, FrameOutcome, Imu, Odometry, OpticalFrame, Setpoint, TfMessage,
 };
+use crate::names::ros_name;
 use ros2_client::{
     MessageTypeName, Name, Node, Publisher, QosProfile, Subscription,
     qos::{History, Reliability, WhenFull},
@@ -69,27 +70,6 @@ pub fn subscription<T: 'static>(
         .map_err(|e| Ros2Error::Dds(format!("subscription {namespace}/{leaf}: {e:?}")))
 }
 
-/// A vehicle's name as a ROS 2 name: every character but ASCII letters and digits as `_`,
-/// runs of `_` as one, no `_` at the end, and a `v` before a leading digit (`school-0` →
-/// `school_0`, `x--y` → `x_y`, `3d` → `v3d`). Two vehicles whose names come out the same are
-/// refused when the bridge opens.
-pub fn ros_name(vehicle: &str) -> String {
-    let mut s = String::with_capacity(vehicle.len() + 1);
-    for c in vehicle.chars() {
-        let c = if c.is_ascii_alphanumeric() { c } else { '_' };
-        if !(c == '_' && (s.is_empty() || s.ends_with('_'))) {
-            s.push(c);
-        }
-    }
-    while s.ends_with('_') {
-        s.pop();
-    }
-    if s.is_empty() || s.starts_with(|c: char| c.is_ascii_digit()) {
-        s.insert(0, 'v');
-    }
-    s
-}
-
 /// The topics of one vehicle.
 pub struct VehicleTopics {
     /// Vehicle id.
@@ -104,6 +84,8 @@ pub struct VehicleTopics {
     pub odom: Option<Publisher<Odometry>>,
     /// `modem/rx` (shoal_msgs/OpticalFrame).
     pub rx: Publisher<OpticalFrame>,
+    /// `modem/outcome` (shoal_msgs/FrameOutcome).
+    pub outcome: Publisher<FrameOutcome>,
     /// `setpoint` (shoal_msgs/Setpoint).
     pub setpoint: Subscription<Setpoint>,
     /// `actuators` (shoal_msgs/Actuators).
@@ -123,6 +105,7 @@ impl VehicleTopics {
     ) -> Result<Self, Ros2Error> {
         let name = ros_name(name);
         let ns = format!("/{namespace}/{name}");
+        let modem = format!("{ns}/modem");
         let (sensor, command) = (sensor_qos(), command_qos());
         Ok(Self {
             id,
@@ -146,11 +129,12 @@ impl VehicleTopics {
             } else {
                 None
             },
-            rx: publisher(
+            rx: publisher(node, &modem, "rx", ("shoal_msgs", "OpticalFrame"), &command)?,
+            outcome: publisher(
                 node,
-                &format!("{ns}/modem"),
-                "rx",
-                ("shoal_msgs", "OpticalFrame"),
+                &modem,
+                "outcome",
+                ("shoal_msgs", "FrameOutcome"),
                 &command,
             )?,
             setpoint: subscription(node, &ns, "setpoint", ("shoal_msgs", "Setpoint"), &command)?,
@@ -161,13 +145,7 @@ impl VehicleTopics {
                 ("shoal_msgs", "Actuators"),
                 &command,
             )?,
-            tx: subscription(
-                node,
-                &format!("{ns}/modem"),
-                "tx",
-                ("shoal_msgs", "OpticalFrame"),
-                &command,
-            )?,
+            tx: subscription(node, &modem, "tx", ("shoal_msgs", "OpticalFrame"), &command)?,
         })
     }
 }
@@ -201,26 +179,5 @@ impl WorldTopics {
                 None
             },
         })
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::ros_name;
-
-    #[test]
-    fn vehicle_names_become_ros_names() {
-        // The same cases as python/shoal_ros2/swarm.py's `ros_name`.
-        for (name, ros) in [
-            ("school-0", "school_0"),
-            ("x--y", "x_y"),
-            ("3d", "v3d"),
-            ("auv_", "auv"),
-            ("_a", "a"),
-            ("", "v"),
-            ("ü-boot", "boot"),
-        ] {
-            assert_eq!(ros_name(name), ros, "{name}");
-        }
     }
 }

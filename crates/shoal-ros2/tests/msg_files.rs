@@ -5,7 +5,7 @@
 //! Rust constants; and the package's build files list every `.msg` file.
 
 use serde_reflection::{ContainerFormat, Format, Named, Registry, Tracer, TracerConfig};
-use shoal_ros2::msgs::{self, Actuators, OpticalFrame, Setpoint};
+use shoal_ros2::msgs::{self, Actuators, FrameOutcome, OpticalFrame, Setpoint};
 use shoal_rosbag::schema::{Count, Elem, Prim, Schema};
 use std::path::{Path, PathBuf};
 
@@ -18,6 +18,7 @@ fn registry() -> Registry {
     t.trace_simple_type::<Setpoint>().unwrap();
     t.trace_simple_type::<Actuators>().unwrap();
     t.trace_simple_type::<OpticalFrame>().unwrap();
+    t.trace_simple_type::<FrameOutcome>().unwrap();
     t.registry().unwrap()
 }
 
@@ -85,7 +86,10 @@ fn every_msg_file_matches_its_rust_type_field_for_field() {
         .iter()
         .map(|f| f.file_stem().unwrap().to_string_lossy().into_owned())
         .collect();
-    assert_eq!(names, ["Actuators", "OpticalFrame", "Setpoint"]);
+    assert_eq!(
+        names,
+        ["Actuators", "FrameOutcome", "OpticalFrame", "Setpoint"]
+    );
     for (file, name) in files.iter().zip(&names) {
         let text = std::fs::read_to_string(file).unwrap();
         let schema = Schema::parse(&format!("shoal_msgs/msg/{name}"), &text).unwrap();
