@@ -2,7 +2,8 @@
 //! (S = G·e^(−2G)) and slotted ALOHA (S = G·e^(−G)), measured in shoal's optical medium over
 //! offered loads 0.05–2 in the geometry the laws assume (`shoal::sim::mac_laws`: 78 senders
 //! around one receiver, all in view, capture off); and CSMA/CA with binary exponential
-//! back-off against Bianchi's saturation model, 2–20 saturated stations. Prints the tables of
+//! back-off against Bianchi's saturation model, 2–20 saturated stations; slotted p-persistent
+//! CSMA against its saturation law, 2–20 stations at p = 0.1 and 0.3. Prints the tables of
 //! `docs/mac.md` and draws its figures.
 //!
 //! ```text
@@ -10,7 +11,9 @@
 //! ```
 
 use shoal::output::plot::{Plot, Series};
-use shoal::sim::mac_laws::{Law, Point, measure, measure_csma, world_text};
+use shoal::sim::mac_laws::{
+    Law, Point, measure, measure_csma, measure_p_persistent, p_persistent, world_text,
+};
 
 /// Senders of the experiment.
 const SENDERS: usize = 78;
@@ -88,6 +91,63 @@ fn main() {
         println!("wrote {}", f.display());
     }
     csma(&format!("{out}_csma"), seconds / 4.0);
+    persistent(&format!("{out}_p_persistent"), seconds / 4.0);
+}
+
+/// Slotted p-persistent CSMA against its saturation law: saturated stations, `seconds` each.
+fn persistent(out: &str, seconds: f64) {
+    use shoal::sim::mac_laws::{FRAME_TIME, csma::SLOT};
+    println!();
+    println!("| p | stations | throughput S | law | S − law [pp] | frames | collided frames |");
+    println!("|---:|---:|---:|---:|---:|---:|---:|");
+    let mut series = Vec::new();
+    for (k, p) in [0.1, 0.3].into_iter().enumerate() {
+        let mut measured = Vec::new();
+        for n in [2usize, 3, 5, 7, 10, 15, 20] {
+            let r = measure_p_persistent(n, p, seconds, n as u64)
+                .expect("the experiment's world loads");
+            println!(
+                "| {p} | {n} | {:.4} | {:.4} | {:+.2} | {} | {} |",
+                r.s,
+                r.model,
+                100.0 * (r.s - r.model),
+                r.delivered,
+                r.collisions
+            );
+            measured.push((n as f64, r.s));
+        }
+        let law = (2..=20)
+            .map(|n| (f64::from(n), p_persistent(n, p, SLOT, FRAME_TIME)))
+            .collect();
+        series.push(Series {
+            label: Some(format!("law, p = {p}")),
+            points: law,
+            color: k,
+            ..Default::default()
+        });
+        series.push(Series {
+            label: Some(format!("shoal, p = {p}, {seconds} s per point")),
+            points: measured,
+            color: k,
+            dots: true,
+            width: 5,
+            ..Default::default()
+        });
+    }
+    let files = Plot {
+        title: "Slotted p-persistent CSMA: saturation throughput".into(),
+        x_label: "stations".into(),
+        y_label: "throughput S [share of time carrying delivered frames]".into(),
+        series,
+        x_range: Some((0.0, 21.0)),
+        y_range: Some((0.0, 0.8)),
+        ..Default::default()
+    }
+    .write(std::path::Path::new(out))
+    .expect("write the figure");
+    for f in files {
+        println!("wrote {}", f.display());
+    }
 }
 
 /// CSMA/CA against Bianchi: saturated stations, `seconds` each.

@@ -47,7 +47,7 @@ impl Law {
     fn access(self) -> String {
         match self {
             Law::PureAloha => "access = \"aloha\"".into(),
-            Law::SlottedAloha => format!("access = \"slotted_aloha\"\nslot = {SLOT}"),
+            Law::SlottedAloha => format!("access = {{ kind = \"slotted_aloha\", slot = {SLOT} }}"),
         }
     }
 
@@ -109,11 +109,10 @@ pub struct Point {
     pub other_losses: u64,
 }
 
-/// Runs the experiment's world `text` (see [`world_text`]) for its duration and measures G
-/// and S in time units of `law`.
-pub fn measure(law: Law, text: &str) -> Result<Point, String> {
-    let desc = load_str(text, Path::new("<mac law experiment>")).map_err(|e| e.to_string())?;
-    let duration = desc.duration;
+/// Loads world `text` (named `name` in errors) and runs it on one thread for its duration;
+/// the world and the duration \[s\].
+fn run(text: &str, name: &str) -> Result<(Sim, f64), String> {
+    let desc = load_str(text, Path::new(name)).map_err(|e| e.to_string())?;
     let mut sim = Sim::new(
         &desc,
         SimOptions {
@@ -121,7 +120,14 @@ pub fn measure(law: Law, text: &str) -> Result<Point, String> {
             record: false,
         },
     );
-    sim.run((duration / desc.dt).round() as u64);
+    sim.run((desc.duration / desc.dt).round() as u64);
+    Ok((sim, desc.duration))
+}
+
+/// Runs the experiment's world `text` (see [`world_text`]) for its duration and measures G
+/// and S in time units of `law`.
+pub fn measure(law: Law, text: &str) -> Result<Point, String> {
+    let (sim, duration) = run(text, "<mac law experiment>")?;
     let rx: CommStats = sim.vehicle(0).comm;
     let frames = sim.medium().started.0;
     let units = duration / law.unit();
@@ -191,15 +197,31 @@ pub mod csma {
 /// without limit; capture is off.
 pub fn csma_world_text(n: usize, duration: f64, seed: u64) -> String {
     use csma::*;
+    let access = format!(
+        "{{ kind = \"csma_ca\", threshold = 1e-12, backoff_slot = {SLOT}, difs = {DIFS}, \
+         cw_min = {}, cw_max = {} }}",
+        CW.0, CW.1
+    );
+    circle_world_text(n, duration, seed, &access, true)
+}
+
+/// The geometry of [`csma_world_text`] with medium access `access` (its value in a world
+/// file) and saturated traffic: acknowledged unicasts for the access point (`acked`) or
+/// broadcasts.
+fn circle_world_text(n: usize, duration: f64, seed: u64, access: &str, acked: bool) -> String {
+    use csma::*;
     let (cx, cy, depth) = (6.0, 6.0, 1.8);
     let common = format!(
         "led_power = 0.5\nmax_payload = {PAYLOAD}\ncapture_ratio = 1e6\n\
-         access = \"csma_ca\"\ncs_threshold = 1e-12\nbackoff_slot = {SLOT}\ndifs = {DIFS}\n\
-         cw_min = {}\ncw_max = {}\narq_retries = 100\nack_timeout = {ACK_TIMEOUT}\n",
-        CW.0, CW.1
+         access = {access}\narq_retries = 100\nack_timeout = {ACK_TIMEOUT}\n"
     );
+    let to = if acked {
+        ", to = \"receiver\", ack = true"
+    } else {
+        ""
+    };
     let mut t = format!(
-        "name = \"CSMA/CA, {n} stations\"\nseed = {seed}\nduration = {duration}\ndt = {DT}\n\
+        "name = \"{n} stations around an access point\"\nseed = {seed}\nduration = {duration}\ndt = {DT}\n\
          [pool]\nsize = [12.0, 12.0, 3.0]\n[output]\nplots = false\n\
          [[vehicles]]\nname = \"receiver\"\nposition = [{cx}, {cy}, {}]\n\
          [[vehicles.model.modems]]\nposition = [0.0, 0.0, 0.09]\ndirection = [0.0, 0.0, 1.0]\n\
@@ -213,7 +235,7 @@ pub fn csma_world_text(n: usize, duration: f64, seed: u64) -> String {
         let heading = (phi + std::f64::consts::PI).to_degrees();
         t.push_str(&format!(
             "[[vehicles]]\nname = \"s{i}\"\nposition = [{x:.4}, {y:.4}, {z:.3}]\nheading_deg = {heading:.3}\n\
-             behaviour = {{ kind = \"poisson\", rate = 1000.0, payload_bytes = {PAYLOAD}, to = \"receiver\", ack = true }}\n"
+             behaviour = {{ kind = \"poisson\", rate = 1000.0, payload_bytes = {PAYLOAD}{to} }}\n"
         ));
         for (name, pos, dir) in crate::bench::RING {
             t.push_str(&format!(
@@ -245,16 +267,7 @@ pub struct Saturation {
 /// for the frame and a DIFS.
 pub fn measure_csma(n: usize, duration: f64, seed: u64) -> Result<Saturation, String> {
     use csma::*;
-    let text = csma_world_text(n, duration, seed);
-    let desc = load_str(&text, Path::new("<csma experiment>")).map_err(|e| e.to_string())?;
-    let mut sim = Sim::new(
-        &desc,
-        SimOptions {
-            threads: 1,
-            record: false,
-        },
-    );
-    sim.run((duration / DT).round() as u64);
+    let (sim, _) = run(&csma_world_text(n, duration, seed), "<csma experiment>")?;
     let ap = sim.vehicle(0).comm;
     let retransmissions = (1..=n).map(|i| sim.vehicle(i).comm.retransmissions).sum();
     let m = (f64::from(CW.1) / f64::from(CW.0)).log2().round() as u32;
@@ -267,5 +280,60 @@ pub fn measure_csma(n: usize, duration: f64, seed: u64) -> Result<Saturation, St
         model,
         delivered: ap.rx.delivered,
         retransmissions,
+    })
+}
+
+/// Slotted p-persistent CSMA in saturation: `n` stations that always have a frame, all
+/// hearing each other, each sending with probability `p` at every slot boundary of an idle
+/// channel (slots of `sigma`, the first a slot after the channel fell idle); a frame's
+/// airtime `frame` \[s\]. A boundary is idle with probability (1 − p)^n (it lasts `sigma`),
+/// else a transmission starts — alone with probability n·p·(1 − p)^(n−1) — and the channel
+/// is busy for the frame and the slot to the next boundary. Returns the channel's
+/// throughput: the share of time it carries successful frames.
+pub fn p_persistent(n: u32, p: f64, sigma: f64, frame: f64) -> f64 {
+    let idle = (1.0 - p).powi(n as i32);
+    let alone = f64::from(n) * p * (1.0 - p).powi(n as i32 - 1);
+    alone * frame / (idle * sigma + (1.0 - idle) * (frame + sigma))
+}
+
+/// What the p-persistent experiment measured and the law predicts for it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Persistent {
+    /// Stations.
+    pub n: usize,
+    /// Probability of sending at an idle slot boundary.
+    pub p: f64,
+    /// Share of time the channel carried frames the access point decoded.
+    pub s: f64,
+    /// The law's prediction ([`p_persistent`]).
+    pub model: f64,
+    /// Frames the access point decoded.
+    pub delivered: u64,
+    /// Frames of the stations lost at the access point to collisions.
+    pub collisions: u64,
+}
+
+/// Runs slotted p-persistent CSMA with `n` saturated stations broadcasting in the geometry
+/// of [`csma_world_text`] for `duration` \[s\] and compares the access point's throughput
+/// with [`p_persistent`]'s law.
+pub fn measure_p_persistent(
+    n: usize,
+    p: f64,
+    duration: f64,
+    seed: u64,
+) -> Result<Persistent, String> {
+    use csma::*;
+    let access =
+        format!("{{ kind = \"p_persistent\", threshold = 1e-12, backoff_slot = {SLOT}, p = {p} }}");
+    let text = circle_world_text(n, duration, seed, &access, false);
+    let (sim, _) = run(&text, "<p-persistent experiment>")?;
+    let ap = sim.vehicle(0).comm;
+    Ok(Persistent {
+        n,
+        p,
+        s: ap.rx.delivered as f64 * FRAME_TIME / duration,
+        model: p_persistent(n as u32, p, SLOT, FRAME_TIME),
+        delivered: ap.rx.delivered,
+        collisions: ap.rx.lost_collision,
     })
 }

@@ -415,7 +415,7 @@ fn crowd(access: &str) -> String {
             ("left", "[0.0, -0.07, 0.0]", "[0.0, -1.0, 0.0]"),
         ] {
             t.push_str(&format!(
-                "[[vehicles.model.modems]]\nname = \"{name}\"\nposition = {p}\ndirection = {d}\naccess = \"{access}\"\ncs_threshold = 1e-9\n"
+                "[[vehicles.model.modems]]\nname = \"{name}\"\nposition = {p}\ndirection = {d}\naccess = \"{access}\"\n"
             ));
         }
     }

@@ -10,6 +10,7 @@
 //! work (loading, and the crates above: building, running, writing) early.
 
 pub mod access;
+pub mod range;
 pub mod cancel;
 pub mod desc;
 pub mod error;

@@ -194,6 +194,38 @@ fn other_ranges_and_consistency() {
     assert_eq!(e.problems.len(), 2);
 }
 
+/// A modem's `access` is a protocol's name or a table with its `kind` and settings; a
+/// setting of another protocol, one out of range, and a setting written beside `access` as
+/// older files did are refused with the field, its line and what to write.
+#[test]
+fn medium_access_settings_are_checked_in_their_table() {
+    let modem = |m: &str| format!("{ONE}[[vehicles.model.modems]]\n{m}\n");
+    let ok = load_str(
+        &modem("access = { kind = \"tdma\", slot = 0.04, slots = 4, own_slot = 3 }"),
+        Path::new("ok.toml"),
+    )
+    .unwrap();
+    let l = ok.vehicles[0].link[0];
+    assert_eq!(l.access.slot(), Some(0.04));
+    let e = err(&modem("access = { kind = \"tdma\", cw_min = 8 }"));
+    assert_eq!(e.first().kind, ProblemKind::UnknownField);
+    assert!(e.to_string().contains("`cw_min`"), "{e}");
+    let e = err(&modem("access = { kind = \"tdma\", slots = 4, own_slot = 4 }"));
+    let msg = e.to_string();
+    assert!(msg.contains("access.own_slot") && msg.contains("< 4 (slots)"), "{msg}");
+    // The slot must hold a 58-byte frame: 640 line bits at 19.2 kbit/s.
+    let e = err(&modem("access = { kind = \"slotted_aloha\", slot = 0.01 }"));
+    assert!(e.to_string().contains("0.0333"), "{e}");
+    let e = err(&modem("access = { kind = \"p_persistent\", p = 0.0 }"));
+    assert!(e.to_string().contains("0 < p ≤ 1"), "{e}");
+    let e = err(&modem("access = \"csma_ca\"\ncw_min = 8"));
+    assert!(
+        e.to_string().contains("access = { kind = \"csma_ca\", cw_min = … }"),
+        "{e}"
+    );
+    assert_eq!(e.first().line_col.map(|l| l.0), Some(7));
+}
+
 #[test]
 fn syntax_errors_have_a_line() {
     let e = err("seed = 1\n[pool\nsize = 3\n");

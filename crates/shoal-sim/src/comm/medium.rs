@@ -16,7 +16,7 @@ use shoal_model::optics::{
 };
 pub use shoal_model::optics::{ModemConsts, received_power};
 use shoal_model::vehicle::VehicleModel;
-use shoal_world::access::{Access, LinkParams};
+use shoal_world::access::LinkParams;
 use shoal_world::geometry::segment_hits_hull;
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -200,10 +200,7 @@ fn clock_rates(access: &[Arc<[LinkParams]>], seed: u64) -> Vec<f64> {
     use rand::RngExt;
     let drift = |a: &[LinkParams]| {
         a.iter()
-            .map(|x| match x.access {
-                Access::SlottedAloha { clock_drift, .. } => clock_drift,
-                _ => 0.0,
-            })
+            .map(|x| x.access.clock_drift())
             .fold(0.0, f64::max)
     };
     if access.iter().all(|a| drift(a) == 0.0) {

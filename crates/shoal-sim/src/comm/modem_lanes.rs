@@ -175,7 +175,7 @@ mod tests {
             diffuse_attenuation: 0.0,
         };
         let link = shoal_world::access::LinkParams {
-            access: shoal_world::access::Access::Aloha,
+            access: Default::default(),
             retries: 3,
             ack_timeout: 0.05,
         };

@@ -43,6 +43,9 @@ pub(super) fn explain(
         if !expected.is_empty() {
             m.push_str(&format!(" (allowed here: {})", expected.join(", ")));
         }
+        if let Some(hint) = moved_into_access(name) {
+            m.push_str(&format!(" — {hint}"));
+        }
         return (ProblemKind::UnknownField, m);
     }
     if msg.starts_with("missing field") {
@@ -144,4 +147,22 @@ pub fn unit_of(key: &str) -> Option<&'static str> {
         }
         _ => return None,
     })
+}
+
+/// Where a modem's medium-access setting of older world files went: into the table of
+/// `access` (renamed where its protocol's table names it otherwise).
+fn moved_into_access(name: &str) -> Option<String> {
+    let (kind, now) = match name {
+        "cs_threshold" => ("carrier_sense", "threshold"),
+        "backoff_max" => ("carrier_sense", "backoff_max"),
+        "slot" | "clock_drift_ppm" => ("slotted_aloha", name),
+        "tdma_slots" => ("tdma", "slots"),
+        "tdma_slot" => ("tdma", "own_slot"),
+        "backoff_slot" | "difs" | "cw_min" | "cw_max" => ("csma_ca", name),
+        _ => return None,
+    };
+    Some(format!(
+        "a medium-access setting goes in the table of `access`, e.g. \
+         access = {{ kind = \"{kind}\", {now} = … }} (docs/mac.md)"
+    ))
 }

@@ -12,74 +12,8 @@
 //! field (a tank's initial volume ≤ its capacity): their end is [`End::Field`], whose value
 //! the check supplies.
 
-/// One end of an allowed range.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum End {
-    /// Excluded value.
-    Open(f64),
-    /// Included value.
-    Closed(f64),
-    /// Included value given by another field or setting (named here, for messages and docs).
-    Field(&'static str),
-    /// Excluded value given by another field (named here).
-    OpenField(&'static str),
-    /// No limit.
-    None,
-}
-
-/// The allowed range of one field.
-#[derive(Clone, Copy, Debug)]
-pub struct FieldRange {
-    /// Field path pattern (see the module doc).
-    pub field: &'static str,
-    /// Lower end.
-    pub lo: End,
-    /// Upper end.
-    pub hi: End,
-    /// Values in `(0, zero_or)` are refused: the field is either 0 (off) or at least this
-    /// (`0.0`: no such rule) [the field's unit].
-    pub zero_or: f64,
-    /// Unit as written in messages and docs.
-    pub unit: &'static str,
-    /// Why these limits.
-    pub why: &'static str,
-}
-
-const fn r(
-    field: &'static str,
-    lo: End,
-    hi: End,
-    unit: &'static str,
-    why: &'static str,
-) -> FieldRange {
-    FieldRange {
-        field,
-        lo,
-        hi,
-        zero_or: 0.0,
-        unit,
-        why,
-    }
-}
-
-/// A field that is 0 (off) or within `[min, hi]`.
-const fn z(
-    field: &'static str,
-    min: f64,
-    hi: f64,
-    unit: &'static str,
-    why: &'static str,
-) -> FieldRange {
-    FieldRange {
-        field,
-        lo: End::Closed(0.0),
-        hi: End::Closed(hi),
-        zero_or: min,
-        unit,
-        why,
-    }
-}
-
+pub use crate::range::{End, FieldRange, fmt_num};
+use crate::range::{r, z};
 use End::{Closed as C, Field as F, Open as O, OpenField as OF};
 
 /// Largest coordinate a position may have \[m\].
@@ -205,18 +139,8 @@ pub const RANGES: &[FieldRange] = &[
     r("vehicles[].model.modems[].max_payload", C(1.0), C(65536.0), "bytes", "per frame"),
     r("vehicles[].model.modems[].queue_frames", C(1.0), C(1e5), "frames", "transmit queue"),
     r("vehicles[].model.modems[].capture_ratio", C(1.0), C(1e6), "(power ratio)", "a frame survives a collision this much stronger"),
-    r("vehicles[].model.modems[].cs_threshold", C(1e-18), C(1.0), "W", "carrier-sense threshold"),
-    r("vehicles[].model.modems[].backoff_max", C(1e-6), C(100.0), "s", "longest random back-off"),
-    r("vehicles[].model.modems[].slot", F("the airtime of a max_payload frame (slotted_aloha, tdma)"), C(100.0), "s", "a slot holds the longest frame"),
-    r("vehicles[].model.modems[].clock_drift_ppm", C(0.0), C(1e5), "ppm", "slotted_aloha: largest clock rate error"),
-    r("vehicles[].model.modems[].tdma_slots", C(1.0), C(1e6), "slots", "tdma: slots per cycle"),
-    r("vehicles[].model.modems[].backoff_slot", C(1e-6), C(1.0), "s", "csma_ca: back-off slot"),
-    r("vehicles[].model.modems[].difs", C(0.0), C(1.0), "s", "csma_ca: idle channel before the back-off count resumes"),
-    r("vehicles[].model.modems[].cw_min", C(1.0), C(1e6), "slots", "csma_ca: smallest contention window"),
-    r("vehicles[].model.modems[].cw_max", F("cw_min"), C(1e6), "slots", "csma_ca: largest contention window"),
     r("vehicles[].model.modems[].arq_retries", C(0.0), C(100.0), "", "retransmissions of an unacknowledged unicast frame"),
     r("vehicles[].model.modems[].ack_timeout", C(1e-4), C(100.0), "s", "wait for an acknowledgement after the frame ended"),
-    r("vehicles[].model.modems[].tdma_slot", C(0.0), OF("tdma_slots"), "", "tdma; default: vehicle id modulo tdma_slots"),
 ];
 
 /// The lower end of a received-power threshold \[W\]: a photodiode sees nothing below 1 fW.
@@ -256,78 +180,18 @@ fn matches(table: &str, path: &str) -> bool {
 /// The range of a field, by its concrete path (`vehicles[3].model.body.mass`), if it has one.
 pub fn lookup(path: &str) -> Option<&'static FieldRange> {
     let p = pattern(path);
-    RANGES.iter().find(|r| matches(r.field, &p))
+    all().find(|r| matches(r.field, &p))
 }
 
-/// A number for messages and docs: plain when readable, else `1e-9`.
-pub fn fmt_num(x: f64) -> String {
-    if x != 0.0 && (x.abs() >= 1e4 || x.abs() < 1e-3) {
-        format!("{x:e}")
-    } else {
-        format!("{x}")
-    }
-}
-
-impl FieldRange {
-    /// Whether the finite number `x` lies in the range, `lo`/`hi` being the values of
-    /// [`End::Field`] ends where known (an end of unknown value does not limit).
-    pub fn admits(&self, x: f64, lo: Option<f64>, hi: Option<f64>) -> bool {
-        let value = |e: End, v: Option<f64>| match e {
-            End::Open(a) | End::Closed(a) => Some(a),
-            End::Field(_) | End::OpenField(_) => v,
-            End::None => None,
-        };
-        let ok_lo = match (self.lo, value(self.lo, lo)) {
-            (End::Open(_) | End::OpenField(_), Some(a)) => x > a,
-            (_, Some(a)) => x >= a,
-            (_, None) => true,
-        };
-        let ok_hi = match (self.hi, value(self.hi, hi)) {
-            (End::Open(_) | End::OpenField(_), Some(b)) => x < b,
-            (_, Some(b)) => x <= b,
-            (_, None) => true,
-        };
-        x.is_finite() && ok_lo && ok_hi
-    }
-
-    /// The allowed range as text, e.g. `1e-3 ≤ mass ≤ 1e5`; `lo`/`hi` are the values of
-    /// [`End::Field`] ends where known.
-    pub fn allowed(&self, name: &str, lo: Option<f64>, hi: Option<f64>) -> String {
-        let end = |e: End, v: Option<f64>| -> Option<(String, &str)> {
-            let field =
-                |f: &str| v.map_or_else(|| f.to_string(), |v| format!("{} ({f})", fmt_num(v)));
-            Some(match e {
-                End::Open(x) => (fmt_num(x), "<"),
-                End::Closed(x) => (fmt_num(x), "≤"),
-                End::Field(f) => (field(f), "≤"),
-                End::OpenField(f) => (field(f), "<"),
-                End::None => return None,
-            })
-        };
-        // A field that may be 0 (off) is otherwise at least `zero_or`.
-        let low = if self.zero_or > 0.0 {
-            Some((fmt_num(self.zero_or), "≤"))
-        } else {
-            end(self.lo, lo)
-        };
-        let mut s = match low {
-            Some((x, op)) => format!("{x} {op} {name}"),
-            None => name.to_string(),
-        };
-        if let Some((x, op)) = end(self.hi, hi) {
-            s.push_str(&format!(" {op} {x}"));
-        }
-        if self.zero_or > 0.0 {
-            s = format!("{name} = 0 or {s}");
-        }
-        s
-    }
+/// Every row: the table's, then the medium-access protocols' ([`crate::access::ranges`]).
+pub fn all() -> impl Iterator<Item = &'static FieldRange> {
+    RANGES.iter().chain(crate::access::ranges())
 }
 
 /// The "Allowed ranges" table of `docs/world-files.md`, printed from [`RANGES`].
 pub fn markdown() -> String {
     let mut s = String::from("| field | allowed | unit | meaning |\n|---|---|---|---|\n");
-    for r in RANGES {
+    for r in all() {
         let name = r.field.rsplit('.').next().unwrap_or(r.field);
         s.push_str(&format!(
             "| `{}` | {} | {} | {} |\n",
@@ -369,9 +233,10 @@ mod tests {
 
     #[test]
     fn every_pattern_is_unique_and_every_range_is_ordered() {
-        for (i, a) in RANGES.iter().enumerate() {
+        let rows: Vec<&FieldRange> = all().collect();
+        for (i, a) in rows.iter().enumerate() {
             assert!(
-                RANGES[i + 1..].iter().all(|b| b.field != a.field),
+                rows[i + 1..].iter().all(|b| b.field != a.field),
                 "{} twice",
                 a.field
             );

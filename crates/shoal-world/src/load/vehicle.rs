@@ -5,6 +5,7 @@
 use super::messages::{explain, suggest};
 use super::ranges::End;
 use super::validator::{Validator, axis};
+use crate::access::Frames;
 use crate::error::{FieldPath, ProblemKind};
 use crate::spec::*;
 use shoal_model::prelude::*;
@@ -374,31 +375,14 @@ pub(super) fn validate_modem(m: &ModemSpec, p: &FieldPath, v: &mut Validator<'_>
     v.field(&p.key("max_payload"), m.max_payload as f64);
     v.field(&p.key("queue_frames"), m.queue_frames as f64);
     v.field(&p.key("capture_ratio"), m.capture_ratio);
-    v.field(&p.key("cs_threshold"), m.cs_threshold);
-    v.field(&p.key("backoff_max"), m.backoff_max);
-    // A slot must hold the longest frame — for the protocols that have slots.
-    let slotted = m.access().slot().is_some();
-    let longest = m.to_params().airtime(m.max_payload);
-    v.field_with(&p.key("slot"), m.slot, slotted.then_some(longest), None);
-    v.field(&p.key("clock_drift_ppm"), m.clock_drift_ppm);
-    v.field(&p.key("tdma_slots"), f64::from(m.tdma_slots));
-    v.field(&p.key("backoff_slot"), m.backoff_slot);
-    v.field(&p.key("difs"), m.difs);
-    v.field(&p.key("cw_min"), f64::from(m.cw_min));
-    v.field_with(
-        &p.key("cw_max"),
-        f64::from(m.cw_max),
-        Some(f64::from(m.cw_min)),
-        None,
-    );
+    // The protocol's settings, each against its row (a slot must hold the longest frame).
+    let frames = Frames {
+        longest: m.to_params().airtime(m.max_payload),
+    };
+    let ap = p.key("access");
+    for n in m.access.numbers(&frames) {
+        v.field_with(&ap.key(n.name), n.value, n.lo, n.hi);
+    }
     v.field(&p.key("arq_retries"), f64::from(m.arq_retries));
     v.field(&p.key("ack_timeout"), m.ack_timeout);
-    if let Some(own) = m.tdma_slot {
-        v.field_with(
-            &p.key("tdma_slot"),
-            f64::from(own),
-            None,
-            Some(f64::from(m.tdma_slots)),
-        );
-    }
 }

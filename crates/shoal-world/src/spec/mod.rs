@@ -18,7 +18,7 @@ mod vehicle;
 
 pub use behaviour::{AgentsSpec, BehaviourSpec, FallbackSpec, ROS2_AGENT, Ros2Spec, TimingSpec};
 pub use group::{GridSpec, MissionStepSpec, ModeSpec, PumpSpec, RandomSpec, VehicleGroupSpec};
-pub use modem::{AccessSpec, ModemSpec};
+pub use modem::ModemSpec;
 pub use pool::{AttenuationSpec, ObstacleSpec, PoolSpec, ShapeKind, WATER_TYPES, WaterSpec};
 pub use vehicle::{
     BallastSpec, BodySpec, ControlSpec, CurveSpec, EffectSpec, ImuSpec, Mat3Spec, Mat6Spec, PdSpec,

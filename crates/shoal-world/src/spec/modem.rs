@@ -1,27 +1,12 @@
 //! Optical modems: the file form of [`ModemParams`] (every field defaults to the μAUV²'s
-//! modem) with the modem's medium access ([`Access`]), and their conversions.
+//! modem) with the modem's link layer (medium access: [`Access`]; retries), and their
+//! conversions.
 
 use super::{a3, unit_or_x, v3};
 use crate::access::{Access, LinkParams};
 use serde::{Deserialize, Serialize};
 use shoal_model::optics::{Led, ModemParams, Receiver};
 use shoal_model::presets;
-
-/// Medium access as written in files (see [`Access`]).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum AccessSpec {
-    /// Unslotted ALOHA.
-    Aloha,
-    /// Listen before talk.
-    CarrierSense,
-    /// Slotted ALOHA on the vehicle's own clock.
-    SlottedAloha,
-    /// Time-division: one slot per vehicle in a cycle.
-    Tdma,
-    /// CSMA/CA with binary exponential back-off.
-    CsmaCa,
-}
 
 fn m0() -> ModemParams {
     presets::uauv2_modem()
@@ -47,35 +32,6 @@ modem_default! {
     dm_max_payload: usize = |m| m.max_payload;
     dm_queue_frames: usize = |m| m.queue_frames;
     dm_capture_ratio: f64 = |m| m.capture_ratio;
-}
-fn dm_access() -> AccessSpec {
-    AccessSpec::Aloha
-}
-fn dm_cs_threshold() -> f64 {
-    1e-9
-}
-fn dm_backoff_max() -> f64 {
-    0.05
-}
-fn dm_slot() -> f64 {
-    // The μAUV² modem's longest frame (64 bytes of 10 line bits at 19.2 kbit/s: 33.3 ms) and
-    // a guard of 1.7 ms.
-    0.035
-}
-fn dm_tdma_slots() -> u32 {
-    1
-}
-fn dm_backoff_slot() -> f64 {
-    0.001
-}
-fn dm_difs() -> f64 {
-    0.003
-}
-fn dm_cw_min() -> u32 {
-    16
-}
-fn dm_cw_max() -> u32 {
-    1024
 }
 fn dm_arq_retries() -> u32 {
     3
@@ -141,40 +97,10 @@ pub struct ModemSpec {
     /// Capture ratio (optical power ratio ≥ 1).
     #[serde(default = "dm_capture_ratio")]
     pub capture_ratio: f64,
-    /// Medium access.
-    #[serde(default = "dm_access")]
-    pub access: AccessSpec,
-    /// Carrier-sense busy threshold \[W\] (carrier_sense only).
-    #[serde(default = "dm_cs_threshold")]
-    pub cs_threshold: f64,
-    /// Longest carrier-sense back-off \[s\] (carrier_sense only).
-    #[serde(default = "dm_backoff_max")]
-    pub backoff_max: f64,
-    /// Slot length \[s\] (slotted_aloha and tdma).
-    #[serde(default = "dm_slot")]
-    pub slot: f64,
-    /// Largest clock rate error of a vehicle \[ppm\] (slotted_aloha only).
-    #[serde(default)]
-    pub clock_drift_ppm: f64,
-    /// Slots per TDMA cycle (tdma only).
-    #[serde(default = "dm_tdma_slots")]
-    pub tdma_slots: u32,
-    /// The vehicles' slot in the TDMA cycle (tdma only; default: each vehicle's id modulo
-    /// `tdma_slots`).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub tdma_slot: Option<u32>,
-    /// Back-off slot \[s\] (csma_ca only).
-    #[serde(default = "dm_backoff_slot")]
-    pub backoff_slot: f64,
-    /// Idle time before a back-off count resumes \[s\] (csma_ca only).
-    #[serde(default = "dm_difs")]
-    pub difs: f64,
-    /// Smallest contention window \[slots\] (csma_ca only).
-    #[serde(default = "dm_cw_min")]
-    pub cw_min: u32,
-    /// Largest contention window \[slots\] (csma_ca only).
-    #[serde(default = "dm_cw_max")]
-    pub cw_max: u32,
+    /// Medium access: a protocol's name, or a table with its `kind` and settings (see
+    /// [`Access`]).
+    #[serde(default, deserialize_with = "Access::from_file")]
+    pub access: Access,
     /// Retransmissions of an unacknowledged unicast frame before giving up.
     #[serde(default = "dm_arq_retries")]
     pub arq_retries: u32,
@@ -211,37 +137,10 @@ impl ModemSpec {
         }
     }
 
-    /// The modem's medium access (ppm → a fraction).
-    pub fn access(&self) -> Access {
-        match self.access {
-            AccessSpec::Aloha => Access::Aloha,
-            AccessSpec::CarrierSense => Access::CarrierSense {
-                threshold: self.cs_threshold,
-                backoff_max: self.backoff_max,
-            },
-            AccessSpec::SlottedAloha => Access::SlottedAloha {
-                slot: self.slot,
-                clock_drift: self.clock_drift_ppm * 1e-6,
-            },
-            AccessSpec::Tdma => Access::Tdma {
-                slot: self.slot,
-                slots: self.tdma_slots,
-                own: self.tdma_slot,
-            },
-            AccessSpec::CsmaCa => Access::CsmaCa {
-                threshold: self.cs_threshold,
-                slot: self.backoff_slot,
-                difs: self.difs,
-                cw_min: self.cw_min,
-                cw_max: self.cw_max,
-            },
-        }
-    }
-
     /// The modem's link layer.
     pub fn link(&self) -> LinkParams {
         LinkParams {
-            access: self.access(),
+            access: self.access,
             retries: self.arq_retries,
             ack_timeout: self.ack_timeout,
         }
@@ -267,17 +166,7 @@ impl ModemSpec {
             max_payload: m.max_payload,
             queue_frames: m.queue_frames,
             capture_ratio: m.capture_ratio,
-            access: dm_access(),
-            cs_threshold: dm_cs_threshold(),
-            backoff_max: dm_backoff_max(),
-            slot: dm_slot(),
-            clock_drift_ppm: 0.0,
-            tdma_slots: dm_tdma_slots(),
-            tdma_slot: None,
-            backoff_slot: dm_backoff_slot(),
-            difs: dm_difs(),
-            cw_min: dm_cw_min(),
-            cw_max: dm_cw_max(),
+            access: Access::default(),
             arq_retries: dm_arq_retries(),
             ack_timeout: dm_ack_timeout(),
         }

@@ -1,10 +1,7 @@
 //! Unslotted (pure) ALOHA: a modem transmits as soon as a frame is ready and it is idle.
 
 use super::{Ctx, Decision, MediumAccess};
-
-/// Unslotted ALOHA.
-#[derive(Debug)]
-pub(super) struct Aloha;
+use shoal_world::access::Aloha;
 
 impl MediumAccess for Aloha {
     fn decide(&self, _: &mut Ctx<'_>) -> Decision {

@@ -3,15 +3,7 @@
 //! and listens again.
 
 use super::{Ctx, Decision, MediumAccess};
-
-/// Carrier sense with a uniform random back-off.
-#[derive(Debug)]
-pub(super) struct CarrierSense {
-    /// Busy threshold on received optical power \[W\].
-    pub(super) threshold: f64,
-    /// Longest back-off \[s\].
-    pub(super) backoff_max: f64,
-}
+use shoal_world::access::CarrierSense;
 
 impl MediumAccess for CarrierSense {
     fn decide(&self, ctx: &mut Ctx<'_>) -> Decision {

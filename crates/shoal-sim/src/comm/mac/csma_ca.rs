@@ -8,29 +8,13 @@
 
 use super::{AccessState, Ctx, Decision, MediumAccess, next_boundary};
 use rand::RngExt;
+use shoal_world::access::CsmaCa;
 
-/// CSMA/CA with binary exponential back-off.
-#[derive(Debug)]
-pub(super) struct CsmaCa {
-    /// Busy threshold on received optical power \[W\].
-    pub(super) threshold: f64,
-    /// Back-off slot \[s\].
-    pub(super) slot: f64,
-    /// Idle time after a busy channel before the count resumes \[s\].
-    pub(super) difs: f64,
-    /// Smallest contention window \[slots\].
-    pub(super) cw_min: u32,
-    /// Largest contention window \[slots\].
-    pub(super) cw_max: u32,
-}
-
-impl CsmaCa {
-    /// The contention window at back-off stage `stage` \[slots\].
-    fn window(&self, stage: u32) -> u32 {
-        self.cw_min
-            .saturating_mul(1u32.checked_shl(stage).unwrap_or(u32::MAX))
-            .min(self.cw_max)
-    }
+/// The contention window of `p` at back-off stage `stage` \[slots\].
+fn window(p: &CsmaCa, stage: u32) -> u32 {
+    p.cw_min
+        .saturating_mul(1u32.checked_shl(stage).unwrap_or(u32::MAX))
+        .min(p.cw_max)
 }
 
 impl MediumAccess for CsmaCa {
@@ -39,7 +23,7 @@ impl MediumAccess for CsmaCa {
         let count = match ctx.state.counter {
             Some(c) => c,
             None => {
-                let w = self.window(ctx.state.stage);
+                let w = window(self, ctx.state.stage);
                 let c = ctx.rng.random_range(0..w);
                 ctx.state.counter = Some(c);
                 c
@@ -47,7 +31,7 @@ impl MediumAccess for CsmaCa {
         };
         let Some(since) = (ctx.idle_since)(self.threshold) else {
             // Busy: frozen; look again a slot later.
-            return Decision::At(t + self.slot);
+            return Decision::At(t + self.backoff_slot);
         };
         // The idle slots start a DIFS after the channel fell idle, for every station that
         // heard it fall idle: a station that comes back later (after waiting for an
@@ -60,10 +44,10 @@ impl MediumAccess for CsmaCa {
             ctx.state.anchor.unwrap_or(self.difs)
         };
         ctx.state.anchor = Some(first);
-        if t < first - 1e-9 * self.slot {
+        if t < first - 1e-9 * self.backoff_slot {
             return Decision::At(first);
         }
-        let (b, on) = next_boundary(t, self.slot, first);
+        let (b, on) = next_boundary(t, self.backoff_slot, first);
         if !on {
             return Decision::At(b);
         }
@@ -72,7 +56,7 @@ impl MediumAccess for CsmaCa {
             Decision::Send
         } else {
             ctx.state.counter = Some(count - 1);
-            Decision::At(t + self.slot)
+            Decision::At(t + self.backoff_slot)
         }
     }
 
@@ -83,7 +67,7 @@ impl MediumAccess for CsmaCa {
     fn feedback(&self, state: &mut AccessState, acknowledged: bool) {
         if acknowledged {
             state.stage = 0;
-        } else if self.window(state.stage) < self.cw_max {
+        } else if window(self, state.stage) < self.cw_max {
             state.stage += 1;
         }
     }

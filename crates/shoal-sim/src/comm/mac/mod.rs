@@ -13,18 +13,21 @@
 //! | slotted ALOHA | `slotted_aloha.rs` | send on a slot boundary of the vehicle's own (drifting) clock, else wait for the next one ([`Decision::At`]) |
 //! | TDMA | `tdma.rs` | send at the start of the vehicle's own slot of the cycle, else wait for it |
 //! | CSMA/CA | `csma_ca.rs` | count a random back-off down over idle slots after a DIFS of idle channel, then send; the window doubles when an acknowledgement does not come ([`MediumAccess::feedback`]) |
+//! | p-persistent CSMA | `p_persistent.rs` | at each slot boundary of an idle channel, send with probability p, else wait for the next |
 //!
 //! Acknowledgements bypass the protocol (sent as soon as the modem is free, like 802.11's
 //! after SIFS) unless it says they wait ([`MediumAccess::acks_wait`]: the slotted ones).
 //!
-//! Adding a protocol is a file here (its [`MediumAccess`]), a line in [`build`], its variant
-//! of [`Access`] with its world-file fields (`shoal_world::spec::ModemSpec`, checked on load)
-//! and its row in `docs/mac.md`.
+//! Adding a protocol is a file here (its [`MediumAccess`], a line in [`build`]'s `access`), its
+//! world-file settings (a file of `shoal_world::access`: their type, defaults and allowed
+//! ranges, a line in its list of protocols) and its row in `docs/mac.md` — as
+//! `p_persistent.rs` was added.
 
 mod aloha;
 mod arq;
 mod carrier_sense;
 mod csma_ca;
+mod p_persistent;
 mod slotted_aloha;
 mod tdma;
 
@@ -112,32 +115,16 @@ pub(super) fn build(l: &LinkParams) -> ModemLink {
     }
 }
 
-/// The medium-access protocol a world asks for.
+/// The medium-access protocol a world asks for: its settings are the protocol (each file
+/// here implements [`MediumAccess`] for the settings' type of `shoal_world::access`).
 fn access(a: &Access) -> Arc<dyn MediumAccess> {
     match *a {
-        Access::Aloha => Arc::new(aloha::Aloha),
-        Access::CarrierSense {
-            threshold,
-            backoff_max,
-        } => Arc::new(carrier_sense::CarrierSense {
-            threshold,
-            backoff_max,
-        }),
-        Access::SlottedAloha { slot, .. } => Arc::new(slotted_aloha::SlottedAloha { slot }),
-        Access::Tdma { slot, slots, own } => Arc::new(tdma::Tdma { slot, slots, own }),
-        Access::CsmaCa {
-            threshold,
-            slot,
-            difs,
-            cw_min,
-            cw_max,
-        } => Arc::new(csma_ca::CsmaCa {
-            threshold,
-            slot,
-            difs,
-            cw_min,
-            cw_max,
-        }),
+        Access::Aloha(p) => Arc::new(p),
+        Access::CarrierSense(p) => Arc::new(p),
+        Access::SlottedAloha(p) => Arc::new(p),
+        Access::Tdma(p) => Arc::new(p),
+        Access::CsmaCa(p) => Arc::new(p),
+        Access::PPersistent(p) => Arc::new(p),
     }
 }
 

@@ -4,13 +4,7 @@
 //! or slow (`clock_drift_ppm`) lets the slots of different vehicles slide against each other.
 
 use super::{Ctx, Decision, MediumAccess, next_boundary};
-
-/// Slotted ALOHA.
-#[derive(Debug)]
-pub(super) struct SlottedAloha {
-    /// Slot length on the vehicle's clock \[s\].
-    pub(super) slot: f64,
-}
+use shoal_world::access::SlottedAloha;
 
 impl MediumAccess for SlottedAloha {
     fn decide(&self, ctx: &mut Ctx<'_>) -> Decision {
