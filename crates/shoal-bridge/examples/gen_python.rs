@@ -8,7 +8,7 @@
 //! Without an argument the module is printed. `crates/shoal-cli/tests/python_agent.rs` checks
 //! that the committed file equals this output and that its ctypes offsets equal the Rust ones.
 
-use shoal_bridge::protocol::{self, CType, StructLayout, flags, kind, mode};
+use shoal_bridge::protocol::{self, CType, StructLayout, flags, frame_flags, kind, mode};
 use std::fmt::Write as _;
 
 /// `(name, value)` pairs of constants, the names taken from the paths.
@@ -31,6 +31,7 @@ fn ctype(t: CType) -> &'static str {
         CType::U64 => "ctypes.c_uint64",
         CType::F64 => "ctypes.c_double",
         CType::Frame => "Frame",
+        CType::Outcome => "Outcome",
     }
 }
 
@@ -38,6 +39,9 @@ fn ctype(t: CType) -> &'static str {
 fn struct_doc(name: &str) -> &'static str {
     match name {
         "Frame" => "One optical frame, received or to send.",
+        "Outcome" => {
+            "What became of a frame sent with `frame_flags.ACK`: acknowledged or given up."
+        }
         "Observation" => "What an agent sees of one vehicle on one control tick (world -> agent).",
         "Command" => "What an agent asks of one vehicle (agent -> world).",
         _ => "A wire struct.",
@@ -98,11 +102,13 @@ fn module() -> String {
         protocol::MAX_THRUSTERS,
         protocol::MAX_TILTS,
         protocol::ALL_MODEMS,
+        protocol::BROADCAST,
+        protocol::MAX_OUTCOMES,
     );
     for (n, v) in &top {
         let _ = writeln!(out, "{n} = {v}");
     }
-    let namespaces: [(&str, &str, Consts); 3] = [
+    let namespaces: [(&str, &str, Consts); 4] = [
         (
             "flags",
             "Bits of `Observation.flags`.",
@@ -112,6 +118,11 @@ fn module() -> String {
                 flags::FALLBACK,
                 flags::END
             ),
+        ),
+        (
+            "frame_flags",
+            "Bits of `Frame.flags`: ACK (to send), UNICAST (received).",
+            consts!(frame_flags::ACK, frame_flags::UNICAST),
         ),
         (
             "kind",

@@ -17,6 +17,33 @@
 //! link.run(&mut Dive)?;
 //! # Ok::<(), shoal_bridge::BridgeError>(())
 //! ```
+//!
+//! Frames: [`Command::send`] broadcasts; [`Command::send_to`] addresses one vehicle, with
+//! or without acknowledgement. A received [`Frame`](crate::protocol::Frame) names its sender
+//! (`peer`) and whether it was for this vehicle alone
+//! ([`is_unicast`](crate::protocol::Frame::is_unicast)); what became of each acknowledged
+//! frame comes back with its tag in a later [`Observation::outcomes`]:
+//!
+//! ```no_run
+//! # use shoal_bridge::agent::Agent;
+//! # use shoal_bridge::protocol::{ALL_MODEMS, Command, Observation};
+//! /// Vehicle 0 asks vehicle 1 for a confirmation once; vehicle 1 notes who wrote to it.
+//! struct Ping;
+//! impl Agent for Ping {
+//!     fn tick(&mut self, obs: &Observation, cmd: &mut Command) {
+//!         for f in obs.received().iter().filter(|f| f.is_unicast()) {
+//!             eprintln!("{} got {:?} from {}", obs.vehicle, f.payload(), f.peer);
+//!         }
+//!         for o in obs.outcomes() {
+//!             let (tag, ok, n) = (o.tag, o.is_acknowledged(), o.transmissions);
+//!             eprintln!("frame {tag}: acknowledged {ok} after {n} transmissions");
+//!         }
+//!         if obs.vehicle == 0 && obs.step == 100 {
+//!             cmd.send_to(1, ALL_MODEMS, b"ping", 0.0, true, 7);
+//!         }
+//!     }
+//! }
+//! ```
 
 use crate::protocol::{Command, Observation, flags};
 use crate::{BridgeError, IpcOp, ipc, service_name};

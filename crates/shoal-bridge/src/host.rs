@@ -21,19 +21,16 @@
 //! **Shutdown**: the last observation carries [`flags::END`]; the world waits up to 1 s for
 //! its agents to leave before removing its services, so no shared memory is left behind.
 
-use crate::protocol::{self, ALL_MODEMS, Command, FRAME_BYTES, MAX_RX_FRAMES, Observation, flags};
+pub use crate::convert::{decode, encode};
+use crate::protocol::{self, Command, Observation, flags};
 use crate::{BridgeError, IpcOp, ipc, service_name};
 use iceoryx2::port::publisher::Publisher;
 use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::prelude::*;
 use iceoryx2::service::port_factory::PortFactory as _;
 use iceoryx2::service::port_factory::publish_subscribe::PortFactory;
-use shoal_model::ballast::Pump;
-use shoal_model::control::Mode;
-use shoal_model::math::euler_rpy;
 pub use shoal_sim::agents::Flow;
-use shoal_sim::agents::{self, AgentReport, Order, Rejections, RoundTrip};
-use shoal_sim::orders::FrameOrder;
+use shoal_sim::agents::{self, AgentReport, RoundTrip};
 use shoal_sim::sim::Sim;
 use shoal_world::cancel::Cancel;
 use shoal_world::desc::AgentsDesc;
@@ -556,74 +553,6 @@ fn apply(sim: &mut Sim, agent: usize, port: &mut Port, cmds: &[Command]) {
     }
 }
 
-/// A wire command as a world command; protocol-level problems are counted and reject it.
-pub fn decode(c: &Command, rej: &mut Rejections) -> Option<agents::Command> {
-    if c.version != protocol::PROTOCOL_VERSION {
-        rej.malformed += 1;
-        return None;
-    }
-    let order = match c.kind {
-        protocol::kind::KEEP => Order::Keep,
-        protocol::kind::MODE => {
-            let mode = match c.mode {
-                protocol::mode::OFF => Mode::Off,
-                protocol::mode::DIVING => Mode::Diving,
-                protocol::mode::BUOYANCY => Mode::Buoyancy,
-                protocol::mode::TURNING => Mode::Turning,
-                protocol::mode::DRIFT => Mode::Drift,
-                protocol::mode::AUTO => Mode::Auto,
-                _ => {
-                    rej.invalid += 1;
-                    return None;
-                }
-            };
-            Order::Mode {
-                mode,
-                depth: c.depth,
-                yaw: c.yaw,
-                surge: c.surge,
-                sway: c.sway,
-            }
-        }
-        protocol::kind::RAW => Order::Raw {
-            thrusters: c.thrusters.to_vec(),
-            tilts: c.tilts.to_vec(),
-            pump: match Pump::from_wire(c.pump.into()) {
-                Some(p) => p,
-                None => {
-                    rej.invalid += 1;
-                    return None;
-                }
-            },
-        },
-        _ => {
-            rej.invalid += 1;
-            return None;
-        }
-    };
-    let n = c.n_frames as usize;
-    if n > protocol::MAX_TX_FRAMES {
-        rej.bad_frames += (n - protocol::MAX_TX_FRAMES) as u64;
-    }
-    let mut frames = Vec::new();
-    for f in c.frames.iter().take(n.min(protocol::MAX_TX_FRAMES)) {
-        if f.len as usize > FRAME_BYTES {
-            rej.bad_frames += 1;
-            continue;
-        }
-        frames.push(FrameOrder::broadcast(
-            (f.modem != ALL_MODEMS).then_some(f.modem as usize),
-            f.payload().to_vec(),
-            f.t,
-        ));
-    }
-    Some(agents::Command {
-        id: c.vehicle,
-        order,
-        frames,
-    })
-}
-
 /// Encodes observations (with extra `flags`) and sends them as one slice.
 fn publish(
     p: &Publisher<Ipc, [Observation], ()>,
@@ -638,51 +567,4 @@ fn publish(
         .map_err(|e| format!("{e:?}"))?;
     let sample = sample.write_from_fn(|i| encode(&obs[i], extra));
     sample.send().map_err(|e| format!("{e:?}"))
-}
-
-/// A world observation on the wire.
-pub fn encode(o: &agents::Observation, extra: u32) -> Observation {
-    let mut w = Observation::EMPTY;
-    w.vehicle = o.id;
-    w.step = o.step;
-    w.time = o.t;
-    let s = &o.sensors;
-    w.depth = s.depth;
-    let (roll, pitch, yaw) = euler_rpy(&s.attitude);
-    w.roll = roll;
-    w.pitch = pitch;
-    w.yaw = yaw;
-    w.rates = [s.gyro.x, s.gyro.y, s.gyro.z];
-    w.accel = [s.accel.x, s.accel.y, s.accel.z];
-    w.flags = extra;
-    if let Some(p) = o.position {
-        w.position = [p.x, p.y, p.z];
-        w.flags |= flags::POSITION;
-    }
-    if s.tank_full {
-        w.flags |= flags::TANK_FULL;
-    }
-    if o.fallback {
-        w.flags |= flags::FALLBACK;
-    }
-    w.n_tilts = s.tilts.len().min(protocol::MAX_TILTS) as u32;
-    for (d, v) in w.tilts.iter_mut().zip(&s.tilts) {
-        *d = *v;
-    }
-    let mut n = 0;
-    for r in &o.frames {
-        if n == MAX_RX_FRAMES || r.payload.len() > FRAME_BYTES {
-            w.frames_dropped += 1;
-            continue;
-        }
-        let f = &mut w.frames[n];
-        f.t = r.t;
-        f.power = r.power;
-        f.modem = r.modem.min(254) as u8;
-        f.len = r.payload.len() as u16;
-        f.data[..r.payload.len()].copy_from_slice(&r.payload);
-        n += 1;
-    }
-    w.n_frames = n as u32;
-    w
 }

@@ -3,11 +3,13 @@
 //! External swarm agents for shoal over shared memory ([iceoryx2](https://docs.rs/iceoryx2)),
 //! the only crate of the workspace that knows iceoryx2:
 //! - [`protocol`]: the versioned wire format (`#[repr(C)]` observation and command slices);
+//! - [`convert`]: those wire structs to and from the world's commands and observations;
 //! - [`host`]: the world side — services per agent, lock-step and free-running exchange,
 //!   timeouts, dead-agent detection, fallback, command validation, clean shutdown;
 //! - [`agent`]: the agent side — attach to a world, receive observations, answer commands.
 
 pub mod agent;
+pub mod convert;
 pub mod host;
 pub mod protocol;
 

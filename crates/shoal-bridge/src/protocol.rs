@@ -16,11 +16,17 @@
 //! `cargo run -p shoal-bridge --example gen_python`, and a test compares its ctypes offsets with
 //! these structs'. iceoryx2 matches types across languages only by name, size and alignment,
 //! so the layout is checked field by field, never trusted.
+//!
+//! Version 2 added addressed frames: a [`Frame`] to send names its destination (`peer`, or
+//! [`BROADCAST`]), may ask for an acknowledgement ([`frame_flags::ACK`]: stop-and-wait ARQ,
+//! `docs/mac.md`) and carries a `tag` of the agent's choosing; a received frame names its
+//! sender and says whether it was addressed to this vehicle ([`frame_flags::UNICAST`]); an
+//! [`Observation`] reports what became of the vehicle's acknowledged frames ([`Outcome`]).
 
 use iceoryx2::prelude::ZeroCopySend;
 
 /// Version of this protocol; a message with another version is rejected and counted.
-pub const PROTOCOL_VERSION: u32 = 1;
+pub const PROTOCOL_VERSION: u32 = 2;
 /// Payload capacity of one frame \[bytes\] (a μAUV² modem carries at most 58).
 pub const FRAME_BYTES: usize = 64;
 /// Received frames per observation; more are counted in `frames_dropped`.
@@ -33,6 +39,10 @@ pub const MAX_THRUSTERS: usize = 8;
 pub const MAX_TILTS: usize = 4;
 /// `Frame::modem` value for "all modems in sync" (sending only).
 pub const ALL_MODEMS: u8 = 255;
+/// `Frame::peer` value of a frame to send to everyone in range (a broadcast).
+pub const BROADCAST: u32 = u32::MAX;
+/// Outcomes of acknowledged frames per observation; more are counted in `outcomes_dropped`.
+pub const MAX_OUTCOMES: usize = 4;
 
 /// Bits of [`Observation::flags`].
 pub mod flags {
@@ -44,6 +54,18 @@ pub mod flags {
     pub const FALLBACK: u32 = 4;
     /// The run is over: do not answer, leave.
     pub const END: u32 = 8;
+}
+
+/// Bits of [`Frame::flags`].
+pub mod frame_flags {
+    /// To send: ask the destination for an acknowledgement, and retransmit until it comes
+    /// (at most the modem's `arq_retries` times); the frame's end comes back as an
+    /// [`Outcome`](super::Outcome). Needs a destination (`peer` not
+    /// [`BROADCAST`](super::BROADCAST)).
+    pub const ACK: u8 = 1;
+    /// Received: the frame was addressed to this vehicle alone (a unicast), not broadcast.
+    /// Ignored when sending.
+    pub const UNICAST: u8 = 2;
 }
 
 /// Values of [`Command::kind`].
@@ -90,26 +112,89 @@ pub struct Frame {
     pub len: u16,
     /// Modem index on the vehicle; to send, [`ALL_MODEMS`] for all in sync.
     pub modem: u8,
-    /// Padding (zero).
-    pub _pad: [u8; 5],
+    /// Bits of [`frame_flags`]: to send, [`frame_flags::ACK`]; received,
+    /// [`frame_flags::UNICAST`].
+    pub flags: u8,
+    /// To send: the destination vehicle id, or [`BROADCAST`]. Received: the sending vehicle's
+    /// id.
+    pub peer: u32,
+    /// To send: a number of the agent's choosing, returned with the frame's [`Outcome`].
+    /// Received: 0 (tags stay with their sender).
+    pub tag: u32,
+    /// Received: the sender's sequence number of the frame (its [`Outcome::seq`] at the
+    /// sender). To send: unused (the world numbers frames).
+    pub seq: u32,
     /// Payload (the first `len` bytes).
     pub data: [u8; FRAME_BYTES],
 }
 
 impl Frame {
-    /// An empty frame.
+    /// An empty frame (a broadcast).
     pub const EMPTY: Frame = Frame {
         t: 0.0,
         power: 0.0,
         len: 0,
         modem: 0,
-        _pad: [0; 5],
+        flags: 0,
+        peer: BROADCAST,
+        tag: 0,
+        seq: 0,
         data: [0; FRAME_BYTES],
     };
 
     /// The payload bytes (at most [`FRAME_BYTES`], whatever `len` claims).
     pub fn payload(&self) -> &[u8] {
         &self.data[..(self.len as usize).min(FRAME_BYTES)]
+    }
+
+    /// Received: whether it was addressed to this vehicle alone ([`frame_flags::UNICAST`]).
+    pub fn is_unicast(&self) -> bool {
+        self.flags & frame_flags::UNICAST != 0
+    }
+}
+
+/// What became of one of the vehicle's frames sent with [`frame_flags::ACK`]: acknowledged
+/// by its destination, or given up after the modem's retries.
+#[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
+#[type_name("shoal_Outcome")]
+#[repr(C)]
+pub struct Outcome {
+    /// When it ended: the acknowledgement decoded, or the wait after the last transmission
+    /// ran out \[s\].
+    pub t: f64,
+    /// When it was handed over to the modems (the tick plus the frame's delay) \[s\].
+    pub sent: f64,
+    /// Its destination vehicle id.
+    pub to: u32,
+    /// The tag the agent gave it.
+    pub tag: u32,
+    /// The sender's sequence number of the frame (the destination sees it as
+    /// [`Frame::seq`]).
+    pub seq: u32,
+    /// Times it went on the air: 1 + retransmissions (0: refused by a full transmit queue).
+    pub transmissions: u32,
+    /// 1: acknowledged; 0: given up.
+    pub acknowledged: u8,
+    /// Padding (zero).
+    pub _pad: [u8; 7],
+}
+
+impl Outcome {
+    /// An empty outcome.
+    pub const EMPTY: Outcome = Outcome {
+        t: 0.0,
+        sent: 0.0,
+        to: 0,
+        tag: 0,
+        seq: 0,
+        transmissions: 0,
+        acknowledged: 0,
+        _pad: [0; 7],
+    };
+
+    /// Whether the destination acknowledged the frame (else the sender gave up).
+    pub fn is_acknowledged(&self) -> bool {
+        self.acknowledged != 0
     }
 }
 
@@ -152,6 +237,12 @@ pub struct Observation {
     pub tilts: [f64; MAX_TILTS],
     /// Received frames, in order of arrival.
     pub frames: [Frame; MAX_RX_FRAMES],
+    /// Valid entries of `outcomes`.
+    pub n_outcomes: u32,
+    /// Outcomes since the last tick that did not fit into `outcomes`.
+    pub outcomes_dropped: u32,
+    /// What became of the vehicle's acknowledged frames since the last tick, in order.
+    pub outcomes: [Outcome; MAX_OUTCOMES],
 }
 
 /// What an agent asks of one vehicle (agent → world).
@@ -209,11 +300,19 @@ impl Observation {
         position: [0.0; 3],
         tilts: [0.0; MAX_TILTS],
         frames: [Frame::EMPTY; MAX_RX_FRAMES],
+        n_outcomes: 0,
+        outcomes_dropped: 0,
+        outcomes: [Outcome::EMPTY; MAX_OUTCOMES],
     };
 
     /// The received frames.
     pub fn received(&self) -> &[Frame] {
         &self.frames[..(self.n_frames as usize).min(MAX_RX_FRAMES)]
+    }
+
+    /// What became of the vehicle's acknowledged frames since the last tick.
+    pub fn outcomes(&self) -> &[Outcome] {
+        &self.outcomes[..(self.n_outcomes as usize).min(MAX_OUTCOMES)]
     }
 }
 
@@ -257,154 +356,69 @@ impl Command {
         self.sway = sway;
     }
 
-    /// Adds a frame for modem `modem` ([`ALL_MODEMS`] for all), `delay` \[s\] after the tick.
-    /// Returns `false` (and adds nothing) when the payload exceeds [`FRAME_BYTES`] or the
-    /// command already holds [`MAX_TX_FRAMES`] frames.
+    /// Adds a broadcast for modem `modem` ([`ALL_MODEMS`] for all), `delay` \[s\] after the
+    /// tick. Returns `false` (and adds nothing) when the payload exceeds [`FRAME_BYTES`] or
+    /// the command already holds [`MAX_TX_FRAMES`] frames.
     pub fn send(&mut self, modem: u8, payload: &[u8], delay: f64) -> bool {
+        self.push(
+            Frame {
+                t: delay,
+                modem,
+                ..Frame::EMPTY
+            },
+            payload,
+        )
+    }
+
+    /// Adds a frame for vehicle `to` alone (a unicast) on modem `modem` ([`ALL_MODEMS`] for
+    /// all), `delay` \[s\] after the tick; with `ack`, acknowledged and retransmitted until
+    /// it is (its [`Outcome`], carrying `tag`, comes with a later observation). Returns
+    /// `false` (and adds nothing) like [`Command::send`]. The world checks the destination
+    /// (another vehicle of the world, not [`BROADCAST`] with `ack`): a frame it refuses is
+    /// counted in the agent's `bad_frames`.
+    pub fn send_to(
+        &mut self,
+        to: u32,
+        modem: u8,
+        payload: &[u8],
+        delay: f64,
+        ack: bool,
+        tag: u32,
+    ) -> bool {
+        let flags = if ack { frame_flags::ACK } else { 0 };
+        self.push(
+            Frame {
+                t: delay,
+                modem,
+                flags,
+                peer: to,
+                tag,
+                ..Frame::EMPTY
+            },
+            payload,
+        )
+    }
+
+    /// Adds `frame` with `payload` as its data, if both fit.
+    fn push(&mut self, mut frame: Frame, payload: &[u8]) -> bool {
         let n = self.n_frames as usize;
         if n >= MAX_TX_FRAMES || payload.len() > FRAME_BYTES {
             return false;
         }
-        let f = &mut self.frames[n];
-        f.t = delay;
-        f.modem = modem;
-        f.len = payload.len() as u16;
-        f.data[..payload.len()].copy_from_slice(payload);
+        frame.len = payload.len() as u16;
+        frame.data[..payload.len()].copy_from_slice(payload);
+        self.frames[n] = frame;
         self.n_frames += 1;
         true
     }
 }
 
-/// A C type of the layout table.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum CType {
-    /// `uint8_t`.
-    U8,
-    /// `uint16_t`.
-    U16,
-    /// `uint32_t`.
-    U32,
-    /// `int32_t`.
-    I32,
-    /// `uint64_t`.
-    U64,
-    /// `double`.
-    F64,
-    /// The [`Frame`] struct.
-    Frame,
-}
-
-/// One field of a wire struct: name, type, array length (1 for scalars), byte offset.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Field {
-    /// Field name.
-    pub name: &'static str,
-    /// Element type.
-    pub ty: CType,
-    /// Number of elements (1: a scalar).
-    pub count: usize,
-    /// Byte offset in the struct.
-    pub offset: usize,
-}
-
-/// One wire struct: its iceoryx2 type name, size, alignment and fields in order.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct StructLayout {
-    /// Rust name.
-    pub name: &'static str,
-    /// The iceoryx2 type name.
-    pub type_name: &'static str,
-    /// `size_of` \[bytes\].
-    pub size: usize,
-    /// `align_of` \[bytes\].
-    pub align: usize,
-    /// Fields in declaration order.
-    pub fields: Vec<Field>,
-}
-
-macro_rules! fields {
-    ($t:ty; $($f:ident : $ty:ident * $n:expr),* $(,)?) => {
-        vec![$(Field {
-            name: stringify!($f),
-            ty: CType::$ty,
-            count: $n,
-            offset: core::mem::offset_of!($t, $f),
-        }),*]
-    };
-}
-
-/// The layout of every wire struct, with offsets taken from the compiler; the Python
-/// structs are generated from it and checked against it.
-pub fn layout() -> Vec<StructLayout> {
-    use core::mem::{align_of, size_of};
-    vec![
-        StructLayout {
-            name: "Frame",
-            type_name: "shoal_Frame",
-            size: size_of::<Frame>(),
-            align: align_of::<Frame>(),
-            fields: fields!(Frame; t: F64 * 1, power: F64 * 1, len: U16 * 1, modem: U8 * 1,
-                _pad: U8 * 5, data: U8 * FRAME_BYTES),
-        },
-        StructLayout {
-            name: "Observation",
-            type_name: "shoal_Observation",
-            size: size_of::<Observation>(),
-            align: align_of::<Observation>(),
-            fields: fields!(Observation; version: U32 * 1, vehicle: U32 * 1, step: U64 * 1,
-                time: F64 * 1, flags: U32 * 1, n_frames: U32 * 1, frames_dropped: U32 * 1,
-                n_tilts: U32 * 1, depth: F64 * 1, roll: F64 * 1, pitch: F64 * 1, yaw: F64 * 1,
-                rates: F64 * 3, accel: F64 * 3, position: F64 * 3, tilts: F64 * MAX_TILTS,
-                frames: Frame * MAX_RX_FRAMES),
-        },
-        StructLayout {
-            name: "Command",
-            type_name: "shoal_Command",
-            size: size_of::<Command>(),
-            align: align_of::<Command>(),
-            fields: fields!(Command; version: U32 * 1, vehicle: U32 * 1, step: U64 * 1,
-                kind: U32 * 1, mode: U32 * 1, depth: F64 * 1, yaw: F64 * 1, surge: F64 * 1,
-                sway: F64 * 1, thrusters: F64 * MAX_THRUSTERS, tilts: F64 * MAX_TILTS,
-                pump: I32 * 1, n_frames: U32 * 1, frames: Frame * MAX_TX_FRAMES),
-        },
-    ]
-}
-
-impl CType {
-    /// Size of one element \[bytes\].
-    pub fn size(self) -> usize {
-        match self {
-            CType::U8 => 1,
-            CType::U16 => 2,
-            CType::U32 | CType::I32 => 4,
-            CType::U64 | CType::F64 => 8,
-            CType::Frame => size_of::<Frame>(),
-        }
-    }
-}
+mod layout;
+pub use layout::{CType, Field, StructLayout, layout};
 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// The table covers every byte of each struct exactly once, in order: a field added to a
-    /// struct but not to the table (or reordered) fails here.
-    #[test]
-    fn layout_table_covers_each_struct_without_gaps() {
-        for s in layout() {
-            let mut at = 0;
-            for f in &s.fields {
-                assert_eq!(f.offset, at, "{}.{} starts at {}", s.name, f.name, f.offset);
-                at += f.ty.size() * f.count;
-            }
-            assert_eq!(
-                at, s.size,
-                "{}: fields cover {at} of {} bytes",
-                s.name, s.size
-            );
-            assert_eq!(s.align, 8, "{}", s.name);
-        }
-    }
 
     #[test]
     fn frames_are_bounded() {
@@ -420,5 +434,54 @@ mod tests {
         let mut f = Frame::EMPTY;
         f.len = 1000; // a lying length never reads past the buffer
         assert_eq!(f.payload().len(), FRAME_BYTES);
+        let mut o = Observation::EMPTY;
+        o.n_outcomes = 1000; // nor a lying count
+        assert_eq!(o.outcomes().len(), MAX_OUTCOMES);
+    }
+
+    /// A broadcast names no destination and asks for nothing; a unicast carries its
+    /// destination, the acknowledgement bit and its tag, and nothing of an earlier frame.
+    #[test]
+    fn frames_say_where_they_go() {
+        let mut c = Command::keep(&Observation::EMPTY);
+        assert!(c.send_to(3, 0, &[1; 20], 0.25, true, 77));
+        assert!(c.send(ALL_MODEMS, &[2; 5], 0.0));
+        assert!(c.send_to(4, 1, &[3], 0.5, false, 9));
+        let [u, b, plain, _] = c.frames;
+        assert_eq!(
+            (u.peer, u.flags, u.tag, u.t, u.modem),
+            (3, frame_flags::ACK, 77, 0.25, 0)
+        );
+        assert_eq!(u.payload(), &[1; 20]);
+        assert_eq!((b.peer, b.flags, b.tag), (BROADCAST, 0, 0));
+        assert_eq!(b.payload(), &[2; 5]);
+        assert_eq!(
+            (plain.peer, plain.flags, plain.tag, plain.modem),
+            (4, 0, 9, 1)
+        );
+        assert!(!c.send_to(5, 0, &[0; FRAME_BYTES + 1], 0.0, true, 1));
+        assert_eq!(c.n_frames, 3, "an oversized frame adds nothing");
+    }
+
+    /// The sizes and the offsets docs/agents.md gives (v2): a frame grew from 88 to 96 bytes
+    /// (its destination or sender, tag and sequence number), an outcome is 40.
+    #[test]
+    fn wire_sizes_are_the_documented_ones() {
+        use core::mem::{offset_of, size_of};
+        assert_eq!(size_of::<Frame>(), 96);
+        assert_eq!(
+            [
+                offset_of!(Frame, flags),
+                offset_of!(Frame, peer),
+                offset_of!(Frame, tag),
+                offset_of!(Frame, seq),
+                offset_of!(Frame, data)
+            ],
+            [19, 20, 24, 28, 32]
+        );
+        assert_eq!(size_of::<Outcome>(), 40);
+        assert_eq!(size_of::<Observation>(), 1112);
+        assert_eq!(offset_of!(Observation, outcomes), 952);
+        assert_eq!(size_of::<Command>(), 544);
     }
 }

@@ -1,6 +1,7 @@
 //! Fuzzing the agent command path: wire commands with arbitrary field values — wrong
 //! versions, unknown kinds, modes and pump values, NaN/inf/huge setpoints and raw commands,
-//! frame counts and lengths beyond the limits, frames for unknown modems — decoded
+//! frame counts and lengths beyond the limits, frames for unknown modems, destinations that
+//! are the sender or no vehicle, acknowledgements asked of broadcasts, any flag bits — decoded
 //! ([`shoal_bridge::host::decode`]) and applied to a world's agent-driven vehicle
 //! ([`Sim::command_vehicle`]), then the world stepped. Never a panic; a command with a
 //! non-finite number it uses is rejected and counted; every state stays finite.
@@ -38,13 +39,21 @@ fn frame() -> impl Strategy<Value = Frame> {
         prop_oneof![3 => 0u16..=(FRAME_BYTES as u16 + 2), 1 => any::<u16>()],
         prop_oneof![3 => 0u8..3, 1 => Just(protocol::ALL_MODEMS), 1 => any::<u8>()],
         any::<u8>(),
+        (
+            prop_oneof![3 => 0u8..4, 1 => any::<u8>()],
+            prop_oneof![2 => Just(protocol::BROADCAST), 2 => 0u32..3, 1 => any::<u32>()],
+            any::<u32>(),
+        ),
     )
-        .prop_map(|(t, len, modem, fill)| {
+        .prop_map(|(t, len, modem, fill, (flags, peer, tag))| {
             let mut f = Frame::EMPTY;
             f.t = t;
             f.len = len;
             f.modem = modem;
             f.data = [fill; FRAME_BYTES];
+            f.flags = flags;
+            f.peer = peer;
+            f.tag = tag;
             f
         })
 }

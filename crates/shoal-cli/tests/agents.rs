@@ -270,3 +270,233 @@ fn school_agent_aligns_the_school_using_only_what_it_senses_and_hears() {
     assert_eq!(contact.last().unwrap()["largest"], 8);
     assert_eq!(s["agents"]["agents"][0]["rejections"]["non_finite"], 0);
 }
+
+// Addressed frames: worlds/agents_unicast.toml driven by the `unicast_agent` example, which
+// logs what its vehicles sent, received and learnt of their acknowledged frames (JSON lines).
+
+/// Physics step of worlds/agents_unicast.toml [s]: the link layer looks at its timers, and
+/// acknowledgements leave, at the start of a step.
+const DT: f64 = 0.01;
+/// The delay after the tick the agent gives its frames [s] (off the step grid on purpose).
+const DELAY: f64 = 0.013;
+/// Airtime of the agent's frames: (8 payload + 6 header bytes) × 10 bits at 19,200 bit/s [s].
+const AIRTIME: f64 = 14.0 * 10.0 / 19_200.0;
+/// Airtime of an acknowledgement (the 6-byte header alone) [s].
+const ACK_AIRTIME: f64 = 6.0 * 10.0 / 19_200.0;
+/// `ack_timeout` of the world's modems [s].
+const ACK_TIMEOUT: f64 = 0.05;
+/// `arq_retries` of the world's modems.
+const ARQ_RETRIES: u64 = 2;
+
+/// The first step boundary at or after `t` [s].
+fn next_step(t: f64) -> f64 {
+    (t / DT - 1e-9).ceil() * DT
+}
+
+/// One run of worlds/agents_unicast.toml with the unicast agent sending `sends`
+/// (`AT:FROM:TO:ACK:TAG`): the summary and the agent's log lines.
+fn run_unicast(label: &str, sends: &[&str]) -> (serde_json::Value, Vec<serde_json::Value>) {
+    let agent = common::example_agent("unicast_agent");
+    let dir = common::tmp("agents", label);
+    let prefix = format!("t{}-{label}", std::process::id());
+    let out = dir.join("out");
+    let mut sim = Command::new(env!("CARGO_BIN_EXE_shoal"))
+        .args(["run", "--quiet", "--no-plots", "--prefix", &prefix, "--out"])
+        .arg(&out)
+        .arg(common::repo().join("worlds/agents_unicast.toml"))
+        .stdout(common::log_file(&dir.join("world.out")))
+        .stderr(common::log_file(&dir.join("world.err")))
+        .spawn()
+        .unwrap();
+    let mut args = vec![prefix.as_str(), "link", "--delay", "0.013"];
+    for s in sends {
+        args.extend(["--send", s]);
+    }
+    let mut a = Command::new(agent)
+        .args(&args)
+        .stdout(common::log_file(&dir.join("agent.out")))
+        .stderr(common::log_file(&dir.join("agent.err")))
+        .spawn()
+        .unwrap();
+    let (sa, sw) = (
+        wait(&mut a, Duration::from_secs(120)),
+        wait(&mut sim, Duration::from_secs(120)),
+    );
+    let logs = || {
+        ["world.err", "agent.err"]
+            .map(|f| common::read_log(&dir.join(f)))
+            .join("\n")
+    };
+    assert!(
+        sa.success() && sw.success(),
+        "agent {sa}, world {sw}\n{}",
+        logs()
+    );
+    let lines = common::read_log(&dir.join("agent.out"))
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap_or_else(|e| panic!("{l}: {e}")))
+        .collect();
+    (summary(&out), lines)
+}
+
+/// The log lines of `event` ("sent", "rx", "outcome") with `key` = `value`.
+fn events<'a>(
+    log: &'a [serde_json::Value],
+    event: &str,
+    key: &str,
+    value: u64,
+) -> Vec<&'a serde_json::Value> {
+    log.iter()
+        .filter(|l| l["event"] == event && l[key] == value)
+        .collect()
+}
+
+/// The tag a received frame carries in its payload (the agent's first 4 bytes).
+fn payload_tag(rx: &serde_json::Value) -> u64 {
+    let b: Vec<u64> = rx["payload"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_u64().unwrap())
+        .collect();
+    b[0] | b[1] << 8 | b[2] << 16 | b[3] << 24
+}
+
+fn f(v: &serde_json::Value) -> f64 {
+    v.as_f64().unwrap()
+}
+
+#[test]
+fn acknowledged_unicast_reaches_its_destination_alone_and_comes_back_with_its_tag() {
+    // Vehicle 0 (`a`) sends: at 0.5 s an acknowledged unicast for 1 (`b`, 1.2 m ahead, facing
+    // it) tagged 7; at 1.0 s one without acknowledgement tagged 8; at 1.5 s a broadcast tagged
+    // 9, which shows that 2 (`c`, beside `b`) hears `a`.
+    let (s, log) = run_unicast(
+        "unicast",
+        &["0.5:0:1:ack:7", "1.0:0:1:-:8", "1.5:0:all:-:9"],
+    );
+    let outcomes = events(&log, "outcome", "vehicle", 0);
+    assert_eq!(
+        outcomes.len(),
+        1,
+        "only the acknowledged frame ends: {log:?}"
+    );
+    let o = outcomes[0];
+    assert_eq!((&o["tag"], &o["to"]), (&7.into(), &1.into()), "{o}");
+    assert_eq!(o["acknowledged"], true, "{o}");
+    assert_eq!(o["transmissions"], 1, "a 0.95-m link loses nothing: {o}");
+    // Handed over at the tick plus the delay; on the air at once for AIRTIME; `b` decodes it
+    // in that step and its acknowledgement leaves at the next step boundary, decoded by `a`
+    // ACK_AIRTIME later.
+    let sent = 0.5 + DELAY;
+    assert!((f(&o["sent"]) - sent).abs() < 1e-9, "{o}");
+    let acked = next_step(sent + AIRTIME) + ACK_AIRTIME;
+    assert!((f(&o["t"]) - acked).abs() < 1e-9, "{o}: expected {acked}");
+    // `b` got each of its frames once, from vehicle 0: the two unicasts flagged as such, with
+    // the sequence number the outcome names for the acknowledged one; the broadcast not.
+    let at_b = events(&log, "rx", "vehicle", 1);
+    let tags: Vec<u64> = at_b.iter().map(|r| payload_tag(r)).collect();
+    assert_eq!(tags, [7, 8, 9], "{at_b:?}");
+    assert!(at_b.iter().all(|r| r["peer"] == 0 && f(&r["power"]) > 0.0));
+    let unicast: Vec<bool> = at_b.iter().map(|r| r["unicast"] == true).collect();
+    assert_eq!(unicast, [true, true, false]);
+    assert_eq!(at_b[0]["seq"], o["seq"]);
+    assert!(
+        (f(&at_b[0]["t"]) - (sent + AIRTIME)).abs() < 1e-9,
+        "{}",
+        at_b[0]
+    );
+    // `c` hears `a` (the broadcast) but is handed neither unicast; `d` hears nothing.
+    let at_c = events(&log, "rx", "vehicle", 2);
+    let tags: Vec<u64> = at_c.iter().map(|r| payload_tag(r)).collect();
+    assert_eq!(tags, [9], "{at_c:?}");
+    assert_eq!(
+        (&at_c[0]["peer"], &at_c[0]["unicast"]),
+        (&0.into(), &false.into())
+    );
+    assert!(events(&log, "rx", "vehicle", 3).is_empty());
+    // The world's side: one frame acknowledged, one acknowledgement sent, nothing refused.
+    let ll = &s["comm"]["link_layer"];
+    assert_eq!(
+        (&ll["acknowledged"], &ll["gave_up"]),
+        (&1.into(), &0.into()),
+        "{ll}"
+    );
+    assert_eq!(ll["acks_sent"], 1, "{ll}");
+    assert_eq!(s["agents"]["agents"][0]["rejections"]["bad_frames"], 0);
+}
+
+#[test]
+fn acknowledged_unicast_to_a_vehicle_out_of_reach_is_given_up_after_its_retries() {
+    // Vehicle 3 (`d`) is 8 m away and faces away: no copy reaches it, no acknowledgement comes.
+    let (s, log) = run_unicast("give-up", &["1.0:0:3:ack:8"]);
+    let outcomes = events(&log, "outcome", "vehicle", 0);
+    assert_eq!(outcomes.len(), 1, "{log:?}");
+    let o = outcomes[0];
+    assert_eq!((&o["tag"], &o["to"]), (&8.into(), &3.into()), "{o}");
+    assert_eq!(o["acknowledged"], false, "{o}");
+    assert_eq!(o["transmissions"], 1 + ARQ_RETRIES, "{o}");
+    // By hand: the first copy goes on the air when handed over; each wait ends ACK_TIMEOUT
+    // after its copy ended and is noticed at the next step boundary, where the retransmission
+    // starts; the last wait's end is the outcome.
+    let sent = 1.0 + DELAY;
+    assert!((f(&o["sent"]) - sent).abs() < 1e-9, "{o}");
+    let mut start = sent;
+    for _ in 0..ARQ_RETRIES {
+        start = next_step(start + AIRTIME + ACK_TIMEOUT);
+    }
+    let last_end = start + AIRTIME;
+    let gave_up = next_step(last_end + ACK_TIMEOUT);
+    let t = f(&o["t"]);
+    assert!((t - gave_up).abs() < 1e-9, "{o}: expected {gave_up}");
+    assert!(
+        t >= last_end + ACK_TIMEOUT && t < last_end + ACK_TIMEOUT + DT,
+        "{o}: the last wait ends {ACK_TIMEOUT} s after the last copy ended at {last_end}"
+    );
+    assert!(events(&log, "rx", "vehicle", 3).is_empty(), "{log:?}");
+    let ll = &s["comm"]["link_layer"];
+    assert_eq!(
+        (&ll["acknowledged"], &ll["gave_up"]),
+        (&0.into(), &1.into()),
+        "{ll}"
+    );
+    assert_eq!(ll["retransmissions"], ARQ_RETRIES, "{ll}");
+}
+
+#[test]
+fn bad_unicasts_are_counted_and_never_sent() {
+    // At 2.0 s vehicle 0 sends four frames in one command: acknowledged to itself, to vehicle
+    // 99 (the world has 4), a broadcast asking for an acknowledgement — all refused — and a
+    // good unicast to 1, which goes out: the command itself is applied.
+    let (s, log) = run_unicast(
+        "bad-unicast",
+        &[
+            "2.0:0:0:ack:11",
+            "2.0:0:99:-:12",
+            "2.0:0:all:ack:13",
+            "2.0:0:1:-:14",
+        ],
+    );
+    let sent = events(&log, "sent", "from", 0);
+    assert!(sent.iter().all(|l| l["added"] == true), "{sent:?}");
+    let a = &s["agents"]["agents"][0];
+    let r = &a["rejections"];
+    assert_eq!(r["bad_frames"], 3, "{r}");
+    let total: u64 = r
+        .as_object()
+        .unwrap()
+        .values()
+        .map(|v| v.as_u64().unwrap())
+        .sum();
+    assert_eq!(total, 3, "nothing else refused: {r}");
+    // 60 ticks of 4 vehicles, all applied but the first tick's (before the agent attached).
+    assert!(a["commands_applied"].as_u64().unwrap() >= 59 * 4, "{a}");
+    assert_eq!(s["comm"]["frames_sent"], 1, "{}", s["comm"]);
+    let tags: Vec<u64> = log
+        .iter()
+        .filter(|l| l["event"] == "rx")
+        .map(payload_tag)
+        .collect();
+    assert_eq!(tags, [14], "only the good frame arrived: {log:?}");
+    assert!(log.iter().all(|l| l["event"] != "outcome"), "{log:?}");
+}

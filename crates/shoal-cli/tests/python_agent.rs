@@ -14,7 +14,7 @@
 mod common;
 
 use serde_json::Value;
-use shoal_bridge::protocol::{self, CType, flags, kind, mode};
+use shoal_bridge::protocol::{self, CType, flags, frame_flags, kind, mode};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, ExitStatus, Stdio};
 use std::time::{Duration, Instant};
@@ -66,7 +66,7 @@ def element(t):
     return ("f" if code in "fd" else "i" if code in "bhilq" else "u") + str(ctypes.sizeof(t))
 
 structs = {}
-for name in ("Frame", "Observation", "Command"):
+for name in ("Frame", "Outcome", "Observation", "Command"):
     s = getattr(m, name)
     fields = []
     for f in s._fields_:
@@ -82,7 +82,7 @@ for name in ("Frame", "Observation", "Command"):
     structs[name] = {"size": ctypes.sizeof(s), "align": ctypes.alignment(s),
                      "type_name": s.type_name(), "fields": fields}
 consts = {k: v for k, v in vars(m).items() if k.isupper() and isinstance(v, int)}
-for ns in ("flags", "kind", "mode"):
+for ns in ("flags", "frame_flags", "kind", "mode"):
     consts.update({ns + "." + k: v for k, v in vars(getattr(m, ns)).items() if k.isupper()})
 print(json.dumps({"structs": structs, "consts": consts}))
 "#;
@@ -96,6 +96,7 @@ fn element(t: CType) -> String {
         CType::U64 => "u8".into(),
         CType::F64 => "f8".into(),
         CType::Frame => "Frame".into(),
+        CType::Outcome => "Outcome".into(),
     }
 }
 
@@ -142,10 +143,14 @@ fn python_protocol_matches_rust_layout() {
         ("MAX_THRUSTERS", protocol::MAX_THRUSTERS as u64),
         ("MAX_TILTS", protocol::MAX_TILTS as u64),
         ("ALL_MODEMS", protocol::ALL_MODEMS.into()),
+        ("BROADCAST", protocol::BROADCAST.into()),
+        ("MAX_OUTCOMES", protocol::MAX_OUTCOMES as u64),
         ("flags.POSITION", flags::POSITION.into()),
         ("flags.TANK_FULL", flags::TANK_FULL.into()),
         ("flags.FALLBACK", flags::FALLBACK.into()),
         ("flags.END", flags::END.into()),
+        ("frame_flags.ACK", frame_flags::ACK.into()),
+        ("frame_flags.UNICAST", frame_flags::UNICAST.into()),
         ("kind.KEEP", kind::KEEP.into()),
         ("kind.MODE", kind::MODE.into()),
         ("kind.RAW", kind::RAW.into()),

@@ -19,24 +19,39 @@ observed vehicle, carrying the observation's `step`). The last observation slice
 `flags.END` set: the agent then leaves without answering. An agent that leaves earlier (Ctrl-C,
 `close`) sends a one-element `kind.LEAVE` slice first and waits briefly for the world's END
 acknowledgement.
+
+Frames: `send(cmd, modem, payload)` broadcasts; with `to=VEHICLE` the frame is for that vehicle
+alone (a unicast), and with `ack=True` also acknowledged and retransmitted until it is; what
+became of it comes back in a later observation, with the `tag` you gave it::
+
+    def tick(self, obs, cmd):
+        for f in received_frames(obs):          # ReceivedFrame: payload, sender, unicast, ...
+            ...
+        for o in outcomes(obs):                 # FrameOutcome: tag, acknowledged, ...
+            if not o.acknowledged:
+                print(f"vehicle {o.to} never confirmed frame {o.tag}")
+        send(cmd, ALL_MODEMS, b"hi", to=3, ack=True, tag=42)
 """
 
 import ctypes
 import enum
 import time
-from typing import Iterator, Optional, Sequence, Tuple
+from typing import Iterator, NamedTuple, Optional, Sequence, Tuple
 
 import iceoryx2 as iox2
 
 from .protocol import (
     ALL_MODEMS,
+    BROADCAST,
     FRAME_BYTES,
+    MAX_OUTCOMES,
     MAX_RX_FRAMES,
     MAX_TX_FRAMES,
     PROTOCOL_VERSION,
     Command,
     Observation,
     flags,
+    frame_flags,
     kind,
 )
 
@@ -46,10 +61,14 @@ __all__ = [
     "AgentTaken",
     "BridgeError",
     "Ended",
+    "FrameOutcome",
     "NoWorld",
+    "ReceivedFrame",
     "keep",
     "main",
+    "outcomes",
     "received",
+    "received_frames",
     "run",
     "send",
     "service_name",
@@ -133,12 +152,37 @@ def set_mode(
     cmd.sway = sway
 
 
-def send(cmd: Command, modem: int, payload: bytes, delay: float = 0.0) -> bool:
+_U32 = 0xFFFFFFFF
+
+
+def send(
+    cmd: Command,
+    modem: int,
+    payload: bytes,
+    delay: float = 0.0,
+    *,
+    to: Optional[int] = None,
+    ack: bool = False,
+    tag: int = 0,
+) -> bool:
     """Adds a frame for modem `modem` (`ALL_MODEMS` for all in sync), `delay` [s] after the
-    tick. Returns False (and adds nothing) when the payload exceeds `FRAME_BYTES` or the
-    command already holds `MAX_TX_FRAMES` frames."""
+    tick: a broadcast, or with `to` a unicast for that vehicle id alone. With `ack` (needs
+    `to`) the destination acknowledges it and the world retransmits it until it does (at most
+    the modem's `arq_retries` times); what became of it comes back as a `FrameOutcome`
+    carrying `tag` (0 … 2**32 - 1, of your choosing) in a later observation (`outcomes`).
+
+    Returns False (and adds nothing) when the payload exceeds `FRAME_BYTES` or the command
+    already holds `MAX_TX_FRAMES` frames. Raises ValueError for a modem, destination or tag
+    out of range, or `ack` without `to`. The world checks the rest — `to` must be another
+    vehicle of the world — and counts a frame it refuses in the agent's `bad_frames`."""
     if not 0 <= modem <= ALL_MODEMS:
         raise ValueError(f"modem {modem}: a modem index 0…254 or ALL_MODEMS (255)")
+    if to is not None and not 0 <= to < BROADCAST:
+        raise ValueError(f"to = {to}: a vehicle id 0 … {BROADCAST - 1}, or None to broadcast")
+    if ack and to is None:
+        raise ValueError("ack=True needs a destination `to`: a broadcast is never acknowledged")
+    if not 0 <= tag <= _U32:
+        raise ValueError(f"tag {tag}: 0 … {_U32}")
     data = bytes(payload)
     n = cmd.n_frames
     if n >= MAX_TX_FRAMES or len(data) > FRAME_BYTES:
@@ -146,18 +190,92 @@ def send(cmd: Command, modem: int, payload: bytes, delay: float = 0.0) -> bool:
     f = cmd.frames[n]  # a view into cmd
     f.t = delay
     f.modem = modem
+    f.flags = frame_flags.ACK if ack else 0
+    f.peer = BROADCAST if to is None else to
+    f.tag = tag
+    f.seq = 0
     f.len = len(data)
     ctypes.memmove(ctypes.addressof(f.data), data, len(data))
     cmd.n_frames = n + 1
     return True
 
 
-def received(obs: Observation) -> Iterator[Tuple[bytes, int, float, float]]:
-    """The frames received since the last tick, in order of arrival, as
-    `(payload, modem, power [W], t [s, end of reception])`."""
+class ReceivedFrame(NamedTuple):
+    """A frame one of your vehicles received (see `received_frames`)."""
+
+    #: The payload.
+    payload: bytes
+    #: Which of the vehicle's modems received it.
+    modem: int
+    #: Optical power at that modem [W].
+    power: float
+    #: End of the reception [s].
+    t: float
+    #: The sending vehicle's id.
+    sender: int
+    #: The sender's sequence number of the frame (`FrameOutcome.seq` at the sender).
+    seq: int
+    #: Whether it was addressed to this vehicle alone (a unicast), not broadcast.
+    unicast: bool
+
+
+class FrameOutcome(NamedTuple):
+    """What became of a frame sent with `ack=True` (see `outcomes`)."""
+
+    #: When it ended: the acknowledgement decoded, or the wait after its last transmission
+    #: ran out [s].
+    t: float
+    #: When it was handed over (the tick plus its delay) [s].
+    sent: float
+    #: Its destination vehicle id.
+    to: int
+    #: The tag you gave it.
+    tag: int
+    #: The sender's sequence number of the frame (`ReceivedFrame.seq` at the destination).
+    seq: int
+    #: Times it went on the air: 1 + retransmissions (0: refused by a full transmit queue).
+    transmissions: int
+    #: True: the destination acknowledged it; False: given up after the retries.
+    acknowledged: bool
+
+
+def received_frames(obs: Observation) -> Iterator[ReceivedFrame]:
+    """The frames received since the last tick, in order of arrival (`obs.frames_dropped`
+    counts those beyond `MAX_RX_FRAMES`)."""
     for i in range(min(obs.n_frames, MAX_RX_FRAMES)):
         f = obs.frames[i]
-        yield bytes(f.data)[: min(f.len, FRAME_BYTES)], f.modem, f.power, f.t
+        yield ReceivedFrame(
+            payload=bytes(f.data)[: min(f.len, FRAME_BYTES)],
+            modem=f.modem,
+            power=f.power,
+            t=f.t,
+            sender=f.peer,
+            seq=f.seq,
+            unicast=bool(f.flags & frame_flags.UNICAST),
+        )
+
+
+def received(obs: Observation) -> Iterator[Tuple[bytes, int, float, float]]:
+    """The frames received since the last tick, in order of arrival, as
+    `(payload, modem, power [W], t [s, end of reception])` (`received_frames` says more)."""
+    for f in received_frames(obs):
+        yield f[:4]
+
+
+def outcomes(obs: Observation) -> Iterator[FrameOutcome]:
+    """What became of the vehicle's frames sent with `ack=True` since the last tick, in
+    order (`obs.outcomes_dropped` counts those beyond `MAX_OUTCOMES`)."""
+    for i in range(min(obs.n_outcomes, MAX_OUTCOMES)):
+        o = obs.outcomes[i]
+        yield FrameOutcome(
+            t=o.t,
+            sent=o.sent,
+            to=o.to,
+            tag=o.tag,
+            seq=o.seq,
+            transmissions=o.transmissions,
+            acknowledged=bool(o.acknowledged),
+        )
 
 
 class AgentLink:
