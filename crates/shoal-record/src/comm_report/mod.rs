@@ -17,7 +17,10 @@ mod tables;
 
 pub use envelope::{Envelope, delivery_envelope};
 pub use plots::{DELIVERY_MARKER_PX, connectivity_plot, delivery_plot, links_plot, plots, wilson};
-pub use summary::{CommSummary, DistanceBin, GossipSummary, VehicleComm, summarize};
+pub use summary::{
+    CommSummary, DistanceBin, FLOWS_IN_SUMMARY, FlowSummary, GossipSummary, VehicleComm,
+    flow_summaries, summarize,
+};
 pub use tables::{
     PAIRS_MAX_VEHICLES, table_names, write_connectivity_csv, write_link_pairs_csv, write_links_csv,
     write_tables,

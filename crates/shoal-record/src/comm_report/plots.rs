@@ -1,8 +1,9 @@
 //! The communication plots of a run: delivery ratio against distance with the link-budget
 //! curve (`delivery_vs_distance`), the communication graph seen from above
 //! (`connectivity`), link outcomes per second in the colours of [`crate::link_key`]
-//! (`links_over_time`), the graph over time (`connectivity_over_time`) and, when the world
-//! floods a value, how many vehicles knew it over time (`gossip`).
+//! (`links_over_time`), the graph over time (`connectivity_over_time`), when the world
+//! floods a value, how many vehicles knew it over time (`gossip`) and, when vehicles sent
+//! unicasts, each flow's goodput against what it offered (`flows`).
 
 use super::envelope::delivery_envelope;
 use super::summary::{CommSummary, DistanceBin};
@@ -61,6 +62,9 @@ pub fn plots(
             connectivity_over_time_plot(desc, sim.connectivity(), snaps.len()),
         ),
     ];
+    if !sim.medium().flows().is_empty() {
+        plots.push(("flows", flows_plot(&desc.name, sim, snaps)));
+    }
     if let Some(g) = &c.gossip {
         let mut pts = vec![(g.start_s, 0.0)];
         pts.extend(g.informed_over_time.iter().map(|(t, n)| (*t, *n as f64)));
@@ -88,6 +92,40 @@ pub fn plots(
         ));
     }
     plots
+}
+
+/// Every unicast flow's goodput against the load it offered (payload bit/s over the run),
+/// with the line where all of it arrives: a flow below the line lost frames on the way
+/// (given up, or unacknowledged frames lost).
+fn flows_plot(world: &str, sim: &Sim, snaps: &[VehicleView<'_>]) -> Plot {
+    let flows = super::summary::flow_summaries(sim, snaps, sim.time());
+    let points: Vec<(f64, f64)> = flows.iter().map(|f| (f.offered_bps, f.goodput_bps)).collect();
+    let top = points.iter().map(|p| p.0).fold(0.0, f64::max).max(1.0) * 1.05;
+    Plot {
+        title: format!("{world}: unicast flows (sender → destination), {} in all", flows.len()),
+        x_label: "offered payload [bit/s]".into(),
+        y_label: "goodput: payload the destination took [bit/s]".into(),
+        series: vec![
+            Series {
+                label: Some("all delivered".into()),
+                points: vec![(0.0, 0.0), (top, top)],
+                color: 7,
+                dashed: true,
+                ..Default::default()
+            },
+            Series {
+                label: Some("one flow".into()),
+                points,
+                color: 0,
+                dots: true,
+                width: 4,
+                ..Default::default()
+            },
+        ],
+        x_range: Some((0.0, top)),
+        y_range: Some((0.0, top)),
+        ..Default::default()
+    }
 }
 
 /// The link budget's best case for the run's vehicles and water ([`delivery_envelope`]) as

@@ -4,7 +4,7 @@
 //! (for `vehicles.csv`).
 
 use serde::Serialize;
-use shoal_sim::comm::{DIST_BIN, LinkStats, latency_bin_centre};
+use shoal_sim::comm::{DIST_BIN, LinkStats, latency_percentile};
 use shoal_sim::connectivity::ConnSample;
 use shoal_sim::sim::Sim;
 use shoal_sim::view::VehicleView;
@@ -109,20 +109,9 @@ pub struct CommSummary {
     pub vehicles: Vec<VehicleComm>,
 }
 
+/// The `q` quantile of a dense latency histogram \[s\] (see [`latency_percentile`]).
 fn percentile(hist: &[u64], q: f64) -> Option<f64> {
-    let total: u64 = hist.iter().sum();
-    if total == 0 {
-        return None;
-    }
-    let target = (q * total as f64).ceil().max(1.0) as u64;
-    let mut acc = 0;
-    for (k, n) in hist.iter().enumerate() {
-        acc += n;
-        if acc >= target {
-            return Some(latency_bin_centre(k));
-        }
-    }
-    None
+    latency_percentile(hist.iter().copied().enumerate(), q)
 }
 
 /// Unicast frames sent with acknowledgement, whole world.
@@ -145,17 +134,111 @@ pub struct LinkLayerSummary {
     pub latency_p95_s: Option<f64>,
     /// 99th percentile \[s\].
     pub latency_p99_s: Option<f64>,
+    /// Unicast flows (sender → destination), all of them.
+    pub flows_total: usize,
+    /// The flow whose destination took the smallest share of what was offered, of all flows
+    /// (among equals the one with the fewest acknowledged; then the first by sender and
+    /// destination id).
+    pub least_delivered: Option<FlowSummary>,
+    /// The first [`FLOWS_IN_SUMMARY`] flows by sender and destination id (every flow is in
+    /// `flows.csv`).
+    pub flows: Vec<FlowSummary>,
 }
 
-/// The link-layer section: `None` when no frame asked for an acknowledgement.
+/// Most flows listed in summary.json (which stays small for any count).
+pub const FLOWS_IN_SUMMARY: usize = 100;
+
+/// One unicast flow, sender → destination, over the whole run.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct FlowSummary {
+    /// Sender's name.
+    pub from: String,
+    /// Destination's name.
+    pub to: String,
+    /// Frames handed over for the destination.
+    pub offered: u64,
+    /// Frames the destination took (each once).
+    pub delivered: u64,
+    /// delivered / offered.
+    pub delivery_ratio: f64,
+    /// Offered payload per second of the run [bit/s].
+    pub offered_bps: f64,
+    /// Delivered payload per second of the run (goodput) [bit/s].
+    pub goodput_bps: f64,
+    /// Frames acknowledged.
+    pub acknowledged: u64,
+    /// Frames given up.
+    pub gave_up: u64,
+    /// acknowledged / (acknowledged + gave_up), if any frame asked for acknowledgement.
+    pub delivery_after_retries: Option<f64>,
+    /// Retransmissions.
+    pub retransmissions: u64,
+    /// Hand-over → acknowledgement, median \[s\] (bin centre, ±6 %).
+    pub latency_p50_s: Option<f64>,
+    /// 95th percentile \[s\].
+    pub latency_p95_s: Option<f64>,
+    /// 99th percentile \[s\].
+    pub latency_p99_s: Option<f64>,
+    /// LED time of its frames and their acknowledgements \[s\].
+    pub led_on_s: f64,
+    /// Their optical energy \[J\].
+    pub led_energy_j: f64,
+}
+
+/// Every unicast flow of the run, by sender and destination id, with the vehicles' names
+/// (`snaps`, in id order), over `duration` \[s\].
+pub fn flow_summaries(sim: &Sim, snaps: &[VehicleView<'_>], duration: f64) -> Vec<FlowSummary> {
+    let name = |id: u32| {
+        snaps
+            .get(id as usize)
+            .filter(|s| s.id == id)
+            .map_or_else(|| id.to_string(), |s| s.name.to_string())
+    };
+    let per_s = |bytes: u64| 8.0 * bytes as f64 / duration.max(f64::MIN_POSITIVE);
+    sim.medium()
+        .flows()
+        .iter()
+        .map(|(&(from, to), f)| FlowSummary {
+            from: name(from),
+            to: name(to),
+            offered: f.offered,
+            delivered: f.delivered,
+            delivery_ratio: f.delivered as f64 / f.offered.max(1) as f64,
+            offered_bps: per_s(f.offered_bytes),
+            goodput_bps: per_s(f.delivered_bytes),
+            acknowledged: f.acknowledged,
+            gave_up: f.gave_up,
+            delivery_after_retries: f.delivery_after_retries(),
+            retransmissions: f.retransmissions,
+            latency_p50_s: f.latency_quantile(0.5),
+            latency_p95_s: f.latency_quantile(0.95),
+            latency_p99_s: f.latency_quantile(0.99),
+            led_on_s: f.led_on_s,
+            led_energy_j: f.led_energy_j,
+        })
+        .collect()
+}
+
+/// The link-layer section: `None` when no unicast frame was handed over and no frame asked
+/// for an acknowledgement.
 fn link_layer(sim: &Sim, snaps: &[VehicleView<'_>]) -> Option<LinkLayerSummary> {
     let hist = sim.medium().ack_latency_histogram();
     let acknowledged: u64 = hist.iter().sum();
     let gave_up: u64 = snaps.iter().map(|s| s.comm.gave_up).sum();
     let acks_sent: u64 = snaps.iter().map(|s| s.comm.acks_sent).sum();
-    if acknowledged + gave_up + acks_sent == 0 {
+    if acknowledged + gave_up + acks_sent == 0 && sim.medium().flows().is_empty() {
         return None;
     }
+    let mut flows = flow_summaries(sim, snaps, sim.time());
+    let flows_total = flows.len();
+    let least_delivered = (flows.iter())
+        .filter(|f| f.offered > 0)
+        .min_by(|a, b| {
+            let after = |f: &FlowSummary| f.delivery_after_retries.unwrap_or(1.0);
+            (a.delivery_ratio.total_cmp(&b.delivery_ratio)).then(after(a).total_cmp(&after(b)))
+        })
+        .cloned();
+    flows.truncate(FLOWS_IN_SUMMARY);
     Some(LinkLayerSummary {
         acknowledged,
         gave_up,
@@ -165,6 +248,9 @@ fn link_layer(sim: &Sim, snaps: &[VehicleView<'_>]) -> Option<LinkLayerSummary> 
         latency_p50_s: percentile(hist, 0.5),
         latency_p95_s: percentile(hist, 0.95),
         latency_p99_s: percentile(hist, 0.99),
+        flows_total,
+        least_delivered,
+        flows,
     })
 }
 

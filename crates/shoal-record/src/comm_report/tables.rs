@@ -12,12 +12,15 @@ use std::path::{Path, PathBuf};
 /// vehicles within range: ≈ 40 per vehicle in a dense beaconing swarm).
 pub const PAIRS_MAX_VEHICLES: usize = 10_000;
 
-/// The communication tables of a run with `vehicles` vehicles, in the order
-/// [`write_tables`] writes them.
-pub fn table_names(vehicles: usize) -> Vec<&'static str> {
+/// The communication tables of a run with `vehicles` vehicles, with unicast `flows` or
+/// not, in the order [`write_tables`] writes them.
+pub fn table_names(vehicles: usize, flows: bool) -> Vec<&'static str> {
     let mut t = vec!["links.csv", "connectivity.csv"];
     if vehicles <= PAIRS_MAX_VEHICLES {
         t.push("link_pairs.csv");
+    }
+    if flows {
+        t.push("flows.csv");
     }
     t
 }
@@ -25,8 +28,9 @@ pub fn table_names(vehicles: usize) -> Vec<&'static str> {
 /// Writes the communication tables into `dir` (each whole, through [`shoal_output::files`]),
 /// calling `begin` with each one's name before it begins it and adding each to `written`
 /// when complete: `links.csv` (per second of the run: reception
-/// attempts by outcome), `connectivity.csv` (per second: the communication graph) and, for
-/// up to [`PAIRS_MAX_VEHICLES`] vehicles, `link_pairs.csv` (per sender → receiver).
+/// attempts by outcome), `connectivity.csv` (per second: the communication graph), for
+/// up to [`PAIRS_MAX_VEHICLES`] vehicles `link_pairs.csv` (per sender → receiver), and when
+/// unicast frames were sent `flows.csv` (per flow, sender → destination).
 pub fn write_tables(
     dir: &Path,
     sim: &Sim,
@@ -45,7 +49,62 @@ pub fn write_tables(
         begin(&pairs);
         written.push(write_link_pairs_csv(&pairs, snaps)?);
     }
+    if !sim.medium().flows().is_empty() {
+        let flows = dir.join("flows.csv");
+        begin(&flows);
+        written.push(write_flows_csv(&flows, sim, snaps)?);
+    }
     Ok(())
+}
+
+/// `flows.csv`: one row per unicast flow (sender → destination) with the measures of
+/// [`FlowSummary`]; empty fields where a measure does not apply (no frame acknowledged).
+pub fn write_flows_csv(
+    path: &Path,
+    sim: &Sim,
+    snaps: &[VehicleView<'_>],
+) -> Result<PathBuf, FileError> {
+    let mut w = shoal_output::files::CsvFile::create(path)?;
+    w.write_record([
+        "from",
+        "to",
+        "offered",
+        "delivered",
+        "delivery_ratio",
+        "offered_bps",
+        "goodput_bps",
+        "acknowledged",
+        "gave_up",
+        "delivery_after_retries",
+        "retransmissions",
+        "latency_p50_s",
+        "latency_p95_s",
+        "latency_p99_s",
+        "led_on_s",
+        "led_energy_j",
+    ])?;
+    let opt = |x: Option<f64>| x.map_or(String::new(), |v| v.to_string());
+    for f in super::flow_summaries(sim, snaps, sim.time()) {
+        w.write_record([
+            f.from,
+            f.to,
+            f.offered.to_string(),
+            f.delivered.to_string(),
+            f.delivery_ratio.to_string(),
+            f.offered_bps.to_string(),
+            f.goodput_bps.to_string(),
+            f.acknowledged.to_string(),
+            f.gave_up.to_string(),
+            opt(f.delivery_after_retries),
+            f.retransmissions.to_string(),
+            opt(f.latency_p50_s),
+            opt(f.latency_p95_s),
+            opt(f.latency_p99_s),
+            f.led_on_s.to_string(),
+            f.led_energy_j.to_string(),
+        ])?;
+    }
+    w.commit()
 }
 
 /// `links.csv`: one row per second of the run, `[t_start_s, t_start_s + 1)`, with the

@@ -295,7 +295,7 @@ impl<'d> RunOutput<'d> {
         ];
         if comm.is_some() {
             planned.extend(
-                crate::comm_report::table_names(snaps.len())
+                crate::comm_report::table_names(snaps.len(), !sim.medium().flows().is_empty())
                     .into_iter()
                     .map(|t| dir.join(t)),
             );

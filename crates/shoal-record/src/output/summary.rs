@@ -363,6 +363,20 @@ impl Summary {
                     ms(l.latency_p95_s),
                     ms(l.latency_p99_s)
                 ));
+                if let Some(w) = &l.least_delivered {
+                    s.push_str(&format!(
+                        "  flows: {} unicast flows (flows.csv); the least delivered {} → {}: {} of {} frames taken ({:.1} %), {} acknowledged, {} given up; {:.0} bit/s of goodput\n",
+                        l.flows_total,
+                        w.from,
+                        w.to,
+                        w.delivered,
+                        w.offered,
+                        100.0 * w.delivery_ratio,
+                        w.acknowledged,
+                        w.gave_up,
+                        w.goodput_bps
+                    ));
+                }
             }
             s.push_str(&format!(
                 "  LEDs on {:.1} s in all, {:.3} J of light\n",

@@ -6,6 +6,7 @@
 //! be, and an acknowledgement ends the outstanding frame. The state is [`super::Link`]
 //! (`mac/arq.rs`).
 
+use super::flows::{FlowEvent, Flows};
 use super::frames::{
     FrameEvent, FrameOutcome, Inbox, Kind, Modems, OutFrame, Outbox, Queued, Received,
 };
@@ -14,6 +15,15 @@ use super::medium::Transmission;
 use super::stats::CommStats;
 use shoal_model::optics::ModemParams;
 use std::sync::Arc;
+
+/// A sending vehicle's components the link layer works on.
+pub(super) type Parts<'a> = (
+    &'a mut Outbox,
+    &'a mut Modems,
+    &'a mut CommStats,
+    &'a mut Link,
+    &'a mut Inbox,
+);
 
 /// Puts frame `f` (sequence number `seq`) into the queues of its modem(s) — at the front for
 /// `front` (acknowledgements, retransmissions) — unless a queue is full (counted) or the
@@ -92,18 +102,38 @@ fn next_seq(modems: &mut Modems) -> u32 {
 /// acknowledgements it owes go to the front of their modems' queues; an outstanding frame
 /// whose wait ran out is retransmitted or given up (`retries` of its first modem); the next
 /// waiting frame becomes outstanding when none is; then the frames handed over join the queues
-/// (acknowledged unicasts behind the outstanding one, in order).
+/// (acknowledged unicasts behind the outstanding one, in order). The vehicle's flows (`me`'s
+/// in `flows`) count the unicasts handed over, retransmitted and given up.
 pub(super) fn link_layer(
     t: f64,
     params: &[ModemParams],
     links: &[ModemLink],
-    (outbox, modems, stats, link, inbox): (
-        &mut Outbox,
-        &mut Modems,
-        &mut CommStats,
-        &mut Link,
-        &mut Inbox,
-    ),
+    (outbox, modems, stats, link, inbox): Parts<'_>,
+    (me, flows): (u32, &mut Flows),
+) {
+    for f in &outbox.0 {
+        if let Some(to) = f.to {
+            let flow = flows.get(me, to);
+            flow.offered += 1;
+            flow.offered_bytes += f.payload.len() as u64;
+        }
+    }
+    let gave_up = inbox.outcomes.len();
+    link_layer_of(t, params, links, (outbox, modems, stats, link, inbox), flows, me);
+    for e in &inbox.outcomes[gave_up..] {
+        flows.get(me, e.to).gave_up += 1;
+    }
+}
+
+/// [`link_layer`] once the flows counted what was handed over (the outcomes it adds are all
+/// given up: acknowledgements end frames in the delivery phase).
+fn link_layer_of(
+    t: f64,
+    params: &[ModemParams],
+    links: &[ModemLink],
+    (outbox, modems, stats, link, inbox): Parts<'_>,
+    flows: &mut Flows,
+    me: u32,
 ) {
     if !link.busy() && !outbox.0.iter().any(reliable) {
         // The common case: broadcasts and unicasts without acknowledgement only.
@@ -115,7 +145,11 @@ pub(super) fn link_layer(
     let handed: Vec<OutFrame> = outbox.0.drain(..).collect();
     let s = link.state();
     send_acks(s, params, modems, stats);
+    let retransmissions = stats.retransmissions;
     time_out(t, s, (params, links), modems, stats, inbox);
+    if let Some(p) = &s.pending {
+        flows.get(me, p.to).retransmissions += stats.retransmissions - retransmissions;
+    }
     // Frames wait behind the outstanding one up to the first modem's queue length.
     let room = params.first().map_or(0, |p| p.queue_frames);
     for f in handed {
@@ -293,6 +327,8 @@ pub(super) struct Mail<'a> {
     pub(super) inbox: &'a mut Inbox,
     /// Its link-layer state.
     pub(super) link: &'a mut Link,
+    /// What its receptions tell the flows (folded in after the delivery phase).
+    pub(super) flows: &'a mut Vec<FlowEvent>,
 }
 
 impl Mail<'_> {
@@ -311,7 +347,7 @@ impl Mail<'_> {
         let new = match f.kind {
             Kind::Broadcast => true,
             Kind::Unicast { to, ack } if to == me => {
-                !ack || {
+                let new = !ack || {
                     let s = self.link.state();
                     s.acks.push(AckDue {
                         to: f.tx,
@@ -319,11 +355,24 @@ impl Mail<'_> {
                         ready: f.end,
                     });
                     s.first_delivery(f.tx, f.seq)
+                };
+                if new {
+                    self.flows.push(FlowEvent::Delivered {
+                        from: f.tx,
+                        to: me,
+                        bytes: f.payload.len() as u64,
+                    });
                 }
+                new
             }
             Kind::Ack { to, seq } if to == me => {
                 if let Some(e) = self.link.state().acknowledged(f.tx, seq, f.end) {
                     acked = Some(e.t - e.sent);
+                    self.flows.push(FlowEvent::Acknowledged {
+                        from: me,
+                        to: f.tx,
+                        latency: e.t - e.sent,
+                    });
                     self.inbox.outcomes.push(e);
                 }
                 false

@@ -142,6 +142,8 @@ pub struct Medium {
     pub delivered: u64,
     /// Outcomes of acknowledged unicasts so far (acknowledged or given up, whole world).
     pub ended: u64,
+    /// Per-flow measures of unicast traffic.
+    pub(super) flows: super::flows::Flows,
     /// Transmissions started so far, and their total line bits (for the mean frame length).
     pub started: (u64, u64),
     /// Largest hull bounding-sphere radius [m].
@@ -300,6 +302,7 @@ impl Medium {
             next_id: 0,
             delivered: 0,
             ended: 0,
+            flows: Default::default(),
             started: (0, 0),
             max_hull_radius,
             by_distance: vec![(0, 0); DIST_BINS],
@@ -447,6 +450,11 @@ impl Medium {
     /// [`LAT_BINS`]), whole world: its total is the number of frames acknowledged.
     pub fn ack_latency_histogram(&self) -> &[u64] {
         &self.ack_latency_hist
+    }
+
+    /// Per-flow measures of unicast traffic (sender → destination).
+    pub fn flows(&self) -> &super::flows::Flows {
+        &self.flows
     }
 
     /// Brings the spatial grid up to date with [`Medium::poses`], incrementally: the grid is

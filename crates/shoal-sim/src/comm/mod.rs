@@ -39,6 +39,7 @@
 
 mod copy_lanes;
 mod ending;
+mod flows;
 mod frames;
 mod grid;
 mod lanes;
@@ -53,6 +54,7 @@ mod sensing;
 mod stats;
 mod systems;
 
+pub use flows::{FlowStats, Flows};
 pub use frames::{
     CommRng, FrameEvent, FrameOutcome, Inbox, Kind, ModemPort, Modems, OutFrame, Outbox, Received,
     comm_rng,
@@ -62,5 +64,8 @@ pub use ledger::{Grouped, Ledger};
 pub use links::{LinkEvent, LinkMap, LinkStats, Outcome};
 pub use mac::Link;
 pub use medium::{GRID_SKIN, Medium, ModemConsts, Transmission, cutoff_range, received_power};
-pub use stats::{CommStats, DIST_BIN, DIST_BINS, Heard, LAT_BINS, latency_bin, latency_bin_centre};
+pub use stats::{
+    CommStats, DIST_BIN, DIST_BINS, Heard, LAT_BINS, latency_bin, latency_bin_centre,
+    latency_percentile,
+};
 pub use systems::{comm_deliver_system, comm_snapshot_system, comm_transmit_system};

@@ -91,6 +91,29 @@ pub fn latency_bin_centre(k: usize) -> f64 {
     10f64.powf((k as f64 + 0.5) / 20.0 - 4.0)
 }
 
+/// The `q` quantile (0 … 1) of a latency histogram given as (bin, count) pairs in bin order
+/// \[s\]: the centre of the bin that holds it (±6 %); `None` for an empty histogram.
+pub fn latency_percentile<I>(bins: I, q: f64) -> Option<f64>
+where
+    I: IntoIterator<Item = (usize, u64)>,
+    I::IntoIter: Clone,
+{
+    let bins = bins.into_iter();
+    let total: u64 = bins.clone().map(|b| b.1).sum();
+    if total == 0 {
+        return None;
+    }
+    let target = (q * total as f64).ceil().max(1.0) as u64;
+    let mut acc = 0;
+    for (k, n) in bins {
+        acc += n;
+        if acc >= target {
+            return Some(latency_bin_centre(k));
+        }
+    }
+    None
+}
+
 /// World-wide counts of one chunk of receptions (summed over the chunks after the delivery
 /// loop, so that no counter is shared between threads).
 pub(super) struct Tally {

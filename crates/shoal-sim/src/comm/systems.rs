@@ -121,11 +121,12 @@ pub fn comm_transmit_system(
         .collect();
     items.sort_unstable_by_key(|it| it.0.0);
     let mut heap = BinaryHeap::new();
-    let kinds = &medium.kinds;
+    let med = &mut *medium;
+    let (kinds, access, flows) = (&med.kinds, &med.access, &mut med.flows);
     let mut ended = 0;
     for (id, outbox, modems, _, stats, link, inbox) in &mut items {
         let params = &kinds[id.0 as usize].params.modems;
-        let links = &medium.access[id.0 as usize];
+        let links = &access[id.0 as usize];
         let modems = &mut **modems;
         let before = inbox.outcomes.len();
         link_layer(
@@ -133,6 +134,7 @@ pub fn comm_transmit_system(
             params,
             links,
             (outbox, modems, stats, link, inbox),
+            (id.0, flows),
         );
         ended += (inbox.outcomes.len() - before) as u64;
         for (k, port) in modems.ports.iter().enumerate() {
@@ -240,6 +242,17 @@ pub fn comm_transmit_system(
         port.busy_until = end;
         stats.led_on_s += airtime;
         stats.led_energy_j += params.led.power * airtime;
+        // A unicast's copies, and the acknowledgements of one, are its flow's LED time.
+        let flow = match frame.kind {
+            Kind::Unicast { to, .. } => Some((ev.vehicle, to)),
+            Kind::Ack { to, .. } => Some((to, ev.vehicle)),
+            Kind::Broadcast => None,
+        };
+        if let Some((from, to)) = flow {
+            let f = m.flows.get(from, to);
+            f.led_on_s += airtime;
+            f.led_energy_j += params.led.power * airtime;
+        }
         if let Kind::Unicast { ack: true, .. } = frame.kind
             && let Some(p) = &mut link.state().pending
             && p.seq == frame.seq
@@ -325,10 +338,13 @@ pub fn comm_deliver_system(
     let states = par.for_each_with(
         Loop::Delivery,
         &mut items,
-        || (Tally::new(), Scratch::default(), Vec::new(), Vec::new()),
-        |(tally, scratch, events, linked), (id, inbox, rng, link)| {
+        || {
+            let flows = Vec::new();
+            (Tally::new(), Scratch::default(), Vec::new(), Vec::new(), flows)
+        },
+        |(tally, scratch, events, linked, flows), (id, inbox, rng, link)| {
             let mut rx = Listener::new(m, id.0, scratch);
-            let mut mail = Mail { inbox, link };
+            let mut mail = Mail { inbox, link, flows };
             for &i in heard.of(id.0) {
                 let l = &logical[i as usize];
                 let o = receive(m, geo, &mut rx, &own, l, &mut rng.0, &mut mail, tally);
@@ -343,10 +359,15 @@ pub fn comm_deliver_system(
     );
     let mut total = Tally::new();
     let mut linked = Vec::new();
-    for (t, _, events, l) in &states {
+    let mut flow_events = Vec::new();
+    for (t, _, events, l, f) in &states {
         total.add(t);
         ledger.append(events, m.log_links);
         linked.extend_from_slice(l);
+        flow_events.extend_from_slice(f);
+    }
+    for e in &flow_events {
+        medium.flows.apply(e);
     }
     add_tally(&mut medium, &total, second0);
     // Vehicles that owe an acknowledgement or got one: the transmit phase visits them next.
