@@ -52,6 +52,12 @@ pub struct BenchArgs {
     /// attempts per step, the delivery phase's wall time per attempt; rows with traffic).
     #[arg(long, value_name = "FILE", num_args = 0..=1, default_missing_value = "-")]
     pub json: Option<PathBuf>,
+    /// Medium-access protocols to measure the traffic table with, each a world file's
+    /// `access` value (`aloha`, `carrier_sense`, `slotted_aloha`, `tdma`, `csma_ca`,
+    /// `p_persistent`); every row then also gives its step's cost against unslotted ALOHA's,
+    /// measured in the same run.
+    #[arg(long, value_delimiter = ',')]
+    pub access: Option<Vec<String>>,
     /// Measure every row of this binary and of OTHER (another `shoal` binary, e.g. an older
     /// build) one after the other, and print their ratio.
     #[arg(long, value_name = "OTHER")]
@@ -177,6 +183,14 @@ pub fn bench(a: &BenchArgs) -> anyhow::Result<()> {
         .threads
         .clone()
         .unwrap_or_else(|| default_threads(shoal_sim::parallel::all_cores()));
+    if let Some(access) = &a.access {
+        let mut json = Vec::new();
+        access_table(a, &vehicles, &threads, access, &mut json)?;
+        if let Some(path) = &a.json {
+            write_json(path, &serde_json::to_string_pretty(&json)?)?;
+        }
+        return Ok(());
+    }
     // A row's child (the variable is set) measures here; anyone else measures each row in a
     // child process of its own.
     if std::env::var_os(crate::bench_rows::CHILD_ENV).is_none() {
@@ -279,6 +293,56 @@ pub fn bench(a: &BenchArgs) -> anyhow::Result<()> {
     }
     if let Some(path) = &a.json {
         write_json(path, &serde_json::to_string_pretty(&json)?)?;
+    }
+    Ok(())
+}
+
+/// The traffic table once per medium-access protocol in `access`, each row with its step's
+/// cost against unslotted ALOHA's on the same swarm (measured here, just before).
+fn access_table(
+    a: &BenchArgs,
+    vehicles: &[usize],
+    threads: &[usize],
+    access: &[String],
+    json: &mut Vec<serde_json::Value>,
+) -> anyhow::Result<()> {
+    println!(
+        "
+with optical traffic — a {TRAFFIC_SPACING} m grid, every vehicle with 4 modems beaconing a 32-byte frame once a second, its modems getting the medium by each protocol;
+cost × ALOHA = wall time of a step / that of the same swarm under unslotted ALOHA"
+    );
+    println!(
+        "{:>8} {:>7} {:>14} {:>16} {:>10} {:>12} {:>14}",
+        "vehicles",
+        "threads",
+        "access",
+        "vehicle-steps/s",
+        "frames/s",
+        "delivered/s",
+        "cost × ALOHA"
+    );
+    for &n in vehicles {
+        let aloha = shoal_sim::bench::traffic_swarm_with_access(n, 1, "\"aloha\"")
+            .map_err(anyhow::Error::msg)?;
+        for &t in threads {
+            let base = measure(&aloha, t, a.seconds, 150).vehicle_steps_per_s;
+            for name in access {
+                let desc = shoal_sim::bench::traffic_swarm_with_access(n, 1, &format!("{name:?}"))
+                    .map_err(|e| anyhow::anyhow!("--access {name}: {e}"))?;
+                let c = measure(&desc, t, a.seconds, 150);
+                let cost = base / c.vehicle_steps_per_s;
+                println!(
+                    "{:>8} {:>7} {:>14} {:>16.0} {:>10.0} {:>12.0} {:>14.3}",
+                    n, t, name, c.vehicle_steps_per_s, c.frames_per_s, c.deliveries_per_s, cost
+                );
+                json.push(serde_json::json!({
+                    "table": "access", "vehicles": n, "threads": t, "access": name,
+                    "vehicle_steps_per_s": c.vehicle_steps_per_s, "frames_per_s": c.frames_per_s,
+                    "deliveries_per_s": c.deliveries_per_s, "cost_vs_aloha": cost,
+                    "phase_shares": ByPhase(c.phase_shares),
+                }));
+            }
+        }
     }
     Ok(())
 }

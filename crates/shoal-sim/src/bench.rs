@@ -96,6 +96,16 @@ pub fn standard_spacing(traffic: bool) -> f64 {
     if traffic { TRAFFIC_SPACING } else { SPACING }
 }
 
+/// The benchmark swarm with optical traffic at [`TRAFFIC_SPACING`], its modems getting the
+/// medium by `access` (a world file's `access` value, e.g. `"csma_ca"`).
+pub fn traffic_swarm_with_access(n: usize, seed: u64, access: &str) -> Result<WorldDesc, String> {
+    let text = swarm_text(n, seed, TRAFFIC_SPACING, true).replace(
+        "[[vehicles.model.modems]]\n",
+        &format!("[[vehicles.model.modems]]\naccess = {access}\n"),
+    );
+    load_str(&text, Path::new("<bench swarm>")).map_err(|e| e.to_string())
+}
+
 /// The benchmark swarm at any grid spacing \[m\].
 pub fn swarm_spaced(n: usize, seed: u64, spacing: f64, traffic: bool) -> WorldDesc {
     match load_str(

@@ -148,6 +148,8 @@ pub struct Medium {
     pub started: (u64, u64),
     /// Largest hull bounding-sphere radius [m].
     pub(super) max_hull_radius: f64,
+    /// Largest distance of a modem from its hull's origin, any vehicle \[m\].
+    pub(super) max_modem_offset: f64,
     /// Attempts and deliveries by distance between sender and receiver
     /// ([`DIST_BIN`](super::DIST_BIN) bins).
     pub(super) by_distance: Vec<(u64, u64)>,
@@ -255,6 +257,11 @@ impl Medium {
             .iter()
             .map(|k| 0.5 * k.params.body.hull_size.norm())
             .fold(0.0, f64::max);
+        let max_modem_offset = kinds
+            .iter()
+            .flat_map(|k| k.params.modems.iter())
+            .map(|m| m.position.norm())
+            .fold(0.0, f64::max);
         let hull_r2 = kinds
             .iter()
             .map(|k| 0.25 * k.params.body.hull_size.norm_squared())
@@ -305,6 +312,7 @@ impl Medium {
             flows: Default::default(),
             started: (0, 0),
             max_hull_radius,
+            max_modem_offset,
             by_distance: vec![(0, 0); DIST_BINS],
             latency_hist: vec![0; LAT_BINS],
             ack_latency_hist: vec![0; LAT_BINS],

@@ -37,6 +37,7 @@
 //! - `reception`: the decision of one reception at its receiver;
 //! - `systems`: the three step systems above.
 
+mod air;
 mod copy_lanes;
 mod ending;
 mod flows;

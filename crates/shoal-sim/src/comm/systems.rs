@@ -10,6 +10,8 @@ use super::links::Outcome;
 use super::mac::{Ctx, Decision, Link};
 use super::medium::{Medium, Transmission};
 use super::reception::{Listener, Scratch, receive};
+use super::air::{Air, FastMap};
+use std::cell::OnceCell;
 use super::sensing::{idle_since, sensed_power};
 use super::stats::{CommStats, Tally};
 use crate::components::{StaticGeometry, VehicleEntities, VehicleId};
@@ -17,7 +19,7 @@ use crate::parallel::{Loop, Parallel};
 use bevy_ecs::prelude::*;
 use rand::RngExt;
 use shoal_model::optics::ModemPose;
-use std::collections::{BinaryHeap, HashMap};
+use std::collections::BinaryHeap;
 
 /// Step phase 1: bring the grid up to date with the poses (which the vehicle pass wrote),
 /// prune old transmissions.
@@ -150,15 +152,19 @@ pub fn comm_transmit_system(
             }
         }
     }
-    let index: HashMap<u32, usize> = items
+    let index: FastMap<u32, usize> = items
         .iter()
         .enumerate()
         .map(|(i, it)| (it.0.0, i))
         .collect();
     medium.ended += ended;
     let m = &mut *medium;
-    let mut backoffs: HashMap<(u32, u64), f64> = HashMap::new();
-    let mut decided: HashMap<(u32, u32, u64), Decision> = HashMap::new();
+    let mut backoffs: FastMap<(u32, u64), f64> = FastMap::default();
+    let mut decided: FastMap<(u32, u32, u64), Decision> = FastMap::default();
+    // What carrier sensing looks at, built when a protocol first listens and then kept beside
+    // `m.txs` as frames start.
+    let mut air: OnceCell<Air> = OnceCell::new();
+    let reach = m.r_cut + m.max_modem_offset;
     while let Some(ev) = heap.pop() {
         let (_, _, modems, rng, stats, link, _) = &mut items[index[&ev.vehicle]];
         let kind = &m.kinds[ev.vehicle as usize];
@@ -171,15 +177,17 @@ pub fn comm_transmit_system(
                 sensed_power(
                     m,
                     &geo.0,
+                    air.get_or_init(|| Air::new(m, reach)),
                     ev.vehicle,
-                    k,
-                    &ModemPose::of(rxm, &pos, &att),
+                    (k, &ModemPose::of(rxm, &pos, &att)),
                     ev.t,
                 ) > threshold
             })
         };
-        let mut idle_since =
-            |threshold: f64| idle_since(m, &geo.0, ev.vehicle, &pos, &att, ev.t, threshold);
+        let mut idle_since = |threshold: f64| {
+            let air = air.get_or_init(|| Air::new(m, reach));
+            idle_since(m, &geo.0, air, ev.vehicle, &pos, &att, ev.t, threshold)
+        };
         let link_params = &m.access[ev.vehicle as usize][ev.modem];
         let Some(front) = modems.ports[ev.modem]
             .queue
@@ -278,6 +286,9 @@ pub fn comm_transmit_system(
             pose,
             kind: frame.kind,
         });
+        if let Some(air) = air.get_mut() {
+            air.push(m.txs.len() - 1, &m.txs[m.txs.len() - 1]);
+        }
         m.next_id += 1;
         m.started.0 += 1;
         m.started.1 += m.txs.last().map_or(0, |t| t.bits);

@@ -29,9 +29,10 @@ impl MediumAccess for CsmaCa {
                 c
             }
         };
-        let Some(since) = (ctx.idle_since)(self.threshold) else {
-            // Busy: frozen; look again a slot later.
-            return Decision::At(t + self.backoff_slot);
+        let since = match (ctx.idle_since)(self.threshold) {
+            Ok(since) => since,
+            // Busy: frozen; look again when it may have fallen idle.
+            Err(until) => return Decision::At(until),
         };
         // The idle slots start a DIFS after the channel fell idle, for every station that
         // heard it fall idle: a station that comes back later (after waiting for an

@@ -62,10 +62,11 @@ pub(super) struct Ctx<'a> {
     /// Whether the optical power the vehicle's photodiodes receive now exceeds this \[W\]
     /// (from the frames of other vehicles on the air).
     pub(super) busy: &'a mut dyn FnMut(f64) -> bool,
-    /// With this busy threshold \[W\]: `None` if the channel is busy now, else since when it
-    /// has been idle \[s\] (the end of the last frame heard above it, the vehicle's own
-    /// included; −∞ if none).
-    pub(super) idle_since: &'a mut dyn FnMut(f64) -> Option<f64>,
+    /// With this busy threshold \[W\]: `Ok(since)` if the channel is idle now, since when \[s\]
+    /// (the end of the last frame heard above it, the vehicle's own included; −∞ if none);
+    /// `Err(until)` if it is busy, until when at least \[s\] (the first end of a frame heard
+    /// now: it cannot fall idle earlier).
+    pub(super) idle_since: &'a mut dyn FnMut(f64) -> Result<f64, f64>,
     /// The modem's state.
     pub(super) state: &'a mut AccessState,
     /// The vehicle's random stream for the medium.

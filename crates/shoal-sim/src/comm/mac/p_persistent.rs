@@ -12,9 +12,10 @@ use shoal_world::access::PPersistent;
 impl MediumAccess for PPersistent {
     fn decide(&self, ctx: &mut Ctx<'_>) -> Decision {
         let (t, slot) = (ctx.t, self.backoff_slot);
-        let Some(since) = (ctx.idle_since)(self.threshold) else {
-            // Busy: look again a slot later.
-            return Decision::At(t + slot);
+        let since = match (ctx.idle_since)(self.threshold) {
+            Ok(since) => since,
+            // Busy: look again when it may have fallen idle.
+            Err(until) => return Decision::At(until),
         };
         // Slots from a slot after the channel fell idle. The medium forgets frames two slots
         // after they ended (`memory`), by when every station has looked at least once: the
