@@ -353,10 +353,7 @@ fn bad_frames_are_refused_with_the_vehicle_and_frame() {
     assert!(e.message.contains("delay"), "{e}");
     let e = sim
         .queue_frames(
-            &[(
-                0,
-                FrameOrder::broadcast(Some(3), b"x".to_vec(), 0.0),
-            )],
+            &[(0, FrameOrder::broadcast(Some(3), b"x".to_vec(), 0.0))],
             false,
         )
         .unwrap_err();

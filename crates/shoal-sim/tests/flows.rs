@@ -67,14 +67,20 @@ fn flows_count_what_they_offered_delivered_gave_up_and_lit() {
     let waiting = ab.offered - ab.acknowledged;
     assert!(waiting <= 2, "{ab:?}");
     // Its LEDs: a's transmissions of the frames, b's acknowledgements (header only).
-    let lit = (a.sent + a.retransmissions) as f64 * airtime(PAYLOAD)
-        + b.acks_sent as f64 * airtime(0);
+    let lit =
+        (a.sent + a.retransmissions) as f64 * airtime(PAYLOAD) + b.acks_sent as f64 * airtime(0);
     assert!((ab.led_on_s - lit).abs() < 1e-9, "{} vs {lit}", ab.led_on_s);
     // Hand-over at a step boundary, the frame, the acknowledgement a step boundary later at
     // most: the median latency (a bin centre, ±6 %) between the two airtimes and a step more.
     let p50 = ab.latency_quantile(0.5).unwrap();
-    let (lo, hi) = (airtime(PAYLOAD) + airtime(0), airtime(PAYLOAD) + airtime(0) + 0.01);
-    assert!(p50 > lo * 0.94 && p50 < hi * 1.06, "{p50} not in [{lo}, {hi}]");
+    let (lo, hi) = (
+        airtime(PAYLOAD) + airtime(0),
+        airtime(PAYLOAD) + airtime(0) + 0.01,
+    );
+    assert!(
+        p50 > lo * 0.94 && p50 < hi * 1.06,
+        "{p50} not in [{lo}, {hi}]"
+    );
 
     // d → c: out of reach. Every frame went out 1 + 3 times and was given up.
     let dc = flow(&sim, 3, 2);
@@ -92,7 +98,10 @@ fn flows_count_what_they_offered_delivered_gave_up_and_lit() {
     let all: Vec<CommStats> = (0..4).map(stats).collect();
     let sum = |f: &dyn Fn(&CommStats) -> u64| all.iter().map(f).sum::<u64>();
     assert_eq!(ab.gave_up + dc.gave_up, sum(&|s| s.gave_up));
-    assert_eq!(ab.retransmissions + dc.retransmissions, sum(&|s| s.retransmissions));
+    assert_eq!(
+        ab.retransmissions + dc.retransmissions,
+        sum(&|s| s.retransmissions)
+    );
     let acked: u64 = sim.medium().ack_latency_histogram().iter().sum();
     assert_eq!(ab.acknowledged + dc.acknowledged, acked);
     let energy: f64 = all.iter().map(|s| s.led_energy_j).sum();

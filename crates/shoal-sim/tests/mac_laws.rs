@@ -4,9 +4,7 @@
 //! CSMA/CA with binary exponential back-off within 2 points of Bianchi's saturation model.
 //! The full curves (nine loads, 240 s each) are `examples/mac_laws.rs`, drawn in docs/mac.md.
 
-use shoal_sim::mac_laws::{
-    Law, SLOT, measure, measure_csma, measure_p_persistent, world_text,
-};
+use shoal_sim::mac_laws::{Law, SLOT, measure, measure_csma, measure_p_persistent, world_text};
 use shoal_sim::sim::{Sim, SimOptions};
 use shoal_world::load::load_str;
 use std::path::Path;
@@ -72,10 +70,7 @@ fn slots_double_the_peak_throughput() {
 #[test]
 fn tdma_is_collision_free_at_full_load() {
     let mut text = world_text(Law::SlottedAloha, 10, 30.0, 20.0, 5);
-    text = text.replace(
-        "kind = \"slotted_aloha\"",
-        "kind = \"tdma\", slots = 10",
-    );
+    text = text.replace("kind = \"slotted_aloha\"", "kind = \"tdma\", slots = 10");
     let desc = load_str(&text, Path::new("tdma.toml")).unwrap();
     let mut sim = Sim::new(
         &desc,

@@ -10,13 +10,13 @@
 //! work (loading, and the crates above: building, running, writing) early.
 
 pub mod access;
-pub mod range;
 pub mod cancel;
 pub mod desc;
 pub mod error;
 pub mod geometry;
 pub mod load;
 pub mod overrides;
+pub mod range;
 pub mod spec;
 
 /// The commonly used types.

@@ -210,9 +210,14 @@ fn medium_access_settings_are_checked_in_their_table() {
     let e = err(&modem("access = { kind = \"tdma\", cw_min = 8 }"));
     assert_eq!(e.first().kind, ProblemKind::UnknownField);
     assert!(e.to_string().contains("`cw_min`"), "{e}");
-    let e = err(&modem("access = { kind = \"tdma\", slots = 4, own_slot = 4 }"));
+    let e = err(&modem(
+        "access = { kind = \"tdma\", slots = 4, own_slot = 4 }",
+    ));
     let msg = e.to_string();
-    assert!(msg.contains("access.own_slot") && msg.contains("< 4 (slots)"), "{msg}");
+    assert!(
+        msg.contains("access.own_slot") && msg.contains("< 4 (slots)"),
+        "{msg}"
+    );
     // The slot must hold a 58-byte frame: 640 line bits at 19.2 kbit/s.
     let e = err(&modem("access = { kind = \"slotted_aloha\", slot = 0.01 }"));
     assert!(e.to_string().contains("0.0333"), "{e}");
@@ -220,7 +225,8 @@ fn medium_access_settings_are_checked_in_their_table() {
     assert!(e.to_string().contains("0 < p ≤ 1"), "{e}");
     let e = err(&modem("access = \"csma_ca\"\ncw_min = 8"));
     assert!(
-        e.to_string().contains("access = { kind = \"csma_ca\", cw_min = … }"),
+        e.to_string()
+            .contains("access = { kind = \"csma_ca\", cw_min = … }"),
         "{e}"
     );
     assert_eq!(e.first().line_col.map(|l| l.0), Some(7));

@@ -99,10 +99,16 @@ pub fn plots(
 /// (given up, or unacknowledged frames lost).
 fn flows_plot(world: &str, sim: &Sim, snaps: &[VehicleView<'_>]) -> Plot {
     let flows = super::summary::flow_summaries(sim, snaps, sim.time());
-    let points: Vec<(f64, f64)> = flows.iter().map(|f| (f.offered_bps, f.goodput_bps)).collect();
+    let points: Vec<(f64, f64)> = flows
+        .iter()
+        .map(|f| (f.offered_bps, f.goodput_bps))
+        .collect();
     let top = points.iter().map(|p| p.0).fold(0.0, f64::max).max(1.0) * 1.05;
     Plot {
-        title: format!("{world}: unicast flows (sender → destination), {} in all", flows.len()),
+        title: format!(
+            "{world}: unicast flows (sender → destination), {} in all",
+            flows.len()
+        ),
         x_label: "offered payload [bit/s]".into(),
         y_label: "goodput: payload the destination took [bit/s]".into(),
         series: vec![

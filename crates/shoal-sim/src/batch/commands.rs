@@ -469,7 +469,8 @@ impl Sim {
         {
             return;
         }
-        self.world_mut().insert_resource(Collected(delivered, ended));
+        self.world_mut()
+            .insert_resource(Collected(delivered, ended));
         let now = self.time();
         let start = out
             .as_ref()

@@ -45,7 +45,9 @@ impl FlowStats {
     /// of its histogram bin: ±6 %), if any frame was acknowledged.
     pub fn latency_quantile(&self, q: f64) -> Option<f64> {
         latency_percentile(
-            self.latency.iter().map(|&(k, n)| (k as usize, u64::from(n))),
+            self.latency
+                .iter()
+                .map(|&(k, n)| (k as usize, u64::from(n))),
             q,
         )
     }

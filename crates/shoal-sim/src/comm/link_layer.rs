@@ -119,7 +119,14 @@ pub(super) fn link_layer(
         }
     }
     let gave_up = inbox.outcomes.len();
-    link_layer_of(t, params, links, (outbox, modems, stats, link, inbox), flows, me);
+    link_layer_of(
+        t,
+        params,
+        links,
+        (outbox, modems, stats, link, inbox),
+        flows,
+        me,
+    );
     for e in &inbox.outcomes[gave_up..] {
         flows.get(me, e.to).gave_up += 1;
     }

@@ -202,11 +202,7 @@ pub fn cutoff_range(modems: &[&ModemParams], attenuation: f64) -> f64 {
 /// [−1, 1), from its own stream; empty when no modem allows one.
 fn clock_rates(access: &[Arc<[LinkParams]>], seed: u64) -> Vec<f64> {
     use rand::RngExt;
-    let drift = |a: &[LinkParams]| {
-        a.iter()
-            .map(|x| x.access.clock_drift())
-            .fold(0.0, f64::max)
-    };
+    let drift = |a: &[LinkParams]| a.iter().map(|x| x.access.clock_drift()).fold(0.0, f64::max);
     if access.iter().all(|a| drift(a) == 0.0) {
         return Vec::new();
     }

@@ -2,6 +2,7 @@
 //! [`comm_transmit_system`] (queues, access, carrier sense) and [`comm_deliver_system`] (every
 //! reception decided at its receiver).
 
+use super::air::{Air, FastMap};
 use super::ending::{Ended, candidates, own_transmissions};
 use super::frames::{CommRng, Inbox, Kind, Modems, Outbox};
 use super::ledger::Ledger;
@@ -10,8 +11,6 @@ use super::links::Outcome;
 use super::mac::{Ctx, Decision, Link};
 use super::medium::{Medium, Transmission};
 use super::reception::{Listener, Scratch, receive};
-use super::air::{Air, FastMap};
-use std::cell::OnceCell;
 use super::sensing::{idle_since, sensed_power};
 use super::stats::{CommStats, Tally};
 use crate::components::{StaticGeometry, VehicleEntities, VehicleId};
@@ -19,6 +18,7 @@ use crate::parallel::{Loop, Parallel};
 use bevy_ecs::prelude::*;
 use rand::RngExt;
 use shoal_model::optics::ModemPose;
+use std::cell::OnceCell;
 use std::collections::BinaryHeap;
 
 /// Step phase 1: bring the grid up to date with the poses (which the vehicle pass wrote),
@@ -351,7 +351,13 @@ pub fn comm_deliver_system(
         &mut items,
         || {
             let flows = Vec::new();
-            (Tally::new(), Scratch::default(), Vec::new(), Vec::new(), flows)
+            (
+                Tally::new(),
+                Scratch::default(),
+                Vec::new(),
+                Vec::new(),
+                flows,
+            )
         },
         |(tally, scratch, events, linked, flows), (id, inbox, rng, link)| {
             let mut rx = Listener::new(m, id.0, scratch);
