@@ -402,3 +402,31 @@ pub fn frames(a: &SendArgs<'_, '_>) -> PyResult<Vec<(usize, FrameOrder)>> {
         })
         .collect()
 }
+
+/// Warns once per world (`warned`) when the frames of several vehicles all start at the same
+/// instant: their half-duplex modems are deaf while they transmit, so they cannot hear each
+/// other.
+pub fn warn_if_simultaneous(
+    py: Python<'_>,
+    frames: &[(usize, FrameOrder)],
+    warned: &mut bool,
+) -> PyResult<()> {
+    let first = frames.first().map(|f| (f.0, f.1.delay));
+    if !*warned
+        && let Some((v0, d0)) = first
+        && frames.iter().any(|f| f.0 != v0)
+        && frames.iter().all(|f| f.1.delay == d0)
+    {
+        *warned = true;
+        let msg = c"World.send: several vehicles' frames start at the same instant (equal \
+             `delay`); their half-duplex modems are deaf while they transmit, so they cannot \
+             hear each other — spread the delays (this warning is shown once per world)";
+        PyErr::warn(
+            py,
+            &py.get_type::<pyo3::exceptions::PyUserWarning>(),
+            msg,
+            1,
+        )?;
+    }
+    Ok(())
+}

@@ -1,10 +1,14 @@
 //! What Python passes as a world (a path, world-file text, or nothing for the embedded default
-//! world) and as a thread count, read the same way by `World` and `shoal.run`.
+//! world) and as a thread count, read the same way by `World` and `shoal.run`, and how such a
+//! world is loaded ([`Source::load`]).
 
+use crate::errors::WorldError;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyString;
-use shoal_record::run::WorldSource;
+use shoal_record::run::{Changes, WorldSource, load_world};
+use shoal_world::cancel::Cancel;
+use shoal_world::desc::WorldDesc;
 use std::path::PathBuf;
 
 /// Name used in messages for world text given directly.
@@ -22,6 +26,17 @@ pub enum Source {
 }
 
 impl Source {
+    /// Loads this world with `seed` in place of its own, as `shoal run --seed` does: the seed
+    /// is the world file's, so it draws the placement as well as the vehicles' streams.
+    pub fn load(&self, py: Python<'_>, seed: Option<u64>) -> PyResult<WorldDesc> {
+        let changes = Changes {
+            seed,
+            ..Changes::default()
+        };
+        py.detach(|| load_world(self.as_world(), &changes, &Cancel::new()))
+            .map_err(|e| WorldError::new_err(e.to_string()))
+    }
+
     /// A path (str or path-like) or the TOML text of a world (a str containing a newline or
     /// `=`); `None` is the embedded default world.
     pub fn of(world: Option<&Bound<'_, PyAny>>) -> PyResult<Source> {

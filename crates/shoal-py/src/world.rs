@@ -8,7 +8,7 @@
 //! sensor readings observed afterwards are the ones the next tick's controller sees.
 
 use crate::args::{self, FloatRows, bad};
-use crate::errors::{SimulationError, WorldError, command_error};
+use crate::errors::{SimulationError, command_error};
 use crate::observe;
 use crate::source::{self, Source};
 use numpy::IntoPyArray;
@@ -16,11 +16,9 @@ use numpy::ndarray::Array2;
 use pyo3::exceptions::{PyUserWarning, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use shoal_record::run::{Changes, load_world};
 use shoal_sim::batch::{ActuatorOrder, Arrivals, BatchShape, Quantity, SetpointOrder};
 use shoal_sim::orders::force_limit;
 use shoal_sim::sim::{Sim, SimOptions};
-use shoal_world::cancel::Cancel;
 use shoal_world::desc::WorldDesc;
 
 /// Keys of a setpoint command.
@@ -48,17 +46,6 @@ pub struct World {
     received: Arrivals,
     /// Whether `send` has warned about frames of several vehicles starting together.
     warned_sync: bool,
-}
-
-/// Loads the world of `source` with `seed` in place of its own, as `shoal run --seed` does:
-/// the seed is the world file's, so it draws the placement as well as the vehicles' streams.
-fn load(py: Python<'_>, source: &Source, seed: Option<u64>) -> PyResult<WorldDesc> {
-    let changes = Changes {
-        seed,
-        ..Changes::default()
-    };
-    py.detach(|| load_world(source.as_world(), &changes, &Cancel::new()))
-        .map_err(|e| WorldError::new_err(e.to_string()))
 }
 
 /// Builds the world's simulation (no trajectory recording: the arrays are the output).
@@ -206,7 +193,7 @@ impl World {
         threads: Option<usize>,
     ) -> PyResult<Self> {
         let source = Source::of(world)?;
-        let desc = load(py, &source, seed)?;
+        let desc = source.load(py, seed)?;
         let threads = source::threads(threads)?;
         for w in &desc.warnings {
             let msg = std::ffi::CString::new(format!("{}: {w}", desc.source.display()))
@@ -241,7 +228,7 @@ impl World {
     #[pyo3(signature = (seed=None))]
     fn reset(&mut self, py: Python<'_>, seed: Option<u64>) -> PyResult<()> {
         if let Some(s) = seed.filter(|&s| s != self.desc.seed) {
-            self.desc = load(py, &self.source, Some(s))?;
+            self.desc = self.source.load(py, Some(s))?;
         }
         self.sim = build(py, &self.desc, self.threads);
         self.received.clear();
@@ -415,20 +402,7 @@ impl World {
         self.sim
             .queue_frames(&frames, clip)
             .map_err(|e| command_error(py, &e))?;
-        // Several vehicles starting at one instant cannot hear each other: say so (once).
-        let first = frames.first().map(|f| (f.0, f.1.delay));
-        if !self.warned_sync
-            && let Some((v0, d0)) = first
-            && frames.iter().any(|f| f.0 != v0)
-            && frames.iter().all(|f| f.1.delay == d0)
-        {
-            self.warned_sync = true;
-            let msg = c"World.send: several vehicles' frames start at the same instant (equal \
-                 `delay`); their half-duplex modems are deaf while they transmit, so they cannot \
-                 hear each other — spread the delays (this warning is shown once per world)";
-            PyErr::warn(py, &py.get_type::<PyUserWarning>(), msg, 1)?;
-        }
-        Ok(())
+        args::warn_if_simultaneous(py, &frames, &mut self.warned_sync)
     }
 
     /// Quantity `name` (one of `QUANTITIES`) of every vehicle as a fresh numpy array, one row

@@ -9,6 +9,7 @@
 //! modems does not change however often the vehicle listens (a back-off counts several slots
 //! a step): [`Air::powers`] remembers it for the phase.
 
+use super::grid::{cell_of, flat_index};
 use super::medium::{Medium, Transmission};
 use shoal_model::math::Vec3;
 use std::cell::RefCell;
@@ -118,20 +119,14 @@ impl Air {
         air
     }
 
-    /// The cell of `p`, clamped to the grid (a position outside it falls into a border cell;
-    /// clamping moves no two positions further apart, so a query still finds everything
-    /// within a cell of it).
+    /// The cell of `p`, clamped to the grid (a position outside it falls into a border cell,
+    /// and a query still finds everything within a cell of it: [`cell_of`]).
     fn coord(&self, p: &Vec3) -> [usize; 3] {
-        let c = |v: f64, o: f64, n: usize| (((v - o) / self.cell).max(0.0) as usize).min(n - 1);
-        [
-            c(p.x, self.origin.x, self.dims[0]),
-            c(p.y, self.origin.y, self.dims[1]),
-            c(p.z, self.origin.z, self.dims[2]),
-        ]
+        cell_of(p, &self.origin, self.cell, self.dims)
     }
 
     fn flat(&self, c: [usize; 3]) -> usize {
-        (c[0] * self.dims[1] + c[1]) * self.dims[2] + c[2]
+        flat_index(c, self.dims)
     }
 
     /// Adds transmission `x`, at `index` in the medium's list.

@@ -3,6 +3,24 @@
 
 use shoal_model::math::Vec3;
 
+/// The cell of `p` in a grid of `dims` cells of `cell` \[m\] from `origin`, clamped to the
+/// grid: truncation is the floor for the non-negative values that remain (a negative or NaN
+/// one is cell 0, as a float cast saturates). Clamping moves no two points further apart, so
+/// points within a cell of each other stay in neighbouring cells.
+pub(super) fn cell_of(p: &Vec3, origin: &Vec3, cell: f64, dims: [usize; 3]) -> [usize; 3] {
+    let c = |v: f64, o: f64, n: usize| (((v - o) / cell).max(0.0) as usize).min(n - 1);
+    [
+        c(p.x, origin.x, dims[0]),
+        c(p.y, origin.y, dims[1]),
+        c(p.z, origin.z, dims[2]),
+    ]
+}
+
+/// The index of cell `c` in a grid of `dims` cells, row-major.
+pub(super) fn flat_index(c: [usize; 3], dims: [usize; 3]) -> usize {
+    (c[0] * dims[1] + c[1]) * dims[2] + c[2]
+}
+
 /// A dense uniform grid of points (compressed rows: ids sorted by cell), rebuilt every step by
 /// a counting sort; box queries index it directly.
 #[derive(Clone, Debug, Default)]
@@ -16,18 +34,11 @@ pub struct Grid {
 
 impl Grid {
     fn coord(&self, p: &Vec3) -> [usize; 3] {
-        // The cell's index, clamped to the grid: truncation is the floor for the non-negative
-        // values that remain (a negative or NaN one is cell 0, as a float cast saturates).
-        let c = |v: f64, o: f64, n: usize| (((v - o) / self.cell).max(0.0) as usize).min(n - 1);
-        [
-            c(p.x, self.origin.x, self.dims[0]),
-            c(p.y, self.origin.y, self.dims[1]),
-            c(p.z, self.origin.z, self.dims[2]),
-        ]
+        cell_of(p, &self.origin, self.cell, self.dims)
     }
 
     fn flat(&self, c: [usize; 3]) -> usize {
-        (c[0] * self.dims[1] + c[1]) * self.dims[2] + c[2]
+        flat_index(c, self.dims)
     }
 
     /// Rebuilds the grid over `points` (index = id) with cells of about `cell` \[m\] (larger if
