@@ -103,14 +103,15 @@ fn next_seq(modems: &mut Modems) -> u32 {
 /// whose wait ran out is retransmitted or given up (`retries` of its first modem); the next
 /// waiting frame becomes outstanding when none is; then the frames handed over join the queues
 /// (acknowledged unicasts behind the outstanding one, in order). The vehicle's flows (`me`'s
-/// in `flows`) count the unicasts handed over, retransmitted and given up.
+/// in `flows`) count the unicasts handed over, retransmitted and given up. Returns how many
+/// frames it gave up (their outcomes are in the inbox).
 pub(super) fn link_layer(
     t: f64,
     params: &[ModemParams],
     links: &[ModemLink],
     (outbox, modems, stats, link, inbox): Parts<'_>,
     (me, flows): (u32, &mut Flows),
-) {
+) -> u64 {
     for f in &outbox.0 {
         if let Some(to) = f.to {
             let flow = flows.get(me, to);
@@ -130,6 +131,7 @@ pub(super) fn link_layer(
     for e in &inbox.outcomes[gave_up..] {
         flows.get(me, e.to).gave_up += 1;
     }
+    (inbox.outcomes.len() - gave_up) as u64
 }
 
 /// [`link_layer`] once the flows counted what was handed over (the outcomes it adds are all
@@ -374,11 +376,12 @@ impl Mail<'_> {
             }
             Kind::Ack { to, seq } if to == me => {
                 if let Some(e) = self.link.state().acknowledged(f.tx, seq, f.end) {
-                    acked = Some(e.t - e.sent);
+                    let latency = e.t - e.sent;
+                    acked = Some(latency);
                     self.flows.push(FlowEvent::Acknowledged {
                         from: me,
                         to: f.tx,
-                        latency: e.t - e.sent,
+                        latency,
                     });
                     self.inbox.outcomes.push(e);
                 }

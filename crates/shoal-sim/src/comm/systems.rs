@@ -130,15 +130,13 @@ pub fn comm_transmit_system(
         let params = &kinds[id.0 as usize].params.modems;
         let links = &access[id.0 as usize];
         let modems = &mut **modems;
-        let before = inbox.outcomes.len();
-        link_layer(
+        ended += link_layer(
             clock.t(),
             params,
             links,
             (outbox, modems, stats, link, inbox),
             (id.0, flows),
         );
-        ended += (inbox.outcomes.len() - before) as u64;
         for (k, port) in modems.ports.iter().enumerate() {
             if let Some(front) = port.queue.front() {
                 let start = front.ready.max(port.busy_until).max(clock.t());
