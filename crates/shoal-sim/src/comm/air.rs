@@ -2,14 +2,15 @@
 //! each (times, sender, the sending modem's position: [`OnAir`]) in a uniform grid whose cells
 //! are at least the sensing reach, each cell a linked list, so that a decision of the transmit
 //! phase looks only at the cells around the deciding vehicle, and a frame that starts during
-//! the phase joins its cell at once. The transmissions found are handed over in the order of
-//! the medium's list, so that powers add up in one order whatever the grid.
+//! the phase joins its cell at once. The transmissions are found in no particular order: the
+//! callers put the few that add to a sum in the order of the medium's list
+//! ([`Air::in_list_order`]), so that powers add up in one order whatever the grid.
 //!
 //! Within a step every pose stands still, so the power a transmission delivers to a vehicle's
 //! modems does not change however often the vehicle listens (a back-off counts several slots
 //! a step): [`Air::powers`] remembers it for the phase.
 
-use super::grid::{cell_of, flat_index};
+use super::grid::Cells;
 use super::medium::{Medium, Transmission};
 use shoal_model::math::Vec3;
 use std::cell::RefCell;
@@ -72,11 +73,9 @@ pub(super) struct Air {
     next: Vec<u32>,
     /// First entry of each cell.
     head: Vec<u32>,
-    origin: Vec3,
-    cell: f64,
-    dims: [usize; 3],
-    /// Indices found by a query (reused).
-    found: RefCell<Vec<u32>>,
+    cells: Cells,
+    /// The transmissions a query keeps, put in list order (reused).
+    kept: RefCell<Vec<OnAir>>,
     /// Powers at a vehicle's modems from a transmission, by (vehicle, entry) \[W\].
     powers: RefCell<FastMap<u64, [f64; MODEMS_REMEMBERED]>>,
 }
@@ -85,32 +84,13 @@ impl Air {
     /// The transmissions of `m` on record, in cells at least `reach` \[m\] wide over the
     /// vehicles' positions (the senders of every frame of the phase).
     pub(super) fn new(m: &Medium, reach: f64) -> Self {
-        let (mut lo, mut hi) = (Vec3::repeat(f64::INFINITY), Vec3::repeat(f64::NEG_INFINITY));
-        for (p, _) in &m.poses {
-            lo = lo.inf(p);
-            hi = hi.sup(p);
-        }
-        if lo.x > hi.x {
-            (lo, hi) = (Vec3::zeros(), Vec3::zeros());
-        }
-        // At most 2^16 cells: wider cells for a spread-out swarm (a query only looks further).
-        let span = hi - lo;
-        let mut cell = reach.max(1e-3);
-        let dims = loop {
-            let d = span.map(|s| (s / cell).floor() as usize + 1);
-            if d.x.saturating_mul(d.y).saturating_mul(d.z) <= 1 << 16 {
-                break [d.x, d.y, d.z];
-            }
-            cell *= 2.0;
-        };
+        let cells = Cells::covering(m.poses.iter().map(|(p, _)| p), reach);
         let mut air = Self {
             entries: Vec::with_capacity(m.txs.len()),
             next: Vec::with_capacity(m.txs.len()),
-            head: vec![NONE; dims[0] * dims[1] * dims[2]],
-            origin: lo,
-            cell,
-            dims,
-            found: RefCell::new(Vec::new()),
+            head: vec![NONE; cells.count()],
+            cells,
+            kept: RefCell::new(Vec::new()),
             powers: RefCell::new(HashMap::default()),
         };
         for (i, x) in m.txs.iter().enumerate() {
@@ -119,14 +99,9 @@ impl Air {
         air
     }
 
-    /// The cell of `p`, clamped to the grid (a position outside it falls into a border cell,
-    /// and a query still finds everything within a cell of it: [`cell_of`]).
-    fn coord(&self, p: &Vec3) -> [usize; 3] {
-        cell_of(p, &self.origin, self.cell, self.dims)
-    }
-
-    fn flat(&self, c: [usize; 3]) -> usize {
-        flat_index(c, self.dims)
+    /// Its cells (at least the sensing reach wide).
+    pub(super) fn cells(&self) -> Cells {
+        self.cells
     }
 
     /// Adds transmission `x`, at `index` in the medium's list.
@@ -138,34 +113,43 @@ impl Air {
             tx: x.tx,
             index: index as u32,
         };
-        let k = self.flat(self.coord(&e.position));
+        let k = self.cells.index(&e.position);
         self.next.push(self.head[k]);
         self.head[k] = self.entries.len() as u32;
         self.entries.push(e);
     }
 
     /// Calls `f` with every transmission whose sending modem lies in the cells around `pos`
-    /// (all within `reach` of it among them), in the order of the medium's list.
+    /// (all within `reach` of it among them), in no particular order.
     pub(super) fn near(&self, pos: &Vec3, mut f: impl FnMut(&OnAir)) {
-        let c = self.coord(pos);
-        let mut found = self.found.borrow_mut();
-        found.clear();
-        let range = |c: usize, n: usize| c.saturating_sub(1)..(c + 2).min(n);
-        for i in range(c[0], self.dims[0]) {
-            for j in range(c[1], self.dims[1]) {
-                for k in range(c[2], self.dims[2]) {
-                    let mut e = self.head[self.flat([i, j, k])];
-                    while e != NONE {
-                        found.push(e);
-                        e = self.next[e as usize];
-                    }
-                }
+        self.cells.each_around(pos, |c| {
+            let mut e = self.head[c];
+            while e != NONE {
+                f(&self.entries[e as usize]);
+                e = self.next[e as usize];
             }
-        }
-        // Entries were numbered in the order of the list.
-        found.sort_unstable();
-        for &e in found.iter() {
-            f(&self.entries[e as usize]);
+        });
+    }
+
+    /// Calls `keep` with the transmissions [`Air::near`] `pos`, then `f` with those it kept
+    /// (returned `true` for) in the order of the medium's list — the order in which powers
+    /// are added up.
+    pub(super) fn in_list_order(
+        &self,
+        pos: &Vec3,
+        mut keep: impl FnMut(&OnAir) -> bool,
+        mut f: impl FnMut(&OnAir),
+    ) {
+        let mut kept = self.kept.borrow_mut();
+        kept.clear();
+        self.near(pos, |a| {
+            if keep(a) {
+                kept.push(*a);
+            }
+        });
+        kept.sort_unstable_by_key(|a| a.index);
+        for a in kept.iter() {
+            f(a);
         }
     }
 

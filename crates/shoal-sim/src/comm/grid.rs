@@ -21,6 +21,70 @@ pub(super) fn flat_index(c: [usize; 3], dims: [usize; 3]) -> usize {
     (c[0] * dims[1] + c[1]) * dims[2] + c[2]
 }
 
+/// The cells of the transmit phase's per-step lists of things by position (the transmissions
+/// on record: `air.rs`; the vehicles counting idle slots down: `countdown.rs`): a uniform
+/// grid over the vehicles, its cells at least a given reach wide, so that everything within
+/// that reach of a point lies in the point's cell or a neighbouring one.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Cells {
+    origin: Vec3,
+    cell: f64,
+    dims: [usize; 3],
+}
+
+impl Cells {
+    /// Cells at least `reach` \[m\] wide over `points` (at most 2^16 of them: wider cells for
+    /// a spread-out swarm, so that a query only looks further).
+    pub(super) fn covering<'a>(points: impl Iterator<Item = &'a Vec3>, reach: f64) -> Self {
+        let (mut lo, mut hi) = (Vec3::repeat(f64::INFINITY), Vec3::repeat(f64::NEG_INFINITY));
+        for p in points {
+            lo = lo.inf(p);
+            hi = hi.sup(p);
+        }
+        if lo.x > hi.x {
+            (lo, hi) = (Vec3::zeros(), Vec3::zeros());
+        }
+        let span = hi - lo;
+        let mut cell = reach.max(1e-3);
+        let dims = loop {
+            let d = span.map(|s| (s / cell).floor() as usize + 1);
+            if d.x.saturating_mul(d.y).saturating_mul(d.z) <= 1 << 16 {
+                break [d.x, d.y, d.z];
+            }
+            cell *= 2.0;
+        };
+        Self {
+            origin: lo,
+            cell,
+            dims,
+        }
+    }
+
+    /// How many cells.
+    pub(super) fn count(&self) -> usize {
+        self.dims.iter().product()
+    }
+
+    /// The index of the cell of `p`, clamped to the grid (a position outside it falls into a
+    /// border cell, and a query still finds everything within a cell of it: [`cell_of`]).
+    pub(super) fn index(&self, p: &Vec3) -> usize {
+        flat_index(cell_of(p, &self.origin, self.cell, self.dims), self.dims)
+    }
+
+    /// Calls `f` with the index of the cell of `p` and of each of its neighbours.
+    pub(super) fn each_around(&self, p: &Vec3, mut f: impl FnMut(usize)) {
+        let c = cell_of(p, &self.origin, self.cell, self.dims);
+        let range = |c: usize, n: usize| c.saturating_sub(1)..(c + 2).min(n);
+        for i in range(c[0], self.dims[0]) {
+            for j in range(c[1], self.dims[1]) {
+                for k in range(c[2], self.dims[2]) {
+                    f(flat_index([i, j, k], self.dims));
+                }
+            }
+        }
+    }
+}
+
 /// A dense uniform grid of points (compressed rows: ids sorted by cell), rebuilt every step by
 /// a counting sort; box queries index it directly.
 #[derive(Clone, Debug, Default)]

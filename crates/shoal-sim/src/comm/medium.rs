@@ -144,6 +144,10 @@ pub struct Medium {
     pub ended: u64,
     /// Per-flow measures of unicast traffic.
     pub(super) flows: super::flows::Flows,
+    /// Ask the protocols that count back-off slots at every slot boundary, instead of once
+    /// for a run of idle ones (`countdown.rs`): the same frames at the same instants, only
+    /// slower — the reference the countdown is checked against. Off by default.
+    pub slot_by_slot: bool,
     /// Transmissions started so far, and their total line bits (for the mean frame length).
     pub started: (u64, u64),
     /// Largest hull bounding-sphere radius [m].
@@ -306,6 +310,7 @@ impl Medium {
             delivered: 0,
             ended: 0,
             flows: Default::default(),
+            slot_by_slot: false,
             started: (0, 0),
             max_hull_radius,
             max_modem_offset,

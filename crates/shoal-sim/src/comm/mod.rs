@@ -1,7 +1,7 @@
 //! The shared optical medium: frames take airtime, modems are half-duplex, overlapping frames
 //! collide unless one is `capture_ratio` times stronger, transmit queues are bounded, access is
-//! one protocol per modem (`mac`: ALOHA, carrier sense, slotted ALOHA, TDMA), the LED→photodiode ray can be blocked by walls, obstacles
-//! and other hulls, and every reception is decided by the link budget of
+//! one protocol per modem (`mac`), the LED→photodiode ray can be blocked by walls,
+//! obstacles and other hulls, and every reception is decided by the link budget of
 //! [`shoal_model::optics`] with a draw from the *receiver's* random stream.
 //!
 //! One step runs three systems in order (all in [`crate::systems::StepSet::Comm`]):
@@ -29,7 +29,12 @@
 //!   of them at once;
 //! - `lanes`: what the lane kernels share — four-lane types, poses in lanes, and the run-time
 //!   choice between a kernel compiled for AVX and the baseline;
-//! - `mac`: medium access, one protocol per file (ALOHA, carrier sense, slotted ALOHA, TDMA);
+//! - `mac`: the link layer — medium access, one protocol per file (ALOHA, carrier sense,
+//!   slotted ALOHA, TDMA, CSMA/CA, p-persistent CSMA), and stop-and-wait ARQ;
+//! - `air`: the transmissions on record by position, for carrier sensing;
+//! - `countdown`: the vehicles counting idle back-off slots down, asked again only when a
+//!   frame starts near them or their count runs out;
+//! - `flows`: unicast traffic per sender and destination;
 //! - `medium`: the [`Medium`] resource, frames on the air and the precomputed link budget;
 //! - `sensing`: carrier sensing (power heard now, since when the channel is idle);
 //! - `link_layer`: a vehicle's link layer around its queues (acknowledgements, retries,
@@ -39,6 +44,7 @@
 
 mod air;
 mod copy_lanes;
+mod countdown;
 mod ending;
 mod flows;
 mod frames;

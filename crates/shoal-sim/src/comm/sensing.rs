@@ -4,7 +4,7 @@
 //! transmissions on record around the vehicle only ([`Air`], kept by the transmit phase), and
 //! compute a link budget only for senders within reach.
 
-use super::air::{Air, MODEMS_REMEMBERED};
+use super::air::{Air, MODEMS_REMEMBERED, OnAir};
 use super::medium::{Medium, Transmission, received_power};
 use shoal_model::math::Vec3;
 use shoal_model::optics::{LinkGeometry, ModemPose};
@@ -21,15 +21,16 @@ pub(super) fn sensed_power(
 ) -> f64 {
     let r2 = medium.r_cut * medium.r_cut;
     let mut sum = 0.0;
-    air.near(&pose.position, |x| {
-        if x.tx != me
-            && x.start <= t
-            && x.end > t
-            && (x.position - pose.position).norm_squared() <= r2
-        {
-            sum += sensed_one(medium, geo, &medium.txs[x.index as usize], me, k, pose);
-        }
-    });
+    air.in_list_order(
+        &pose.position,
+        |x| {
+            x.tx != me
+                && x.start <= t
+                && x.end > t
+                && (x.position - pose.position).norm_squared() <= r2
+        },
+        |x| sum += sensed_one(medium, geo, &medium.txs[x.index as usize], me, k, pose),
+    );
     sum
 }
 
@@ -119,45 +120,66 @@ pub(super) fn idle_since(
         now_big.resize(modems.len(), 0.0);
         &mut now_big
     };
-    air.near(pos, |a| {
-        // A frame that starts at this very instant is not heard yet (sensing takes time):
-        // two stations whose back-offs end together both send, and collide.
-        if a.start >= t {
-            return;
-        }
-        if a.tx == v {
-            // The vehicle's own frames: the channel was taken until they ended.
-            since = since.max(a.end.min(t));
-            return;
-        }
-        if (a.position - pos).norm_squared() > reach * reach {
-            return;
-        }
+    // The powers of a transmission at the vehicle's modems, remembered for the phase (up to
+    // eight modems); `f` with each.
+    let each_power = |a: &OnAir, f: &mut dyn FnMut(usize, f64)| {
         let x = &m.txs[a.index as usize];
-        let remembered = (poses.len() <= MODEMS_REMEMBERED).then(|| {
-            air.powers(v, a, || {
+        if poses.len() <= MODEMS_REMEMBERED {
+            let p = air.powers(v, a, || {
                 let mut p = [0.0; MODEMS_REMEMBERED];
                 for (k, pose) in poses.iter().enumerate() {
                     p[k] = sensed_one(m, geo, x, v, k, pose);
                 }
                 p
-            })
-        });
-        for (k, pose) in poses.iter().enumerate() {
-            let p = match &remembered {
-                Some(r) => r[k],
-                None => sensed_one(m, geo, x, v, k, pose),
-            };
-            if x.end > t {
-                now[k] += p;
-                if p > 0.0 {
-                    until = until.min(x.end);
-                }
-            } else if p > threshold {
-                since = since.max(x.end);
+            });
+            for (k, p) in p[..poses.len()].iter().enumerate() {
+                f(k, *p);
+            }
+        } else {
+            for (k, pose) in poses.iter().enumerate() {
+                f(k, sensed_one(m, geo, x, v, k, pose));
             }
         }
-    });
+    };
+    // Which frames are on the air and heard (their powers add up below, in list order), when
+    // the first of them ends, and the end of the last frame that alone was heard.
+    air.in_list_order(
+        pos,
+        |a| {
+            // A frame that starts at this very instant is not heard yet (sensing takes time):
+            // two stations whose back-offs end together both send, and collide.
+            if a.start >= t {
+                return false;
+            }
+            if a.tx == v {
+                // The vehicle's own frames: the channel was taken until they ended.
+                since = since.max(a.end.min(t));
+                return false;
+            }
+            if (a.position - pos).norm_squared() > reach * reach {
+                return false;
+            }
+            if a.end > t {
+                let mut heard = false;
+                each_power(a, &mut |_, p| heard |= p > 0.0);
+                if heard {
+                    until = until.min(a.end);
+                }
+                heard
+            } else {
+                // Ended: it matters only if it ended later than those seen so far.
+                if a.end > since {
+                    let mut alone = false;
+                    each_power(a, &mut |_, p| alone |= p > threshold);
+                    if alone {
+                        since = a.end;
+                    }
+                }
+                false
+            }
+        },
+        |a| each_power(a, &mut |k, p| now[k] += p),
+    );
     if now.iter().any(|p| *p > threshold) {
         return Err(until);
     }

@@ -3,8 +3,10 @@
 //! reception decided at its receiver).
 
 use super::air::{Air, FastMap};
+use super::countdown::{Countdowns, Wake};
 use super::ending::{Ended, candidates, own_transmissions};
 use super::frames::{CommRng, Inbox, Kind, Modems, Outbox};
+use super::grid::Cells;
 use super::ledger::Ledger;
 use super::link_layer::{Mail, link_layer};
 use super::links::Outcome;
@@ -18,7 +20,7 @@ use crate::parallel::{Loop, Parallel};
 use bevy_ecs::prelude::*;
 use rand::RngExt;
 use shoal_model::optics::ModemPose;
-use std::cell::OnceCell;
+use std::cell::{Cell, OnceCell};
 use std::collections::BinaryHeap;
 
 /// Step phase 1: bring the grid up to date with the poses (which the vehicle pass wrote),
@@ -59,6 +61,9 @@ struct StartEvent {
     t: f64,
     vehicle: u32,
     modem: usize,
+    /// How often the port's wait had been cut short when the event was made: an event made
+    /// before its latest wake-up ([`Countdowns`]) is stale.
+    epoch: u32,
 }
 
 impl Eq for StartEvent {}
@@ -145,6 +150,7 @@ pub fn comm_transmit_system(
                         t: start,
                         vehicle: id.0,
                         modem: k,
+                        epoch: 0,
                     });
                 }
             }
@@ -163,7 +169,18 @@ pub fn comm_transmit_system(
     // `m.txs` as frames start.
     let mut air: OnceCell<Air> = OnceCell::new();
     let reach = m.r_cut + m.max_modem_offset;
+    // The vehicles counting idle slots down, asked again only when a frame starts near them.
+    let mut countdowns = Countdowns::default();
+    let mut epochs: FastMap<(u32, usize), u32> = FastMap::default();
+    let mut woken: Vec<Wake> = Vec::new();
     while let Some(ev) = heap.pop() {
+        if !epochs.is_empty()
+            && epochs.get(&(ev.vehicle, ev.modem)).copied().unwrap_or(0) != ev.epoch
+        {
+            continue;
+        }
+        // A vehicle whose count ran out undisturbed hears what it heard when the count began.
+        let resumed = countdowns.end(ev.vehicle, ev.t);
         let (_, _, modems, rng, stats, link, _) = &mut items[index[&ev.vehicle]];
         let kind = &m.kinds[ev.vehicle as usize];
         let params = &kind.params.modems[ev.modem];
@@ -182,9 +199,20 @@ pub fn comm_transmit_system(
                 ) > threshold
             })
         };
+        // What the protocol found idle, and since when (for a countdown).
+        let heard: Cell<Option<(f64, f64)>> = Cell::new(None);
         let mut idle_since = |threshold: f64| {
-            let air = air.get_or_init(|| Air::new(m, reach));
-            idle_since(m, &geo.0, air, ev.vehicle, &pos, &att, ev.t, threshold)
+            let r = match resumed {
+                Some((th, since)) if th == threshold => Ok(since),
+                _ => {
+                    let air = air.get_or_init(|| Air::new(m, reach));
+                    idle_since(m, &geo.0, air, ev.vehicle, &pos, &att, ev.t, threshold)
+                }
+            };
+            if let Ok(since) = r {
+                heard.set(Some((threshold, since)));
+            }
+            r
         };
         let link_params = &m.access[ev.vehicle as usize][ev.modem];
         let Some(front) = modems.ports[ev.modem]
@@ -212,7 +240,20 @@ pub fn comm_transmit_system(
                     state: &mut modems.access,
                     rng: &mut rng.0,
                 };
-                let d = link_params.access.decide(&mut ctx);
+                let d = match link_params.access.decide(&mut ctx) {
+                    Decision::Count { from, slot, left } => count_down(
+                        ev.t,
+                        (from, slot, left),
+                        modems,
+                        (
+                            (!m.slot_by_slot).then_some(&mut countdowns),
+                            (ev.vehicle, &pos),
+                            heard.get(),
+                        ),
+                        (reach, || Air::cells(air.get_or_init(|| Air::new(m, reach)))),
+                    ),
+                    d => d,
+                };
                 decided.insert(key, d);
                 d
             }
@@ -220,6 +261,7 @@ pub fn comm_transmit_system(
         let retry = match decision {
             Decision::Send => None,
             Decision::At(t) => Some(t),
+            Decision::Count { .. } => unreachable!("counted down above"),
             // All modems of a vehicle that defer at the same moment share one back-off, so
             // that copies of a frame on several modems stay in sync.
             Decision::Backoff(max) => Some(
@@ -297,8 +339,32 @@ pub fn comm_transmit_system(
                     t: start,
                     vehicle: ev.vehicle,
                     modem: ev.modem,
+                    epoch: epochs.get(&(ev.vehicle, ev.modem)).copied().unwrap_or(0),
                 });
             }
+        }
+        // The vehicles counting down near it are asked again at their next boundary.
+        {
+            countdowns.frame_started(&pose.position, ev.t, reach, &mut woken);
+            for w in woken.drain(..) {
+                wake(
+                    &mut items[index[&w.vehicle]].2,
+                    &w,
+                    (&mut epochs, &mut heap, t_end),
+                );
+            }
+        }
+    }
+    // Those still counting at the end of the step are set where the slot-by-slot count leaves
+    // them (the next step's poses may change what they hear).
+    {
+        countdowns.step_ended(t_end, &mut woken);
+        for w in woken.drain(..) {
+            wake(
+                &mut items[index[&w.vehicle]].2,
+                &w,
+                (&mut epochs, &mut heap, t_end),
+            );
         }
     }
     ids.retain(|&v| {
@@ -306,6 +372,85 @@ pub fn comm_transmit_system(
         it.2.queued > 0 || it.5.busy()
     });
     m.waiting = ids;
+}
+
+/// A protocol's [`Decision::Count`] at `t` \[s\] of a vehicle's frame, as the decision to
+/// act on: with the step's countdowns (unless [`Medium::slot_by_slot`]), the vehicle counts
+/// down at once — if none of its ports is on the air and its queued ports all hold copies of
+/// one frame (which decide together; otherwise the count would be shared by frames deciding
+/// at different times), and no frame started nearby at this very instant: it is asked again
+/// at the last boundary with the counter at 0, and hears there what it `heard` now (the
+/// threshold and since when the channel was idle \[W, s\]) unless woken first. Else slot by
+/// slot: asked at the next boundary.
+fn count_down(
+    t: f64,
+    (from, slot, left): (f64, f64, u32),
+    modems: &mut Modems,
+    (countdowns, (vehicle, pos), heard): (
+        Option<&mut Countdowns>,
+        (u32, &shoal_model::math::Vec3),
+        Option<(f64, f64)>,
+    ),
+    (reach, cells): (f64, impl FnOnce() -> Cells),
+) -> Decision {
+    let quiet = modems.ports.iter().all(|p| p.busy_until <= t);
+    let mut fronts = modems.ports.iter().filter_map(|p| p.queue.front());
+    let together = fronts
+        .next()
+        .is_some_and(|f| fronts.all(|g| g.seq == f.seq));
+    let target = match (countdowns, heard) {
+        (Some(c), Some(heard)) if quiet && together => c.start(
+            (vehicle, pos),
+            (t, heard),
+            (from, slot, left),
+            (reach, cells),
+        ),
+        _ => None,
+    };
+    match target {
+        Some(target) => {
+            modems.access.counter = Some(0);
+            Decision::At(target)
+        }
+        None if from > t => {
+            modems.access.counter = Some(left);
+            Decision::At(from)
+        }
+        None => {
+            modems.access.counter = Some(left - 1);
+            Decision::At(t + slot)
+        }
+    }
+}
+
+/// Vehicle's `modems` are asked earlier than they said (`w`): each port that waits for the
+/// boundary said waits for `w.at` instead, its earlier event made stale.
+fn wake(
+    modems: &mut Modems,
+    w: &Wake,
+    (epochs, heap, t_end): (
+        &mut FastMap<(u32, usize), u32>,
+        &mut BinaryHeap<StartEvent>,
+        f64,
+    ),
+) {
+    modems.access.counter = Some(w.left);
+    for (k, port) in modems.ports.iter_mut().enumerate() {
+        if port.queue.is_empty() || port.busy_until.to_bits() != w.target.to_bits() {
+            continue;
+        }
+        port.busy_until = w.at;
+        let epoch = epochs.entry((w.vehicle, k)).or_default();
+        *epoch += 1;
+        if w.at < t_end {
+            heap.push(StartEvent {
+                t: w.at,
+                vehicle: w.vehicle,
+                modem: k,
+                epoch: *epoch,
+            });
+        }
+    }
 }
 
 /// Step phase 3: decide every reception of frames that ended in this step.

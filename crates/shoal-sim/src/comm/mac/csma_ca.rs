@@ -45,19 +45,29 @@ impl MediumAccess for CsmaCa {
             ctx.state.anchor.unwrap_or(self.difs)
         };
         ctx.state.anchor = Some(first);
-        if t < first - 1e-9 * self.backoff_slot {
-            return Decision::At(first);
-        }
-        let (b, on) = next_boundary(t, self.backoff_slot, first);
-        if !on {
-            return Decision::At(b);
-        }
-        if count == 0 {
-            ctx.state.counter = None;
-            Decision::Send
+        let slot = self.backoff_slot;
+        let (b, on) = if t < first - 1e-9 * slot {
+            (first, false)
         } else {
-            ctx.state.counter = Some(count - 1);
-            Decision::At(t + self.backoff_slot)
+            next_boundary(t, slot, first)
+        };
+        match (on, count) {
+            // On a boundary with nothing left to count.
+            (true, 0) => {
+                ctx.state.counter = None;
+                Decision::Send
+            }
+            // Count from this boundary, or from the next one.
+            (true, _) => Decision::Count {
+                from: t,
+                slot,
+                left: count,
+            },
+            (false, _) => Decision::Count {
+                from: b,
+                slot,
+                left: count,
+            },
         }
     }
 

@@ -12,8 +12,8 @@
 //! | carrier sense | `carrier_sense.rs` | send if the vehicle's photodiodes receive less than the threshold, else a random [`Decision::Backoff`] |
 //! | slotted ALOHA | `slotted_aloha.rs` | send on a slot boundary of the vehicle's own (drifting) clock, else wait for the next one ([`Decision::At`]) |
 //! | TDMA | `tdma.rs` | send at the start of the vehicle's own slot of the cycle, else wait for it |
-//! | CSMA/CA | `csma_ca.rs` | count a random back-off down over idle slots after a DIFS of idle channel, then send; the window doubles when an acknowledgement does not come ([`MediumAccess::feedback`]) |
-//! | p-persistent CSMA | `p_persistent.rs` | at each slot boundary of an idle channel, send with probability p, else wait for the next |
+//! | CSMA/CA | `csma_ca.rs` | count a random back-off down over idle slots after a DIFS of idle channel ([`Decision::Count`]), then send; the window doubles when an acknowledgement does not come ([`MediumAccess::feedback`]) |
+//! | p-persistent CSMA | `p_persistent.rs` | at each slot boundary of an idle channel, send with probability p, else wait for the next (the number of boundaries it lets pass drawn at once, and counted down) |
 //!
 //! Acknowledgements bypass the protocol (sent as soon as the modem is free, like 802.11's
 //! after SIFS) unless it says they wait ([`MediumAccess::acks_wait`]: the slotted ones).
@@ -45,6 +45,20 @@ pub(super) enum Decision {
     Send,
     /// Ask again at this time \[s\] (a slot boundary; later than now).
     At(f64),
+    /// The channel is idle now; from the slot boundary `from` (now, or the next one) on,
+    /// `left` boundaries of `slot` \[s\] are to pass idle (`from` included): ask again at the
+    /// boundary after them, with `AccessState::counter` 0 — or, if a frame starts nearby
+    /// first, at the first boundary after its start, with the count still to go there
+    /// (`countdown.rs`). Slot by slot, the same as `At(from)` with the counter at `left` (or,
+    /// if `from` is now, `At(now + slot)` with the counter at `left − 1`), asked again at each.
+    Count {
+        /// The first boundary counted \[s\].
+        from: f64,
+        /// Slot \[s\].
+        slot: f64,
+        /// Boundaries to pass idle, `from` included.
+        left: u32,
+    },
     /// The channel is busy: ask again after a random delay, uniform up to this long \[s\],
     /// drawn from the vehicle's stream — one draw for all of the vehicle's modems that defer
     /// at the same moment, so that the copies of a frame stay in sync.
