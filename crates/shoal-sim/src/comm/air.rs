@@ -84,7 +84,9 @@ impl Air {
     /// The transmissions of `m` on record, in cells at least `reach` \[m\] wide over the
     /// vehicles' positions (the senders of every frame of the phase).
     pub(super) fn new(m: &Medium, reach: f64) -> Self {
-        let cells = Cells::covering(m.poses.iter().map(|(p, _)| p), reach);
+        // The vehicles' box at the grid's last rebuild (they have moved a little since).
+        let (lo, hi) = m.grid.bounds();
+        let cells = Cells::over(lo, hi, reach);
         let mut air = Self {
             entries: Vec::with_capacity(m.txs.len()),
             next: Vec::with_capacity(m.txs.len()),

@@ -221,8 +221,7 @@ mod tests {
     use super::*;
 
     fn cells() -> Cells {
-        let pts = [Vec3::zeros(), Vec3::new(20.0, 20.0, 5.0)];
-        Cells::covering(pts.iter(), 3.0)
+        Cells::over(Vec3::zeros(), Vec3::new(20.0, 20.0, 5.0), 3.0)
     }
 
     /// The boundary said is the slot-by-slot one to the last bit (each the one before plus a

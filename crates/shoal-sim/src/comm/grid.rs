@@ -33,18 +33,12 @@ pub(super) struct Cells {
 }
 
 impl Cells {
-    /// Cells at least `reach` \[m\] wide over `points` (at most 2^16 of them: wider cells for
-    /// a spread-out swarm, so that a query only looks further).
-    pub(super) fn covering<'a>(points: impl Iterator<Item = &'a Vec3>, reach: f64) -> Self {
-        let (mut lo, mut hi) = (Vec3::repeat(f64::INFINITY), Vec3::repeat(f64::NEG_INFINITY));
-        for p in points {
-            lo = lo.inf(p);
-            hi = hi.sup(p);
-        }
-        if lo.x > hi.x {
-            (lo, hi) = (Vec3::zeros(), Vec3::zeros());
-        }
-        let span = hi - lo;
+    /// Cells at least `reach` \[m\] wide over the box `lo … hi` \[m\] (at most 2^16 of them:
+    /// wider cells for a spread-out swarm, so that a query only looks further). Points outside
+    /// the box fall into its border cells: any box gives the same answers, a box around the
+    /// points the fewest candidates.
+    pub(super) fn over(lo: Vec3, hi: Vec3, reach: f64) -> Self {
+        let span = (hi - lo).sup(&Vec3::zeros());
         let mut cell = reach.max(1e-3);
         let dims = loop {
             let d = span.map(|s| (s / cell).floor() as usize + 1);
@@ -150,6 +144,16 @@ impl Grid {
         }
     }
 
+    /// The box its points lay in when it was last rebuilt \[m\] (all zero before).
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        let d = Vec3::new(
+            self.dims[0] as f64,
+            self.dims[1] as f64,
+            self.dims[2] as f64,
+        );
+        (self.origin, self.origin + d * self.cell)
+    }
+
     /// Calls `f` with every id whose cell overlaps the box `lo … hi` \[m\] (a superset of the
     /// points inside it); stops early when `f` returns `false`. Returns whether it ran to the end.
     pub fn each_in_box(&self, lo: &Vec3, hi: &Vec3, mut f: impl FnMut(u32) -> bool) -> bool {
@@ -178,6 +182,38 @@ impl Grid {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Whatever the box the cells are laid over (around the points, inside them, beside
+    /// them), two points within the reach of each other lie in neighbouring cells: a query
+    /// around one finds the other.
+    #[test]
+    fn cells_find_every_point_within_reach_whatever_the_box() {
+        let pts: Vec<Vec3> = (0..300)
+            .map(|i| {
+                let f = f64::from(i);
+                Vec3::new((f * 0.37) % 9.0, (f * 0.61) % 7.0, (f * 0.13) % 2.0)
+            })
+            .collect();
+        let reach = 1.3;
+        let boxes = [
+            (Vec3::zeros(), Vec3::new(9.0, 7.0, 2.0)),
+            (Vec3::new(3.0, 3.0, 0.5), Vec3::new(4.0, 4.0, 1.0)),
+            (Vec3::new(20.0, -5.0, 0.0), Vec3::new(30.0, 0.0, 1.0)),
+            (Vec3::zeros(), Vec3::zeros()),
+        ];
+        for (lo, hi) in boxes {
+            let cells = Cells::over(lo, hi, reach);
+            for p in &pts {
+                let mut around = Vec::new();
+                cells.each_around(p, |c| around.push(c));
+                for q in &pts {
+                    if (p - q).norm() <= reach {
+                        assert!(around.contains(&cells.index(q)), "{p} {q} over {lo} … {hi}");
+                    }
+                }
+            }
+        }
+    }
 
     /// A box query yields each point of the cells the box overlaps, once: every point inside
     /// the box, the points of those cells outside it (within one cell of the box), and no
