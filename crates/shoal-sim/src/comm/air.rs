@@ -8,7 +8,8 @@
 //!
 //! Within a step every pose stands still, so the power a transmission delivers to a vehicle's
 //! modems does not change however often the vehicle listens (a back-off counts several slots
-//! a step): [`Air::powers`] remembers it for the phase.
+//! a step): [`Air::powers`] remembers it for the phase, and [`Air::vehicles_clear`] whether
+//! other hulls block the line between two vehicles.
 
 use super::grid::Cells;
 use super::medium::{Medium, Transmission};
@@ -78,6 +79,8 @@ pub(super) struct Air {
     kept: RefCell<Vec<OnAir>>,
     /// Powers at a vehicle's modems from a transmission, by (vehicle, entry) \[W\].
     powers: RefCell<FastMap<u64, [f64; MODEMS_REMEMBERED]>>,
+    /// Whether other hulls leave the line between two vehicles clear, by (sender, receiver).
+    clear: RefCell<FastMap<u64, bool>>,
 }
 
 impl Air {
@@ -94,6 +97,7 @@ impl Air {
             cells,
             kept: RefCell::new(Vec::new()),
             powers: RefCell::new(HashMap::default()),
+            clear: RefCell::new(HashMap::default()),
         };
         for (i, x) in m.txs.iter().enumerate() {
             air.push(i, x);
@@ -153,6 +157,18 @@ impl Air {
         for a in kept.iter() {
             f(a);
         }
+    }
+
+    /// [`Medium::vehicles_clear`] of `from` and `to` in `m`, remembered for the phase (the
+    /// copies of a frame and the modems of a receiver ask it of the same two vehicles).
+    pub(super) fn vehicles_clear(&self, m: &Medium, from: u32, to: u32) -> bool {
+        let key = (u64::from(from) << 32) | u64::from(to);
+        if let Some(&c) = self.clear.borrow().get(&key) {
+            return c;
+        }
+        let c = m.vehicles_clear(from, to);
+        self.clear.borrow_mut().insert(key, c);
+        c
     }
 
     /// The powers transmission `x` (its [`OnAir::index`]) delivers to the modems of vehicle

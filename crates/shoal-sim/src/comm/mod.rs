@@ -40,6 +40,8 @@
 //! - `link_layer`: a vehicle's link layer around its queues (acknowledgements, retries,
 //!   duplicates, addressing);
 //! - `reception`: the decision of one reception at its receiver;
+//! - `transmit`: the transmit phase's walk through the step — the vehicles' turns in time
+//!   order, each port's decision, the frames started;
 //! - `systems`: the three step systems above.
 
 mod air;
@@ -60,6 +62,7 @@ mod reception;
 mod sensing;
 mod stats;
 mod systems;
+mod transmit;
 
 pub use flows::{FlowStats, Flows};
 pub use frames::{

@@ -29,7 +29,15 @@ pub(super) fn sensed_power(
                 && x.end > t
                 && (x.position - pose.position).norm_squared() <= r2
         },
-        |x| sum += sensed_one(medium, geo, &medium.txs[x.index as usize], me, k, pose),
+        |x| {
+            sum += sensed_one(
+                (medium, geo, air),
+                &medium.txs[x.index as usize],
+                me,
+                k,
+                pose,
+            )
+        },
     );
     sum
 }
@@ -37,8 +45,7 @@ pub(super) fn sensed_power(
 /// The optical power transmission `x` delivers to modem `k` of vehicle `me` at `pose` \[W\]:
 /// the link budget, zero beyond the cut-off range or when walls, obstacles or hulls block it.
 fn sensed_one(
-    medium: &Medium,
-    geo: &shoal_world::geometry::Geometry,
+    (medium, geo, air): (&Medium, &shoal_world::geometry::Geometry, &Air),
     x: &Transmission,
     me: u32,
     k: usize,
@@ -62,7 +69,7 @@ fn sensed_one(
     );
     if p > 0.0
         && geo.line_of_sight(&x.pose.position, &pose.position)
-        && medium.vehicles_clear(x.tx, me)
+        && air.vehicles_clear(medium, x.tx, me)
     {
         p
     } else {
@@ -128,7 +135,7 @@ pub(super) fn idle_since(
             let p = air.powers(v, a, || {
                 let mut p = [0.0; MODEMS_REMEMBERED];
                 for (k, pose) in poses.iter().enumerate() {
-                    p[k] = sensed_one(m, geo, x, v, k, pose);
+                    p[k] = sensed_one((m, geo, air), x, v, k, pose);
                 }
                 p
             });
@@ -137,7 +144,7 @@ pub(super) fn idle_since(
             }
         } else {
             for (k, pose) in poses.iter().enumerate() {
-                f(k, sensed_one(m, geo, x, v, k, pose));
+                f(k, sensed_one((m, geo, air), x, v, k, pose));
             }
         }
     };

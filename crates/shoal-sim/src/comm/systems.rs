@@ -2,26 +2,20 @@
 //! [`comm_transmit_system`] (queues, access, carrier sense) and [`comm_deliver_system`] (every
 //! reception decided at its receiver).
 
-use super::air::{Air, FastMap};
-use super::countdown::{Countdowns, Wake};
+use super::air::FastMap;
 use super::ending::{Ended, candidates, own_transmissions};
-use super::frames::{CommRng, Inbox, Kind, Modems, Outbox};
-use super::grid::Cells;
+use super::frames::{CommRng, Inbox, Modems, Outbox};
 use super::ledger::Ledger;
 use super::link_layer::{Mail, link_layer};
 use super::links::Outcome;
-use super::mac::{Ctx, Decision, Link};
-use super::medium::{Medium, Transmission};
+use super::mac::Link;
+use super::medium::Medium;
 use super::reception::{Listener, Scratch, receive};
-use super::sensing::{idle_since, sensed_power};
 use super::stats::{CommStats, Tally};
+use super::transmit::{Vehicle, Walk};
 use crate::components::{StaticGeometry, VehicleEntities, VehicleId};
 use crate::parallel::{Loop, Parallel};
 use bevy_ecs::prelude::*;
-use rand::RngExt;
-use shoal_model::optics::ModemPose;
-use std::cell::{Cell, OnceCell};
-use std::collections::BinaryHeap;
 
 /// Step phase 1: bring the grid up to date with the poses (which the vehicle pass wrote),
 /// prune old transmissions.
@@ -54,31 +48,6 @@ pub fn comm_snapshot_system(
         .map(|x| x.start)
         .fold(t - m.memory, f64::min);
     m.txs.retain(|x| x.end > horizon);
-}
-
-#[derive(PartialEq)]
-struct StartEvent {
-    t: f64,
-    vehicle: u32,
-    modem: usize,
-    /// How often the port's wait had been cut short when the event was made: an event made
-    /// before its latest wake-up ([`Countdowns`]) is stale.
-    epoch: u32,
-}
-
-impl Eq for StartEvent {}
-impl PartialOrd for StartEvent {
-    fn partial_cmp(&self, o: &Self) -> Option<std::cmp::Ordering> {
-        Some(self.cmp(o))
-    }
-}
-impl Ord for StartEvent {
-    // Earliest first in a max-heap; ties by vehicle, then modem.
-    fn cmp(&self, o: &Self) -> std::cmp::Ordering {
-        o.t.total_cmp(&self.t)
-            .then(o.vehicle.cmp(&self.vehicle))
-            .then(o.modem.cmp(&self.modem))
-    }
 }
 
 /// What the transmit phase reads and writes of a sending vehicle.
@@ -127,7 +96,7 @@ pub fn comm_transmit_system(
         .matched()
         .collect();
     items.sort_unstable_by_key(|it| it.0.0);
-    let mut heap = BinaryHeap::new();
+    let mut walk = Walk::new(&medium, clock.t(), t_end);
     let med = &mut *medium;
     let (kinds, access, flows) = (&med.kinds, &med.access, &mut med.flows);
     let mut ended = 0;
@@ -142,19 +111,7 @@ pub fn comm_transmit_system(
             (outbox, modems, stats, link, inbox),
             (id.0, flows),
         );
-        for (k, port) in modems.ports.iter().enumerate() {
-            if let Some(front) = port.queue.front() {
-                let start = front.ready.max(port.busy_until).max(clock.t());
-                if start < t_end {
-                    heap.push(StartEvent {
-                        t: start,
-                        vehicle: id.0,
-                        modem: k,
-                        epoch: 0,
-                    });
-                }
-            }
-        }
+        walk.schedule(id.0, modems);
     }
     let index: FastMap<u32, usize> = items
         .iter()
@@ -163,294 +120,27 @@ pub fn comm_transmit_system(
         .collect();
     medium.ended += ended;
     let m = &mut *medium;
-    let mut backoffs: FastMap<(u32, u64), f64> = FastMap::default();
-    let mut decided: FastMap<(u32, u32, u64), Decision> = FastMap::default();
-    // What carrier sensing looks at, built when a protocol first listens and then kept beside
-    // `m.txs` as frames start.
-    let mut air: OnceCell<Air> = OnceCell::new();
-    let reach = m.r_cut + m.max_modem_offset;
-    // The vehicles counting idle slots down, asked again only when a frame starts near them.
-    let mut countdowns = Countdowns::default();
-    let mut epochs: FastMap<(u32, usize), u32> = FastMap::default();
-    let mut woken: Vec<Wake> = Vec::new();
-    while let Some(ev) = heap.pop() {
-        if !epochs.is_empty()
-            && epochs.get(&(ev.vehicle, ev.modem)).copied().unwrap_or(0) != ev.epoch
-        {
-            continue;
-        }
-        // A vehicle whose count ran out undisturbed hears what it heard when the count began.
-        let resumed = countdowns.end(ev.vehicle, ev.t);
-        let (_, _, modems, rng, stats, link, _) = &mut items[index[&ev.vehicle]];
-        let kind = &m.kinds[ev.vehicle as usize];
-        let params = &kind.params.modems[ev.modem];
-        let (pos, att) = m.poses[ev.vehicle as usize];
-        let pose = ModemPose::of(params, &pos, &att);
-        // Carrier sense listens with all of the vehicle's photodiodes.
-        let mut busy = |threshold: f64| {
-            kind.params.modems.iter().enumerate().any(|(k, rxm)| {
-                sensed_power(
-                    m,
-                    &geo.0,
-                    air.get_or_init(|| Air::new(m, reach)),
-                    ev.vehicle,
-                    (k, &ModemPose::of(rxm, &pos, &att)),
-                    ev.t,
-                ) > threshold
-            })
+    while let Some(turn) = walk.next() {
+        let (_, _, modems, rng, stats, link, _) = &mut items[index[&turn.vehicle]];
+        let mut v = Vehicle {
+            modems,
+            rng,
+            stats,
+            link,
         };
-        // What the protocol found idle, and since when (for a countdown).
-        let heard: Cell<Option<(f64, f64)>> = Cell::new(None);
-        let mut idle_since = |threshold: f64| {
-            let r = match resumed {
-                Some((th, since)) if th == threshold => Ok(since),
-                _ => {
-                    let air = air.get_or_init(|| Air::new(m, reach));
-                    idle_since(m, &geo.0, air, ev.vehicle, &pos, &att, ev.t, threshold)
-                }
-            };
-            if let Ok(since) = r {
-                heard.set(Some((threshold, since)));
-            }
-            r
-        };
-        let link_params = &m.access[ev.vehicle as usize][ev.modem];
-        let Some(front) = modems.ports[ev.modem]
-            .queue
-            .front()
-            .map(|q| (q.seq, q.kind))
-        else {
-            continue;
-        };
-        // Acknowledgements leave as soon as the modem is free, unless the protocol is slotted.
-        let ack_now = matches!(front.1, Kind::Ack { .. }) && !link_params.access.acks_wait();
-        // The copies of a frame on several modems, deciding at the same moment, share the
-        // first one's decision: they go out together.
-        let key = (ev.vehicle, front.0, ev.t.to_bits());
-        let decision = match decided.get(&key) {
-            Some(&d) => d,
-            None if ack_now => Decision::Send,
-            None => {
-                let mut ctx = Ctx {
-                    t: ev.t,
-                    vehicle: ev.vehicle,
-                    clock_rate: m.clock_rate(ev.vehicle),
-                    busy: &mut busy,
-                    idle_since: &mut idle_since,
-                    state: &mut modems.access,
-                    rng: &mut rng.0,
-                };
-                let d = match link_params.access.decide(&mut ctx) {
-                    Decision::Count { from, slot, left } => count_down(
-                        ev.t,
-                        (from, slot, left),
-                        modems,
-                        (
-                            (!m.slot_by_slot).then_some(&mut countdowns),
-                            (ev.vehicle, &pos),
-                            heard.get(),
-                        ),
-                        (reach, || Air::cells(air.get_or_init(|| Air::new(m, reach)))),
-                    ),
-                    d => d,
-                };
-                decided.insert(key, d);
-                d
-            }
-        };
-        let retry = match decision {
-            Decision::Send => None,
-            Decision::At(t) => Some(t),
-            Decision::Count { .. } => unreachable!("counted down above"),
-            // All modems of a vehicle that defer at the same moment share one back-off, so
-            // that copies of a frame on several modems stay in sync.
-            Decision::Backoff(max) => Some(
-                *backoffs
-                    .entry((ev.vehicle, ev.t.to_bits()))
-                    .or_insert_with(|| {
-                        stats.cs_deferrals += 1;
-                        ev.t + rng.0.random::<f64>() * max
-                    }),
-            ),
-        };
-        if let Some(retry) = retry {
-            modems.ports[ev.modem].busy_until = retry;
-            if retry < t_end {
-                heap.push(StartEvent { t: retry, ..ev });
-            }
-            continue;
-        }
-        let Some(frame) = modems.ports[ev.modem].queue.pop_front() else {
-            continue;
-        };
-        modems.queued -= 1;
-        let port = &mut modems.ports[ev.modem];
-        let airtime = params.airtime(frame.payload.len());
-        let end = ev.t + airtime;
-        port.busy_until = end;
-        stats.led_on_s += airtime;
-        stats.led_energy_j += params.led.power * airtime;
-        // A unicast's copies, and the acknowledgements of one, are its flow's LED time.
-        let flow = match frame.kind {
-            Kind::Unicast { to, .. } => Some((ev.vehicle, to)),
-            Kind::Ack { to, .. } => Some((to, ev.vehicle)),
-            Kind::Broadcast => None,
-        };
-        if let Some((from, to)) = flow {
-            let f = m.flows.get(from, to);
-            f.led_on_s += airtime;
-            f.led_energy_j += params.led.power * airtime;
-        }
-        if let Kind::Unicast { ack: true, .. } = frame.kind
-            && let Some(p) = &mut link.state().pending
-            && p.seq == frame.seq
-        {
-            // The wait for the acknowledgement starts when the last copy has ended.
-            let wait = end + link_params.ack_timeout;
-            p.deadline = if p.deadline.is_finite() {
-                p.deadline.max(wait)
-            } else {
-                wait
-            };
-        }
-        m.txs.push(Transmission {
-            id: m.next_id,
-            tx: ev.vehicle,
-            modem: ev.modem,
-            start: ev.t,
-            end,
-            seq: frame.seq,
-            sent: frame.ready,
-            bits: params.frame_bits(frame.payload.len()),
-            payload: frame.payload,
-            pose,
-            kind: frame.kind,
-        });
-        if let Some(air) = air.get_mut() {
-            air.push(m.txs.len() - 1, &m.txs[m.txs.len() - 1]);
-        }
-        m.next_id += 1;
-        m.started.0 += 1;
-        m.started.1 += m.txs.last().map_or(0, |t| t.bits);
-        if let Some(next) = port.queue.front() {
-            let start = next.ready.max(end);
-            if start < t_end {
-                heap.push(StartEvent {
-                    t: start,
-                    vehicle: ev.vehicle,
-                    modem: ev.modem,
-                    epoch: epochs.get(&(ev.vehicle, ev.modem)).copied().unwrap_or(0),
-                });
-            }
-        }
-        // The vehicles counting down near it are asked again at their next boundary.
-        {
-            countdowns.frame_started(&pose.position, ev.t, reach, &mut woken);
-            for w in woken.drain(..) {
-                wake(
-                    &mut items[index[&w.vehicle]].2,
-                    &w,
-                    (&mut epochs, &mut heap, t_end),
-                );
-            }
+        walk.turn((m, &geo.0), &turn, &mut v);
+        for w in walk.take_woken() {
+            walk.wake(&mut items[index[&w.vehicle]].2, &w);
         }
     }
-    // Those still counting at the end of the step are set where the slot-by-slot count leaves
-    // them (the next step's poses may change what they hear).
-    {
-        countdowns.step_ended(t_end, &mut woken);
-        for w in woken.drain(..) {
-            wake(
-                &mut items[index[&w.vehicle]].2,
-                &w,
-                (&mut epochs, &mut heap, t_end),
-            );
-        }
+    for w in walk.end() {
+        walk.wake(&mut items[index[&w.vehicle]].2, &w);
     }
     ids.retain(|&v| {
         let it = &items[index[&v]];
         it.2.queued > 0 || it.5.busy()
     });
     m.waiting = ids;
-}
-
-/// A protocol's [`Decision::Count`] at `t` \[s\] of a vehicle's frame, as the decision to
-/// act on: with the step's countdowns (unless [`Medium::slot_by_slot`]), the vehicle counts
-/// down at once — if none of its ports is on the air and its queued ports all hold copies of
-/// one frame (which decide together; otherwise the count would be shared by frames deciding
-/// at different times), and no frame started nearby at this very instant: it is asked again
-/// at the last boundary with the counter at 0, and hears there what it `heard` now (the
-/// threshold and since when the channel was idle \[W, s\]) unless woken first. Else slot by
-/// slot: asked at the next boundary.
-fn count_down(
-    t: f64,
-    (from, slot, left): (f64, f64, u32),
-    modems: &mut Modems,
-    (countdowns, (vehicle, pos), heard): (
-        Option<&mut Countdowns>,
-        (u32, &shoal_model::math::Vec3),
-        Option<(f64, f64)>,
-    ),
-    (reach, cells): (f64, impl FnOnce() -> Cells),
-) -> Decision {
-    let quiet = modems.ports.iter().all(|p| p.busy_until <= t);
-    let mut fronts = modems.ports.iter().filter_map(|p| p.queue.front());
-    let together = fronts
-        .next()
-        .is_some_and(|f| fronts.all(|g| g.seq == f.seq));
-    let target = match (countdowns, heard) {
-        (Some(c), Some(heard)) if quiet && together => c.start(
-            (vehicle, pos),
-            (t, heard),
-            (from, slot, left),
-            (reach, cells),
-        ),
-        _ => None,
-    };
-    match target {
-        Some(target) => {
-            modems.access.counter = Some(0);
-            Decision::At(target)
-        }
-        None if from > t => {
-            modems.access.counter = Some(left);
-            Decision::At(from)
-        }
-        None => {
-            modems.access.counter = Some(left - 1);
-            Decision::At(t + slot)
-        }
-    }
-}
-
-/// Vehicle's `modems` are asked earlier than they said (`w`): each port that waits for the
-/// boundary said waits for `w.at` instead, its earlier event made stale.
-fn wake(
-    modems: &mut Modems,
-    w: &Wake,
-    (epochs, heap, t_end): (
-        &mut FastMap<(u32, usize), u32>,
-        &mut BinaryHeap<StartEvent>,
-        f64,
-    ),
-) {
-    modems.access.counter = Some(w.left);
-    for (k, port) in modems.ports.iter_mut().enumerate() {
-        if port.queue.is_empty() || port.busy_until.to_bits() != w.target.to_bits() {
-            continue;
-        }
-        port.busy_until = w.at;
-        let epoch = epochs.entry((w.vehicle, k)).or_default();
-        *epoch += 1;
-        if w.at < t_end {
-            heap.push(StartEvent {
-                t: w.at,
-                vehicle: w.vehicle,
-                modem: k,
-                epoch: *epoch,
-            });
-        }
-    }
 }
 
 /// Step phase 3: decide every reception of frames that ended in this step.

@@ -1,0 +1,392 @@
+//! The transmit phase's walk through a step ([`Walk`]): the vehicles' turns in time order —
+//! a vehicle's turn at `t` handles each of its ports whose head-of-queue frame is due then
+//! (`max(ready, busy_until, step start)`), in modem order: the medium access decides
+//! ([`super::mac`]), and a frame that is sent starts its transmission and wakes the vehicles
+//! counting back-off slots near it ([`Countdowns`]). One event per vehicle, not per port:
+//! the copies of a frame on a ring of modems decide once and go out together. Ties in time go
+//! by vehicle id, so the walk's order never depends on threads.
+
+use super::air::{Air, FastMap};
+use super::countdown::{Countdowns, Wake};
+use super::frames::{CommRng, Kind, Modems};
+use super::grid::Cells;
+use super::mac::{Ctx, Decision, Link};
+use super::medium::{Medium, Transmission};
+use super::sensing::{idle_since, sensed_power};
+use super::stats::CommStats;
+use rand::RngExt;
+use shoal_model::math::Vec3;
+use shoal_model::optics::ModemPose;
+use std::cell::{Cell, OnceCell};
+use std::collections::BinaryHeap;
+
+/// A vehicle's turn.
+#[derive(PartialEq)]
+pub(super) struct Turn {
+    /// When \[s\].
+    pub(super) t: f64,
+    pub(super) vehicle: u32,
+    /// How often the vehicle's wait had been cut short when the turn was made: a turn made
+    /// before its latest wake-up ([`Countdowns`]) is stale.
+    epoch: u32,
+}
+
+impl Eq for Turn {}
+impl PartialOrd for Turn {
+    fn partial_cmp(&self, o: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(o))
+    }
+}
+impl Ord for Turn {
+    // Earliest first in a max-heap; ties by vehicle.
+    fn cmp(&self, o: &Self) -> std::cmp::Ordering {
+        o.t.total_cmp(&self.t).then(o.vehicle.cmp(&self.vehicle))
+    }
+}
+
+/// What a vehicle's turn reads and writes of it.
+pub(super) struct Vehicle<'a> {
+    pub(super) modems: &'a mut Modems,
+    pub(super) rng: &'a mut CommRng,
+    pub(super) stats: &'a mut CommStats,
+    pub(super) link: &'a mut Link,
+}
+
+/// The walk through one step.
+pub(super) struct Walk {
+    turns: BinaryHeap<Turn>,
+    /// Wake-ups so far, by vehicle.
+    epochs: FastMap<u32, u32>,
+    /// What carrier sensing looks at, built when a protocol first listens and then kept
+    /// beside the medium's transmissions as frames start.
+    air: OnceCell<Air>,
+    /// The vehicles counting idle slots down, asked again only when a frame starts near them.
+    countdowns: Countdowns,
+    /// Vehicles woken by the frames of the current turn.
+    woken: Vec<Wake>,
+    /// The sensing reach: cut-off range plus the farthest modem's offset \[m\].
+    reach: f64,
+    /// The step's start and end \[s\].
+    t0: f64,
+    t_end: f64,
+}
+
+/// When the frame at the head of a port's queue is due, if any: when it was handed over,
+/// when the port is free, not before the step's start `t0` \[s\].
+fn due(port: &super::frames::ModemPort, t0: f64) -> Option<f64> {
+    port.queue
+        .front()
+        .map(|f| f.ready.max(port.busy_until).max(t0))
+}
+
+impl Walk {
+    /// A walk through the step `t0 … t_end` \[s\] of medium `m`.
+    pub(super) fn new(m: &Medium, t0: f64, t_end: f64) -> Self {
+        Self {
+            turns: BinaryHeap::new(),
+            epochs: FastMap::default(),
+            air: OnceCell::new(),
+            countdowns: Countdowns::default(),
+            woken: Vec::new(),
+            reach: m.r_cut + m.max_modem_offset,
+            t0,
+            t_end,
+        }
+    }
+
+    /// Gives `vehicle` a turn when its first frame is due, if within the step.
+    pub(super) fn schedule(&mut self, vehicle: u32, modems: &Modems) {
+        let t0 = self.t0;
+        let next = modems
+            .ports
+            .iter()
+            .filter_map(|p| due(p, t0))
+            .fold(f64::INFINITY, f64::min);
+        if next < self.t_end {
+            let epoch = self.epochs.get(&vehicle).copied().unwrap_or(0);
+            self.turns.push(Turn {
+                t: next,
+                vehicle,
+                epoch,
+            });
+        }
+    }
+
+    /// The next turn that is not stale.
+    pub(super) fn next(&mut self) -> Option<Turn> {
+        while let Some(turn) = self.turns.pop() {
+            if self.epochs.is_empty()
+                || self.epochs.get(&turn.vehicle).copied().unwrap_or(0) == turn.epoch
+            {
+                return Some(turn);
+            }
+        }
+        None
+    }
+
+    /// The vehicles woken since this was last called, to be handed to [`Walk::wake`].
+    pub(super) fn take_woken(&mut self) -> Vec<Wake> {
+        std::mem::take(&mut self.woken)
+    }
+
+    /// Vehicle `w.vehicle` (its `modems`) is asked earlier than it said: each port that
+    /// waits for the boundary said waits for `w.at` instead; its earlier turn is stale.
+    pub(super) fn wake(&mut self, modems: &mut Modems, w: &Wake) {
+        modems.access.counter = Some(w.left);
+        for port in &mut modems.ports {
+            if !port.queue.is_empty() && port.busy_until.to_bits() == w.target.to_bits() {
+                port.busy_until = w.at;
+            }
+        }
+        *self.epochs.entry(w.vehicle).or_default() += 1;
+        self.schedule(w.vehicle, modems);
+    }
+
+    /// The step ends: the vehicles still counting down, to be handed to [`Walk::wake`] (set
+    /// where the slot-by-slot count leaves them; the next step's poses may change what they
+    /// hear).
+    pub(super) fn end(&mut self) -> Vec<Wake> {
+        let mut woken = Vec::new();
+        self.countdowns.step_ended(self.t_end, &mut woken);
+        woken
+    }
+
+    /// `turn` of vehicle `v`: each of its ports whose frame is due now decides, in modem
+    /// order; the copies of a frame share the first one's decision. Then its next turn.
+    pub(super) fn turn(
+        &mut self,
+        (m, geo): (&mut Medium, &shoal_world::geometry::Geometry),
+        turn: &Turn,
+        v: &mut Vehicle<'_>,
+    ) {
+        let (t, vehicle) = (turn.t, turn.vehicle);
+        // A vehicle whose count ran out undisturbed hears what it heard when the count began.
+        let mut resumed = self.countdowns.end(vehicle, t);
+        // Decisions of this turn by frame; the back-off all deferring ports share.
+        let mut decided: Vec<(u32, Decision)> = Vec::new();
+        let mut backoff: Option<f64> = None;
+        for k in 0..v.modems.ports.len() {
+            if due(&v.modems.ports[k], self.t0).map(f64::to_bits) != Some(t.to_bits()) {
+                continue;
+            }
+            let Some((seq, kind)) = v.modems.ports[k].queue.front().map(|q| (q.seq, q.kind)) else {
+                continue;
+            };
+            // Acknowledgements leave as soon as the modem is free, unless the protocol is
+            // slotted.
+            let ack_now = matches!(kind, Kind::Ack { .. })
+                && !m.access[vehicle as usize][k].access.acks_wait();
+            let decision = match decided.iter().find(|(s, _)| *s == seq) {
+                Some(&(_, d)) => d,
+                None if ack_now => Decision::Send,
+                None => {
+                    let d = self.decide((m, geo), (t, vehicle, k), v, resumed.take());
+                    decided.push((seq, d));
+                    d
+                }
+            };
+            let retry = match decision {
+                Decision::Send => None,
+                Decision::At(at) => Some(at),
+                Decision::Count { .. } => unreachable!("counted down in decide"),
+                // All modems of a vehicle that defer at the same moment share one back-off,
+                // so that copies of a frame on several modems stay in sync.
+                Decision::Backoff(max) => Some(*backoff.get_or_insert_with(|| {
+                    v.stats.cs_deferrals += 1;
+                    t + v.rng.0.random::<f64>() * max
+                })),
+            };
+            match retry {
+                Some(at) => v.modems.ports[k].busy_until = at,
+                None => self.send(m, (t, vehicle, k), v),
+            }
+        }
+        self.schedule(vehicle, v.modems);
+    }
+
+    /// The medium access of port `k` of `vehicle` decides at `t` \[s\]; a count of idle
+    /// slots becomes a countdown ([`count_down`]). `resumed`: what the vehicle hears, if its
+    /// countdown ran out undisturbed.
+    fn decide(
+        &mut self,
+        (m, geo): (&Medium, &shoal_world::geometry::Geometry),
+        (t, vehicle, k): (f64, u32, usize),
+        v: &mut Vehicle<'_>,
+        resumed: Option<(f64, f64)>,
+    ) -> Decision {
+        let Walk {
+            air,
+            countdowns,
+            reach,
+            ..
+        } = self;
+        let reach = *reach;
+        let kind = &m.kinds[vehicle as usize];
+        let (pos, att) = m.poses[vehicle as usize];
+        // Carrier sense listens with all of the vehicle's photodiodes.
+        let mut busy = |threshold: f64| {
+            kind.params.modems.iter().enumerate().any(|(j, rxm)| {
+                sensed_power(
+                    m,
+                    geo,
+                    air.get_or_init(|| Air::new(m, reach)),
+                    vehicle,
+                    (j, &ModemPose::of(rxm, &pos, &att)),
+                    t,
+                ) > threshold
+            })
+        };
+        // What the protocol found idle, and since when (for a countdown).
+        let heard: Cell<Option<(f64, f64)>> = Cell::new(None);
+        let mut idle_since = |threshold: f64| {
+            let r = match resumed {
+                Some((th, since)) if th == threshold => Ok(since),
+                _ => {
+                    let air = air.get_or_init(|| Air::new(m, reach));
+                    idle_since(m, geo, air, vehicle, &pos, &att, t, threshold)
+                }
+            };
+            if let Ok(since) = r {
+                heard.set(Some((threshold, since)));
+            }
+            r
+        };
+        let mut ctx = Ctx {
+            t,
+            vehicle,
+            clock_rate: m.clock_rate(vehicle),
+            busy: &mut busy,
+            idle_since: &mut idle_since,
+            state: &mut v.modems.access,
+            rng: &mut v.rng.0,
+        };
+        match m.access[vehicle as usize][k].access.decide(&mut ctx) {
+            Decision::Count { from, slot, left } => count_down(
+                t,
+                (from, slot, left),
+                v.modems,
+                (
+                    (!m.slot_by_slot).then_some(countdowns),
+                    (vehicle, &pos),
+                    heard.get(),
+                ),
+                (reach, || Air::cells(air.get_or_init(|| Air::new(m, reach)))),
+            ),
+            d => d,
+        }
+    }
+
+    /// Port `k` of `vehicle` starts the frame at the head of its queue at `t` \[s\]: its
+    /// transmission goes on record, its LED time and energy are counted (to its flow too), an
+    /// acknowledged unicast's wait starts, and the vehicles counting down near it are woken.
+    fn send(&mut self, m: &mut Medium, (t, vehicle, k): (f64, u32, usize), v: &mut Vehicle<'_>) {
+        let Some(frame) = v.modems.ports[k].queue.pop_front() else {
+            return;
+        };
+        v.modems.queued -= 1;
+        let params = &m.kinds[vehicle as usize].params.modems[k];
+        let (pos, att) = m.poses[vehicle as usize];
+        let pose = ModemPose::of(params, &pos, &att);
+        let airtime = params.airtime(frame.payload.len());
+        let energy = params.led.power * airtime;
+        let bits = params.frame_bits(frame.payload.len());
+        let end = t + airtime;
+        v.modems.ports[k].busy_until = end;
+        v.stats.led_on_s += airtime;
+        v.stats.led_energy_j += energy;
+        // A unicast's copies, and the acknowledgements of one, are its flow's LED time.
+        let flow = match frame.kind {
+            Kind::Unicast { to, .. } => Some((vehicle, to)),
+            Kind::Ack { to, .. } => Some((to, vehicle)),
+            Kind::Broadcast => None,
+        };
+        if let Some((from, to)) = flow {
+            let f = m.flows.get(from, to);
+            f.led_on_s += airtime;
+            f.led_energy_j += energy;
+        }
+        if let Kind::Unicast { ack: true, .. } = frame.kind
+            && let Some(p) = &mut v.link.state().pending
+            && p.seq == frame.seq
+        {
+            // The wait for the acknowledgement starts when the last copy has ended.
+            let wait = end + m.access[vehicle as usize][k].ack_timeout;
+            p.deadline = if p.deadline.is_finite() {
+                p.deadline.max(wait)
+            } else {
+                wait
+            };
+        }
+        m.txs.push(Transmission {
+            id: m.next_id,
+            tx: vehicle,
+            modem: k,
+            start: t,
+            end,
+            seq: frame.seq,
+            sent: frame.ready,
+            bits,
+            payload: frame.payload,
+            pose,
+            kind: frame.kind,
+        });
+        if let Some(air) = self.air.get_mut() {
+            air.push(m.txs.len() - 1, &m.txs[m.txs.len() - 1]);
+        }
+        m.next_id += 1;
+        m.started.0 += 1;
+        m.started.1 += bits;
+        // The vehicles counting down near it are asked again at their next boundary.
+        self.countdowns
+            .frame_started(&pose.position, t, self.reach, &mut self.woken);
+    }
+}
+
+/// A protocol's [`Decision::Count`] at `t` \[s\] of a vehicle's frame, as the decision to
+/// act on: with the step's countdowns (unless [`Medium::slot_by_slot`]), the vehicle counts
+/// down at once — if none of its ports is on the air and its queued ports all hold copies of
+/// one frame (which decide together; otherwise the count would be shared by frames deciding
+/// at different times), and no frame started nearby at this very instant: it is asked again
+/// at the last boundary with the counter at 0, and hears there what it `heard` now (the
+/// threshold and since when the channel was idle \[W, s\]) unless woken first. Else slot by
+/// slot: asked at the next boundary.
+fn count_down(
+    t: f64,
+    (from, slot, left): (f64, f64, u32),
+    modems: &mut Modems,
+    (countdowns, (vehicle, pos), heard): (
+        Option<&mut Countdowns>,
+        (u32, &Vec3),
+        Option<(f64, f64)>,
+    ),
+    (reach, cells): (f64, impl FnOnce() -> Cells),
+) -> Decision {
+    let quiet = modems.ports.iter().all(|p| p.busy_until <= t);
+    let mut fronts = modems.ports.iter().filter_map(|p| p.queue.front());
+    let together = fronts
+        .next()
+        .is_some_and(|f| fronts.all(|g| g.seq == f.seq));
+    let target = match (countdowns, heard) {
+        (Some(c), Some(heard)) if quiet && together => c.start(
+            (vehicle, pos),
+            (t, heard),
+            (from, slot, left),
+            (reach, cells),
+        ),
+        _ => None,
+    };
+    match target {
+        Some(target) => {
+            modems.access.counter = Some(0);
+            Decision::At(target)
+        }
+        None if from > t => {
+            modems.access.counter = Some(left);
+            Decision::At(from)
+        }
+        None => {
+            modems.access.counter = Some(left - 1);
+            Decision::At(t + slot)
+        }
+    }
+}
