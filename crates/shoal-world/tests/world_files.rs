@@ -232,6 +232,70 @@ fn medium_access_settings_are_checked_in_their_table() {
     assert_eq!(e.first().line_col.map(|l| l.0), Some(7));
 }
 
+/// A group's `access` sets the medium access of every modem of its model — its own modems
+/// and the preset's — in one line; a problem in it is reported once, at the group's field and line;
+/// a modem that sets its own as well is refused.
+#[test]
+fn a_groups_access_sets_every_modem_and_is_checked_there() {
+    let group = |a: &str| format!("{ONE}access = {a}\n");
+    let csma = "{ kind = \"csma_ca\", cw_min = 8 }";
+    let two = "[[vehicles.model.modems]]\n[[vehicles.model.modems]]\nname = \"back\"\ndirection = [-1.0, 0.0, 0.0]\n";
+    for text in [group(csma), format!("{}{two}", group(csma))] {
+        let ok = load_str(&text, Path::new("ok.toml")).unwrap();
+        let links = &ok.vehicles[0].link;
+        assert_eq!(links.len(), if text.contains("direction") { 2 } else { 1 });
+        for l in links.iter() {
+            assert!(
+                format!("{:?}", l.access).contains("cw_min: 8"),
+                "{:?}",
+                l.access
+            );
+        }
+    }
+    // Without it, ALOHA as before.
+    let plain = load_str(ONE, Path::new("ok.toml")).unwrap();
+    assert!(format!("{:?}", plain.vehicles[0].link[0].access).starts_with("Aloha"));
+    // Out of range: once, at the group's `access`, on its line (line 5).
+    let e = err(&group("{ kind = \"p_persistent\", p = 2.0 }"));
+    assert_eq!(e.problems.len(), 1, "{e}");
+    assert_eq!(e.first().kind, ProblemKind::Range);
+    let field = e.first().field.as_ref().unwrap().to_string();
+    assert_eq!(field, "vehicles[0].access.p", "{e}");
+    assert_eq!(e.first().line_col.map(|l| l.0), Some(5), "{e}");
+    // Another protocol's setting, or an unknown protocol: at the group's `access`.
+    let e = err(&group("{ kind = \"tdma\", cw_min = 8 }"));
+    assert_eq!(e.first().kind, ProblemKind::UnknownField);
+    assert!(
+        e.first()
+            .field
+            .as_ref()
+            .unwrap()
+            .to_string()
+            .starts_with("vehicles[0].access"),
+        "{e}"
+    );
+    let e = err(&group("\"csma\""));
+    assert!(
+        e.first()
+            .field
+            .as_ref()
+            .unwrap()
+            .to_string()
+            .starts_with("vehicles[0].access"),
+        "{e}"
+    );
+    // Both the group and a modem: refused at the modem's, naming the group's.
+    let e = err(&format!(
+        "{}[[vehicles.model.modems]]\naccess = \"tdma\"\n",
+        group("\"csma_ca\"")
+    ));
+    assert_eq!(
+        e.first().field.as_ref().unwrap().to_string(),
+        "vehicles[0].model.modems[0].access"
+    );
+    assert!(e.to_string().contains("vehicles[0].access"), "{e}");
+}
+
 #[test]
 fn syntax_errors_have_a_line() {
     let e = err("seed = 1\n[pool\nsize = 3\n");

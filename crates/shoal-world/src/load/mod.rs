@@ -15,6 +15,7 @@
 mod advice;
 mod behaviour;
 mod export;
+mod group_access;
 mod memory;
 mod messages;
 mod mission;
@@ -147,7 +148,11 @@ pub fn load_vehicle(path: &Path) -> Result<VehicleFile, WorldError> {
         ));
     };
     let gp = FieldPath::root().key("vehicles").index(0);
-    match vehicle_spec(g.preset.as_deref(), g.model.as_ref(), &gp, &mut v) {
+    match vehicle_spec(
+        (g.preset.as_deref(), g.model.as_ref(), g.access.as_ref()),
+        &gp,
+        &mut v,
+    ) {
         Some(spec) => Ok(VehicleFile {
             spec,
             env: desc.env,

@@ -21,6 +21,25 @@ impl Validator<'_> {
         });
     }
 
+    /// Moves the problems found since the `from`-th to the fields `to` gives (located
+    /// anew), dropping those that then repeat one already there.
+    pub(super) fn move_problems(
+        &mut self,
+        from: usize,
+        to: impl Fn(&FieldPath) -> Option<FieldPath>,
+    ) {
+        let moved: Vec<Problem> = self.problems.drain(from..).collect();
+        for mut p in moved {
+            if let Some(f) = p.field.as_ref().and_then(&to) {
+                p.line_col = self.sm.locate(&f);
+                p.field = Some(f);
+            }
+            if !self.problems[from..].contains(&p) {
+                self.problems.push(p);
+            }
+        }
+    }
+
     /// Checks the number at `path` against its range in [`ranges::RANGES`]; returns whether it
     /// passed.
     pub(super) fn field(&mut self, path: &FieldPath, x: f64) -> bool {

@@ -2,6 +2,7 @@
 //! thruster, tilt, ballast, sensor, controller, modem and effect parameter checked, and the
 //! mass matrix checked for being symmetric positive definite.
 
+use super::group_access;
 use super::messages::{explain, suggest};
 use super::ranges::End;
 use super::validator::{Validator, axis};
@@ -23,10 +24,10 @@ pub fn merge(base: &mut toml::Table, over: &toml::Table) {
 }
 
 /// Builds and validates the vehicle model of a group: `preset` (default `uauv2`, or `custom`)
-/// with the `model` overrides merged over it. `path` is the group's field path (for messages).
+/// with the `model` overrides merged over it, and the group's `access` in every modem (see
+/// `group_access.rs`). `path` is the group's field path (for messages).
 pub fn vehicle_spec(
-    preset: Option<&str>,
-    model: Option<&toml::Table>,
+    (preset, model, access): (Option<&str>, Option<&toml::Table>, Option<&toml::Value>),
     path: &FieldPath,
     v: &mut Validator<'_>,
 ) -> Option<VehicleSpec> {
@@ -60,6 +61,27 @@ pub fn vehicle_spec(
     if let Some(m) = model {
         merge(&mut base, m);
     }
+    if let Some(a) = access
+        && !group_access::apply(&mut base, model, a, path, v)
+    {
+        return None;
+    }
+    // Problems in the group's `access` are reported at it, once.
+    let n0 = v.problems.len();
+    let spec = read_model(base, preset_name, path, v);
+    if access.is_some() {
+        v.move_problems(n0, |f| group_access::to_group(f, path));
+    }
+    spec
+}
+
+/// Reads and validates the merged model table `base` of the group at `path`.
+fn read_model(
+    base: toml::Table,
+    preset_name: &str,
+    path: &FieldPath,
+    v: &mut Validator<'_>,
+) -> Option<VehicleSpec> {
     let mpath = path.key("model");
     let spec: VehicleSpec = match serde_path_to_error::deserialize(toml::Value::Table(base)) {
         Ok(s) => s,

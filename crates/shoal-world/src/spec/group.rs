@@ -154,6 +154,11 @@ pub struct VehicleGroupSpec {
     /// Model overrides merged over the preset (tables merge; values and arrays replace).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub model: Option<toml::Table>,
+    /// Medium access of every modem of the model, as a modem's `access` (a protocol's name,
+    /// or a table with its `kind` and settings): said once for the group, the preset's modems
+    /// included; a modem of `model` must then not set its own.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub access: Option<toml::Value>,
     /// A built-in swarm behaviour run on every control tick.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub behaviour: Option<BehaviourSpec>,
