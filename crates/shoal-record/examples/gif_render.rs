@@ -100,6 +100,7 @@ fn formation(
                     from: v as u32,
                     to: to as u32,
                     outcome: outcomes[(v * 7 + s * 3 + k) % outcomes.len()],
+                    ack: false,
                 });
             }
         }
@@ -134,6 +135,7 @@ fn formation(
         links_total: links.len() as u64,
         timeline: Timeline::default(),
         outcomes: shoal_record::replay::outcome_key(),
+        ack_label: shoal_record::link_key::ACK_LABEL.to_string(),
     };
     ReplayData {
         meta,

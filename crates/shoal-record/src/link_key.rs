@@ -8,6 +8,11 @@
 //!   ([`crate::replay::Meta::outcomes`], [`crate::replay::outcome_key`]), from which the
 //!   viewer colours its lines, legend and timeline.
 //!
+//! Acknowledgement frames (the link layer's answers to unicast frames) are drawn apart from
+//! the frames behaviours and agents send: dashed, in the colour of their outcome, in the GIF
+//! and in `replay.html` alike; each legend gives them one entry, [`ACK_LABEL`] (the page gets
+//! it in its header, [`crate::replay::Meta::ack_label`]). The docs say it as [`ACK_PROSE`].
+//!
 //! The outcomes themselves, and their codes in the replay's `links` array, are the medium's
 //! ([`shoal_sim::comm::Outcome`], the one list); this file only says how each looks, so that
 //! the replay, the GIF and the plots all build on it and it builds on nothing of theirs.
@@ -74,6 +79,14 @@ pub const LINK_KEY: [OutcomeStyle; 5] = [
     },
 ];
 
+/// The legend entry of acknowledgement frames, which are drawn dashed in their outcome's
+/// colour (GIF and `replay.html`).
+pub const ACK_LABEL: &str = "acknowledgement (dashed)";
+
+/// How acknowledgement frames are drawn, in the words of the docs (README.md and
+/// docs/replay.md give it as it is: a test checks).
+pub const ACK_PROSE: &str = "acknowledgement frames are dashed, in their outcome's colour";
+
 /// The style of outcome `o`.
 pub fn style(o: Outcome) -> &'static OutcomeStyle {
     &LINK_KEY[o.code() as usize]
@@ -119,5 +132,17 @@ mod tests {
         }
         assert_eq!(hex(Outcome::Delivered), "#009682");
         assert!(prose().starts_with("delivered (teal), collided (magenta)"));
+    }
+
+    /// README.md and docs/replay.md say how acknowledgement frames are drawn, in the words
+    /// of the key.
+    #[test]
+    fn the_docs_say_how_acknowledgements_are_drawn() {
+        let repo = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+        for f in ["README.md", "docs/replay.md"] {
+            let text = std::fs::read_to_string(repo.join(f)).unwrap();
+            let folded = text.split_whitespace().collect::<Vec<_>>().join(" ");
+            assert!(folded.contains(ACK_PROSE), "{f} does not say: {ACK_PROSE}");
+        }
     }
 }

@@ -12,7 +12,7 @@ mod support;
 use std::path::{Path, PathBuf};
 use support::browser::{self, chromium, chromium_observed, html_attr};
 
-use shoal_record::replay::html;
+use shoal_record::replay::{ReplayData, html};
 use support::demo::demo;
 
 /// Vehicles of the demo replay the browser opens.
@@ -31,8 +31,36 @@ fn dir(name: &str) -> PathBuf {
 
 /// A 12-vehicle, 20-s demo replay in `d`; its absolute path.
 fn demo_page(d: &Path) -> PathBuf {
-    let path = html::write(&d.join("replay.html"), &demo(VEHICLES, 20.0)).unwrap();
+    page_of(d, &demo(VEHICLES, 20.0))
+}
+
+/// The page of `data` in `d`; its absolute path.
+fn page_of(d: &Path, data: &ReplayData) -> PathBuf {
+    let path = html::write(&d.join("replay.html"), data).unwrap();
     std::fs::canonicalize(path).unwrap()
+}
+
+/// The link events of `data` the page shows at `t` \[s\] (those of the 0.3 s before it), by
+/// outcome code: all, and the acknowledgements among them.
+fn shown_at(data: &ReplayData, t: f64) -> ([u32; 5], [u32; 5]) {
+    let (mut all, mut acks) = ([0; 5], [0; 5]);
+    for e in &data.links {
+        let te = f64::from(e.t);
+        if te > t - 0.3 && te <= t {
+            all[e.outcome.code() as usize] += 1;
+            acks[e.outcome.code() as usize] += u32::from(e.ack);
+        }
+    }
+    (all, acks)
+}
+
+/// The numbers of the status attribute `name` of `dom`.
+fn numbers(dom: &str, name: &str) -> Vec<u32> {
+    html_attr(dom, name)
+        .unwrap_or_else(|| panic!("no {name}"))
+        .split(' ')
+        .map(|v| v.parse().unwrap())
+        .collect()
 }
 
 #[test]
@@ -85,14 +113,27 @@ fn the_replay_renders_in_headless_chromium() {
 }
 
 /// The page draws link lines and its legend in the colours of the one key
-/// (`shoal_record::link_key`), which it reads from the header.
+/// (`shoal_record::link_key`), which it reads from the header; acknowledgement frames (every
+/// fourth link event of the demo, here) are told apart from the others in the outcome word's
+/// top bit, drawn dashed — several segments each — and have one legend entry.
 #[test]
 fn links_and_legend_wear_the_colours_of_the_one_key() {
     let d = dir("key");
-    let page = demo_page(&d);
+    let mut data = demo(VEHICLES, 20.0);
+    for (k, e) in data.links.iter_mut().enumerate() {
+        e.ack = k % 4 == 1;
+    }
+    let page = page_of(&d, &data);
+    // Paused at the end of the busiest window for acknowledgements.
+    let t = data
+        .links
+        .iter()
+        .map(|e| f64::from(e.t))
+        .max_by_key(|&t| shown_at(&data, t).1.iter().sum::<u32>())
+        .unwrap();
     let out = chromium(
         &page,
-        "#t=10&paused",
+        &format!("#t={t}&paused"),
         &["--virtual-time-budget=2000", "--dump-dom"],
     );
     let dom = String::from_utf8_lossy(&out.stdout);
@@ -107,9 +148,10 @@ fn links_and_legend_wear_the_colours_of_the_one_key() {
     // The legend: one swatch per outcome, in its colour, with its label.
     let at = dom.find("id=\"link-legend\"").expect("no link legend");
     let legend = &dom[at..at + dom[at..].find("id=\"groups\"").unwrap()];
-    let swatches: Vec<(String, String)> = legend
-        .split("<div>")
-        .skip(1)
+    let rows: Vec<&str> = legend.split("<div>").skip(1).collect();
+    assert_eq!(rows.len(), key.len() + 1, "{legend}");
+    let swatches: Vec<(String, String)> = rows[..key.len()]
+        .iter()
         .map(|row| {
             let bg = row.split("background: ").nth(1).unwrap_or("");
             let colour = bg[..bg.find(';').unwrap_or(0)].to_string();
@@ -129,6 +171,30 @@ fn links_and_legend_wear_the_colours_of_the_one_key() {
         })
         .collect();
     assert_eq!(swatches, want, "{legend}");
+    // The one entry for acknowledgements: a dashed swatch and the key's label.
+    let ack_row = rows[key.len()];
+    assert!(ack_row.contains("class=\"sw dashed\""), "{ack_row}");
+    assert!(
+        ack_row.contains(&format!("</i>{}<", shoal_record::link_key::ACK_LABEL)),
+        "{ack_row}"
+    );
+    // The lines drawn at t, by outcome, and the acknowledgements among them: the page read
+    // each event's outcome and flag from its outcome word.
+    let (all, acks) = shown_at(&data, t);
+    assert!(acks.iter().sum::<u32>() >= 2, "{all:?} {acks:?}");
+    assert_eq!(numbers(&dom, "data-link-lines"), all, "lines by outcome");
+    assert_eq!(
+        numbers(&dom, "data-ack-lines"),
+        acks,
+        "acknowledgements by outcome"
+    );
+    // Each acknowledgement is drawn as dashes (several segments), every other line as one.
+    let (lines, dashed) = (all.iter().sum::<u32>(), acks.iter().sum::<u32>());
+    let extra = numbers(&dom, "data-link-segments")[0] - lines;
+    assert!(
+        extra.is_multiple_of(dashed) && extra / dashed >= 2,
+        "{dashed} acknowledgements of {lines} lines take {extra} more segments"
+    );
     let _ = std::fs::remove_dir_all(&d);
 }
 

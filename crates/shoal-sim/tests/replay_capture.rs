@@ -130,3 +130,75 @@ fn a_large_swarm_samples_its_panel_less_often() {
     }
     r.check().unwrap();
 }
+
+/// `a` sends acknowledged unicasts to `b` 1.25 m ahead of it, facing it; `b` beacons to
+/// everyone besides. One front modem each, three retries.
+const ACKED: &str = r#"
+name = "acked"
+seed = 6
+duration = 20.0
+[pool]
+size = [16.0, 6.0, 3.0]
+[[vehicles]]
+name = "a"
+position = [2.0, 2.0, 1.5]
+behaviour = { kind = "poisson", rate = 4.0, payload_bytes = 26, to = "b", ack = true }
+[[vehicles.model.modems]]
+[[vehicles]]
+name = "b"
+position = [3.25, 2.0, 1.5]
+heading_deg = 180
+behaviour = { kind = "poisson", rate = 2.0, payload_bytes = 10 }
+[[vehicles.model.modems]]
+"#;
+
+/// The replay tells acknowledgement frames from the others: every event flagged as one goes
+/// from the destination `b` back to the sender `a` — one for each acknowledgement `b` put on
+/// the air (but one still on the air at the end), those delivered the frames `a` saw
+/// acknowledged —, and every data frame (`a` → `b`) and beacon (`b` → `a`) is not flagged.
+#[test]
+fn acknowledgements_are_flagged_and_go_back_to_the_sender() {
+    let desc = shoal_world::load::load_str(ACKED, Path::new("acked.toml")).unwrap();
+    let (mut sim, r) = run_with_replay(&desc, desc.steps());
+    sim.fold_comm();
+    r.check().unwrap();
+    let (a, b) = (0, 1);
+    let acks: Vec<_> = r.links.iter().filter(|e| e.ack).collect();
+    let others: Vec<_> = r.links.iter().filter(|e| !e.ack).collect();
+    assert!(
+        acks.iter().all(|e| (e.from, e.to) == (b, a)),
+        "an acknowledgement not from b to a"
+    );
+    let data = others.iter().filter(|e| (e.from, e.to) == (a, b)).count() as u64;
+    let beacons = others.iter().filter(|e| (e.from, e.to) == (b, a)).count() as u64;
+    assert_eq!(data + beacons, others.len() as u64);
+    assert_eq!(r.links.len() as u64, r.meta.links_total, "nothing thinned");
+    // Every frame of a's reached b as an attempt, every frame of b's reached a.
+    let (va, vb) = (sim.vehicle(0).comm, sim.vehicle(1).comm);
+    assert_eq!(data, vb.rx.attempts);
+    assert_eq!(acks.len() as u64 + beacons, va.rx.attempts);
+    assert!(
+        data > 60 && beacons > 20,
+        "{data} data frames, {beacons} beacons"
+    );
+    // One attempt at a for each acknowledgement b sent (the last may not have ended).
+    let sent = vb.acks_sent;
+    let flagged = acks.len() as u64;
+    assert!(
+        flagged <= sent && flagged + 1 >= sent,
+        "{flagged} acknowledgements in the replay, {sent} sent"
+    );
+    // Those delivered completed a's frames.
+    let acked = sim
+        .medium()
+        .flows()
+        .iter()
+        .find(|(k, _)| **k == (a, b))
+        .map(|(_, f)| f.acknowledged)
+        .unwrap();
+    let delivered = acks
+        .iter()
+        .filter(|e| e.outcome == Outcome::Delivered)
+        .count() as u64;
+    assert_eq!(delivered, acked);
+}

@@ -6,7 +6,11 @@
  * little-endian arrays as base64 — #shoal-pos (u16, frames × vehicles × 3, x = q/65535·pool.x),
  * #shoal-att (i16, frames × vehicles × 3: roll, pitch, yaw = q·π/32767), #shoal-panel (f32,
  * rows × vehicles × meta.panel.length, a row every meta.panel_dt s) and #shoal-links (events × 16 bytes: t f32, sender
- * u32, receiver u32, outcome u32). They are decoded once and their elements removed.
+ * u32, receiver u32, outcome word u32). They are decoded once and their elements removed.
+ * The outcome word is the outcome's code (index into meta.outcomes) in its low bits, with its
+ * top bit (0x80000000) set when the frame was an acknowledgement: decoded as outcome =
+ * word & 0x7fffffff and ack = word >>> 31. Acknowledgements are drawn dashed (ACK_DASHES dashes
+ * per line) in their outcome's colour; the legend's entry for them is meta.ack_label.
  *
  * Status for headless tests: data-link-colors on <html> lists the colours the link lines are
  * drawn in (from meta.outcomes); data-decoder says how the base64 was decoded (fromBase64 or atob).
@@ -58,6 +62,8 @@
     });
     if (OUTCOMES.length < 5) throw new Error('replay data: the header has ' + OUTCOMES.length + ' link outcomes, not 5');
     document.documentElement.dataset.linkColors = OUTCOMES.map(function (o) { return o.hex; }).join(' ');
+    var ACK_LABEL = typeof meta.ack_label === 'string' ? meta.ack_label : '';
+    var ACK_DASHES = 7;        // dashes of an acknowledgement's line (each a line segment)
     var LINK_WINDOW_S = 0.3;   // link events shown this long after they happen [s]
     var MAX_LINES = 20000;     // link lines drawn at once at most
     var TRAIL_S = 4;           // trail length [s]
@@ -67,7 +73,8 @@
     return {
       meta: meta, N: N, F: F, DT: DT, P: P, T_END: T_END, pos: pos, att: att, panel: panel,
       links: links, PW: PW, PANEL_ROWS: PANEL_ROWS, PANEL_DT: PANEL_DT, col: col, tl: tl,
-      SECONDS: SECONDS, OUTCOMES: OUTCOMES, LINK_WINDOW_S: LINK_WINDOW_S, MAX_LINES: MAX_LINES,
+      SECONDS: SECONDS, OUTCOMES: OUTCOMES, ACK_LABEL: ACK_LABEL, ACK_DASHES: ACK_DASHES,
+      LINK_WINDOW_S: LINK_WINDOW_S, MAX_LINES: MAX_LINES,
       TRAIL_S: TRAIL_S, MAX_TRAIL_SEGMENTS: MAX_TRAIL_SEGMENTS, PALETTE: PALETTE
     };
   };
@@ -102,22 +109,27 @@
     for (var i = 0; i < n; i++) out[i] = dv[get](i * size, true);
     return out;
   }
-  /** Link events as columns, sorted by time. */
+  /** Link events as columns, sorted by time: outcome code (255 for codes beyond) and
+   * acknowledgement flag (1 or 0) from the outcome word. */
   function decodeLinks(bytes) {
     var f = typed(bytes, Float32Array), u = typed(bytes, Uint32Array), n = Math.floor(f.length / 4);
     var t = new Float32Array(n), from = new Uint32Array(n), to = new Uint32Array(n), outcome = new Uint8Array(n);
+    var ack = new Uint8Array(n);
     var sorted = true;
     for (var k = 0; k < n; k++) {
-      t[k] = f[4 * k]; from[k] = u[4 * k + 1]; to[k] = u[4 * k + 2]; outcome[k] = Math.min(u[4 * k + 3], 255);
+      var word = u[4 * k + 3];
+      t[k] = f[4 * k]; from[k] = u[4 * k + 1]; to[k] = u[4 * k + 2];
+      outcome[k] = Math.min(word & 0x7fffffff, 255); ack[k] = word >>> 31;
       if (k > 0 && t[k] < t[k - 1]) sorted = false;
     }
     if (!sorted) {
       var idx = Array.from({ length: n }, function (_, k) { return k; }).sort(function (a, b) { return t[a] - t[b]; });
       var t2 = new Float32Array(n), f2 = new Uint32Array(n), to2 = new Uint32Array(n), o2 = new Uint8Array(n);
-      idx.forEach(function (j, k) { t2[k] = t[j]; f2[k] = from[j]; to2[k] = to[j]; o2[k] = outcome[j]; });
-      t = t2; from = f2; to = to2; outcome = o2;
+      var a2 = new Uint8Array(n);
+      idx.forEach(function (j, k) { t2[k] = t[j]; f2[k] = from[j]; to2[k] = to[j]; o2[k] = outcome[j]; a2[k] = ack[j]; });
+      t = t2; from = f2; to = to2; outcome = o2; ack = a2;
     }
-    return { t: t, from: from, to: to, outcome: outcome, length: n };
+    return { t: t, from: from, to: to, outcome: outcome, ack: ack, length: n };
   }
   /** First index whose value is greater than x in the sorted array a. */
   function upperBound(a, x) {

@@ -20,6 +20,7 @@
   shoal.createScene = function (d) {
     var meta = d.meta, N = d.N, F = d.F, DT = d.DT, P = d.P, pos = d.pos, att = d.att;
     var links = d.links, OUTCOMES = d.OUTCOMES, PALETTE = d.PALETTE, LINK_WINDOW_S = d.LINK_WINDOW_S;
+    var ACK_DASHES = d.ACK_DASHES;
     var MAX_LINES = d.MAX_LINES, TRAIL_S = d.TRAIL_S, MAX_TRAIL_SEGMENTS = d.MAX_TRAIL_SEGMENTS;
     var upperBound = shoal.upperBound;
     var view = document.getElementById('view');
@@ -209,30 +210,43 @@
       m[o + 12] = cur[c]; m[o + 13] = cur[c + 1]; m[o + 14] = cur[c + 2]; m[o + 15] = 1;
     }
 
-    var shownLinks = 0;
+    // What updateLinks drew: lines (link events) by outcome code, those of acknowledgements
+    // among them, and the segments they took (an acknowledgement's line is ACK_DASHES dashes).
+    var shown = { lines: [0, 0, 0, 0, 0], acks: [0, 0, 0, 0, 0], segments: 0, total: 0, totalAcks: 0 };
     function updateLinks(t, state) {
       var n = 0;
       var P3 = linkPos.array, C4 = linkCol.array;
       var hi = upperBound(links.t, t), lo = upperBound(links.t, t - LINK_WINDOW_S);
-      for (var k = hi - 1; k >= lo && n < MAX_LINES; k--) {
+      shown.lines.fill(0); shown.acks.fill(0); shown.total = 0; shown.totalAcks = 0;
+      for (var k = hi - 1; k >= lo; k--) {
         var oc = links.outcome[k];
         if (state.onlyDelivered && oc !== 0) continue;
-        var st = OUTCOMES[oc] || OUTCOMES[3];
+        var code = OUTCOMES[oc] ? oc : 3;
+        var st = OUTCOMES[code];
         var s = 6 * links.from[k], r = 6 * links.to[k];
         if (s >= 6 * N || r >= 6 * N) continue;
+        // An acknowledgement: dashes and equal gaps, the first at the sender.
+        var pieces = links.ack[k] ? ACK_DASHES : 1;
+        if (n + pieces > MAX_LINES) break;
         var fade = 1 - (t - links.t[k]) / LINK_WINDOW_S;
         var a = st.alpha * Math.max(fade, 0);
-        var o = 6 * n;
-        P3[o] = cur[s]; P3[o + 1] = cur[s + 1]; P3[o + 2] = cur[s + 2];
-        P3[o + 3] = cur[s] + st.reach * (cur[r] - cur[s]);
-        P3[o + 4] = cur[s + 1] + st.reach * (cur[r + 1] - cur[s + 1]);
-        P3[o + 5] = cur[s + 2] + st.reach * (cur[r + 2] - cur[s + 2]);
-        var q = 8 * n;
-        C4[q] = C4[q + 4] = st.color[0]; C4[q + 1] = C4[q + 5] = st.color[1]; C4[q + 2] = C4[q + 6] = st.color[2];
-        C4[q + 3] = a; C4[q + 7] = a * 0.35;   // brighter at the sender
-        n++;
+        var x = cur[s], y = cur[s + 1], z = cur[s + 2];
+        var dx = st.reach * (cur[r] - x), dy = st.reach * (cur[r + 1] - y), dz = st.reach * (cur[r + 2] - z);
+        for (var j = 0; j < pieces; j++) {
+          var f0 = 2 * j / (2 * pieces - 1), f1 = (2 * j + 1) / (2 * pieces - 1);
+          var o = 6 * n;
+          P3[o] = x + f0 * dx; P3[o + 1] = y + f0 * dy; P3[o + 2] = z + f0 * dz;
+          P3[o + 3] = x + f1 * dx; P3[o + 4] = y + f1 * dy; P3[o + 5] = z + f1 * dz;
+          var q = 8 * n;
+          C4[q] = C4[q + 4] = st.color[0]; C4[q + 1] = C4[q + 5] = st.color[1]; C4[q + 2] = C4[q + 6] = st.color[2];
+          // Brighter at the sender: from a there to 0.35 a at the line's end.
+          C4[q + 3] = a * (1 - 0.65 * f0); C4[q + 7] = a * (1 - 0.65 * f1);
+          n++;
+        }
+        shown.lines[code]++; shown.total++;
+        if (pieces > 1) { shown.acks[code]++; shown.totalAcks++; }
       }
-      shownLinks = n;
+      shown.segments = n;
       linkGeo.setDrawRange(0, 2 * n);
       linkPos.clearUpdateRanges(); linkPos.addUpdateRange(0, 6 * n); linkPos.needsUpdate = true;
       linkCol.clearUpdateRanges(); linkCol.addUpdateRange(0, 8 * n); linkCol.needsUpdate = true;
@@ -355,7 +369,10 @@
       vehicleDisplay: vehicleDisplay, rendererName: rendererName, pick: pick,
       updatePoses: updatePoses, updateSelection: updateSelection, updateSpheres: updateSpheres,
       updateLinks: updateLinks, updateTrails: updateTrails,
-      shownLinks: function () { return shownLinks; }
+      shownLinks: function () { return shown.total; },
+      shownAcks: function () { return shown.totalAcks; },
+      /* Lines drawn now by outcome code, acknowledgements among them, segments (tests read these). */
+      linkCounts: function () { return shown; }
     };
   };
 })();

@@ -8,8 +8,11 @@
  *
  * Status for headless tests: every 10 rendered frames (and after the first) <html> gets
  * data-status="ok" data-frames-rendered data-vehicles data-mean-frame-ms data-mean-update-ms
- * data-gl-renderer data-three-revision, and document.title says how many frames were rendered;
- * data-link-colors and data-decoder are set by replay-data.js.
+ * data-gl-renderer data-three-revision, the link lines drawn now — data-link-lines (by outcome
+ * code), data-ack-lines (the acknowledgements among them, by outcome code), data-link-segments
+ * (the segments they take: an acknowledgement's line is dashed, several segments) — and
+ * document.title says how many frames were rendered; data-link-colors and data-decoder are set
+ * by replay-data.js.
  * Failures are recorded by the guard script in <head> (data-status="error", data-errors).
  */
 (function () {
@@ -58,6 +61,15 @@
       div.appendChild(document.createTextNode(o.name));
       $('link-legend').appendChild(div);
     });
+    if (d.ACK_LABEL) {
+      // The one entry for acknowledgements: drawn dashed, in their outcome's colour.
+      var ackRow = document.createElement('div');
+      var ackSw = document.createElement('i');
+      ackSw.className = 'sw dashed';
+      ackRow.appendChild(ackSw);
+      ackRow.appendChild(document.createTextNode(d.ACK_LABEL));
+      $('link-legend').appendChild(ackRow);
+    }
     $('groups').innerHTML = '';
     (meta.groups || []).forEach(function (g, i) {
       var div = document.createElement('div');
@@ -347,7 +359,8 @@
         fr + ' / ' + (F - 1) + ' (' + fmt(1 / DT, DT < 1 ? 0 : 2) + ' fps)' +
         '\nlink attempts: ' + meta.links_total + (SECONDS ? ', delivered ' + sum(tl.delivered) : '') +
         (thinned ? '\nshowing ' + links.length + ' of ' + meta.links_total + ' link events' : '') +
-        '\nlines now: ' + sc.shownLinks() + (state.onlyDelivered ? ' (delivered only)' : '');
+        '\nlines now: ' + sc.shownLinks() + (state.onlyDelivered ? ' (delivered only)' : '') +
+        (sc.shownAcks() ? ', ' + sc.shownAcks() + ' of them acknowledgements' : '');
       info.appendChild(document.createTextNode(lines));
     }
 
@@ -428,6 +441,10 @@
       d.meanUpdateMs = updCount ? (updSum / updCount).toFixed(3) : '';
       d.glRenderer = glRenderer;
       d.threeRevision = THREE.REVISION;
+      var lc = sc.linkCounts();
+      d.linkLines = lc.lines.join(' ');
+      d.ackLines = lc.acks.join(' ');
+      d.linkSegments = String(lc.segments);
       document.title = 'shoal replay: ' + framesRendered + ' frames rendered';
     }
     requestAnimationFrame(frame);

@@ -11,6 +11,12 @@
 //! panel and the render loop; it runs the viewer). All of them are embedded in the binary
 //! with `include_str!`; nothing is loaded from anywhere when the page opens.
 //!
+//! Each link event is 16 bytes of `shoal-links`: t \[s\] (f32), sender (u32), receiver (u32)
+//! and the outcome word (u32, [`LinkEvent::word`]): the [`super::Outcome`] code in its low bits,
+//! and its top bit ([`super::ACK_BIT`], `0x8000_0000`) set when the frame was an
+//! acknowledgement — drawn dashed, in its outcome's colour ([`crate::link_key::ACK_LABEL`],
+//! which the header carries as `ack_label`). Pages written before the flag have it clear.
+//!
 //! [`write()`] streams the page through an [`AtomicFile`] (the arrays are converted and
 //! base64-encoded in small chunks, never copied whole); [`read()`] parses a page back, for
 //! tools that draw a replay without a browser.
@@ -22,7 +28,7 @@ use base64::Engine;
 use base64::engine::general_purpose::STANDARD;
 use base64::write::EncoderWriter;
 
-use super::{LinkEvent, Meta, Outcome, ReplayData};
+use super::{LinkEvent, Meta, ReplayData};
 use shoal_output::files::{AtomicFile, FileError};
 
 /// Version of the vendored three.js (`assets/replay/three-<version>.min.js`).
@@ -55,7 +61,8 @@ const ATT_ID: &str = "shoal-att";
 const PANEL_ID: &str = "shoal-panel";
 const LINKS_ID: &str = "shoal-links";
 
-/// Bytes of one link event in the `links` array: t (f32), sender, receiver, outcome (u32).
+/// Bytes of one link event in the `links` array: t (f32), sender, receiver, outcome word
+/// (u32: the outcome's code, the top bit set for an acknowledgement).
 const LINK_BYTES: usize = 16;
 
 /// Values converted per chunk while streaming an array.
@@ -103,9 +110,9 @@ fn write_part(w: &mut impl Write, name: &str, data: &ReplayData) -> io::Result<(
             w.write_all(b"\n")
         }),
         // The colour key is the page's: a replay as gathered has none yet.
-        "META" if data.meta.outcomes.is_empty() => {
+        "META" if data.meta.outcomes.is_empty() || data.meta.ack_label.is_empty() => {
             let mut meta = data.meta.clone();
-            meta.outcomes = super::outcome_key();
+            super::fill_key(&mut meta);
             serde_json::to_writer(EscapeLt(&mut *w), &meta).map_err(io::Error::from)
         }
         "META" => serde_json::to_writer(EscapeLt(&mut *w), &data.meta).map_err(io::Error::from),
@@ -116,7 +123,7 @@ fn write_part(w: &mut impl Write, name: &str, data: &ReplayData) -> io::Result<(
             b.extend_from_slice(&e.t.to_le_bytes());
             b.extend_from_slice(&e.from.to_le_bytes());
             b.extend_from_slice(&e.to.to_le_bytes());
-            b.extend_from_slice(&e.outcome.code().to_le_bytes());
+            b.extend_from_slice(&e.word().to_le_bytes());
         }),
         other => Err(io::Error::other(format!(
             "replay.html: unknown marker @@{other}@@"
@@ -189,10 +196,8 @@ pub fn read(path: &Path) -> Result<ReplayData, ReadError> {
 fn parse(page: &str) -> Result<ReplayData, String> {
     let mut meta: Meta = serde_json::from_str(element(page, META_ID)?)
         .map_err(|e| format!("the header ({META_ID}) is not a replay header: {e}"))?;
-    if meta.outcomes.is_empty() {
-        // A page written before the key travelled in its header.
-        meta.outcomes = super::outcome_key();
-    }
+    // A page written before the key travelled in its header.
+    super::fill_key(&mut meta);
     let pos = decode(page, POS_ID, 2, |b| u16::from_le_bytes([b[0], b[1]]))?;
     let att = decode(page, ATT_ID, 2, |b| i16::from_le_bytes([b[0], b[1]]))?;
     let panel = decode(page, PANEL_ID, 4, |b| {
@@ -210,14 +215,16 @@ fn parse(page: &str) -> Result<ReplayData, String> {
     let links = raw
         .into_iter()
         .enumerate()
-        .map(|(i, (t, from, to, code))| {
-            let outcome = Outcome::from_code(code)
-                .ok_or_else(|| format!("link event {i} has the unknown outcome code {code}"))?;
+        .map(|(i, (t, from, to, word))| {
+            let (outcome, ack) = LinkEvent::outcome_of(word).ok_or_else(|| {
+                format!("link event {i} has the unknown outcome word {word:#010x}")
+            })?;
             Ok(LinkEvent {
                 t,
                 from,
                 to,
                 outcome,
+                ack,
             })
         })
         .collect::<Result<Vec<_>, String>>()?;
@@ -268,6 +275,7 @@ fn decode<T>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::replay::Outcome;
     use crate::replay::demo::demo;
 
     fn dir(name: &str) -> PathBuf {
@@ -277,15 +285,34 @@ mod tests {
         d
     }
 
+    /// Every event keeps its outcome and its acknowledgement flag (every third event is
+    /// flagged here, of every outcome), the flag in the top bit of its outcome word.
     #[test]
     fn a_page_reads_back_as_written() {
         let d = dir("roundtrip");
         let mut data = demo(7, 4.0);
         data.meta.world = "a </script><!-- world & \"quotes\"".into();
-        data.meta.outcomes = crate::replay::outcome_key();
+        crate::replay::fill_key(&mut data.meta);
+        for (k, e) in data.links.iter_mut().enumerate() {
+            e.ack = k % 3 == 1;
+        }
+        for o in Outcome::ALL {
+            let of = |ack| data.links.iter().any(|e| e.outcome == o && e.ack == ack);
+            assert!(of(true) && of(false), "{o:?}: flagged and not");
+        }
         let p = write(&d.join("replay.html"), &data).unwrap();
         let back = read(&p).unwrap();
         assert_eq!(back, data);
+        // The words as the page holds them: the code, and the top bit for acknowledgements.
+        let bytes = STANDARD
+            .decode(element(&std::fs::read_to_string(&p).unwrap(), LINKS_ID).unwrap())
+            .unwrap();
+        assert_eq!(bytes.len(), LINK_BYTES * data.links.len());
+        for (e, b) in data.links.iter().zip(bytes.chunks_exact(LINK_BYTES)) {
+            let word = u32::from_le_bytes([b[12], b[13], b[14], b[15]]);
+            let flag = if e.ack { 0x8000_0000 } else { 0 };
+            assert_eq!(word, e.outcome.code() | flag, "{e:?}");
+        }
         let page = std::fs::read_to_string(&p).unwrap();
         assert!(page.contains(r#"a \u003c/script>\u003c!-- world"#));
         assert!(!d.join(".replay.html.tmp").exists());
@@ -299,7 +326,9 @@ mod tests {
         let d = dir("key");
         let mut data = demo(3, 2.0);
         data.meta.outcomes.clear();
+        data.meta.ack_label.clear();
         let back = read(&write(&d.join("replay.html"), &data).unwrap()).unwrap();
+        assert_eq!(back.meta.ack_label, crate::link_key::ACK_LABEL);
         let key: Vec<(String, String)> = crate::link_key::LINK_KEY
             .iter()
             .map(|k| {
@@ -334,6 +363,12 @@ mod tests {
             }
         }
         assert!(VIEWER_DATA.contains("meta.outcomes"));
+        // The legend's entry for acknowledgements comes from the header too.
+        for (name, text) in VIEWER_FILES {
+            let label = crate::link_key::ACK_LABEL;
+            assert!(!text.contains(label), "{name} writes {label:?}");
+        }
+        assert!(VIEWER_DATA.contains("meta.ack_label"));
         assert!(
             !TEMPLATE.contains("style=\"background"),
             "replay.html has colour swatches of its own"
@@ -458,15 +493,13 @@ mod tests {
                 page.replacen("\"vehicles\":3,", "\"vehicles\":18446744073709551615,", 1)
                     .replacen("\"frames\":41,", "\"frames\":0,", 1),
             ),
-            ("bad outcome", {
-                // The first link event's outcome code (bytes 12..16) → 9.
-                let mut p = page.clone();
-                let b64 = element(&page, LINKS_ID).unwrap();
-                let mut bytes = STANDARD.decode(b64).unwrap();
-                bytes[12] = 9;
-                p.replace_range(links_at..links_at + b64.len(), &STANDARD.encode(bytes));
-                p
-            }),
+            ("bad outcome", bad_word(&page, links_at, 9)),
+            // A bit beside the acknowledgement flag.
+            ("bad outcome bits", bad_word(&page, links_at, 0x4000_0000)),
+            (
+                "bad flagged outcome",
+                bad_word(&page, links_at, 0x8000_0009),
+            ),
         ];
         for (what, text) in cases {
             let p = d.join("bad.html");
@@ -478,6 +511,17 @@ mod tests {
         let e = read(&d.join("missing.html")).unwrap_err();
         assert!(e.to_string().contains("missing.html"), "{e}");
         let _ = std::fs::remove_dir_all(&d);
+    }
+
+    /// `page` with the first link event's outcome word (bytes 12..16; the array's text
+    /// starts at `links_at`) set to `word`.
+    fn bad_word(page: &str, links_at: usize, word: u32) -> String {
+        let mut p = page.to_string();
+        let b64 = element(page, LINKS_ID).unwrap();
+        let mut bytes = STANDARD.decode(b64).unwrap();
+        bytes[12..16].copy_from_slice(&word.to_le_bytes());
+        p.replace_range(links_at..links_at + b64.len(), &STANDARD.encode(bytes));
+        p
     }
 
     #[test]

@@ -21,6 +21,19 @@ pub fn outcome_key() -> Vec<OutcomeMeta> {
         .collect()
 }
 
+/// Puts the page's colour key into `meta` where it is missing (in a replay as gathered, or
+/// in a page written before the key or its entry for acknowledgements travelled in the
+/// header): the outcomes ([`outcome_key`]) and the legend entry of acknowledgement frames
+/// ([`crate::link_key::ACK_LABEL`]).
+pub fn fill_key(meta: &mut Meta) {
+    if meta.outcomes.is_empty() {
+        meta.outcomes = outcome_key();
+    }
+    if meta.ack_label.is_empty() {
+        meta.ack_label = crate::link_key::ACK_LABEL.to_string();
+    }
+}
+
 /// The synthetic replay of the tests (a test kit, compiled only for them).
 #[cfg(test)]
 #[path = "../../tests/support/demo.rs"]

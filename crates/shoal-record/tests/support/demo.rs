@@ -166,6 +166,7 @@ pub fn demo(n_vehicles: usize, seconds: f64) -> ReplayData {
                     from: s,
                     to: r,
                     outcome,
+                    ack: false,
                 });
             }
             attempt += 1;
@@ -281,6 +282,7 @@ pub fn demo(n_vehicles: usize, seconds: f64) -> ReplayData {
             timeline,
             // The page's writer fills in the one colour key (`html::write`).
             outcomes: Vec::new(),
+            ack_label: String::new(),
         },
         pos,
         att,

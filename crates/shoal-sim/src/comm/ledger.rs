@@ -8,7 +8,9 @@
 //! they happened, so every counter and sum is the one the per-frame updates gave.
 
 use super::ending::ByVehicle;
+use super::frames::Kind;
 use super::links::{LinkEvent, Outcome};
+use super::medium::Transmission;
 use super::stats::{CommStats, Heard};
 use bevy_ecs::prelude::*;
 use std::ops::DerefMut;
@@ -24,6 +26,8 @@ struct FrameInfo {
     end: f64,
     /// Payload \[bytes\].
     bytes: u32,
+    /// Whether it is an acknowledgement ([`Kind::Ack`]).
+    ack: bool,
 }
 
 /// One reception attempt as the ledger keeps it.
@@ -74,21 +78,22 @@ pub struct Ledger {
 }
 
 impl Ledger {
-    /// Enters frames, each `(sender, hand-over time [s], end [s], payload [bytes])`; returns
-    /// the number of the first (the others follow it) for [`Ledger::attempt`].
-    pub(super) fn frames(&mut self, frames: impl Iterator<Item = (u32, f64, f64, u32)>) -> u32 {
+    /// Enters frames, each given by its first copy on the air; returns the number of the
+    /// first (the others follow it) for [`Ledger::attempt`]. Each keeps its sender, times,
+    /// payload length and whether it is an acknowledgement, for [`Heard`].
+    pub(super) fn frames_of<'t>(&mut self, frames: impl Iterator<Item = &'t Transmission>) -> u32 {
         let first = self.frames.len() as u32;
-        self.frames
-            .extend(frames.map(|(from, sent, end, bytes)| FrameInfo {
-                from,
-                sent,
-                end,
-                bytes,
-            }));
+        self.frames.extend(frames.map(|f| FrameInfo {
+            from: f.tx,
+            sent: f.sent,
+            end: f.end,
+            bytes: u32::try_from(f.payload.len()).unwrap_or(u32::MAX),
+            ack: matches!(f.kind, Kind::Ack { .. }),
+        }));
         first
     }
 
-    /// An attempt at receiver `rx` of frame `frame` (from [`Ledger::frames`]).
+    /// An attempt at receiver `rx` of frame `frame` (from [`Ledger::frames_of`]).
     pub(super) fn attempt(rx: u32, frame: u32, outcome: Outcome) -> Attempt {
         Attempt { rx, frame, outcome }
     }
@@ -100,12 +105,14 @@ impl Ledger {
         let frames = &self.frames;
         let heard = attempts.iter().map(|a| {
             let e = a.event(frames);
+            let f = &frames[a.frame as usize];
             Heard {
                 t: e.t,
                 from: e.from,
                 to: e.rx,
                 outcome: e.outcome,
-                bytes: frames[a.frame as usize].bytes,
+                bytes: f.bytes,
+                ack: f.ack,
             }
         });
         if log {

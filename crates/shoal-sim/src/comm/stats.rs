@@ -53,6 +53,9 @@ pub struct Heard {
     pub outcome: Outcome,
     /// The frame's payload (the link-layer header added on the air not counted) \[bytes\].
     pub bytes: u32,
+    /// Whether the frame was an acknowledgement ([`super::Kind::Ack`]: the link layer's
+    /// answer to a unicast frame it received), not a frame a behaviour or agent sent.
+    pub ack: bool,
 }
 
 impl CommStats {

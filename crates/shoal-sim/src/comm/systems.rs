@@ -9,7 +9,7 @@ use super::ledger::Ledger;
 use super::link_layer::{Mail, link_layer};
 use super::links::Outcome;
 use super::mac::Link;
-use super::medium::Medium;
+use super::medium::{Logical, Medium};
 use super::reception::{Listener, Scratch, receive};
 use super::stats::{CommStats, Tally};
 use super::transmit::{Vehicle, Walk};
@@ -174,11 +174,7 @@ pub fn comm_deliver_system(
     // A frame ending at `end` falls into the next second when ⌊end⌋ > second0, i.e.
     // end ≥ second0 + 1 (an integer).
     let second1 = second0 + 1.0;
-    let frame0 = ledger.frames(logical.iter().map(|l| {
-        let f = l.first();
-        let bytes = u32::try_from(f.payload.len()).unwrap_or(u32::MAX);
-        (f.tx, f.sent, f.end, bytes)
-    }));
+    let frame0 = ledger.frames_of(logical.iter().map(Logical::first));
     let states = par.for_each_with(
         Loop::Delivery,
         &mut items,

@@ -265,11 +265,12 @@ impl Walk {
                 t,
                 (from, slot, left),
                 v.modems,
-                (
-                    (!m.slot_by_slot).then_some(countdowns),
-                    (vehicle, &pos),
-                    heard.get(),
-                ),
+                Counter {
+                    countdowns: (!m.slot_by_slot).then_some(countdowns),
+                    vehicle,
+                    pos: &pos,
+                    heard: heard.get(),
+                },
                 (reach, || Air::cells(air.get_or_init(|| Air::new(m, reach)))),
             ),
             d => d,
@@ -342,6 +343,18 @@ impl Walk {
     }
 }
 
+/// Who counts down, for [`count_down`].
+struct Counter<'a> {
+    /// The step's countdowns (`None`: slot by slot).
+    countdowns: Option<&'a mut Countdowns>,
+    vehicle: u32,
+    /// Its position \[m\].
+    pos: &'a Vec3,
+    /// The busy threshold the protocol listened with and since when the channel was idle
+    /// \[W, s\], if it listened.
+    heard: Option<(f64, f64)>,
+}
+
 /// A protocol's [`Decision::Count`] at `t` \[s\] of a vehicle's frame, as the decision to
 /// act on: with the step's countdowns (unless [`Medium::slot_by_slot`]), the vehicle counts
 /// down at once — if none of its ports is on the air and its queued ports all hold copies of
@@ -354,11 +367,7 @@ fn count_down(
     t: f64,
     (from, slot, left): (f64, f64, u32),
     modems: &mut Modems,
-    (countdowns, (vehicle, pos), heard): (
-        Option<&mut Countdowns>,
-        (u32, &Vec3),
-        Option<(f64, f64)>,
-    ),
+    who: Counter<'_>,
     (reach, cells): (f64, impl FnOnce() -> Cells),
 ) -> Decision {
     let quiet = modems.ports.iter().all(|p| p.busy_until <= t);
@@ -366,9 +375,9 @@ fn count_down(
     let together = fronts
         .next()
         .is_some_and(|f| fronts.all(|g| g.seq == f.seq));
-    let target = match (countdowns, heard) {
+    let target = match (who.countdowns, who.heard) {
         (Some(c), Some(heard)) if quiet && together => c.start(
-            (vehicle, pos),
+            (who.vehicle, who.pos),
             (t, heard),
             (from, slot, left),
             (reach, cells),

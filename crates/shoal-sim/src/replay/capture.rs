@@ -99,6 +99,7 @@ impl ReplayRecorder {
             links_total: 0,
             timeline: Timeline::default(),
             outcomes: Vec::new(),
+            ack_label: String::new(),
         };
         Self {
             data: ReplayData {
@@ -291,6 +292,7 @@ pub fn replay_system(
             from: h.from,
             to: h.to,
             outcome: h.outcome,
+            ack: h.ack,
         }));
         rec.keep_links();
     }

@@ -11,7 +11,11 @@
 //! | `pos` | u16 | frames × vehicles × 3 | position, `x = q / 65535 · pool.x` (likewise y, z; NED, z down) |
 //! | `att` | i16 | frames × vehicles × 3 | roll, pitch, yaw, `angle = q · π / 32767` |
 //! | `panel` | f32 | rows × vehicles × [`PANEL`] | every [`Meta::panel_dt`] s: the values of the vehicle panel |
-//! | `links` | f32/u32 | events × 4 | link attempts: t \[s\] (f32), sender, receiver, outcome ([`Outcome`] code) (u32) |
+//! | `links` | f32/u32 | events × 4 | link attempts: t \[s\] (f32), sender, receiver, outcome word (u32: [`LinkEvent::word`]) |
+//!
+//! A link event's outcome word is its [`Outcome`] code, with its top bit ([`ACK_BIT`],
+//! `0x8000_0000`) set when the frame was an acknowledgement ([`LinkEvent::ack`]); the page and
+//! the GIF draw those dashed, in their outcome's colour. The other bits are 0.
 //!
 //! Frames are sampled every [`Meta::frame_dt`] seconds ([`frame_dt`]: the finest of 0.05, 0.1,
 //! 0.2, 0.25, 0.5, 1, 2, 5 … s whose pose arrays stay within [`POSE_BUDGET_BYTES`], so a
@@ -72,6 +76,10 @@ pub const PANEL: [&str; 7] = [
 ];
 
 pub use crate::comm::Outcome;
+
+/// The bit of a link event's outcome word ([`LinkEvent::word`]) that marks an
+/// acknowledgement frame.
+pub const ACK_BIT: u32 = 0x8000_0000;
 
 /// Bytes of pose data per vehicle and frame: `pos` (3 × u16) and `att` (3 × i16).
 pub const POSE_BYTES_PER_VEHICLE_FRAME: usize = 12;
@@ -191,6 +199,12 @@ pub struct Meta {
     /// page written before the key existed gets today's key when it is read back).
     #[serde(default)]
     pub outcomes: Vec<OutcomeMeta>,
+    /// The legend's entry for the link events of acknowledgement frames ([`LinkEvent::ack`]:
+    /// drawn dashed, in their outcome's colour), which the page writer puts here with the
+    /// colour key; empty while the replay is gathered (a page written before it existed gets
+    /// today's entry when it is read back).
+    #[serde(default)]
+    pub ack_label: String,
 }
 
 /// How the page shows one link outcome.
@@ -271,7 +285,7 @@ pub struct ReplayData {
     pub att: Vec<i16>,
     /// Panel values, seconds × vehicles × [`PANEL`].len().
     pub panel: Vec<f32>,
-    /// Link events: t, sender, receiver, outcome.
+    /// Link events: t, sender, receiver, outcome, acknowledgement or not.
     pub links: Vec<LinkEvent>,
 }
 
@@ -286,6 +300,23 @@ pub struct LinkEvent {
     pub to: u32,
     /// What happened.
     pub outcome: Outcome,
+    /// Whether the frame was an acknowledgement ([`crate::comm::Heard::ack`]): drawn
+    /// dashed.
+    pub ack: bool,
+}
+
+impl LinkEvent {
+    /// The fourth word of the event in the `links` array: the outcome's code, with
+    /// [`ACK_BIT`] set for an acknowledgement.
+    pub fn word(&self) -> u32 {
+        self.outcome.code() | if self.ack { ACK_BIT } else { 0 }
+    }
+
+    /// The outcome and the acknowledgement flag of an outcome word ([`LinkEvent::word`]);
+    /// `None` when its code (the word without [`ACK_BIT`]) is no outcome's.
+    pub fn outcome_of(word: u32) -> Option<(Outcome, bool)> {
+        Outcome::from_code(word & !ACK_BIT).map(|o| (o, word & ACK_BIT != 0))
+    }
 }
 
 impl ReplayData {
@@ -447,5 +478,28 @@ mod tests {
         }
         // A million vehicles: more than a row's budget, the first and the last row.
         assert_eq!(panel_dt(1_000_000, 100.0), 100.0);
+    }
+
+    /// The outcome word keeps the outcome in its low bits and the acknowledgement flag in
+    /// its top bit; words with other bits set are no outcome's.
+    #[test]
+    fn the_outcome_word_carries_the_acknowledgement_flag() {
+        for outcome in Outcome::ALL {
+            for ack in [false, true] {
+                let e = LinkEvent {
+                    t: 1.0,
+                    from: 0,
+                    to: 1,
+                    outcome,
+                    ack,
+                };
+                let w = e.word();
+                assert_eq!(w & !ACK_BIT, outcome.code());
+                assert_eq!(w & ACK_BIT != 0, ack);
+                assert_eq!(LinkEvent::outcome_of(w), Some((outcome, ack)));
+            }
+        }
+        assert_eq!(LinkEvent::outcome_of(ACK_BIT | 5), None);
+        assert_eq!(LinkEvent::outcome_of(0x4000_0000), None);
     }
 }

@@ -1,11 +1,12 @@
-//! Drawing a frame: the hard-edged backend, the still background (water, pool, obstacles, ticks, legend) and the moving parts (vehicles, trails, link lines, title).
+//! Drawing a frame: the hard-edged backend, the still background (water, pool, obstacles, ticks, legend) and the moving parts (vehicles, trails, link lines — acknowledgements dashed —, title).
 
 use super::geometry::{
-    body_points, clip_convex, convex_hull, obstacle_outline, tick_label, tick_step,
+    ACK_DASH_PX, body_points, clip_convex, convex_hull, dashes, obstacle_outline, tick_label,
+    tick_step,
 };
 use super::layout::{
-    LEFT_W, LEGEND_FONT, LEGEND_ROW, LEGEND_SAMPLE, Layout, LegendEntry, Panel, PanelKind, RIGHT_W,
-    TITLE_H,
+    ACK_SAMPLE, LEFT_W, LEGEND_FONT, LEGEND_ROW, LEGEND_SAMPLE, Layout, LegendEntry, Panel,
+    PanelKind, RIGHT_W, TITLE_H,
 };
 use super::options::{CROWDED_BODY_SHARE, GifOptions, LINK_WINDOW_S, MIN_BODY_PX};
 use super::palette::{
@@ -247,7 +248,12 @@ pub(super) fn draw_background(area: &Area, scene: &Scene, lay: &Layout) -> Resul
         ))
         .map_err(de)?;
     }
-    // Legend.
+    draw_legend(area, lay)
+}
+
+/// Draws the legend: group swatches, the link outcomes' lines and the dashed sample of
+/// acknowledgement frames, each with its label.
+fn draw_legend(area: &Area, lay: &Layout) -> Result<(), String> {
     let font = ("sans-serif", LEGEND_FONT).into_font();
     for (e, x, y) in &lay.legend {
         let yc = y + LEGEND_ROW / 2;
@@ -277,6 +283,17 @@ pub(super) fn draw_background(area: &Area, scene: &Scene, lay: &Layout) -> Resul
                 ))
                 .map_err(de)?;
                 text_at(s, x + LEGEND_SAMPLE + 5, TEXT)?;
+            }
+            LegendEntry::Ack(s) => {
+                let (a, b) = (
+                    (f64::from(*x), f64::from(yc)),
+                    (f64::from(x + ACK_SAMPLE), f64::from(yc)),
+                );
+                for d in dashes(a, b, ACK_DASH_PX) {
+                    area.draw(&PathElement::new(d.to_vec(), TEXT.stroke_width(2)))
+                        .map_err(de)?;
+                }
+                text_at(s, x + ACK_SAMPLE + 5, TEXT)?;
             }
             LegendEntry::Note(s) => text_at(s, *x, TEXT_GREY)?,
         }
@@ -338,20 +355,8 @@ impl<'s> Dynamic<'s> {
                     .map_err(de)?;
                 }
             }
-            // Links, losses over deliveries.
             if self.opts.links {
-                let events = scene.links_in(t - self.window, t);
-                for o in OUTCOMES {
-                    let c = outcome_color(o);
-                    for e in events.iter().filter(|e| e.outcome == o) {
-                        let (a, b) = (e.from as usize, e.to as usize);
-                        if a >= n || b >= n {
-                            continue;
-                        }
-                        let seg = vec![p.px(scene.pos(f, a)), p.px(scene.pos(f, b))];
-                        area.draw(&PathElement::new(seg, c)).map_err(de)?;
-                    }
-                }
+                self.draw_links(area, p, f, t)?;
             }
             // Bodies: enlarged to MIN_BODY_PX, or in a crowded map to 0.6 × the side of each
             // vehicle's share of the panel (at least 2 px), so a dense swarm does not merge
@@ -397,6 +402,35 @@ impl<'s> Dynamic<'s> {
                 .pos(Pos::new(HPos::Right, VPos::Center)),
         ))
         .map_err(de)?;
+        Ok(())
+    }
+
+    /// The link attempts of the window before `t` \[s\] on panel `p`, between the vehicles'
+    /// positions in replay frame `f`: each in its outcome's colour, losses over deliveries,
+    /// acknowledgement frames dashed ([`ACK_DASH_PX`]).
+    fn draw_links(&self, area: &Area, p: &Panel, f: usize, t: f64) -> Result<(), String> {
+        let scene = self.scene;
+        let n = scene.vehicles;
+        let events = scene.links_in(t - self.window, t);
+        for o in OUTCOMES {
+            let c = outcome_color(o);
+            for e in events.iter().filter(|e| e.outcome == o) {
+                let (a, b) = (e.from as usize, e.to as usize);
+                if a >= n || b >= n {
+                    continue;
+                }
+                let (pa, pb) = (scene.pos(f, a), scene.pos(f, b));
+                if e.ack {
+                    let (a, b) = (p.px_hv(p.hv(pa)), p.px_hv(p.hv(pb)));
+                    for d in dashes(a, b, ACK_DASH_PX) {
+                        area.draw(&PathElement::new(d.to_vec(), c)).map_err(de)?;
+                    }
+                } else {
+                    let seg = vec![p.px(pa), p.px(pb)];
+                    area.draw(&PathElement::new(seg, c)).map_err(de)?;
+                }
+            }
+        }
         Ok(())
     }
 }

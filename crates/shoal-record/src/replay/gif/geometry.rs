@@ -1,4 +1,4 @@
-//! Geometry for the drawings: clipping, convex hulls, obstacle outlines from their shapes and poses, tick steps, the body outline of a vehicle.
+//! Geometry for the drawings: clipping, convex hulls, obstacle outlines from their shapes and poses, tick steps, the body outline of a vehicle, the dashes of a dashed line.
 
 use super::layout::PanelKind;
 use crate::replay::ObstacleMeta;
@@ -188,4 +188,35 @@ pub(super) fn body_points(hull: [f64; 3]) -> [Vector3<f64>; 10] {
         pts[i + 5] = Vector3::new(x, y, h);
     }
     pts
+}
+
+/// Dash and gap of the dashed lines of acknowledgement frames \[px\] (a dash is drawn with
+/// both its end pixels, so the gaps look a pixel shorter).
+pub(super) const ACK_DASH_PX: (f64, f64) = (6.0, 5.0);
+
+/// The dashes of a dashed line from `a` to `b` (image positions \[px\]): pieces of `dash`
+/// px with gaps of `gap` px, the first starting at `a`, the last cut short at `b`; each as
+/// its two end pixels. None when `a` and `b` coincide.
+pub(super) fn dashes(
+    a: (f64, f64),
+    b: (f64, f64),
+    (dash, gap): (f64, f64),
+) -> impl Iterator<Item = [(i32, i32); 2]> {
+    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+    let len = dx.hypot(dy);
+    let period = dash + gap;
+    let n = if len > 0.0 && len.is_finite() && period > 0.0 {
+        // Truncation intended: the dashes that start before the end.
+        (len / period).ceil() as usize
+    } else {
+        0
+    };
+    let at = move |s: f64| {
+        let f = s / len;
+        ((a.0 + f * dx).round() as i32, (a.1 + f * dy).round() as i32)
+    };
+    (0..n).map(move |k| {
+        let s0 = k as f64 * period;
+        [at(s0), at((s0 + dash).min(len))]
+    })
 }

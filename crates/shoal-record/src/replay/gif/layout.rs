@@ -91,6 +91,8 @@ pub(super) struct Layout {
 pub(super) enum LegendEntry {
     Group(RGBColor, String),
     Link(RGBColor, String),
+    /// Acknowledgement frames: a dashed sample ([`ACK_SAMPLE`] px) and the label.
+    Ack(String),
     Note(String),
 }
 
@@ -189,6 +191,7 @@ impl Layout {
             entries.extend(OUTCOMES.iter().map(|o| {
                 LegendEntry::Link(outcome_color(*o), crate::link_key::style(*o).label.into())
             }));
+            entries.push(LegendEntry::Ack(crate::link_key::ACK_LABEL.into()));
         }
         let legend_y = top + 4;
         let mut legend = Vec::with_capacity(entries.len());
@@ -228,6 +231,9 @@ pub(super) fn text_width(text: &str, size: u32) -> i32 {
 
 pub(super) const LEGEND_FONT: u32 = 13;
 pub(super) const LEGEND_SAMPLE: i32 = 18;
+/// Width of the dashed sample of acknowledgement frames in the legend \[px\]: room for
+/// three dashes and the start of a fourth.
+pub(super) const ACK_SAMPLE: i32 = 2 * LEGEND_SAMPLE;
 
 /// Columns a legend entry takes, its gap to the next included \[px\].
 pub(super) fn legend_width(e: &LegendEntry) -> i32 {
@@ -235,6 +241,7 @@ pub(super) fn legend_width(e: &LegendEntry) -> i32 {
         LegendEntry::Group(_, s) | LegendEntry::Link(_, s) => {
             LEGEND_SAMPLE + 5 + text_width(s, LEGEND_FONT) + 16
         }
+        LegendEntry::Ack(s) => ACK_SAMPLE + 5 + text_width(s, LEGEND_FONT) + 16,
         LegendEntry::Note(s) => text_width(s, LEGEND_FONT) + 10,
     }
 }

@@ -19,8 +19,10 @@
 //! smaller than [`MIN_BODY_PX`], less in a crowded map: [`CROWDED_BODY_SHARE`]), its trail
 //! of the last [`GifOptions::trail_s`] seconds, and
 //! the link attempts of the last [`LINK_WINDOW_S`] s (or of the time between two GIF frames
-//! when longer) as lines coloured by outcome, losses drawn over deliveries. A title (world,
-//! `t = 12.3 s`, playback speed) and a legend (groups, link outcomes) frame the maps.
+//! when longer) as lines coloured by outcome, losses drawn over deliveries; those of
+//! acknowledgement frames dashed (6-px dashes, 5-px gaps), as in `replay.html`. A title
+//! (world, `t = 12.3 s`, playback speed) and a legend (groups, link outcomes, and one entry
+//! for the dashed acknowledgements, [`crate::link_key::ACK_LABEL`]) frame the maps.
 //!
 //! **Timing**: GIF frame `k` shows simulated time `k · speed / fps` (the nearest replay
 //! frame), up to the replay's last frame, so the GIF plays at `speed`× real time. When that

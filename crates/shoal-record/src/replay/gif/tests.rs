@@ -8,6 +8,8 @@ use super::*;
 use crate::replay::{GroupMeta, LinkEvent, Meta, ObstacleMeta, Outcome, Timeline};
 use std::f64::consts::{FRAC_1_SQRT_2, FRAC_PI_2};
 
+mod ack;
+
 const POOL: [f64; 3] = [10.0, 8.0, 3.0];
 const HULL: [f64; 3] = [0.6, 0.2, 0.15];
 const COLORS: [&str; 3] = ["#1f77b4", "#ff7f0e", "#2ca02c"];
@@ -32,6 +34,7 @@ fn ev(t: f32, from: u32, to: u32, outcome: Outcome) -> LinkEvent {
         from,
         to,
         outcome,
+        ack: false,
     }
 }
 
@@ -92,6 +95,7 @@ fn synthetic() -> ReplayData {
         links_total: 4,
         timeline: Timeline::default(),
         outcomes: crate::replay::outcome_key(),
+        ack_label: crate::link_key::ACK_LABEL.to_string(),
     };
     ReplayData {
         meta,

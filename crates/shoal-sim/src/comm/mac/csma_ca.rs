@@ -6,7 +6,7 @@
 //! frame's acknowledgement does not come, back to `cw_min` when one does — the protocol whose
 //! saturation throughput Bianchi's model predicts.
 
-use super::{AccessState, Ctx, Decision, MediumAccess, next_boundary};
+use super::{AccessState, Ctx, Decision, MediumAccess, count_idle};
 use rand::RngExt;
 use shoal_world::access::CsmaCa;
 
@@ -19,7 +19,6 @@ fn window(p: &CsmaCa, stage: u32) -> u32 {
 
 impl MediumAccess for CsmaCa {
     fn decide(&self, ctx: &mut Ctx<'_>) -> Decision {
-        let t = ctx.t;
         let count = match ctx.state.counter {
             Some(c) => c,
             None => {
@@ -44,31 +43,7 @@ impl MediumAccess for CsmaCa {
         } else {
             ctx.state.anchor.unwrap_or(self.difs)
         };
-        ctx.state.anchor = Some(first);
-        let slot = self.backoff_slot;
-        let (b, on) = if t < first - 1e-9 * slot {
-            (first, false)
-        } else {
-            next_boundary(t, slot, first)
-        };
-        match (on, count) {
-            // On a boundary with nothing left to count.
-            (true, 0) => {
-                ctx.state.counter = None;
-                Decision::Send
-            }
-            // Count from this boundary, or from the next one.
-            (true, _) => Decision::Count {
-                from: t,
-                slot,
-                left: count,
-            },
-            (false, _) => Decision::Count {
-                from: b,
-                slot,
-                left: count,
-            },
-        }
+        count_idle(ctx, first, self.backoff_slot, count)
     }
 
     fn memory(&self) -> f64 {

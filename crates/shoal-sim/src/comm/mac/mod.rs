@@ -143,6 +143,37 @@ fn access(a: &Access) -> Arc<dyn MediumAccess> {
     }
 }
 
+/// The decision at `ctx.t` of a protocol that counts idle slot boundaries (CSMA/CA,
+/// p-persistent CSMA) on a channel found idle: its boundaries are `first + k · slot` \[s\]
+/// (k ≥ 0; `first` kept as the state's anchor), and `left` of them are to pass idle before the
+/// one to send at. On a boundary with nothing left: send (the count is done); else count from
+/// this boundary, or from the next one ([`Decision::Count`]).
+pub(super) fn count_idle(ctx: &mut Ctx<'_>, first: f64, slot: f64, left: u32) -> Decision {
+    let t = ctx.t;
+    ctx.state.anchor = Some(first);
+    let (b, on) = if t < first - 1e-9 * slot {
+        (first, false)
+    } else {
+        next_boundary(t, slot, first)
+    };
+    match (on, left) {
+        (true, 0) => {
+            ctx.state.counter = None;
+            Decision::Send
+        }
+        (true, _) => Decision::Count {
+            from: t,
+            slot,
+            left,
+        },
+        (false, _) => Decision::Count {
+            from: b,
+            slot,
+            left,
+        },
+    }
+}
+
 /// The first boundary of the lattice `phase + k · period` (k an integer) at or after `t`
 /// \[s\], with a tolerance of 10⁻⁹ periods so that a time computed as a boundary counts as
 /// one; and whether `t` is (within that tolerance) that boundary.

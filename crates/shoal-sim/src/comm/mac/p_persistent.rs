@@ -11,7 +11,7 @@
 //! A busy channel freezes the count; since the draws are independent, what is left of it is
 //! again geometric — the same law as drawing afresh at every boundary.
 
-use super::{Ctx, Decision, MediumAccess, next_boundary};
+use super::{Ctx, Decision, MediumAccess, count_idle};
 use rand::RngExt;
 use shoal_world::access::PPersistent;
 
@@ -24,7 +24,7 @@ fn failures(u: f64, p: f64) -> u32 {
 
 impl MediumAccess for PPersistent {
     fn decide(&self, ctx: &mut Ctx<'_>) -> Decision {
-        let (t, slot) = (ctx.t, self.backoff_slot);
+        let slot = self.backoff_slot;
         let since = match (ctx.idle_since)(self.threshold) {
             Ok(since) => since,
             // Busy: look again when it may have fallen idle.
@@ -39,34 +39,13 @@ impl MediumAccess for PPersistent {
         } else {
             ctx.state.anchor.unwrap_or(0.0)
         };
-        ctx.state.anchor = Some(first);
-        let (b, on) = if t < first - 1e-9 * slot {
-            (first, false)
-        } else {
-            next_boundary(t, slot, first)
-        };
         // How many idle boundaries let pass before the one to send at: drawn once the channel
         // is found idle.
         let left = *ctx
             .state
             .counter
             .get_or_insert_with(|| failures(ctx.rng.random::<f64>(), self.p));
-        match (on, left) {
-            (true, 0) => {
-                ctx.state.counter = None;
-                Decision::Send
-            }
-            (true, _) => Decision::Count {
-                from: t,
-                slot,
-                left,
-            },
-            (false, _) => Decision::Count {
-                from: b,
-                slot,
-                left,
-            },
-        }
+        count_idle(ctx, first, slot, left)
     }
 
     fn memory(&self) -> f64 {
