@@ -64,6 +64,8 @@ pub(super) struct Walk {
     countdowns: Countdowns,
     /// Vehicles woken by the frames of the current turn.
     woken: Vec<Wake>,
+    /// The decisions of the current turn, by frame (reused).
+    decided: Vec<(u32, Decision)>,
     /// The sensing reach: cut-off range plus the farthest modem's offset \[m\].
     reach: f64,
     /// The step's start and end \[s\].
@@ -79,6 +81,15 @@ fn due(port: &super::frames::ModemPort, t0: f64) -> Option<f64> {
         .map(|f| f.ready.max(port.busy_until).max(t0))
 }
 
+/// Whether the frame at the head of `port`'s queue is due no later than `t` \[s\]: the port's
+/// own fields decide most cases without reading the queue's storage (a vehicle busy past the
+/// step, counting slots down, is passed over in memory it has at hand).
+fn due_by(port: &super::frames::ModemPort, t: f64) -> bool {
+    !port.queue.is_empty()
+        && port.busy_until <= t
+        && port.queue.front().is_some_and(|f| f.ready <= t)
+}
+
 impl Walk {
     /// A walk through the step `t0 … t_end` \[s\] of medium `m`.
     pub(super) fn new(m: &Medium, t0: f64, t_end: f64) -> Self {
@@ -88,6 +99,7 @@ impl Walk {
             air: OnceCell::new(),
             countdowns: Countdowns::default(),
             woken: Vec::new(),
+            decided: Vec::new(),
             reach: m.r_cut + m.max_modem_offset,
             t0,
             t_end,
@@ -96,10 +108,14 @@ impl Walk {
 
     /// Gives `vehicle` a turn when its first frame is due, if within the step.
     pub(super) fn schedule(&mut self, vehicle: u32, modems: &Modems) {
-        let t0 = self.t0;
+        let (t0, t_end) = (self.t0, self.t_end);
+        if modems.queued == 0 {
+            return;
+        }
         let next = modems
             .ports
             .iter()
+            .filter(|p| p.busy_until < t_end)
             .filter_map(|p| due(p, t0))
             .fold(f64::INFINITY, f64::min);
         if next < self.t_end {
@@ -163,10 +179,12 @@ impl Walk {
         // A vehicle whose count ran out undisturbed hears what it heard when the count began.
         let mut resumed = self.countdowns.end(vehicle, t);
         // Decisions of this turn by frame; the back-off all deferring ports share.
-        let mut decided: Vec<(u32, Decision)> = Vec::new();
+        let mut decided = std::mem::take(&mut self.decided);
+        decided.clear();
         let mut backoff: Option<f64> = None;
         for k in 0..v.modems.ports.len() {
-            if due(&v.modems.ports[k], self.t0).map(f64::to_bits) != Some(t.to_bits()) {
+            let port = &v.modems.ports[k];
+            if !due_by(port, t) || due(port, self.t0).map(f64::to_bits) != Some(t.to_bits()) {
                 continue;
             }
             let Some((seq, kind)) = v.modems.ports[k].queue.front().map(|q| (q.seq, q.kind)) else {
@@ -201,6 +219,7 @@ impl Walk {
                 None => self.send(m, (t, vehicle, k), v),
             }
         }
+        self.decided = decided;
         self.schedule(vehicle, v.modems);
     }
 
