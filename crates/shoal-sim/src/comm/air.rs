@@ -11,7 +11,7 @@
 //! a step): [`Air::powers`] remembers it for the phase, and [`Air::vehicles_clear`] whether
 //! other hulls block the line between two vehicles.
 
-use super::grid::Cells;
+use super::grid::{CellLists, Cells};
 use super::medium::{Medium, Transmission};
 use shoal_model::math::Vec3;
 use std::cell::RefCell;
@@ -64,17 +64,9 @@ pub(super) struct OnAir {
     pub(super) index: u32,
 }
 
-/// No entry (end of a cell's list).
-const NONE: u32 = u32::MAX;
-
 /// The transmissions on record, by grid cell.
 pub(super) struct Air {
-    entries: Vec<OnAir>,
-    /// Next entry in the same cell.
-    next: Vec<u32>,
-    /// First entry of each cell.
-    head: Vec<u32>,
-    cells: Cells,
+    entries: CellLists<OnAir>,
     /// The transmissions a query keeps, put in list order (reused).
     kept: RefCell<Vec<OnAir>>,
     /// Powers at a vehicle's modems from a transmission, by (vehicle, entry) \[W\].
@@ -91,10 +83,7 @@ impl Air {
         let (lo, hi) = m.grid.bounds();
         let cells = Cells::over(lo, hi, reach);
         let mut air = Self {
-            entries: Vec::with_capacity(m.txs.len()),
-            next: Vec::with_capacity(m.txs.len()),
-            head: vec![NONE; cells.count()],
-            cells,
+            entries: CellLists::new(cells),
             kept: RefCell::new(Vec::new()),
             powers: RefCell::new(HashMap::default()),
             clear: RefCell::new(HashMap::default()),
@@ -107,7 +96,7 @@ impl Air {
 
     /// Its cells (at least the sensing reach wide).
     pub(super) fn cells(&self) -> Cells {
-        self.cells
+        self.entries.cells()
     }
 
     /// Adds transmission `x`, at `index` in the medium's list.
@@ -119,22 +108,13 @@ impl Air {
             tx: x.tx,
             index: index as u32,
         };
-        let k = self.cells.index(&e.position);
-        self.next.push(self.head[k]);
-        self.head[k] = self.entries.len() as u32;
-        self.entries.push(e);
+        self.entries.push(&e.position, e);
     }
 
     /// Calls `f` with every transmission whose sending modem lies in the cells around `pos`
     /// (all within `reach` of it among them), in no particular order.
-    pub(super) fn near(&self, pos: &Vec3, mut f: impl FnMut(&OnAir)) {
-        self.cells.each_around(pos, |c| {
-            let mut e = self.head[c];
-            while e != NONE {
-                f(&self.entries[e as usize]);
-                e = self.next[e as usize];
-            }
-        });
+    pub(super) fn near(&self, pos: &Vec3, f: impl FnMut(&OnAir)) {
+        self.entries.each_near(pos, f);
     }
 
     /// Calls `keep` with the transmissions [`Air::near`] `pos`, then `f` with those it kept

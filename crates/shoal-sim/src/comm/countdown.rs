@@ -16,11 +16,8 @@
 //! starts looks only at the cells around its sender.
 
 use super::air::FastMap;
-use super::grid::Cells;
+use super::grid::{CellLists, Cells};
 use shoal_model::math::Vec3;
-
-/// No entry (end of a cell's list).
-const NONE: u32 = u32::MAX;
 
 /// A vehicle counting idle slots down.
 #[derive(Clone, Copy, Debug)]
@@ -58,13 +55,8 @@ pub(super) struct Wake {
 /// The vehicles counting idle slots down in this step.
 #[derive(Default)]
 pub(super) struct Countdowns {
-    /// Their cells, once one counts.
-    cells: Option<Cells>,
-    /// First entry of each cell.
-    head: Vec<u32>,
-    /// Next entry in the same cell.
-    next: Vec<u32>,
-    entries: Vec<Countdown>,
+    /// Every countdown of the step by position, once one has begun.
+    entries: Option<CellLists<Countdown>>,
     /// Each counting vehicle's current entry (older entries of a vehicle are passed over).
     live: FastMap<u32, u32>,
     /// The latest time a frame started \[s\], and where the frames that started then did \[m\].
@@ -113,24 +105,20 @@ impl Countdowns {
         {
             return None;
         }
-        let cells = *self.cells.get_or_insert_with(cells);
-        if self.head.is_empty() {
-            self.head = vec![NONE; cells.count()];
-        }
         let target = (0..left).fold(from, |t, _| t + slot);
-        let e = self.entries.len() as u32;
-        let k = cells.index(position);
-        self.next.push(self.head[k]);
-        self.head[k] = e;
-        self.entries.push(Countdown {
-            vehicle,
-            position: *position,
-            from,
-            slot,
-            left,
-            target,
-            heard: Some(heard),
-        });
+        let entries = self.entries.get_or_insert_with(|| CellLists::new(cells()));
+        let e = entries.push(
+            position,
+            Countdown {
+                vehicle,
+                position: *position,
+                from,
+                slot,
+                left,
+                target,
+                heard: Some(heard),
+            },
+        );
         self.live.insert(vehicle, e);
         Some(target)
     }
@@ -141,7 +129,7 @@ impl Countdowns {
     /// it in between (the threshold \[W\] and since when the channel has been idle \[s\]).
     pub(super) fn end(&mut self, vehicle: u32, t: f64) -> Option<(f64, f64)> {
         let &e = self.live.get(&vehicle)?;
-        let d = &self.entries[e as usize];
+        let d = self.entries.as_ref()?.get(e);
         if d.target > t {
             return None;
         }
@@ -165,33 +153,29 @@ impl Countdowns {
             self.latest.1.clear();
         }
         self.latest.1.push(*position);
-        let Some(cells) = self.cells.filter(|_| !self.live.is_empty()) else {
+        let (Some(entries), live) = (&mut self.entries, &mut self.live) else {
             return;
         };
-        let (entries, next, head, live) =
-            (&mut self.entries, &self.next, &self.head, &mut self.live);
-        cells.each_around(position, |c| {
-            let mut e = head[c];
-            while e != NONE {
-                let d = &mut entries[e as usize];
-                if live.get(&d.vehicle) == Some(&e)
-                    && (d.position - position).norm_squared() <= reach * reach
-                    && let Some((at, j)) = first_boundary(d.from, d.slot, d.left, |b| b > t)
-                {
-                    if j < d.left {
-                        live.remove(&d.vehicle);
-                        woken.push(Wake {
-                            vehicle: d.vehicle,
-                            at,
-                            left: d.left - j,
-                            target: d.target,
-                        });
-                    } else {
-                        // Asked at its last boundary anyway, where it hears this frame.
-                        d.heard = None;
-                    }
+        if live.is_empty() {
+            return;
+        }
+        entries.each_around(position, |e, d| {
+            if live.get(&d.vehicle) == Some(&e)
+                && (d.position - position).norm_squared() <= reach * reach
+                && let Some((at, j)) = first_boundary(d.from, d.slot, d.left, |b| b > t)
+            {
+                if j < d.left {
+                    live.remove(&d.vehicle);
+                    woken.push(Wake {
+                        vehicle: d.vehicle,
+                        at,
+                        left: d.left - j,
+                        target: d.target,
+                    });
+                } else {
+                    // Asked at its last boundary anyway, where it hears this frame.
+                    d.heard = None;
                 }
-                e = next[e as usize];
             }
         });
     }
@@ -200,8 +184,11 @@ impl Countdowns {
     /// first boundary at or after `t_end` (added to `woken`, in the order of the vehicles).
     pub(super) fn step_ended(&mut self, t_end: f64, woken: &mut Vec<Wake>) {
         let first = woken.len();
+        let Some(entries) = &self.entries else {
+            return;
+        };
         for (&vehicle, &e) in &self.live {
-            let d = &self.entries[e as usize];
+            let d = entries.get(e);
             let (at, j) = first_boundary(d.from, d.slot, d.left, |b| b >= t_end)
                 .unwrap_or((d.target, d.left));
             woken.push(Wake {

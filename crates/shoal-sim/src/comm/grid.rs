@@ -79,6 +79,78 @@ impl Cells {
     }
 }
 
+/// No item (end of a cell's list).
+const NONE: u32 = u32::MAX;
+
+/// Items by cell of [`Cells`], each cell a linked list, items numbered in the order they were
+/// added: what the transmit phase keeps by position while it walks a step (the transmissions
+/// on record, `air.rs`; the vehicles counting down, `countdown.rs`) — an item added during
+/// the walk joins its cell at once.
+pub(super) struct CellLists<T> {
+    cells: Cells,
+    /// First item of each cell.
+    head: Vec<u32>,
+    /// Next item in the same cell.
+    next: Vec<u32>,
+    items: Vec<T>,
+}
+
+impl<T> CellLists<T> {
+    /// No items, on `cells`.
+    pub(super) fn new(cells: Cells) -> Self {
+        Self {
+            cells,
+            head: vec![NONE; cells.count()],
+            next: Vec::new(),
+            items: Vec::new(),
+        }
+    }
+
+    /// The cells.
+    pub(super) fn cells(&self) -> Cells {
+        self.cells
+    }
+
+    /// Adds `item` at `p` \[m\]; returns its number.
+    pub(super) fn push(&mut self, p: &Vec3, item: T) -> u32 {
+        let k = self.cells.index(p);
+        let i = self.items.len() as u32;
+        self.next.push(self.head[k]);
+        self.head[k] = i;
+        self.items.push(item);
+        i
+    }
+
+    /// Item number `i`.
+    pub(super) fn get(&self, i: u32) -> &T {
+        &self.items[i as usize]
+    }
+
+    /// Calls `f` with the number of every item in the cell of `p` and its neighbours (all
+    /// within a cell's width of it among them) and the item, in no particular order.
+    pub(super) fn each_around(&mut self, p: &Vec3, mut f: impl FnMut(u32, &mut T)) {
+        let (head, next, items) = (&self.head, &self.next, &mut self.items);
+        self.cells.each_around(p, |c| {
+            let mut i = head[c];
+            while i != NONE {
+                f(i, &mut items[i as usize]);
+                i = next[i as usize];
+            }
+        });
+    }
+
+    /// [`CellLists::each_around`], reading.
+    pub(super) fn each_near(&self, p: &Vec3, mut f: impl FnMut(&T)) {
+        self.cells.each_around(p, |c| {
+            let mut i = self.head[c];
+            while i != NONE {
+                f(&self.items[i as usize]);
+                i = self.next[i as usize];
+            }
+        });
+    }
+}
+
 /// A dense uniform grid of points (compressed rows: ids sorted by cell), rebuilt every step by
 /// a counting sort; box queries index it directly.
 #[derive(Clone, Debug, Default)]

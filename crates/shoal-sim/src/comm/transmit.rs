@@ -81,13 +81,13 @@ fn due(port: &super::frames::ModemPort, t0: f64) -> Option<f64> {
         .map(|f| f.ready.max(port.busy_until).max(t0))
 }
 
-/// Whether the frame at the head of `port`'s queue is due no later than `t` \[s\]: the port's
-/// own fields decide most cases without reading the queue's storage (a vehicle busy past the
-/// step, counting slots down, is passed over in memory it has at hand).
-fn due_by(port: &super::frames::ModemPort, t: f64) -> bool {
+/// Whether the frame at the head of `port`'s queue is due at `t` ≥ `t0` \[s\] ([`due`]): the
+/// port's own fields rule most ports out without reading the queue's storage (a vehicle busy
+/// past `t`, counting slots down, is passed over in memory it has at hand).
+fn due_at(port: &super::frames::ModemPort, t: f64, t0: f64) -> bool {
     !port.queue.is_empty()
         && port.busy_until <= t
-        && port.queue.front().is_some_and(|f| f.ready <= t)
+        && due(port, t0).is_some_and(|d| d.to_bits() == t.to_bits())
 }
 
 impl Walk {
@@ -183,8 +183,7 @@ impl Walk {
         decided.clear();
         let mut backoff: Option<f64> = None;
         for k in 0..v.modems.ports.len() {
-            let port = &v.modems.ports[k];
-            if !due_by(port, t) || due(port, self.t0).map(f64::to_bits) != Some(t.to_bits()) {
+            if !due_at(&v.modems.ports[k], t, self.t0) {
                 continue;
             }
             let Some((seq, kind)) = v.modems.ports[k].queue.front().map(|q| (q.seq, q.kind)) else {
