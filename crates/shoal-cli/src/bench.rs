@@ -352,21 +352,18 @@ fn access_table(
 const ROUNDS: usize = 3;
 
 /// The step's wall time of `desc` against `aloha`'s on `threads` threads: [`ROUNDS`] rounds
-/// of ALOHA then `desc`, `seconds` each in all, and the median of the rounds' ratios; with
-/// the last round's cell of `desc`.
+/// of ALOHA then `desc`, `seconds` each in all; the median round's ratio and cell of `desc`.
 fn paired_cost(aloha: &WorldDesc, desc: &WorldDesc, threads: usize, seconds: f64) -> (f64, Cell) {
     let each = seconds / ROUNDS as f64;
-    let mut ratios = Vec::with_capacity(ROUNDS);
-    let mut last = None;
-    for _ in 0..ROUNDS {
-        let base = measure(aloha, threads, each, 150).vehicle_steps_per_s;
-        let c = measure(desc, threads, each, 150);
-        ratios.push(base / c.vehicle_steps_per_s);
-        last = Some(c);
-    }
-    ratios.sort_by(f64::total_cmp);
-    let cell = last.unwrap_or_else(|| measure(desc, threads, each, 150));
-    (ratios[ROUNDS / 2], cell)
+    let mut rounds: Vec<(f64, Cell)> = (0..ROUNDS)
+        .map(|_| {
+            let base = measure(aloha, threads, each, 150).vehicle_steps_per_s;
+            let c = measure(desc, threads, each, 150);
+            (base / c.vehicle_steps_per_s, c)
+        })
+        .collect();
+    rounds.sort_by(|a, b| a.0.total_cmp(&b.0));
+    rounds.swap_remove(ROUNDS / 2)
 }
 
 /// The second table: the share of each phase of the step in this binary's rows.
