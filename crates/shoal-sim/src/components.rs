@@ -17,13 +17,11 @@ pub struct VehicleId(pub u32);
 pub struct VehicleEntities(pub Vec<Entity>);
 
 impl VehicleEntities {
-    /// The entities of vehicles `ids` (each below the vehicle count), as a set the ECS can
-    /// fetch mutable components of (in entity order, not id order).
-    pub fn set_of(&self, ids: &[u32]) -> bevy_ecs::entity::UniqueEntityVec {
-        ids.iter()
-            .map(|&i| self.0[i as usize])
-            .collect::<std::collections::BTreeSet<Entity>>()
-            .into()
+    /// The entities of vehicles `ids` (distinct, each below the vehicle count), as a set the
+    /// ECS can fetch mutable components of, in the order of `ids` (an index set: its entity
+    /// hash is a multiplication, where an ordered set costs a tree and loses that order).
+    pub fn set_of(&self, ids: &[u32]) -> bevy_ecs::entity::index_set::EntityIndexSet {
+        ids.iter().map(|&i| self.0[i as usize]).collect()
     }
 }
 

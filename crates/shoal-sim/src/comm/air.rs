@@ -64,34 +64,90 @@ pub(super) struct OnAir {
     pub(super) index: u32,
 }
 
+impl OnAir {
+    /// Of transmission `x`, at `index` in the medium's list.
+    fn of(index: usize, x: &Transmission) -> Self {
+        Self {
+            start: x.start,
+            end: x.end,
+            position: x.pose.position,
+            tx: x.tx,
+            index: index as u32,
+        }
+    }
+}
+
 /// The transmissions on record, by grid cell.
 pub(super) struct Air {
     entries: CellLists<OnAir>,
     /// The transmissions a query keeps, put in list order (reused).
     kept: RefCell<Vec<OnAir>>,
+    /// The frames that ended near a listening vehicle, put aside (reused; `sensing.rs`).
+    pub(super) ended: RefCell<Vec<OnAir>>,
     /// Powers at a vehicle's modems from a transmission, by (vehicle, entry) \[W\].
     powers: RefCell<FastMap<u64, [f64; MODEMS_REMEMBERED]>>,
     /// Whether other hulls leave the line between two vehicles clear, by (sender, receiver).
     clear: RefCell<FastMap<u64, bool>>,
 }
 
+/// The storage of an [`Air`], kept from one phase to the next (its lists and maps keep
+/// their capacity).
+#[derive(Default)]
+pub(super) struct AirStore {
+    entries: Option<CellLists<OnAir>>,
+    kept: Vec<OnAir>,
+    ended: Vec<OnAir>,
+    powers: FastMap<u64, [f64; MODEMS_REMEMBERED]>,
+    clear: FastMap<u64, bool>,
+}
+
 impl Air {
     /// The transmissions of `m` on record, in cells at least `reach` \[m\] wide over the
-    /// vehicles' positions (the senders of every frame of the phase).
-    pub(super) fn new(m: &Medium, reach: f64) -> Self {
+    /// vehicles' positions (the senders of every frame of the phase), in `store`.
+    pub(super) fn new(m: &Medium, reach: f64, store: AirStore) -> Self {
         // The vehicles' box at the grid's last rebuild (they have moved a little since).
         let (lo, hi) = m.grid.bounds();
         let cells = Cells::over(lo, hi, reach);
+        let entries = match store.entries {
+            Some(mut l) => {
+                l.reset(cells);
+                l
+            }
+            None => CellLists::new(cells),
+        };
+        let AirStore {
+            mut kept,
+            ended,
+            mut powers,
+            mut clear,
+            ..
+        } = store;
+        kept.clear();
+        powers.clear();
+        clear.clear();
         let mut air = Self {
-            entries: CellLists::new(cells),
-            kept: RefCell::new(Vec::new()),
-            powers: RefCell::new(HashMap::default()),
-            clear: RefCell::new(HashMap::default()),
+            entries,
+            kept: RefCell::new(kept),
+            ended: RefCell::new(ended),
+            powers: RefCell::new(powers),
+            clear: RefCell::new(clear),
         };
         for (i, x) in m.txs.iter().enumerate() {
-            air.push(i, x);
+            let e = OnAir::of(i, x);
+            air.entries.push(&e.position, e);
         }
         air
+    }
+
+    /// Its storage, for the next phase.
+    pub(super) fn store(self) -> AirStore {
+        AirStore {
+            entries: Some(self.entries),
+            kept: self.kept.into_inner(),
+            ended: self.ended.into_inner(),
+            powers: self.powers.into_inner(),
+            clear: self.clear.into_inner(),
+        }
     }
 
     /// Its cells (at least the sensing reach wide).
@@ -99,27 +155,18 @@ impl Air {
         self.entries.cells()
     }
 
-    /// Adds transmission `x`, at `index` in the medium's list.
-    pub(super) fn push(&mut self, index: usize, x: &Transmission) {
-        let e = OnAir {
-            start: x.start,
-            end: x.end,
-            position: x.pose.position,
-            tx: x.tx,
-            index: index as u32,
-        };
+    /// Adds transmission `x`, started now, at `index` in the medium's list; returns what
+    /// it keeps of it.
+    pub(super) fn push(&mut self, index: usize, x: &Transmission) -> OnAir {
+        let e = OnAir::of(index, x);
         self.entries.push(&e.position, e);
+        e
     }
 
-    /// Calls `f` with every transmission whose sending modem lies in the cells around `pos`
-    /// (all within `reach` of it among them), in no particular order.
-    pub(super) fn near(&self, pos: &Vec3, f: impl FnMut(&OnAir)) {
-        self.entries.each_near(pos, f);
-    }
-
-    /// Calls `keep` with the transmissions [`Air::near`] `pos`, then `f` with those it kept
-    /// (returned `true` for) in the order of the medium's list — the order in which powers
-    /// are added up.
+    /// Calls `keep` with every transmission whose sending modem lies in the cells around `pos`
+    /// (all within the reach of it among them), in no particular order, then `f` with those
+    /// it kept (returned `true` for) in the order of the medium's list — the order in which
+    /// powers are added up.
     pub(super) fn in_list_order(
         &self,
         pos: &Vec3,
@@ -128,7 +175,7 @@ impl Air {
     ) {
         let mut kept = self.kept.borrow_mut();
         kept.clear();
-        self.near(pos, |a| {
+        self.entries.each_near(pos, |a| {
             if keep(a) {
                 kept.push(*a);
             }

@@ -138,14 +138,15 @@ impl Countdowns {
     }
 
     /// A frame started at `t` \[s\] from `position` \[m\]: the vehicles counting down within
-    /// `reach` \[m\] of it whose last boundary is later than the first one after `t` are to be
-    /// asked at that one instead (added to `woken`); they no longer count down. Those whose
-    /// last boundary is that one will listen there again.
+    /// `reach` \[m\] of it that it `reaches` (one that receives no power from it hears
+    /// nothing new, and counts on) whose last boundary is later than the first one after `t`
+    /// are to be asked at that one instead (added to `woken`); they no longer count down.
+    /// Those whose last boundary is that one will listen there again.
     pub(super) fn frame_started(
         &mut self,
-        position: &Vec3,
-        t: f64,
+        (position, t): (&Vec3, f64),
         reach: f64,
+        mut reaches: impl FnMut(u32) -> bool,
         woken: &mut Vec<Wake>,
     ) {
         if self.latest.0 != t {
@@ -163,6 +164,7 @@ impl Countdowns {
             if live.get(&d.vehicle) == Some(&e)
                 && (d.position - position).norm_squared() <= reach * reach
                 && let Some((at, j)) = first_boundary(d.from, d.slot, d.left, |b| b > t)
+                && reaches(d.vehicle)
             {
                 if j < d.left {
                     live.remove(&d.vehicle);
@@ -250,10 +252,20 @@ mod tests {
             .unwrap();
         let mut woken = Vec::new();
         // Beyond reach: nothing.
-        c.frame_started(&Vec3::new(5.0, 1.0, 1.0), 1.023, 2.5, &mut woken);
+        c.frame_started(
+            (&Vec3::new(5.0, 1.0, 1.0), 1.023),
+            2.5,
+            |_| true,
+            &mut woken,
+        );
         assert!(woken.is_empty());
         // At 1.023 within reach: boundaries 1.00 … 1.02 passed (3 of 10), asked at 1.03 with 7.
-        c.frame_started(&Vec3::new(2.0, 1.0, 1.0), 1.023, 2.5, &mut woken);
+        c.frame_started(
+            (&Vec3::new(2.0, 1.0, 1.0), 1.023),
+            2.5,
+            |_| true,
+            &mut woken,
+        );
         assert_eq!(woken.len(), 1);
         let w = woken[0];
         assert_eq!(
@@ -262,14 +274,14 @@ mod tests {
         );
         assert!((w.at - 1.03).abs() < 1e-12, "{}", w.at);
         // Woken: no longer counting.
-        c.frame_started(&Vec3::new(2.0, 1.0, 1.0), 1.05, 2.5, &mut woken);
+        c.frame_started((&Vec3::new(2.0, 1.0, 1.0), 1.05), 2.5, |_| true, &mut woken);
         assert_eq!(woken.len(), 1);
         // A start on a boundary is not heard there: the next one is the boundary to ask at.
         let mut c = Countdowns::default();
         c.start((4, &p), (1.0, (1e-9, 0.0)), (1.0, 0.25, 4), (2.5, cells))
             .unwrap();
         let mut woken = Vec::new();
-        c.frame_started(&p, 1.5, 2.5, &mut woken);
+        c.frame_started((&p, 1.5), 2.5, |_| true, &mut woken);
         assert_eq!((woken[0].at, woken[0].left), (1.75, 1));
         // Counting from a later boundary: a frame before it wakes the vehicle there, with the
         // whole count still to go.
@@ -277,15 +289,47 @@ mod tests {
         c.start((6, &p), (1.1, (1e-9, 0.0)), (1.25, 0.25, 4), (2.5, cells))
             .unwrap();
         let mut woken = Vec::new();
-        c.frame_started(&p, 1.2, 2.5, &mut woken);
+        c.frame_started((&p, 1.2), 2.5, |_| true, &mut woken);
         assert_eq!((woken[0].at, woken[0].left), (1.25, 4));
         // Whose first boundary after is the last: asked there anyway, not woken.
         let mut c = Countdowns::default();
         c.start((5, &p), (1.0, (1e-9, 0.0)), (1.0, 0.25, 4), (2.5, cells))
             .unwrap();
         let mut woken = Vec::new();
-        c.frame_started(&p, 1.8, 2.5, &mut woken);
+        c.frame_started((&p, 1.8), 2.5, |_| true, &mut woken);
         assert!(woken.is_empty());
+    }
+
+    /// A frame within reach that reaches none of a counting vehicle's modems changes nothing
+    /// it hears: it neither wakes the vehicle nor makes it listen again at its last boundary.
+    #[test]
+    fn a_frame_that_reaches_no_modem_wakes_nobody() {
+        let mut c = Countdowns::default();
+        let p = Vec3::new(1.0, 1.0, 1.0);
+        let target = c
+            .start((3, &p), (1.0, (1e-9, 0.5)), (1.0, 0.25, 4), (2.5, cells))
+            .unwrap();
+        let mut woken = Vec::new();
+        let mut asked = Vec::new();
+        c.frame_started(
+            (&p, 1.1),
+            2.5,
+            |v| {
+                asked.push(v);
+                false
+            },
+            &mut woken,
+        );
+        assert_eq!(asked, [3], "the vehicle within reach is asked about");
+        assert!(woken.is_empty());
+        // Just before the last boundary, a frame that does not reach it leaves what it heard.
+        c.frame_started((&p, 1.7), 2.5, |_| false, &mut woken);
+        assert_eq!(c.end(3, target), Some((1e-9, 0.5)));
+        // One that reaches it wakes it.
+        c.start((4, &p), (2.0, (1e-9, 0.5)), (2.0, 0.25, 4), (2.5, cells))
+            .unwrap();
+        c.frame_started((&p, 2.1), 2.5, |_| true, &mut woken);
+        assert_eq!(woken.len(), 1);
     }
 
     /// A frame that started at the very boundary a vehicle finds the channel idle at is not
@@ -296,18 +340,23 @@ mod tests {
         let mut c = Countdowns::default();
         let p = Vec3::new(1.0, 1.0, 1.0);
         let mut woken = Vec::new();
-        c.frame_started(&Vec3::new(9.0, 1.0, 1.0), 2.0, 2.5, &mut woken);
+        c.frame_started((&Vec3::new(9.0, 1.0, 1.0), 2.0), 2.5, |_| true, &mut woken);
         assert!(
             c.start((1, &p), (2.0, (1e-9, 0.0)), (2.0, 0.01, 5), (2.5, cells))
                 .is_some()
         );
-        c.frame_started(&Vec3::new(2.0, 1.0, 1.0), 2.0, 2.5, &mut woken);
+        c.frame_started((&Vec3::new(2.0, 1.0, 1.0), 2.0), 2.5, |_| true, &mut woken);
         assert_eq!(woken.len(), 1, "the first is woken at 2.01");
         assert_eq!(
             c.start((2, &p), (2.0, (1e-9, 0.0)), (2.0, 0.01, 5), (2.5, cells)),
             None
         );
-        c.frame_started(&Vec3::new(2.0, 1.0, 1.0), 2.005, 2.5, &mut woken);
+        c.frame_started(
+            (&Vec3::new(2.0, 1.0, 1.0), 2.005),
+            2.5,
+            |_| true,
+            &mut woken,
+        );
         assert!(
             c.start((3, &p), (2.01, (1e-9, 0.0)), (2.01, 0.01, 5), (2.5, cells))
                 .is_some()
@@ -329,13 +378,13 @@ mod tests {
         c.start((2, &p), (1.0, (2e-9, 0.7)), (1.0, 0.25, 4), (2.5, cells))
             .unwrap();
         let mut woken = Vec::new();
-        c.frame_started(&p, 1.1, 2.5, &mut woken);
+        c.frame_started((&p, 1.1), 2.5, |_| true, &mut woken);
         assert_eq!(c.end(2, woken[0].at), None);
         // A frame just before the last boundary: not woken, but it listens there.
         let target = c
             .start((3, &p), (1.0, (2e-9, 0.7)), (1.0, 0.25, 4), (2.5, cells))
             .unwrap();
-        c.frame_started(&p, 1.9, 2.5, &mut woken);
+        c.frame_started((&p, 1.9), 2.5, |_| true, &mut woken);
         assert_eq!(woken.len(), 1);
         assert_eq!(c.end(3, target), None);
     }
@@ -365,7 +414,7 @@ mod tests {
         assert_eq!(got, [(2, 1.0, 0), (9, 1.0, 4)]);
         // Nobody is left counting.
         let mut again = Vec::new();
-        c.frame_started(&Vec3::zeros(), 0.6, 2.5, &mut again);
+        c.frame_started((&Vec3::zeros(), 0.6), 2.5, |_| true, &mut again);
         assert!(again.is_empty());
     }
 }

@@ -106,6 +106,15 @@ impl<T> CellLists<T> {
         }
     }
 
+    /// No items, on `cells`, in the storage of `self`.
+    pub(super) fn reset(&mut self, cells: Cells) {
+        self.cells = cells;
+        self.head.clear();
+        self.head.resize(cells.count(), NONE);
+        self.next.clear();
+        self.items.clear();
+    }
+
     /// The cells.
     pub(super) fn cells(&self) -> Cells {
         self.cells

@@ -30,26 +30,23 @@ pub(super) fn sensed_power(
                 && (x.position - pose.position).norm_squared() <= r2
         },
         |x| {
-            sum += sensed_one(
-                (medium, geo, air),
-                &medium.txs[x.index as usize],
-                me,
-                k,
-                pose,
-            )
+            let tx = &medium.txs[x.index as usize];
+            sum += sensed_one((medium, geo), tx, (me, k, pose), || {
+                air.vehicles_clear(medium, tx.tx, me)
+            });
         },
     );
     sum
 }
 
 /// The optical power transmission `x` delivers to modem `k` of vehicle `me` at `pose` \[W\]:
-/// the link budget, zero beyond the cut-off range or when walls, obstacles or hulls block it.
-fn sensed_one(
-    (medium, geo, air): (&Medium, &shoal_world::geometry::Geometry, &Air),
+/// the link budget, zero beyond the cut-off range or when walls, obstacles or hulls block it
+/// (`clear`: whether other hulls leave the line between the two vehicles clear, asked last).
+pub(super) fn sensed_one(
+    (medium, geo): (&Medium, &shoal_world::geometry::Geometry),
     x: &Transmission,
-    me: u32,
-    k: usize,
-    pose: &ModemPose,
+    (me, k, pose): (u32, usize, &ModemPose),
+    clear: impl FnOnce() -> bool,
 ) -> f64 {
     // Beyond the cut-off range nothing arrives: decided by a squared distance, before the
     // link geometry.
@@ -67,13 +64,137 @@ fn sensed_one(
         &g,
         medium.attenuation,
     );
-    if p > 0.0
-        && geo.line_of_sight(&x.pose.position, &pose.position)
-        && air.vehicles_clear(medium, x.tx, me)
-    {
+    if p > 0.0 && geo.line_of_sight(&x.pose.position, &pose.position) && clear() {
         p
     } else {
         0.0
+    }
+}
+
+/// The poses of a vehicle's modems at `pos`, `att`; up to eight modems without allocating.
+pub(super) struct ModemPoses {
+    small: [ModemPose; 8],
+    big: Vec<ModemPose>,
+    n: usize,
+}
+
+impl ModemPoses {
+    /// Of vehicle `v` of `m` at `pos`, `att`.
+    pub(super) fn of(m: &Medium, v: u32, pos: &Vec3, att: &shoal_model::math::Quat) -> Self {
+        let modems = &m.kinds[v as usize].params.modems;
+        let n = modems.len();
+        let unused = ModemPose {
+            position: *pos,
+            axis: Vec3::x(),
+        };
+        let mut small = [unused; 8];
+        let mut big = Vec::new();
+        if n <= 8 {
+            for (s, p) in small.iter_mut().zip(modems.iter()) {
+                *s = ModemPose::of(p, pos, att);
+            }
+        } else {
+            big = modems.iter().map(|p| ModemPose::of(p, pos, att)).collect();
+        }
+        Self { small, big, n }
+    }
+
+    /// The poses, in modem order.
+    pub(super) fn poses(&self) -> &[ModemPose] {
+        if self.n <= 8 {
+            &self.small[..self.n]
+        } else {
+            &self.big
+        }
+    }
+}
+
+/// Hands the power a transmission delivers to each of a vehicle's modems (its index, \[W\])
+/// to the callback it is given.
+type EachPower<'a> = dyn FnMut(&mut dyn FnMut(usize, f64)) + 'a;
+
+/// What a vehicle listening at `t` has found out so far ([`idle_since`]).
+struct Listening<'a> {
+    v: u32,
+    pos: &'a Vec3,
+    t: f64,
+    threshold: f64,
+    /// The squared sensing reach \[m²\].
+    reach2: f64,
+    /// The end of the last frame that alone was heard above the threshold \[s\].
+    since: f64,
+    /// The first end of a frame heard now \[s\].
+    until: f64,
+    /// Where to put the frames that ended within reach, to be looked at only if the channel
+    /// is idle ([`Listening::since_ended`]); `None`: looked at as they come.
+    ended: Option<&'a mut Vec<OnAir>>,
+}
+
+impl Listening<'_> {
+    /// Whether transmission `a` is on the air and heard now (its powers at the vehicle's
+    /// modems, handed to the callback of `each`, then add up); notes when it ends, or when it
+    /// ended if it alone was heard above the threshold.
+    fn on_air(&mut self, a: &OnAir, each: &mut EachPower<'_>) -> bool {
+        // A frame that starts at this very instant is not heard yet (sensing takes time):
+        // two stations whose back-offs end together both send, and collide.
+        if a.start >= self.t {
+            return false;
+        }
+        if a.tx == self.v {
+            // The vehicle's own frames: the channel was taken until they ended.
+            self.since = self.since.max(a.end.min(self.t));
+            return false;
+        }
+        if (a.position - self.pos).norm_squared() > self.reach2 {
+            return false;
+        }
+        if a.end > self.t {
+            let mut heard = false;
+            each(&mut |_, p| heard |= p > 0.0);
+            if heard {
+                self.until = self.until.min(a.end);
+            }
+            heard
+        } else {
+            // Ended: it matters only if it ended later than those seen so far.
+            if a.end > self.since {
+                match &mut self.ended {
+                    Some(later) => later.push(*a),
+                    None => self.ended_alone(a, each),
+                }
+            }
+            false
+        }
+    }
+
+    /// Frame `a` ended: if it alone was heard above the threshold, the channel was idle only
+    /// since its end.
+    fn ended_alone(&mut self, a: &OnAir, each: &mut EachPower<'_>) {
+        let mut alone = false;
+        let threshold = self.threshold;
+        each(&mut |_, p| alone |= p > threshold);
+        if alone {
+            self.since = self.since.max(a.end);
+        }
+    }
+
+    /// The channel is idle: since when, looking at the frames put aside as they ended, the
+    /// latest end first — the first that alone was heard above the threshold is the last such
+    /// end, and frames that ended before what is known need no link budget at all.
+    fn since_ended(&mut self, each: impl Fn(&OnAir, &mut dyn FnMut(usize, f64))) -> f64 {
+        if let Some(later) = self.ended.take() {
+            later.sort_unstable_by(|a, b| b.end.total_cmp(&a.end));
+            for a in later.iter() {
+                if a.end <= self.since {
+                    break;
+                }
+                self.ended_alone(a, &mut |f| each(a, f));
+                if self.since == a.end {
+                    break;
+                }
+            }
+        }
+        self.since
     }
 }
 
@@ -83,112 +204,185 @@ fn sensed_one(
 /// reaches them now, before which the channel cannot fall idle \[s\] —, else `Ok` with the
 /// end of the last frame that alone did (or the vehicle's own last frame, if later; −∞ if
 /// none) \[s\].
-#[allow(clippy::too_many_arguments)]
 pub(super) fn idle_since(
-    m: &Medium,
-    geo: &shoal_world::geometry::Geometry,
-    air: &Air,
+    (m, geo, air): (&Medium, &shoal_world::geometry::Geometry, &Air),
     v: u32,
     pos: &Vec3,
     att: &shoal_model::math::Quat,
     t: f64,
     threshold: f64,
 ) -> Result<f64, f64> {
-    let mut since = f64::NEG_INFINITY;
-    let mut until = f64::INFINITY;
     // Transmission by transmission around the vehicle, modem by modem inside: a transmission
     // whose sender is beyond the cut-off range of the vehicle's farthest modem is passed over
     // once; each modem's power adds up in the order of the medium's list. Nothing is
     // allocated per decision for up to eight modems.
-    let modems = &m.kinds[v as usize].params.modems;
-    let poses_small: [ModemPose; 8];
-    let poses_big: Vec<ModemPose>;
-    let poses: &[ModemPose] = if modems.len() <= 8 {
-        poses_small = std::array::from_fn(|k| {
-            modems.get(k).map_or(
-                ModemPose {
-                    position: *pos,
-                    axis: Vec3::x(),
-                },
-                |p| ModemPose::of(p, pos, att),
-            )
-        });
-        &poses_small[..modems.len()]
-    } else {
-        poses_big = modems.iter().map(|p| ModemPose::of(p, pos, att)).collect();
-        &poses_big
+    let modems = ModemPoses::of(m, v, pos, att);
+    let poses = modems.poses();
+    let mut ended = air.ended.borrow_mut();
+    ended.clear();
+    let mut l = Listening {
+        v,
+        pos,
+        t,
+        threshold,
+        // Beyond the cut-off range of every modem of any vehicle, nothing arrives.
+        reach2: (m.r_cut + m.max_modem_offset).powi(2),
+        since: f64::NEG_INFINITY,
+        until: f64::INFINITY,
+        ended: None,
     };
-    let reach = m.r_cut + modems.iter().map(|p| p.position.norm()).fold(0.0, f64::max);
     let mut now_small = [0.0f64; 8];
     let mut now_big = Vec::new();
-    let now: &mut [f64] = if modems.len() <= 8 {
-        &mut now_small[..modems.len()]
+    let now: &mut [f64] = if poses.len() <= 8 {
+        &mut now_small[..poses.len()]
     } else {
-        now_big.resize(modems.len(), 0.0);
+        now_big.resize(poses.len(), 0.0);
         &mut now_big
     };
-    // The powers of a transmission at the vehicle's modems, remembered for the phase (up to
-    // eight modems); `f` with each.
+    // The powers of a transmission at the vehicle's modems (remembered for the phase); `f`
+    // with each. The frames that ended wait: they matter only if the channel is idle.
     let each_power = |a: &OnAir, f: &mut dyn FnMut(usize, f64)| {
-        let x = &m.txs[a.index as usize];
-        if poses.len() <= MODEMS_REMEMBERED {
-            let p = air.powers(v, a, || {
-                let mut p = [0.0; MODEMS_REMEMBERED];
-                for (k, pose) in poses.iter().enumerate() {
-                    p[k] = sensed_one((m, geo, air), x, v, k, pose);
-                }
-                p
-            });
-            for (k, p) in p[..poses.len()].iter().enumerate() {
-                f(k, *p);
-            }
-        } else {
-            for (k, pose) in poses.iter().enumerate() {
-                f(k, sensed_one((m, geo, air), x, v, k, pose));
-            }
-        }
+        each_power_of((m, geo, air), v, poses, a, f);
     };
+    l.ended = Some(&mut ended);
     // Which frames are on the air and heard (their powers add up below, in list order), when
     // the first of them ends, and the end of the last frame that alone was heard.
-    air.in_list_order(
-        pos,
-        |a| {
-            // A frame that starts at this very instant is not heard yet (sensing takes time):
-            // two stations whose back-offs end together both send, and collide.
-            if a.start >= t {
-                return false;
-            }
-            if a.tx == v {
-                // The vehicle's own frames: the channel was taken until they ended.
-                since = since.max(a.end.min(t));
-                return false;
-            }
-            if (a.position - pos).norm_squared() > reach * reach {
-                return false;
-            }
-            if a.end > t {
-                let mut heard = false;
-                each_power(a, &mut |_, p| heard |= p > 0.0);
-                if heard {
-                    until = until.min(a.end);
-                }
-                heard
-            } else {
-                // Ended: it matters only if it ended later than those seen so far.
-                if a.end > since {
-                    let mut alone = false;
-                    each_power(a, &mut |_, p| alone |= p > threshold);
-                    if alone {
-                        since = a.end;
-                    }
-                }
-                false
-            }
-        },
-        |a| each_power(a, &mut |k, p| now[k] += p),
-    );
+    let keep = |a: &OnAir| l.on_air(a, &mut |f| each_power(a, f));
+    let add = |a: &OnAir| each_power(a, &mut |k, p| now[k] += p);
+    air.in_list_order(pos, keep, add);
     if now.iter().any(|p| *p > threshold) {
-        return Err(until);
+        return Err(l.until);
     }
-    Ok(since)
+    Ok(l.since_ended(each_power))
+}
+
+/// Calls `f` with the power transmission `a` delivers to each of vehicle `v`'s modems at
+/// `poses` \[W\], remembered for the phase in `air` (up to [`MODEMS_REMEMBERED`] modems).
+fn each_power_of(
+    (m, geo, air): (&Medium, &shoal_world::geometry::Geometry, &Air),
+    v: u32,
+    poses: &[ModemPose],
+    a: &OnAir,
+    f: &mut dyn FnMut(usize, f64),
+) {
+    let x = &m.txs[a.index as usize];
+    let one = |k, pose| sensed_one((m, geo), x, (v, k, pose), || air.vehicles_clear(m, x.tx, v));
+    if poses.len() <= MODEMS_REMEMBERED {
+        let p = air.powers(v, a, || {
+            let mut p = [0.0; MODEMS_REMEMBERED];
+            for (k, pose) in poses.iter().enumerate() {
+                p[k] = one(k, pose);
+            }
+            p
+        });
+        for (k, p) in p[..poses.len()].iter().enumerate() {
+            f(k, *p);
+        }
+    } else {
+        for (k, pose) in poses.iter().enumerate() {
+            f(k, one(k, pose));
+        }
+    }
+}
+
+/// Whether any modem of vehicle `v` receives power from transmission `a` (remembered for the
+/// phase in `air`, as [`idle_since`] will ask it): a frame that reaches none of them changes
+/// nothing [`idle_since`] finds.
+pub(super) fn reaches(
+    (m, geo, air): (&Medium, &shoal_world::geometry::Geometry, &Air),
+    v: u32,
+    a: &OnAir,
+) -> bool {
+    let (pos, att) = &m.poses[v as usize];
+    let modems = ModemPoses::of(m, v, pos, att);
+    let mut any = false;
+    each_power_of((m, geo, air), v, modems.poses(), a, &mut |_, p| {
+        any |= p > 0.0
+    });
+    any
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::cell::RefCell;
+
+    /// A frame of sender `tx` that ended at `end` \[s\], at `index` in the medium's list.
+    fn ended(end: f64, tx: u32, index: u32) -> OnAir {
+        OnAir {
+            start: end - 0.01,
+            end,
+            position: Vec3::zeros(),
+            tx,
+            index,
+        }
+    }
+
+    /// The power each sender's frame delivers to a listener's one modem \[W\].
+    fn power(tx: u32) -> f64 {
+        match tx {
+            2 => 0.5e-9,
+            4 => 2e-9,
+            3 => 3e-9,
+            _ => 5e-9,
+        }
+    }
+
+    fn listener(pos: &Vec3, since: f64) -> Listening<'_> {
+        Listening {
+            v: 9,
+            pos,
+            t: 1.0,
+            threshold: 1e-9,
+            reach2: 100.0,
+            since,
+            until: f64::INFINITY,
+            ended: None,
+        }
+    }
+
+    /// The channel is idle since the latest end of a frame that alone was heard above the
+    /// threshold, whether the frames that ended are looked at as they come or put aside and
+    /// looked at latest end first — which needs the link budget of only the frames that end
+    /// after that one, and of none when the vehicle's own frame ended later still.
+    #[test]
+    fn since_is_the_latest_end_heard_alone_above_the_threshold() {
+        let frames = [
+            ended(0.3, 1, 0),
+            ended(0.5, 2, 1),
+            ended(0.4, 3, 2),
+            ended(0.45, 4, 3),
+        ];
+        let pos = Vec3::zeros();
+        // As they come: every frame that ended after what is known so far.
+        let mut l = listener(&pos, 0.2);
+        for a in &frames {
+            assert!(!l.on_air(a, &mut |f| f(0, power(a.tx))));
+        }
+        assert_eq!(l.since, 0.45);
+        // Put aside: the same answer, from the frames of senders 2 (below the threshold) and 4.
+        let asked = RefCell::new(Vec::new());
+        let budget = |a: &OnAir, f: &mut dyn FnMut(usize, f64)| {
+            asked.borrow_mut().push(a.tx);
+            f(0, power(a.tx));
+        };
+        let mut later = Vec::new();
+        let mut l = listener(&pos, 0.2);
+        l.ended = Some(&mut later);
+        for a in &frames {
+            assert!(!l.on_air(a, &mut |_| unreachable!("no budget as it comes")));
+        }
+        assert_eq!(l.since_ended(budget), 0.45);
+        assert_eq!(*asked.borrow(), [2, 4]);
+        // The vehicle's own frame ended last: no budget at all.
+        asked.borrow_mut().clear();
+        let mut later = Vec::new();
+        let mut l = listener(&pos, 0.2);
+        l.ended = Some(&mut later);
+        for a in frames.iter().chain([&ended(0.6, 9, 4)]) {
+            l.on_air(a, &mut |_| unreachable!("no budget as it comes"));
+        }
+        assert_eq!(l.since_ended(budget), 0.6);
+        assert!(asked.borrow().is_empty());
+    }
 }

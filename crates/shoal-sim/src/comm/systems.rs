@@ -2,7 +2,6 @@
 //! [`comm_transmit_system`] (queues, access, carrier sense) and [`comm_deliver_system`] (every
 //! reception decided at its receiver).
 
-use super::air::FastMap;
 use super::ending::{Ended, candidates, own_transmissions};
 use super::frames::{CommRng, Inbox, Modems, Outbox};
 use super::ledger::Ledger;
@@ -96,7 +95,7 @@ pub fn comm_transmit_system(
         .matched()
         .collect();
     items.sort_unstable_by_key(|it| it.0.0);
-    let mut walk = Walk::new(&medium, clock.t(), t_end);
+    let mut walk = Walk::new(&mut medium, clock.t(), t_end);
     let med = &mut *medium;
     let (kinds, access, flows) = (&med.kinds, &med.access, &mut med.flows);
     let mut ended = 0;
@@ -113,15 +112,18 @@ pub fn comm_transmit_system(
         );
         walk.schedule(id.0, modems);
     }
-    let index: FastMap<u32, usize> = items
-        .iter()
-        .enumerate()
-        .map(|(i, it)| (it.0.0, i))
-        .collect();
+    // Items by vehicle: sorted by id, found by halving (a few hundred, in cache).
+    let at = |items: &[(&VehicleId, _, _, _, _, _, _)], v: u32| match items
+        .binary_search_by_key(&v, |it| it.0.0)
+    {
+        Ok(i) => i,
+        Err(_) => unreachable!("vehicle {v} has a turn, so it has an item"),
+    };
     medium.ended += ended;
     let m = &mut *medium;
     while let Some(turn) = walk.next() {
-        let (_, _, modems, rng, stats, link, _) = &mut items[index[&turn.vehicle]];
+        let i = at(&items, turn.vehicle);
+        let (_, _, modems, rng, stats, link, _) = &mut items[i];
         let mut v = Vehicle {
             modems,
             rng,
@@ -130,14 +132,17 @@ pub fn comm_transmit_system(
         };
         walk.turn((m, &geo.0), &turn, &mut v);
         for w in walk.take_woken() {
-            walk.wake(&mut items[index[&w.vehicle]].2, &w);
+            let i = at(&items, w.vehicle);
+            walk.wake(&mut items[i].2, &w);
         }
     }
     for w in walk.end() {
-        walk.wake(&mut items[index[&w.vehicle]].2, &w);
+        let i = at(&items, w.vehicle);
+        walk.wake(&mut items[i].2, &w);
     }
+    walk.finish(m);
     ids.retain(|&v| {
-        let it = &items[index[&v]];
+        let it = &items[at(&items, v)];
         it.2.queued > 0 || it.5.busy()
     });
     m.waiting = ids;

@@ -6,13 +6,13 @@
 //! the copies of a frame on a ring of modems decide once and go out together. Ties in time go
 //! by vehicle id, so the walk's order never depends on threads.
 
-use super::air::{Air, FastMap};
+use super::air::{Air, AirStore, FastMap};
 use super::countdown::{Countdowns, Wake};
 use super::frames::{CommRng, Kind, Modems};
 use super::grid::Cells;
 use super::mac::{Ctx, Decision, Link};
 use super::medium::{Medium, Transmission};
-use super::sensing::{idle_since, sensed_power};
+use super::sensing::{idle_since, reaches, sensed_power};
 use super::stats::CommStats;
 use rand::RngExt;
 use shoal_model::math::Vec3;
@@ -60,6 +60,8 @@ pub(super) struct Walk {
     /// What carrier sensing looks at, built when a protocol first listens and then kept
     /// beside the medium's transmissions as frames start.
     air: OnceCell<Air>,
+    /// The storage `air` is made in (lent by the medium).
+    store: Cell<Option<AirStore>>,
     /// The vehicles counting idle slots down, asked again only when a frame starts near them.
     countdowns: Countdowns,
     /// Vehicles woken by the frames of the current turn.
@@ -91,12 +93,14 @@ fn due_at(port: &super::frames::ModemPort, t: f64, t0: f64) -> bool {
 }
 
 impl Walk {
-    /// A walk through the step `t0 … t_end` \[s\] of medium `m`.
-    pub(super) fn new(m: &Medium, t0: f64, t_end: f64) -> Self {
+    /// A walk through the step `t0 … t_end` \[s\] of medium `m` (which lends it its storage
+    /// until [`Walk::finish`]).
+    pub(super) fn new(m: &mut Medium, t0: f64, t_end: f64) -> Self {
         Self {
             turns: BinaryHeap::new(),
             epochs: FastMap::default(),
             air: OnceCell::new(),
+            store: Cell::new(Some(std::mem::take(&mut m.air))),
             countdowns: Countdowns::default(),
             woken: Vec::new(),
             decided: Vec::new(),
@@ -126,6 +130,14 @@ impl Walk {
                 epoch,
             });
         }
+    }
+
+    /// After the walk: the storage lent by `m` goes back.
+    pub(super) fn finish(self, m: &mut Medium) {
+        m.air = match self.air.into_inner() {
+            Some(air) => air.store(),
+            None => self.store.take().unwrap_or_default(),
+        };
     }
 
     /// The next turn that is not stale.
@@ -215,7 +227,7 @@ impl Walk {
             };
             match retry {
                 Some(at) => v.modems.ports[k].busy_until = at,
-                None => self.send(m, (t, vehicle, k), v),
+                None => self.send((m, geo), (t, vehicle, k), v),
             }
         }
         self.decided = decided;
@@ -234,6 +246,7 @@ impl Walk {
     ) -> Decision {
         let Walk {
             air,
+            store,
             countdowns,
             reach,
             ..
@@ -247,7 +260,7 @@ impl Walk {
                 sensed_power(
                     m,
                     geo,
-                    air.get_or_init(|| Air::new(m, reach)),
+                    air_of(air, store, m, reach),
                     vehicle,
                     (j, &ModemPose::of(rxm, &pos, &att)),
                     t,
@@ -260,8 +273,8 @@ impl Walk {
             let r = match resumed {
                 Some((th, since)) if th == threshold => Ok(since),
                 _ => {
-                    let air = air.get_or_init(|| Air::new(m, reach));
-                    idle_since(m, geo, air, vehicle, &pos, &att, t, threshold)
+                    let air = air_of(air, store, m, reach);
+                    idle_since((m, geo, air), vehicle, &pos, &att, t, threshold)
                 }
             };
             if let Ok(since) = r {
@@ -289,7 +302,7 @@ impl Walk {
                     pos: &pos,
                     heard: heard.get(),
                 },
-                (reach, || Air::cells(air.get_or_init(|| Air::new(m, reach)))),
+                (reach, || Air::cells(air_of(air, store, m, reach))),
             ),
             d => d,
         }
@@ -298,7 +311,12 @@ impl Walk {
     /// Port `k` of `vehicle` starts the frame at the head of its queue at `t` \[s\]: its
     /// transmission goes on record, its LED time and energy are counted (to its flow too), an
     /// acknowledged unicast's wait starts, and the vehicles counting down near it are woken.
-    fn send(&mut self, m: &mut Medium, (t, vehicle, k): (f64, u32, usize), v: &mut Vehicle<'_>) {
+    fn send(
+        &mut self,
+        (m, geo): (&mut Medium, &shoal_world::geometry::Geometry),
+        (t, vehicle, k): (f64, u32, usize),
+        v: &mut Vehicle<'_>,
+    ) {
         let Some(frame) = v.modems.ports[k].queue.pop_front() else {
             return;
         };
@@ -349,16 +367,32 @@ impl Walk {
             pose,
             kind: frame.kind,
         });
-        if let Some(air) = self.air.get_mut() {
-            air.push(m.txs.len() - 1, &m.txs[m.txs.len() - 1]);
-        }
+        let on = self
+            .air
+            .get_mut()
+            .map(|air| air.push(m.txs.len() - 1, &m.txs[m.txs.len() - 1]));
         m.next_id += 1;
         m.started.0 += 1;
         m.started.1 += bits;
-        // The vehicles counting down near it are asked again at their next boundary.
+        // The vehicles counting down near it that it reaches are asked again at their next
+        // boundary.
+        let reaches = |w| match (self.air.get(), &on) {
+            (Some(air), Some(on)) => reaches((m, geo, air), w, on),
+            _ => true,
+        };
         self.countdowns
-            .frame_started(&pose.position, t, self.reach, &mut self.woken);
+            .frame_started((&pose.position, t), self.reach, reaches, &mut self.woken);
     }
+}
+
+/// The walk's carrier sensing, made in `store` when first asked for.
+fn air_of<'a>(
+    air: &'a OnceCell<Air>,
+    store: &Cell<Option<AirStore>>,
+    m: &Medium,
+    reach: f64,
+) -> &'a Air {
+    air.get_or_init(|| Air::new(m, reach, store.take().unwrap_or_default()))
 }
 
 /// Who counts down, for [`count_down`].
