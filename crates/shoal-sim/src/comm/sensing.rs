@@ -30,10 +30,11 @@ pub(super) fn sensed_power(
                 && (x.position - pose.position).norm_squared() <= r2
         },
         |x| {
-            let tx = &medium.txs[x.index as usize];
-            sum += sensed_one((medium, geo), tx, (me, k, pose), || {
-                air.vehicles_clear(medium, tx.tx, me)
-            });
+            sum += sensed_one(
+                (medium, geo, air),
+                &medium.txs[x.index as usize],
+                (me, k, pose),
+            );
         },
     );
     sum
@@ -41,12 +42,11 @@ pub(super) fn sensed_power(
 
 /// The optical power transmission `x` delivers to modem `k` of vehicle `me` at `pose` \[W\]:
 /// the link budget, zero beyond the cut-off range or when walls, obstacles or hulls block it
-/// (`clear`: whether other hulls leave the line between the two vehicles clear, asked last).
-pub(super) fn sensed_one(
-    (medium, geo): (&Medium, &shoal_world::geometry::Geometry),
+/// (hull occlusion asked last, remembered by `air`).
+fn sensed_one(
+    (medium, geo, air): (&Medium, &shoal_world::geometry::Geometry, &Air),
     x: &Transmission,
     (me, k, pose): (u32, usize, &ModemPose),
-    clear: impl FnOnce() -> bool,
 ) -> f64 {
     // Beyond the cut-off range nothing arrives: decided by a squared distance, before the
     // link geometry.
@@ -64,7 +64,10 @@ pub(super) fn sensed_one(
         &g,
         medium.attenuation,
     );
-    if p > 0.0 && geo.line_of_sight(&x.pose.position, &pose.position) && clear() {
+    if p > 0.0
+        && geo.line_of_sight(&x.pose.position, &pose.position)
+        && air.vehicles_clear(medium, x.tx, me)
+    {
         p
     } else {
         0.0
@@ -266,7 +269,7 @@ fn each_power_of(
     f: &mut dyn FnMut(usize, f64),
 ) {
     let x = &m.txs[a.index as usize];
-    let one = |k, pose| sensed_one((m, geo), x, (v, k, pose), || air.vehicles_clear(m, x.tx, v));
+    let one = |k, pose| sensed_one((m, geo, air), x, (v, k, pose));
     if poses.len() <= MODEMS_REMEMBERED {
         let p = air.powers(v, a, || {
             let mut p = [0.0; MODEMS_REMEMBERED];
