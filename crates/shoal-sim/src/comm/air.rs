@@ -90,10 +90,10 @@ pub(super) struct Air {
     clear: RefCell<FastMap<u64, bool>>,
 }
 
-/// The storage of an [`Air`], kept from one phase to the next (its lists and maps keep
-/// their capacity).
+/// The storage of an [`Air`], kept by the transmit phase from one step to the next (its
+/// lists and maps keep their capacity).
 #[derive(Default)]
-pub(super) struct AirStore {
+pub struct AirStore {
     entries: Option<CellLists<OnAir>>,
     kept: Vec<OnAir>,
     ended: Vec<OnAir>,
@@ -108,20 +108,20 @@ impl Air {
         // The vehicles' box at the grid's last rebuild (they have moved a little since).
         let (lo, hi) = m.grid.bounds();
         let cells = Cells::over(lo, hi, reach);
-        let entries = match store.entries {
+        let AirStore {
+            entries,
+            mut kept,
+            ended,
+            mut powers,
+            mut clear,
+        } = store;
+        let entries = match entries {
             Some(mut l) => {
                 l.reset(cells);
                 l
             }
             None => CellLists::new(cells),
         };
-        let AirStore {
-            mut kept,
-            ended,
-            mut powers,
-            mut clear,
-            ..
-        } = store;
         kept.clear();
         powers.clear();
         clear.clear();

@@ -137,8 +137,6 @@ pub struct Medium {
     hull_r2: Vec<f64>,
     /// Vehicles with frames queued at a modem after the last transmit phase, ascending.
     pub(super) waiting: Vec<u32>,
-    /// The storage of the transmit phase's carrier sensing, kept between steps.
-    pub(super) air: super::air::AirStore,
     pub(super) next_id: u64,
     /// Deliveries so far (whole world), for progress and tests.
     pub delivered: u64,
@@ -308,7 +306,6 @@ impl Medium {
             consts,
             hull_r2,
             waiting: Vec::new(),
-            air: Default::default(),
             next_id: 0,
             delivered: 0,
             ended: 0,

@@ -67,6 +67,7 @@ type HandedOver<'w, 's> = Query<'w, 's, (&'static VehicleId, &'static Outbox), C
 pub fn comm_transmit_system(
     clock: Res<crate::components::Clock>,
     geo: Res<StaticGeometry>,
+    mut sensing: Local<super::air::AirStore>,
     mut medium: ResMut<Medium>,
     entities: Res<VehicleEntities>,
     mut qs: ParamSet<(HandedOver, Query<Sender>)>,
@@ -95,7 +96,7 @@ pub fn comm_transmit_system(
         .matched()
         .collect();
     items.sort_unstable_by_key(|it| it.0.0);
-    let mut walk = Walk::new(&mut medium, clock.t(), t_end);
+    let mut walk = Walk::new(&medium, (clock.t(), t_end), std::mem::take(&mut *sensing));
     let med = &mut *medium;
     let (kinds, access, flows) = (&med.kinds, &med.access, &mut med.flows);
     let mut ended = 0;
@@ -140,7 +141,7 @@ pub fn comm_transmit_system(
         let i = at(&items, w.vehicle);
         walk.wake(&mut items[i].2, &w);
     }
-    walk.finish(m);
+    *sensing = walk.finish();
     ids.retain(|&v| {
         let it = &items[at(&items, v)];
         it.2.queued > 0 || it.5.busy()

@@ -60,7 +60,7 @@ pub(super) struct Walk {
     /// What carrier sensing looks at, built when a protocol first listens and then kept
     /// beside the medium's transmissions as frames start.
     air: OnceCell<Air>,
-    /// The storage `air` is made in (lent by the medium).
+    /// The storage `air` is made in (lent by the transmit phase).
     store: Cell<Option<AirStore>>,
     /// The vehicles counting idle slots down, asked again only when a frame starts near them.
     countdowns: Countdowns,
@@ -93,14 +93,14 @@ fn due_at(port: &super::frames::ModemPort, t: f64, t0: f64) -> bool {
 }
 
 impl Walk {
-    /// A walk through the step `t0 … t_end` \[s\] of medium `m` (which lends it its storage
-    /// until [`Walk::finish`]).
-    pub(super) fn new(m: &mut Medium, t0: f64, t_end: f64) -> Self {
+    /// A walk through the step `t0 … t_end` \[s\] of medium `m`, its carrier sensing made in
+    /// `store` (handed back by [`Walk::finish`]).
+    pub(super) fn new(m: &Medium, (t0, t_end): (f64, f64), store: AirStore) -> Self {
         Self {
             turns: BinaryHeap::new(),
             epochs: FastMap::default(),
             air: OnceCell::new(),
-            store: Cell::new(Some(std::mem::take(&mut m.air))),
+            store: Cell::new(Some(store)),
             countdowns: Countdowns::default(),
             woken: Vec::new(),
             decided: Vec::new(),
@@ -132,12 +132,12 @@ impl Walk {
         }
     }
 
-    /// After the walk: the storage lent by `m` goes back.
-    pub(super) fn finish(self, m: &mut Medium) {
-        m.air = match self.air.into_inner() {
+    /// After the walk: the storage of its carrier sensing, for the next step's.
+    pub(super) fn finish(self) -> AirStore {
+        match self.air.into_inner() {
             Some(air) => air.store(),
             None => self.store.take().unwrap_or_default(),
-        };
+        }
     }
 
     /// The next turn that is not stale.
