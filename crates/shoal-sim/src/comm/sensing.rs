@@ -128,15 +128,15 @@ struct Listening<'a> {
     since: f64,
     /// The first end of a frame heard now \[s\].
     until: f64,
-    /// Where to put the frames that ended within reach, to be looked at only if the channel
-    /// is idle ([`Listening::since_ended`]); `None`: looked at as they come.
-    ended: Option<&'a mut Vec<OnAir>>,
+    /// The frames that ended within reach, put aside: they are looked at only if the
+    /// channel is idle ([`Listening::since_ended`]).
+    ended: &'a mut Vec<OnAir>,
 }
 
 impl Listening<'_> {
     /// Whether transmission `a` is on the air and heard now (its powers at the vehicle's
-    /// modems, handed to the callback of `each`, then add up); notes when it ends, or when it
-    /// ended if it alone was heard above the threshold.
+    /// modems, handed to the callback of `each`, then add up); notes when it ends, or puts it
+    /// aside if it ended.
     fn on_air(&mut self, a: &OnAir, each: &mut EachPower<'_>) -> bool {
         // A frame that starts at this very instant is not heard yet (sensing takes time):
         // two stations whose back-offs end together both send, and collide.
@@ -161,23 +161,9 @@ impl Listening<'_> {
         } else {
             // Ended: it matters only if it ended later than those seen so far.
             if a.end > self.since {
-                match &mut self.ended {
-                    Some(later) => later.push(*a),
-                    None => self.ended_alone(a, each),
-                }
+                self.ended.push(*a);
             }
             false
-        }
-    }
-
-    /// Frame `a` ended: if it alone was heard above the threshold, the channel was idle only
-    /// since its end.
-    fn ended_alone(&mut self, a: &OnAir, each: &mut EachPower<'_>) {
-        let mut alone = false;
-        let threshold = self.threshold;
-        each(&mut |_, p| alone |= p > threshold);
-        if alone {
-            self.since = self.since.max(a.end);
         }
     }
 
@@ -185,16 +171,17 @@ impl Listening<'_> {
     /// latest end first — the first that alone was heard above the threshold is the last such
     /// end, and frames that ended before what is known need no link budget at all.
     fn since_ended(&mut self, each: impl Fn(&OnAir, &mut dyn FnMut(usize, f64))) -> f64 {
-        if let Some(later) = self.ended.take() {
-            later.sort_unstable_by(|a, b| b.end.total_cmp(&a.end));
-            for a in later.iter() {
-                if a.end <= self.since {
-                    break;
-                }
-                self.ended_alone(a, &mut |f| each(a, f));
-                if self.since == a.end {
-                    break;
-                }
+        self.ended.sort_unstable_by(|a, b| b.end.total_cmp(&a.end));
+        let threshold = self.threshold;
+        for a in self.ended.iter() {
+            if a.end <= self.since {
+                break;
+            }
+            let mut alone = false;
+            each(a, &mut |_, p| alone |= p > threshold);
+            if alone {
+                self.since = a.end;
+                break;
             }
         }
         self.since
@@ -232,7 +219,7 @@ pub(super) fn idle_since(
         reach2: (m.r_cut + m.max_modem_offset).powi(2),
         since: f64::NEG_INFINITY,
         until: f64::INFINITY,
-        ended: None,
+        ended: &mut ended,
     };
     let mut now_small = [0.0f64; 8];
     let mut now_big = Vec::new();
@@ -247,7 +234,6 @@ pub(super) fn idle_since(
     let each_power = |a: &OnAir, f: &mut dyn FnMut(usize, f64)| {
         each_power_of((m, geo, air), v, poses, a, f);
     };
-    l.ended = Some(&mut ended);
     // Which frames are on the air and heard (their powers add up below, in list order), when
     // the first of them ends, and the end of the last frame that alone was heard.
     let keep = |a: &OnAir| l.on_air(a, &mut |f| each_power(a, f));
@@ -331,7 +317,7 @@ mod tests {
         }
     }
 
-    fn listener(pos: &Vec3, since: f64) -> Listening<'_> {
+    fn listener<'a>(pos: &'a Vec3, since: f64, ended: &'a mut Vec<OnAir>) -> Listening<'a> {
         Listening {
             v: 9,
             pos,
@@ -340,14 +326,15 @@ mod tests {
             reach2: 100.0,
             since,
             until: f64::INFINITY,
-            ended: None,
+            ended,
         }
     }
 
     /// The channel is idle since the latest end of a frame that alone was heard above the
-    /// threshold, whether the frames that ended are looked at as they come or put aside and
-    /// looked at latest end first — which needs the link budget of only the frames that end
-    /// after that one, and of none when the vehicle's own frame ended later still.
+    /// threshold (by hand: senders 1, 3 and 4 are above it, 2 below; 4's frame ended last of
+    /// those, at 0.45). The frames that ended are put aside and looked at latest end first,
+    /// which needs the link budget of only the frames that end after that one — and of none
+    /// when the vehicle's own frame ended later still.
     #[test]
     fn since_is_the_latest_end_heard_alone_above_the_threshold() {
         let frames = [
@@ -357,21 +344,13 @@ mod tests {
             ended(0.45, 4, 3),
         ];
         let pos = Vec3::zeros();
-        // As they come: every frame that ended after what is known so far.
-        let mut l = listener(&pos, 0.2);
-        for a in &frames {
-            assert!(!l.on_air(a, &mut |f| f(0, power(a.tx))));
-        }
-        assert_eq!(l.since, 0.45);
-        // Put aside: the same answer, from the frames of senders 2 (below the threshold) and 4.
         let asked = RefCell::new(Vec::new());
         let budget = |a: &OnAir, f: &mut dyn FnMut(usize, f64)| {
             asked.borrow_mut().push(a.tx);
             f(0, power(a.tx));
         };
         let mut later = Vec::new();
-        let mut l = listener(&pos, 0.2);
-        l.ended = Some(&mut later);
+        let mut l = listener(&pos, 0.2, &mut later);
         for a in &frames {
             assert!(!l.on_air(a, &mut |_| unreachable!("no budget as it comes")));
         }
@@ -380,8 +359,7 @@ mod tests {
         // The vehicle's own frame ended last: no budget at all.
         asked.borrow_mut().clear();
         let mut later = Vec::new();
-        let mut l = listener(&pos, 0.2);
-        l.ended = Some(&mut later);
+        let mut l = listener(&pos, 0.2, &mut later);
         for a in frames.iter().chain([&ended(0.6, 9, 4)]) {
             l.on_air(a, &mut |_| unreachable!("no budget as it comes"));
         }
