@@ -137,49 +137,65 @@ impl Countdowns {
         if d.target == t { d.heard } else { None }
     }
 
-    /// A frame started at `t` \[s\] from `position` \[m\]: the vehicles counting down within
-    /// `reach` \[m\] of it that it `reaches` (one that receives no power from it hears
-    /// nothing new, and counts on) whose last boundary is later than the first one after `t`
-    /// are to be asked at that one instead (added to `woken`); they no longer count down.
-    /// Those whose last boundary is that one will listen there again.
-    pub(super) fn frame_started(
-        &mut self,
-        (position, t): (&Vec3, f64),
-        reach: f64,
-        mut reaches: impl FnMut(u32) -> bool,
-        woken: &mut Vec<Wake>,
-    ) {
+    /// A frame started at `t` \[s\] from `position` \[m\]: a vehicle within reach of it that
+    /// finds the channel idle at `t` itself does not count down at once ([`Countdowns::start`]:
+    /// it hears the frame only at its next boundary).
+    pub(super) fn started(&mut self, position: &Vec3, t: f64) {
         if self.latest.0 != t {
             self.latest.0 = t;
             self.latest.1.clear();
         }
         self.latest.1.push(*position);
+    }
+
+    /// Frames started at `t` \[s\] from `positions` \[m\] (the copies of a vehicle's turn, each
+    /// noted by [`Countdowns::started`]): the vehicles counting down within `reach` \[m\] of
+    /// one of them that it `reaches` (copy, vehicle: one that receives no power from it hears
+    /// nothing new, and counts on) whose last boundary is later than the first one after `t`
+    /// are to be asked at that one instead (added to `woken`); they no longer count down.
+    /// Those whose last boundary is that one will listen there again. The copies share one
+    /// look at the cells around them (each cell once, however many copies are in it).
+    pub(super) fn frames_started(
+        &mut self,
+        (positions, t): (&[Vec3], f64),
+        reach: f64,
+        mut reaches: impl FnMut(usize, u32) -> bool,
+        woken: &mut Vec<Wake>,
+    ) {
         let (Some(entries), live) = (&mut self.entries, &mut self.live) else {
             return;
         };
         if live.is_empty() {
             return;
         }
-        entries.each_around(position, |e, d| {
-            if live.get(&d.vehicle) == Some(&e)
-                && (d.position - position).norm_squared() <= reach * reach
-                && let Some((at, j)) = first_boundary(d.from, d.slot, d.left, |b| b > t)
-                && reaches(d.vehicle)
-            {
-                if j < d.left {
-                    live.remove(&d.vehicle);
-                    woken.push(Wake {
-                        vehicle: d.vehicle,
-                        at,
-                        left: d.left - j,
-                        target: d.target,
-                    });
-                } else {
-                    // Asked at its last boundary anyway, where it hears this frame.
-                    d.heard = None;
-                }
+        let cells = entries.cells();
+        for (i, p) in positions.iter().enumerate() {
+            let c = cells.index(p);
+            if positions[..i].iter().any(|q| cells.index(q) == c) {
+                continue;
             }
-        });
+            entries.each_around(p, |e, d| {
+                if live.get(&d.vehicle) == Some(&e)
+                    && let Some((at, j)) = first_boundary(d.from, d.slot, d.left, |b| b > t)
+                    && positions.iter().enumerate().any(|(k, q)| {
+                        (d.position - q).norm_squared() <= reach * reach && reaches(k, d.vehicle)
+                    })
+                {
+                    if j < d.left {
+                        live.remove(&d.vehicle);
+                        woken.push(Wake {
+                            vehicle: d.vehicle,
+                            at,
+                            left: d.left - j,
+                            target: d.target,
+                        });
+                    } else {
+                        // Asked at its last boundary anyway, where it hears this frame.
+                        d.heard = None;
+                    }
+                }
+            });
+        }
     }
 
     /// The step ends at `t_end` \[s\]: every vehicle still counting down is to be asked at its
@@ -208,6 +224,26 @@ impl Countdowns {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    impl Countdowns {
+        /// One frame started at `t` from `p`: [`Countdowns::started`], then
+        /// [`Countdowns::frames_started`] with it alone.
+        fn frame_started(
+            &mut self,
+            (p, t): (&Vec3, f64),
+            reach: f64,
+            mut reaches: impl FnMut(u32) -> bool,
+            woken: &mut Vec<Wake>,
+        ) {
+            self.started(p, t);
+            self.frames_started(
+                (std::slice::from_ref(p), t),
+                reach,
+                |_, v| reaches(v),
+                woken,
+            );
+        }
+    }
 
     fn cells() -> Cells {
         Cells::over(Vec3::zeros(), Vec3::new(20.0, 20.0, 5.0), 3.0)
@@ -330,6 +366,39 @@ mod tests {
             .unwrap();
         c.frame_started((&p, 2.1), 2.5, |_| true, &mut woken);
         assert_eq!(woken.len(), 1);
+    }
+
+    /// The copies of a turn wake, together, every counting vehicle one of them reaches (and
+    /// only once): also one that the first copy does not reach, and one in a cell next to a
+    /// later copy's but not the first's.
+    #[test]
+    fn the_copies_of_a_turn_wake_whom_any_of_them_reaches() {
+        let mut c = Countdowns::default();
+        let start = |c: &mut Countdowns, v: u32, p: Vec3| {
+            c.start((v, &p), (1.0, (1e-9, 0.0)), (1.0, 0.25, 4), (3.0, cells))
+                .unwrap()
+        };
+        // Cells 3 m wide: the copies at x = 0.5 and 3.5 lie in cells 0 and 1; vehicle 8 at
+        // x = 6.4 in cell 2, next to the second copy's cell only, 2.9 m from that copy.
+        start(&mut c, 7, Vec3::new(1.0, 1.0, 1.0));
+        start(&mut c, 8, Vec3::new(6.4, 1.0, 1.0));
+        start(&mut c, 9, Vec3::new(2.0, 1.0, 1.0));
+        let copies = [Vec3::new(0.5, 1.0, 1.0), Vec3::new(3.5, 1.0, 1.0)];
+        for p in &copies {
+            c.started(p, 1.1);
+        }
+        let mut woken = Vec::new();
+        // Vehicle 7 hears only the second copy, 9 neither.
+        c.frames_started(
+            (&copies, 1.1),
+            3.0,
+            |k, v| v != 9 && (v != 7 || k == 1),
+            &mut woken,
+        );
+        // Boundary 1.0 passed: asked at 1.25 with 3 of 4 to go.
+        let mut got: Vec<_> = woken.iter().map(|w| (w.vehicle, w.left)).collect();
+        got.sort_unstable();
+        assert_eq!(got, [(7, 3), (8, 3)]);
     }
 
     /// A frame that started at the very boundary a vehicle finds the channel idle at is not

@@ -157,10 +157,36 @@ pub(super) struct Queued {
     pub(super) kind: Kind,
 }
 
+/// What the transmit phase reads of the frame at the head of a queue, kept beside the queue
+/// (the walk through a step asks every port of a vehicle when it is due, and most are not:
+/// this answers without reading the queue's storage).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Head {
+    /// When it was handed over \[s\].
+    pub(super) ready: f64,
+    /// Its sequence number.
+    pub(super) seq: u32,
+    /// Whether it is an acknowledgement.
+    pub(super) ack: bool,
+}
+
+impl Head {
+    fn of(q: &Queued) -> Self {
+        Self {
+            ready: q.ready,
+            seq: q.seq,
+            ack: matches!(q.kind, Kind::Ack { .. }),
+        }
+    }
+}
+
 /// One modem's transmit side.
 #[derive(Clone, Debug, Default)]
 pub struct ModemPort {
-    pub(super) queue: VecDeque<Queued>,
+    queue: VecDeque<Queued>,
+    /// The head of `queue`, if any.
+    head: Option<Head>,
+    /// Until when the modem is taken (sending, or waiting as its medium access said) \[s\].
     pub(super) busy_until: f64,
 }
 
@@ -168,6 +194,28 @@ impl ModemPort {
     /// Frames waiting.
     pub fn queued(&self) -> usize {
         self.queue.len()
+    }
+
+    /// The frame at the head of the queue, if any.
+    pub(super) fn head(&self) -> Option<Head> {
+        self.head
+    }
+
+    /// Queues `q` at the back, or at the front (a retransmission).
+    pub(super) fn push(&mut self, q: Queued, front: bool) {
+        if front {
+            self.queue.push_front(q);
+        } else {
+            self.queue.push_back(q);
+        }
+        self.head = self.queue.front().map(Head::of);
+    }
+
+    /// Takes the frame at the head of the queue.
+    pub(super) fn pop(&mut self) -> Option<Queued> {
+        let q = self.queue.pop_front();
+        self.head = self.queue.front().map(Head::of);
+        q
     }
 }
 

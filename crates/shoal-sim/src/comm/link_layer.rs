@@ -52,7 +52,7 @@ fn enqueue(
     let mut queued_any = false;
     for k in targets {
         let port = &mut modems.ports[k];
-        if port.queue.len() >= params[k].queue_frames {
+        if port.queued() >= params[k].queue_frames {
             stats.queue_overflow += 1;
             continue;
         }
@@ -62,11 +62,7 @@ fn enqueue(
             seq,
             kind,
         };
-        if front {
-            port.queue.push_front(q);
-        } else {
-            port.queue.push_back(q);
-        }
+        port.push(q, front);
         modems.queued += 1;
         queued_any = true;
     }

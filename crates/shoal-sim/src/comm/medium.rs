@@ -137,6 +137,11 @@ pub struct Medium {
     hull_r2: Vec<f64>,
     /// Vehicles with frames queued at a modem after the last transmit phase, ascending.
     pub(super) waiting: Vec<u32>,
+    /// Vehicles whose link layer has work (an outstanding frame, frames behind it,
+    /// acknowledgements to send or their feedback), as the last transmit or delivery phase
+    /// left them; the transmit phase runs the link layer of these and of those that handed
+    /// frames over only.
+    pub(super) linked: Vec<u32>,
     pub(super) next_id: u64,
     /// Deliveries so far (whole world), for progress and tests.
     pub delivered: u64,
@@ -306,6 +311,7 @@ impl Medium {
             consts,
             hull_r2,
             waiting: Vec::new(),
+            linked: Vec::new(),
             next_id: 0,
             delivered: 0,
             ended: 0,

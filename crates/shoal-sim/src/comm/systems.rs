@@ -29,6 +29,7 @@ pub fn comm_snapshot_system(
     // Nothing on the air and nothing waiting to go: the medium has no work this step.
     let idle = medium.txs.is_empty()
         && medium.waiting.is_empty()
+        && medium.linked.is_empty()
         && fresh.iter().all(|out| out.0.is_empty());
     if idle {
         return;
@@ -75,18 +76,23 @@ pub fn comm_transmit_system(
     if !medium.active() {
         return;
     }
-    // The vehicles with something to send: frames handed over since the last step (their
-    // outbox changed), still queued at a modem, or with link-layer work.
-    let mut ids = std::mem::take(&mut medium.waiting);
-    ids.extend(
+    // The vehicles with something to send: frames still queued at a modem, or work for the
+    // link layer — frames handed over since the last step (their outbox changed), or the
+    // link layer's own.
+    let mut linked = std::mem::take(&mut medium.linked);
+    linked.extend(
         qs.p0()
             .iter()
             .filter(|(_, out)| !out.0.is_empty())
             .map(|(id, _)| id.0),
     );
-    if ids.is_empty() {
+    linked.sort_unstable();
+    linked.dedup();
+    let mut ids = std::mem::take(&mut medium.waiting);
+    if ids.is_empty() && linked.is_empty() {
         return;
     }
+    ids.extend_from_slice(&linked);
     ids.sort_unstable();
     ids.dedup();
     let mut q = qs.p1();
@@ -100,30 +106,35 @@ pub fn comm_transmit_system(
     let med = &mut *medium;
     let (kinds, access, flows) = (&med.kinds, &med.access, &mut med.flows);
     let mut ended = 0;
+    // The link layer of a vehicle with neither frames handed over nor work of its own does
+    // nothing: only its queued frames are walked.
+    let mut with_link = linked.iter().copied().peekable();
     for (id, outbox, modems, _, stats, link, inbox) in &mut items {
-        let params = &kinds[id.0 as usize].params.modems;
-        let links = &access[id.0 as usize];
         let modems = &mut **modems;
-        ended += link_layer(
-            clock.t(),
-            params,
-            links,
-            (outbox, modems, stats, link, inbox),
-            (id.0, flows),
-        );
+        if with_link.next_if_eq(&id.0).is_some() {
+            let params = &kinds[id.0 as usize].params.modems;
+            let links = &access[id.0 as usize];
+            ended += link_layer(
+                clock.t(),
+                params,
+                links,
+                (outbox, modems, stats, link, inbox),
+                (id.0, flows),
+            );
+        }
         walk.schedule(id.0, modems);
     }
-    // Items by vehicle: sorted by id, found by halving (a few hundred, in cache).
-    let at = |items: &[(&VehicleId, _, _, _, _, _, _)], v: u32| match items
-        .binary_search_by_key(&v, |it| it.0.0)
-    {
+    // Items by vehicle: sorted by id, found by halving their ids (a few hundred, in cache).
+    let keys: Vec<u32> = items.iter().map(|it| it.0.0).collect();
+    let at = |v: u32| match keys.binary_search(&v) {
         Ok(i) => i,
         Err(_) => unreachable!("vehicle {v} has a turn, so it has an item"),
     };
     medium.ended += ended;
     let m = &mut *medium;
+    let mut woken = Vec::new();
     while let Some(turn) = walk.next() {
-        let i = at(&items, turn.vehicle);
+        let i = at(turn.vehicle);
         let (_, _, modems, rng, stats, link, _) = &mut items[i];
         let mut v = Vehicle {
             modems,
@@ -132,21 +143,21 @@ pub fn comm_transmit_system(
             link,
         };
         walk.turn((m, &geo.0), &turn, &mut v);
-        for w in walk.take_woken() {
-            let i = at(&items, w.vehicle);
-            walk.wake(&mut items[i].2, &w);
+        walk.take_woken(&mut woken);
+        for w in &woken {
+            walk.wake(&mut items[at(w.vehicle)].2, w);
         }
     }
     for w in walk.end() {
-        let i = at(&items, w.vehicle);
+        let i = at(w.vehicle);
         walk.wake(&mut items[i].2, &w);
     }
     *sensing = walk.finish();
-    ids.retain(|&v| {
-        let it = &items[at(&items, v)];
-        it.2.queued > 0 || it.5.busy()
-    });
+    // Only the link layer changes whether it has work in this phase.
+    linked.retain(|&v| items[at(v)].5.busy());
+    ids.retain(|&v| items[at(v)].2.queued > 0);
     m.waiting = ids;
+    m.linked = linked;
 }
 
 /// Step phase 3: decide every reception of frames that ended in this step.
@@ -223,7 +234,7 @@ pub fn comm_deliver_system(
     }
     add_tally(&mut medium, &total, second0);
     // Vehicles that owe an acknowledgement or got one: the transmit phase visits them next.
-    medium.waiting.extend(linked);
+    medium.linked.extend(linked);
 }
 
 /// Adds the tallies of a step whose first second is `second0` \[s\] to the medium's.

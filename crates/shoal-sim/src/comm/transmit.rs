@@ -6,7 +6,7 @@
 //! the copies of a frame on a ring of modems decide once and go out together. Ties in time go
 //! by vehicle id, so the walk's order never depends on threads.
 
-use super::air::{Air, AirStore, FastMap};
+use super::air::{Air, AirStore, FastMap, OnAir};
 use super::countdown::{Countdowns, Wake};
 use super::frames::{CommRng, Kind, Modems};
 use super::grid::Cells;
@@ -68,6 +68,9 @@ pub(super) struct Walk {
     woken: Vec<Wake>,
     /// The decisions of the current turn, by frame (reused).
     decided: Vec<(u32, Decision)>,
+    /// The copies the current turn sent: where they started \[m\], and what carrier sensing
+    /// keeps of them (if it has begun) (reused).
+    sent: (Vec<Vec3>, Vec<Option<OnAir>>),
     /// The sensing reach: cut-off range plus the farthest modem's offset \[m\].
     reach: f64,
     /// The step's start and end \[s\].
@@ -78,18 +81,13 @@ pub(super) struct Walk {
 /// When the frame at the head of a port's queue is due, if any: when it was handed over,
 /// when the port is free, not before the step's start `t0` \[s\].
 fn due(port: &super::frames::ModemPort, t0: f64) -> Option<f64> {
-    port.queue
-        .front()
-        .map(|f| f.ready.max(port.busy_until).max(t0))
+    port.head().map(|h| h.ready.max(port.busy_until).max(t0))
 }
 
 /// Whether the frame at the head of `port`'s queue is due at `t` ≥ `t0` \[s\] ([`due`]): the
-/// port's own fields rule most ports out without reading the queue's storage (a vehicle busy
-/// past `t`, counting slots down, is passed over in memory it has at hand).
+/// port's own fields answer, without reading the queue's storage.
 fn due_at(port: &super::frames::ModemPort, t: f64, t0: f64) -> bool {
-    !port.queue.is_empty()
-        && port.busy_until <= t
-        && due(port, t0).is_some_and(|d| d.to_bits() == t.to_bits())
+    port.busy_until <= t && due(port, t0).is_some_and(|d| d.to_bits() == t.to_bits())
 }
 
 impl Walk {
@@ -104,6 +102,7 @@ impl Walk {
             countdowns: Countdowns::default(),
             woken: Vec::new(),
             decided: Vec::new(),
+            sent: (Vec::new(), Vec::new()),
             reach: m.r_cut + m.max_modem_offset,
             t0,
             t_end,
@@ -152,9 +151,11 @@ impl Walk {
         None
     }
 
-    /// The vehicles woken since this was last called, to be handed to [`Walk::wake`].
-    pub(super) fn take_woken(&mut self) -> Vec<Wake> {
-        std::mem::take(&mut self.woken)
+    /// The vehicles woken since this was last called, to be handed to [`Walk::wake`], into
+    /// `into` (its former contents dropped; the storage of both lists kept).
+    pub(super) fn take_woken(&mut self, into: &mut Vec<Wake>) {
+        into.clear();
+        std::mem::swap(&mut self.woken, into);
     }
 
     /// Vehicle `w.vehicle` (its `modems`) is asked earlier than it said: each port that
@@ -162,7 +163,7 @@ impl Walk {
     pub(super) fn wake(&mut self, modems: &mut Modems, w: &Wake) {
         modems.access.counter = Some(w.left);
         for port in &mut modems.ports {
-            if !port.queue.is_empty() && port.busy_until.to_bits() == w.target.to_bits() {
+            if port.head().is_some() && port.busy_until.to_bits() == w.target.to_bits() {
                 port.busy_until = w.at;
             }
         }
@@ -198,13 +199,13 @@ impl Walk {
             if !due_at(&v.modems.ports[k], t, self.t0) {
                 continue;
             }
-            let Some((seq, kind)) = v.modems.ports[k].queue.front().map(|q| (q.seq, q.kind)) else {
+            let Some(head) = v.modems.ports[k].head() else {
                 continue;
             };
+            let seq = head.seq;
             // Acknowledgements leave as soon as the modem is free, unless the protocol is
             // slotted.
-            let ack_now = matches!(kind, Kind::Ack { .. })
-                && !m.access[vehicle as usize][k].access.acks_wait();
+            let ack_now = head.ack && !m.access[vehicle as usize][k].access.acks_wait();
             let decision = match decided.iter().find(|(s, _)| *s == seq) {
                 Some(&(_, d)) => d,
                 None if ack_now => Decision::Send,
@@ -227,10 +228,11 @@ impl Walk {
             };
             match retry {
                 Some(at) => v.modems.ports[k].busy_until = at,
-                None => self.send((m, geo), (t, vehicle, k), v),
+                None => self.send(m, (t, vehicle, k), v),
             }
         }
         self.decided = decided;
+        self.wake_near_sent((m, geo), t);
         self.schedule(vehicle, v.modems);
     }
 
@@ -310,14 +312,10 @@ impl Walk {
 
     /// Port `k` of `vehicle` starts the frame at the head of its queue at `t` \[s\]: its
     /// transmission goes on record, its LED time and energy are counted (to its flow too), an
-    /// acknowledged unicast's wait starts, and the vehicles counting down near it are woken.
-    fn send(
-        &mut self,
-        (m, geo): (&mut Medium, &shoal_world::geometry::Geometry),
-        (t, vehicle, k): (f64, u32, usize),
-        v: &mut Vehicle<'_>,
-    ) {
-        let Some(frame) = v.modems.ports[k].queue.pop_front() else {
+    /// acknowledged unicast's wait starts; the vehicles counting down near it are woken when
+    /// the turn is over ([`Walk::wake_near_sent`]).
+    fn send(&mut self, m: &mut Medium, (t, vehicle, k): (f64, u32, usize), v: &mut Vehicle<'_>) {
+        let Some(frame) = v.modems.ports[k].pop() else {
             return;
         };
         v.modems.queued -= 1;
@@ -374,14 +372,26 @@ impl Walk {
         m.next_id += 1;
         m.started.0 += 1;
         m.started.1 += bits;
-        // The vehicles counting down near it that it reaches are asked again at their next
-        // boundary.
-        let reaches = |w| match (self.air.get(), &on) {
+        self.countdowns.started(&pose.position, t);
+        self.sent.0.push(pose.position);
+        self.sent.1.push(on);
+    }
+
+    /// After a turn at `t` \[s\]: the vehicles counting down near the copies it sent that
+    /// one of them reaches are asked again at their next boundary.
+    fn wake_near_sent(&mut self, (m, geo): (&Medium, &shoal_world::geometry::Geometry), t: f64) {
+        let (at, on) = &self.sent;
+        if at.is_empty() {
+            return;
+        }
+        let reaches = |k: usize, w| match (self.air.get(), &on[k]) {
             (Some(air), Some(on)) => reaches((m, geo, air), w, on),
             _ => true,
         };
         self.countdowns
-            .frame_started((&pose.position, t), self.reach, reaches, &mut self.woken);
+            .frames_started((at, t), self.reach, reaches, &mut self.woken);
+        self.sent.0.clear();
+        self.sent.1.clear();
     }
 }
 
@@ -423,7 +433,7 @@ fn count_down(
     (reach, cells): (f64, impl FnOnce() -> Cells),
 ) -> Decision {
     let quiet = modems.ports.iter().all(|p| p.busy_until <= t);
-    let mut fronts = modems.ports.iter().filter_map(|p| p.queue.front());
+    let mut fronts = modems.ports.iter().filter_map(|p| p.head());
     let together = fronts
         .next()
         .is_some_and(|f| fronts.all(|g| g.seq == f.seq));
