@@ -8,12 +8,14 @@
 //!
 //! Within a step every pose stands still, so the power a transmission delivers to a vehicle's
 //! modems does not change however often the vehicle listens (a back-off counts several slots
-//! a step): [`Air::powers`] remembers it for the phase, and [`Air::vehicles_clear`] whether
-//! other hulls block the line between two vehicles.
+//! a step): [`Air::powers`] remembers it for the phase, [`Air::vehicles_clear`] whether other
+//! hulls block the line between two vehicles, and [`Air::with_modem_poses`] where a listening
+//! vehicle's modems are.
 
 use super::grid::{CellLists, Cells};
 use super::medium::{Medium, Transmission};
 use shoal_model::math::Vec3;
+use shoal_model::optics::ModemPose;
 use std::cell::RefCell;
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
@@ -88,6 +90,10 @@ pub(super) struct Air {
     powers: RefCell<FastMap<u64, [f64; MODEMS_REMEMBERED]>>,
     /// Whether other hulls leave the line between two vehicles clear, by (sender, receiver).
     clear: RefCell<FastMap<u64, bool>>,
+    /// Where the poses of a listening vehicle's modems start in `modem_poses`, by vehicle.
+    poses_at: RefCell<FastMap<u32, u32>>,
+    /// The poses of the listening vehicles' modems, each vehicle's in modem order.
+    modem_poses: RefCell<Vec<ModemPose>>,
 }
 
 /// The storage of an [`Air`], kept by the transmit phase from one step to the next (its
@@ -99,6 +105,8 @@ pub struct AirStore {
     ended: Vec<OnAir>,
     powers: FastMap<u64, [f64; MODEMS_REMEMBERED]>,
     clear: FastMap<u64, bool>,
+    poses_at: FastMap<u32, u32>,
+    modem_poses: Vec<ModemPose>,
 }
 
 impl Air {
@@ -114,6 +122,8 @@ impl Air {
             ended,
             mut powers,
             mut clear,
+            mut poses_at,
+            mut modem_poses,
         } = store;
         let entries = match entries {
             Some(mut l) => {
@@ -125,12 +135,16 @@ impl Air {
         kept.clear();
         powers.clear();
         clear.clear();
+        poses_at.clear();
+        modem_poses.clear();
         let mut air = Self {
             entries,
             kept: RefCell::new(kept),
             ended: RefCell::new(ended),
             powers: RefCell::new(powers),
             clear: RefCell::new(clear),
+            poses_at: RefCell::new(poses_at),
+            modem_poses: RefCell::new(modem_poses),
         };
         for (i, x) in m.txs.iter().enumerate() {
             let e = OnAir::of(i, x);
@@ -147,6 +161,8 @@ impl Air {
             ended: self.ended.into_inner(),
             powers: self.powers.into_inner(),
             clear: self.clear.into_inner(),
+            poses_at: self.poses_at.into_inner(),
+            modem_poses: self.modem_poses.into_inner(),
         }
     }
 
@@ -184,6 +200,25 @@ impl Air {
         for a in kept.iter() {
             f(a);
         }
+    }
+
+    /// Calls `f` with the poses of vehicle `v`'s modems in `m`, in modem order (worked out
+    /// once in the phase: the poses stand still within a step).
+    pub(super) fn with_modem_poses<R>(
+        &self,
+        m: &Medium,
+        v: u32,
+        f: impl FnOnce(&[ModemPose]) -> R,
+    ) -> R {
+        let modems = &m.kinds[v as usize].params.modems;
+        let start = *self.poses_at.borrow_mut().entry(v).or_insert_with(|| {
+            let mut arena = self.modem_poses.borrow_mut();
+            let start = arena.len() as u32;
+            let (pos, att) = &m.poses[v as usize];
+            arena.extend(modems.iter().map(|p| ModemPose::of(p, pos, att)));
+            start
+        }) as usize;
+        f(&self.modem_poses.borrow()[start..start + modems.len()])
     }
 
     /// [`Medium::vehicles_clear`] of `from` and `to` in `m`, remembered for the phase (the

@@ -175,11 +175,15 @@ impl Countdowns {
                 continue;
             }
             entries.each_around(p, |e, d| {
-                if live.get(&d.vehicle) == Some(&e)
+                // Within reach of a copy first (no lookup), then still counting.
+                let near = |q: &Vec3| (d.position - q).norm_squared() <= reach * reach;
+                if positions.iter().any(near)
+                    && live.get(&d.vehicle) == Some(&e)
                     && let Some((at, j)) = first_boundary(d.from, d.slot, d.left, |b| b > t)
-                    && positions.iter().enumerate().any(|(k, q)| {
-                        (d.position - q).norm_squared() <= reach * reach && reaches(k, d.vehicle)
-                    })
+                    && positions
+                        .iter()
+                        .enumerate()
+                        .any(|(k, q)| near(q) && reaches(k, d.vehicle))
                 {
                     if j < d.left {
                         live.remove(&d.vehicle);

@@ -135,8 +135,9 @@ pub struct Medium {
     pub consts: Vec<Arc<[ModemConsts]>>,
     /// Squared bounding-sphere radius of every vehicle's hull, by id [m²].
     hull_r2: Vec<f64>,
-    /// Vehicles with frames queued at a modem after the last transmit phase, ascending.
-    pub(super) waiting: Vec<u32>,
+    /// Vehicles with frames queued at a modem after the last transmit phase, ascending, each
+    /// with when its first frame is due at the earliest \[s\] ([`super::transmit::earliest`]).
+    pub(super) waiting: Vec<(u32, f64)>,
     /// Vehicles whose link layer has work (an outstanding frame, frames behind it,
     /// acknowledgements to send or their feedback), as the last transmit or delivery phase
     /// left them; the transmit phase runs the link layer of these and of those that handed

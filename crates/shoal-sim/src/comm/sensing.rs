@@ -74,44 +74,6 @@ fn sensed_one(
     }
 }
 
-/// The poses of a vehicle's modems at `pos`, `att`; up to eight modems without allocating.
-pub(super) struct ModemPoses {
-    small: [ModemPose; 8],
-    big: Vec<ModemPose>,
-    n: usize,
-}
-
-impl ModemPoses {
-    /// Of vehicle `v` of `m` at `pos`, `att`.
-    pub(super) fn of(m: &Medium, v: u32, pos: &Vec3, att: &shoal_model::math::Quat) -> Self {
-        let modems = &m.kinds[v as usize].params.modems;
-        let n = modems.len();
-        let unused = ModemPose {
-            position: *pos,
-            axis: Vec3::x(),
-        };
-        let mut small = [unused; 8];
-        let mut big = Vec::new();
-        if n <= 8 {
-            for (s, p) in small.iter_mut().zip(modems.iter()) {
-                *s = ModemPose::of(p, pos, att);
-            }
-        } else {
-            big = modems.iter().map(|p| ModemPose::of(p, pos, att)).collect();
-        }
-        Self { small, big, n }
-    }
-
-    /// The poses, in modem order.
-    pub(super) fn poses(&self) -> &[ModemPose] {
-        if self.n <= 8 {
-            &self.small[..self.n]
-        } else {
-            &self.big
-        }
-    }
-}
-
 /// Hands the power a transmission delivers to each of a vehicle's modems (its index, \[W\])
 /// to the callback it is given.
 type EachPower<'a> = dyn FnMut(&mut dyn FnMut(usize, f64)) + 'a;
@@ -197,8 +159,18 @@ impl Listening<'_> {
 pub(super) fn idle_since(
     (m, geo, air): (&Medium, &shoal_world::geometry::Geometry, &Air),
     v: u32,
-    pos: &Vec3,
-    att: &shoal_model::math::Quat,
+    t: f64,
+    threshold: f64,
+) -> Result<f64, f64> {
+    air.with_modem_poses(m, v, |poses| {
+        listen((m, geo, air), (v, poses), t, threshold)
+    })
+}
+
+/// [`idle_since`] for vehicle `v` whose modems are at `poses`.
+fn listen(
+    (m, geo, air): (&Medium, &shoal_world::geometry::Geometry, &Air),
+    (v, poses): (u32, &[ModemPose]),
     t: f64,
     threshold: f64,
 ) -> Result<f64, f64> {
@@ -206,8 +178,7 @@ pub(super) fn idle_since(
     // whose sender is beyond the cut-off range of the vehicle's farthest modem is passed over
     // once; each modem's power adds up in the order of the medium's list. Nothing is
     // allocated per decision for up to eight modems.
-    let modems = ModemPoses::of(m, v, pos, att);
-    let poses = modems.poses();
+    let pos = &m.poses[v as usize].0;
     let mut ended = air.ended.borrow_mut();
     ended.clear();
     let mut l = Listening {
@@ -282,13 +253,11 @@ pub(super) fn reaches(
     v: u32,
     a: &OnAir,
 ) -> bool {
-    let (pos, att) = &m.poses[v as usize];
-    let modems = ModemPoses::of(m, v, pos, att);
-    let mut any = false;
-    each_power_of((m, geo, air), v, modems.poses(), a, &mut |_, p| {
-        any |= p > 0.0
-    });
-    any
+    air.with_modem_poses(m, v, |poses| {
+        let mut any = false;
+        each_power_of((m, geo, air), v, poses, a, &mut |_, p| any |= p > 0.0);
+        any
+    })
 }
 
 #[cfg(test)]

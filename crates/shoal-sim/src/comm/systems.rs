@@ -11,7 +11,7 @@ use super::mac::Link;
 use super::medium::{Logical, Medium};
 use super::reception::{Listener, Scratch, receive};
 use super::stats::{CommStats, Tally};
-use super::transmit::{Vehicle, Walk};
+use super::transmit::{Vehicle, Walk, earliest};
 use crate::components::{StaticGeometry, VehicleEntities, VehicleId};
 use crate::parallel::{Loop, Parallel};
 use bevy_ecs::prelude::*;
@@ -88,19 +88,16 @@ pub fn comm_transmit_system(
     );
     linked.sort_unstable();
     linked.dedup();
-    let mut ids = std::mem::take(&mut medium.waiting);
-    if ids.is_empty() && linked.is_empty() {
+    let t_end = clock.t() + clock.dt;
+    // Those waiting whose first frame is due after this step are not even looked at.
+    let (mut ids, later) = due_in_step(std::mem::take(&mut medium.waiting), &linked, t_end);
+    if ids.is_empty() {
+        medium.waiting = later;
         return;
     }
-    ids.extend_from_slice(&linked);
-    ids.sort_unstable();
-    ids.dedup();
     let mut q = qs.p1();
-    let t_end = clock.t() + clock.dt;
-    let mut items: Vec<_> = q
-        .iter_many_unique_mut(entities.set_of(&ids))
-        .matched()
-        .collect();
+    let mut items = Vec::with_capacity(ids.len());
+    items.extend(q.iter_many_unique_mut(entities.set_of(&ids)).matched());
     items.sort_unstable_by_key(|it| it.0.0);
     let mut walk = Walk::new(&medium, (clock.t(), t_end), std::mem::take(&mut *sensing));
     let med = &mut *medium;
@@ -156,8 +153,37 @@ pub fn comm_transmit_system(
     // Only the link layer changes whether it has work in this phase.
     linked.retain(|&v| items[at(v)].5.busy());
     ids.retain(|&v| items[at(v)].2.queued > 0);
-    m.waiting = ids;
+    let walked = ids.iter().map(|&v| (v, earliest(&items[at(v)].2)));
+    m.waiting = merge_by_vehicle(later, walked);
     m.linked = linked;
+}
+
+/// Of the vehicles `waiting` (ascending, each with when its first frame is due at the
+/// earliest \[s\]) and those with work for the link layer (`linked`, ascending): the ones the
+/// transmit phase of a step ending at `t_end` \[s\] looks at (ascending), and the others (still
+/// waiting). A vehicle waiting changes only in the transmit phase: until then its frames are
+/// due when they were.
+fn due_in_step(
+    waiting: Vec<(u32, f64)>,
+    linked: &[u32],
+    t_end: f64,
+) -> (Vec<u32>, Vec<(u32, f64)>) {
+    let (now, later): (Vec<_>, Vec<_>) = waiting
+        .into_iter()
+        .partition(|&(v, due)| due < t_end || linked.binary_search(&v).is_ok());
+    let mut ids: Vec<u32> = now.into_iter().map(|(v, _)| v).collect();
+    ids.extend_from_slice(linked);
+    ids.sort_unstable();
+    ids.dedup();
+    (ids, later)
+}
+
+/// Two lists ascending by vehicle, with no vehicle in both, as one.
+fn merge_by_vehicle(a: Vec<(u32, f64)>, b: impl Iterator<Item = (u32, f64)>) -> Vec<(u32, f64)> {
+    let mut all = a;
+    all.extend(b);
+    all.sort_unstable_by_key(|&(v, _)| v);
+    all
 }
 
 /// Step phase 3: decide every reception of frames that ended in this step.

@@ -84,6 +84,17 @@ fn due(port: &super::frames::ModemPort, t0: f64) -> Option<f64> {
     port.head().map(|h| h.ready.max(port.busy_until).max(t0))
 }
 
+/// When the first of the frames queued at `modems` is due at the earliest (when handed over,
+/// when its port is free) \[s\]; +∞ if none is queued. A step ending at `t_end` has a turn for
+/// the vehicle only if this is earlier ([`Walk::schedule`]).
+pub(super) fn earliest(modems: &Modems) -> f64 {
+    modems
+        .ports
+        .iter()
+        .filter_map(|p| p.head().map(|h| h.ready.max(p.busy_until)))
+        .fold(f64::INFINITY, f64::min)
+}
+
 /// Whether the frame at the head of `port`'s queue is due at `t` ≥ `t0` \[s\] ([`due`]): the
 /// port's own fields answer, without reading the queue's storage.
 fn due_at(port: &super::frames::ModemPort, t: f64, t0: f64) -> bool {
@@ -276,7 +287,7 @@ impl Walk {
                 Some((th, since)) if th == threshold => Ok(since),
                 _ => {
                     let air = air_of(air, store, m, reach);
-                    idle_since((m, geo, air), vehicle, &pos, &att, t, threshold)
+                    idle_since((m, geo, air), vehicle, t, threshold)
                 }
             };
             if let Ok(since) = r {
