@@ -77,26 +77,58 @@ pub struct BenchArgs {
     pub python: Option<PathBuf>,
 }
 
-struct Cell {
-    steps: u64,
-    wall_s: f64,
-    vehicle_steps_per_s: f64,
+/// What one swarm measured.
+pub(crate) struct Cell {
+    /// Steps measured.
+    pub(crate) steps: u64,
+    /// Their wall time \[s\].
+    pub(crate) wall_s: f64,
+    /// Vehicles times steps per wall-clock second \[1/s\].
+    pub(crate) vehicle_steps_per_s: f64,
+    /// Simulated time per wall-clock time \[1\].
     real_time: f64,
+    /// Heap the swarm took when built, per vehicle \[bytes\].
     bytes_per_vehicle: f64,
-    frames_per_s: f64,
-    deliveries_per_s: f64,
+    /// Frames started per simulated second \[1/s\].
+    pub(crate) frames_per_s: f64,
+    /// Frames delivered per simulated second \[1/s\].
+    pub(crate) deliveries_per_s: f64,
     /// Loops split over the thread pool during the measured steps.
     parallel_dispatches: u64,
     /// Share of each phase of the step (order of [`Phase::ALL`]), from a timed continuation
     /// of the measured run.
-    phase_shares: [f64; 6],
+    pub(crate) phase_shares: [f64; 6],
     /// Reception attempts per step and the delivery phase's wall time per attempt \[ns\] in
     /// that continuation (`None` without attempts).
     attempts: Option<(f64, f64)>,
 }
 
-fn measure(desc: &WorldDesc, threads: usize, seconds: f64, warmup: u64) -> Cell {
-    let n = desc.vehicles.len();
+/// What a swarm had done when its measured steps began.
+pub(crate) struct Marks {
+    /// Frames started and delivered so far.
+    sent: u64,
+    delivered: u64,
+    /// Loops split over the pool so far.
+    split: u64,
+    /// Simulated time \[s\].
+    t: f64,
+}
+
+impl Marks {
+    /// Of `sim` now.
+    pub(crate) fn of(sim: &Sim) -> Self {
+        Self {
+            sent: sim.medium().started.0,
+            delivered: sim.medium().delivered,
+            split: sim.parallel_dispatches().total(),
+            t: sim.time(),
+        }
+    }
+}
+
+/// The swarm of `desc` on `threads` threads, stepped `warmup` steps, and the heap it took
+/// when built per vehicle \[bytes\].
+pub(crate) fn prepared(desc: &WorldDesc, threads: usize, warmup: u64) -> (Sim, f64) {
     let before = live_bytes();
     let mut sim = Sim::new(
         desc,
@@ -105,10 +137,14 @@ fn measure(desc: &WorldDesc, threads: usize, seconds: f64, warmup: u64) -> Cell 
             record: false,
         },
     );
-    let bytes = live_bytes().saturating_sub(before) as f64 / n as f64;
+    let bytes = live_bytes().saturating_sub(before) as f64 / desc.vehicles.len() as f64;
     sim.run(warmup);
-    let (sent0, got0) = (sim.medium().started.0, sim.medium().delivered);
-    let split0 = sim.parallel_dispatches().total();
+    (sim, bytes)
+}
+
+fn measure(desc: &WorldDesc, threads: usize, seconds: f64, warmup: u64) -> Cell {
+    let (mut sim, bytes) = prepared(desc, threads, warmup);
+    let marks = Marks::of(&sim);
     let start = Instant::now();
     let mut steps = 0u64;
     let mut batch = 1u64;
@@ -118,14 +154,21 @@ fn measure(desc: &WorldDesc, threads: usize, seconds: f64, warmup: u64) -> Cell 
         batch = (batch * 2).min(1000);
     }
     let wall = start.elapsed().as_secs_f64();
-    let sim_s = steps as f64 * desc.dt;
+    cell(&mut sim, (steps, wall), bytes, &marks)
+}
+
+/// The cell of `sim`, which stepped `steps` in `wall` \[s\] of measured time since `marks`
+/// (built taking `bytes` per vehicle); its phases are timed on a continuation of a quarter of
+/// the measured steps, so that the clock reads cannot slow the measured rate (they matter in
+/// the smallest worlds).
+pub(crate) fn cell(sim: &mut Sim, (steps, wall): (u64, f64), bytes: f64, marks: &Marks) -> Cell {
+    let n = sim.len();
+    let sim_s = sim.time() - marks.t;
     let (sent, delivered) = (
-        sim.medium().started.0 - sent0,
-        sim.medium().delivered - got0,
+        sim.medium().started.0 - marks.sent,
+        sim.medium().delivered - marks.delivered,
     );
-    let parallel_dispatches = sim.parallel_dispatches().total() - split0;
-    // The phases are timed on a continuation of a quarter of the measured steps, so that the
-    // clock reads cannot slow the measured rate (they matter in the smallest worlds).
+    let parallel_dispatches = sim.parallel_dispatches().total() - marks.split;
     sim.time_phases();
     let (attempts0, timed) = (sim.medium().attempts(), (steps / 4).max(10));
     sim.run(timed);
@@ -185,7 +228,7 @@ pub fn bench(a: &BenchArgs) -> anyhow::Result<()> {
         .unwrap_or_else(|| default_threads(shoal_sim::parallel::all_cores()));
     if let Some(access) = &a.access {
         let mut json = Vec::new();
-        access_table(a, &vehicles, &threads, access, &mut json)?;
+        crate::bench_access::access_table(a, (&vehicles, &threads), access, &mut json)?;
         if let Some(path) = &a.json {
             write_json(path, &serde_json::to_string_pretty(&json)?)?;
         }
@@ -295,75 +338,6 @@ pub fn bench(a: &BenchArgs) -> anyhow::Result<()> {
         write_json(path, &serde_json::to_string_pretty(&json)?)?;
     }
     Ok(())
-}
-
-/// The traffic table once per medium-access protocol in `access`, each row with its step's
-/// cost against unslotted ALOHA's on the same swarm (measured here, just before).
-fn access_table(
-    a: &BenchArgs,
-    vehicles: &[usize],
-    threads: &[usize],
-    access: &[String],
-    json: &mut Vec<serde_json::Value>,
-) -> anyhow::Result<()> {
-    println!(
-        "\nwith optical traffic — a {TRAFFIC_SPACING} m grid, every vehicle with 4 modems beaconing a 32-byte frame once a second, its modems getting the medium by each protocol;\ncost × ALOHA = wall time of a step / that of the same swarm under unslotted ALOHA (measured just before it; the median of three rounds)"
-    );
-    println!(
-        "{:>8} {:>7} {:>14} {:>16} {:>10} {:>12} {:>14}",
-        "vehicles",
-        "threads",
-        "access",
-        "vehicle-steps/s",
-        "frames/s",
-        "delivered/s",
-        "cost × ALOHA"
-    );
-    for &n in vehicles {
-        let aloha = shoal_sim::bench::traffic_swarm_with_access(n, 1, "\"aloha\"")
-            .map_err(anyhow::Error::msg)?;
-        for &t in threads {
-            // The first swarm a process steps runs slower (its memory is new): one unmeasured.
-            measure(&aloha, t, a.seconds.min(1.0), 150);
-            for name in access {
-                let desc = shoal_sim::bench::traffic_swarm_with_access(n, 1, &format!("{name:?}"))
-                    .map_err(|e| anyhow::anyhow!("--access {name}: {e}"))?;
-                // ALOHA's rate measured just before each protocol's, so that a drift of the
-                // machine's speed falls on both; in rounds, the median ratio, so that one
-                // slow moment of a shared machine does not make the figure.
-                let (cost, c) = paired_cost(&aloha, &desc, t, a.seconds);
-                println!(
-                    "{:>8} {:>7} {:>14} {:>16.0} {:>10.0} {:>12.0} {:>14.3}",
-                    n, t, name, c.vehicle_steps_per_s, c.frames_per_s, c.deliveries_per_s, cost
-                );
-                json.push(serde_json::json!({
-                    "table": "access", "vehicles": n, "threads": t, "access": name,
-                    "vehicle_steps_per_s": c.vehicle_steps_per_s, "frames_per_s": c.frames_per_s,
-                    "deliveries_per_s": c.deliveries_per_s, "cost_vs_aloha": cost,
-                    "phase_shares": ByPhase(c.phase_shares),
-                }));
-            }
-        }
-    }
-    Ok(())
-}
-
-/// Rounds of [`paired_cost`].
-const ROUNDS: usize = 3;
-
-/// The step's wall time of `desc` against `aloha`'s on `threads` threads: [`ROUNDS`] rounds
-/// of ALOHA then `desc`, `seconds` each in all; the median round's ratio and cell of `desc`.
-fn paired_cost(aloha: &WorldDesc, desc: &WorldDesc, threads: usize, seconds: f64) -> (f64, Cell) {
-    let each = seconds / ROUNDS as f64;
-    let mut rounds: Vec<(f64, Cell)> = (0..ROUNDS)
-        .map(|_| {
-            let base = measure(aloha, threads, each, 150).vehicle_steps_per_s;
-            let c = measure(desc, threads, each, 150);
-            (base / c.vehicle_steps_per_s, c)
-        })
-        .collect();
-    rounds.sort_by(|a, b| a.0.total_cmp(&b.0));
-    rounds.swap_remove(ROUNDS / 2)
 }
 
 /// The second table: the share of each phase of the step in this binary's rows.

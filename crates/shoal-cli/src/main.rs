@@ -20,6 +20,7 @@
 mod agents;
 mod alloc;
 mod bench;
+mod bench_access;
 mod bench_agent;
 mod bench_ros2;
 mod bench_rows;

@@ -257,6 +257,53 @@ fn one_and_two_threads_give_the_same_digest() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// `bench --access`: a row per protocol, its frames the swarm's beacons (every vehicle's four
+/// modems once a second, whatever the protocol: the load is low) over the steps measured —
+/// each modem's count within 1.2 of the window's seconds (a beacon leaves up to 0.05 s after
+/// its time, and carrier sensing holds it a little longer) —, its cost against ALOHA's a
+/// positive ratio, its phases the whole step.
+#[test]
+fn bench_access_rows_send_every_beacon_and_cost_each_protocol_against_aloha() {
+    let dir = tmp("bench_access");
+    let json = dir.join("rows.json");
+    let o = shoal()
+        .args([
+            "bench",
+            "--vehicles",
+            "100",
+            "--threads",
+            "1",
+            "--seconds",
+            "1",
+            "--access",
+            "aloha,csma_ca",
+            "--json",
+        ])
+        .arg(&json)
+        .output()
+        .unwrap();
+    let (stdout, stderr) = text(&o);
+    assert!(o.status.success(), "{stderr}");
+    assert!(stdout.contains("cost × ALOHA"), "{stdout}");
+    let rows: Vec<serde_json::Value> =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let names: Vec<&str> = rows.iter().map(|r| r["access"].as_str().unwrap()).collect();
+    assert_eq!(names, ["aloha", "csma_ca"]);
+    for r in &rows {
+        let frames = r["frames_per_s"].as_f64().unwrap();
+        let window = r["steps"].as_f64().unwrap() * 0.01;
+        assert!((frames - 400.0).abs() * window <= 1.2 * 400.0, "{r}");
+        let cost = r["cost_vs_aloha"].as_f64().unwrap();
+        assert!(cost.is_finite() && cost > 0.0, "{r}");
+        let shares: f64 = STEP_PHASES
+            .iter()
+            .map(|k| r["phase_shares"][k].as_f64().unwrap())
+            .sum();
+        assert!((shares - 1.0).abs() < 1e-9, "{r}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 #[test]
 fn bench_prints_a_row_per_cell_and_writes_them_as_json() {
     let dir = tmp("bench");
