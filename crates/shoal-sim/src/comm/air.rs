@@ -125,19 +125,20 @@ impl Air {
             mut poses_at,
             mut modem_poses,
         } = store;
-        let entries = match entries {
-            Some(mut l) => {
-                l.reset(cells);
-                l
-            }
-            None => CellLists::new(cells),
-        };
+        let mut entries = entries.unwrap_or_else(|| CellLists::new(cells));
+        let all: Vec<OnAir> = m
+            .txs
+            .iter()
+            .enumerate()
+            .map(|(i, x)| OnAir::of(i, x))
+            .collect();
+        entries.refill(cells, &all, |a| &a.position);
         kept.clear();
         powers.clear();
         clear.clear();
         poses_at.clear();
         modem_poses.clear();
-        let mut air = Self {
+        let air = Self {
             entries,
             kept: RefCell::new(kept),
             ended: RefCell::new(ended),
@@ -146,10 +147,6 @@ impl Air {
             poses_at: RefCell::new(poses_at),
             modem_poses: RefCell::new(modem_poses),
         };
-        for (i, x) in m.txs.iter().enumerate() {
-            let e = OnAir::of(i, x);
-            air.entries.push(&e.position, e);
-        }
         air
     }
 
