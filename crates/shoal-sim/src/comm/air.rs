@@ -138,7 +138,7 @@ impl Air {
         clear.clear();
         poses_at.clear();
         modem_poses.clear();
-        let air = Self {
+        Self {
             entries,
             kept: RefCell::new(kept),
             ended: RefCell::new(ended),
@@ -146,8 +146,7 @@ impl Air {
             clear: RefCell::new(clear),
             poses_at: RefCell::new(poses_at),
             modem_poses: RefCell::new(modem_poses),
-        };
-        air
+        }
     }
 
     /// Its storage, for the next phase.
