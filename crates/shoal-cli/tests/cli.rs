@@ -265,10 +265,8 @@ fn one_and_two_threads_give_the_same_digest() {
 #[test]
 fn bench_access_rows_send_every_beacon_and_cost_each_protocol_against_aloha() {
     let dir = tmp("bench_access");
-    let json = dir.join("rows.json");
-    let o = shoal()
-        .args([
-            "bench",
+    let (stdout, doc) = bench_json(
+        &[
             "--vehicles",
             "100",
             "--threads",
@@ -277,19 +275,14 @@ fn bench_access_rows_send_every_beacon_and_cost_each_protocol_against_aloha() {
             "1",
             "--access",
             "aloha,csma_ca",
-            "--json",
-        ])
-        .arg(&json)
-        .output()
-        .unwrap();
-    let (stdout, stderr) = text(&o);
-    assert!(o.status.success(), "{stderr}");
+        ],
+        &dir.join("rows.json"),
+    );
     assert!(stdout.contains("cost × ALOHA"), "{stdout}");
-    let rows: Vec<serde_json::Value> =
-        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let rows = doc.as_array().unwrap();
     let names: Vec<&str> = rows.iter().map(|r| r["access"].as_str().unwrap()).collect();
     assert_eq!(names, ["aloha", "csma_ca"]);
-    for r in &rows {
+    for r in rows {
         let frames = r["frames_per_s"].as_f64().unwrap();
         let window = r["steps"].as_f64().unwrap() * 0.01;
         assert!((frames - 400.0).abs() * window <= 1.2 * 400.0, "{r}");
@@ -304,26 +297,37 @@ fn bench_access_rows_send_every_beacon_and_cost_each_protocol_against_aloha() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// `shoal bench` with `args` and `--json` to `json`: what it printed and the rows it wrote
+/// (it succeeded).
+fn bench_json(args: &[&str], json: &Path) -> (String, serde_json::Value) {
+    let o = shoal()
+        .arg("bench")
+        .args(args)
+        .arg("--json")
+        .arg(json)
+        .output()
+        .unwrap();
+    let (stdout, stderr) = text(&o);
+    assert!(o.status.success(), "{stderr}");
+    let doc = serde_json::from_str(&std::fs::read_to_string(json).unwrap()).unwrap();
+    (stdout, doc)
+}
+
 #[test]
 fn bench_prints_a_row_per_cell_and_writes_them_as_json() {
     let dir = tmp("bench");
     let json = dir.join("rows.json");
-    let o = shoal()
-        .args([
-            "bench",
+    let (stdout, doc) = bench_json(
+        &[
             "--vehicles",
             "1,300",
             "--threads",
             "1,2",
             "--seconds",
             "0.05",
-            "--json",
-        ])
-        .arg(&json)
-        .output()
-        .unwrap();
-    let (stdout, stderr) = text(&o);
-    assert!(o.status.success(), "{stderr}");
+        ],
+        &json,
+    );
     for column in [
         "vehicle-steps/s",
         "real-time ×",
@@ -336,8 +340,6 @@ fn bench_prints_a_row_per_cell_and_writes_them_as_json() {
     ] {
         assert!(stdout.contains(column), "{column}: {stdout}");
     }
-    let doc: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     assert!(doc["machine"]["cores"].as_u64().unwrap() >= 1);
     let clock_known = doc["machine"]["clock_hz"].is_number();
     let rows = doc["rows"].as_array().unwrap();
@@ -382,9 +384,9 @@ fn bench_prints_a_row_per_cell_and_writes_them_as_json() {
         }
     }
     // Without the traffic table; side by side with another binary (here: itself).
-    let o = shoal()
-        .args([
-            "bench",
+    let me = env!("CARGO_BIN_EXE_shoal");
+    let (stdout, doc) = bench_json(
+        &[
             "--vehicles",
             "10",
             "--threads",
@@ -392,21 +394,15 @@ fn bench_prints_a_row_per_cell_and_writes_them_as_json() {
             "--seconds",
             "0.02",
             "--no-comm",
-        ])
-        .arg("--compare")
-        .arg(env!("CARGO_BIN_EXE_shoal"))
-        .arg("--json")
-        .arg(&json)
-        .output()
-        .unwrap();
-    let (stdout, stderr) = text(&o);
-    assert!(o.status.success(), "{stderr}");
+            "--compare",
+            me,
+        ],
+        &json,
+    );
     assert!(
         stdout.contains("this/other") && !stdout.contains(" yes "),
         "{stdout}"
     );
-    let doc: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     let binaries: Vec<&str> = doc["rows"]
         .as_array()
         .unwrap()
