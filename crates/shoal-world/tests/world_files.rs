@@ -281,6 +281,51 @@ fn a_groups_access_sets_every_modem_and_is_checked_there() {
     assert!(e.to_string().contains("vehicles[0].access"), "{e}");
 }
 
+/// A group's `arq_retries` and `ack_timeout` set every modem's as its `access` does: in
+/// every modem (its own and the preset's), checked there and reported at the group's field
+/// and line; a modem's own setting that the group does not give stays the modem's; a modem
+/// that sets what the group gives is refused.
+#[test]
+fn a_groups_retry_settings_set_every_modem_and_are_checked_there() {
+    let two = "[[vehicles.model.modems]]\n[[vehicles.model.modems]]\nname = \"back\"\ndirection = [-1.0, 0.0, 0.0]\n";
+    let text = format!("{ONE}arq_retries = 5\nack_timeout = 0.2\n{two}");
+    let ok = load_str(&text, Path::new("ok.toml")).unwrap();
+    let links = &ok.vehicles[0].link;
+    assert_eq!(links.len(), 2);
+    for l in links.iter() {
+        assert_eq!((l.retries, l.ack_timeout), (5, 0.2));
+    }
+    // The defaults without them.
+    let plain = load_str(ONE, Path::new("ok.toml")).unwrap();
+    let l = &plain.vehicles[0].link[0];
+    assert_eq!((l.retries, l.ack_timeout), (3, 0.05));
+    let field = |e: &WorldError| e.first().field.as_ref().map(ToString::to_string);
+    // Out of range: once, at the group's field, on its line (line 5).
+    let e = err(&format!("{ONE}arq_retries = 1000\n{two}"));
+    assert_eq!(e.problems.len(), 1, "{e}");
+    assert_eq!(e.first().kind, ProblemKind::Range);
+    assert_eq!(field(&e).as_deref(), Some("vehicles[0].arq_retries"), "{e}");
+    assert_eq!(e.first().line_col.map(|l| l.0), Some(5), "{e}");
+    // A modem's own, where the group gives another setting: at the modem's.
+    let e = err(&format!(
+        "{ONE}ack_timeout = 0.2\n[[vehicles.model.modems]]\narq_retries = 1000\n"
+    ));
+    assert_eq!(
+        field(&e).as_deref(),
+        Some("vehicles[0].model.modems[0].arq_retries"),
+        "{e}"
+    );
+    // Both the group and a modem: refused at the modem's, naming the group's.
+    let e = err(&format!(
+        "{ONE}ack_timeout = 0.2\n[[vehicles.model.modems]]\nack_timeout = 0.1\n"
+    ));
+    assert_eq!(
+        field(&e).as_deref(),
+        Some("vehicles[0].model.modems[0].ack_timeout")
+    );
+    assert!(e.to_string().contains("vehicles[0].ack_timeout"), "{e}");
+}
+
 #[test]
 fn syntax_errors_have_a_line() {
     let e = err("seed = 1\n[pool\nsize = 3\n");

@@ -15,7 +15,7 @@
 mod advice;
 mod behaviour;
 mod export;
-mod group_access;
+mod group_link;
 mod memory;
 mod messages;
 mod mission;
@@ -149,7 +149,7 @@ pub fn load_vehicle(path: &Path) -> Result<VehicleFile, WorldError> {
     };
     let gp = FieldPath::root().key("vehicles").index(0);
     match vehicle_spec(
-        (g.preset.as_deref(), g.model.as_ref(), g.access.as_ref()),
+        (g.preset.as_deref(), g.model.as_ref(), &g.link()),
         &gp,
         &mut v,
     ) {

@@ -43,11 +43,8 @@ pub(super) fn group(
     let gp = FieldPath::root().key("vehicles").index(gi);
     let n0 = v.problems.len();
     v.field(&gp.key("heading_deg"), g.heading_deg);
-    let Some(spec) = vehicle_spec(
-        (g.preset.as_deref(), g.model.as_ref(), g.access.as_ref()),
-        &gp,
-        v,
-    ) else {
+    let Some(spec) = vehicle_spec((g.preset.as_deref(), g.model.as_ref(), &g.link()), &gp, v)
+    else {
         return Ok(base.clone());
     };
     let params = spec.to_params();

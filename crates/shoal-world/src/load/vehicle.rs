@@ -2,7 +2,7 @@
 //! thruster, tilt, ballast, sensor, controller, modem and effect parameter checked, and the
 //! mass matrix checked for being symmetric positive definite.
 
-use super::group_access;
+use super::group_link;
 use super::messages::{explain, suggest};
 use super::ranges::End;
 use super::validator::{Validator, axis};
@@ -24,10 +24,11 @@ pub fn merge(base: &mut toml::Table, over: &toml::Table) {
 }
 
 /// Builds and validates the vehicle model of a group: `preset` (default `uauv2`, or `custom`)
-/// with the `model` overrides merged over it, and the group's `access` in every modem (see
-/// `group_access.rs`). `path` is the group's field path (for messages).
+/// with the `model` overrides merged over it, and the group's link settings (`link`: name,
+/// value) in every modem (see `group_link.rs`). `path` is the group's field path (for
+/// messages).
 pub fn vehicle_spec(
-    (preset, model, access): (Option<&str>, Option<&toml::Table>, Option<&toml::Value>),
+    (preset, model, link): (Option<&str>, Option<&toml::Table>, &[(&str, &toml::Value)]),
     path: &FieldPath,
     v: &mut Validator<'_>,
 ) -> Option<VehicleSpec> {
@@ -61,16 +62,15 @@ pub fn vehicle_spec(
     if let Some(m) = model {
         merge(&mut base, m);
     }
-    if let Some(a) = access
-        && !group_access::apply(&mut base, model, a, path, v)
-    {
+    if !link.is_empty() && !group_link::apply(&mut base, model, link, path, v) {
         return None;
     }
-    // Problems in the group's `access` are reported at it, once.
+    // Problems in the group's link settings are reported at them, once.
     let n0 = v.problems.len();
     let spec = read_model(base, preset_name, path, v);
-    if access.is_some() {
-        v.move_problems(n0, |f| group_access::to_group(f, path));
+    if !link.is_empty() {
+        let given: Vec<&str> = link.iter().map(|(k, _)| *k).collect();
+        v.move_problems(n0, |f| group_link::to_group(f, path, &given));
     }
     spec
 }

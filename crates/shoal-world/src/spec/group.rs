@@ -159,10 +159,33 @@ pub struct VehicleGroupSpec {
     /// included; a modem of `model` must then not set its own.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub access: Option<toml::Value>,
+    /// Retransmissions of an unacknowledged unicast frame for every modem of the model, as a
+    /// modem's `arq_retries`; a modem of `model` must then not set its own.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub arq_retries: Option<toml::Value>,
+    /// Wait for an acknowledgement after a frame ended, for every modem of the model, as a
+    /// modem's `ack_timeout` \[s\]; a modem of `model` must then not set its own.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ack_timeout: Option<toml::Value>,
     /// A built-in swarm behaviour run on every control tick.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub behaviour: Option<BehaviourSpec>,
     /// Name of the external agent process that drives this group (see `[agents]`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub agent: Option<String>,
+}
+
+impl VehicleGroupSpec {
+    /// The link-layer settings the group gives for every modem of its model (`access`,
+    /// `arq_retries`, `ack_timeout`), by name, those it gives.
+    pub fn link(&self) -> Vec<(&'static str, &toml::Value)> {
+        [
+            ("access", &self.access),
+            ("arq_retries", &self.arq_retries),
+            ("ack_timeout", &self.ack_timeout),
+        ]
+        .into_iter()
+        .filter_map(|(k, v)| v.as_ref().map(|v| (k, v)))
+        .collect()
+    }
 }
