@@ -6,18 +6,17 @@
 //! and 1,000 vehicles in one external agent process (the goto example agents), measured by
 //! the world's end of the bridge.
 
-use crate::alloc::live_bytes;
 use crate::bench_agent::{AgentCell, AgentProcess, Exchange, checkout, python, time_exchange};
+use crate::bench_measure::measure;
 use crate::bench_rows::{Bench, Machine, Row};
 use anyhow::Context;
 use shoal_bridge::host::Host;
 use shoal_sim::bench::{SPACING, TRAFFIC_SPACING, swarm_spaced};
 use shoal_sim::phases::{ByPhase, Phase};
 use shoal_sim::prelude::*;
-use shoal_world::desc::WorldDesc;
 use std::path::{Path, PathBuf};
 use std::process::Stdio;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// 1, 2, 4, … below `cores`, then `cores`: the scaling from one thread to every core.
 fn default_threads(cores: usize) -> Vec<usize> {
@@ -77,122 +76,6 @@ pub struct BenchArgs {
     pub python: Option<PathBuf>,
 }
 
-/// What one swarm measured.
-pub(crate) struct Cell {
-    /// Steps measured.
-    pub(crate) steps: u64,
-    /// Their wall time \[s\].
-    pub(crate) wall_s: f64,
-    /// Vehicles times steps per wall-clock second \[1/s\].
-    pub(crate) vehicle_steps_per_s: f64,
-    /// Simulated time per wall-clock time \[1\].
-    real_time: f64,
-    /// Heap the swarm took when built, per vehicle \[bytes\].
-    bytes_per_vehicle: f64,
-    /// Frames started per simulated second \[1/s\].
-    pub(crate) frames_per_s: f64,
-    /// Frames delivered per simulated second \[1/s\].
-    pub(crate) deliveries_per_s: f64,
-    /// Loops split over the thread pool during the measured steps.
-    parallel_dispatches: u64,
-    /// Share of each phase of the step (order of [`Phase::ALL`]), from a timed continuation
-    /// of the measured run.
-    pub(crate) phase_shares: [f64; 6],
-    /// Reception attempts per step and the delivery phase's wall time per attempt \[ns\] in
-    /// that continuation (`None` without attempts).
-    attempts: Option<(f64, f64)>,
-}
-
-/// What a swarm had done when its measured steps began.
-pub(crate) struct Marks {
-    /// Frames started and delivered so far.
-    sent: u64,
-    delivered: u64,
-    /// Loops split over the pool so far.
-    split: u64,
-    /// Simulated time \[s\].
-    t: f64,
-}
-
-impl Marks {
-    /// Of `sim` now.
-    pub(crate) fn of(sim: &Sim) -> Self {
-        Self {
-            sent: sim.medium().started.0,
-            delivered: sim.medium().delivered,
-            split: sim.parallel_dispatches().total(),
-            t: sim.time(),
-        }
-    }
-}
-
-/// The swarm of `desc` on `threads` threads, stepped `warmup` steps, and the heap it took
-/// when built per vehicle \[bytes\].
-pub(crate) fn prepared(desc: &WorldDesc, threads: usize, warmup: u64) -> (Sim, f64) {
-    let before = live_bytes();
-    let mut sim = Sim::new(
-        desc,
-        SimOptions {
-            threads,
-            record: false,
-        },
-    );
-    let bytes = live_bytes().saturating_sub(before) as f64 / desc.vehicles.len() as f64;
-    sim.run(warmup);
-    (sim, bytes)
-}
-
-fn measure(desc: &WorldDesc, threads: usize, seconds: f64, warmup: u64) -> Cell {
-    let (mut sim, bytes) = prepared(desc, threads, warmup);
-    let marks = Marks::of(&sim);
-    let start = Instant::now();
-    let mut steps = 0u64;
-    let mut batch = 1u64;
-    while start.elapsed().as_secs_f64() < seconds || steps < 10 {
-        sim.run(batch);
-        steps += batch;
-        batch = (batch * 2).min(1000);
-    }
-    let wall = start.elapsed().as_secs_f64();
-    cell(&mut sim, (steps, wall), bytes, &marks)
-}
-
-/// The cell of `sim`, which stepped `steps` in `wall` \[s\] of measured time since `marks`
-/// (built taking `bytes` per vehicle); its phases are timed on a continuation of a quarter of
-/// the measured steps, so that the clock reads cannot slow the measured rate (they matter in
-/// the smallest worlds).
-pub(crate) fn cell(sim: &mut Sim, (steps, wall): (u64, f64), bytes: f64, marks: &Marks) -> Cell {
-    let n = sim.len();
-    let sim_s = sim.time() - marks.t;
-    let (sent, delivered) = (
-        sim.medium().started.0 - marks.sent,
-        sim.medium().delivered - marks.delivered,
-    );
-    let parallel_dispatches = sim.parallel_dispatches().total() - marks.split;
-    sim.time_phases();
-    let (attempts0, timed) = (sim.medium().attempts(), (steps / 4).max(10));
-    sim.run(timed);
-    let attempts = sim.medium().attempts() - attempts0;
-    let delivery = sim.phase_times().of(Phase::MediumDelivery);
-    Cell {
-        steps,
-        wall_s: wall,
-        vehicle_steps_per_s: (steps * n as u64) as f64 / wall,
-        real_time: sim_s / wall,
-        bytes_per_vehicle: bytes,
-        frames_per_s: sent as f64 / sim_s,
-        deliveries_per_s: delivered as f64 / sim_s,
-        parallel_dispatches,
-        phase_shares: sim.phase_times().shares(),
-        attempts: (attempts > 0).then(|| {
-            (
-                attempts as f64 / timed as f64,
-                1e9 * delivery / attempts as f64,
-            )
-        }),
-    }
-}
-
 /// Runs the tables.
 pub fn bench(a: &BenchArgs) -> anyhow::Result<()> {
     anyhow::ensure!(
@@ -228,7 +111,7 @@ pub fn bench(a: &BenchArgs) -> anyhow::Result<()> {
         .unwrap_or_else(|| default_threads(shoal_sim::parallel::all_cores()));
     if let Some(access) = &a.access {
         let mut json = Vec::new();
-        crate::bench_access::access_table(a, (&vehicles, &threads), access, &mut json)?;
+        crate::bench_access::access_table((&vehicles, &threads), access, a.seconds, &mut json)?;
         if let Some(path) = &a.json {
             write_json(path, &serde_json::to_string_pretty(&json)?)?;
         }

@@ -4,7 +4,7 @@
 //! ALOHA — so that a drift of the machine's speed that is steady over a round falls on both
 //! alike; the figure is the median round's ratio.
 
-use crate::bench::{BenchArgs, Cell, Marks, cell, prepared};
+use crate::bench_measure::{Cell, Marks, cell, prepared};
 use shoal_sim::bench::TRAFFIC_SPACING;
 use shoal_sim::phases::ByPhase;
 use shoal_sim::prelude::*;
@@ -18,11 +18,12 @@ const ROUNDS: usize = 7;
 const WARMUP: u64 = 150;
 
 /// The traffic table once per medium-access protocol in `access`, for each of `vehicles` and
-/// `threads`, each row with its step's cost against unslotted ALOHA's ([`paired_cost`]).
+/// `threads`, each row with its step's cost against unslotted ALOHA's ([`paired_cost`],
+/// `seconds` \[s\] of wall time in all).
 pub(crate) fn access_table(
-    a: &BenchArgs,
     (vehicles, threads): (&[usize], &[usize]),
     access: &[String],
+    seconds: f64,
     json: &mut Vec<serde_json::Value>,
 ) -> anyhow::Result<()> {
     println!(
@@ -45,7 +46,7 @@ pub(crate) fn access_table(
             for name in access {
                 let desc = shoal_sim::bench::traffic_swarm_with_access(n, 1, &format!("{name:?}"))
                     .map_err(|e| anyhow::anyhow!("--access {name}: {e}"))?;
-                let (cost, c) = paired_cost(&aloha, &desc, t, a.seconds);
+                let (cost, c) = paired_cost(&aloha, &desc, t, seconds);
                 println!(
                     "{:>8} {:>7} {:>14} {:>16.0} {:>10.0} {:>12.0} {:>14.3}",
                     n, t, name, c.vehicle_steps_per_s, c.frames_per_s, c.deliveries_per_s, cost

@@ -22,6 +22,7 @@ mod alloc;
 mod bench;
 mod bench_access;
 mod bench_agent;
+mod bench_measure;
 mod bench_ros2;
 mod bench_rows;
 mod effects;
