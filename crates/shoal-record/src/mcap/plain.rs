@@ -60,6 +60,7 @@ uint32 sender_id # sending vehicle's id (index in the world) [count]
 uint32 receiver_id # receiving vehicle's id [count]
 string outcome # delivered, collided, occluded, out of budget or half-duplex
 uint32 bytes # payload length, without the link-layer header [bytes]
+bool ack # whether the frame was an acknowledgement (the link layer's answer to a unicast it received)
 ",
         uses: &[],
     },
@@ -100,6 +101,8 @@ pub struct ReceptionAttempt {
     pub outcome: String,
     /// Payload length \[bytes\].
     pub bytes: u32,
+    /// Whether the frame was an acknowledgement.
+    pub ack: bool,
 }
 
 impl ReceptionAttempt {
@@ -114,6 +117,7 @@ impl ReceptionAttempt {
             receiver_id: h.to,
             outcome: style(h.outcome).label.to_string(),
             bytes: h.bytes,
+            ack: h.ack,
         }
     }
 }
@@ -185,7 +189,8 @@ mod tests {
                 "sender_id",
                 "receiver_id",
                 "outcome",
-                "bytes"
+                "bytes",
+                "ack"
             ]
         );
     }

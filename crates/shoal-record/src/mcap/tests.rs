@@ -83,14 +83,25 @@ fn run_on(
     threads: usize,
 ) -> (WorldDesc, Vec<RecordBatch>, McapSummary, Vec<u8>) {
     let desc = desc();
+    let (batches, summary, bytes, _) = run_world(&desc, name, every, threads);
+    (desc, batches, summary, bytes)
+}
+
+/// [`run_on`] with the world `desc`; the simulation too, at its end.
+fn run_world(
+    desc: &WorldDesc,
+    name: &str,
+    every: Option<u64>,
+    threads: usize,
+) -> (Vec<RecordBatch>, McapSummary, Vec<u8>, Sim) {
     let opts = SimOptions {
         threads,
         record: true,
     };
-    let mut sim = Sim::new(&desc, opts);
+    let mut sim = Sim::new(desc, opts);
     sim.set_min_parallel(1);
     let path = dir(name).join(FILE_NAME);
-    let mut out = McapOutput::create(&path, &desc).unwrap();
+    let mut out = McapOutput::create(&path, desc).unwrap();
     if let Some(k) = every {
         out.plan.sample_every = k;
         out.summary.sample_every = k;
@@ -108,7 +119,7 @@ fn run_on(
     assert_eq!(done.commit().unwrap(), path);
     let bytes = std::fs::read(&path).unwrap();
     let _ = std::fs::remove_dir_all(path.parent().unwrap());
-    (desc, batches, summary, bytes)
+    (batches, summary, bytes, sim)
 }
 
 /// Every recorded row: `rows[vehicle][sample]`.
@@ -392,6 +403,56 @@ fn messages_decode_to_the_recorded_values() {
         frames
             .iter()
             .any(|f| f.outcome == "delivered" && f.bytes == 20)
+    );
+}
+
+/// `a` sends acknowledged unicasts to `b` 1.25 m ahead of it, facing it; `b` beacons to
+/// everyone besides. One front modem each.
+const ACKED: &str = r#"
+name = "acked"
+seed = 6
+duration = 10.0
+[pool]
+size = [16.0, 6.0, 3.0]
+[[vehicles]]
+name = "a"
+position = [2.0, 2.0, 1.5]
+behaviour = { kind = "poisson", rate = 4.0, payload_bytes = 26, to = "b", ack = true }
+[[vehicles.model.modems]]
+[[vehicles]]
+name = "b"
+position = [3.25, 2.0, 1.5]
+heading_deg = 180
+behaviour = { kind = "poisson", rate = 2.0, payload_bytes = 10 }
+[[vehicles.model.modems]]
+[output]
+record_hz = 10.0
+mcap = true
+"#;
+
+/// The attempts tell acknowledgements from other frames: an acknowledgement carries no
+/// payload, data frames and beacons do, so an attempt is flagged exactly when it has no
+/// payload; every flagged one goes from `b` back to `a`, one for each acknowledgement `b`
+/// put on the air (the last may not have ended).
+#[test]
+fn acknowledgements_are_marked_and_go_back_to_the_sender() {
+    let desc = shoal_world::load::load_str(ACKED, Path::new("acked.toml")).unwrap();
+    let (_, _, bytes, mut sim) = run_world(&desc, "acked", None, 1);
+    sim.fold_comm();
+    let msgs = read(&bytes);
+    let frames: Vec<ReceptionAttempt> = on(&msgs, "/optical/frames")
+        .map(|m| ros2::decode(&m.data).unwrap())
+        .collect();
+    assert!(frames.iter().all(|f| f.ack == (f.bytes == 0)), "{frames:?}");
+    let acks: Vec<_> = frames.iter().filter(|f| f.ack).collect();
+    assert!(
+        acks.iter()
+            .all(|f| (f.sender.as_str(), f.receiver.as_str()) == ("b", "a"))
+    );
+    let (flagged, sent) = (acks.len() as u64, sim.vehicle(1).comm.acks_sent);
+    assert!(
+        sent > 10 && flagged <= sent && flagged + 1 >= sent,
+        "{flagged} acknowledgements in run.mcap, {sent} sent"
     );
 }
 
