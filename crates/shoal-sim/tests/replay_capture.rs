@@ -132,25 +132,8 @@ fn a_large_swarm_samples_its_panel_less_often() {
 }
 
 /// `a` sends acknowledged unicasts to `b` 1.25 m ahead of it, facing it; `b` beacons to
-/// everyone besides. One front modem each, three retries.
-const ACKED: &str = r#"
-name = "acked"
-seed = 6
-duration = 20.0
-[pool]
-size = [16.0, 6.0, 3.0]
-[[vehicles]]
-name = "a"
-position = [2.0, 2.0, 1.5]
-behaviour = { kind = "poisson", rate = 4.0, payload_bytes = 26, to = "b", ack = true }
-[[vehicles.model.modems]]
-[[vehicles]]
-name = "b"
-position = [3.25, 2.0, 1.5]
-heading_deg = 180
-behaviour = { kind = "poisson", rate = 2.0, payload_bytes = 10 }
-[[vehicles.model.modems]]
-"#;
+/// everyone besides (shared with `shoal-record`'s run.mcap tests).
+const ACKED: &str = include_str!("support/acked_pair.toml");
 
 /// The replay tells acknowledgement frames from the others: every event flagged as one goes
 /// from the destination `b` back to the sender `a` — one for each acknowledgement `b` put on

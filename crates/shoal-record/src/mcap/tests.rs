@@ -407,28 +407,8 @@ fn messages_decode_to_the_recorded_values() {
 }
 
 /// `a` sends acknowledged unicasts to `b` 1.25 m ahead of it, facing it; `b` beacons to
-/// everyone besides. One front modem each.
-const ACKED: &str = r#"
-name = "acked"
-seed = 6
-duration = 10.0
-[pool]
-size = [16.0, 6.0, 3.0]
-[[vehicles]]
-name = "a"
-position = [2.0, 2.0, 1.5]
-behaviour = { kind = "poisson", rate = 4.0, payload_bytes = 26, to = "b", ack = true }
-[[vehicles.model.modems]]
-[[vehicles]]
-name = "b"
-position = [3.25, 2.0, 1.5]
-heading_deg = 180
-behaviour = { kind = "poisson", rate = 2.0, payload_bytes = 10 }
-[[vehicles.model.modems]]
-[output]
-record_hz = 10.0
-mcap = true
-"#;
+/// everyone besides (the replay's test world, `shoal-sim/tests/support`).
+const ACKED: &str = include_str!("../../../shoal-sim/tests/support/acked_pair.toml");
 
 /// The attempts tell acknowledgements from other frames: an acknowledgement carries no
 /// payload, data frames and beacons do, so an attempt is flagged exactly when it has no
@@ -436,7 +416,8 @@ mcap = true
 /// put on the air (the last may not have ended).
 #[test]
 fn acknowledgements_are_marked_and_go_back_to_the_sender() {
-    let desc = shoal_world::load::load_str(ACKED, Path::new("acked.toml")).unwrap();
+    let text = format!("{ACKED}[output]\nrecord_hz = 10.0\nmcap = true\n");
+    let desc = shoal_world::load::load_str(&text, Path::new("acked.toml")).unwrap();
     let (_, _, bytes, mut sim) = run_world(&desc, "acked", None, 1);
     sim.fold_comm();
     let msgs = read(&bytes);
