@@ -81,7 +81,13 @@ pub(super) struct Walk {
 /// When the frame at the head of a port's queue is due, if any: when it was handed over,
 /// when the port is free, not before the step's start `t0` \[s\].
 fn due(port: &super::frames::ModemPort, t0: f64) -> Option<f64> {
-    port.head().map(|h| h.ready.max(port.busy_until).max(t0))
+    free_for_head(port).map(|at| at.max(t0))
+}
+
+/// When the frame at the head of `port`'s queue, if any, could start: when it was handed over
+/// and the port is free \[s\].
+fn free_for_head(port: &super::frames::ModemPort) -> Option<f64> {
+    port.head().map(|h| h.ready.max(port.busy_until))
 }
 
 /// When the first of the frames queued at `modems` is due at the earliest (when handed over,
@@ -91,7 +97,7 @@ pub(super) fn earliest(modems: &Modems) -> f64 {
     modems
         .ports
         .iter()
-        .filter_map(|p| p.head().map(|h| h.ready.max(p.busy_until)))
+        .filter_map(free_for_head)
         .fold(f64::INFINITY, f64::min)
 }
 
