@@ -79,6 +79,33 @@ impl OnAir {
     }
 }
 
+/// The transmissions on record in the transmit phase: the medium's list, then the
+/// transmissions started in the phase so far (kept by the walk until it ends), one index
+/// across both ([`OnAir::index`]).
+#[derive(Clone, Copy)]
+pub(super) struct OnRecord<'a> {
+    /// The medium's list.
+    pub(super) medium: &'a [Transmission],
+    /// Started in this phase.
+    pub(super) started: &'a [Transmission],
+}
+
+impl<'a> OnRecord<'a> {
+    /// The transmission at `index`.
+    pub(super) fn get(&self, index: u32) -> &'a Transmission {
+        let i = index as usize;
+        match self.medium.get(i) {
+            Some(x) => x,
+            None => &self.started[i - self.medium.len()],
+        }
+    }
+
+    /// All of them, in list order.
+    fn iter(&self) -> impl Iterator<Item = &'a Transmission> {
+        self.medium.iter().chain(self.started)
+    }
+}
+
 /// The transmissions on record, by grid cell.
 pub(super) struct Air {
     entries: CellLists<OnAir>,
@@ -110,9 +137,9 @@ pub struct AirStore {
 }
 
 impl Air {
-    /// The transmissions of `m` on record, in cells at least `reach` \[m\] wide over the
-    /// vehicles' positions (the senders of every frame of the phase), in `store`.
-    pub(super) fn new(m: &Medium, reach: f64, store: AirStore) -> Self {
+    /// The transmissions on record `rec`, in cells at least `reach` \[m\] wide over the
+    /// vehicles' positions in `m` (the senders of every frame of the phase), in `store`.
+    pub(super) fn new(m: &Medium, rec: OnRecord<'_>, reach: f64, store: AirStore) -> Self {
         // The vehicles' box at the grid's last rebuild (they have moved a little since).
         let (lo, hi) = m.grid.bounds();
         let cells = Cells::over(lo, hi, reach);
@@ -126,8 +153,7 @@ impl Air {
             mut modem_poses,
         } = store;
         let mut entries = entries.unwrap_or_else(|| CellLists::new(cells));
-        let all: Vec<OnAir> = m
-            .txs
+        let all: Vec<OnAir> = rec
             .iter()
             .enumerate()
             .map(|(i, x)| OnAir::of(i, x))

@@ -4,17 +4,24 @@
 //! transmissions on record around the vehicle only ([`Air`], kept by the transmit phase), and
 //! compute a link budget only for senders within reach.
 
-use super::air::{Air, MODEMS_REMEMBERED, OnAir};
+use super::air::{Air, MODEMS_REMEMBERED, OnAir, OnRecord};
 use super::medium::{Medium, Transmission, received_power};
 use shoal_model::math::Vec3;
 use shoal_model::optics::{LinkGeometry, ModemPose};
 
+/// What carrier sensing reads: the medium, the walls and obstacles, the transmissions on
+/// record by position and the list they index.
+pub(super) type Sensing<'a> = (
+    &'a Medium,
+    &'a shoal_world::geometry::Geometry,
+    &'a Air,
+    OnRecord<'a>,
+);
+
 /// Received optical power at a modem from every transmission active at time `t` except
 /// those of vehicle `me` [W] (for carrier sense); `air`: the medium's transmissions.
 pub(super) fn sensed_power(
-    medium: &Medium,
-    geo: &shoal_world::geometry::Geometry,
-    air: &Air,
+    (medium, geo, air, rec): Sensing<'_>,
     me: u32,
     (k, pose): (usize, &ModemPose),
     t: f64,
@@ -32,7 +39,7 @@ pub(super) fn sensed_power(
         |x| {
             sum += sensed_one(
                 (medium, geo, air),
-                &medium.txs[x.index as usize],
+                rec.get(x.index),
                 (me, k, pose),
             );
         },
@@ -157,19 +164,19 @@ impl Listening<'_> {
 /// end of the last frame that alone did (or the vehicle's own last frame, if later; −∞ if
 /// none) \[s\].
 pub(super) fn idle_since(
-    (m, geo, air): (&Medium, &shoal_world::geometry::Geometry, &Air),
+    (m, geo, air, rec): Sensing<'_>,
     v: u32,
     t: f64,
     threshold: f64,
 ) -> Result<f64, f64> {
     air.with_modem_poses(m, v, |poses| {
-        listen((m, geo, air), (v, poses), t, threshold)
+        listen((m, geo, air, rec), (v, poses), t, threshold)
     })
 }
 
 /// [`idle_since`] for vehicle `v` whose modems are at `poses`.
 fn listen(
-    (m, geo, air): (&Medium, &shoal_world::geometry::Geometry, &Air),
+    (m, geo, air, rec): Sensing<'_>,
     (v, poses): (u32, &[ModemPose]),
     t: f64,
     threshold: f64,
@@ -203,7 +210,7 @@ fn listen(
     // The powers of a transmission at the vehicle's modems (remembered for the phase); `f`
     // with each. The frames that ended wait: they matter only if the channel is idle.
     let each_power = |a: &OnAir, f: &mut dyn FnMut(usize, f64)| {
-        each_power_of((m, geo, air), v, poses, a, f);
+        each_power_of((m, geo, air, rec), v, poses, a, f);
     };
     // Which frames are on the air and heard (their powers add up below, in list order), when
     // the first of them ends, and the end of the last frame that alone was heard.
@@ -219,13 +226,13 @@ fn listen(
 /// Calls `f` with the power transmission `a` delivers to each of vehicle `v`'s modems at
 /// `poses` \[W\], remembered for the phase in `air` (up to [`MODEMS_REMEMBERED`] modems).
 fn each_power_of(
-    (m, geo, air): (&Medium, &shoal_world::geometry::Geometry, &Air),
+    (m, geo, air, rec): Sensing<'_>,
     v: u32,
     poses: &[ModemPose],
     a: &OnAir,
     f: &mut dyn FnMut(usize, f64),
 ) {
-    let x = &m.txs[a.index as usize];
+    let x = rec.get(a.index);
     let one = |k, pose| sensed_one((m, geo, air), x, (v, k, pose));
     if poses.len() <= MODEMS_REMEMBERED {
         let p = air.powers(v, a, || {
@@ -249,13 +256,13 @@ fn each_power_of(
 /// phase in `air`, as [`idle_since`] will ask it): a frame that reaches none of them changes
 /// nothing [`idle_since`] finds.
 pub(super) fn reaches(
-    (m, geo, air): (&Medium, &shoal_world::geometry::Geometry, &Air),
+    (m, geo, air, rec): Sensing<'_>,
     v: u32,
     a: &OnAir,
 ) -> bool {
     air.with_modem_poses(m, v, |poses| {
         let mut any = false;
-        each_power_of((m, geo, air), v, poses, a, &mut |_, p| any |= p > 0.0);
+        each_power_of((m, geo, air, rec), v, poses, a, &mut |_, p| any |= p > 0.0);
         any
     })
 }

@@ -128,7 +128,7 @@ pub fn comm_transmit_system(
         Err(_) => unreachable!("vehicle {v} has a turn, so it has an item"),
     };
     medium.ended += ended;
-    let m = &mut *medium;
+    let m = &*medium;
     let mut woken = Vec::new();
     while let Some(turn) = walk.next() {
         let i = at(turn.vehicle);
@@ -149,7 +149,10 @@ pub fn comm_transmit_system(
         let i = at(w.vehicle);
         walk.wake(&mut items[i].2, &w);
     }
-    *sensing = walk.finish();
+    let started;
+    (*sensing, started) = walk.finish();
+    let m = &mut *medium;
+    started.apply(m);
     // Only the link layer changes whether it has work in this phase.
     linked.retain(|&v| items[at(v)].5.busy());
     ids.retain(|&v| items[at(v)].2.queued > 0);

@@ -6,7 +6,7 @@
 //! the copies of a frame on a ring of modems decide once and go out together. Ties in time go
 //! by vehicle id, so the walk's order never depends on threads.
 
-use super::air::{Air, AirStore, FastMap, OnAir};
+use super::air::{Air, AirStore, FastMap, OnAir, OnRecord};
 use super::countdown::{Countdowns, Wake};
 use super::frames::{CommRng, Kind, Modems};
 use super::grid::Cells;
@@ -76,6 +76,36 @@ pub(super) struct Walk {
     /// The step's start and end \[s\].
     t0: f64,
     t_end: f64,
+    /// What the walk started: the medium takes it over when the walk is done.
+    started: Started,
+}
+
+/// The transmissions a walk started and what they add to the medium's counters; the walk
+/// reads the medium only, so that the delivery can begin beside it
+/// ([`Started::apply`] when it is done).
+#[derive(Default)]
+pub(super) struct Started {
+    /// The transmissions, in the order they started (indices on record after the medium's).
+    txs: Vec<Transmission>,
+    /// The id of the next one.
+    next_id: u64,
+    /// Their LED time \[s\] and optical energy \[J\] by flow (sender, destination), in order.
+    led: Vec<((u32, u32), f64, f64)>,
+}
+
+impl Started {
+    /// Puts what the walk started on the medium's record, in order.
+    pub(super) fn apply(self, m: &mut Medium) {
+        for &((from, to), on, energy) in &self.led {
+            let f = m.flows.get(from, to);
+            f.led_on_s += on;
+            f.led_energy_j += energy;
+        }
+        m.started.0 += self.txs.len() as u64;
+        m.started.1 += self.txs.iter().map(|x| x.bits).sum::<u64>();
+        m.next_id = self.next_id;
+        m.txs.extend(self.txs);
+    }
 }
 
 /// When the frame at the head of a port's queue is due, if any: when it was handed over,
@@ -123,6 +153,10 @@ impl Walk {
             reach: m.r_cut + m.max_modem_offset,
             t0,
             t_end,
+            started: Started {
+                next_id: m.next_id,
+                ..Started::default()
+            },
         }
     }
 
@@ -148,12 +182,14 @@ impl Walk {
         }
     }
 
-    /// After the walk: the storage of its carrier sensing, for the next step's.
-    pub(super) fn finish(self) -> AirStore {
-        match self.air.into_inner() {
+    /// After the walk: the storage of its carrier sensing, for the next step's, and what it
+    /// started (for [`Started::apply`]).
+    pub(super) fn finish(self) -> (AirStore, Started) {
+        let store = match self.air.into_inner() {
             Some(air) => air.store(),
             None => self.store.take().unwrap_or_default(),
-        }
+        };
+        (store, self.started)
     }
 
     /// The next turn that is not stale.
@@ -201,7 +237,7 @@ impl Walk {
     /// order; the copies of a frame share the first one's decision. Then its next turn.
     pub(super) fn turn(
         &mut self,
-        (m, geo): (&mut Medium, &shoal_world::geometry::Geometry),
+        (m, geo): (&Medium, &shoal_world::geometry::Geometry),
         turn: &Turn,
         v: &mut Vehicle<'_>,
     ) {
@@ -268,18 +304,21 @@ impl Walk {
             store,
             countdowns,
             reach,
+            started,
             ..
         } = self;
         let reach = *reach;
+        let rec = OnRecord {
+            medium: &m.txs,
+            started: &started.txs,
+        };
         let kind = &m.kinds[vehicle as usize];
         let (pos, att) = m.poses[vehicle as usize];
         // Carrier sense listens with all of the vehicle's photodiodes.
         let mut busy = |threshold: f64| {
             kind.params.modems.iter().enumerate().any(|(j, rxm)| {
                 sensed_power(
-                    m,
-                    geo,
-                    air_of(air, store, m, reach),
+                    (m, geo, air_of(air, store, (m, rec), reach), rec),
                     vehicle,
                     (j, &ModemPose::of(rxm, &pos, &att)),
                     t,
@@ -292,8 +331,8 @@ impl Walk {
             let r = match resumed {
                 Some((th, since)) if th == threshold => Ok(since),
                 _ => {
-                    let air = air_of(air, store, m, reach);
-                    idle_since((m, geo, air), vehicle, t, threshold)
+                    let air = air_of(air, store, (m, rec), reach);
+                    idle_since((m, geo, air, rec), vehicle, t, threshold)
                 }
             };
             if let Ok(since) = r {
@@ -321,7 +360,7 @@ impl Walk {
                     pos: &pos,
                     heard: heard.get(),
                 },
-                (reach, || Air::cells(air_of(air, store, m, reach))),
+                (reach, || Air::cells(air_of(air, store, (m, rec), reach))),
             ),
             d => d,
         }
@@ -331,7 +370,7 @@ impl Walk {
     /// transmission goes on record, its LED time and energy are counted (to its flow too), an
     /// acknowledged unicast's wait starts; the vehicles counting down near it are woken when
     /// the turn is over ([`Walk::wake_near_sent`]).
-    fn send(&mut self, m: &mut Medium, (t, vehicle, k): (f64, u32, usize), v: &mut Vehicle<'_>) {
+    fn send(&mut self, m: &Medium, (t, vehicle, k): (f64, u32, usize), v: &mut Vehicle<'_>) {
         let Some(frame) = v.modems.ports[k].pop() else {
             return;
         };
@@ -352,10 +391,8 @@ impl Walk {
             Kind::Ack { to, .. } => Some((to, vehicle)),
             Kind::Broadcast => None,
         };
-        if let Some((from, to)) = flow {
-            let f = m.flows.get(from, to);
-            f.led_on_s += airtime;
-            f.led_energy_j += energy;
+        if let Some(pair) = flow {
+            self.started.led.push((pair, airtime, energy));
         }
         if let Kind::Unicast { ack: true, .. } = frame.kind
             && let Some(p) = &mut v.link.state().pending
@@ -369,8 +406,9 @@ impl Walk {
                 wait
             };
         }
-        m.txs.push(Transmission {
-            id: m.next_id,
+        let started = &mut self.started;
+        started.txs.push(Transmission {
+            id: started.next_id,
             tx: vehicle,
             modem: k,
             start: t,
@@ -382,13 +420,12 @@ impl Walk {
             pose,
             kind: frame.kind,
         });
+        started.next_id += 1;
+        let index = m.txs.len() + started.txs.len() - 1;
         let on = self
             .air
             .get_mut()
-            .map(|air| air.push(m.txs.len() - 1, &m.txs[m.txs.len() - 1]));
-        m.next_id += 1;
-        m.started.0 += 1;
-        m.started.1 += bits;
+            .map(|air| air.push(index, &started.txs[started.txs.len() - 1]));
         self.countdowns.started(&pose.position, t);
         self.sent.0.push(pose.position);
         self.sent.1.push(on);
@@ -401,8 +438,12 @@ impl Walk {
         if at.is_empty() {
             return;
         }
+        let rec = OnRecord {
+            medium: &m.txs,
+            started: &self.started.txs,
+        };
         let reaches = |k: usize, w| match (self.air.get(), &on[k]) {
-            (Some(air), Some(on)) => reaches((m, geo, air), w, on),
+            (Some(air), Some(on)) => reaches((m, geo, air, rec), w, on),
             _ => true,
         };
         self.countdowns
@@ -416,10 +457,10 @@ impl Walk {
 fn air_of<'a>(
     air: &'a OnceCell<Air>,
     store: &Cell<Option<AirStore>>,
-    m: &Medium,
+    (m, rec): (&Medium, OnRecord<'_>),
     reach: f64,
 ) -> &'a Air {
-    air.get_or_init(|| Air::new(m, reach, store.take().unwrap_or_default()))
+    air.get_or_init(|| Air::new(m, rec, reach, store.take().unwrap_or_default()))
 }
 
 /// Who counts down, for [`count_down`].
