@@ -29,7 +29,8 @@ pub const BYTES_PER_VEHICLE_SAMPLE: u64 = 1400;
 /// and its name in their labels).
 pub const BYTES_PER_ACTUATOR: u64 = 24;
 /// Most reception attempts written (each one a `/optical/frames` message and a line in
-/// `/links`, ≈ 0.9 kB uncompressed together).
+/// `/links`, ≈ 0.9 kB uncompressed together; an acknowledgement's dashed line up to 0.6 kB
+/// more).
 pub const FRAME_BUDGET: u64 = 200_000;
 /// How long unspent frame budget is kept for a later burst \[s, simulated\].
 pub const FRAME_CREDIT_S: f64 = 10.0;

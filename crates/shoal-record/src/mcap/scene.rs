@@ -182,8 +182,40 @@ fn obstacle(o: &ObstacleMeta, stamp: Time) -> SceneEntity {
     e
 }
 
+/// The dash and the gap of an acknowledgement's line \[m\].
+const ACK_DASH: (f64, f64) = (0.2, 0.12);
+
+/// Most dashes of one line (a line longer than 3.7 m gets longer dashes): at most 24 points,
+/// 0.6 kB more than a frame's line.
+const MAX_DASHES: usize = 12;
+
+/// The points of a line from `a` to `b` \[m\] as `LINE_LIST` pairs: one pair for a frame;
+/// for an acknowledgement, a pair per dash ([`ACK_DASH`]) — foxglove's lines have no dash
+/// pattern, and the GIF and `replay.html` draw acknowledgements dashed.
+fn link_points(a: [f64; 3], b: [f64; 3], ack: bool) -> Vec<Point> {
+    let (a, b) = (Vec3::from(a), Vec3::from(b));
+    let length = (b - a).norm();
+    let (dash, gap) = ACK_DASH;
+    let dashes = ((length + gap) / (dash + gap)).floor() as usize;
+    let point = |v: Vec3| Point::from([v.x, v.y, v.z]);
+    if !ack || dashes < 2 {
+        return vec![point(a), point(b)];
+    }
+    let n = dashes.min(MAX_DASHES);
+    // n dashes and n − 1 gaps in their proportion fill the line exactly.
+    let unit = length / (n as f64 * dash + (n - 1) as f64 * gap);
+    let along = |s: f64| a + (b - a) * (s / length);
+    (0..n)
+        .flat_map(|k| {
+            let s = k as f64 * (dash + gap) * unit;
+            [point(along(s)), point(along(s + dash * unit))]
+        })
+        .collect()
+}
+
 /// The links of the attempts `frames` at `stamp`: a line each from the sender to the
-/// receiver where `position` puts them (ENU \[m\]), numbered on from `first`.
+/// receiver where `position` puts them (ENU \[m\]), numbered on from `first`; the lines of
+/// acknowledgements dashed ([`crate::link_key::ACK_PROSE`]).
 pub fn links(
     frames: &[Heard],
     names: &[String],
@@ -215,13 +247,17 @@ pub fn links(
                 key: "receiver".into(),
                 value: name(h.to),
             },
+            KeyValuePair {
+                key: "frame".into(),
+                value: if h.ack { "acknowledgement" } else { "data" }.into(),
+            },
         ];
         e.lines.push(LinePrimitive {
             kind: LINE_LIST,
             pose: Pose::at([0.0; 3]),
             thickness: if o == Outcome::Delivered { 3.0 } else { 1.5 },
             scale_invariant: true,
-            points: vec![a.into(), b.into()],
+            points: link_points(a, b, h.ack),
             color: Color::rgb(s.rgb, if o == Outcome::Delivered { 1.0 } else { 0.6 }),
             colors: Vec::new(),
             indices: Vec::new(),

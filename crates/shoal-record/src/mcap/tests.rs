@@ -438,6 +438,53 @@ fn acknowledgements_are_marked_and_go_back_to_the_sender() {
 }
 
 #[test]
+fn acknowledgement_links_are_dashed_along_the_line() {
+    let text = format!("{ACKED}[output]\nrecord_hz = 10.0\nmcap = true\n");
+    let desc = shoal_world::load::load_str(&text, Path::new("acked.toml")).unwrap();
+    let (_, _, bytes, _) = run_world(&desc, "acked_links", None, 1);
+    let msgs = read(&bytes);
+    let attempts: Vec<ReceptionAttempt> = on(&msgs, "/optical/frames")
+        .map(|m| ros2::decode(&m.data).unwrap())
+        .collect();
+    let lines: Vec<_> = on(&msgs, "/links")
+        .flat_map(|m| ros2::decode::<SceneUpdate>(&m.data).unwrap().entities)
+        .collect();
+    let frame = |e: &foxglove::SceneEntity| {
+        let kv = e.metadata.iter().find(|kv| kv.key == "frame").unwrap();
+        kv.value.clone()
+    };
+    let acks: Vec<_> = lines
+        .iter()
+        .filter(|e| frame(e) == "acknowledgement")
+        .collect();
+    // One line per attempt, marked as /optical/frames marks it.
+    assert_eq!(lines.len(), attempts.len());
+    assert_eq!(acks.len(), attempts.iter().filter(|a| a.ack).count());
+    assert!(acks.len() > 10, "{} acknowledgement lines", acks.len());
+    for e in &lines {
+        let p = &e.lines[0].points;
+        if frame(e) == "data" {
+            assert_eq!(p.len(), 2);
+            continue;
+        }
+        // Dashes: pairs along the line from the first point to the last, each ending before
+        // the next begins (a gap), together covering more than half of it.
+        let v = |q: &ros2::Point| shoal_model::math::Vec3::new(q.x, q.y, q.z);
+        let (a, b) = (v(&p[0]), v(&p[p.len() - 1]));
+        let (d, length) = ((b - a).normalize(), (b - a).norm());
+        assert!(p.len() >= 4 && p.len() % 2 == 0, "{} points", p.len());
+        let s: Vec<f64> = p.iter().map(|q| (v(q) - a).dot(&d)).collect();
+        assert!(p.iter().all(|q| (v(q) - a).cross(&d).norm() < 1e-9));
+        assert!(s.windows(2).all(|w| w[1] > w[0]), "{s:?}");
+        let drawn: f64 = s.chunks(2).map(|c| c[1] - c[0]).sum();
+        assert!(
+            drawn > 0.5 * length && drawn < length,
+            "{drawn} of {length}"
+        );
+    }
+}
+
+#[test]
 fn the_scene_holds_the_hulls_the_pool_and_the_obstacle() {
     let (desc, _, _, bytes) = run("scene", None);
     let msgs = read(&bytes);

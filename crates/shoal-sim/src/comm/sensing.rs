@@ -37,11 +37,7 @@ pub(super) fn sensed_power(
                 && (x.position - pose.position).norm_squared() <= r2
         },
         |x| {
-            sum += sensed_one(
-                (medium, geo, air),
-                rec.get(x.index),
-                (me, k, pose),
-            );
+            sum += sensed_one((medium, geo, air), rec.get(x.index), (me, k, pose));
         },
     );
     sum
@@ -255,11 +251,7 @@ fn each_power_of(
 /// Whether any modem of vehicle `v` receives power from transmission `a` (remembered for the
 /// phase in `air`, as [`idle_since`] will ask it): a frame that reaches none of them changes
 /// nothing [`idle_since`] finds.
-pub(super) fn reaches(
-    (m, geo, air, rec): Sensing<'_>,
-    v: u32,
-    a: &OnAir,
-) -> bool {
+pub(super) fn reaches((m, geo, air, rec): Sensing<'_>, v: u32, a: &OnAir) -> bool {
     air.with_modem_poses(m, v, |poses| {
         let mut any = false;
         each_power_of((m, geo, air, rec), v, poses, a, &mut |_, p| any |= p > 0.0);
