@@ -2,7 +2,8 @@
 //! its step's cost against unslotted ALOHA's on the same swarm. The two swarms are built and
 //! warmed up once, then stepped in turns — slices of ALOHA, the protocol, the protocol,
 //! ALOHA — so that a drift of the machine's speed that is steady over a round falls on both
-//! alike; the figure is the median round's ratio.
+//! alike; the figure is the median round's ratio, printed with the range of the rounds'
+//! ratios (how far the machine's speed drifted within a round).
 
 use crate::bench_measure::{Cell, Marks, cell, prepared};
 use shoal_sim::bench::TRAFFIC_SPACING;
@@ -27,17 +28,18 @@ pub(crate) fn access_table(
     json: &mut Vec<serde_json::Value>,
 ) -> anyhow::Result<()> {
     println!(
-        "\nwith optical traffic — a {TRAFFIC_SPACING} m grid, every vehicle with 4 modems beaconing a 32-byte frame once a second, its modems getting the medium by each protocol;\ncost × ALOHA = wall time of a step / that of the same swarm under unslotted ALOHA (the two stepped in turns, ALOHA–protocol–protocol–ALOHA; the median of {ROUNDS} rounds)"
+        "\nwith optical traffic — a {TRAFFIC_SPACING} m grid, every vehicle with 4 modems beaconing a 32-byte frame once a second, its modems getting the medium by each protocol;\ncost × ALOHA = wall time of a step / that of the same swarm under unslotted ALOHA (the two stepped in turns, ALOHA–protocol–protocol–ALOHA; the median of {ROUNDS} rounds, and their range)"
     );
     println!(
-        "{:>8} {:>7} {:>14} {:>16} {:>10} {:>12} {:>14}",
+        "{:>8} {:>7} {:>14} {:>16} {:>10} {:>12} {:>14} {:>14}",
         "vehicles",
         "threads",
         "access",
         "vehicle-steps/s",
         "frames/s",
         "delivered/s",
-        "cost × ALOHA"
+        "cost × ALOHA",
+        "rounds"
     );
     for &n in vehicles {
         let aloha = shoal_sim::bench::traffic_swarm_with_access(n, 1, "\"aloha\"")
@@ -46,16 +48,24 @@ pub(crate) fn access_table(
             for name in access {
                 let desc = shoal_sim::bench::traffic_swarm_with_access(n, 1, &format!("{name:?}"))
                     .map_err(|e| anyhow::anyhow!("--access {name}: {e}"))?;
-                let (cost, c) = paired_cost(&aloha, &desc, t, seconds);
+                let ((cost, (lo, hi)), c) = paired_cost(&aloha, &desc, t, seconds);
                 println!(
-                    "{:>8} {:>7} {:>14} {:>16.0} {:>10.0} {:>12.0} {:>14.3}",
-                    n, t, name, c.vehicle_steps_per_s, c.frames_per_s, c.deliveries_per_s, cost
+                    "{:>8} {:>7} {:>14} {:>16.0} {:>10.0} {:>12.0} {:>14.3} {:>14}",
+                    n,
+                    t,
+                    name,
+                    c.vehicle_steps_per_s,
+                    c.frames_per_s,
+                    c.deliveries_per_s,
+                    cost,
+                    format!("{lo:.3}–{hi:.3}")
                 );
                 json.push(serde_json::json!({
                     "table": "access", "vehicles": n, "threads": t, "access": name,
                     "steps": c.steps, "wall_s": c.wall_s,
                     "vehicle_steps_per_s": c.vehicle_steps_per_s, "frames_per_s": c.frames_per_s,
                     "deliveries_per_s": c.deliveries_per_s, "cost_vs_aloha": cost,
+                    "cost_rounds": [lo, hi],
                     "phase_shares": ByPhase(c.phase_shares),
                 }));
             }
@@ -66,9 +76,14 @@ pub(crate) fn access_table(
 
 /// The wall time of a step of `desc` against one of `aloha` on `threads` threads: both swarms
 /// built and warmed up, then [`ROUNDS`] rounds of four slices of the same number of steps —
-/// ALOHA, `desc`, `desc`, ALOHA — `seconds` \[s\] in all; the median round's ratio, and the
-/// cell of `desc` over all its slices.
-fn paired_cost(aloha: &WorldDesc, desc: &WorldDesc, threads: usize, seconds: f64) -> (f64, Cell) {
+/// ALOHA, `desc`, `desc`, ALOHA — `seconds` \[s\] in all; the median round's ratio with the
+/// lowest and the highest, and the cell of `desc` over all its slices.
+fn paired_cost(
+    aloha: &WorldDesc,
+    desc: &WorldDesc,
+    threads: usize,
+    seconds: f64,
+) -> ((f64, (f64, f64)), Cell) {
     let (mut a, _) = prepared(aloha, threads, WARMUP);
     let (mut b, bytes) = prepared(desc, threads, WARMUP);
     let time = |sim: &mut Sim, steps: u64| {
@@ -94,5 +109,6 @@ fn paired_cost(aloha: &WorldDesc, desc: &WorldDesc, threads: usize, seconds: f64
         .collect();
     ratios.sort_by(f64::total_cmp);
     let c = cell(&mut b, (2 * k * ROUNDS as u64, wall_b), bytes, &marks);
-    (ratios[ROUNDS / 2], c)
+    let range = (ratios[0], ratios[ROUNDS - 1]);
+    ((ratios[ROUNDS / 2], range), c)
 }

@@ -288,6 +288,12 @@ fn bench_access_rows_send_every_beacon_and_cost_each_protocol_against_aloha() {
         assert!((frames - 400.0).abs() * window <= 1.2 * 400.0, "{r}");
         let cost = r["cost_vs_aloha"].as_f64().unwrap();
         assert!(cost.is_finite() && cost > 0.0, "{r}");
+        // The median round's ratio lies within the rounds' range.
+        let (lo, hi) = (
+            r["cost_rounds"][0].as_f64().unwrap(),
+            r["cost_rounds"][1].as_f64().unwrap(),
+        );
+        assert!(lo > 0.0 && lo <= cost && cost <= hi, "{r}");
         let shares: f64 = STEP_PHASES
             .iter()
             .map(|k| r["phase_shares"][k].as_f64().unwrap())
