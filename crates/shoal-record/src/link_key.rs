@@ -11,7 +11,8 @@
 //! Acknowledgement frames (the link layer's answers to unicast frames) are drawn apart from
 //! the frames behaviours and agents send: dashed, in the colour of their outcome, in the GIF,
 //! in `replay.html` and in `run.mcap`'s `/links` alike; each legend gives them one entry,
-//! [`ACK_LABEL`] (the page gets it in its header, [`crate::replay::Meta::ack_label`]). The docs say it as [`ACK_PROSE`].
+//! [`ACK_LABEL`] (the page gets it in its header, [`crate::replay::Meta::ack_label`]). The
+//! docs say it as [`ACK_PROSE`].
 //!
 //! The outcomes themselves, and their codes in the replay's `links` array, are the medium's
 //! ([`shoal_sim::comm::Outcome`], the one list); this file only says how each looks, so that
