@@ -94,6 +94,14 @@ pub(super) struct Started {
 }
 
 impl Started {
+    /// The transmissions on record while the walk goes on: `m`'s, then these.
+    fn on_record<'a>(&'a self, m: &'a Medium) -> OnRecord<'a> {
+        OnRecord {
+            medium: &m.txs,
+            started: &self.txs,
+        }
+    }
+
     /// Puts what the walk started on the medium's record, in order.
     pub(super) fn apply(self, m: &mut Medium) {
         for &((from, to), on, energy) in &self.led {
@@ -308,10 +316,7 @@ impl Walk {
             ..
         } = self;
         let reach = *reach;
-        let rec = OnRecord {
-            medium: &m.txs,
-            started: &started.txs,
-        };
+        let rec = started.on_record(m);
         let kind = &m.kinds[vehicle as usize];
         let (pos, att) = m.poses[vehicle as usize];
         // Carrier sense listens with all of the vehicle's photodiodes.
@@ -438,10 +443,7 @@ impl Walk {
         if at.is_empty() {
             return;
         }
-        let rec = OnRecord {
-            medium: &m.txs,
-            started: &self.started.txs,
-        };
+        let rec = self.started.on_record(m);
         let reaches = |k: usize, w| match (self.air.get(), &on[k]) {
             (Some(air), Some(on)) => reaches((m, geo, air, rec), w, on),
             _ => true,
