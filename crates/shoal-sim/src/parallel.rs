@@ -38,6 +38,9 @@ pub enum Loop {
     /// The per-sender link statistics of every vehicle brought up to date and read for the
     /// communication graph, once per sampled second (one item per vehicle).
     Links,
+    /// The transmit phase's walk through a step, in independent parts (one item per vehicle
+    /// with a turn in the step).
+    Walk,
 }
 
 impl Loop {
@@ -58,12 +61,14 @@ pub struct Dispatches {
     pub delivery: u64,
     /// Link-statistics loops of the communication graph split.
     pub links: u64,
+    /// Transmit walks split into parts.
+    pub walk: u64,
 }
 
 impl Dispatches {
     /// All loops split.
     pub fn total(&self) -> u64 {
-        self.behaviour + self.vehicles + self.delivery
+        self.behaviour + self.vehicles + self.delivery + self.walk
     }
 }
 
@@ -75,7 +80,7 @@ pub struct Parallel {
     /// The smallest loop split over the pool \[vehicles\].
     min_parallel: usize,
     /// Loops split, by [`Loop`].
-    dispatches: [AtomicU64; 4],
+    dispatches: [AtomicU64; 5],
 }
 
 impl Parallel {
@@ -117,14 +122,54 @@ impl Parallel {
 
     /// The loops split over the pool so far.
     pub fn dispatches(&self) -> Dispatches {
-        let [behaviour, vehicles, delivery, links] =
-            [Loop::Behaviour, Loop::Vehicles, Loop::Delivery, Loop::Links]
-                .map(|k| self.dispatches[k.index()].load(Relaxed));
+        let [behaviour, vehicles, delivery, links, walk] = [
+            Loop::Behaviour,
+            Loop::Vehicles,
+            Loop::Delivery,
+            Loop::Links,
+            Loop::Walk,
+        ]
+        .map(|k| self.dispatches[k.index()].load(Relaxed));
         Dispatches {
             behaviour,
             vehicles,
             delivery,
             links,
+            walk,
+        }
+    }
+
+    /// Into how many parts a loop over `items` items that can only be split into independent
+    /// parts is to be split ([`Parallel::for_each_part`]): one per working thread when the
+    /// loop has at least [`Parallel::min_parallel`] items and the pool has workers, else one.
+    pub fn parts(&self, items: usize) -> usize {
+        if self.pool.is_some() && items >= self.min_parallel {
+            self.threads
+        } else {
+            1
+        }
+    }
+
+    /// Calls `f` on each of `parts`, each on its own task when there are several (and the
+    /// pool has workers; counted as a split loop of `kind`); returns what `f` returns, in the
+    /// order of the parts.
+    pub fn for_each_part<T: Send, R: Send + 'static>(
+        &self,
+        kind: Loop,
+        parts: &mut [T],
+        f: impl Fn(&mut T) -> R + Sync,
+    ) -> Vec<R> {
+        match self.pool.as_ref().filter(|_| parts.len() > 1) {
+            Some(pool) => {
+                self.dispatches[kind.index()].fetch_add(1, Relaxed);
+                let f = &f;
+                pool.scope(|s| {
+                    for p in parts.iter_mut() {
+                        s.spawn(async move { f(p) });
+                    }
+                })
+            }
+            None => parts.iter_mut().map(f).collect(),
         }
     }
 

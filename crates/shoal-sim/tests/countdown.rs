@@ -4,8 +4,9 @@
 //! collide, acknowledgements go astray, windows grow and counts freeze and run across steps),
 //! CSMA/CA and p-persistent CSMA start the same frames at the same instants — every vehicle's
 //! counters, every flow's latencies and the world's totals agree to the last bit, on one
-//! thread and on two. Seen failing when a frame that started at the very boundary a vehicle
-//! began counting at did not stop the count.
+//! thread and on two (the transmit walk split into independent parts walked on both). Seen
+//! failing when a frame that started at the very boundary a vehicle began counting at did not
+//! stop the count.
 
 use shoal_sim::comm::Medium;
 use shoal_sim::prelude::*;
@@ -29,6 +30,8 @@ fn world(access: &str, seconds: f64) -> WorldDesc {
 /// Everything a run's frames decide, as text: the world's totals, every flow and every
 /// vehicle's communication counters.
 /// Also the frames started and the retransmissions.
+/// On two threads every loop is split, however small: the transmit phase's walk goes in
+/// independent parts (`comm/parts.rs`), and it is checked that it did.
 fn outcome(desc: &WorldDesc, threads: usize, slot_by_slot: bool) -> (String, u64, u64) {
     let mut sim = Sim::new(
         desc,
@@ -38,8 +41,17 @@ fn outcome(desc: &WorldDesc, threads: usize, slot_by_slot: bool) -> (String, u64
         },
     );
     sim.world_mut().resource_mut::<Medium>().slot_by_slot = slot_by_slot;
+    if threads > 1 {
+        sim.set_min_parallel(2);
+    }
     let steps = (desc.duration / desc.dt).round() as u64;
     sim.run(steps);
+    let walks = sim.parallel_dispatches().walk;
+    assert_eq!(
+        walks > 0,
+        threads > 1,
+        "{walks} walks split on {threads} thread(s)"
+    );
     let m = sim.medium();
     let mut flows: Vec<_> = m.flows().iter().collect();
     flows.sort_by_key(|(k, _)| **k);

@@ -47,6 +47,7 @@ pub const SCHEMA: &[&str] = &[
     "parallel_dispatches.vehicles",
     "parallel_dispatches.delivery",
     "parallel_dispatches.links",
+    "parallel_dispatches.walk",
     "phases_s.ingest",
     "phases_s.vehicles",
     "phases_s.medium_snapshot",

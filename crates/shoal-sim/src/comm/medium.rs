@@ -54,6 +54,30 @@ pub struct Transmission {
 }
 
 #[cfg(test)]
+impl Medium {
+    /// A medium of vehicles of `kinds` (ALOHA on every modem, 3 retries, 50 ms for an
+    /// acknowledgement) in dark water of attenuation 0.15 /m, seed 1 (for tests).
+    pub(super) fn in_the_dark(kinds: Vec<Arc<VehicleModel>>) -> Self {
+        let links: Vec<Arc<[LinkParams]>> = kinds
+            .iter()
+            .map(|k| {
+                let link = LinkParams {
+                    access: Default::default(),
+                    retries: 3,
+                    ack_timeout: 0.05,
+                };
+                vec![link; k.params.modems.len()].into()
+            })
+            .collect();
+        let dark = Ambient {
+            surface_irradiance: 0.0,
+            diffuse_attenuation: 0.0,
+        };
+        Self::new(kinds, &links, 1, 0.15, dark)
+    }
+}
+
+#[cfg(test)]
 impl Transmission {
     /// An empty 256-bit frame of vehicle 0 on the air in [0, 10 ms], sent by its modem `modem`
     /// from `pose` (for tests of the geometry).

@@ -42,6 +42,9 @@
 //! - `reception`: the decision of one reception at its receiver;
 //! - `transmit`: the transmit phase's walk through the step — the vehicles' turns in time
 //!   order, each port's decision, the frames started;
+//! - `started`: what a walk started, merged from the parts walked apart and put on record;
+//! - `parts`: the vehicles with a turn in independent groups, packed into parts walked on
+//!   several threads;
 //! - `systems`: the three step systems above.
 
 mod air;
@@ -58,8 +61,10 @@ mod links;
 mod mac;
 mod medium;
 mod modem_lanes;
+mod parts;
 mod reception;
 mod sensing;
+mod started;
 mod stats;
 mod systems;
 mod transmit;

@@ -147,7 +147,6 @@ fn geometry_lanes(c: &Chunk, led: &ModemPose, r_cut2: f64) -> Geometry {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use shoal_model::optics::Ambient;
     use shoal_model::presets;
     use shoal_model::vehicle::VehicleModel;
     use std::sync::Arc;
@@ -170,24 +169,7 @@ mod tests {
             })
             .collect();
         let kind = Arc::new(VehicleModel::new(params, 1000.0));
-        let dark = Ambient {
-            surface_irradiance: 0.0,
-            diffuse_attenuation: 0.0,
-        };
-        let link = shoal_world::access::LinkParams {
-            access: Default::default(),
-            retries: 3,
-            ack_timeout: 0.05,
-        };
-        let aloha: Arc<[shoal_world::access::LinkParams]> =
-            vec![link; kind.params.modems.len()].into();
-        let m = Medium::new(
-            vec![kind.clone(); 2],
-            &[aloha.clone(), aloha],
-            1,
-            0.15,
-            dark,
-        );
+        let m = Medium::in_the_dark(vec![kind.clone(); 2]);
         let consts = m.consts[1].clone();
         let (pos, att) = (
             Vec3::new(1.0, 2.0, 1.5),

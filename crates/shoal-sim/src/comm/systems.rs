@@ -9,9 +9,11 @@ use super::link_layer::{Mail, link_layer};
 use super::links::Outcome;
 use super::mac::Link;
 use super::medium::{Logical, Medium};
+use super::parts::split;
 use super::reception::{Listener, Scratch, receive};
+use super::started::Started;
 use super::stats::{CommStats, Tally};
-use super::transmit::{Vehicle, Walk, earliest};
+use super::transmit::{Vehicle, earliest, first_turn, walk};
 use crate::components::{StaticGeometry, VehicleEntities, VehicleId};
 use crate::parallel::{Loop, Parallel};
 use bevy_ecs::prelude::*;
@@ -61,14 +63,26 @@ type Sender = (
     &'static mut Inbox,
 );
 
+/// A sending vehicle's components, as the transmit phase's query hands them out.
+type SenderItem<'w> = (
+    &'w VehicleId,
+    Mut<'w, Outbox>,
+    Mut<'w, Modems>,
+    Mut<'w, CommRng>,
+    Mut<'w, CommStats>,
+    Mut<'w, Link>,
+    Mut<'w, Inbox>,
+);
+
 /// The vehicles whose outbox changed since the transmit phase last ran.
 type HandedOver<'w, 's> = Query<'w, 's, (&'static VehicleId, &'static Outbox), Changed<Outbox>>;
 
 /// Step phase 2: queue handed-over frames and start transmissions in time order.
 pub fn comm_transmit_system(
     clock: Res<crate::components::Clock>,
+    par: Res<Parallel>,
     geo: Res<StaticGeometry>,
-    mut sensing: Local<super::air::AirStore>,
+    mut sensing: Local<Vec<super::air::AirStore>>,
     mut medium: ResMut<Medium>,
     entities: Res<VehicleEntities>,
     mut qs: ParamSet<(HandedOver, Query<Sender>)>,
@@ -88,7 +102,7 @@ pub fn comm_transmit_system(
     );
     linked.sort_unstable();
     linked.dedup();
-    let t_end = clock.t() + clock.dt;
+    let (t0, t_end) = (clock.t(), clock.t() + clock.dt);
     // Those waiting whose first frame is due after this step are not even looked at.
     let (mut ids, later) = due_in_step(std::mem::take(&mut medium.waiting), &linked, t_end);
     if ids.is_empty() {
@@ -99,14 +113,14 @@ pub fn comm_transmit_system(
     let mut items = Vec::with_capacity(ids.len());
     items.extend(q.iter_many_unique_mut(entities.set_of(&ids)).matched());
     items.sort_unstable_by_key(|it| it.0.0);
-    let mut walk = Walk::new(&medium, (clock.t(), t_end), std::mem::take(&mut *sensing));
     let med = &mut *medium;
     let (kinds, access, flows) = (&med.kinds, &med.access, &mut med.flows);
     let mut ended = 0;
     // The link layer of a vehicle with neither frames handed over nor work of its own does
     // nothing: only its queued frames are walked.
     let mut with_link = linked.iter().copied().peekable();
-    for (id, outbox, modems, _, stats, link, inbox) in &mut items {
+    let mut turning = Vec::new();
+    for (i, (id, outbox, modems, _, stats, link, inbox)) in items.iter_mut().enumerate() {
         let modems = &mut **modems;
         if with_link.next_if_eq(&id.0).is_some() {
             let params = &kinds[id.0 as usize].params.modems;
@@ -119,46 +133,88 @@ pub fn comm_transmit_system(
                 (id.0, flows),
             );
         }
-        walk.schedule(id.0, modems);
+        if first_turn(modems, (t0, t_end)).is_some() {
+            turning.push(i);
+        }
     }
+    medium.ended += ended;
+    let m = &*medium;
+    let started = walk_in_parts(
+        (m, &geo.0, &par),
+        (t0, t_end),
+        &mut sensing,
+        &mut items,
+        &turning,
+    );
+    started.apply(&mut medium);
     // Items by vehicle: sorted by id, found by halving their ids (a few hundred, in cache).
     let keys: Vec<u32> = items.iter().map(|it| it.0.0).collect();
     let at = |v: u32| match keys.binary_search(&v) {
         Ok(i) => i,
-        Err(_) => unreachable!("vehicle {v} has a turn, so it has an item"),
+        Err(_) => unreachable!("vehicle {v} was looked at, so it has an item"),
     };
-    medium.ended += ended;
-    let m = &*medium;
-    let mut woken = Vec::new();
-    while let Some(turn) = walk.next() {
-        let i = at(turn.vehicle);
-        let (_, _, modems, rng, stats, link, _) = &mut items[i];
-        let mut v = Vehicle {
-            modems,
-            rng,
-            stats,
-            link,
-        };
-        walk.turn((m, &geo.0), &turn, &mut v);
-        walk.take_woken(&mut woken);
-        for w in &woken {
-            walk.wake(&mut items[at(w.vehicle)].2, w);
-        }
-    }
-    for w in walk.end() {
-        let i = at(w.vehicle);
-        walk.wake(&mut items[i].2, &w);
-    }
-    let started;
-    (*sensing, started) = walk.finish();
     let m = &mut *medium;
-    started.apply(m);
     // Only the link layer changes whether it has work in this phase.
     linked.retain(|&v| items[at(v)].5.busy());
     ids.retain(|&v| items[at(v)].2.queued > 0);
     let walked = ids.iter().map(|&v| (v, earliest(&items[at(v)].2)));
     m.waiting = merge_by_vehicle(later, walked);
     m.linked = linked;
+}
+
+/// Walks the step `t0 … t_end` \[s\] of medium `m` for the `items` at positions `turning` (those
+/// with a turn in it): in independent parts ([`split`]) on the threads of `par`, each with
+/// carrier sensing made in its storage of `stores`; returns what they started, in the order
+/// one walk of them all starts it.
+fn walk_in_parts(
+    (m, geo, par): (&Medium, &shoal_world::geometry::Geometry, &Parallel),
+    step: (f64, f64),
+    stores: &mut Vec<super::air::AirStore>,
+    items: &mut [SenderItem<'_>],
+    turning: &[usize],
+) -> Started {
+    let ids: Vec<u32> = turning.iter().map(|&i| items[i].0.0).collect();
+    let parts = split(m, &ids, par.parts(ids.len()));
+    stores.resize_with(stores.len().max(parts.len()), Default::default);
+    // Each part's vehicles, and the storage of its carrier sensing.
+    let mut vehicles: Vec<Option<Vehicle<'_>>> = Vec::with_capacity(turning.len());
+    let mut next = turning.iter().peekable();
+    for (i, (_, _, modems, rng, stats, link, _)) in items.iter_mut().enumerate() {
+        if next.next_if_eq(&&i).is_some() {
+            vehicles.push(Some(Vehicle {
+                modems,
+                rng,
+                stats,
+                link,
+            }));
+        }
+    }
+    let mut jobs: Vec<(Vec<(u32, Vehicle<'_>)>, super::air::AirStore)> = parts
+        .iter()
+        .zip(stores.iter_mut())
+        .map(|(part, store)| {
+            let vs = part
+                .iter()
+                .map(|&k| {
+                    let v = vehicles[k].take();
+                    (
+                        ids[k],
+                        v.unwrap_or_else(|| unreachable!("a vehicle is in one part")),
+                    )
+                })
+                .collect();
+            (vs, std::mem::take(store))
+        })
+        .collect();
+    let walked = par.for_each_part(Loop::Walk, &mut jobs, |(vs, store)| {
+        walk((m, geo), step, std::mem::take(store), vs)
+    });
+    let mut started = Vec::with_capacity(walked.len());
+    for ((store, s), slot) in walked.into_iter().zip(stores.iter_mut()) {
+        *slot = store;
+        started.push(s);
+    }
+    Started::merge(started)
 }
 
 /// Of the vehicles `waiting` (ascending, each with when its first frame is due at the

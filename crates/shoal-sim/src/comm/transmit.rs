@@ -13,6 +13,7 @@ use super::grid::Cells;
 use super::mac::{Ctx, Decision, Link};
 use super::medium::{Medium, Transmission};
 use super::sensing::{idle_since, reaches, sensed_power};
+use super::started::{Started, led_use};
 use super::stats::CommStats;
 use rand::RngExt;
 use shoal_model::math::Vec3;
@@ -22,10 +23,10 @@ use std::collections::BinaryHeap;
 
 /// A vehicle's turn.
 #[derive(PartialEq)]
-pub(super) struct Turn {
+struct Turn {
     /// When \[s\].
-    pub(super) t: f64,
-    pub(super) vehicle: u32,
+    t: f64,
+    vehicle: u32,
     /// How often the vehicle's wait had been cut short when the turn was made: a turn made
     /// before its latest wake-up ([`Countdowns`]) is stale.
     epoch: u32,
@@ -53,7 +54,7 @@ pub(super) struct Vehicle<'a> {
 }
 
 /// The walk through one step.
-pub(super) struct Walk {
+struct Walk {
     turns: BinaryHeap<Turn>,
     /// Wake-ups so far, by vehicle.
     epochs: FastMap<u32, u32>,
@@ -80,42 +81,6 @@ pub(super) struct Walk {
     started: Started,
 }
 
-/// The transmissions a walk started and what they add to the medium's counters; the walk
-/// reads the medium only, so that the delivery can begin beside it
-/// ([`Started::apply`] when it is done).
-#[derive(Default)]
-pub(super) struct Started {
-    /// The transmissions, in the order they started (indices on record after the medium's).
-    txs: Vec<Transmission>,
-    /// The id of the next one.
-    next_id: u64,
-    /// Their LED time \[s\] and optical energy \[J\] by flow (sender, destination), in order.
-    led: Vec<((u32, u32), f64, f64)>,
-}
-
-impl Started {
-    /// The transmissions on record while the walk goes on: `m`'s, then these.
-    fn on_record<'a>(&'a self, m: &'a Medium) -> OnRecord<'a> {
-        OnRecord {
-            medium: &m.txs,
-            started: &self.txs,
-        }
-    }
-
-    /// Puts what the walk started on the medium's record, in order.
-    pub(super) fn apply(self, m: &mut Medium) {
-        for &((from, to), on, energy) in &self.led {
-            let f = m.flows.get(from, to);
-            f.led_on_s += on;
-            f.led_energy_j += energy;
-        }
-        m.started.0 += self.txs.len() as u64;
-        m.started.1 += self.txs.iter().map(|x| x.bits).sum::<u64>();
-        m.next_id = self.next_id;
-        m.txs.extend(self.txs);
-    }
-}
-
 /// When the frame at the head of a port's queue is due, if any: when it was handed over,
 /// when the port is free, not before the step's start `t0` \[s\].
 fn due(port: &super::frames::ModemPort, t0: f64) -> Option<f64> {
@@ -139,6 +104,59 @@ pub(super) fn earliest(modems: &Modems) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
+/// When the first of the frames queued at `modems` is due in the step `t0 … t_end` \[s\]
+/// (not before `t0`; `None` if none is before `t_end`): the vehicle's next turn.
+pub(super) fn first_turn(modems: &Modems, (t0, t_end): (f64, f64)) -> Option<f64> {
+    if modems.queued == 0 {
+        return None;
+    }
+    let next = modems
+        .ports
+        .iter()
+        .filter(|p| p.busy_until < t_end)
+        .filter_map(|p| due(p, t0))
+        .fold(f64::INFINITY, f64::min);
+    (next < t_end).then_some(next)
+}
+
+/// Walks the step `t0 … t_end` \[s\] of medium `m` for `vehicles` (ascending ids; every
+/// vehicle that can hear one of their frames or start one they hear is among them — all the
+/// vehicles with a turn in the step, or one of the independent parts of them:
+/// [`super::parts`]): their turns in time order, the vehicles woken by frames near them asked
+/// again, those still counting down at the end set where the count leaves them. Carrier
+/// sensing is made in `store`; returns it for the next step, and what the walk started.
+pub(super) fn walk(
+    (m, geo): (&Medium, &shoal_world::geometry::Geometry),
+    (t0, t_end): (f64, f64),
+    store: AirStore,
+    vehicles: &mut [(u32, Vehicle<'_>)],
+) -> (AirStore, Started) {
+    let mut walk = Walk::new(m, (t0, t_end), store);
+    for (id, v) in vehicles.iter() {
+        walk.schedule(*id, v.modems);
+    }
+    // Vehicles by id: found by halving (a few hundred, in cache).
+    let at = |vehicles: &[(u32, Vehicle<'_>)], id: u32| match vehicles
+        .binary_search_by_key(&id, |(v, _)| *v)
+    {
+        Ok(i) => i,
+        Err(_) => unreachable!("vehicle {id} has a turn, so it is walked"),
+    };
+    let mut woken = Vec::new();
+    while let Some(turn) = walk.next() {
+        let i = at(vehicles, turn.vehicle);
+        walk.turn((m, geo), &turn, &mut vehicles[i].1);
+        walk.take_woken(&mut woken);
+        for w in &woken {
+            walk.wake(vehicles[at(vehicles, w.vehicle)].1.modems, w);
+        }
+    }
+    for w in walk.end() {
+        walk.wake(vehicles[at(vehicles, w.vehicle)].1.modems, &w);
+    }
+    walk.finish()
+}
+
 /// Whether the frame at the head of `port`'s queue is due at `t` ≥ `t0` \[s\] ([`due`]): the
 /// port's own fields answer, without reading the queue's storage.
 fn due_at(port: &super::frames::ModemPort, t: f64, t0: f64) -> bool {
@@ -148,7 +166,7 @@ fn due_at(port: &super::frames::ModemPort, t: f64, t0: f64) -> bool {
 impl Walk {
     /// A walk through the step `t0 … t_end` \[s\] of medium `m`, its carrier sensing made in
     /// `store` (handed back by [`Walk::finish`]).
-    pub(super) fn new(m: &Medium, (t0, t_end): (f64, f64), store: AirStore) -> Self {
+    fn new(m: &Medium, (t0, t_end): (f64, f64), store: AirStore) -> Self {
         Self {
             turns: BinaryHeap::new(),
             epochs: FastMap::default(),
@@ -161,26 +179,13 @@ impl Walk {
             reach: m.r_cut + m.max_modem_offset,
             t0,
             t_end,
-            started: Started {
-                next_id: m.next_id,
-                ..Started::default()
-            },
+            started: Started::default(),
         }
     }
 
     /// Gives `vehicle` a turn when its first frame is due, if within the step.
-    pub(super) fn schedule(&mut self, vehicle: u32, modems: &Modems) {
-        let (t0, t_end) = (self.t0, self.t_end);
-        if modems.queued == 0 {
-            return;
-        }
-        let next = modems
-            .ports
-            .iter()
-            .filter(|p| p.busy_until < t_end)
-            .filter_map(|p| due(p, t0))
-            .fold(f64::INFINITY, f64::min);
-        if next < self.t_end {
+    fn schedule(&mut self, vehicle: u32, modems: &Modems) {
+        if let Some(next) = first_turn(modems, (self.t0, self.t_end)) {
             let epoch = self.epochs.get(&vehicle).copied().unwrap_or(0);
             self.turns.push(Turn {
                 t: next,
@@ -192,7 +197,7 @@ impl Walk {
 
     /// After the walk: the storage of its carrier sensing, for the next step's, and what it
     /// started (for [`Started::apply`]).
-    pub(super) fn finish(self) -> (AirStore, Started) {
+    fn finish(self) -> (AirStore, Started) {
         let store = match self.air.into_inner() {
             Some(air) => air.store(),
             None => self.store.take().unwrap_or_default(),
@@ -201,7 +206,7 @@ impl Walk {
     }
 
     /// The next turn that is not stale.
-    pub(super) fn next(&mut self) -> Option<Turn> {
+    fn next(&mut self) -> Option<Turn> {
         while let Some(turn) = self.turns.pop() {
             if self.epochs.is_empty()
                 || self.epochs.get(&turn.vehicle).copied().unwrap_or(0) == turn.epoch
@@ -214,14 +219,14 @@ impl Walk {
 
     /// The vehicles woken since this was last called, to be handed to [`Walk::wake`], into
     /// `into` (its former contents dropped; the storage of both lists kept).
-    pub(super) fn take_woken(&mut self, into: &mut Vec<Wake>) {
+    fn take_woken(&mut self, into: &mut Vec<Wake>) {
         into.clear();
         std::mem::swap(&mut self.woken, into);
     }
 
     /// Vehicle `w.vehicle` (its `modems`) is asked earlier than it said: each port that
     /// waits for the boundary said waits for `w.at` instead; its earlier turn is stale.
-    pub(super) fn wake(&mut self, modems: &mut Modems, w: &Wake) {
+    fn wake(&mut self, modems: &mut Modems, w: &Wake) {
         modems.access.counter = Some(w.left);
         for port in &mut modems.ports {
             if port.head().is_some() && port.busy_until.to_bits() == w.target.to_bits() {
@@ -235,7 +240,7 @@ impl Walk {
     /// The step ends: the vehicles still counting down, to be handed to [`Walk::wake`] (set
     /// where the slot-by-slot count leaves them; the next step's poses may change what they
     /// hear).
-    pub(super) fn end(&mut self) -> Vec<Wake> {
+    fn end(&mut self) -> Vec<Wake> {
         let mut woken = Vec::new();
         self.countdowns.step_ended(self.t_end, &mut woken);
         woken
@@ -243,7 +248,7 @@ impl Walk {
 
     /// `turn` of vehicle `v`: each of its ports whose frame is due now decides, in modem
     /// order; the copies of a frame share the first one's decision. Then its next turn.
-    pub(super) fn turn(
+    fn turn(
         &mut self,
         (m, geo): (&Medium, &shoal_world::geometry::Geometry),
         turn: &Turn,
@@ -383,22 +388,12 @@ impl Walk {
         let params = &m.kinds[vehicle as usize].params.modems[k];
         let (pos, att) = m.poses[vehicle as usize];
         let pose = ModemPose::of(params, &pos, &att);
-        let airtime = params.airtime(frame.payload.len());
-        let energy = params.led.power * airtime;
+        let (airtime, energy) = led_use(params, frame.payload.len());
         let bits = params.frame_bits(frame.payload.len());
         let end = t + airtime;
         v.modems.ports[k].busy_until = end;
         v.stats.led_on_s += airtime;
         v.stats.led_energy_j += energy;
-        // A unicast's copies, and the acknowledgements of one, are its flow's LED time.
-        let flow = match frame.kind {
-            Kind::Unicast { to, .. } => Some((vehicle, to)),
-            Kind::Ack { to, .. } => Some((to, vehicle)),
-            Kind::Broadcast => None,
-        };
-        if let Some(pair) = flow {
-            self.started.led.push((pair, airtime, energy));
-        }
         if let Kind::Unicast { ack: true, .. } = frame.kind
             && let Some(p) = &mut v.link.state().pending
             && p.seq == frame.seq
@@ -412,8 +407,10 @@ impl Walk {
             };
         }
         let started = &mut self.started;
+        let index = started.next_index(m);
         started.txs.push(Transmission {
-            id: started.next_id,
+            // Numbered when the walk is done (`Started::apply`).
+            id: 0,
             tx: vehicle,
             modem: k,
             start: t,
@@ -425,8 +422,6 @@ impl Walk {
             pose,
             kind: frame.kind,
         });
-        started.next_id += 1;
-        let index = m.txs.len() + started.txs.len() - 1;
         let on = self
             .air
             .get_mut()
