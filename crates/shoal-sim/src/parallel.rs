@@ -140,36 +140,41 @@ impl Parallel {
     }
 
     /// Into how many parts a loop over `items` items that can only be split into independent
-    /// parts is to be split ([`Parallel::for_each_part`]): one per working thread when the
-    /// loop has at least [`Parallel::min_parallel`] items and the pool has workers, else one.
-    pub fn parts(&self, items: usize) -> usize {
-        if self.pool.is_some() && items >= self.min_parallel {
+    /// parts is to be split ([`Parallel::for_each_part`]), each item costing about `weight`
+    /// vehicle updates: one per working thread when the loop weighs at least
+    /// [`Parallel::min_parallel`] vehicle updates and the pool has workers, else one.
+    pub fn parts(&self, items: usize, weight: usize) -> usize {
+        if self.pool.is_some() && items.saturating_mul(weight) >= self.min_parallel {
             self.threads
         } else {
             1
         }
     }
 
-    /// Calls `f` on each of `parts`, each on its own task when there are several (and the
-    /// pool has workers; counted as a split loop of `kind`); returns what `f` returns, in the
-    /// order of the parts.
+    /// Calls `f` on each of `parts`: the first on the calling thread, the others each on its
+    /// own task of the pool (when there are several parts and the pool has workers; counted
+    /// as a split loop of `kind`), so that the calling thread does not wait for a worker to
+    /// wake before it works; returns what `f` returns, in the order of the parts.
     pub fn for_each_part<T: Send, R: Send + 'static>(
         &self,
         kind: Loop,
         parts: &mut [T],
         f: impl Fn(&mut T) -> R + Sync,
     ) -> Vec<R> {
-        match self.pool.as_ref().filter(|_| parts.len() > 1) {
-            Some(pool) => {
+        match (self.pool.as_ref(), parts.split_first_mut()) {
+            (Some(pool), Some((first, rest))) if !rest.is_empty() => {
                 self.dispatches[kind.index()].fetch_add(1, Relaxed);
                 let f = &f;
-                pool.scope(|s| {
-                    for p in parts.iter_mut() {
+                let mut here = None;
+                let others = pool.scope(|s| {
+                    for p in rest.iter_mut() {
                         s.spawn(async move { f(p) });
                     }
-                })
+                    here = Some(f(first));
+                });
+                here.into_iter().chain(others).collect()
             }
-            None => parts.iter_mut().map(f).collect(),
+            _ => parts.iter_mut().map(f).collect(),
         }
     }
 

@@ -50,27 +50,30 @@ pub(super) fn split(m: &Medium, vehicles: &[u32], parts: usize) -> Vec<Vec<usize
         });
         near.push(&p, (i as u32, p));
     }
-    // The groups, in the order of their first vehicle.
-    let mut group_of = vec![u32::MAX; n];
-    let mut groups: Vec<Vec<usize>> = Vec::new();
+    // Each group's size at its root, then the groups largest first (ties: the one whose
+    // root comes first), each into the lightest part so far; the vehicles go to their group's
+    // part in order.
+    let mut size = vec![0u32; n];
     for i in 0..n {
-        let r = root(&mut parent, i as u32) as usize;
-        if group_of[r] == u32::MAX {
-            group_of[r] = groups.len() as u32;
-            groups.push(Vec::new());
-        }
-        groups[group_of[r] as usize].push(i);
+        let r = root(&mut parent, i as u32);
+        parent[i] = r;
+        size[r as usize] += 1;
     }
-    groups.sort_by_key(|g| std::cmp::Reverse(g.len()));
-    let mut packed: Vec<Vec<usize>> = vec![Vec::new(); parts.min(groups.len())];
-    for g in groups {
-        let lightest = (0..packed.len())
-            .min_by_key(|&k| packed[k].len())
-            .unwrap_or(0);
-        packed[lightest].extend(g);
+    let mut roots: Vec<u32> = (0..n as u32).filter(|&i| parent[i as usize] == i).collect();
+    roots.sort_by_key(|&r| std::cmp::Reverse(size[r as usize]));
+    let mut load = vec![0u32; parts.min(roots.len())];
+    let mut part_of = size;
+    for &r in &roots {
+        let lightest = (0..load.len()).min_by_key(|&k| load[k]).unwrap_or(0);
+        load[lightest] += part_of[r as usize];
+        part_of[r as usize] = lightest as u32;
     }
-    for p in &mut packed {
-        p.sort_unstable();
+    let mut packed: Vec<Vec<usize>> = load
+        .iter()
+        .map(|&l| Vec::with_capacity(l as usize))
+        .collect();
+    for i in 0..n {
+        packed[part_of[parent[i] as usize] as usize].push(i);
     }
     packed
 }
