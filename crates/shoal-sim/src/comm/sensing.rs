@@ -53,10 +53,14 @@ fn sensed_one(
 ) -> f64 {
     // Beyond the cut-off range nothing arrives: decided by a squared distance, before the
     // link geometry.
-    if (x.pose.position - pose.position).norm_squared() > medium.r_cut * medium.r_cut {
+    let d = pose.position - x.pose.position;
+    if d.norm_squared() > medium.r_cut * medium.r_cut {
         return 0.0;
     }
     let rx = &medium.consts[me as usize][k];
+    if clearly_outside(x, pose, &d, rx.cos_fov) {
+        return 0.0;
+    }
     let g = LinkGeometry::between(&x.pose, pose);
     if g.distance > medium.r_cut {
         return 0.0;
@@ -75,6 +79,16 @@ fn sensed_one(
     } else {
         0.0
     }
+}
+
+/// Whether the modem at `pose`, `d` from the LED of transmission `x` \[m\], lies behind the
+/// LED, or (for a field of view of at most 90°, `cos_fov` ≥ 0) faces away from it — by more
+/// than a nanometre, so that the link geometry's rounding could not say otherwise: its
+/// [`received_power`] is zero, known from two dot products before the geometry's root and
+/// divisions (three sensing budgets in four end here on a ring of modems).
+fn clearly_outside(x: &Transmission, pose: &ModemPose, d: &Vec3, cos_fov: f64) -> bool {
+    const MARGIN: f64 = 1e-9;
+    x.pose.axis.dot(d) < -MARGIN || (cos_fov >= 0.0 && pose.axis.dot(d) > MARGIN)
 }
 
 /// Hands the power a transmission delivers to each of a vehicle's modems (its index, \[W\])

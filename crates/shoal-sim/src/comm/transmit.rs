@@ -131,7 +131,8 @@ pub(super) fn walk(
     store: AirStore,
     vehicles: &mut [(u32, Vehicle<'_>)],
 ) -> (AirStore, Started) {
-    let mut walk = Walk::new(m, (t0, t_end), store);
+    let ports = vehicles.iter().map(|(_, v)| v.modems.ports.len()).sum();
+    let mut walk = Walk::new(m, (t0, t_end), store, ports);
     for (id, v) in vehicles.iter() {
         walk.schedule(*id, v.modems);
     }
@@ -166,9 +167,11 @@ fn due_at(port: &super::frames::ModemPort, t: f64, t0: f64) -> bool {
 impl Walk {
     /// A walk through the step `t0 … t_end` \[s\] of medium `m`, its carrier sensing made in
     /// `store` (handed back by [`Walk::finish`]).
-    fn new(m: &Medium, (t0, t_end): (f64, f64), store: AirStore) -> Self {
+    /// (`ports`: how many ports the walked vehicles have, so that the step's turns and
+    /// transmissions fit without growing, one of each a port as a rule.)
+    fn new(m: &Medium, (t0, t_end): (f64, f64), store: AirStore, ports: usize) -> Self {
         Self {
-            turns: BinaryHeap::new(),
+            turns: BinaryHeap::with_capacity(ports),
             epochs: FastMap::default(),
             air: OnceCell::new(),
             store: Cell::new(Some(store)),
@@ -179,7 +182,9 @@ impl Walk {
             reach: m.r_cut + m.max_modem_offset,
             t0,
             t_end,
-            started: Started::default(),
+            started: Started {
+                txs: Vec::with_capacity(ports),
+            },
         }
     }
 
