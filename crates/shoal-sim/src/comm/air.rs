@@ -6,22 +6,20 @@
 //! callers put the few that add to a sum in the order of the medium's list
 //! ([`Air::in_list_order`]), so that powers add up in one order whatever the grid.
 //!
-//! Within a step every pose stands still, so the power a transmission delivers to a vehicle's
-//! modems does not change however often the vehicle listens (a back-off counts several slots
-//! a step): [`Air::powers`] remembers it for the phase, [`Air::vehicles_clear`] whether other
-//! hulls block the line between two vehicles, and [`Air::with_modem_poses`] where a listening
-//! vehicle's modems are.
+//! Within a step every pose stands still: [`Air::vehicles_clear`] remembers for the phase
+//! whether other hulls block the line between two vehicles (asked by every copy of a frame),
+//! and [`Air::with_modem_poses`] where a listening vehicle's modems are. The powers a frame
+//! delivers are not remembered: the same vehicle seldom listens twice to the same frame in a
+//! step (2 % of the asks on the 10k CSMA/CA swarm), and keeping them cost more than it saved.
 
 use super::grid::{CellLists, Cells};
 use super::medium::{Medium, Transmission};
+use super::sensing::Scratch;
 use shoal_model::math::Vec3;
 use shoal_model::optics::ModemPose;
 use std::cell::RefCell;
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
-
-/// Most modems of a vehicle whose received powers [`Air::powers`] remembers.
-pub(super) const MODEMS_REMEMBERED: usize = 8;
 
 /// A multiply-rotate hash for the small integer keys of the transmit phase's maps
 /// (vehicle ids, times' bits): a few instructions where the standard hash takes a hundred.
@@ -111,10 +109,8 @@ pub(super) struct Air {
     entries: CellLists<OnAir>,
     /// The transmissions a query keeps, put in list order (reused).
     kept: RefCell<Vec<OnAir>>,
-    /// The frames that ended near a listening vehicle, put aside (reused; `sensing.rs`).
-    pub(super) ended: RefCell<Vec<OnAir>>,
-    /// Powers at a vehicle's modems from a transmission, by (vehicle, entry) \[W\].
-    powers: RefCell<FastMap<u64, [f64; MODEMS_REMEMBERED]>>,
+    /// What a listen keeps while it looks (reused; `sensing.rs`).
+    pub(super) listening: RefCell<Scratch>,
     /// Whether other hulls leave the line between two vehicles clear, by (sender, receiver).
     clear: RefCell<FastMap<u64, bool>>,
     /// Where the poses of a listening vehicle's modems start in `modem_poses`, by vehicle.
@@ -129,8 +125,7 @@ pub(super) struct Air {
 pub struct AirStore {
     entries: Option<CellLists<OnAir>>,
     kept: Vec<OnAir>,
-    ended: Vec<OnAir>,
-    powers: FastMap<u64, [f64; MODEMS_REMEMBERED]>,
+    listening: Scratch,
     clear: FastMap<u64, bool>,
     poses_at: FastMap<u32, u32>,
     modem_poses: Vec<ModemPose>,
@@ -146,8 +141,7 @@ impl Air {
         let AirStore {
             entries,
             mut kept,
-            ended,
-            mut powers,
+            listening,
             mut clear,
             mut poses_at,
             mut modem_poses,
@@ -160,15 +154,13 @@ impl Air {
             .collect();
         entries.refill(cells, &all, |a| &a.position);
         kept.clear();
-        powers.clear();
         clear.clear();
         poses_at.clear();
         modem_poses.clear();
         Self {
             entries,
             kept: RefCell::new(kept),
-            ended: RefCell::new(ended),
-            powers: RefCell::new(powers),
+            listening: RefCell::new(listening),
             clear: RefCell::new(clear),
             poses_at: RefCell::new(poses_at),
             modem_poses: RefCell::new(modem_poses),
@@ -180,8 +172,7 @@ impl Air {
         AirStore {
             entries: Some(self.entries),
             kept: self.kept.into_inner(),
-            ended: self.ended.into_inner(),
-            powers: self.powers.into_inner(),
+            listening: self.listening.into_inner(),
             clear: self.clear.into_inner(),
             poses_at: self.poses_at.into_inner(),
             modem_poses: self.modem_poses.into_inner(),
@@ -199,6 +190,12 @@ impl Air {
         let e = OnAir::of(index, x);
         self.entries.push(&e.position, e);
         e
+    }
+
+    /// Calls `f` with every transmission whose sending modem lies in the cells around `pos`
+    /// (all within the reach of it among them), in no particular order.
+    pub(super) fn each_near(&self, pos: &Vec3, f: impl FnMut(&OnAir)) {
+        self.entries.each_near(pos, f);
     }
 
     /// Calls `keep` with every transmission whose sending modem lies in the cells around `pos`
@@ -253,23 +250,5 @@ impl Air {
         let c = m.vehicles_clear(from, to);
         self.clear.borrow_mut().insert(key, c);
         c
-    }
-
-    /// The powers transmission `x` (its [`OnAir::index`]) delivers to the modems of vehicle
-    /// `v` \[W\], as `compute` gives them the first time in this phase (vehicles with at most
-    /// [`MODEMS_REMEMBERED`] modems).
-    pub(super) fn powers(
-        &self,
-        v: u32,
-        x: &OnAir,
-        compute: impl FnOnce() -> [f64; MODEMS_REMEMBERED],
-    ) -> [f64; MODEMS_REMEMBERED] {
-        let key = (u64::from(v) << 32) | u64::from(x.index);
-        if let Some(p) = self.powers.borrow().get(&key) {
-            return *p;
-        }
-        let p = compute();
-        self.powers.borrow_mut().insert(key, p);
-        p
     }
 }

@@ -4,7 +4,7 @@
 //! transmissions on record around the vehicle only ([`Air`], kept by the transmit phase), and
 //! compute a link budget only for senders within reach.
 
-use super::air::{Air, MODEMS_REMEMBERED, OnAir, OnRecord};
+use super::air::{Air, OnAir, OnRecord};
 use super::medium::{Medium, Transmission, received_power};
 use shoal_model::math::Vec3;
 use shoal_model::optics::{LinkGeometry, ModemPose};
@@ -193,11 +193,19 @@ fn listen(
 ) -> Result<f64, f64> {
     // Transmission by transmission around the vehicle, modem by modem inside: a transmission
     // whose sender is beyond the cut-off range of the vehicle's farthest modem is passed over
-    // once; each modem's power adds up in the order of the medium's list. Nothing is
-    // allocated per decision for up to eight modems.
+    // once; the powers of those heard are kept as they are computed, and each modem's add up
+    // in the order of the medium's list. Nothing is allocated per decision for up to eight
+    // modems.
     let pos = &m.poses[v as usize].0;
-    let mut ended = air.ended.borrow_mut();
+    let mut scratch = air.listening.borrow_mut();
+    let Scratch {
+        ended,
+        heard,
+        powers,
+    } = &mut *scratch;
     ended.clear();
+    heard.clear();
+    powers.clear();
     let mut l = Listening {
         v,
         pos,
@@ -207,8 +215,28 @@ fn listen(
         reach2: (m.r_cut + m.max_modem_offset).powi(2),
         since: f64::NEG_INFINITY,
         until: f64::INFINITY,
-        ended: &mut ended,
+        ended,
     };
+    let one = |x: &Transmission, k, pose| sensed_one((m, geo, air), x, (v, k, pose));
+    // Which frames are on the air and heard (their powers kept), when the first of them ends,
+    // and the end of the last frame that alone was heard.
+    air.each_near(pos, |a| {
+        let at = powers.len();
+        let x = rec.get(a.index);
+        let on = l.on_air(a, &mut |f| {
+            for (k, pose) in poses.iter().enumerate() {
+                let p = one(x, k, pose);
+                powers.push(p);
+                f(k, p);
+            }
+        });
+        if on {
+            heard.push((a.index, at as u32));
+        } else {
+            powers.truncate(at);
+        }
+    });
+    heard.sort_unstable_by_key(|h| h.0);
     let mut now_small = [0.0f64; 8];
     let mut now_big = Vec::new();
     let now: &mut [f64] = if poses.len() <= 8 {
@@ -217,59 +245,44 @@ fn listen(
         now_big.resize(poses.len(), 0.0);
         &mut now_big
     };
-    // The powers of a transmission at the vehicle's modems (remembered for the phase); `f`
-    // with each. The frames that ended wait: they matter only if the channel is idle.
-    let each_power = |a: &OnAir, f: &mut dyn FnMut(usize, f64)| {
-        each_power_of((m, geo, air, rec), v, poses, a, f);
-    };
-    // Which frames are on the air and heard (their powers add up below, in list order), when
-    // the first of them ends, and the end of the last frame that alone was heard.
-    let keep = |a: &OnAir| l.on_air(a, &mut |f| each_power(a, f));
-    let add = |a: &OnAir| each_power(a, &mut |k, p| now[k] += p);
-    air.in_list_order(pos, keep, add);
+    for &(_, at) in heard.iter() {
+        for (sum, p) in now.iter_mut().zip(&powers[at as usize..]) {
+            *sum += p;
+        }
+    }
     if now.iter().any(|p| *p > threshold) {
         return Err(l.until);
     }
-    Ok(l.since_ended(each_power))
-}
-
-/// Calls `f` with the power transmission `a` delivers to each of vehicle `v`'s modems at
-/// `poses` \[W\], remembered for the phase in `air` (up to [`MODEMS_REMEMBERED`] modems).
-fn each_power_of(
-    (m, geo, air, rec): Sensing<'_>,
-    v: u32,
-    poses: &[ModemPose],
-    a: &OnAir,
-    f: &mut dyn FnMut(usize, f64),
-) {
-    let x = rec.get(a.index);
-    let one = |k, pose| sensed_one((m, geo, air), x, (v, k, pose));
-    if poses.len() <= MODEMS_REMEMBERED {
-        let p = air.powers(v, a, || {
-            let mut p = [0.0; MODEMS_REMEMBERED];
-            for (k, pose) in poses.iter().enumerate() {
-                p[k] = one(k, pose);
-            }
-            p
-        });
-        for (k, p) in p[..poses.len()].iter().enumerate() {
-            f(k, *p);
-        }
-    } else {
+    // The frames that ended waited: they matter only now that the channel is idle.
+    Ok(l.since_ended(|a, f| {
+        let x = rec.get(a.index);
         for (k, pose) in poses.iter().enumerate() {
-            f(k, one(k, pose));
+            f(k, one(x, k, pose));
         }
-    }
+    }))
 }
 
-/// Whether any modem of vehicle `v` receives power from transmission `a` (remembered for the
-/// phase in `air`, as [`idle_since`] will ask it): a frame that reaches none of them changes
-/// nothing [`idle_since`] finds.
+/// What a listen keeps while it looks (reused from one listen to the next; [`Air`] holds it).
+#[derive(Default)]
+pub(super) struct Scratch {
+    /// The frames that ended near the listening vehicle, put aside.
+    ended: Vec<OnAir>,
+    /// The frames on the air it hears: their index on record, and where their powers at its
+    /// modems start in `powers`.
+    heard: Vec<(u32, u32)>,
+    /// Those powers, a frame's modems in a row \[W\].
+    powers: Vec<f64>,
+}
+
+/// Whether any modem of vehicle `v` receives power from transmission `a`: a frame that
+/// reaches none of them changes nothing [`idle_since`] finds.
 pub(super) fn reaches((m, geo, air, rec): Sensing<'_>, v: u32, a: &OnAir) -> bool {
+    let x = rec.get(a.index);
     air.with_modem_poses(m, v, |poses| {
-        let mut any = false;
-        each_power_of((m, geo, air, rec), v, poses, a, &mut |_, p| any |= p > 0.0);
-        any
+        poses
+            .iter()
+            .enumerate()
+            .any(|(k, pose)| sensed_one((m, geo, air), x, (v, k, pose)) > 0.0)
     })
 }
 
