@@ -147,12 +147,11 @@ impl Air {
             mut modem_poses,
         } = store;
         let mut entries = entries.unwrap_or_else(|| CellLists::new(cells));
-        let all: Vec<OnAir> = rec
-            .iter()
-            .enumerate()
-            .map(|(i, x)| OnAir::of(i, x))
-            .collect();
-        entries.refill(cells, &all, |a| &a.position);
+        entries.reset(cells);
+        for (i, x) in rec.iter().enumerate() {
+            let a = OnAir::of(i, x);
+            entries.push(&a.position, a);
+        }
         kept.clear();
         clear.clear();
         poses_at.clear();

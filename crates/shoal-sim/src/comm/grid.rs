@@ -120,35 +120,6 @@ impl<T> CellLists<T> {
         self.cells
     }
 
-    /// No items but `all` (at their positions `pos`), on `cells`, in the storage of `self`: the
-    /// items of a cell stored one after another (a counting sort by cell), so that a query
-    /// reads each cell's items in a row; numbered in that order.
-    pub(super) fn refill(&mut self, cells: Cells, all: &[T], pos: impl Fn(&T) -> &Vec3)
-    where
-        T: Copy,
-    {
-        self.reset(cells);
-        let cell: Vec<u32> = all.iter().map(|t| cells.index(pos(t)) as u32).collect();
-        let mut at = vec![0u32; cells.count() + 1];
-        for &c in &cell {
-            at[c as usize + 1] += 1;
-        }
-        for k in 1..at.len() {
-            at[k] += at[k - 1];
-        }
-        let mut order = vec![0u32; all.len()];
-        for (i, &c) in cell.iter().enumerate() {
-            order[at[c as usize] as usize] = i as u32;
-            at[c as usize] += 1;
-        }
-        for &i in &order {
-            let (k, i) = (cell[i as usize] as usize, i as usize);
-            self.next.push(self.head[k]);
-            self.head[k] = self.items.len() as u32;
-            self.items.push(all[i]);
-        }
-    }
-
     /// Adds `item` at `p` \[m\]; returns its number.
     pub(super) fn push(&mut self, p: &Vec3, item: T) -> u32 {
         let k = self.cells.index(p);
