@@ -113,10 +113,11 @@ struct Listening<'a> {
 }
 
 impl Listening<'_> {
-    /// Whether transmission `a` is on the air and heard now (its powers at the vehicle's
-    /// modems, handed to the callback of `each`, then add up); notes when it ends, or puts it
-    /// aside if it ended.
-    fn on_air(&mut self, a: &OnAir, each: &mut EachPower<'_>) -> bool {
+    /// Sorts transmission `a` out: `true` if it is another vehicle's frame on the air now
+    /// within reach (its powers decide whether it is heard: [`Listening::heard`]); else a
+    /// frame of the vehicle's own is noted (the channel was taken until it ended) and one that
+    /// ended within reach is put aside.
+    fn on_air(&mut self, a: &OnAir) -> bool {
         // A frame that starts at this very instant is not heard yet (sensing takes time):
         // two stations whose back-offs end together both send, and collide.
         if a.start >= self.t {
@@ -131,19 +132,24 @@ impl Listening<'_> {
             return false;
         }
         if a.end > self.t {
-            let mut heard = false;
-            each(&mut |_, p| heard |= p > 0.0);
-            if heard {
-                self.until = self.until.min(a.end);
-            }
-            heard
-        } else {
-            // Ended: it matters only if it ended later than those seen so far.
-            if a.end > self.since {
-                self.ended.push(*a);
-            }
-            false
+            return true;
         }
+        // Ended: it matters only if it ended later than those seen so far.
+        if a.end > self.since {
+            self.ended.push(*a);
+        }
+        false
+    }
+
+    /// Whether frame `a`, on the air, is heard (its powers at the vehicle's modems, handed to
+    /// the callback of `each`: any above zero); notes when it ends if it is.
+    fn heard(&mut self, a: &OnAir, each: &mut EachPower<'_>) -> bool {
+        let mut heard = false;
+        each(&mut |_, p| heard |= p > 0.0);
+        if heard {
+            self.until = self.until.min(a.end);
+        }
+        heard
     }
 
     /// The channel is idle: since when, looking at the frames put aside as they ended, the
@@ -193,19 +199,12 @@ fn listen(
 ) -> Result<f64, f64> {
     // Transmission by transmission around the vehicle, modem by modem inside: a transmission
     // whose sender is beyond the cut-off range of the vehicle's farthest modem is passed over
-    // once; the powers of those heard are kept as they are computed, and each modem's add up
-    // in the order of the medium's list. Nothing is allocated per decision for up to eight
-    // modems.
+    // once. Nothing is allocated per decision once the scratch has grown.
     let pos = &m.poses[v as usize].0;
     let mut scratch = air.listening.borrow_mut();
-    let Scratch {
-        ended,
-        heard,
-        powers,
-    } = &mut *scratch;
+    let Scratch { ended, on, powers } = &mut *scratch;
     ended.clear();
-    heard.clear();
-    powers.clear();
+    on.clear();
     let mut l = Listening {
         v,
         pos,
@@ -218,25 +217,14 @@ fn listen(
         ended,
     };
     let one = |x: &Transmission, k, pose| sensed_one((m, geo, air), x, (v, k, pose));
-    // Which frames are on the air and heard (their powers kept), when the first of them ends,
-    // and the end of the last frame that alone was heard.
+    // The frames on the air within reach, in the order of the medium's list (in which the
+    // powers add up); the vehicle's own noted, the frames that ended put aside.
     air.each_near(pos, |a| {
-        let at = powers.len();
-        let x = rec.get(a.index);
-        let on = l.on_air(a, &mut |f| {
-            for (k, pose) in poses.iter().enumerate() {
-                let p = one(x, k, pose);
-                powers.push(p);
-                f(k, p);
-            }
-        });
-        if on {
-            heard.push((a.index, at as u32));
-        } else {
-            powers.truncate(at);
+        if l.on_air(a) {
+            on.push(*a);
         }
     });
-    heard.sort_unstable_by_key(|h| h.0);
+    on.sort_unstable_by_key(|a| a.index);
     let mut now_small = [0.0f64; 8];
     let mut now_big = Vec::new();
     let now: &mut [f64] = if poses.len() <= 8 {
@@ -245,12 +233,32 @@ fn listen(
         now_big.resize(poses.len(), 0.0);
         &mut now_big
     };
-    for &(_, at) in heard.iter() {
-        for (sum, p) in now.iter_mut().zip(&powers[at as usize..]) {
-            *sum += p;
+    // Which are heard, and when the first of them ends; their powers add up until one of the
+    // vehicle's photodiodes receives more than the threshold (the sums only grow). From then
+    // on the channel is busy, and only a frame ending before the first end found so far
+    // matters, for when it may fall idle.
+    let mut busy = false;
+    for a in on.iter() {
+        if busy && a.end >= l.until {
+            continue;
+        }
+        let x = rec.get(a.index);
+        powers.clear();
+        let heard = l.heard(a, &mut |f| {
+            for (k, pose) in poses.iter().enumerate() {
+                let p = one(x, k, pose);
+                powers.push(p);
+                f(k, p);
+            }
+        });
+        if heard && !busy {
+            for (sum, p) in now.iter_mut().zip(powers.iter()) {
+                *sum += p;
+            }
+            busy = now.iter().any(|p| *p > threshold);
         }
     }
-    if now.iter().any(|p| *p > threshold) {
+    if busy {
         return Err(l.until);
     }
     // The frames that ended waited: they matter only now that the channel is idle.
@@ -267,10 +275,9 @@ fn listen(
 pub(super) struct Scratch {
     /// The frames that ended near the listening vehicle, put aside.
     ended: Vec<OnAir>,
-    /// The frames on the air it hears: their index on record, and where their powers at its
-    /// modems start in `powers`.
-    heard: Vec<(u32, u32)>,
-    /// Those powers, a frame's modems in a row \[W\].
+    /// The frames on the air within its reach.
+    on: Vec<OnAir>,
+    /// The powers of one of them at its modems \[W\].
     powers: Vec<f64>,
 }
 
@@ -347,7 +354,7 @@ mod tests {
         let mut later = Vec::new();
         let mut l = listener(&pos, 0.2, &mut later);
         for a in &frames {
-            assert!(!l.on_air(a, &mut |_| unreachable!("no budget as it comes")));
+            assert!(!l.on_air(a));
         }
         assert_eq!(l.since_ended(budget), 0.45);
         assert_eq!(*asked.borrow(), [2, 4]);
@@ -356,7 +363,7 @@ mod tests {
         let mut later = Vec::new();
         let mut l = listener(&pos, 0.2, &mut later);
         for a in frames.iter().chain([&ended(0.6, 9, 4)]) {
-            l.on_air(a, &mut |_| unreachable!("no budget as it comes"));
+            assert!(!l.on_air(a));
         }
         assert_eq!(l.since_ended(budget), 0.6);
         assert!(asked.borrow().is_empty());
