@@ -9,6 +9,7 @@
 
 use super::grid::{CellLists, Cells};
 use super::medium::Medium;
+use shoal_model::math::Vec3;
 
 /// How far apart two vehicles of `m` may be \[m\] for a frame of one to be sensed by the
 /// other, or to wake its count of idle slots: the cut-off range between their farthest
@@ -37,11 +38,11 @@ pub(super) fn split(m: &Medium, vehicles: &[u32], parts: usize) -> Vec<Vec<usize
     }
     let reach = interaction_range(m);
     let (lo, hi) = m.grid.bounds();
-    let mut near: CellLists<(u32, shoal_model::math::Vec3)> =
-        CellLists::new(Cells::over(lo, hi, reach));
+    let mut near: CellLists<(u32, Vec3)> = CellLists::new(Cells::over(lo, hi, reach));
     let mut parent: Vec<u32> = (0..n as u32).collect();
-    for (i, &v) in vehicles.iter().enumerate() {
-        let p = m.poses[v as usize].0;
+    // The positions first, in a loop of their own: their reads overlap.
+    let at: Vec<Vec3> = vehicles.iter().map(|&v| m.poses[v as usize].0).collect();
+    for (i, &p) in at.iter().enumerate() {
         near.each_near(&p, |&(j, q)| {
             if (p - q).norm_squared() <= reach * reach {
                 let (a, b) = (root(&mut parent, i as u32), root(&mut parent, j));
@@ -81,7 +82,7 @@ pub(super) fn split(m: &Medium, vehicles: &[u32], parts: usize) -> Vec<Vec<usize
 #[cfg(test)]
 mod tests {
     use super::*;
-    use shoal_model::math::{Quat, Vec3};
+    use shoal_model::math::Quat;
     use shoal_model::presets;
     use shoal_model::vehicle::VehicleModel;
     use std::sync::Arc;
