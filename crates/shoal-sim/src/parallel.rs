@@ -145,12 +145,12 @@ impl Parallel {
         }
     }
 
-    /// Into how many parts a loop over `items` items that can only be split into independent
-    /// parts is to be split ([`Parallel::for_each_part`]), each item costing about `weight`
-    /// vehicle updates: one per working thread when the loop weighs at least
-    /// [`Parallel::min_parallel`] vehicle updates and the pool has workers, else one.
-    pub fn parts(&self, items: usize, weight: usize) -> usize {
-        if self.pool.is_some() && items.saturating_mul(weight) >= self.min_parallel {
+    /// Into how many parts a loop that can only be split into independent parts is to be split
+    /// ([`Parallel::for_each_part`]), its work counted in vehicle updates (the unit of
+    /// [`Parallel::min_parallel`]): one per working thread when the loop weighs at least that
+    /// much and the pool has workers, else one.
+    pub fn parts(&self, work: usize) -> usize {
+        if self.pool.is_some() && work >= self.min_parallel {
             self.threads
         } else {
             1

@@ -63,10 +63,12 @@ type Sender = (
     &'static mut Inbox,
 );
 
-/// What a vehicle's turns in the transmit walk cost, in vehicle updates (the unit of
-/// [`Parallel::min_parallel`]): a few turns a step, each listening to the channel, about 2 µs
-/// against a vehicle update's 0.3 µs (profiled on the 10,000-vehicle CSMA/CA swarm).
-const TURN_WEIGHT: usize = 8;
+/// What a vehicle's turns in the transmit walk cost when its protocol listens to the channel,
+/// in vehicle updates (the unit of [`Parallel::min_parallel`]): a few turns a step, each
+/// computing link budgets around it, about 2 µs against a vehicle update's 0.3 µs (profiled on
+/// the 10,000-vehicle CSMA/CA swarm). A turn that does not listen costs about one: ALOHA's
+/// walk of that swarm (0.06 ms a step) took longer split in two (0.09 ms) than on one thread.
+const LISTENING_TURN: usize = 8;
 
 /// A sending vehicle's components, as the transmit phase's query hands them out.
 type SenderItem<'w> = (
@@ -179,7 +181,16 @@ fn walk_in_parts(
     turning: &[usize],
 ) -> Started {
     let ids: Vec<u32> = turning.iter().map(|&i| items[i].0.0).collect();
-    let parts = split(m, &ids, par.parts(ids.len(), TURN_WEIGHT));
+    let work = ids
+        .iter()
+        .map(
+            |&v| match m.access[v as usize].iter().any(|l| l.access.listens()) {
+                true => LISTENING_TURN,
+                false => 1,
+            },
+        )
+        .sum();
+    let parts = split(m, &ids, par.parts(work));
     stores.resize_with(stores.len().max(parts.len()), Default::default);
     // Each part's vehicles, and the storage of its carrier sensing.
     let mut vehicles: Vec<Option<Vehicle<'_>>> = Vec::with_capacity(turning.len());

@@ -13,4 +13,8 @@ impl MediumAccess for CarrierSense {
             Decision::Send
         }
     }
+
+    fn listens(&self) -> bool {
+        true
+    }
 }

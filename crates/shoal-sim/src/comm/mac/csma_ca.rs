@@ -46,6 +46,10 @@ impl MediumAccess for CsmaCa {
         count_idle(ctx, first, self.backoff_slot, count)
     }
 
+    fn listens(&self) -> bool {
+        true
+    }
+
     fn memory(&self) -> f64 {
         self.difs
     }

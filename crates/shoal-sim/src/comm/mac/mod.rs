@@ -108,6 +108,13 @@ pub(super) trait MediumAccess: Send + Sync + std::fmt::Debug {
     fn memory(&self) -> f64 {
         0.0
     }
+
+    /// Whether it listens to the channel before it sends (`Ctx::busy`, `Ctx::idle_since`): its
+    /// decisions then compute link budgets around the vehicle, and the transmit walk is worth
+    /// splitting over threads when many of them are due (`comm/parts.rs`).
+    fn listens(&self) -> bool {
+        false
+    }
 }
 
 /// The link layer of one modem: its medium access and its retries.

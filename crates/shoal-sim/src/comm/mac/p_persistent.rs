@@ -48,6 +48,10 @@ impl MediumAccess for PPersistent {
         count_idle(ctx, first, slot, left)
     }
 
+    fn listens(&self) -> bool {
+        true
+    }
+
     fn memory(&self) -> f64 {
         2.0 * self.backoff_slot
     }
