@@ -13,7 +13,7 @@ use bevy_ecs::prelude::Resource;
 use bevy_tasks::{TaskPool, TaskPoolBuilder};
 use serde::Serialize;
 use std::sync::atomic::{
-    AtomicU64, AtomicUsize, Ordering::Acquire, Ordering::Relaxed, Ordering::Release,
+    AtomicBool, AtomicU64, AtomicUsize, Ordering::Acquire, Ordering::Relaxed, Ordering::Release,
 };
 
 /// Below this many vehicles a loop runs on the calling thread only: a vehicle's update takes
@@ -21,8 +21,8 @@ use std::sync::atomic::{
 /// (measured with `shoal bench`: 100 vehicles ran at 0.77× on 2 threads with a threshold of 32).
 pub const MIN_PARALLEL: usize = 256;
 
-/// How long [`Parallel::for_each_part`]'s calling thread waits awake for the other parts
-/// once its own is done \[spins\] (about 0.2 ms: a part takes a few hundred µs).
+/// How long [`Parallel::for_parts_made`]'s threads wait awake for one another \[spins\] (about
+/// 0.2 ms, a part taking a few hundred µs; a worker waiting longer for its part yields).
 const SPINS: u32 = 20_000;
 
 /// Working threads of this machine (1 when unknown): the default of a run's `threads`.
@@ -146,7 +146,7 @@ impl Parallel {
     }
 
     /// Into how many parts a loop that can only be split into independent parts is to be split
-    /// ([`Parallel::for_each_part`]), its work counted in vehicle updates (the unit of
+    /// ([`Parallel::for_parts_made`]), its work counted in vehicle updates (the unit of
     /// [`Parallel::min_parallel`]): one per working thread when the loop weighs at least that
     /// much and the pool has workers, else one.
     pub fn parts(&self, work: usize) -> usize {
@@ -157,42 +157,70 @@ impl Parallel {
         }
     }
 
-    /// Calls `f` on each of `parts`: the first on the calling thread, the others each on its
-    /// own task of the pool (when there are several parts and the pool has workers; counted
-    /// as a split loop of `kind`), so that the calling thread does not wait for a worker to
-    /// wake before it works; returns what `f` returns, in the order of the parts.
-    pub fn for_each_part<T: Send, R: Send + 'static>(
+    /// Calls `f` on each of a loop's independent parts, each on its own thread, the parts
+    /// made on the calling thread while the workers wake: every working thread first gets ready (`ready(k)`, k = 0 for the calling thread,
+    /// 1, 2, … for the workers), the calling thread makes the parts (`make`, at most one per
+    /// working thread) and hands them out, and each thread calls `f` with its part (`None` if
+    /// there are fewer parts than threads) and what it got ready. Returns what `f` returns, the
+    /// calling thread's first (and any parts beyond one per thread, which it takes too, next),
+    /// then the workers' in order. Counted as a split loop of `kind`; on one thread, the parts
+    /// in order, each with `ready(0)`.
+    pub fn for_parts_made<T: Send, P: Send, R: Send + 'static>(
         &self,
         kind: Loop,
-        parts: &mut [T],
-        f: impl Fn(&mut T) -> R + Sync,
+        make: impl FnOnce() -> Vec<T>,
+        ready: impl Fn(usize) -> P + Sync,
+        f: impl Fn(Option<T>, P) -> R + Sync,
     ) -> Vec<R> {
-        match (self.pool.as_ref(), parts.split_first_mut()) {
-            (Some(pool), Some((first, rest))) if !rest.is_empty() => {
-                self.dispatches[kind.index()].fetch_add(1, Relaxed);
-                let (f, done, others) = (&f, &AtomicUsize::new(0), rest.len());
-                let mut here = None;
-                let others = pool.scope(|s| {
-                    for p in rest.iter_mut() {
-                        s.spawn(async move {
-                            let r = f(p);
-                            done.fetch_add(1, Release);
-                            r
-                        });
-                    }
-                    here = Some(f(first));
-                    // The others end about now (parts are of a size): wait for them awake, a
-                    // while — a thread put to sleep takes tens of µs to wake on a virtual machine.
+        let Some(pool) = &self.pool else {
+            return make().into_iter().map(|t| f(Some(t), ready(0))).collect();
+        };
+        self.dispatches[kind.index()].fetch_add(1, Relaxed);
+        let workers = self.threads - 1;
+        let slots: Vec<std::sync::Mutex<Option<T>>> =
+            (0..workers).map(|_| std::sync::Mutex::new(None)).collect();
+        let (posted, done) = (&AtomicBool::new(false), &AtomicUsize::new(0));
+        let (f, ready, slots) = (&f, &ready, &slots);
+        let mut here = Vec::new();
+        let others = pool.scope(|s| {
+            for (k, slot) in slots.iter().enumerate() {
+                s.spawn(async move {
+                    let p = ready(k + 1);
+                    // The parts come about now: wait awake, then yield.
                     let mut spins = 0u32;
-                    while done.load(Acquire) < others && spins < SPINS {
-                        std::hint::spin_loop();
-                        spins += 1;
+                    while !posted.load(Acquire) {
+                        if spins < SPINS {
+                            std::hint::spin_loop();
+                            spins += 1;
+                        } else {
+                            std::thread::yield_now();
+                        }
                     }
+                    let part = slot.lock().ok().and_then(|mut s| s.take());
+                    let r = f(part, p);
+                    done.fetch_add(1, Release);
+                    r
                 });
-                here.into_iter().chain(others).collect()
             }
-            _ => parts.iter_mut().map(f).collect(),
-        }
+            let mut parts = make();
+            let mine = parts.len().saturating_sub(workers).max(1).min(parts.len());
+            let theirs = parts.split_off(mine);
+            for (slot, part) in slots.iter().zip(theirs) {
+                if let Ok(mut s) = slot.lock() {
+                    *s = Some(part);
+                }
+            }
+            posted.store(true, Release);
+            let mut mine = parts.into_iter();
+            here.push(f(mine.next(), ready(0)));
+            here.extend(mine.map(|t| f(Some(t), ready(0))));
+            let mut spins = 0u32;
+            while done.load(Acquire) < workers && spins < SPINS {
+                std::hint::spin_loop();
+                spins += 1;
+            }
+        });
+        here.into_iter().chain(others).collect()
     }
 
     /// Calls `f` on every item of the loop `kind`, in parallel chunks when the loop has at

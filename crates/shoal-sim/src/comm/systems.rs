@@ -2,6 +2,7 @@
 //! [`comm_transmit_system`] (queues, access, carrier sense) and [`comm_deliver_system`] (every
 //! reception decided at its receiver).
 
+use super::air::AirStore;
 use super::ending::{Ended, candidates, own_transmissions};
 use super::frames::{CommRng, Inbox, Modems, Outbox};
 use super::ledger::Ledger;
@@ -13,10 +14,12 @@ use super::parts::split;
 use super::reception::{Listener, Scratch, receive};
 use super::started::Started;
 use super::stats::{CommStats, Tally};
-use super::transmit::{Vehicle, earliest, first_turn, walk};
+use super::transmit::{Sensing, Vehicle, earliest, first_turn, sensing_ahead, walk};
 use crate::components::{StaticGeometry, VehicleEntities, VehicleId};
 use crate::parallel::{Loop, Parallel};
 use bevy_ecs::prelude::*;
+use std::mem::take;
+use std::sync::Mutex;
 
 /// Step phase 1: bring the grid up to date with the poses (which the vehicle pass wrote),
 /// prune old transmissions.
@@ -89,7 +92,7 @@ pub fn comm_transmit_system(
     clock: Res<crate::components::Clock>,
     par: Res<Parallel>,
     geo: Res<StaticGeometry>,
-    mut sensing: Local<Vec<super::air::AirStore>>,
+    mut sensing: Local<Vec<AirStore>>,
     mut medium: ResMut<Medium>,
     entities: Res<VehicleEntities>,
     mut qs: ParamSet<(HandedOver, Query<Sender>)>,
@@ -100,7 +103,7 @@ pub fn comm_transmit_system(
     // The vehicles with something to send: frames still queued at a modem, or work for the
     // link layer — frames handed over since the last step (their outbox changed), or the
     // link layer's own.
-    let mut linked = std::mem::take(&mut medium.linked);
+    let mut linked = take(&mut medium.linked);
     linked.extend(
         qs.p0()
             .iter()
@@ -111,7 +114,7 @@ pub fn comm_transmit_system(
     linked.dedup();
     let (t0, t_end) = (clock.t(), clock.t() + clock.dt);
     // Those waiting whose first frame is due after this step are not even looked at.
-    let (mut ids, later) = due_in_step(std::mem::take(&mut medium.waiting), &linked, t_end);
+    let (mut ids, later) = due_in_step(take(&mut medium.waiting), &linked, t_end);
     if ids.is_empty() {
         medium.waiting = later;
         return;
@@ -176,7 +179,7 @@ pub fn comm_transmit_system(
 fn walk_in_parts(
     (m, geo, par): (&Medium, &shoal_world::geometry::Geometry, &Parallel),
     step: (f64, f64),
-    stores: &mut Vec<super::air::AirStore>,
+    stores: &mut Vec<AirStore>,
     items: &mut [SenderItem<'_>],
     turning: &[usize],
 ) -> Started {
@@ -190,9 +193,9 @@ fn walk_in_parts(
             },
         )
         .sum();
-    let parts = split(m, &ids, par.parts(work));
-    stores.resize_with(stores.len().max(parts.len()), Default::default);
-    // Each part's vehicles, and the storage of its carrier sensing.
+    let threads = par.parts(work);
+    stores.resize_with(stores.len().max(threads), Default::default);
+    // The vehicles with a turn, in parts: each part's vehicles, ascending.
     let mut vehicles: Vec<Option<Vehicle<'_>>> = Vec::with_capacity(turning.len());
     let mut next = turning.iter().peekable();
     for (i, (_, _, modems, rng, stats, link, _)) in items.iter_mut().enumerate() {
@@ -205,29 +208,44 @@ fn walk_in_parts(
             }));
         }
     }
-    let mut jobs: Vec<(Vec<(u32, Vehicle<'_>)>, super::air::AirStore)> = parts
-        .iter()
-        .zip(stores.iter_mut())
-        .map(|(part, store)| {
-            let vs = part
-                .iter()
-                .map(|&k| {
-                    let v = vehicles[k].take();
-                    (
-                        ids[k],
-                        v.unwrap_or_else(|| unreachable!("a vehicle is in one part")),
-                    )
-                })
-                .collect();
-            (vs, std::mem::take(store))
-        })
-        .collect();
-    let walked = par.for_each_part(Loop::Walk, &mut jobs, |(vs, store)| {
-        walk((m, geo), step, std::mem::take(store), vs)
+    let mut parts = || -> Vec<Vec<(u32, Vehicle<'_>)>> {
+        let mut take = |k: usize| match vehicles[k].take() {
+            Some(v) => (ids[k], v),
+            None => unreachable!("a vehicle is in one part"),
+        };
+        split(m, &ids, threads)
+            .iter()
+            .map(|part| part.iter().map(|&k| take(k)).collect())
+            .collect()
+    };
+    if threads == 1 {
+        let mut all = parts().pop().unwrap_or_default();
+        let (store, started) = walk(
+            (m, geo),
+            step,
+            Sensing::Later(take(&mut stores[0])),
+            &mut all,
+        );
+        stores[0] = store;
+        return started;
+    }
+    // On several threads each worker makes its carrier sensing while the calling thread splits
+    // the vehicles (and makes its own after).
+    let kept: Vec<Mutex<AirStore>> = stores.drain(..).map(Mutex::new).collect();
+    let ready = |k: usize| {
+        let store = kept[k]
+            .lock()
+            .map(|mut s| take(&mut *s))
+            .unwrap_or_default();
+        sensing_ahead(m, store)
+    };
+    let walked = par.for_parts_made(Loop::Walk, parts, ready, |part, air| match part {
+        Some(mut vs) => walk((m, geo), step, Sensing::Made(air), &mut vs),
+        None => (air.store(), Started::default()),
     });
     let mut started = Vec::with_capacity(walked.len());
-    for ((store, s), slot) in walked.into_iter().zip(stores.iter_mut()) {
-        *slot = store;
+    for (store, s) in walked {
+        stores.push(store);
         started.push(s);
     }
     Started::merge(started)

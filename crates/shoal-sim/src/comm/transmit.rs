@@ -119,20 +119,41 @@ pub(super) fn first_turn(modems: &Modems, (t0, t_end): (f64, f64)) -> Option<f64
     (next < t_end).then_some(next)
 }
 
+/// The carrier sensing a walk starts with: made when a protocol first listens, in the
+/// storage kept from the last step, or made already (beside other work: [`sensing_ahead`]).
+pub(super) enum Sensing {
+    Later(AirStore),
+    Made(Air),
+}
+
+/// The carrier sensing of a walk of medium `m` made now, before any turn, in `store`: the
+/// transmissions on record by position (what [`walk`] would make when a protocol first
+/// listens, had nothing started before).
+pub(super) fn sensing_ahead(m: &Medium, store: AirStore) -> Air {
+    let none = Started::default();
+    Air::new(m, none.on_record(m), sensing_reach(m), store)
+}
+
+/// The sensing reach of medium `m`: cut-off range plus the farthest modem's offset \[m\].
+fn sensing_reach(m: &Medium) -> f64 {
+    m.r_cut + m.max_modem_offset
+}
+
 /// Walks the step `t0 … t_end` \[s\] of medium `m` for `vehicles` (ascending ids; every
 /// vehicle that can hear one of their frames or start one they hear is among them — all the
 /// vehicles with a turn in the step, or one of the independent parts of them:
 /// [`super::parts`]): their turns in time order, the vehicles woken by frames near them asked
 /// again, those still counting down at the end set where the count leaves them. Carrier
-/// sensing is made in `store`; returns it for the next step, and what the walk started.
+/// sensing starts from `sensing`; returns its storage for the next step, and what the walk
+/// started.
 pub(super) fn walk(
     (m, geo): (&Medium, &shoal_world::geometry::Geometry),
     (t0, t_end): (f64, f64),
-    store: AirStore,
+    sensing: Sensing,
     vehicles: &mut [(u32, Vehicle<'_>)],
 ) -> (AirStore, Started) {
     let ports = vehicles.iter().map(|(_, v)| v.modems.ports.len()).sum();
-    let mut walk = Walk::new(m, (t0, t_end), store, ports);
+    let mut walk = Walk::new(m, (t0, t_end), sensing, ports);
     for (id, v) in vehicles.iter() {
         walk.schedule(*id, v.modems);
     }
@@ -165,21 +186,25 @@ fn due_at(port: &super::frames::ModemPort, t: f64, t0: f64) -> bool {
 }
 
 impl Walk {
-    /// A walk through the step `t0 … t_end` \[s\] of medium `m`, its carrier sensing made in
-    /// `store` (handed back by [`Walk::finish`]).
-    /// (`ports`: how many ports the walked vehicles have, so that the step's turns and
-    /// transmissions fit without growing, one of each a port as a rule.)
-    fn new(m: &Medium, (t0, t_end): (f64, f64), store: AirStore, ports: usize) -> Self {
+    /// A walk through the step `t0 … t_end` \[s\] of medium `m`, its carrier sensing from
+    /// `sensing` (its storage handed back by [`Walk::finish`]); `ports`: how many ports the
+    /// walked vehicles have, so that the step's turns and transmissions fit without growing
+    /// (one of each a port as a rule).
+    fn new(m: &Medium, (t0, t_end): (f64, f64), sensing: Sensing, ports: usize) -> Self {
+        let (air, store) = match sensing {
+            Sensing::Later(store) => (OnceCell::new(), Some(store)),
+            Sensing::Made(air) => (OnceCell::from(air), None),
+        };
         Self {
             turns: BinaryHeap::with_capacity(ports),
             epochs: FastMap::default(),
-            air: OnceCell::new(),
-            store: Cell::new(Some(store)),
+            air,
+            store: Cell::new(store),
             countdowns: Countdowns::default(),
             woken: Vec::new(),
             decided: Vec::new(),
             sent: (Vec::new(), Vec::new()),
-            reach: m.r_cut + m.max_modem_offset,
+            reach: sensing_reach(m),
             t0,
             t_end,
             started: Started {
