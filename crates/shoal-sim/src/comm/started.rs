@@ -88,3 +88,58 @@ impl Started {
         m.txs.extend(self.txs);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use shoal_model::math::Vec3;
+    use shoal_model::optics::ModemPose;
+
+    /// A transmission of vehicle `tx`'s modem `modem` starting at `start` \[s\].
+    fn tx(start: f64, tx: u32, modem: usize) -> Transmission {
+        let pose = ModemPose {
+            position: Vec3::zeros(),
+            axis: Vec3::x(),
+        };
+        Transmission {
+            tx,
+            start,
+            end: start + 0.01,
+            ..Transmission::sent_from(0, modem, pose)
+        }
+    }
+
+    /// Parts merge into the order one walk starts them in — by start, then sender — and a
+    /// sender's transmissions at one instant keep their part's order (its ports in the order
+    /// its turns sent them, here 2 before 0), whatever the order of the parts (seen failing
+    /// with the parts concatenated).
+    #[test]
+    fn parts_merge_by_start_then_sender_keeping_each_parts_order() {
+        let a = || Started {
+            txs: vec![tx(0.1, 3, 2), tx(0.1, 3, 0), tx(0.3, 1, 0)],
+        };
+        let b = || Started {
+            txs: vec![tx(0.1, 2, 1), tx(0.2, 7, 0), tx(0.3, 5, 3)],
+        };
+        let want = [
+            (0.1, 2, 1),
+            (0.1, 3, 2),
+            (0.1, 3, 0),
+            (0.2, 7, 0),
+            (0.3, 1, 0),
+            (0.3, 5, 3),
+        ];
+        for parts in [
+            vec![a(), b()],
+            vec![b(), a()],
+            vec![Started::default(), b(), a()],
+        ] {
+            let got: Vec<_> = Started::merge(parts)
+                .txs
+                .iter()
+                .map(|x| (x.start, x.tx, x.modem))
+                .collect();
+            assert_eq!(got, want);
+        }
+    }
+}
