@@ -27,7 +27,7 @@ behaviour = { kind = "beacon", period = 0.5, payload_bytes = 26, jitter = 0.2 }
 """
 
 #: Loop kinds of `parallel_dispatches`.
-LOOPS = ("behaviour", "vehicles", "delivery", "links")
+LOOPS = ("behaviour", "vehicles", "delivery", "links", "walk")
 
 
 @pytest.mark.parametrize("name, seed, seconds", [("default", 7, 5.0), ("flock", 3, 4.0),

@@ -578,8 +578,9 @@ impl World {
     }
 
     /// The loops split over the thread pool since the world was built or reset, per kind:
-    /// `{"behaviour": n, "vehicles": n, "delivery": n, "links": n}` (as `parallel_dispatches` in
-    /// `shoal run`'s summary.json). All zero on one thread and for loops under 256 vehicles.
+    /// `{"behaviour": n, "vehicles": n, "delivery": n, "links": n, "walk": n}` (as
+    /// `parallel_dispatches` in `shoal run`'s summary.json; `walk`: transmit walks split into
+    /// parts). All zero on one thread and for loops under 256 vehicles.
     #[getter]
     fn parallel_dispatches<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let p = self.sim.parallel_dispatches();
@@ -588,6 +589,7 @@ impl World {
         d.set_item("vehicles", p.vehicles)?;
         d.set_item("delivery", p.delivery)?;
         d.set_item("links", p.links)?;
+        d.set_item("walk", p.walk)?;
         Ok(d)
     }
 
