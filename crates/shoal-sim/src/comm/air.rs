@@ -14,7 +14,6 @@
 
 use super::grid::{CellLists, Cells};
 use super::medium::{Medium, Transmission};
-use super::sensing::Scratch;
 use shoal_model::math::Vec3;
 use shoal_model::optics::ModemPose;
 use std::cell::RefCell;
@@ -75,6 +74,17 @@ impl OnAir {
             index: index as u32,
         }
     }
+}
+
+/// What a listen (`sensing.rs`) keeps while it looks, reused from one listen to the next.
+#[derive(Default)]
+pub(super) struct Scratch {
+    /// The frames that ended near the listening vehicle, put aside.
+    pub(super) ended: Vec<OnAir>,
+    /// The frames on the air within its reach.
+    pub(super) on: Vec<OnAir>,
+    /// The powers of one of them at its modems \[W\].
+    pub(super) powers: Vec<f64>,
 }
 
 /// The transmissions on record in the transmit phase: the medium's list, then the

@@ -4,7 +4,7 @@
 //! transmissions on record around the vehicle only ([`Air`], kept by the transmit phase), and
 //! compute a link budget only for senders within reach.
 
-use super::air::{Air, OnAir, OnRecord};
+use super::air::{Air, OnAir, OnRecord, Scratch};
 use super::medium::{Medium, Transmission, received_power};
 use shoal_model::math::Vec3;
 use shoal_model::optics::{LinkGeometry, ModemPose};
@@ -268,17 +268,6 @@ fn listen(
             f(k, one(x, k, pose));
         }
     }))
-}
-
-/// What a listen keeps while it looks (reused from one listen to the next; [`Air`] holds it).
-#[derive(Default)]
-pub(super) struct Scratch {
-    /// The frames that ended near the listening vehicle, put aside.
-    ended: Vec<OnAir>,
-    /// The frames on the air within its reach.
-    on: Vec<OnAir>,
-    /// The powers of one of them at its modems \[W\].
-    powers: Vec<f64>,
 }
 
 /// Whether any modem of vehicle `v` receives power from transmission `a`: a frame that
