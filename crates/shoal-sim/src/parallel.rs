@@ -12,6 +12,7 @@
 use bevy_ecs::prelude::Resource;
 use bevy_tasks::{TaskPool, TaskPoolBuilder};
 use serde::Serialize;
+use std::sync::Mutex;
 use std::sync::atomic::{
     AtomicBool, AtomicU64, AtomicUsize, Ordering::Acquire, Ordering::Relaxed, Ordering::Release,
 };
@@ -24,6 +25,16 @@ pub const MIN_PARALLEL: usize = 256;
 /// How long [`Parallel::for_parts_made`]'s threads wait awake for one another \[spins\] (about
 /// 0.2 ms, a part taking a few hundred µs; a worker waiting longer for its part yields).
 const SPINS: u32 = 20_000;
+
+/// Posts the parts of [`Parallel::for_parts_made`] when dropped, also on a panic, so that no
+/// worker waits for them for ever.
+struct Post<'a>(&'a AtomicBool);
+
+impl Drop for Post<'_> {
+    fn drop(&mut self) {
+        self.0.store(true, Release);
+    }
+}
 
 /// Working threads of this machine (1 when unknown): the default of a run's `threads`.
 pub fn all_cores() -> usize {
@@ -157,9 +168,10 @@ impl Parallel {
         }
     }
 
-    /// Calls `f` on each of a loop's independent parts, each on its own thread, the parts
-    /// made on the calling thread while the workers wake: every working thread first gets ready (`ready(k)`, k = 0 for the calling thread,
-    /// 1, 2, … for the workers), the calling thread makes the parts (`make`, at most one per
+    /// Calls `f` on each of a loop's independent parts, each on its own thread, the parts made
+    /// on the calling thread while the workers wake: every working thread first gets ready
+    /// (`ready(k)`, k = 0 for the calling thread, 1, 2, … for the workers), the calling thread
+    /// makes the parts (`make`, at most one per
     /// working thread) and hands them out, and each thread calls `f` with its part (`None` if
     /// there are fewer parts than threads) and what it got ready. Returns what `f` returns, the
     /// calling thread's first (and any parts beyond one per thread, which it takes too, next),
@@ -177,8 +189,7 @@ impl Parallel {
         };
         self.dispatches[kind.index()].fetch_add(1, Relaxed);
         let workers = self.threads - 1;
-        let slots: Vec<std::sync::Mutex<Option<T>>> =
-            (0..workers).map(|_| std::sync::Mutex::new(None)).collect();
+        let slots: Vec<Mutex<Option<T>>> = (0..workers).map(|_| Mutex::new(None)).collect();
         let (posted, done) = (&AtomicBool::new(false), &AtomicUsize::new(0));
         let (f, ready, slots) = (&f, &ready, &slots);
         let mut here = Vec::new();
@@ -202,6 +213,8 @@ impl Parallel {
                     r
                 });
             }
+            // Should `make` or `f` panic here, the workers stop waiting for their parts.
+            let _post = Post(posted);
             let mut parts = make();
             let mine = parts.len().saturating_sub(workers).max(1).min(parts.len());
             let theirs = parts.split_off(mine);
@@ -342,6 +355,28 @@ impl Parallel {
 mod tests {
     use super::*;
     use shoal_model::lanes::LANES;
+
+    /// Each part goes to one thread with what that thread got ready — the first to the
+    /// calling thread (ready 0), the next to the worker (ready 1) — and comes back in that
+    /// order; a worker without a part gets `None`; parts beyond one a thread go to the calling
+    /// thread. On one thread every part is done in order, nothing is counted as split.
+    #[test]
+    fn parts_made_go_one_to_a_thread_with_what_it_got_ready() {
+        let run = |p: &Parallel, parts: Vec<u32>| {
+            p.for_parts_made(Loop::Walk, || parts, |k| k, |part, k| (part, k))
+        };
+        let two = Parallel::new(2);
+        assert_eq!(run(&two, vec![10, 20]), [(Some(10), 0), (Some(20), 1)]);
+        assert_eq!(run(&two, vec![10]), [(Some(10), 0), (None, 1)]);
+        assert_eq!(
+            run(&two, vec![10, 20, 30]),
+            [(Some(10), 0), (Some(20), 0), (Some(30), 1)]
+        );
+        assert_eq!(two.dispatches().walk, 3);
+        let one = Parallel::new(1);
+        assert_eq!(run(&one, vec![10, 20]), [(Some(10), 0), (Some(20), 0)]);
+        assert_eq!(one.dispatches().walk, 0);
+    }
 
     #[test]
     fn visits_every_item_once() {

@@ -14,7 +14,7 @@ use super::parts::split;
 use super::reception::{Listener, Scratch, receive};
 use super::started::Started;
 use super::stats::{CommStats, Tally};
-use super::transmit::{Sensing, Vehicle, earliest, first_turn, sensing_ahead, walk};
+use super::transmit::{SensingStart, Vehicle, earliest, first_turn, sensing_ahead, walk};
 use crate::components::{StaticGeometry, VehicleEntities, VehicleId};
 use crate::parallel::{Loop, Parallel};
 use bevy_ecs::prelude::*;
@@ -209,13 +209,13 @@ fn walk_in_parts(
         }
     }
     let mut parts = || -> Vec<Vec<(u32, Vehicle<'_>)>> {
-        let mut take = |k: usize| match vehicles[k].take() {
+        let mut pick = |k: usize| match vehicles[k].take() {
             Some(v) => (ids[k], v),
             None => unreachable!("a vehicle is in one part"),
         };
         split(m, &ids, threads)
             .iter()
-            .map(|part| part.iter().map(|&k| take(k)).collect())
+            .map(|part| part.iter().map(|&k| pick(k)).collect())
             .collect()
     };
     if threads == 1 {
@@ -223,7 +223,7 @@ fn walk_in_parts(
         let (store, started) = walk(
             (m, geo),
             step,
-            Sensing::Later(take(&mut stores[0])),
+            SensingStart::Later(take(&mut stores[0])),
             &mut all,
         );
         stores[0] = store;
@@ -240,7 +240,7 @@ fn walk_in_parts(
         sensing_ahead(m, store)
     };
     let walked = par.for_parts_made(Loop::Walk, parts, ready, |part, air| match part {
-        Some(mut vs) => walk((m, geo), step, Sensing::Made(air), &mut vs),
+        Some(mut vs) => walk((m, geo), step, SensingStart::Made(air), &mut vs),
         None => (air.store(), Started::default()),
     });
     let mut started = Vec::with_capacity(walked.len());

@@ -121,7 +121,8 @@ pub(super) fn first_turn(modems: &Modems, (t0, t_end): (f64, f64)) -> Option<f64
 
 /// The carrier sensing a walk starts with: made when a protocol first listens, in the
 /// storage kept from the last step, or made already (beside other work: [`sensing_ahead`]).
-pub(super) enum Sensing {
+/// (Not `sensing::Sensing`, what a listen reads.)
+pub(super) enum SensingStart {
     Later(AirStore),
     Made(Air),
 }
@@ -130,8 +131,11 @@ pub(super) enum Sensing {
 /// transmissions on record by position (what [`walk`] would make when a protocol first
 /// listens, had nothing started before).
 pub(super) fn sensing_ahead(m: &Medium, store: AirStore) -> Air {
-    let none = Started::default();
-    Air::new(m, none.on_record(m), sensing_reach(m), store)
+    let rec = OnRecord {
+        medium: &m.txs,
+        started: &[],
+    };
+    Air::new(m, rec, sensing_reach(m), store)
 }
 
 /// The sensing reach of medium `m`: cut-off range plus the farthest modem's offset \[m\].
@@ -149,7 +153,7 @@ fn sensing_reach(m: &Medium) -> f64 {
 pub(super) fn walk(
     (m, geo): (&Medium, &shoal_world::geometry::Geometry),
     (t0, t_end): (f64, f64),
-    sensing: Sensing,
+    sensing: SensingStart,
     vehicles: &mut [(u32, Vehicle<'_>)],
 ) -> (AirStore, Started) {
     let ports = vehicles.iter().map(|(_, v)| v.modems.ports.len()).sum();
@@ -190,10 +194,10 @@ impl Walk {
     /// `sensing` (its storage handed back by [`Walk::finish`]); `ports`: how many ports the
     /// walked vehicles have, so that the step's turns and transmissions fit without growing
     /// (one of each a port as a rule).
-    fn new(m: &Medium, (t0, t_end): (f64, f64), sensing: Sensing, ports: usize) -> Self {
+    fn new(m: &Medium, (t0, t_end): (f64, f64), sensing: SensingStart, ports: usize) -> Self {
         let (air, store) = match sensing {
-            Sensing::Later(store) => (OnceCell::new(), Some(store)),
-            Sensing::Made(air) => (OnceCell::from(air), None),
+            SensingStart::Later(store) => (OnceCell::new(), Some(store)),
+            SensingStart::Made(air) => (OnceCell::from(air), None),
         };
         Self {
             turns: BinaryHeap::with_capacity(ports),
