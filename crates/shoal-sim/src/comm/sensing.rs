@@ -87,8 +87,20 @@ fn sensed_one(
 /// [`received_power`] is zero, known from two dot products before the geometry's root and
 /// divisions (three sensing budgets in four end here on a ring of modems).
 fn clearly_outside(x: &Transmission, pose: &ModemPose, d: &Vec3, cos_fov: f64) -> bool {
-    const MARGIN: f64 = 1e-9;
     x.pose.axis.dot(d) < -MARGIN || (cos_fov >= 0.0 && pose.axis.dot(d) > MARGIN)
+}
+
+/// How far a modem must lie behind an LED, or face away from it, for [`clearly_outside`] to
+/// pass it over \[m\]: a nanometre.
+const MARGIN: f64 = 1e-9;
+
+/// Whether every modem of vehicle `v` of `m` lies behind the LED of transmission `x` by more
+/// than [`MARGIN`] — its centre behind by more than its farthest modem's offset and twice that
+/// (the rounding of the two ways of computing it is far smaller): [`clearly_outside`] would
+/// pass each of them over, so none receives power from it, known from one dot product.
+fn all_behind(m: &Medium, x: &Transmission, v: u32) -> bool {
+    let centre = &m.poses[v as usize].0;
+    x.pose.axis.dot(&(centre - x.pose.position)) < -(m.max_modem_offset + 2.0 * MARGIN)
 }
 
 /// Hands the power a transmission delivers to each of a vehicle's modems (its index, \[W\])
@@ -153,18 +165,16 @@ impl Listening<'_> {
     }
 
     /// The channel is idle: since when, looking at the frames put aside as they ended, the
-    /// latest end first — the first that alone was heard above the threshold is the last such
-    /// end, and frames that ended before what is known need no link budget at all.
-    fn since_ended(&mut self, each: impl Fn(&OnAir, &mut dyn FnMut(usize, f64))) -> f64 {
+    /// latest end first — the first that alone was heard above the threshold (`above(frame,
+    /// threshold)`: at one of the vehicle's modems) is the last such end, and frames that ended
+    /// before what is known need no link budget at all.
+    fn since_ended(&mut self, above: impl Fn(&OnAir, f64) -> bool) -> f64 {
         self.ended.sort_unstable_by(|a, b| b.end.total_cmp(&a.end));
-        let threshold = self.threshold;
         for a in self.ended.iter() {
             if a.end <= self.since {
                 break;
             }
-            let mut alone = false;
-            each(a, &mut |_, p| alone |= p > threshold);
-            if alone {
+            if above(a, self.threshold) {
                 self.since = a.end;
                 break;
             }
@@ -243,6 +253,10 @@ fn listen(
             continue;
         }
         let x = rec.get(a.index);
+        // Behind the LED: no power at any modem (zeros add nothing, and it is not heard).
+        if all_behind(m, x, v) {
+            continue;
+        }
         powers.clear();
         let heard = l.heard(a, &mut |f| {
             for (k, pose) in poses.iter().enumerate() {
@@ -262,11 +276,13 @@ fn listen(
         return Err(l.until);
     }
     // The frames that ended waited: they matter only now that the channel is idle.
-    Ok(l.since_ended(|a, f| {
+    Ok(l.since_ended(|a, threshold| {
         let x = rec.get(a.index);
-        for (k, pose) in poses.iter().enumerate() {
-            f(k, one(x, k, pose));
-        }
+        !all_behind(m, x, v)
+            && poses
+                .iter()
+                .enumerate()
+                .any(|(k, pose)| one(x, k, pose) > threshold)
     }))
 }
 
@@ -274,6 +290,9 @@ fn listen(
 /// reaches none of them changes nothing [`idle_since`] finds.
 pub(super) fn reaches((m, geo, air, rec): Sensing<'_>, v: u32, a: &OnAir) -> bool {
     let x = rec.get(a.index);
+    if all_behind(m, x, v) {
+        return false;
+    }
     air.with_modem_poses(m, v, |poses| {
         poses
             .iter()
@@ -336,9 +355,9 @@ mod tests {
         ];
         let pos = Vec3::zeros();
         let asked = RefCell::new(Vec::new());
-        let budget = |a: &OnAir, f: &mut dyn FnMut(usize, f64)| {
+        let budget = |a: &OnAir, threshold: f64| {
             asked.borrow_mut().push(a.tx);
-            f(0, power(a.tx));
+            power(a.tx) > threshold
         };
         let mut later = Vec::new();
         let mut l = listener(&pos, 0.2, &mut later);
