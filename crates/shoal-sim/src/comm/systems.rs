@@ -2,7 +2,7 @@
 //! [`comm_transmit_system`] (queues, access, carrier sense) and [`comm_deliver_system`] (every
 //! reception decided at its receiver).
 
-use super::air::AirStore;
+use super::air::{Air, AirStore};
 use super::ending::{Ended, candidates, own_transmissions};
 use super::frames::{CommRng, Inbox, Modems, Outbox};
 use super::ledger::Ledger;
@@ -119,43 +119,28 @@ pub fn comm_transmit_system(
         medium.waiting = later;
         return;
     }
+    // The flows are the link layer's while the medium is read by the walk's threads.
+    let mut flows = take(&mut medium.flows);
+    let mut ended = 0;
     let mut q = qs.p1();
     let mut items = Vec::with_capacity(ids.len());
-    items.extend(q.iter_many_unique_mut(entities.set_of(&ids)).matched());
-    items.sort_unstable_by_key(|it| it.0.0);
-    let med = &mut *medium;
-    let (kinds, access, flows) = (&med.kinds, &med.access, &mut med.flows);
-    let mut ended = 0;
-    // The link layer of a vehicle with neither frames handed over nor work of its own does
-    // nothing: only its queued frames are walked.
-    let mut with_link = linked.iter().copied().peekable();
-    let mut turning = Vec::new();
-    for (i, (id, outbox, modems, _, stats, link, inbox)) in items.iter_mut().enumerate() {
-        let modems = &mut **modems;
-        if with_link.next_if_eq(&id.0).is_some() {
-            let params = &kinds[id.0 as usize].params.modems;
-            let links = &access[id.0 as usize];
-            ended += link_layer(
-                clock.t(),
-                params,
-                links,
-                (outbox, modems, stats, link, inbox),
-                (id.0, flows),
-            );
-        }
-        if first_turn(modems, (t0, t_end)).is_some() {
-            turning.push(i);
-        }
-    }
-    medium.ended += ended;
     let m = &*medium;
-    let started = walk_in_parts(
-        (m, &geo.0, &par),
-        (t0, t_end),
-        &mut sensing,
-        &mut items,
-        &turning,
-    );
+    let threads = par.parts(walk_work(m, &ids));
+    let started = {
+        let (items, q, flows, ended) = (&mut items, &mut q, &mut flows, &mut ended);
+        let (ids, linked) = (&ids, &linked);
+        let make = move || {
+            let (items, q, flows, ended) = (items, q, flows, ended);
+            items.extend(q.iter_many_unique_mut(entities.set_of(ids)).matched());
+            items.sort_unstable_by_key(|it| it.0.0);
+            let (turning, n) = link_layers(m, (t0, t_end), linked, items, flows);
+            *ended = n;
+            in_parts(m, items, &turning, threads)
+        };
+        walk_in_parts((m, &geo.0, &par), (t0, t_end), threads, &mut sensing, make)
+    };
+    medium.flows = flows;
+    medium.ended += ended;
     started.apply(&mut medium);
     // Items by vehicle: sorted by id, found by halving their ids (a few hundred, in cache).
     let keys: Vec<u32> = items.iter().map(|it| it.0.0).collect();
@@ -172,30 +157,64 @@ pub fn comm_transmit_system(
     m.linked = linked;
 }
 
-/// Walks the step `t0 … t_end` \[s\] of medium `m` for the `items` at positions `turning` (those
-/// with a turn in it): in independent parts ([`split`]) on the threads of `par`, each with
-/// carrier sensing made in its storage of `stores`; returns what they started, in the order
-/// one walk of them all starts it.
-fn walk_in_parts(
-    (m, geo, par): (&Medium, &shoal_world::geometry::Geometry, &Parallel),
-    step: (f64, f64),
-    stores: &mut Vec<AirStore>,
-    items: &mut [SenderItem<'_>],
-    turning: &[usize],
-) -> Started {
-    let ids: Vec<u32> = turning.iter().map(|&i| items[i].0.0).collect();
-    let work = ids
-        .iter()
+/// What the walk of a step looking at vehicles `ids` of medium `m` is likely to cost, in
+/// vehicle updates (the unit of [`Parallel::min_parallel`]), to choose its threads before the
+/// link layer has run: [`LISTENING_TURN`] for a vehicle whose protocol listens, else one.
+fn walk_work(m: &Medium, ids: &[u32]) -> usize {
+    ids.iter()
         .map(
             |&v| match m.access[v as usize].iter().any(|l| l.access.listens()) {
                 true => LISTENING_TURN,
                 false => 1,
             },
         )
-        .sum();
-    let threads = par.parts(work);
-    stores.resize_with(stores.len().max(threads), Default::default);
-    // The vehicles with a turn, in parts: each part's vehicles, ascending.
+        .sum()
+}
+
+/// The link layer of each of the `items` (ascending ids) in `linked` (ascending) at the
+/// start `t0` of the step `t0 … t_end` \[s\] of medium `m` (the link layer of a vehicle with
+/// neither frames handed over nor work of its own does nothing: only its queued frames are
+/// walked), counting to `flows`; returns the positions of the items with a turn in the step,
+/// and how many frames ended there (acknowledged or given up).
+fn link_layers(
+    m: &Medium,
+    (t0, t_end): (f64, f64),
+    linked: &[u32],
+    items: &mut [SenderItem<'_>],
+    flows: &mut super::flows::Flows,
+) -> (Vec<usize>, u64) {
+    let mut ended = 0;
+    let mut with_link = linked.iter().copied().peekable();
+    let mut turning = Vec::new();
+    for (i, (id, outbox, modems, _, stats, link, inbox)) in items.iter_mut().enumerate() {
+        let modems = &mut **modems;
+        if with_link.next_if_eq(&id.0).is_some() {
+            let params = &m.kinds[id.0 as usize].params.modems;
+            let links = &m.access[id.0 as usize];
+            ended += link_layer(
+                t0,
+                params,
+                links,
+                (outbox, modems, stats, link, inbox),
+                (id.0, flows),
+            );
+        }
+        if first_turn(modems, (t0, t_end)).is_some() {
+            turning.push(i);
+        }
+    }
+    (turning, ended)
+}
+
+/// The `items` at positions `turning` (those with a turn in the step) in independent parts of
+/// medium `m` ([`split`]), at most `threads`: each part's vehicles with their ids, ascending.
+fn in_parts<'a>(
+    m: &Medium,
+    items: &'a mut [SenderItem<'_>],
+    turning: &[usize],
+    threads: usize,
+) -> Vec<Vec<(u32, Vehicle<'a>)>> {
+    let ids: Vec<u32> = turning.iter().map(|&i| items[i].0.0).collect();
     let mut vehicles: Vec<Option<Vehicle<'_>>> = Vec::with_capacity(turning.len());
     let mut next = turning.iter().peekable();
     for (i, (_, _, modems, rng, stats, link, _)) in items.iter_mut().enumerate() {
@@ -208,18 +227,42 @@ fn walk_in_parts(
             }));
         }
     }
-    let mut parts = || -> Vec<Vec<(u32, Vehicle<'_>)>> {
-        let mut pick = |k: usize| match vehicles[k].take() {
-            Some(v) => (ids[k], v),
-            None => unreachable!("a vehicle is in one part"),
-        };
-        split(m, &ids, threads)
-            .iter()
-            .map(|part| part.iter().map(|&k| pick(k)).collect())
-            .collect()
+    let mut pick = |k: usize| match vehicles[k].take() {
+        Some(v) => (ids[k], v),
+        None => unreachable!("a vehicle is in one part"),
     };
+    split(m, &ids, threads)
+        .iter()
+        .map(|part| part.iter().map(|&k| pick(k)).collect())
+        .collect()
+}
+
+/// The carrier sensing of a thread of a walk in parts ([`walk_in_parts`]).
+enum Ready {
+    /// Its storage, the sensing not made yet.
+    Store(AirStore),
+    /// Made.
+    Made(Air),
+    /// Taken by its thread.
+    Taken,
+}
+
+/// Walks the step `t0 … t_end` \[s\] of medium `m` for the vehicles `make` returns, in the
+/// independent parts it returns them in, on `threads` threads of `par` (one part each), each
+/// with carrier sensing made in its storage of `stores`; returns what they started, in the
+/// order one walk of them all starts it. On several threads the workers make the carrier
+/// sensing of every thread while the calling thread runs `make` (the link layer and the split:
+/// serial work the step has anyway).
+fn walk_in_parts<'a>(
+    (m, geo, par): (&Medium, &shoal_world::geometry::Geometry, &Parallel),
+    step: (f64, f64),
+    threads: usize,
+    stores: &mut Vec<AirStore>,
+    make: impl FnOnce() -> Vec<Vec<(u32, Vehicle<'a>)>>,
+) -> Started {
+    stores.resize_with(stores.len().max(threads), Default::default);
     if threads == 1 {
-        let mut all = parts().pop().unwrap_or_default();
+        let mut all = make().pop().unwrap_or_default();
         let (store, started) = walk(
             (m, geo),
             step,
@@ -229,17 +272,32 @@ fn walk_in_parts(
         stores[0] = store;
         return started;
     }
-    // On several threads each worker makes its carrier sensing while the calling thread splits
-    // the vehicles (and makes its own after).
-    let kept: Vec<Mutex<AirStore>> = stores.drain(..).map(Mutex::new).collect();
-    let ready = |k: usize| {
-        let store = kept[k]
-            .lock()
-            .map(|mut s| take(&mut *s))
-            .unwrap_or_default();
-        sensing_ahead(m, store)
+    let kept: Vec<Mutex<Ready>> = stores
+        .drain(..)
+        .map(|s| Mutex::new(Ready::Store(s)))
+        .collect();
+    // Made under the lock, so that a thread asking for it meanwhile waits for it.
+    let made = |k: usize, take_it: bool| -> Option<Air> {
+        let mut r = kept[k].lock().ok()?;
+        let air = match std::mem::replace(&mut *r, Ready::Taken) {
+            Ready::Store(store) => sensing_ahead(m, store),
+            Ready::Made(air) => air,
+            Ready::Taken => return None,
+        };
+        if take_it {
+            return Some(air);
+        }
+        *r = Ready::Made(air);
+        None
     };
-    let walked = par.for_parts_made(Loop::Walk, parts, ready, |part, air| match part {
+    let ready = |k: usize| {
+        // The first worker makes the calling thread's too (which runs `make` meanwhile).
+        if k == 1 {
+            made(0, false);
+        }
+        made(k, true).unwrap_or_else(|| sensing_ahead(m, AirStore::default()))
+    };
+    let walked = par.for_parts_made(Loop::Walk, make, ready, |part, air| match part {
         Some(mut vs) => walk((m, geo), step, SensingStart::Made(air), &mut vs),
         None => (air.store(), Started::default()),
     });
