@@ -129,15 +129,22 @@ pub fn comm_transmit_system(
     let started = {
         let (items, q, flows, ended) = (&mut items, &mut q, &mut flows, &mut ended);
         let (ids, linked) = (&ids, &linked);
-        let make = move || {
+        let grouping = Grouping {
+            m,
+            ids,
+            threads,
+            parts: Mutex::new(None),
+        };
+        let make = move |grouping: &Grouping<'_>| {
             let (items, q, flows, ended) = (items, q, flows, ended);
             items.extend(q.iter_many_unique_mut(entities.set_of(ids)).matched());
             items.sort_unstable_by_key(|it| it.0.0);
             let (turning, n) = link_layers(m, (t0, t_end), linked, items, flows);
             *ended = n;
-            in_parts(m, items, &turning, threads)
+            in_parts(items, &turning, &grouping.take())
         };
-        walk_in_parts((m, &geo.0, &par), (t0, t_end), threads, &mut sensing, make)
+        let walk = (m, &geo.0, &*par);
+        walk_in_parts(walk, (t0, t_end), &grouping, &mut sensing, make)
     };
     medium.flows = flows;
     medium.ended += ended;
@@ -206,35 +213,78 @@ fn link_layers(
     (turning, ended)
 }
 
-/// The `items` at positions `turning` (those with a turn in the step) in independent parts of
-/// medium `m` ([`split`]), at most `threads`: each part's vehicles with their ids, ascending.
+/// The `items` at positions `turning` (those with a turn in the step) in the independent
+/// `parts` of the vehicles looked at (their ids, [`Grouping`]): each part's vehicles with their
+/// ids, ascending; no empty part.
 fn in_parts<'a>(
-    m: &Medium,
     items: &'a mut [SenderItem<'_>],
     turning: &[usize],
-    threads: usize,
+    parts: &[Vec<u32>],
 ) -> Vec<Vec<(u32, Vehicle<'a>)>> {
-    let ids: Vec<u32> = turning.iter().map(|&i| items[i].0.0).collect();
-    let mut vehicles: Vec<Option<Vehicle<'_>>> = Vec::with_capacity(turning.len());
+    let mut part_of: Vec<(u32, usize)> = parts
+        .iter()
+        .enumerate()
+        .flat_map(|(k, p)| p.iter().map(move |&v| (v, k)))
+        .collect();
+    part_of.sort_unstable();
+    let mut out: Vec<Vec<(u32, Vehicle<'a>)>> = parts.iter().map(|_| Vec::new()).collect();
     let mut next = turning.iter().peekable();
-    for (i, (_, _, modems, rng, stats, link, _)) in items.iter_mut().enumerate() {
-        if next.next_if_eq(&&i).is_some() {
-            vehicles.push(Some(Vehicle {
+    for (i, (id, _, modems, rng, stats, link, _)) in items.iter_mut().enumerate() {
+        if next.next_if_eq(&&i).is_none() {
+            continue;
+        }
+        let k = match part_of.binary_search_by_key(&id.0, |&(v, _)| v) {
+            Ok(j) => part_of[j].1,
+            Err(_) => unreachable!("vehicle {} was looked at, so it is in a part", id.0),
+        };
+        out[k].push((
+            id.0,
+            Vehicle {
                 modems,
                 rng,
                 stats,
                 link,
-            }));
+            },
+        ));
+    }
+    out.retain(|p| !p.is_empty());
+    out
+}
+
+/// The vehicles looked at in a step (`ids`) in at most `threads` independent parts ([`split`]:
+/// those with a turn are among them, and a coarser grouping is as independent), made by the
+/// first worker while the calling thread runs the link layer — or by the calling thread, if it
+/// asks first.
+struct Grouping<'a> {
+    m: &'a Medium,
+    ids: &'a [u32],
+    threads: usize,
+    /// The parts (ids), once made; made under the lock, so that the calling thread asking for
+    /// them meanwhile waits for them.
+    parts: Mutex<Option<Vec<Vec<u32>>>>,
+}
+
+impl Grouping<'_> {
+    /// Makes the parts unless they are made.
+    fn make(&self) {
+        let mut parts = self.parts.lock().unwrap_or_else(|e| e.into_inner());
+        if parts.is_none() {
+            let split = split(self.m, self.ids, self.threads);
+            *parts = Some(
+                split
+                    .iter()
+                    .map(|p| p.iter().map(|&k| self.ids[k]).collect())
+                    .collect(),
+            );
         }
     }
-    let mut pick = |k: usize| match vehicles[k].take() {
-        Some(v) => (ids[k], v),
-        None => unreachable!("a vehicle is in one part"),
-    };
-    split(m, &ids, threads)
-        .iter()
-        .map(|part| part.iter().map(|&k| pick(k)).collect())
-        .collect()
+
+    /// The parts (made now if they are not yet).
+    fn take(&self) -> Vec<Vec<u32>> {
+        self.make();
+        let mut parts = self.parts.lock().unwrap_or_else(|e| e.into_inner());
+        parts.take().unwrap_or_else(|| vec![self.ids.to_vec()])
+    }
 }
 
 /// The carrier sensing of a thread of a walk in parts ([`walk_in_parts`]).
@@ -248,21 +298,22 @@ enum Ready {
 }
 
 /// Walks the step `t0 … t_end` \[s\] of medium `m` for the vehicles `make` returns, in the
-/// independent parts it returns them in, on `threads` threads of `par` (one part each), each
-/// with carrier sensing made in its storage of `stores`; returns what they started, in the
-/// order one walk of them all starts it. On several threads the workers make the carrier
-/// sensing of every thread while the calling thread runs `make` (the link layer and the split:
-/// serial work the step has anyway).
+/// independent parts it returns them in (of `grouping`, which it is handed), on
+/// `grouping.threads` threads of `par` (one part each), each with carrier sensing made in its
+/// storage of `stores`; returns what they started, in the order one walk of them all starts
+/// it. On several threads the workers make the grouping and every thread's carrier sensing
+/// while the calling thread runs `make` (the link layer: serial work the step has anyway).
 fn walk_in_parts<'a>(
     (m, geo, par): (&Medium, &shoal_world::geometry::Geometry, &Parallel),
     step: (f64, f64),
-    threads: usize,
+    grouping: &Grouping<'_>,
     stores: &mut Vec<AirStore>,
-    make: impl FnOnce() -> Vec<Vec<(u32, Vehicle<'a>)>>,
+    make: impl FnOnce(&Grouping<'_>) -> Vec<Vec<(u32, Vehicle<'a>)>>,
 ) -> Started {
+    let threads = grouping.threads;
     stores.resize_with(stores.len().max(threads), Default::default);
     if threads == 1 {
-        let mut all = make().pop().unwrap_or_default();
+        let mut all = make(grouping).pop().unwrap_or_default();
         let (store, started) = walk(
             (m, geo),
             step,
@@ -291,16 +342,23 @@ fn walk_in_parts<'a>(
         None
     };
     let ready = |k: usize| {
-        // The first worker makes the calling thread's too (which runs `make` meanwhile).
+        // The first worker makes the grouping and the calling thread's carrier sensing too
+        // (which runs `make` meanwhile).
         if k == 1 {
+            grouping.make();
             made(0, false);
         }
         made(k, true).unwrap_or_else(|| sensing_ahead(m, AirStore::default()))
     };
-    let walked = par.for_parts_made(Loop::Walk, make, ready, |part, air| match part {
-        Some(mut vs) => walk((m, geo), step, SensingStart::Made(air), &mut vs),
-        None => (air.store(), Started::default()),
-    });
+    let walked = par.for_parts_made(
+        Loop::Walk,
+        || make(grouping),
+        ready,
+        |part, air| match part {
+            Some(mut vs) => walk((m, geo), step, SensingStart::Made(air), &mut vs),
+            None => (air.store(), Started::default()),
+        },
+    );
     let mut started = Vec::with_capacity(walked.len());
     for (store, s) in walked {
         stores.push(store);
