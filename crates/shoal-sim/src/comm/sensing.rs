@@ -376,4 +376,72 @@ mod tests {
         assert_eq!(l.since_ended(budget), 0.6);
         assert!(asked.borrow().is_empty());
     }
+
+    /// A frame of vehicle 0's first modem in a medium of two μAUV² (vehicle 0 at 1 m depth,
+    /// unturned), vehicle 1 at `listener` \[m\], turned by `yaw` \[rad\] about the vertical.
+    fn first_modem_frame(listener: Vec3, yaw: f64) -> (Medium, Transmission) {
+        use shoal_model::math::Quat;
+        use shoal_model::presets;
+        use shoal_model::vehicle::VehicleModel;
+        use std::sync::Arc;
+        let kind = Arc::new(VehicleModel::new(presets::uauv2(), 1000.0));
+        let mut m = Medium::in_the_dark(vec![kind; 2]);
+        m.poses[0] = (Vec3::new(0.0, 0.0, 1.0), Quat::identity());
+        m.poses[1] = (listener, Quat::from_axis_angle(&Vec3::z_axis(), yaw));
+        let (pos, att) = m.poses[0];
+        let pose = ModemPose::of(&m.kinds[0].params.modems[0], &pos, &att);
+        let x = Transmission {
+            id: 0,
+            tx: 0,
+            modem: 0,
+            start: 0.0,
+            end: 0.01,
+            seq: 0,
+            sent: 0.0,
+            payload: Arc::from(vec![0u8; 4]),
+            bits: 64,
+            pose,
+            kind: super::super::frames::Kind::Broadcast,
+        };
+        (m, x)
+    }
+
+    /// Whether [`clearly_outside`] passes over every modem of vehicle 1 for frame `x`.
+    fn every_modem_outside(m: &Medium, x: &Transmission) -> bool {
+        let (pos, att) = m.poses[1];
+        m.kinds[1].params.modems.iter().enumerate().all(|(k, p)| {
+            let pose = ModemPose::of(p, &pos, &att);
+            let d = pose.position - x.pose.position;
+            clearly_outside(x, &pose, &d, m.consts[1][k].cos_fov)
+        })
+    }
+
+    /// A vehicle is behind an LED as a whole only when its centre is further behind than its
+    /// farthest modem reaches, with the margin (by hand: the listener's centre on the LED's
+    /// axis, behind the LED by the farthest offset plus 3 nm, 1 nm or nothing); whatever way it
+    /// is turned, a vehicle the whole-vehicle test passes over has every modem passed over by
+    /// the per-modem test too.
+    #[test]
+    fn a_vehicle_behind_the_led_is_so_modem_by_modem() {
+        let probe = first_modem_frame(Vec3::zeros(), 0.0);
+        let (led, axis) = (probe.1.pose.position, probe.1.pose.axis);
+        let offset = probe.0.max_modem_offset;
+        assert!(offset > 0.05, "{offset}");
+        let at = |behind: f64| led - axis * (offset + behind);
+        for yaw in [0.0, 0.4, 1.0, std::f64::consts::FRAC_PI_2, 2.5, 3.0] {
+            let (m, x) = first_modem_frame(at(3e-9), yaw);
+            assert!(all_behind(&m, &x, 1), "3 nm behind, yaw {yaw}");
+            assert!(every_modem_outside(&m, &x), "yaw {yaw}");
+            let (m, x) = first_modem_frame(at(1e-9), yaw);
+            assert!(
+                !all_behind(&m, &x, 1),
+                "1 nm behind is within the margin, yaw {yaw}"
+            );
+            let (m, x) = first_modem_frame(at(0.0), yaw);
+            assert!(!all_behind(&m, &x, 1), "yaw {yaw}");
+            // In front of the LED: nothing is passed over at once.
+            let (m, x) = first_modem_frame(led + axis, yaw);
+            assert!(!all_behind(&m, &x, 1), "in front, yaw {yaw}");
+        }
+    }
 }
