@@ -12,6 +12,7 @@
 use bevy_ecs::prelude::Resource;
 use bevy_tasks::{TaskPool, TaskPoolBuilder};
 use serde::Serialize;
+use std::cell::{Cell, RefCell};
 use std::sync::Mutex;
 use std::sync::atomic::{
     AtomicBool, AtomicU64, AtomicUsize, Ordering::Acquire, Ordering::Relaxed, Ordering::Release,
@@ -33,6 +34,69 @@ struct Post<'a>(&'a AtomicBool);
 impl Drop for Post<'_> {
     fn drop(&mut self) {
         self.0.store(true, Release);
+    }
+}
+
+/// A worker's part in [`Parallel::for_parts_made`], and whether it has been given.
+struct Slot<T> {
+    part: Mutex<Option<T>>,
+    given: AtomicBool,
+}
+
+impl<T> Default for Slot<T> {
+    fn default() -> Self {
+        Self {
+            part: Mutex::new(None),
+            given: AtomicBool::new(false),
+        }
+    }
+}
+
+impl<T> Slot<T> {
+    /// Gives it `part`.
+    fn put(&self, part: T) {
+        if let Ok(mut s) = self.part.lock() {
+            *s = Some(part);
+        }
+        self.given.store(true, Release);
+    }
+}
+
+/// Hands the parts [`Parallel::for_parts_made`]'s `make` makes to the workers as they come.
+pub struct Handout<'a, T> {
+    slots: &'a [Slot<T>],
+    /// The next worker to be given a part.
+    next: Cell<usize>,
+    /// Parts given when every worker had one: the calling thread's.
+    extra: RefCell<Vec<T>>,
+}
+
+impl<T> Handout<'_, T> {
+    /// No workers: every part given is the calling thread's ([`Handout::into_extra`]).
+    pub(crate) fn none() -> Self {
+        Self {
+            slots: &[],
+            next: Cell::new(0),
+            extra: RefCell::new(Vec::new()),
+        }
+    }
+
+    /// The parts given when every worker had one.
+    pub(crate) fn into_extra(self) -> Vec<T> {
+        self.extra.into_inner()
+    }
+
+    /// Gives `part` to the next worker without one, which starts on it at once (to the
+    /// calling thread when every worker has one).
+    pub fn give(&self, part: T) {
+        let k = self.next.get();
+        match self.slots.get(k) {
+            Some(slot) => {
+                slot.put(part);
+                self.next.set(k + 1);
+            }
+            None => self.extra.borrow_mut().push(part),
+        }
     }
 }
 
@@ -171,25 +235,29 @@ impl Parallel {
     /// Calls `f` on each of a loop's independent parts, each on its own thread, the parts made
     /// on the calling thread while the workers wake: every working thread first gets ready
     /// (`ready(k)`, k = 0 for the calling thread, 1, 2, … for the workers), the calling thread
-    /// makes the parts (`make`, at most one per
-    /// working thread) and hands them out, and each thread calls `f` with its part (`None` if
-    /// there are fewer parts than threads) and what it got ready. Returns what `f` returns, the
+    /// makes the parts (`make`, at most one per working thread) — handing a worker its part as
+    /// soon as it is made ([`Handout::give`], to the workers in order), or returning the parts
+    /// at the end, its own first — and each thread calls `f` with its part (`None` if there
+    /// are fewer parts than threads) and what it got ready. Returns what `f` returns, the
     /// calling thread's first (and any parts beyond one per thread, which it takes too, next),
     /// then the workers' in order. Counted as a split loop of `kind`; on one thread, the parts
-    /// in order, each with `ready(0)`.
+    /// returned, then those given, each with `ready(0)`.
     pub fn for_parts_made<T: Send, P: Send, R: Send + 'static>(
         &self,
         kind: Loop,
-        make: impl FnOnce() -> Vec<T>,
+        make: impl FnOnce(&Handout<'_, T>) -> Vec<T>,
         ready: impl Fn(usize) -> P + Sync,
         f: impl Fn(Option<T>, P) -> R + Sync,
     ) -> Vec<R> {
         let Some(pool) = &self.pool else {
-            return make().into_iter().map(|t| f(Some(t), ready(0))).collect();
+            let handout = Handout::none();
+            let mut parts = make(&handout);
+            parts.extend(handout.into_extra());
+            return parts.into_iter().map(|t| f(Some(t), ready(0))).collect();
         };
         self.dispatches[kind.index()].fetch_add(1, Relaxed);
         let workers = self.threads - 1;
-        let slots: Vec<Mutex<Option<T>>> = (0..workers).map(|_| Mutex::new(None)).collect();
+        let slots: Vec<Slot<T>> = (0..workers).map(|_| Slot::default()).collect();
         let (posted, done) = (&AtomicBool::new(false), &AtomicUsize::new(0));
         let (f, ready, slots) = (&f, &ready, &slots);
         let mut here = Vec::new();
@@ -199,7 +267,7 @@ impl Parallel {
                     let p = ready(k + 1);
                     // The parts come about now: wait awake, then yield.
                     let mut spins = 0u32;
-                    while !posted.load(Acquire) {
+                    while !slot.given.load(Acquire) && !posted.load(Acquire) {
                         if spins < SPINS {
                             std::hint::spin_loop();
                             spins += 1;
@@ -207,7 +275,7 @@ impl Parallel {
                             std::thread::yield_now();
                         }
                     }
-                    let part = slot.lock().ok().and_then(|mut s| s.take());
+                    let part = slot.part.lock().ok().and_then(|mut s| s.take());
                     let r = f(part, p);
                     done.fetch_add(1, Release);
                     r
@@ -215,15 +283,24 @@ impl Parallel {
             }
             // Should `make` or `f` panic here, the workers stop waiting for their parts.
             let _post = Post(posted);
-            let mut parts = make();
-            let mine = parts.len().saturating_sub(workers).max(1).min(parts.len());
+            let handout = Handout {
+                slots,
+                next: Cell::new(0),
+                extra: RefCell::new(Vec::new()),
+            };
+            let mut parts = make(&handout);
+            let open = &slots[handout.next.get()..];
+            let mine = parts
+                .len()
+                .saturating_sub(open.len())
+                .max(1)
+                .min(parts.len());
             let theirs = parts.split_off(mine);
-            for (slot, part) in slots.iter().zip(theirs) {
-                if let Ok(mut s) = slot.lock() {
-                    *s = Some(part);
-                }
+            for (slot, part) in open.iter().zip(theirs) {
+                slot.put(part);
             }
             posted.store(true, Release);
+            parts.extend(handout.into_extra());
             let mut mine = parts.into_iter();
             here.push(f(mine.next(), ready(0)));
             here.extend(mine.map(|t| f(Some(t), ready(0))));
@@ -363,7 +440,7 @@ mod tests {
     #[test]
     fn parts_made_go_one_to_a_thread_with_what_it_got_ready() {
         let run = |p: &Parallel, parts: Vec<u32>| {
-            p.for_parts_made(Loop::Walk, || parts, |k| k, |part, k| (part, k))
+            p.for_parts_made(Loop::Walk, |_| parts, |k| k, |part, k| (part, k))
         };
         let two = Parallel::new(2);
         assert_eq!(run(&two, vec![10, 20]), [(Some(10), 0), (Some(20), 1)]);
@@ -376,6 +453,21 @@ mod tests {
         let one = Parallel::new(1);
         assert_eq!(run(&one, vec![10, 20]), [(Some(10), 0), (Some(20), 0)]);
         assert_eq!(one.dispatches().walk, 0);
+        // Parts given while the rest are made go to the workers in order, those beyond one a
+        // worker to the calling thread after its own; on one thread all to it.
+        let given = |p: &Parallel, early: Vec<u32>| {
+            let make = |h: &Handout<'_, u32>| {
+                early.into_iter().for_each(|t| h.give(t));
+                vec![10]
+            };
+            p.for_parts_made(Loop::Walk, make, |k| k, |part, k| (part, k))
+        };
+        assert_eq!(given(&two, vec![20]), [(Some(10), 0), (Some(20), 1)]);
+        assert_eq!(
+            given(&two, vec![20, 30]),
+            [(Some(10), 0), (Some(30), 0), (Some(20), 1)]
+        );
+        assert_eq!(given(&one, vec![20]), [(Some(10), 0), (Some(20), 0)]);
     }
 
     #[test]

@@ -115,6 +115,27 @@ impl Flows {
         self.0.entry((from, to)).or_default()
     }
 
+    /// Adds `other`, the flows the link layer counted for a part of the transmit phase's
+    /// vehicles: what it counts (frames handed over, their bytes, given up, retransmissions),
+    /// flow by flow, each flow it touched created here too.
+    pub(super) fn absorb(&mut self, other: Flows) {
+        for ((from, to), d) in other.0 {
+            debug_assert!(
+                d.delivered == 0
+                    && d.acknowledged == 0
+                    && d.led_on_s == 0.0
+                    && d.led_energy_j == 0.0
+                    && d.latency.is_empty(),
+                "only the link layer's counts are absorbed"
+            );
+            let f = self.get(from, to);
+            f.offered += d.offered;
+            f.offered_bytes += d.offered_bytes;
+            f.gave_up += d.gave_up;
+            f.retransmissions += d.retransmissions;
+        }
+    }
+
     /// Folds in an event of the delivery phase.
     pub(super) fn apply(&mut self, e: &FlowEvent) {
         match *e {
@@ -163,5 +184,31 @@ mod tests {
         let top = s.latency_quantile(1.0).unwrap();
         assert!((top / 0.1 - 1.0).abs() < 0.06, "{top}");
         assert_eq!(Flows::default().0.get(&(2, 1)), None);
+    }
+
+    /// A part's link-layer counts add to the flows, flow by flow; a flow the part only
+    /// touched exists afterwards, as it would had the part counted into the flows directly.
+    #[test]
+    fn a_parts_link_counts_add_up() {
+        let mut all = Flows::default();
+        all.get(1, 2).offered = 3;
+        all.get(1, 2).acknowledged = 2;
+        let mut part = Flows::default();
+        let f = part.get(1, 2);
+        (f.offered, f.offered_bytes, f.gave_up, f.retransmissions) = (2, 40, 1, 5);
+        part.get(7, 8);
+        all.absorb(part);
+        let s = &all.0[&(1, 2)];
+        assert_eq!(
+            (
+                s.offered,
+                s.offered_bytes,
+                s.gave_up,
+                s.retransmissions,
+                s.acknowledged
+            ),
+            (5, 40, 1, 5, 2)
+        );
+        assert_eq!(all.len(), 2);
     }
 }

@@ -4,6 +4,7 @@
 
 use super::air::{Air, AirStore};
 use super::ending::{Ended, candidates, own_transmissions};
+use super::flows::Flows;
 use super::frames::{CommRng, Inbox, Modems, Outbox};
 use super::ledger::Ledger;
 use super::link_layer::{Mail, link_layer};
@@ -16,7 +17,7 @@ use super::started::Started;
 use super::stats::{CommStats, Tally};
 use super::transmit::{SensingStart, Vehicle, earliest, first_turn, sensing_ahead, walk};
 use crate::components::{StaticGeometry, VehicleEntities, VehicleId};
-use crate::parallel::{Loop, Parallel};
+use crate::parallel::{Handout, Loop, Parallel};
 use bevy_ecs::prelude::*;
 use std::mem::take;
 use std::sync::Mutex;
@@ -119,15 +120,12 @@ pub fn comm_transmit_system(
         medium.waiting = later;
         return;
     }
-    // The flows are the link layer's while the medium is read by the walk's threads.
-    let mut flows = take(&mut medium.flows);
-    let mut ended = 0;
     let mut q = qs.p1();
     let mut items = Vec::with_capacity(ids.len());
     let m = &*medium;
     let threads = par.parts(walk_work(m, &ids));
-    let started = {
-        let (items, q, flows, ended) = (&mut items, &mut q, &mut flows, &mut ended);
+    let (started, flows, ended) = {
+        let (items, q) = (&mut items, &mut q);
         let (ids, linked) = (&ids, &linked);
         let grouping = Grouping {
             m,
@@ -135,18 +133,23 @@ pub fn comm_transmit_system(
             threads,
             parts: Mutex::new(None),
         };
-        let make = move |grouping: &Grouping<'_>| {
-            let (items, q, flows, ended) = (items, q, flows, ended);
+        let walk = (m, &geo.0, &*par);
+        let make = move |grouping: &Grouping<'_>, handout: &Handout<'_, _>| {
+            let (items, q) = (items, q);
             items.extend(q.iter_many_unique_mut(entities.set_of(ids)).matched());
             items.sort_unstable_by_key(|it| it.0.0);
-            let (turning, n) = link_layers(m, (t0, t_end), linked, items, flows);
-            *ended = n;
-            in_parts(items, &turning, &grouping.take())
+            // The workers' parts are handed out at once: each thread runs its vehicles' link
+            // layers, then walks them.
+            let mut parts = by_part(items, &grouping.take()).into_iter();
+            let first = parts.next();
+            for part in parts {
+                handout.give(part);
+            }
+            first.into_iter().collect()
         };
-        let walk = (m, &geo.0, &*par);
-        walk_in_parts(walk, (t0, t_end), &grouping, &mut sensing, make)
+        walk_in_parts(walk, (t0, t_end), &grouping, (&mut sensing, linked), make)
     };
-    medium.flows = flows;
+    medium.flows.absorb(flows);
     medium.ended += ended;
     started.apply(&mut medium);
     // Items by vehicle: sorted by id, found by halving their ids (a few hundred, in cache).
@@ -178,22 +181,27 @@ fn walk_work(m: &Medium, ids: &[u32]) -> usize {
         .sum()
 }
 
+/// A part of the walk: its vehicles with their ids, ascending.
+type Part<'a> = Vec<(u32, Vehicle<'a>)>;
+
 /// The link layer of each of the `items` (ascending ids) in `linked` (ascending) at the
 /// start `t0` of the step `t0 … t_end` \[s\] of medium `m` (the link layer of a vehicle with
 /// neither frames handed over nor work of its own does nothing: only its queued frames are
-/// walked), counting to `flows`; returns the positions of the items with a turn in the step,
-/// and how many frames ended there (acknowledged or given up).
-fn link_layers(
+/// walked), counting to `flows`; returns the items with a turn in the step, as a part of the
+/// walk, and how many frames ended there (acknowledged or given up).
+fn link_layers<'a>(
     m: &Medium,
     (t0, t_end): (f64, f64),
     linked: &[u32],
-    items: &mut [SenderItem<'_>],
-    flows: &mut super::flows::Flows,
-) -> (Vec<usize>, u64) {
+    items: Vec<&'a mut SenderItem<'_>>,
+    flows: &mut Flows,
+) -> (Part<'a>, u64) {
     let mut ended = 0;
     let mut with_link = linked.iter().copied().peekable();
-    let mut turning = Vec::new();
-    for (i, (id, outbox, modems, _, stats, link, inbox)) in items.iter_mut().enumerate() {
+    let mut walked = Vec::new();
+    for (id, outbox, modems, rng, stats, link, inbox) in items {
+        // Linked vehicles of other parts are passed over on the way.
+        while with_link.next_if(|&v| v < id.0).is_some() {}
         let modems = &mut **modems;
         if with_link.next_if_eq(&id.0).is_some() {
             let params = &m.kinds[id.0 as usize].params.modems;
@@ -207,47 +215,40 @@ fn link_layers(
             );
         }
         if first_turn(modems, (t0, t_end)).is_some() {
-            turning.push(i);
+            walked.push((
+                id.0,
+                Vehicle {
+                    modems,
+                    rng,
+                    stats,
+                    link,
+                },
+            ));
         }
     }
-    (turning, ended)
+    (walked, ended)
 }
 
-/// The `items` at positions `turning` (those with a turn in the step) in the independent
-/// `parts` of the vehicles looked at (their ids, [`Grouping`]): each part's vehicles with their
-/// ids, ascending; no empty part.
-fn in_parts<'a>(
-    items: &'a mut [SenderItem<'_>],
-    turning: &[usize],
+/// The `items` (ascending ids) in the independent `parts` of the vehicles looked at (their
+/// ids, [`Grouping`]), each part's ascending.
+fn by_part<'a, 'w>(
+    items: &'a mut [SenderItem<'w>],
     parts: &[Vec<u32>],
-) -> Vec<Vec<(u32, Vehicle<'a>)>> {
+) -> Vec<Vec<&'a mut SenderItem<'w>>> {
     let mut part_of: Vec<(u32, usize)> = parts
         .iter()
         .enumerate()
         .flat_map(|(k, p)| p.iter().map(move |&v| (v, k)))
         .collect();
     part_of.sort_unstable();
-    let mut out: Vec<Vec<(u32, Vehicle<'a>)>> = parts.iter().map(|_| Vec::new()).collect();
-    let mut next = turning.iter().peekable();
-    for (i, (id, _, modems, rng, stats, link, _)) in items.iter_mut().enumerate() {
-        if next.next_if_eq(&&i).is_none() {
-            continue;
+    let mut out: Vec<Vec<&'a mut SenderItem<'w>>> = parts.iter().map(|_| Vec::new()).collect();
+    for item in items.iter_mut() {
+        let id = item.0.0;
+        match part_of.binary_search_by_key(&id, |&(v, _)| v) {
+            Ok(j) => out[part_of[j].1].push(item),
+            Err(_) => unreachable!("vehicle {id} was looked at, so it is in a part"),
         }
-        let k = match part_of.binary_search_by_key(&id.0, |&(v, _)| v) {
-            Ok(j) => part_of[j].1,
-            Err(_) => unreachable!("vehicle {} was looked at, so it is in a part", id.0),
-        };
-        out[k].push((
-            id.0,
-            Vehicle {
-                modems,
-                rng,
-                stats,
-                link,
-            },
-        ));
     }
-    out.retain(|p| !p.is_empty());
     out
 }
 
@@ -297,31 +298,48 @@ enum Ready {
     Taken,
 }
 
-/// Walks the step `t0 … t_end` \[s\] of medium `m` for the vehicles `make` returns, in the
-/// independent parts it returns them in (of `grouping`, which it is handed), on
-/// `grouping.threads` threads of `par` (one part each), each with carrier sensing made in its
-/// storage of `stores`; returns what they started, in the order one walk of them all starts
-/// it. On several threads the workers make the grouping and every thread's carrier sensing
-/// while the calling thread runs `make` (the link layer: serial work the step has anyway).
-fn walk_in_parts<'a>(
+/// The items of a part of the walk's vehicles, before their link layers have run.
+type Items<'a, 'w> = Vec<&'a mut SenderItem<'w>>;
+
+/// Runs the link layers of the vehicles `make` returns and walks the step `t0 … t_end` \[s\]
+/// of medium `m` for those with a turn, in the independent parts `make` returns them in (of
+/// `grouping`, which it is handed), on `grouping.threads` threads of `par` (one part each:
+/// the link layers of its vehicles in `linked`, then its walk), each with carrier sensing made
+/// in its storage of `stores`. Returns what they started, in the order one walk of them all
+/// starts it, what the link layers counted to the flows, and how many frames ended there. On
+/// several threads the first worker makes the grouping and every thread's carrier sensing
+/// while the calling thread fetches the vehicles (`make`), which hands the workers their
+/// parts at once.
+fn walk_in_parts<'a, 'w: 'a>(
     (m, geo, par): (&Medium, &shoal_world::geometry::Geometry, &Parallel),
     step: (f64, f64),
     grouping: &Grouping<'_>,
-    stores: &mut Vec<AirStore>,
-    make: impl FnOnce(&Grouping<'_>) -> Vec<Vec<(u32, Vehicle<'a>)>>,
-) -> Started {
+    (stores, linked): (&mut Vec<AirStore>, &[u32]),
+    make: impl FnOnce(&Grouping<'_>, &Handout<'_, Items<'a, 'w>>) -> Vec<Items<'a, 'w>>,
+) -> (Started, Flows, u64) {
     let threads = grouping.threads;
     stores.resize_with(stores.len().max(threads), Default::default);
+    // A thread's part: its link layers, then its walk.
+    let link_and_walk = |items: Option<Items<'a, 'w>>, sensing: SensingStart| {
+        let mut flows = Flows::default();
+        let (mut walked, ended) = match items {
+            Some(items) => link_layers(m, step, linked, items, &mut flows),
+            None => (Vec::new(), 0),
+        };
+        let (store, started) = walk((m, geo), step, sensing, &mut walked);
+        (store, started, flows, ended)
+    };
     if threads == 1 {
-        let mut all = make(grouping).pop().unwrap_or_default();
-        let (store, started) = walk(
-            (m, geo),
-            step,
-            SensingStart::Later(take(&mut stores[0])),
-            &mut all,
-        );
+        // One part (the grouping's on one thread).
+        let handout = Handout::none();
+        let mut parts = make(grouping, &handout);
+        parts.extend(handout.into_extra());
+        let mut all: Items<'a, 'w> = parts.into_iter().flatten().collect();
+        all.sort_unstable_by_key(|it| it.0.0);
+        let sensing = SensingStart::Later(take(&mut stores[0]));
+        let (store, started, flows, ended) = link_and_walk(Some(all), sensing);
         stores[0] = store;
-        return started;
+        return (started, flows, ended);
     }
     let kept: Vec<Mutex<Ready>> = stores
         .drain(..)
@@ -352,19 +370,19 @@ fn walk_in_parts<'a>(
     };
     let walked = par.for_parts_made(
         Loop::Walk,
-        || make(grouping),
+        |handout| make(grouping, handout),
         ready,
-        |part, air| match part {
-            Some(mut vs) => walk((m, geo), step, SensingStart::Made(air), &mut vs),
-            None => (air.store(), Started::default()),
-        },
+        |part, air| link_and_walk(part, SensingStart::Made(air)),
     );
     let mut started = Vec::with_capacity(walked.len());
-    for (store, s) in walked {
+    let (mut flows, mut ended) = (Flows::default(), 0);
+    for (store, s, f, n) in walked {
         stores.push(store);
         started.push(s);
+        flows.absorb(f);
+        ended += n;
     }
-    Started::merge(started)
+    (Started::merge(started), flows, ended)
 }
 
 /// Of the vehicles `waiting` (ascending, each with when its first frame is due at the
