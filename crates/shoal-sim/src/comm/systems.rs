@@ -254,8 +254,8 @@ fn by_part<'a, 'w>(
 
 /// The vehicles looked at in a step (`ids`) in at most `threads` independent parts ([`split`]:
 /// those with a turn are among them, and a coarser grouping is as independent), made by the
-/// first worker while the calling thread runs the link layer — or by the calling thread, if it
-/// asks first.
+/// first worker while the calling thread fetches the vehicles — or by the calling thread, if
+/// it asks first.
 struct Grouping<'a> {
     m: &'a Medium,
     ids: &'a [u32],
@@ -334,8 +334,8 @@ fn walk_in_parts<'a, 'w: 'a>(
         let handout = Handout::none();
         let mut parts = make(grouping, &handout);
         parts.extend(handout.into_extra());
-        let mut all: Items<'a, 'w> = parts.into_iter().flatten().collect();
-        all.sort_unstable_by_key(|it| it.0.0);
+        // The grouping on one thread is one part, in order.
+        let all: Items<'a, 'w> = parts.into_iter().flatten().collect();
         let sensing = SensingStart::Later(take(&mut stores[0]));
         let (store, started, flows, ended) = link_and_walk(Some(all), sensing);
         stores[0] = store;
